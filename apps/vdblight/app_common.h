@@ -1,0 +1,74 @@
+// Shared pieces of the vdblight subcommands: option parsing helpers, scene set-up,
+// Ctrl-C handling and CSV points. Each subcommand lives in its own cmd_*.cpp file.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <atomic>
+#include <string>
+#include <vector>
+
+#include "vdblight/interrupter.h"
+#include "vdblight/light.h"
+#include "vdblight/math.h"
+#include "vdblight/reference.h"
+#include "vdblight/scene.h"
+
+namespace vdblight::app {
+
+/// Options every command that loads a scene shares.
+struct SceneOptions {
+    std::string path;              ///< empty: the bundled default scene
+    std::string sky;               ///< "r,g,b" constant sky radiance
+    std::string skyMap;            ///< equirectangular EXR
+    bool allowDark = false;
+    int bounces = 8;
+};
+
+void addSceneOptions(CLI::App& cmd, SceneOptions& o);
+/// Loads the scene, applies sky options, refuses a scene without light unless allowed.
+Scene loadSceneFromOptions(const SceneOptions& o, bool quiet);
+TransportOptions transportFromOptions(const SceneOptions& o);
+
+/// "x,y,z" -> three numbers (ValueError naming `what` otherwise).
+Vec3d parseTriple(const std::string& text, const char* what);
+/// "x0,y0,z0,x1,y1,z1" -> a box with lo < hi.
+Bounds parseBounds(const std::string& text);
+
+/// Reads "x,y,z,nx,ny,nz" rows (a header line and '#' comments are skipped).
+std::vector<ReferencePoint> readPointsCsv(const std::string& path);
+
+/// Checks before any long work that `path` can be created (its directory exists and is
+/// writable, and it is not a directory). Throws IoError.
+void checkOutputWritable(const std::string& path);
+
+/// Installs a SIGINT/SIGTERM handler that only sets a flag, read by the interrupter.
+void installInterruptHandler();
+bool interruptRequested();
+
+/// Progress bar with ETA on stderr when it is a terminal; silent otherwise or if quiet.
+/// Also turns a pending Ctrl-C into a cancel request.
+class ProgressBar : public Interrupter {
+public:
+    explicit ProgressBar(bool quiet);
+    void start(const char* task, uint64_t total) override;
+    void progress(uint64_t done) override;
+    bool wasInterrupted() override;
+    void end() override;
+
+private:
+    void draw(uint64_t done, bool final);
+    bool enabled_;
+    const char* task_ = "";
+    uint64_t total_ = 0;
+    double startTime_ = 0;
+    std::atomic<double> lastDraw_{0};
+    std::atomic<bool> drawing_{false};
+};
+
+/// Human-readable duration and counts for summaries.
+std::string formatSeconds(double s);
+std::string formatCount(double n);
+std::string formatBytes(double bytes);
+
+}  // namespace vdblight::app

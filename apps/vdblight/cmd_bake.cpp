@@ -1,0 +1,99 @@
+// vdblight bake [SCENE] -o OUT.vdb: a uniform SH order-2 irradiance volume.
+#include <iostream>
+#include <thread>
+
+#include "app_common.h"
+#include "commands.h"
+#include "vdblight/bake.h"
+#include "vdblight/errors.h"
+#include "vdblight/layout.h"
+#include "vdblight/sh.h"
+#include "vdblight/trace.h"
+#include "vdblight/vdb_io.h"
+
+namespace vdblight::app {
+
+namespace {
+struct BakeCommand {
+    SceneOptions scene;
+    std::string output;
+    double spacing = 0;
+    int resolution = 0;
+    std::string bounds;
+    uint32_t rays = 256;
+    uint64_t seed = 1;
+    int threads = 0;
+    bool half = false;
+    bool quiet = false;
+};
+
+void run(const BakeCommand& c) {
+    checkOutputWritable(c.output);
+    Scene scene = loadSceneFromOptions(c.scene, c.quiet);
+
+    GridPlacement placement;
+    placement.spacing = c.spacing;
+    placement.resolution = (c.spacing > 0 || c.resolution > 0) ? c.resolution : 16;
+    if (!c.bounds.empty()) placement.bounds = parseBounds(c.bounds);
+    // Bytes per node while baking and writing: float coefficients plus OpenVDB's copy.
+    const GridSpec grid = placeUniformGrid(scene.bounds(), placement, 2 * sh::kCoeffs * 3 * sizeof(float));
+
+    const Tracer tracer(scene);
+    GatherOptions options;
+    options.raysPerNode = c.rays;
+    options.seed = c.seed;
+    options.threads = c.threads;
+    options.transport = transportFromOptions(c.scene);
+
+    ProgressBar progress(c.quiet);
+    BakeStats stats;
+    Volume volume = bakeShGather(scene, tracer, grid, options, &progress, &stats);
+    volume.meta["scene_file"] = c.scene.path.empty() ? std::string("(bundled default) ") + defaultScenePath() : c.scene.path;
+    volume.meta["sky"] = c.scene.skyMap.empty() ? (c.scene.sky.empty() ? std::string("0,0,0") : c.scene.sky)
+                                                : "map:" + c.scene.skyMap;
+    WriteOptions write;
+    write.halfFloat = c.half;
+    writeVolume(volume, c.output, write);
+
+    if (!c.quiet) {
+        std::cout << "Baked " << grid.nodeCount() << " nodes (" << grid.nx << " x " << grid.ny << " x " << grid.nz
+                  << ", spacing " << grid.spacing << ") of scene '" << scene.name << "' ("
+                  << scene.triangleCount() << " triangles";
+        if (scene.stats.degenerateTrianglesSkipped)
+            std::cout << ", " << scene.stats.degenerateTrianglesSkipped << " degenerate skipped";
+        std::cout << ") with " << c.rays << " rays per node and up to " << c.scene.bounces << " bounces: "
+                  << formatCount(double(stats.rays.total())) << " rays (" << formatCount(double(stats.rays.intersect))
+                  << " closest-hit, " << formatCount(double(stats.rays.occluded)) << " shadow) in "
+                  << formatSeconds(stats.seconds) << ", " << formatCount(stats.raysPerSecond()) << " rays/s on "
+                  << int64_t(std::get<int64_t>(volume.meta["threads"])) << " threads. Wrote " << c.output
+                  << " (SH order 2 radiance, 9 Vec3f grids).\n";
+    }
+}
+}  // namespace
+
+void addBakeCommand(CLI::App& app) {
+    auto c = std::make_shared<BakeCommand>();
+    CLI::App* cmd = app.add_subcommand("bake", "Bake a uniform SH order-2 irradiance volume into a .vdb");
+    addSceneOptions(*cmd, c->scene);
+    cmd->add_option("-o,--output", c->output, "Output .vdb file (written atomically)")->required();
+    auto* spacing = cmd->add_option("--spacing", c->spacing, "Distance between nodes, in scene units");
+    auto* resolution =
+        cmd->add_option("--resolution", c->resolution, "Nodes along the longest axis (default 16)")->excludes(spacing);
+    cmd->add_option("--bounds", c->bounds,
+                    "Node box x0,y0,z0,x1,y1,z1 (default: scene bounds inset by half a spacing)");
+    cmd->add_option("--rays", c->rays, "Ray directions per node")->capture_default_str()->check(CLI::Range(1u, 1u << 30));
+    cmd->add_option("--seed", c->seed, "Random seed (same seed, same bits, any thread count)")->capture_default_str();
+    cmd->add_option("--threads", c->threads, "Worker threads (0 = all cores)")->capture_default_str()->check(CLI::Range(0, 4096));
+    cmd->add_flag("--half", c->half, "Store the grids as 16-bit floats");
+    cmd->add_flag("-q,--quiet", c->quiet, "No progress bar and no summary");
+    cmd->callback([c, spacing, resolution] {
+        // Refuse explicit zero or negative values here: 0 would otherwise mean "default".
+        if (spacing->count() > 0 && !(c->spacing > 0))
+            throw ValueError("--spacing must be positive, got " + std::to_string(c->spacing));
+        if (resolution->count() > 0 && c->resolution < 1)
+            throw ValueError("--resolution must be at least 1, got " + std::to_string(c->resolution));
+        run(*c);
+    });
+}
+
+}  // namespace vdblight::app

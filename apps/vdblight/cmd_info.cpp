@@ -1,0 +1,108 @@
+// vdblight info VOLUME: grids, resolution, bounds, node count, bytes and bake metadata.
+#include <iostream>
+#include <sstream>
+
+#include "app_common.h"
+#include "commands.h"
+#include "vdblight/vdb_io.h"
+
+namespace vdblight::app {
+
+namespace {
+std::string jsonString(const std::string& s) {
+    std::string out = "\"";
+    for (char ch : s) {
+        switch (ch) {
+            case '"': out += "\\\""; break;
+            case '\\': out += "\\\\"; break;
+            case '\n': out += "\\n"; break;
+            case '\t': out += "\\t"; break;
+            default:
+                if (static_cast<unsigned char>(ch) < 0x20) {
+                    char buf[8];
+                    std::snprintf(buf, sizeof buf, "\\u%04x", ch);
+                    out += buf;
+                } else {
+                    out += ch;
+                }
+        }
+    }
+    return out + "\"";
+}
+
+std::string metaText(const MetaValue& v, bool json) {
+    if (auto s = std::get_if<std::string>(&v)) return json ? jsonString(*s) : *s;
+    std::ostringstream o;
+    o.precision(10);
+    if (auto i = std::get_if<int64_t>(&v)) o << *i;
+    else o << std::get<double>(v);
+    return o.str();
+}
+
+std::string vec(const Vec3d& v, bool json) {
+    std::ostringstream o;
+    o.precision(9);
+    o << (json ? "[" : "(") << v.x << ", " << v.y << ", " << v.z << (json ? "]" : ")");
+    return o.str();
+}
+
+void printHuman(const Volume& v, const FileInfo& f) {
+    std::cout << f.path << ": " << formatBytes(double(f.fileBytes)) << " on disk\n"
+              << "  basis: " << v.basis.kind << " (" << v.basis.channelCount() << " RGB channels: radiance SH coefficients)\n";
+    for (std::size_t l = 0; l < v.levels.size(); ++l) {
+        const GridSpec& g = v.levels[l].grid;
+        std::cout << "  level " << l << ": " << g.nx << " x " << g.ny << " x " << g.nz << " = " << g.nodeCount()
+                  << " nodes, spacing " << g.spacing << ", node bounds " << vec(g.nodeBounds().lo, false) << " - "
+                  << vec(g.nodeBounds().hi, false) << "\n";
+    }
+    std::cout << "  grids:\n";
+    for (const GridInfo& g : f.grids)
+        std::cout << "    " << g.name << "  " << g.valueType << "  " << g.activeVoxels << " active voxels  "
+                  << formatBytes(double(g.memoryBytes)) << " in memory\n";
+    std::cout << "  metadata (vdblight:*):\n";
+    for (const auto& [key, value] : v.meta) std::cout << "    " << key << " = " << metaText(value, false) << "\n";
+}
+
+void printJson(const Volume& v, const FileInfo& f) {
+    std::ostringstream o;
+    o << "{\n  \"path\": " << jsonString(f.path) << ",\n  \"file_bytes\": " << f.fileBytes
+      << ",\n  \"basis\": " << jsonString(v.basis.kind) << ",\n  \"levels\": [";
+    for (std::size_t l = 0; l < v.levels.size(); ++l) {
+        const GridSpec& g = v.levels[l].grid;
+        o << (l ? ", " : "") << "{\"dims\": [" << g.nx << ", " << g.ny << ", " << g.nz << "], \"nodes\": " << g.nodeCount()
+          << ", \"spacing\": " << g.spacing << ", \"origin\": " << vec(g.origin, true)
+          << ", \"node_bounds_min\": " << vec(g.nodeBounds().lo, true) << ", \"node_bounds_max\": " << vec(g.nodeBounds().hi, true) << "}";
+    }
+    o << "],\n  \"grids\": [";
+    for (std::size_t i = 0; i < f.grids.size(); ++i) {
+        const GridInfo& g = f.grids[i];
+        o << (i ? ",\n    " : "\n    ") << "{\"name\": " << jsonString(g.name) << ", \"type\": " << jsonString(g.valueType)
+          << ", \"active_voxels\": " << g.activeVoxels << ", \"memory_bytes\": " << g.memoryBytes
+          << ", \"level\": " << g.level << ", \"voxel_size\": " << g.voxelSize << "}";
+    }
+    o << "\n  ],\n  \"metadata\": {";
+    bool first = true;
+    for (const auto& [key, value] : v.meta) {
+        o << (first ? "\n    " : ",\n    ") << jsonString(key) << ": " << metaText(value, true);
+        first = false;
+    }
+    o << "\n  }\n}\n";
+    std::cout << o.str();
+}
+}  // namespace
+
+void addInfoCommand(CLI::App& app) {
+    auto path = std::make_shared<std::string>();
+    auto json = std::make_shared<bool>(false);
+    CLI::App* cmd = app.add_subcommand("info", "Describe a baked volume: grids, resolution, bounds, metadata");
+    cmd->add_option("volume", *path, "Volume (.vdb)")->required();
+    cmd->add_flag("--json", *json, "Machine-readable JSON");
+    cmd->callback([path, json] {
+        const Volume volume = readVolume(*path);
+        const FileInfo info = inspectVolumeFile(*path);
+        if (*json) printJson(volume, info);
+        else printHuman(volume, info);
+    });
+}
+
+}  // namespace vdblight::app

@@ -1,0 +1,76 @@
+// vdblight query VOLUME: irradiance E(x, n) at one point or at the rows of a CSV file.
+#include <fstream>
+#include <iostream>
+
+#include "app_common.h"
+#include "commands.h"
+#include "vdblight/errors.h"
+#include "vdblight/query.h"
+#include "vdblight/vdb_io.h"
+
+namespace vdblight::app {
+
+namespace {
+struct QueryCommand {
+    std::string volume;
+    std::string at, normal = "0,1,0";
+    std::string points;
+    std::string output;
+    std::string outside = "clamp";
+};
+
+void run(const QueryCommand& c) {
+    if (c.at.empty() == c.points.empty()) throw ValueError("give either --at x,y,z or --points FILE.csv");
+    std::vector<ReferencePoint> points;
+    if (!c.at.empty()) {
+        ReferencePoint p;
+        p.position = Vec3f(parseTriple(c.at, "--at"));
+        p.normal = Vec3f(parseTriple(c.normal, "--normal"));
+        if (!(length(p.normal) > 0)) throw ValueError("--normal must not be zero");
+        points.push_back(p);
+    } else {
+        points = readPointsCsv(c.points);
+    }
+    if (!c.output.empty()) checkOutputWritable(c.output);
+
+    const Volume volume = readVolume(c.volume);
+    const OutsidePolicy policy = c.outside == "error" ? OutsidePolicy::Throw : OutsidePolicy::Clamp;
+    const IrradianceQuery query(volume, policy);
+
+    std::ofstream file;
+    if (!c.output.empty()) {
+        file.open(c.output);
+        if (!file) throw IoError("cannot write '" + c.output + "'");
+    }
+    std::ostream& out = c.output.empty() ? std::cout : file;
+    out.precision(9);
+    out << "x,y,z,nx,ny,nz,E_r,E_g,E_b\n";
+    std::size_t clamped = 0;
+    for (const ReferencePoint& p : points) {
+        if (!query.inside(p.position)) ++clamped;
+        const Vec3f n = normalize(p.normal);
+        const Rgb e = query.irradiance(p.position, n);
+        out << p.position.x << ',' << p.position.y << ',' << p.position.z << ',' << n.x << ',' << n.y << ',' << n.z
+            << ',' << e.x << ',' << e.y << ',' << e.z << '\n';
+    }
+    if (clamped > 0)
+        std::cerr << "vdblight: warning: " << clamped << " of " << points.size()
+                  << " points lie outside the volume's node box and were clamped to its boundary\n";
+}
+}  // namespace
+
+void addQueryCommand(CLI::App& app) {
+    auto c = std::make_shared<QueryCommand>();
+    CLI::App* cmd = app.add_subcommand("query", "Irradiance E(x, n) from a baked volume (CSV on stdout)");
+    cmd->add_option("volume", c->volume, "Volume (.vdb) written by vdblight bake")->required();
+    cmd->add_option("--at", c->at, "Point x,y,z");
+    cmd->add_option("--normal", c->normal, "Surface normal nx,ny,nz for --at")->capture_default_str();
+    cmd->add_option("--points", c->points, "CSV of x,y,z,nx,ny,nz rows");
+    cmd->add_option("-o,--output", c->output, "Write the CSV here instead of stdout");
+    cmd->add_option("--outside", c->outside, "Points outside the node box: clamp (to the nearest boundary point) or error")
+        ->check(CLI::IsMember({"clamp", "error"}))
+        ->capture_default_str();
+    cmd->callback([c] { run(*c); });
+}
+
+}  // namespace vdblight::app

@@ -1,0 +1,13 @@
+// Registration of the subcommands; each lives in its own cmd_*.cpp file.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace vdblight::app {
+
+void addBakeCommand(CLI::App& app);
+void addQueryCommand(CLI::App& app);
+void addInfoCommand(CLI::App& app);
+void addReferenceCommand(CLI::App& app);
+
+}  // namespace vdblight::app

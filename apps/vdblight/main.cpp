@@ -1,0 +1,37 @@
+// vdblight: bake precomputed volumetric lighting into OpenVDB grids, and read it back.
+// Every error the library throws is caught here once: one line on stderr, non-zero exit.
+#include <iostream>
+
+#include "app_common.h"
+#include "commands.h"
+#include "vdblight/errors.h"
+
+int main(int argc, char** argv) {
+    CLI::App app{"vdblight: precomputed volumetric lighting baked into OpenVDB grids"};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", "vdblight 0.1.0 (volume format 1)");
+    vdblight::app::addBakeCommand(app);
+    vdblight::app::addQueryCommand(app);
+    vdblight::app::addInfoCommand(app);
+    vdblight::app::addReferenceCommand(app);
+    vdblight::app::installInterruptHandler();
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    } catch (const vdblight::Cancelled& e) {
+        std::cerr << "vdblight: interrupted; no output written\n";
+        return 130;
+    } catch (const vdblight::Error& e) {
+        std::cerr << "vdblight: error: " << e.what() << "\n";
+        return 1;
+    } catch (const std::bad_alloc&) {
+        std::cerr << "vdblight: error: out of memory\n";
+        return 1;
+    } catch (const std::exception& e) {
+        std::cerr << "vdblight: internal error: " << e.what() << "\n";
+        return 2;
+    }
+    return 0;
+}

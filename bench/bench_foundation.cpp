@@ -1,0 +1,149 @@
+// vdblight_bench: the foundation's speed figures, measured in one run on one machine.
+//
+// For each scene (the default Cornell box, and the box with >= 100 000 extra triangles):
+//  - raw Embree throughput: random rays inside the scene, plain rtcIntersect1 (and
+//    rtcOccluded1), on the same number of threads as the bake;
+//  - the bake's own rays/s (closest-hit + shadow rays) and the ratios to the raw figures;
+// and, once, the query throughput per thread (random points and normals).
+// `--quick` shrinks every workload for a CI smoke run; the figures are then noisy.
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <string>
+
+#include "vdblight/bake.h"
+#include "vdblight/query.h"
+#include "vdblight/scene.h"
+#include "vdblight/scene_generators.h"
+#include "vdblight/trace.h"
+
+using namespace vdblight;
+
+namespace {
+double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+
+// Rays/s of `total` random rays split over `threads` workers; best of `repeats`.
+double rawRaysPerSecond(const Tracer& tracer, const Bounds& box, std::size_t total, int threads, bool occlusion,
+                        int repeats) {
+    double best = 0;
+    tbb::task_arena arena(threads);
+    for (int r = 0; r < repeats; ++r) {
+        std::atomic<std::size_t> hits{0};
+        const double t0 = now();
+        arena.execute([&] {
+            tbb::parallel_for(0, threads, [&](int w) {
+                hits += tracer.traceRandomRays(box, total / threads, uint64_t(r) * 1000 + w, occlusion);
+            });
+        });
+        const double dt = now() - t0;
+        best = std::max(best, double(total / threads * threads) / dt);
+        if (hits == std::size_t(-1)) std::puts("");  // keep the result alive
+    }
+    return best;
+}
+
+Scene cornellWithSpheres(int subdivisions) {
+    // The default scene plus two finely tessellated spheres standing on the floor.
+    Scene s = loadScene(defaultScenePath());
+    s.name = "cornell_box+spheres";
+    Material white = s.materials[0];
+    for (const Material& m : s.materials)
+        if (m.name.find("white") != std::string::npos) white = m;
+    white.emission = {0, 0, 0};
+    s.materials.push_back(white);
+    const uint32_t id = uint32_t(s.materials.size() - 1);
+    appendIcosphere(s, {0.15f, 0.08f, 0.12f}, 0.07f, subdivisions, id);
+    appendIcosphere(s, {0.42f, 0.42f, 0.15f}, 0.06f, subdivisions, id);
+    return s;
+}
+
+void benchScene(const Scene& scene, int threads, bool quick) {
+    const Tracer tracer(scene);
+    Bounds box = scene.bounds();
+    // Origins strictly inside the scene bounds (the room), as a bake's nodes are.
+    const Vec3d inset = box.size() * 0.01;
+    box.lo += inset;
+    box.hi -= inset;
+
+    const std::size_t rawRays = quick ? 400'000 : 4'000'000;
+    const int repeats = quick ? 1 : 3;
+    const double rawIntersect = rawRaysPerSecond(tracer, box, rawRays, threads, false, repeats);
+    const double rawOccluded = rawRaysPerSecond(tracer, box, rawRays, threads, true, repeats);
+
+    GridPlacement placement;
+    placement.resolution = quick ? 8 : 16;
+    const GridSpec grid = placeUniformGrid(scene.bounds(), placement, 1);
+    GatherOptions options;
+    options.raysPerNode = quick ? 64 : 512;
+    options.threads = threads;
+    BakeStats stats;
+    bakeShGather(scene, tracer, grid, options, nullptr, &stats);
+    const double bake = stats.raysPerSecond();
+    // The bake mixes closest-hit and (cheaper) shadow rays: the raw rate of the same mix.
+    const double mixTime = double(stats.rays.intersect) / rawIntersect + double(stats.rays.occluded) / rawOccluded;
+    const double rawMix = double(stats.rays.total()) / mixTime;
+
+    std::printf("%-22s %9zu tris %2d thr | raw rtcIntersect1 %7.2f M/s  rtcOccluded1 %7.2f M/s | bake %7.2f M/s "
+                "(%zu nodes x %u rays, %.1f%% shadow rays, %.2f s) | bake/raw intersect %.2f  bake/raw same mix %.2f\n",
+                scene.name.c_str(), scene.triangleCount(), threads, rawIntersect / 1e6, rawOccluded / 1e6, bake / 1e6,
+                grid.nodeCount(), options.raysPerNode, 100.0 * double(stats.rays.occluded) / double(stats.rays.total()),
+                stats.seconds, bake / rawIntersect, bake / rawMix);
+}
+
+void benchQuery(bool quick) {
+    const Scene scene = loadScene(defaultScenePath());
+    const Tracer tracer(scene);
+    GridPlacement placement;
+    placement.resolution = 32;
+    const GridSpec grid = placeUniformGrid(scene.bounds(), placement, 1);
+    GatherOptions options;
+    options.raysPerNode = 1;  // values do not matter for lookup speed
+    const Volume volume = bakeShGather(scene, tracer, grid, options);
+    const IrradianceQuery query(volume);
+
+    // Pre-generate inputs so that only lookups are timed.
+    const std::size_t n = quick ? 200'000 : 2'000'000;
+    std::vector<Vec3f> points(n), normals(n);
+    Rng rng(123);
+    const Bounds b = grid.nodeBounds();
+    for (std::size_t i = 0; i < n; ++i) {
+        points[i] = Vec3f(b.lo + b.size() * Vec3d(rng.uniform(), rng.uniform(), rng.uniform()));
+        normals[i] = uniformSphere(rng.uniform(), rng.uniform());
+    }
+    double best = 0;
+    Rgb sink{0, 0, 0};
+    for (int r = 0; r < (quick ? 1 : 5); ++r) {
+        const double t0 = now();
+        for (std::size_t i = 0; i < n; ++i) sink += query.irradiance(points[i], normals[i]);
+        best = std::max(best, double(n) / (now() - t0));
+    }
+    std::printf("query (32^3 nodes, 1 thread): %.2f M lookups/s per thread (target >= 5)  [checksum %.3g]\n",
+                best / 1e6, double(sink.x));
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+    bool quick = false;
+    int threads = tbb::this_task_arena::max_concurrency();
+    for (int i = 1; i < argc; ++i) {
+        if (!std::strcmp(argv[i], "--quick")) quick = true;
+        else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
+        else {
+            std::fprintf(stderr, "usage: vdblight_bench [--quick] [--threads N]\n");
+            return 2;
+        }
+    }
+    std::printf("vdblight_bench%s: %d threads\n", quick ? " (quick smoke run, noisy figures)" : "", threads);
+    try {
+        benchScene(loadScene(defaultScenePath()), threads, quick);
+        benchScene(cornellWithSpheres(6), threads, quick);
+        benchQuery(quick);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "vdblight_bench: error: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}

@@ -1,0 +1,52 @@
+// Bake passes: fill a volume's nodes with radiance estimates.
+//
+// The point-gather pass (this file) estimates, at each node, the SH order-2 projection of
+// the incident radiance over the whole sphere (Kontkanen & Laine section 3):
+//   L_j = integral of L(w) Y_j(w) dw
+// with the direction integral split as in light.h: reflected light and sky by `rays`
+// stratified (scrambled Sobol) directions uniform on the sphere, emissive triangles by as
+// many NEE samples, punctual lights exactly.
+//
+// Determinism: node n's samples depend only on (seed, n, sample number) and are summed in
+// sample order in double, so the volume has the same bits for any thread count.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "vdblight/layout.h"
+#include "vdblight/light.h"
+#include "vdblight/volume.h"
+
+namespace vdblight {
+
+struct Scene;
+class Tracer;
+class Interrupter;
+
+struct GatherOptions {
+    uint32_t raysPerNode = 256;
+    uint64_t seed = 1;
+    int threads = 0;  ///< 0 = all hardware threads
+    TransportOptions transport;
+};
+
+struct BakeStats {
+    uint64_t nodes = 0;
+    RayCount rays;
+    double seconds = 0;
+    double raysPerSecond() const { return seconds > 0 ? double(rays.total()) / seconds : 0.0; }
+};
+
+/// Bakes an SH order-2 radiance volume on `grid`. Fills volume.meta with every bake
+/// parameter and statistic. Throws Cancelled if `interrupter` asks to stop.
+Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& grid,
+                    const GatherOptions& options, Interrupter* interrupter = nullptr,
+                    BakeStats* stats = nullptr);
+
+/// Projects the incident radiance at one point into nine RGB SH coefficients (double),
+/// with the sampling of bakeShGather for stream `streamIndex`. Exposed for tests.
+void projectIncidentRadiance(const RadianceEstimator& estimator, const Vec3f& x, uint32_t rays,
+                             uint64_t seed, uint64_t streamIndex, Rgbd out[9], RayCount& count);
+
+}  // namespace vdblight

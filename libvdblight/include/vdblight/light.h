@@ -1,0 +1,105 @@
+// Light transport: the radiance L(x, w) that a volume stores, estimated by path tracing
+// with next-event estimation (NEE).
+//
+// The estimator splits incident radiance at a point into two parts that are estimated
+// differently and never counted twice:
+//  - direct light from emitters: emissive triangles (sampled by area, chosen in proportion
+//    to power), punctual lights (point, spot, directional; delta distributions, evaluated
+//    exactly with one shadow ray each);
+//  - everything else: light reflected by surfaces (recursively, with NEE at every bounce)
+//    and the sky where rays escape. Gathered by tracing rays in chosen directions.
+// Emissive triangles are reached both ways: by NEE samples and by gathered rays that hit
+// them. The two are combined by multiple importance sampling (power heuristic), so that
+// small lights converge through NEE and large, near lights (a white furnace's walls)
+// through the gathered rays, without counting anything twice.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "vdblight/math.h"
+#include "vdblight/sampling.h"
+
+namespace vdblight {
+
+struct Scene;
+class Tracer;
+
+struct TransportOptions {
+    /// Maximum number of diffuse reflections on a path from a light to the receiver:
+    /// 0 = direct light only (emitters and sky seen directly), 1 = plus light reflected once...
+    int maxBounces = 8;
+    /// Bounce from which Russian roulette may end a path (unbiased: survivors are reweighted).
+    int rouletteStart = 3;
+};
+
+/// Counts rays per calling context; summed deterministically by the caller.
+struct RayCount {
+    uint64_t intersect = 0;
+    uint64_t occluded = 0;
+    uint64_t total() const { return intersect + occluded; }
+    RayCount& operator+=(const RayCount& o) { intersect += o.intersect; occluded += o.occluded; return *this; }
+};
+
+/// One direct-light sample at a point: light arrives *from* `direction` (unit) and
+/// `weight` = L / pdf, so that sum(weight * g(direction)) / N estimates the integral of
+/// L_direct * g over the sphere. For delta lights the pdf is a delta and the weight is the
+/// irradiance at normal incidence.
+struct LightSample {
+    Vec3f direction;
+    Rgb weight;
+    float pdf = 0;  ///< solid-angle pdf of the light sampling (0 for delta lights)
+};
+
+/// Power-heuristic MIS weight of a sample drawn with pdf `a` against a strategy with pdf `b`.
+inline float misWeight(float a, float b) {
+    if (!(a > 0)) return 0.0f;
+    const float a2 = a * a, b2 = b * b;
+    return std::isinf(a2) ? 1.0f : a2 / (a2 + b2);
+}
+
+class RadianceEstimator {
+public:
+    RadianceEstimator(const Scene& scene, const Tracer& tracer, TransportOptions options = {});
+
+    /// Radiance arriving at `origin` along the ray leaving it in unit direction `dir`, which
+    /// the caller drew with solid-angle pdf `dirPdf`. Emission of a directly hit emissive
+    /// triangle is MIS-weighted against NEE (the caller's NEE sample carries the rest).
+    Rgb gatherRadiance(const Vec3f& origin, const Vec3f& dir, float dirPdf, Rng& rng, RayCount& rays) const;
+
+    /// One NEE sample of emissive triangles as seen from a point in free space, using the
+    /// stratified pair (u, v) for the point on the light and `w` to choose the triangle.
+    /// The weight is L / pdf *without* MIS weight; the caller applies
+    /// misWeight(out.pdf, its own direction pdf).
+    /// Returns false if there are no emissive triangles or the sample is occluded/back-facing.
+    bool sampleEmissiveTriangles(const Vec3f& x, float u, float v, float w, LightSample& out,
+                                 RayCount& rays) const;
+
+    /// Appends the exactly evaluated, unoccluded punctual lights at free-space point x.
+    void punctualLights(const Vec3f& x, std::vector<LightSample>& out, RayCount& rays) const;
+
+    /// Solid-angle pdf with which sampleEmissiveTriangles picks the point at distance t
+    /// along unit direction dir from x on triangle `tri` (0 if it is not an emitter).
+    float emitterPdf(uint32_t tri, float t, const Vec3f& dir) const;
+    /// Emitted radiance of triangle `tri` towards -dir (0 from a one-sided emitter's back).
+    Rgb emittedRadiance(uint32_t tri, const Vec3f& dir) const;
+
+    bool hasEmissiveTriangles() const { return !emitters_.empty(); }
+    const TransportOptions& options() const { return options_; }
+
+private:
+    Rgb directAtSurface(const Vec3f& p, const Vec3f& n, Rng& rng, RayCount& rays) const;
+
+    const Scene& scene_;
+    const Tracer& tracer_;
+    TransportOptions options_;
+    std::vector<uint32_t> emitters_;   ///< emissive triangle ids
+    std::vector<float> emitterCdf_;    ///< cumulative power, normalised to 1
+    std::vector<float> emitterPmf_;    ///< per emitter, probability of choosing it
+    std::vector<float> emitterArea_;
+    std::vector<Vec3f> unitNormals_;   ///< per triangle, front-face orientation
+    std::vector<int32_t> emitterOf_;   ///< per triangle, index into emitters_ or -1
+};
+
+}  // namespace vdblight

@@ -1,0 +1,61 @@
+// Ray tracing against a Scene's triangles with Embree 3.
+//
+// One Tracer owns one Embree device and one committed scene; it is immutable after
+// construction and safe to use from any number of threads.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "vdblight/math.h"
+
+namespace vdblight {
+
+struct Scene;
+
+struct Ray {
+    Vec3f origin;
+    Vec3f direction;  ///< need not be unit length; t is measured in its units
+    float tnear = 0.0f;
+    float tfar = std::numeric_limits<float>::infinity();
+};
+
+struct Hit {
+    static constexpr uint32_t kNone = 0xffffffffu;
+    uint32_t triangle = kNone;  ///< index into Scene triangles, kNone on a miss
+    float t = std::numeric_limits<float>::infinity();
+    float u = 0, v = 0;         ///< barycentrics of vertex 1 and 2
+    Vec3f geometricNormal;      ///< unnormalised (p1 - p0) x (p2 - p0)
+
+    bool hit() const { return triangle != kNone; }
+};
+
+class Tracer {
+public:
+    /// Builds the BVH (high quality build). Throws Error if Embree reports one.
+    explicit Tracer(const Scene& scene);
+    ~Tracer();
+    Tracer(const Tracer&) = delete;
+    Tracer& operator=(const Tracer&) = delete;
+
+    /// Closest hit along the ray within [tnear, tfar].
+    Hit intersect(const Ray& ray) const;
+    /// True if anything blocks the ray within [tnear, tfar].
+    bool occluded(const Ray& ray) const;
+
+    /// Raw throughput probe for benchmarks: traces `count` random rays whose origins lie
+    /// uniformly in `box` with uniformly random directions, with plain single-ray
+    /// rtcIntersect1 (or rtcOccluded1 if `occlusion`) on the calling thread. Returns the
+    /// number of hits (so the work cannot be optimised out).
+    std::size_t traceRandomRays(const Bounds& box, std::size_t count, uint64_t seed, bool occlusion = false) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+/// Offsets a ray origin off a surface along its normal so that it does not self-intersect,
+/// scaled to the magnitude of the coordinates (float rounding grows with it).
+Vec3f offsetRayOrigin(const Vec3f& p, const Vec3f& unitNormal, const Vec3f& towards);
+
+}  // namespace vdblight

@@ -1,0 +1,48 @@
+// Reading and writing volumes as .vdb files (the product; specified in docs/format.md).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "vdblight/volume.h"
+
+namespace vdblight {
+
+struct WriteOptions {
+    bool halfFloat = false;  ///< store grids as 16-bit floats (half the bytes)
+};
+
+/// Writes `volume` to `path` atomically: a temporary file in the same directory is
+/// written, flushed and renamed, so a failure or interruption never leaves a partial
+/// file at `path`. Throws IoError (unwritable path or directory; no file is left behind) or
+/// ValueError (invalid volume, NaN/Inf values, values beyond +-65504 with halfFloat, or a
+/// metadata key the writer sets itself: format_version, basis, channels, levels, level<k>_*).
+void writeVolume(const Volume& volume, const std::string& path, const WriteOptions& options = {});
+
+/// Reads a volume written by writeVolume. Throws IoError (missing/unreadable) or
+/// FormatError (truncated or corrupt file, not a vdblight volume, unsupported format
+/// version, missing or inconsistent grids). Volume::meta gets every vdblight: file metadata
+/// entry except the structural keys, prefix stripped.
+Volume readVolume(const std::string& path);
+
+/// What `vdblight info` prints about one grid of a file.
+struct GridInfo {
+    std::string name;
+    std::string valueType;     ///< OpenVDB type name, e.g. "vec3s"
+    uint64_t activeVoxels = 0;
+    uint64_t memoryBytes = 0;  ///< in-memory size reported by OpenVDB
+    int level = 0;
+    double voxelSize = 0;
+};
+
+struct FileInfo {
+    std::string path;
+    uint64_t fileBytes = 0;
+    std::vector<GridInfo> grids;
+};
+
+/// Lists the grids of a vdblight .vdb, by level then channel (same errors as readVolume).
+FileInfo inspectVolumeFile(const std::string& path);
+
+}  // namespace vdblight

@@ -1,0 +1,188 @@
+#include "vdblight/light.h"
+
+#include <algorithm>
+
+#include "vdblight/scene.h"
+#include "vdblight/trace.h"
+
+namespace vdblight {
+
+namespace {
+// Shadow rays stop just short of the light so that the emitter itself does not occlude.
+constexpr float kShadowEnd = 1.0f - 1e-4f;
+
+float spotFalloff(const SpotLight& s, const Vec3f& fromLight) {
+    // glTF KHR_lights_punctual: smooth (squared linear) ramp between the cone cosines.
+    const float cosOuter = std::cos(s.outerConeAngle), cosInner = std::cos(s.innerConeAngle);
+    const float c = dot(s.direction, fromLight);
+    if (c <= cosOuter) return 0.0f;
+    if (cosInner - cosOuter <= 1e-6f) return 1.0f;
+    const float t = std::min(1.0f, (c - cosOuter) / (cosInner - cosOuter));
+    return t * t;
+}
+}  // namespace
+
+RadianceEstimator::RadianceEstimator(const Scene& scene, const Tracer& tracer, TransportOptions options)
+    : scene_(scene), tracer_(tracer), options_(options) {
+    const std::size_t n = scene.triangleCount();
+    unitNormals_.resize(n);
+    emitterOf_.assign(n, -1);
+    double total = 0.0;
+    std::vector<double> power;
+    for (std::size_t t = 0; t < n; ++t) {
+        const Vec3f a = scene.vertex(t, 0), b = scene.vertex(t, 1), c = scene.vertex(t, 2);
+        const Vec3f ng = cross(b - a, c - a);
+        const float len = length(ng);
+        unitNormals_[t] = len > 0 ? ng / len : Vec3f(0, 0, 1);
+        const Material& m = scene.material(t);
+        if (!m.isEmissive() || !(len > 0)) continue;
+        const float area = 0.5f * len;
+        // Choose emitters in proportion to emitted power (area x luminance x sides).
+        const double p = double(area) * std::max(1e-6f, luminance(m.emission)) * (m.twoSidedEmission ? 2.0 : 1.0);
+        emitterOf_[t] = int32_t(emitters_.size());
+        emitters_.push_back(uint32_t(t));
+        emitterArea_.push_back(area);
+        power.push_back(p);
+        total += p;
+    }
+    double running = 0.0;
+    for (std::size_t e = 0; e < emitters_.size(); ++e) {
+        running += power[e];
+        emitterCdf_.push_back(float(running / total));
+        emitterPmf_.push_back(float(power[e] / total));
+    }
+    if (!emitterCdf_.empty()) emitterCdf_.back() = 1.0f;
+}
+
+bool RadianceEstimator::sampleEmissiveTriangles(const Vec3f& x, float u, float v, float w, LightSample& out,
+                                                RayCount& rays) const {
+    if (emitters_.empty()) return false;
+    const std::size_t e = std::min<std::size_t>(
+        std::upper_bound(emitterCdf_.begin(), emitterCdf_.end(), w) - emitterCdf_.begin(), emitters_.size() - 1);
+    const uint32_t t = emitters_[e];
+    float b1, b2;
+    uniformTriangle(u, v, b1, b2);
+    const Vec3f a = scene_.vertex(t, 0), b = scene_.vertex(t, 1), c = scene_.vertex(t, 2);
+    const Vec3f q = a + (b - a) * b1 + (c - a) * b2;
+    const Vec3f toLight = q - x;
+    const float dist2 = dot(toLight, toLight);
+    if (!(dist2 > 0)) return false;
+    const float dist = std::sqrt(dist2);
+    const Vec3f wi = toLight / dist;
+    const Material& m = scene_.material(t);
+    float cosLight = -dot(unitNormals_[t], wi);  // > 0 when x sees the front face
+    if (m.twoSidedEmission) cosLight = std::abs(cosLight);
+    if (cosLight <= 0) return false;
+    Ray shadow{x, toLight, 0.0f, kShadowEnd};
+    ++rays.occluded;
+    if (tracer_.occluded(shadow)) return false;
+    // pdf over solid angle = pmf / area * dist^2 / cosLight.
+    const float invPdf = emitterArea_[e] * cosLight / (emitterPmf_[e] * dist2);
+    out.direction = wi;
+    out.weight = m.emission * invPdf;
+    out.pdf = 1.0f / invPdf;
+    return true;
+}
+
+float RadianceEstimator::emitterPdf(uint32_t tri, float t, const Vec3f& dir) const {
+    const int32_t e = emitterOf_[tri];
+    if (e < 0) return 0.0f;
+    float cosLight = std::abs(dot(unitNormals_[tri], dir));
+    if (!(cosLight > 0)) return 0.0f;
+    return emitterPmf_[e] * t * t / (emitterArea_[e] * cosLight);
+}
+
+Rgb RadianceEstimator::emittedRadiance(uint32_t tri, const Vec3f& dir) const {
+    const Material& m = scene_.material(tri);
+    if (!m.isEmissive()) return Rgb(0, 0, 0);
+    if (m.twoSidedEmission || dot(unitNormals_[tri], dir) < 0) return m.emission;
+    return Rgb(0, 0, 0);
+}
+
+void RadianceEstimator::punctualLights(const Vec3f& x, std::vector<LightSample>& out, RayCount& rays) const {
+    auto addPoint = [&](const Vec3f& pos, const Rgb& intensity) {
+        const Vec3f toLight = pos - x;
+        const float dist2 = dot(toLight, toLight);
+        if (!(dist2 > 0) || maxComponent(intensity) <= 0) return;
+        ++rays.occluded;
+        if (tracer_.occluded(Ray{x, toLight, 0.0f, kShadowEnd})) return;
+        out.push_back({toLight / std::sqrt(dist2), intensity / dist2});
+    };
+    for (const PointLight& l : scene_.pointLights) addPoint(l.position, l.intensity);
+    for (const SpotLight& s : scene_.spotLights) {
+        const Vec3f d = x - s.position;
+        const float len = length(d);
+        if (len > 0) addPoint(s.position, s.intensity * spotFalloff(s, d / len));
+    }
+    for (const DirectionalLight& l : scene_.directionalLights) {
+        const Vec3f toLight = -normalize(l.direction);
+        ++rays.occluded;
+        if (tracer_.occluded(Ray{x, toLight})) continue;
+        out.push_back({toLight, l.irradiance});
+    }
+}
+
+Rgb RadianceEstimator::directAtSurface(const Vec3f& p, const Vec3f& n, Rng& rng, RayCount& rays) const {
+    // Irradiance from emitters at a surface point (one NEE sample + all punctual lights).
+    Rgb e{0, 0, 0};
+    LightSample s;
+    if (!emitters_.empty()) {
+        const float u = rng.uniform(), v = rng.uniform(), w = rng.uniform();
+        if (sampleEmissiveTriangles(p, u, v, w, s, rays)) {
+            const float cosine = std::max(0.0f, dot(n, s.direction));
+            // The continuation ray is cosine-distributed: pdf cos / pi.
+            e += s.weight * (cosine * misWeight(s.pdf, cosine * float(kInvPi)));
+        }
+    }
+    if (!scene_.pointLights.empty() || !scene_.spotLights.empty() || !scene_.directionalLights.empty()) {
+        thread_local std::vector<LightSample> punctual;
+        punctual.clear();
+        punctualLights(p, punctual, rays);
+        for (const LightSample& l : punctual) e += l.weight * std::max(0.0f, dot(n, l.direction));
+    }
+    return e;
+}
+
+Rgb RadianceEstimator::gatherRadiance(const Vec3f& origin, const Vec3f& dir, float dirPdf, Rng& rng,
+                                      RayCount& rays) const {
+    Rgb radiance{0, 0, 0};
+    Rgb throughput{1, 1, 1};
+    Ray ray{origin, dir};
+    float pdf = dirPdf;  // pdf of the direction of the current ray
+    for (int reflection = 1;; ++reflection) {
+        ++rays.intersect;
+        const Hit hit = tracer_.intersect(ray);
+        if (!hit.hit()) {
+            radiance += throughput * scene_.sky.radiance(ray.direction);
+            break;
+        }
+        if (emitterOf_[hit.triangle] >= 0) {
+            const float lightPdf = emitterPdf(hit.triangle, hit.t, ray.direction);
+            radiance += throughput * emittedRadiance(hit.triangle, ray.direction) * misWeight(pdf, lightPdf);
+        }
+        if (reflection > options_.maxBounces) break;
+        const Material& m = scene_.material(hit.triangle);
+        throughput = throughput * m.albedo;
+        if (maxComponent(throughput) <= 0) break;
+        // Two-sided Lambertian: shade the side the ray arrived on.
+        Vec3f n = unitNormals_[hit.triangle];
+        if (dot(n, ray.direction) > 0) n = -n;
+        const Vec3f p = offsetRayOrigin(ray.origin + ray.direction * hit.t, n, n);
+        // Lambertian BRDF albedo / pi; albedo is in the throughput already.
+        radiance += throughput * directAtSurface(p, n, rng, rays) * float(kInvPi);
+
+        if (reflection >= options_.rouletteStart) {
+            const float q = std::min(0.95f, maxComponent(throughput));
+            if (rng.uniform() >= q) break;
+            throughput *= 1.0f / q;
+        }
+        Vec3f t, b;
+        orthonormalBasis(n, t, b);
+        const Vec3f local = cosineHemisphere(rng.uniform(), rng.uniform());
+        ray = Ray{p, t * local.x + b * local.y + n * local.z};
+        pdf = local.z * float(kInvPi);
+    }
+    return radiance;
+}
+
+}  // namespace vdblight

@@ -1,0 +1,122 @@
+// Ground-truth irradiance by direct hemisphere integration (no SH, no grid).
+#include "vdblight/reference.h"
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <atomic>
+
+#include "vdblight/errors.h"
+#include "vdblight/interrupter.h"
+#include "vdblight/sampling.h"
+#include "vdblight/scene.h"
+#include "vdblight/trace.h"
+
+namespace vdblight {
+
+namespace {
+// Samples are processed in fixed chunks so that one point with many samples still uses
+// every thread; chunk sums are reduced in chunk order, so results do not depend on threads.
+constexpr uint32_t kChunk = 4096;
+
+struct ChunkSum {
+    Rgbd sum, sumSquares;
+};
+
+ChunkSum integrateChunk(const RadianceEstimator& estimator, const ReferencePoint& point, const Vec3f& n,
+                        uint64_t stream, uint32_t first, uint32_t count, RayCount& rays) {
+    Rng rng(stream, first);
+    Vec3f t, b;
+    orthonormalBasis(n, t, b);
+    const double lightOffset = toUnitDouble(hashCombine(stream, 3));
+    ChunkSum s;
+    for (uint32_t i = first; i < first + count; ++i) {
+        float u, v;
+        sobol02(i, hashCombine(stream, 1), u, v);
+        const Vec3f local = cosineHemisphere(u, v);
+        const Vec3f dir = t * local.x + b * local.y + n * local.z;
+        // Cosine-weighted: L cos / (cos / pi) = pi L.
+        Rgbd value = Rgbd(estimator.gatherRadiance(point.position, dir, local.z * float(kInvPi), rng, rays)) * kPi;
+        if (estimator.hasEmissiveTriangles()) {
+            sobol02(i, hashCombine(stream, 2), u, v);
+            double w = radicalInverse(3, i) + lightOffset;
+            w -= std::floor(w);
+            LightSample ls;
+            if (estimator.sampleEmissiveTriangles(point.position, u, v, float(w), ls, rays)) {
+                const float cosine = std::max(0.0f, dot(n, ls.direction));
+                value += Rgbd(ls.weight) * double(cosine * misWeight(ls.pdf, cosine * float(kInvPi)));
+            }
+        }
+        s.sum += value;
+        s.sumSquares += value * value;
+    }
+    return s;
+}
+}  // namespace
+
+std::vector<ReferenceResult> referenceIrradiance(const Scene& scene, const Tracer& tracer,
+                                                 const std::vector<ReferencePoint>& points,
+                                                 const ReferenceOptions& options, Interrupter* interrupter) {
+    if (options.samples == 0) throw ValueError("reference needs at least one sample per point");
+    std::vector<Vec3f> normals(points.size());
+    for (std::size_t p = 0; p < points.size(); ++p) {
+        const float len = length(points[p].normal);
+        if (!(len > 0) || !isFinite(points[p].normal) || !isFinite(points[p].position))
+            throw ValueError("reference point " + std::to_string(p + 1) + " has a zero or non-finite normal/position");
+        normals[p] = points[p].normal / len;
+    }
+
+    const RadianceEstimator estimator(scene, tracer, options.transport);
+    const uint32_t chunksPerPoint = (options.samples + kChunk - 1) / kChunk;
+    const std::size_t tasks = points.size() * chunksPerPoint;
+    std::vector<ChunkSum> chunks(tasks);
+    std::atomic<uint64_t> done{0};
+    std::atomic<bool> cancelled{false};
+    if (interrupter) interrupter->start("reference", tasks);
+
+    const int threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
+    tbb::task_arena arena(threads);
+    arena.execute([&] {
+        tbb::parallel_for(std::size_t(0), tasks, [&](std::size_t task) {
+            if (cancelled.load(std::memory_order_relaxed)) return;
+            const std::size_t p = task / chunksPerPoint;
+            const uint32_t chunk = uint32_t(task % chunksPerPoint);
+            const uint32_t first = chunk * kChunk;
+            const uint32_t count = std::min(kChunk, options.samples - first);
+            RayCount rays;
+            chunks[task] = integrateChunk(estimator, points[p], normals[p], hashCombine(options.seed, p), first,
+                                          count, rays);
+            if (interrupter) {
+                interrupter->progress(done.fetch_add(1) + 1);
+                if (interrupter->wasInterrupted()) cancelled = true;
+            }
+        });
+    });
+    if (interrupter) interrupter->end();
+    if (cancelled) throw Cancelled("reference cancelled");
+
+    std::vector<ReferenceResult> results(points.size());
+    std::vector<LightSample> punctual;
+    for (std::size_t p = 0; p < points.size(); ++p) {
+        ChunkSum total;
+        for (uint32_t c = 0; c < chunksPerPoint; ++c) {
+            total.sum += chunks[p * chunksPerPoint + c].sum;
+            total.sumSquares += chunks[p * chunksPerPoint + c].sumSquares;
+        }
+        const double n = options.samples;
+        const Rgbd mean = total.sum / n;
+        Rgbd variance = total.sumSquares / n - mean * mean;
+        variance = vmax(variance, Rgbd(0, 0, 0)) * (n / std::max(1.0, n - 1.0));
+        results[p].irradiance = mean;
+        results[p].standardError = {std::sqrt(variance.x / n), std::sqrt(variance.y / n), std::sqrt(variance.z / n)};
+        // Punctual lights are exact: no variance.
+        punctual.clear();
+        RayCount rays;
+        estimator.punctualLights(points[p].position, punctual, rays);
+        for (const LightSample& s : punctual)
+            results[p].irradiance += Rgbd(s.weight) * double(std::max(0.0f, dot(normals[p], s.direction)));
+    }
+    return results;
+}
+
+}  // namespace vdblight

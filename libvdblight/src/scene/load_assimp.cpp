@@ -1,0 +1,323 @@
+// Loading glTF 2.0, OBJ+MTL and PLY through Assimp into a Scene.
+//
+// Assimp's PreTransformVertices would bake node transforms into the meshes but drops the
+// lights, so the node hierarchy is walked here and every mesh instance and light is put
+// into world space with its node's accumulated transform.
+//
+// Assimp 5.2.5 facts this relies on (code/AssetLib/glTF2/glTF2Importer.cpp):
+//  - material i of the aiScene is glTF material i; one default material is appended;
+//  - KHR_materials_emissive_strength is NOT read, so it is read from the JSON below
+//    (5.3 maps it to AI_MATKEY_EMISSIVE_INTENSITY, which then takes precedence);
+//  - light colours are already multiplied by the glTF intensity;
+//  - spot mAngleInnerCone/mAngleOuterCone are the glTF values, i.e. half-angles;
+//  - a light is tied to its node by aiLight::mName == aiNode::mName.
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include "vdblight/errors.h"
+#include "vdblight/scene.h"
+
+namespace vdblight {
+
+namespace {
+
+// ---------------------------------------------------------------------------------------
+// A small JSON reader, just enough to find KHR_materials_emissive_strength.
+
+struct Json {
+    enum Type { Null, Bool, Number, String, Array, Object } type = Null;
+    double number = 0;
+    std::string string;
+    std::vector<Json> items;
+    std::vector<std::pair<std::string, Json>> members;
+
+    const Json* get(const std::string& key) const {
+        for (const auto& m : members) if (m.first == key) return &m.second;
+        return nullptr;
+    }
+};
+
+/// Recursive descent over a complete document; throws std::runtime_error on bad syntax.
+class JsonParser {
+public:
+    explicit JsonParser(const std::string& text) : s_(text) {}
+    Json parse() { Json v = value(0); ws(); if (i_ != s_.size()) fail(); return v; }
+
+private:
+    [[noreturn]] void fail() const { throw std::runtime_error("bad JSON"); }
+    void ws() { while (i_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[i_]))) ++i_; }
+    bool eat(char c) { ws(); if (i_ < s_.size() && s_[i_] == c) { ++i_; return true; } return false; }
+    void expect(char c) { if (!eat(c)) fail(); }
+
+    Json value(int depth) {
+        if (depth > 256) fail();
+        ws();
+        if (i_ >= s_.size()) fail();
+        Json v;
+        const char c = s_[i_];
+        if (c == '{') {
+            ++i_; v.type = Json::Object;
+            if (eat('}')) return v;
+            do {
+                ws(); std::string key = str(); expect(':');
+                v.members.emplace_back(std::move(key), value(depth + 1));
+            } while (eat(','));
+            expect('}');
+        } else if (c == '[') {
+            ++i_; v.type = Json::Array;
+            if (eat(']')) return v;
+            do v.items.push_back(value(depth + 1)); while (eat(','));
+            expect(']');
+        } else if (c == '"') {
+            v.type = Json::String; v.string = str();
+        } else if (s_.compare(i_, 4, "true") == 0 || s_.compare(i_, 5, "false") == 0) {
+            v.type = Json::Bool; v.number = (c == 't'); i_ += (c == 't') ? 4 : 5;
+        } else if (s_.compare(i_, 4, "null") == 0) {
+            i_ += 4;
+        } else {
+            const char* begin = s_.c_str() + i_;
+            char* end = nullptr;
+            v.type = Json::Number; v.number = std::strtod(begin, &end);
+            if (end == begin) fail();
+            i_ += std::size_t(end - begin);
+        }
+        return v;
+    }
+
+    /// Escapes are kept only as far as keys need them; \uXXXX becomes '?'.
+    std::string str() {
+        if (i_ >= s_.size() || s_[i_] != '"') fail();
+        std::string out;
+        for (++i_; i_ < s_.size() && s_[i_] != '"'; ++i_) {
+            if (s_[i_] != '\\') { out += s_[i_]; continue; }
+            if (++i_ >= s_.size()) fail();
+            const char e = s_[i_];
+            if (e == 'u') { i_ += 4; out += '?'; }
+            else out += (e == 'n') ? '\n' : (e == 't') ? '\t' : (e == 'r') ? '\r' : (e == 'b') ? '\b' : (e == 'f') ? '\f' : e;
+        }
+        if (i_ >= s_.size()) fail();
+        ++i_;
+        return out;
+    }
+
+    const std::string& s_;
+    std::size_t i_ = 0;
+};
+
+/// The JSON text of a .gltf, or the first (JSON) chunk of a .glb; empty if unreadable.
+std::string gltfJsonText(const std::string& path, bool binary) {
+    std::ifstream in(path, std::ios::binary);
+    std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (!binary) return data;
+    auto u32 = [&](std::size_t at) {
+        uint32_t v = 0;
+        for (int k = 0; k < 4; ++k) v |= uint32_t(uint8_t(data[at + k])) << (8 * k);
+        return v;
+    };
+    // 12-byte header (magic "glTF", version, length), then chunk length, type "JSON", data.
+    if (data.size() < 20 || data.compare(0, 4, "glTF") != 0 || u32(16) != 0x4E4F534Au) return {};
+    const uint32_t length = u32(12);
+    if (length > data.size() - 20) return {};
+    return data.substr(20, length);
+}
+
+/// emissiveStrength per glTF material index (1 where the extension is absent). Assimp has
+/// already parsed the file successfully, so a parse failure here only loses the strength.
+std::vector<float> gltfEmissiveStrengths(const std::string& path, bool binary) {
+    std::vector<float> strengths;
+    try {
+        const Json doc = JsonParser(gltfJsonText(path, binary)).parse();
+        const Json* materials = doc.get("materials");
+        if (!materials) return strengths;
+        for (const Json& m : materials->items) {
+            float s = 1.0f;
+            const Json* ext = m.get("extensions");
+            const Json* es = ext ? ext->get("KHR_materials_emissive_strength") : nullptr;
+            const Json* v = es ? es->get("emissiveStrength") : nullptr;
+            if (v && v->type == Json::Number) s = float(v->number);
+            strengths.push_back(s);
+        }
+    } catch (const std::runtime_error&) {
+        strengths.clear();
+    }
+    return strengths;
+}
+
+// ---------------------------------------------------------------------------------------
+// Assimp to Scene.
+
+std::string oneLine(std::string s) {
+    std::replace(s.begin(), s.end(), '\n', ' ');
+    std::replace(s.begin(), s.end(), '\r', ' ');
+    while (!s.empty() && s.back() == ' ') s.pop_back();
+    return s;
+}
+
+Rgb toRgb(const aiColor3D& c) { return {c.r, c.g, c.b}; }
+Vec3f toVec(const aiVector3D& v) { return {v.x, v.y, v.z}; }
+
+void checkReadable(const std::string& path) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (!fs::exists(path, ec)) throw IoError("scene file '" + path + "' does not exist");
+    if (fs::is_directory(path, ec)) throw IoError("scene file '" + path + "' is a directory");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw IoError("cannot read scene file '" + path + "': " + std::strerror(errno));
+}
+
+std::string lowerExtension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext;
+}
+
+/// glTF baseColorFactor (or a diffuse colour), emissive colour x strength, doubleSided.
+Material convertMaterial(const aiMaterial& am, float emissiveStrength) {
+    Material m;
+    aiString name;
+    if (am.Get(AI_MATKEY_NAME, name) == AI_SUCCESS) m.name = name.C_Str();
+    if (m.name == AI_DEFAULT_MATERIAL_NAME) return m;  // Assimp's stand-in: our default grey
+    aiColor3D c;
+    if (am.Get(AI_MATKEY_BASE_COLOR, c) == AI_SUCCESS || am.Get(AI_MATKEY_COLOR_DIFFUSE, c) == AI_SUCCESS)
+        m.albedo = toRgb(c);
+    if (am.Get(AI_MATKEY_COLOR_EMISSIVE, c) == AI_SUCCESS) {
+        // Assimp >= 5.3 stores the glTF strength here itself; then it must not count twice.
+        float intensity = emissiveStrength;
+        am.Get(AI_MATKEY_EMISSIVE_INTENSITY, intensity);
+        m.emission = toRgb(c) * intensity;
+    }
+    int twoSided = 0;
+    if (am.Get(AI_MATKEY_TWOSIDED, twoSided) == AI_SUCCESS) m.twoSidedEmission = twoSided != 0;
+    return m;
+}
+
+struct Loader {
+    const std::string& path;
+    const aiScene& ai;
+    Scene& scene;
+    std::vector<uint32_t> materialOf;                       ///< aiScene material -> ours
+    std::multimap<std::string, aiMatrix4x4> nodeTransforms;  ///< world transform by node name
+
+    void addMesh(const aiMesh& mesh, const aiMatrix4x4& world) {
+        if (!(mesh.mPrimitiveTypes & aiPrimitiveType_TRIANGLE) || !mesh.mVertices) return;  // points, lines
+        const auto base = uint32_t(scene.positions.size());
+        for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+            const Vec3f p = toVec(world * mesh.mVertices[v]);
+            if (!isFinite(p))
+                throw SceneError("scene file '" + path + "': mesh '" + mesh.mName.C_Str() +
+                                 "' has a non-finite vertex coordinate");
+            scene.positions.push_back(p);
+        }
+        // A mirroring transform turns counter-clockwise into clockwise (glTF 2.0, 3.7.4):
+        // swap two corners so that the front face stays the authored one.
+        const bool mirrored = world.Determinant() < 0;
+        const uint32_t materialId = materialOf.at(mesh.mMaterialIndex);
+        for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+            const aiFace& face = mesh.mFaces[f];
+            if (face.mNumIndices != 3) continue;
+            for (int k = 0; k < 3; ++k)
+                if (face.mIndices[k] >= mesh.mNumVertices)
+                    throw SceneError("scene file '" + path + "': mesh '" + mesh.mName.C_Str() +
+                                     "' has a vertex index out of range");
+            const uint32_t a = base + face.mIndices[0], b = base + face.mIndices[1], c = base + face.mIndices[2];
+            addIndexedTriangle(scene, a, mirrored ? c : b, mirrored ? b : c, materialId);
+        }
+        ++scene.stats.meshes;
+    }
+
+    void addNode(const aiNode& node, const aiMatrix4x4& parent) {
+        const aiMatrix4x4 world = parent * node.mTransformation;
+        nodeTransforms.emplace(node.mName.C_Str(), world);
+        for (unsigned k = 0; k < node.mNumMeshes; ++k) {
+            if (node.mMeshes[k] >= ai.mNumMeshes)
+                throw SceneError("scene file '" + path + "': node '" + node.mName.C_Str() +
+                                 "' refers to a missing mesh");
+            addMesh(*ai.mMeshes[node.mMeshes[k]], world);
+        }
+        for (unsigned k = 0; k < node.mNumChildren; ++k) addNode(*node.mChildren[k], world);
+    }
+
+    /// Position as a point, direction as a vector (normalised) through the light's node.
+    /// A light no node of the scene refers to is not part of the scene and is ignored.
+    void addLight(const aiLight& light) {
+        // Several lights may share a node name: each takes the first node not yet taken.
+        auto it = nodeTransforms.lower_bound(light.mName.C_Str());
+        if (it == nodeTransforms.end() || it->first != light.mName.C_Str()) return;
+        const aiMatrix4x4 world = it->second;
+        nodeTransforms.erase(it);
+        const Vec3f position = toVec(world * light.mPosition);
+        Vec3f direction = toVec(aiMatrix3x3(world) * light.mDirection);
+        const Rgb colour = toRgb(light.mColorDiffuse);
+        if (light.mType == aiLightSource_SPOT || light.mType == aiLightSource_DIRECTIONAL) {
+            if (!(length(direction) > 0.0f))
+                throw SceneError("scene file '" + path + "': light '" + light.mName.C_Str() +
+                                 "' has no direction");
+            direction = normalize(direction);
+        }
+        switch (light.mType) {
+        case aiLightSource_POINT: scene.pointLights.push_back({position, colour}); break;
+        case aiLightSource_SPOT:
+            scene.spotLights.push_back({position, direction, colour, light.mAngleInnerCone, light.mAngleOuterCone});
+            break;
+        case aiLightSource_DIRECTIONAL: scene.directionalLights.push_back({direction, colour}); break;
+        default: break;  // ambient and area lights have no glTF counterpart
+        }
+    }
+};
+
+}  // namespace
+
+Scene loadScene(const std::string& path) {
+    checkReadable(path);
+    const std::string ext = lowerExtension(path);
+    if (ext != ".gltf" && ext != ".glb" && ext != ".obj" && ext != ".ply")
+        throw SceneError("scene file '" + path + "': unsupported scene format '" + ext +
+                         "' (supported: .gltf .glb .obj .ply)");
+
+    Assimp::Importer importer;
+    // No aiProcess_ValidateDataStructure: it rejects a mesh without faces (an OBJ of bare
+    // vertices), which should rather end in "no triangles"; the walk checks indices itself.
+    const aiScene* ai = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
+    if (!ai || !ai->mRootNode)
+        throw SceneError("cannot load scene file '" + path + "': " + oneLine(importer.GetErrorString()));
+
+    Scene scene;
+    scene.name = std::filesystem::path(path).stem().string();
+    Loader loader{path, *ai, scene, {}, {}};
+    try {
+        const bool gltf = ext == ".gltf" || ext == ".glb";
+        const std::vector<float> strengths = gltf ? gltfEmissiveStrengths(path, ext == ".glb") : std::vector<float>{};
+        if (ext == ".ply") {  // PLY has no materials: one default grey for everything
+            loader.materialOf.assign(ai->mNumMaterials, addMaterial(scene, Material{"default"}));
+        } else {
+            for (unsigned i = 0; i < ai->mNumMaterials; ++i) {
+                const float strength = i < strengths.size() ? strengths[i] : 1.0f;
+                loader.materialOf.push_back(addMaterial(scene, convertMaterial(*ai->mMaterials[i], strength)));
+            }
+        }
+        loader.addNode(*ai->mRootNode, aiMatrix4x4());
+        for (unsigned i = 0; i < ai->mNumLights; ++i) loader.addLight(*ai->mLights[i]);
+        validateScene(scene);
+    } catch (const SceneError& e) {
+        const std::string what = e.what();
+        if (what.find(path) != std::string::npos) throw;
+        throw SceneError(what + " (file '" + path + "')");
+    } catch (const std::out_of_range&) {
+        throw SceneError("scene file '" + path + "': mesh with a material index out of range");
+    }
+    return scene;
+}
+
+}  // namespace vdblight

@@ -1,0 +1,135 @@
+// Embree 3 behind vdblight's Tracer: one device, one triangle geometry, one BVH.
+#include "vdblight/trace.h"
+
+#include <embree3/rtcore.h>
+
+#include <cstring>
+#include <string>
+
+#include "vdblight/errors.h"
+#include "vdblight/sampling.h"
+#include "vdblight/scene.h"
+
+namespace vdblight {
+
+namespace {
+// Registered once per device, so no call needs its own error check. The message is kept
+// and thrown after the failing call returns: Embree must not be unwound through.
+void onEmbreeError(void* userPtr, RTCError code, const char* message) {
+    auto* last = static_cast<std::string*>(userPtr);
+    if (last->empty()) *last = "Embree error " + std::to_string(int(code)) + ": " + (message ? message : "");
+}
+
+RTCRay toRtcRay(const Ray& r) {
+    RTCRay ray;
+    ray.org_x = r.origin.x;
+    ray.org_y = r.origin.y;
+    ray.org_z = r.origin.z;
+    ray.dir_x = r.direction.x;
+    ray.dir_y = r.direction.y;
+    ray.dir_z = r.direction.z;
+    ray.tnear = r.tnear;
+    ray.tfar = r.tfar;
+    ray.time = 0.0f;
+    ray.mask = 0xffffffffu;
+    ray.id = 0;
+    ray.flags = 0;
+    return ray;
+}
+}  // namespace
+
+struct Tracer::Impl {
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    std::string error;
+
+    ~Impl() {
+        if (scene) rtcReleaseScene(scene);
+        if (device) rtcReleaseDevice(device);
+    }
+    void check(const char* what) {
+        if (!error.empty()) throw Error(std::string(what) + ": " + error);
+    }
+};
+
+Tracer::Tracer(const Scene& s) : impl_(std::make_unique<Impl>()) {
+    validateScene(s);
+    impl_->device = rtcNewDevice(nullptr);
+    if (!impl_->device) throw Error("cannot create the Embree device (rtcNewDevice failed)");
+    rtcSetDeviceErrorFunction(impl_->device, onEmbreeError, &impl_->error);
+
+    impl_->scene = rtcNewScene(impl_->device);
+    rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
+    rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
+
+    RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    // Embree reads vertices with 16-byte loads: the buffer it allocates is padded for that.
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), s.positions.size()));
+    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), s.triangleCount()));
+    impl_->check("allocating Embree buffers");
+    for (std::size_t i = 0; i < s.positions.size(); ++i) {
+        vertices[3 * i + 0] = s.positions[i].x;
+        vertices[3 * i + 1] = s.positions[i].y;
+        vertices[3 * i + 2] = s.positions[i].z;
+    }
+    std::memcpy(indices, s.indices.data(), s.indices.size() * sizeof(unsigned));
+    rtcCommitGeometry(geom);
+    rtcAttachGeometry(impl_->scene, geom);
+    rtcReleaseGeometry(geom);
+    rtcCommitScene(impl_->scene);
+    impl_->check("building the Embree scene");
+}
+
+Tracer::~Tracer() = default;
+
+Hit Tracer::intersect(const Ray& r) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh;
+    rh.ray = toRtcRay(r);
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(impl_->scene, &context, &rh);
+    Hit h;
+    if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
+        h.triangle = rh.hit.primID;
+        h.t = rh.ray.tfar;
+        h.u = rh.hit.u;
+        h.v = rh.hit.v;
+        h.geometricNormal = {rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z};
+    }
+    return h;
+}
+
+bool Tracer::occluded(const Ray& r) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay ray = toRtcRay(r);
+    rtcOccluded1(impl_->scene, &context, &ray);
+    return ray.tfar < 0.0f;  // Embree sets tfar to -inf on a hit
+}
+
+std::size_t Tracer::traceRandomRays(const Bounds& box, std::size_t count, uint64_t seed, bool occlusion) const {
+    Rng rng(seed, 0x7261772d72617973ull);
+    const Vec3f lo(box.lo), size(box.size());
+    std::size_t hits = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+        Ray r;
+        r.origin = lo + size * Vec3f(rng.uniform(), rng.uniform(), rng.uniform());
+        r.direction = uniformSphere(rng.uniform(), rng.uniform());
+        hits += (occlusion ? occluded(r) : intersect(r).hit()) ? 1 : 0;
+    }
+    return hits;
+}
+
+Vec3f offsetRayOrigin(const Vec3f& p, const Vec3f& n, const Vec3f& towards) {
+    // Float rounding of a hit point grows with |p|: offset by a few ulps of the largest
+    // coordinate plus a tiny absolute term, on the side the new ray leaves towards.
+    const float scale = std::max(std::abs(p.x), std::max(std::abs(p.y), std::abs(p.z)));
+    const float eps = 1e-4f * std::max(scale, 1e-2f) * 0.05f + 1e-7f;
+    return p + n * (dot(n, towards) >= 0 ? eps : -eps);
+}
+
+}  // namespace vdblight

@@ -1,0 +1,554 @@
+// Volume <-> .vdb file (layout specified in docs/format.md).
+//
+// One Vec3SGrid per (level, channel); voxel (i, j, k) of a level's grids is node (i, j, k)
+// of that level, every node an active voxel. Grids are built leaf by leaf (8^3 voxels) in
+// parallel and read back the same way. Writing goes to a temporary file in the target
+// directory that is renamed over the destination only once complete.
+#include "vdblight/vdb_io.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <mutex>
+#include <random>
+#include <set>
+
+#include <openvdb/openvdb.h>
+#include <openvdb/io/File.h>
+#include <tbb/parallel_for.h>
+
+#include "vdblight/errors.h"
+
+namespace vdblight {
+namespace {
+
+namespace fs = std::filesystem;
+using openvdb::Coord;
+using openvdb::Vec3SGrid;
+using Vec3STree = Vec3SGrid::TreeType;
+using LeafT = Vec3STree::LeafNodeType;
+
+const std::string kPrefix = "vdblight:";
+constexpr int kLeafDim = int(LeafT::DIM);
+
+void initOpenVdb() {
+    static std::once_flag once;
+    std::call_once(once, [] { openvdb::initialize(); });
+}
+
+// ---------------------------------------------------------------------------------------
+// Names and metadata keys
+
+std::string gridNameFor(const std::string& channel, int level) {
+    return level == 0 ? channel : channel + "_L" + std::to_string(level);
+}
+
+std::string levelKey(int level, const char* what) {
+    return kPrefix + "level" + std::to_string(level) + "_" + what;
+}
+
+/// Keys (without prefix) that the writer derives from the volume's structure; they are not
+/// part of Volume::meta and a caller may not set them.
+bool isStructuralKey(const std::string& key) {
+    if (key == "format_version" || key == "basis" || key == "channels" || key == "levels") return true;
+    // level<digits>_origin, level<digits>_spacing, level<digits>_dims
+    if (key.compare(0, 5, "level") != 0) return false;
+    std::size_t pos = 5;
+    while (pos < key.size() && key[pos] >= '0' && key[pos] <= '9') ++pos;
+    const std::string rest = key.substr(pos);
+    return pos > 5 && (rest == "_origin" || rest == "_spacing" || rest == "_dims");
+}
+
+openvdb::Metadata::Ptr toVdbMeta(const MetaValue& value) {
+    if (const auto* s = std::get_if<std::string>(&value)) return std::make_shared<openvdb::StringMetadata>(*s);
+    if (const auto* i = std::get_if<int64_t>(&value)) return std::make_shared<openvdb::Int64Metadata>(*i);
+    return std::make_shared<openvdb::DoubleMetadata>(std::get<double>(value));
+}
+
+/// Converts scalar OpenVDB metadata to a MetaValue; false for other types (vectors, ...).
+bool fromVdbMeta(const openvdb::Metadata& m, MetaValue& out) {
+    const std::string type = m.typeName();
+    if (type == "string") out = static_cast<const openvdb::StringMetadata&>(m).value();
+    else if (type == "int64") out = int64_t(static_cast<const openvdb::Int64Metadata&>(m).value());
+    else if (type == "int32") out = int64_t(static_cast<const openvdb::Int32Metadata&>(m).value());
+    else if (type == "bool") out = int64_t(static_cast<const openvdb::BoolMetadata&>(m).value());
+    else if (type == "double") out = static_cast<const openvdb::DoubleMetadata&>(m).value();
+    else if (type == "float") out = double(static_cast<const openvdb::FloatMetadata&>(m).value());
+    else return false;
+    return true;
+}
+
+std::string joinNames(const std::vector<std::string>& names) {
+    std::string out;
+    for (std::size_t i = 0; i < names.size(); ++i) out += (i ? "," : "") + names[i];
+    return out;
+}
+
+std::vector<std::string> splitNames(const std::string& text) {
+    std::vector<std::string> out;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        const std::size_t comma = std::min(text.find(',', start), text.size());
+        out.push_back(text.substr(start, comma - start));
+        start = comma + 1;
+    }
+    return out;
+}
+
+openvdb::math::Transform::Ptr levelTransform(const GridSpec& g) {
+    auto xform = openvdb::math::Transform::createLinearTransform(g.spacing);
+    xform->postTranslate(openvdb::Vec3d(g.origin.x, g.origin.y, g.origin.z));
+    return xform;
+}
+
+// ---------------------------------------------------------------------------------------
+// Writing
+
+/// Origins of the 8^3 leaf blocks overlapping the node box [0, dims).
+std::vector<Coord> leafOrigins(const GridSpec& g) {
+    std::vector<Coord> origins;
+    for (int z = 0; z < g.nz; z += kLeafDim)
+        for (int y = 0; y < g.ny; y += kLeafDim)
+            for (int x = 0; x < g.nx; x += kLeafDim) origins.emplace_back(x, y, z);
+    return origins;
+}
+
+/// One channel of one level as a grid whose voxels are all active (zeros included).
+Vec3SGrid::Ptr buildChannelGrid(const VolumeLevel& level, int channel, int channels,
+                                const std::vector<Coord>& origins) {
+    const GridSpec& g = level.grid;
+    std::vector<std::unique_ptr<LeafT>> leaves(origins.size());
+    tbb::parallel_for(std::size_t(0), origins.size(), [&](std::size_t n) {
+        const Coord o = origins[n];
+        auto leaf = std::make_unique<LeafT>(o, openvdb::Vec3s(0.0f), false);
+        const Coord hi(std::min(o.x() + kLeafDim, g.nx), std::min(o.y() + kLeafDim, g.ny),
+                       std::min(o.z() + kLeafDim, g.nz));
+        for (int z = o.z(); z < hi.z(); ++z)
+            for (int y = o.y(); y < hi.y(); ++y)
+                for (int x = o.x(); x < hi.x(); ++x) {
+                    const float* v = level.nodeData(g.index(x, y, z), channels) + channel * 3;
+                    leaf->setValueOn(LeafT::coordToOffset(Coord(x, y, z)), openvdb::Vec3s(v[0], v[1], v[2]));
+                }
+        leaves[n] = std::move(leaf);
+    });
+    auto grid = Vec3SGrid::create(openvdb::Vec3s(0.0f));
+    for (auto& leaf : leaves) grid->tree().addLeaf(leaf.release());
+    return grid;
+}
+
+/// File-level metadata: the caller's entries plus the structural keys.
+openvdb::MetaMap fileMetadata(const Volume& volume) {
+    openvdb::MetaMap meta;
+    for (const auto& [key, value] : volume.meta) meta.insertMeta(kPrefix + key, *toVdbMeta(value));
+    meta.insertMeta(kPrefix + "format_version", openvdb::Int64Metadata(kFormatVersion));
+    meta.insertMeta(kPrefix + "basis", openvdb::StringMetadata(volume.basis.kind));
+    meta.insertMeta(kPrefix + "channels", openvdb::StringMetadata(joinNames(volume.basis.channelNames)));
+    meta.insertMeta(kPrefix + "levels", openvdb::Int64Metadata(int64_t(volume.levels.size())));
+    for (std::size_t l = 0; l < volume.levels.size(); ++l) {
+        const GridSpec& g = volume.levels[l].grid;
+        meta.insertMeta(levelKey(int(l), "origin"), openvdb::Vec3DMetadata({g.origin.x, g.origin.y, g.origin.z}));
+        meta.insertMeta(levelKey(int(l), "spacing"), openvdb::DoubleMetadata(g.spacing));
+        meta.insertMeta(levelKey(int(l), "dims"), openvdb::Vec3IMetadata({g.nx, g.ny, g.nz}));
+    }
+    return meta;
+}
+
+/// Per-grid metadata, so that a grid taken out of the file still says what it holds.
+void tagGrid(openvdb::GridBase& grid, const Volume& volume, int level, int channel) {
+    const GridSpec& g = volume.levels[std::size_t(level)].grid;
+    grid.insertMeta(kPrefix + "format_version", openvdb::Int64Metadata(kFormatVersion));
+    grid.insertMeta(kPrefix + "basis", openvdb::StringMetadata(volume.basis.kind));
+    grid.insertMeta(kPrefix + "level", openvdb::Int64Metadata(level));
+    grid.insertMeta(kPrefix + "channel", openvdb::Int64Metadata(channel));
+    grid.insertMeta(kPrefix + "channel_name",
+                    openvdb::StringMetadata(volume.basis.channelNames[std::size_t(channel)]));
+    grid.insertMeta(kPrefix + "origin", openvdb::Vec3DMetadata({g.origin.x, g.origin.y, g.origin.z}));
+    grid.insertMeta(kPrefix + "spacing", openvdb::DoubleMetadata(g.spacing));
+    grid.insertMeta(kPrefix + "dims", openvdb::Vec3IMetadata({g.nx, g.ny, g.nz}));
+}
+
+/// Rejects NaN/Inf (a file must never carry them) and, for half floats, values that would
+/// overflow to infinity.
+void checkValues(const Volume& volume, const WriteOptions& options) {
+    constexpr float kHalfMax = 65504.0f;
+    const int channels = volume.basis.channelCount();
+    for (std::size_t l = 0; l < volume.levels.size(); ++l) {
+        const std::vector<float>& data = volume.levels[l].data;
+        for (std::size_t n = 0; n < data.size(); ++n) {
+            const bool bad = !std::isfinite(data[n]) || (options.halfFloat && std::abs(data[n]) > kHalfMax);
+            if (!bad) continue;
+            const std::size_t node = n / (std::size_t(channels) * 3);
+            const std::string where = "level " + std::to_string(l) + ", node " + std::to_string(node) + ", channel " +
+                                      volume.basis.channelNames[n / 3 % std::size_t(channels)];
+            if (!std::isfinite(data[n])) throw ValueError("non-finite value at " + where);
+            throw ValueError("value " + std::to_string(data[n]) + " at " + where +
+                             " exceeds the half-float range (65504); write with full floats");
+        }
+    }
+}
+
+void checkWritable(const Volume& volume, const WriteOptions& options) {
+    try {
+        volume.validate();
+    } catch (const FormatError& e) {
+        throw ValueError(std::string("invalid volume: ") + e.what());
+    }
+    for (const auto& entry : volume.meta) {
+        if (entry.first.empty()) throw ValueError("metadata key is empty");
+        if (isStructuralKey(entry.first)) {
+            throw ValueError("metadata key '" + entry.first + "' is reserved (the writer sets it)");
+        }
+    }
+    checkValues(volume, options);
+    std::set<std::string> names;
+    for (std::size_t l = 0; l < volume.levels.size(); ++l)
+        for (const std::string& c : volume.basis.channelNames)
+            if (!names.insert(gridNameFor(c, int(l))).second)
+                throw ValueError("grid name '" + gridNameFor(c, int(l)) + "' would appear twice");
+}
+
+openvdb::GridCPtrVec buildGrids(const Volume& volume, const WriteOptions& options) {
+    const int channels = volume.basis.channelCount();
+    openvdb::GridCPtrVec grids;
+    for (std::size_t l = 0; l < volume.levels.size(); ++l) {
+        const VolumeLevel& level = volume.levels[l];
+        const std::vector<Coord> origins = leafOrigins(level.grid);
+        std::vector<Vec3SGrid::Ptr> built(std::size_t(channels), nullptr);
+        tbb::parallel_for(0, channels, [&](int c) { built[std::size_t(c)] = buildChannelGrid(level, c, channels, origins); });
+        for (int c = 0; c < channels; ++c) {
+            Vec3SGrid::Ptr grid = built[std::size_t(c)];
+            grid->setName(gridNameFor(volume.basis.channelNames[std::size_t(c)], int(l)));
+            grid->setTransform(levelTransform(level.grid));
+            grid->setGridClass(openvdb::GRID_UNKNOWN);
+            grid->setVectorType(openvdb::VEC_INVARIANT);
+            grid->setSaveFloatAsHalf(options.halfFloat);
+            tagGrid(*grid, volume, int(l), c);
+            grids.push_back(grid);
+        }
+    }
+    return grids;
+}
+
+/// Creates a fresh, uniquely named temporary file beside `path` and returns its name.
+std::string createTempFile(const std::string& path) {
+    static std::atomic<unsigned> counter{0};
+    std::random_device rd;
+    for (int attempt = 0; attempt < 16; ++attempt) {
+        const std::string tmp = path + ".tmp-" + std::to_string(::getpid()) + "-" +
+                                std::to_string(rd() ^ (counter++ * 2654435761u));
+        const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0666);
+        if (fd >= 0) {
+            ::close(fd);
+            return tmp;
+        }
+        if (errno != EEXIST) throw IoError("cannot write '" + path + "': " + std::strerror(errno));
+    }
+    throw IoError("cannot write '" + path + "': no free temporary file name");
+}
+
+void syncFile(const std::string& path) {
+    const int fd = ::open(path.c_str(), O_RDONLY);
+    if (fd < 0 || ::fsync(fd) != 0) {
+        const int err = errno;
+        if (fd >= 0) ::close(fd);
+        throw std::runtime_error(std::string("cannot flush temporary file: ") + std::strerror(err));
+    }
+    ::close(fd);
+}
+
+// ---------------------------------------------------------------------------------------
+// Reading
+
+/// An opened vdblight file whose header and file metadata have been checked.
+struct OpenedFile {
+    std::unique_ptr<openvdb::io::File> file;
+    openvdb::MetaMap::Ptr meta;
+    int64_t version = 0;
+};
+
+[[noreturn]] void formatError(const std::string& path, const std::string& what) {
+    throw FormatError("'" + path + "' " + what);
+}
+
+void checkReadable(const std::string& path) {
+    std::error_code ec;
+    const fs::file_status status = fs::status(path, ec);
+    if (!fs::exists(status)) throw IoError("cannot read '" + path + "': no such file");
+    if (fs::is_directory(status)) throw IoError("cannot read '" + path + "': is a directory");
+    std::ifstream probe(path, std::ios::binary);
+    if (!probe) throw IoError("cannot read '" + path + "': " + std::strerror(errno));
+}
+
+/// Reads the grid table of a .vdb the way io::File::open does, but with every read checked,
+/// to find where the last grid's data ends. OpenVDB itself reads a file that lacks its last
+/// bytes without complaint (leaving garbage in the last leaves), so the reader compares this
+/// end with the file size.
+class GridTableScanner : public openvdb::io::Archive {
+public:
+    /// Byte offset just past the last grid (0 if the file has no grid offsets).
+    int64_t dataEnd(std::istream& is) {
+        readHeader(is);
+        auto streamMeta = std::make_shared<openvdb::io::StreamMetadata>();  // as io::File::open does
+        streamMeta->setSeekable(true);
+        openvdb::io::setStreamMetadataPtr(is, streamMeta, /*transfer=*/false);
+        setFormatVersion(is);
+        setLibraryVersion(is);
+        setDataCompression(is);
+        openvdb::MetaMap().readMeta(is);
+        if (!is) throw std::runtime_error("cannot read the file metadata");
+        if (!inputHasGridOffsets()) return 0;
+        const int32_t count = readGridCount(is);
+        if (!is || count < 0) throw std::runtime_error("cannot read the grid count");
+        int64_t end = 0;
+        for (int32_t n = 0; n < count; ++n) {
+            skipString(is);  // unique name
+            skipString(is);  // type
+            if (openvdb::io::getFormatVersion(is) >= openvdb::OPENVDB_FILE_VERSION_GRID_INSTANCING) skipString(is);
+            int64_t offsets[3] = {0, 0, 0};  // grid, blocks, end
+            is.read(reinterpret_cast<char*>(offsets), sizeof offsets);
+            if (!is) throw std::runtime_error("grid table ends early");
+            end = std::max(end, offsets[2]);
+            is.seekg(offsets[2], std::ios_base::beg);
+        }
+        return end;
+    }
+
+private:
+    static void skipString(std::istream& is) {
+        uint32_t size = 0;
+        is.read(reinterpret_cast<char*>(&size), sizeof size);
+        if (!is || size > (1u << 20)) throw std::runtime_error("grid table ends early or is corrupt");
+        is.ignore(size);
+    }
+};
+
+void checkNotTruncated(const std::string& path) {
+    std::ifstream is(path, std::ios::binary);
+    const auto bytes = int64_t(fs::file_size(path));
+    int64_t end = 0;
+    try {
+        end = GridTableScanner().dataEnd(is);
+    } catch (const std::exception& e) {
+        formatError(path, std::string("is not a readable .vdb file (truncated or corrupt?): ") + e.what());
+    }
+    if (end > bytes) {
+        formatError(path, "is truncated: its grids end at byte " + std::to_string(end) + " but it has only " +
+                              std::to_string(bytes) + " bytes");
+    }
+}
+
+template <typename T>
+T requireMeta(const openvdb::MetaMap& meta, const std::string& key, const std::string& path) {
+    auto m = meta.getMetadata<openvdb::TypedMetadata<T>>(key);
+    if (!m) {
+        formatError(path, "has no metadata " + key + " of type " + openvdb::TypedMetadata<T>::staticTypeName());
+    }
+    return m->value();
+}
+
+OpenedFile openVolumeFile(const std::string& path) {
+    initOpenVdb();
+    checkReadable(path);
+    checkNotTruncated(path);
+    OpenedFile f;
+    f.file = std::make_unique<openvdb::io::File>(path);
+    try {
+        f.file->open(/*delayLoad=*/false);
+        f.meta = f.file->getMetadata();
+    } catch (const std::exception& e) {
+        formatError(path, std::string("is not a readable .vdb file (truncated or corrupt?): ") + e.what());
+    }
+    openvdb::Metadata::Ptr version = (*f.meta)[kPrefix + "format_version"];
+    MetaValue v;
+    if (!version || !fromVdbMeta(*version, v) || std::holds_alternative<std::string>(v)) {
+        formatError(path, "is not a vdblight volume (no vdblight:format_version metadata)");
+    }
+    f.version = std::holds_alternative<double>(v) ? int64_t(std::get<double>(v)) : std::get<int64_t>(v);
+    if (f.version > kFormatVersion || f.version < 1) {
+        formatError(path, "has format version " + std::to_string(f.version) + "; this build reads versions 1 to " +
+                              std::to_string(kFormatVersion));
+    }
+    return f;
+}
+
+GridSpec readLevelSpec(const openvdb::MetaMap& meta, int level, const std::string& path) {
+    const openvdb::Vec3d o = requireMeta<openvdb::Vec3d>(meta, levelKey(level, "origin"), path);
+    const openvdb::Vec3i d = requireMeta<openvdb::Vec3i>(meta, levelKey(level, "dims"), path);
+    GridSpec g;
+    g.origin = Vec3d(o.x(), o.y(), o.z());
+    g.spacing = requireMeta<double>(meta, levelKey(level, "spacing"), path);
+    g.nx = d.x(), g.ny = d.y(), g.nz = d.z();
+    return g;
+}
+
+/// Everything except the structural keys, prefix stripped.
+Metadata userMetadata(const openvdb::MetaMap& meta) {
+    Metadata out;
+    for (auto it = meta.beginMeta(); it != meta.endMeta(); ++it) {
+        if (it->first.compare(0, kPrefix.size(), kPrefix) != 0) continue;
+        const std::string key = it->first.substr(kPrefix.size());
+        MetaValue value;
+        if (!isStructuralKey(key) && it->second && fromVdbMeta(*it->second, value)) out[key] = value;
+    }
+    return out;
+}
+
+/// Throws unless `grid` is a Vec3SGrid placed as `g` whose active voxels are exactly [0, dims).
+Vec3SGrid::Ptr checkChannelGrid(const openvdb::GridBase::Ptr& base, const GridSpec& g, const std::string& path) {
+    auto grid = openvdb::gridPtrCast<Vec3SGrid>(base);
+    const std::string name = "grid '" + base->getName() + "' ";
+    if (!grid) formatError(path, name + "has type " + base->valueType() + ", expected vec3s");
+    const openvdb::math::Transform& xf = grid->transform();
+    const openvdb::Vec3d o = xf.indexToWorld(Coord(0, 0, 0)), vs = xf.voxelSize();
+    const double tol = 1e-9 * std::max({g.spacing, std::abs(g.origin.x), std::abs(g.origin.y), std::abs(g.origin.z)});
+    const bool placed = xf.isLinear() && std::abs(vs.x() - g.spacing) <= tol && std::abs(vs.y() - g.spacing) <= tol &&
+                        std::abs(vs.z() - g.spacing) <= tol && std::abs(o.x() - g.origin.x) <= tol &&
+                        std::abs(o.y() - g.origin.y) <= tol && std::abs(o.z() - g.origin.z) <= tol;
+    if (!placed) formatError(path, name + "has a transform that does not match its level's origin and spacing");
+    const openvdb::CoordBBox box = grid->evalActiveVoxelBoundingBox();
+    const bool inside = box.min() == Coord(0, 0, 0) && box.max() == Coord(g.nx - 1, g.ny - 1, g.nz - 1);
+    if (grid->activeVoxelCount() != g.nodeCount() || !inside) {
+        formatError(path, name + "has " + std::to_string(grid->activeVoxelCount()) +
+                              " active voxels, expected exactly the " + std::to_string(g.nodeCount()) +
+                              " nodes of a " + std::to_string(g.nx) + "x" + std::to_string(g.ny) + "x" +
+                              std::to_string(g.nz) + " box");
+    }
+    grid->tree().voxelizeActiveTiles();  // another writer may have merged constant blocks
+    return grid;
+}
+
+/// Copies the active voxels of `grid` into channel `channel` of the level's data.
+void copyChannel(const Vec3SGrid& grid, VolumeLevel& level, int channel, int channels) {
+    std::vector<const LeafT*> leaves;
+    leaves.reserve(grid.tree().leafCount());
+    for (auto it = grid.tree().cbeginLeaf(); it; ++it) leaves.push_back(it.getLeaf());
+    const GridSpec& g = level.grid;
+    tbb::parallel_for(std::size_t(0), leaves.size(), [&](std::size_t n) {
+        for (auto v = leaves[n]->cbeginValueOn(); v; ++v) {
+            const Coord c = v.getCoord();
+            float* out = level.data.data() + (g.index(c.x(), c.y(), c.z()) * channels + channel) * 3;
+            out[0] = v->x(), out[1] = v->y(), out[2] = v->z();
+        }
+    });
+}
+
+VolumeLevel readLevel(OpenedFile& f, const BasisDesc& basis, int level, const std::string& path) {
+    VolumeLevel out;
+    out.grid = readLevelSpec(*f.meta, level, path);
+    const GridSpec& g = out.grid;
+    if (g.nx <= 0 || g.ny <= 0 || g.nz <= 0 || !(g.spacing > 0) || !isFinite(g.origin)) {
+        formatError(path, "has invalid dimensions, spacing or origin for level " + std::to_string(level));
+    }
+    const int channels = basis.channelCount();
+    for (int c = 0; c < channels; ++c) {
+        const std::string name = gridNameFor(basis.channelNames[std::size_t(c)], level);
+        if (!f.file->hasGrid(name)) formatError(path, "has no grid '" + name + "'");
+        openvdb::GridBase::Ptr base;
+        try {
+            base = f.file->readGrid(name);
+        } catch (const std::exception& e) {
+            formatError(path, "grid '" + name + "' cannot be read (truncated or corrupt?): " + e.what());
+        }
+        Vec3SGrid::Ptr grid = checkChannelGrid(base, g, path);
+        // Allocated only once a grid has confirmed the node count (metadata could be corrupt).
+        if (out.data.empty()) out.data.assign(g.nodeCount() * std::size_t(channels) * 3, 0.0f);
+        copyChannel(*grid, out, c, channels);
+    }
+    return out;
+}
+
+/// GridInfo from a grid's metadata (loading the grid only if it lacks OpenVDB's statistics).
+GridInfo describeGrid(openvdb::io::File& file, const openvdb::GridBase& grid) {
+    GridInfo g;
+    g.name = grid.getName();
+    g.valueType = grid.valueType();
+    const auto voxels = grid.getMetadata<openvdb::Int64Metadata>(openvdb::GridBase::META_FILE_VOXEL_COUNT);
+    const auto bytes = grid.getMetadata<openvdb::Int64Metadata>(openvdb::GridBase::META_FILE_MEM_BYTES);
+    if (voxels && bytes) {
+        g.activeVoxels = uint64_t(voxels->value());
+        g.memoryBytes = uint64_t(bytes->value());
+    } else {
+        const openvdb::GridBase::Ptr full = file.readGrid(g.name);
+        g.activeVoxels = full->activeVoxelCount();
+        g.memoryBytes = full->memUsage();
+    }
+    const auto level = grid.getMetadata<openvdb::Int64Metadata>(kPrefix + "level");
+    g.level = level ? int(level->value()) : 0;
+    g.voxelSize = grid.transform().voxelSize().x();
+    return g;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------
+
+void writeVolume(const Volume& volume, const std::string& path, const WriteOptions& options) {
+    checkWritable(volume, options);
+    initOpenVdb();
+    const fs::path parent = fs::path(path).parent_path();
+    std::error_code ec;
+    if (!parent.empty() && !fs::is_directory(parent, ec)) {
+        throw IoError("cannot write '" + path + "': directory '" + parent.string() + "' does not exist");
+    }
+    const openvdb::GridCPtrVec grids = buildGrids(volume, options);
+    const openvdb::MetaMap meta = fileMetadata(volume);
+    const std::string tmp = createTempFile(path);
+    try {
+        openvdb::io::File(tmp).write(grids, meta);
+        syncFile(tmp);
+        if (std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error(std::strerror(errno));
+    } catch (const std::exception& e) {
+        std::remove(tmp.c_str());
+        throw IoError("cannot write '" + path + "': " + e.what());
+    }
+}
+
+Volume readVolume(const std::string& path) {
+    OpenedFile f = openVolumeFile(path);
+    const openvdb::MetaMap& meta = *f.meta;
+    Volume volume;
+    volume.basis.kind = requireMeta<std::string>(meta, kPrefix + "basis", path);
+    volume.basis.channelNames = splitNames(requireMeta<std::string>(meta, kPrefix + "channels", path));
+    const int64_t levels = requireMeta<int64_t>(meta, kPrefix + "levels", path);
+    if (levels < 1 || levels > 64) formatError(path, "has an invalid level count " + std::to_string(levels));
+    for (int l = 0; l < int(levels); ++l) volume.levels.push_back(readLevel(f, volume.basis, l, path));
+    volume.meta = userMetadata(meta);
+    try {
+        volume.validate();
+    } catch (const FormatError& e) {
+        formatError(path, std::string("is inconsistent: ") + e.what());
+    }
+    return volume;
+}
+
+FileInfo inspectVolumeFile(const std::string& path) {
+    OpenedFile f = openVolumeFile(path);
+    FileInfo info;
+    info.path = path;
+    info.fileBytes = uint64_t(fs::file_size(path));
+    std::vector<std::pair<int64_t, GridInfo>> grids;  // (channel, info), to sort
+    try {
+        const openvdb::GridPtrVecPtr all = f.file->readAllGridMetadata();  // keep alive while iterating
+        for (const openvdb::GridBase::Ptr& grid : *all) {
+            const auto channel = grid->getMetadata<openvdb::Int64Metadata>(kPrefix + "channel");
+            grids.emplace_back(channel ? channel->value() : INT64_MAX, describeGrid(*f.file, *grid));
+        }
+    } catch (const std::exception& e) {
+        formatError(path, std::string("has unreadable grids: ") + e.what());
+    }
+    std::stable_sort(grids.begin(), grids.end(), [](const auto& a, const auto& b) {
+        return std::make_pair(a.second.level, a.first) < std::make_pair(b.second.level, b.first);
+    });
+    for (auto& entry : grids) info.grids.push_back(std::move(entry.second));
+    return info;
+}
+
+}  // namespace vdblight

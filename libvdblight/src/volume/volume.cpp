@@ -1,0 +1,83 @@
+// The in-memory volume: basis description, consistency checks, metadata accessors.
+#include "vdblight/volume.h"
+
+#include <cmath>
+#include <cstdio>
+#include <set>
+
+#include "vdblight/errors.h"
+#include "vdblight/sh.h"
+
+namespace vdblight {
+namespace {
+
+bool isValidGridName(const std::string& name) {
+    if (name.empty()) return false;
+    for (char ch : name) {
+        const bool ok = (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') || ch == '_';
+        if (!ok) return false;
+    }
+    return true;
+}
+
+void validateLevel(const VolumeLevel& level, std::size_t index, int channels) {
+    const GridSpec& g = level.grid;
+    const std::string where = "volume level " + std::to_string(index);
+    if (g.nx <= 0 || g.ny <= 0 || g.nz <= 0) {
+        throw FormatError(where + " has non-positive dimensions " + std::to_string(g.nx) + " x " +
+                          std::to_string(g.ny) + " x " + std::to_string(g.nz));
+    }
+    if (!(std::isfinite(g.spacing) && g.spacing > 0.0)) {
+        throw FormatError(where + " has invalid spacing " + std::to_string(g.spacing) + " (must be finite and > 0)");
+    }
+    if (!isFinite(g.origin)) throw FormatError(where + " has a non-finite origin");
+    const std::size_t expected = g.nodeCount() * std::size_t(channels) * 3;
+    if (level.data.size() != expected) {
+        throw FormatError(where + " holds " + std::to_string(level.data.size()) + " floats, expected " +
+                          std::to_string(expected) + " (" + std::to_string(g.nodeCount()) + " nodes x " +
+                          std::to_string(channels) + " channels x 3)");
+    }
+}
+
+}  // namespace
+
+BasisDesc BasisDesc::sh2() {
+    BasisDesc desc;
+    desc.kind = "sh2";
+    for (int j = 0; j < sh::kCoeffs; ++j) desc.channelNames.emplace_back(sh::gridName(j));
+    return desc;
+}
+
+void Volume::validate() const {
+    if (basis.kind.empty()) throw FormatError("volume basis kind is empty");
+    if (basis.channelCount() == 0) throw FormatError("volume basis has no channels");
+    std::set<std::string> seen;
+    for (const std::string& name : basis.channelNames) {
+        if (!isValidGridName(name)) {
+            throw FormatError("channel name '" + name + "' is invalid (letters, digits and underscores only)");
+        }
+        if (!seen.insert(name).second) throw FormatError("channel name '" + name + "' appears twice");
+    }
+    if (levels.empty()) throw FormatError("volume has no levels");
+    for (std::size_t i = 0; i < levels.size(); ++i) validateLevel(levels[i], i, basis.channelCount());
+}
+
+double metaNumber(const Metadata& meta, const std::string& key, double fallback) {
+    const auto it = meta.find(key);
+    if (it == meta.end()) return fallback;
+    if (const auto* i = std::get_if<int64_t>(&it->second)) return double(*i);
+    if (const auto* d = std::get_if<double>(&it->second)) return *d;
+    return fallback;  // a string is not converted
+}
+
+std::string metaString(const Metadata& meta, const std::string& key, const std::string& fallback) {
+    const auto it = meta.find(key);
+    if (it == meta.end()) return fallback;
+    if (const auto* s = std::get_if<std::string>(&it->second)) return *s;
+    if (const auto* i = std::get_if<int64_t>(&it->second)) return std::to_string(*i);
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.17g", std::get<double>(it->second));
+    return buf;
+}
+
+}  // namespace vdblight

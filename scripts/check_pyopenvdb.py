@@ -1,0 +1,100 @@
+#!/usr/bin/env python3
+"""Checks a vdblight .vdb with pyopenvdb (an independent reader of the file format).
+
+Usage: /usr/bin/python3 scripts/check_pyopenvdb.py FILE.vdb [--expect r,g,b]
+
+Checks that the file metadata has vdblight:format_version and vdblight:basis == "sh2",
+that the nine SH grids exist as Vec3 float grids in the order of vdblight:channels, that
+their voxel (0, 0, 0) is active and sits at the level-0 origin with the level-0 spacing,
+and that sh_l0m0 at voxel (0, 0, 0) is finite (and equals --expect within 1e-5 relative).
+Exit status 0 on success; otherwise 1 with a one-line message on stderr.
+(On Debian, pyopenvdb is in /usr/bin/python3's dist-packages, not in other interpreters.)
+"""
+import argparse
+import math
+import sys
+
+SH_GRIDS = ["sh_l0m0", "sh_l1m_neg1", "sh_l1m0", "sh_l1m1",
+            "sh_l2m_neg2", "sh_l2m_neg1", "sh_l2m0", "sh_l2m1", "sh_l2m2"]
+SUPPORTED_FORMAT_VERSION = 1
+
+
+class CheckError(Exception):
+    pass
+
+
+def parse_rgb(text):
+    parts = text.split(",")
+    if len(parts) != 3:
+        raise argparse.ArgumentTypeError("expected r,g,b, got %r" % text)
+    return tuple(float(p) for p in parts)
+
+
+def close(value, expected, rel=1e-5):
+    return abs(value - expected) <= rel * max(abs(expected), 1e-30)
+
+
+def check_with_pyopenvdb(path, expect=None):
+    """Runs every check; returns a short summary or raises CheckError."""
+    import pyopenvdb as vdb
+
+    try:
+        meta = vdb.readMetadata(path)
+    except Exception as e:  # pyopenvdb raises plain exceptions for I/O and format errors
+        raise CheckError("cannot read %s: %s" % (path, e))
+    version = meta.get("vdblight:format_version")
+    if not isinstance(version, int):
+        raise CheckError("no integer vdblight:format_version metadata (not a vdblight volume)")
+    if not 1 <= version <= SUPPORTED_FORMAT_VERSION:
+        raise CheckError("unsupported vdblight:format_version %d" % version)
+    if meta.get("vdblight:basis") != "sh2":
+        raise CheckError("vdblight:basis is %r, expected 'sh2'" % meta.get("vdblight:basis"))
+    if meta.get("vdblight:channels", "").split(",") != SH_GRIDS:
+        raise CheckError("vdblight:channels is %r" % meta.get("vdblight:channels"))
+    origin = meta.get("vdblight:level0_origin")
+    spacing = meta.get("vdblight:level0_spacing")
+    if origin is None or spacing is None:
+        raise CheckError("no vdblight:level0_origin / vdblight:level0_spacing metadata")
+
+    types = {g.name: g.valueTypeName for g in vdb.readAllGridMetadata(path)}
+    for name in SH_GRIDS:
+        if name not in types:
+            raise CheckError("grid %s is missing (grids: %s)" % (name, ", ".join(sorted(types))))
+        if types[name] != "vec3s":
+            raise CheckError("grid %s has type %s, expected vec3s" % (name, types[name]))
+
+    grid = vdb.read(path, "sh_l0m0")
+    value, active = grid.getConstAccessor().probeValue((0, 0, 0))
+    if not active:
+        raise CheckError("voxel (0,0,0) of sh_l0m0 is not active")
+    if not all(math.isfinite(c) for c in value):
+        raise CheckError("sh_l0m0 at voxel (0,0,0) is not finite: %s" % (value,))
+    world = grid.transform.indexToWorld((0, 0, 0))
+    if not all(close(w, o, 1e-9) or abs(w - o) < 1e-12 for w, o in zip(world, origin)):
+        raise CheckError("voxel (0,0,0) is at %s, expected the level-0 origin %s" % (world, origin))
+    if not all(close(s, spacing, 1e-9) for s in grid.transform.voxelSize()):
+        raise CheckError("voxel size %s differs from vdblight:level0_spacing %r" % (grid.transform.voxelSize(), spacing))
+    if expect is not None and not all(close(v, e) for v, e in zip(value, expect)):
+        raise CheckError("sh_l0m0 at voxel (0,0,0) is %s, expected %s" % (value, expect))
+    return "format_version %d, 9 vec3s SH grids, sh_l0m0(0,0,0) = (%.6g, %.6g, %.6g)" % ((version,) + tuple(value))
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("file")
+    parser.add_argument("--expect", type=parse_rgb, help="expected sh_l0m0 at voxel (0,0,0) as r,g,b")
+    args = parser.parse_args(argv)
+    try:
+        summary = check_with_pyopenvdb(args.file, args.expect)
+    except ImportError as e:
+        print("check_pyopenvdb: FAIL: cannot import pyopenvdb (%s); use /usr/bin/python3" % e, file=sys.stderr)
+        return 1
+    except CheckError as e:
+        print("check_pyopenvdb: FAIL: %s: %s" % (args.file, e), file=sys.stderr)
+        return 1
+    print("check_pyopenvdb: OK: %s: %s" % (args.file, summary))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# Quick start, command 1: set up (packages + build) and bake the bundled Cornell box.
+# Writes out/cornell_box.vdb and prints the bake summary and the file's description.
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+"$ROOT/scripts/setup.sh"
+mkdir -p "$ROOT/out"
+"$ROOT/build/bin/vdblight" bake -o "$ROOT/out/cornell_box.vdb" "$@"
+"$ROOT/build/bin/vdblight" info "$ROOT/out/cornell_box.vdb" | head -n 4
+echo "Irradiance on the floor below the light (facing up):"
+"$ROOT/build/bin/vdblight" query "$ROOT/out/cornell_box.vdb" --at 0.278,0.05,0.28 --normal 0,1,0

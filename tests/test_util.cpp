@@ -1,0 +1,89 @@
+#include "test_util.h"
+
+#include "vdblight/scene_generators.h"
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <random>
+#include <stdexcept>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace vdblight::test {
+
+namespace fs = std::filesystem;
+
+TempDir::TempDir() {
+    std::random_device rd;
+    for (int attempt = 0; attempt < 100; ++attempt) {
+        fs::path p = fs::temp_directory_path() /
+                     ("vdblight_test_" + std::to_string(::getpid()) + "_" + std::to_string(rd()));
+        std::error_code ec;
+        if (fs::create_directory(p, ec)) {
+            path_ = p;
+            return;
+        }
+    }
+    throw std::runtime_error("cannot create a temporary directory");
+}
+
+TempDir::~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+}
+
+void writeTextFile(const std::string& path, const std::string& text) {
+    std::ofstream out(path, std::ios::binary);
+    out << text;
+    if (!out) throw std::runtime_error("cannot write " + path);
+}
+
+int runCommand(const std::string& command, std::string* output) {
+    std::string full = command + " 2>&1";
+    FILE* pipe = ::popen(full.c_str(), "r");
+    if (!pipe) return -1;
+    std::array<char, 4096> buf;
+    std::string text;
+    std::size_t n;
+    while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) text.append(buf.data(), n);
+    const int status = ::pclose(pipe);
+    if (output) *output = text;
+    if (WIFEXITED(status)) return WEXITSTATUS(status);
+    return 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+}
+
+namespace {
+Scene singleMaterialScene(const char* name, const Rgb& albedo, const Rgb& emission) {
+    Scene scene;
+    scene.name = name;
+    Material m;
+    m.name = name;
+    m.albedo = albedo;
+    m.emission = emission;
+    scene.materials.push_back(m);
+    return scene;
+}
+}  // namespace
+
+Scene makeEmissiveDisk(float radius, const Rgb& radiance, int segments, float* effectiveRadius) {
+    Scene scene = singleMaterialScene("emissive_disk", {0, 0, 0}, radiance);
+    const double r = appendDisk(scene, {0, 0, 0}, radius, segments, 0);
+    if (effectiveRadius) *effectiveRadius = float(r);
+    return scene;
+}
+
+Scene makeEmissiveSphere(float radius, const Rgb& radiance, int subdivisions, float* effectiveRadius) {
+    Scene scene = singleMaterialScene("emissive_sphere", {0, 0, 0}, radiance);
+    const double r = appendIcosphere(scene, {0, 0, 0}, radius, subdivisions, 0);
+    if (effectiveRadius) *effectiveRadius = float(r);
+    return scene;
+}
+
+Scene makeFurnaceBox(const Vec3f& lo, const Vec3f& hi, const Rgb& emission, const Rgb& albedo) {
+    Scene scene = singleMaterialScene("furnace", albedo, emission);
+    appendBox(scene, lo, hi, /*inward=*/true, 0);
+    return scene;
+}
+
+}  // namespace vdblight::test

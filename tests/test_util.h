@@ -1,0 +1,49 @@
+// Helpers shared by the tests: a self-removing temporary directory and generators of
+// scenes whose lighting has a closed form.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "vdblight/scene.h"
+
+namespace vdblight::test {
+
+/// A fresh directory under the system temp directory, removed with its contents when the
+/// object goes out of scope. Tests never write into the working directory.
+class TempDir {
+public:
+    TempDir();
+    ~TempDir();
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+    const std::filesystem::path& path() const { return path_; }
+    std::string file(const std::string& name) const { return (path_ / name).string(); }
+
+private:
+    std::filesystem::path path_;
+};
+
+/// Writes `text` to `path` (throws on failure).
+void writeTextFile(const std::string& path, const std::string& text);
+
+/// Runs a shell command, returns its exit status; stdout+stderr are captured in `output`.
+int runCommand(const std::string& command, std::string* output = nullptr);
+
+/// A flat disk of radius R in the plane z = 0 centred at the origin, emitting radiance
+/// `radiance` towards +z only, tessellated into `segments` triangles (fan).
+/// Its irradiance at (0, 0, h) facing -z is pi L sin^2(alpha), tan(alpha) = R_eff / h,
+/// where R_eff (returned through effectiveRadius) is the radius of the circle with the
+/// polygon's area (exact to O(segments^-4) on the axis).
+Scene makeEmissiveDisk(float radius, const Rgb& radiance, int segments, float* effectiveRadius = nullptr);
+
+/// A sphere of radius R at the origin emitting `radiance` outwards (geodesic tessellation
+/// with `subdivisions` levels of an icosahedron). From distance d > R its irradiance facing
+/// the centre is pi L (R/d)^2 (up to tessellation; the effective radius is returned).
+Scene makeEmissiveSphere(float radius, const Rgb& radiance, int subdivisions, float* effectiveRadius = nullptr);
+
+/// A closed axis-aligned box [lo, hi] whose every face emits `emission` inwards and reflects
+/// `albedo` (white furnace: E = pi Le / (1 - rho) everywhere inside).
+Scene makeFurnaceBox(const Vec3f& lo, const Vec3f& hi, const Rgb& emission, const Rgb& albedo);
+
+}  // namespace vdblight::test
