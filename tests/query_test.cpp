@@ -116,6 +116,15 @@ TEST(Query, WorksOnFlatGrids) {
 
 TEST(Query, RefusesUnknownBases) {
     Volume v = makeVolume(2, 2, 2, 1.0, 9);
-    v.basis.kind = "bins:4";
+    v.basis.kind = "nonsense";
     EXPECT_THROW(IrradianceQuery{v}, FormatError);
+}
+
+TEST(Query, PicksTheShUniformLookupThroughTheRegistry) {
+    const Volume v = makeVolume(3, 3, 3, 1.0, 10);
+    const IrradianceQuery q(v);
+    EXPECT_STREQ(q.kind(), "sh2-uniform");
+    const ShUniformLookup direct(v, OutsidePolicy::Clamp);
+    const Vec3f x{0.1f, 0.9f, 1.7f}, n = normalize(Vec3f(1, 2, 3));
+    EXPECT_EQ(q.irradiance(x, n), direct.irradiance(x, n));
 }

@@ -1,12 +1,17 @@
-// Run-time lookup of irradiance E(x, n) from a volume (Kontkanen & Laine eq. 3;
-// Greger et al. section 3.3): trilinear interpolation of the nodes' radiance
-// coefficients, then the cosine-lobe convolution for the normal.
+// Run-time lookup of irradiance E(x, n) from any kind of volume.
 //
-// The query copies the volume into its own layout once (coefficients pre-multiplied by
-// the convolution constants, node-major, contiguous) so that a lookup touches 8 nodes
-// and does no allocation. A query object is immutable and thread-safe.
+// `IrradianceQuery` is what applications use: built once from a Volume, immutable,
+// thread-safe, no allocation per lookup. Behind it sits one `VolumeLookup` per kind of
+// volume (basis x layout), chosen from a small registry (query/registry.cpp). A new kind
+// plugs in by adding its lookup file and one registration line.
+//
+// The SH order-2 uniform lookup (Kontkanen & Laine eq. 3; Greger et al. section 3.3):
+// trilinear interpolation of the nodes' radiance coefficients, then the cosine-lobe
+// convolution for the normal, with the constants A_l folded into the coefficients.
 #pragma once
 
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "vdblight/math.h"
@@ -14,28 +19,63 @@
 
 namespace vdblight {
 
-/// What a lookup does with a point outside the node box.
+/// What a lookup does with a point outside the volume's node box.
 enum class OutsidePolicy {
-    Clamp,  ///< use the nearest point of the node box (documented default)
+    Clamp,  ///< use the nearest point of the node box (documented default; NaN -> the origin corner)
     Throw,  ///< throw ValueError naming the point
 };
 
+/// One kind of volume's lookup. Implementations copy what they need from the Volume into
+/// a layout that is fast to read.
+class VolumeLookup {
+public:
+    virtual ~VolumeLookup() = default;
+    /// Irradiance (W/m^2, RGB) at x for the unit normal n.
+    virtual Rgb irradiance(const Vec3f& x, const Vec3f& n) const = 0;
+    /// The box in which lookups interpolate (outside it the outside policy applies).
+    virtual Bounds bounds() const = 0;
+};
+
+/// A registry entry: `accepts` says whether a volume is of this kind, `create` builds it.
+struct LookupKind {
+    const char* name;
+    bool (*accepts)(const Volume&);
+    std::unique_ptr<VolumeLookup> (*create)(const Volume&, OutsidePolicy);
+};
+/// Every known kind, in the order they are tried.
+const std::vector<LookupKind>& lookupKinds();
+
 class IrradianceQuery {
 public:
-    /// Throws FormatError if the volume's basis is not one the query knows.
+    /// Throws FormatError if no registered lookup accepts the volume (naming its basis).
     explicit IrradianceQuery(const Volume& volume, OutsidePolicy outside = OutsidePolicy::Clamp);
 
     /// Irradiance (W/m^2, RGB) at x for the unit normal n.
-    Rgb irradiance(const Vec3f& x, const Vec3f& n) const;
+    Rgb irradiance(const Vec3f& x, const Vec3f& n) const { return lookup_->irradiance(x, n); }
+    /// True if x lies inside the volume's node box.
+    bool inside(const Vec3f& x) const { return bounds_.contains(Vec3d(x)); }
+    const Bounds& bounds() const { return bounds_; }
+    /// Name of the lookup kind in use (e.g. "sh2-uniform").
+    const char* kind() const { return kind_; }
+
+private:
+    std::unique_ptr<VolumeLookup> lookup_;
+    Bounds bounds_;
+    const char* kind_ = "";
+};
+
+/// The fast lookup for single-level SH order-2 volumes (exposed for tests and benchmarks).
+class ShUniformLookup final : public VolumeLookup {
+public:
+    ShUniformLookup(const Volume& volume, OutsidePolicy outside);
+    Rgb irradiance(const Vec3f& x, const Vec3f& n) const override;
+    Bounds bounds() const override { return grid_.nodeBounds(); }
     /// Nine interpolated radiance coefficients at x (RGB each).
     void radianceCoefficients(const Vec3f& x, Rgb out[9]) const;
 
-    /// True if x lies inside the box spanned by the nodes.
-    bool inside(const Vec3f& x) const;
-    const GridSpec& grid() const { return grid_; }
+    static bool accepts(const Volume& volume);
 
 private:
-    /// Cell origin (i, j, k) and fractions for x, applying the outside policy.
     void locate(const Vec3f& x, int& i, int& j, int& k, float& fx, float& fy, float& fz) const;
 
     GridSpec grid_;
@@ -45,7 +85,7 @@ private:
     std::vector<float> coeffs_;  ///< per node 27 floats: channel-major [c][rgb], A_l folded in
 };
 
-/// The simple, obviously correct lookup used to test IrradianceQuery: reads the volume's
+/// The simple, obviously correct lookup used to test ShUniformLookup: reads the volume's
 /// own arrays, interpolates in double and convolves with the generic SH code.
 Rgbd referenceLookup(const Volume& volume, const Vec3d& x, const Vec3d& n);
 

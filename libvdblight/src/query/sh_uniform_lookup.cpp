@@ -20,11 +20,11 @@ inline void split(float g, int n, int& i, float& f) {
 }
 }  // namespace
 
-IrradianceQuery::IrradianceQuery(const Volume& volume, OutsidePolicy outside) : outside_(outside) {
-    volume.validate();
-    if (volume.basis.kind != "sh2" || volume.levels.size() != 1)
-        throw FormatError("query supports single-level sh2 volumes; this one is '" + volume.basis.kind + "' with " +
-                          std::to_string(volume.levels.size()) + " levels");
+bool ShUniformLookup::accepts(const Volume& volume) {
+    return volume.basis.kind == "sh2" && volume.levels.size() == 1;
+}
+
+ShUniformLookup::ShUniformLookup(const Volume& volume, OutsidePolicy outside) : outside_(outside) {
     const VolumeLevel& level = volume.levels[0];
     grid_ = level.grid;
     origin_ = Vec3f(grid_.origin);
@@ -38,12 +38,7 @@ IrradianceQuery::IrradianceQuery(const Volume& volume, OutsidePolicy outside) : 
     }
 }
 
-bool IrradianceQuery::inside(const Vec3f& x) const {
-    const Bounds b = grid_.nodeBounds();
-    return b.contains(Vec3d(x));
-}
-
-void IrradianceQuery::locate(const Vec3f& x, int& i, int& j, int& k, float& fx, float& fy, float& fz) const {
+void ShUniformLookup::locate(const Vec3f& x, int& i, int& j, int& k, float& fx, float& fy, float& fz) const {
     const Vec3f g = (x - origin_) * invSpacing_;
     if (outside_ == OutsidePolicy::Throw) {
         const float tol = 1e-4f;
@@ -59,7 +54,7 @@ void IrradianceQuery::locate(const Vec3f& x, int& i, int& j, int& k, float& fx, 
     split(g.z, grid_.nz, k, fz);
 }
 
-void IrradianceQuery::radianceCoefficients(const Vec3f& x, Rgb out[9]) const {
+void ShUniformLookup::radianceCoefficients(const Vec3f& x, Rgb out[9]) const {
     int i, j, k;
     float fx, fy, fz;
     locate(x, i, j, k, fx, fy, fz);
@@ -76,7 +71,7 @@ void IrradianceQuery::radianceCoefficients(const Vec3f& x, Rgb out[9]) const {
     }
 }
 
-Rgb IrradianceQuery::irradiance(const Vec3f& x, const Vec3f& n) const {
+Rgb ShUniformLookup::irradiance(const Vec3f& x, const Vec3f& n) const {
     int i, j, k;
     float fx, fy, fz;
     locate(x, i, j, k, fx, fy, fz);

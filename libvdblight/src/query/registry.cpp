@@ -1,0 +1,34 @@
+// The kinds of volume that IrradianceQuery can read. A new kind adds one line here.
+#include "vdblight/errors.h"
+#include "vdblight/query.h"
+
+namespace vdblight {
+
+namespace {
+template <typename Lookup>
+std::unique_ptr<VolumeLookup> make(const Volume& volume, OutsidePolicy outside) {
+    return std::make_unique<Lookup>(volume, outside);
+}
+}  // namespace
+
+const std::vector<LookupKind>& lookupKinds() {
+    static const std::vector<LookupKind> kinds = {
+        {"sh2-uniform", &ShUniformLookup::accepts, &make<ShUniformLookup>},
+    };
+    return kinds;
+}
+
+IrradianceQuery::IrradianceQuery(const Volume& volume, OutsidePolicy outside) {
+    volume.validate();
+    for (const LookupKind& kind : lookupKinds()) {
+        if (!kind.accepts(volume)) continue;
+        lookup_ = kind.create(volume, outside);
+        bounds_ = lookup_->bounds();
+        kind_ = kind.name;
+        return;
+    }
+    throw FormatError("no lookup for volumes with basis '" + volume.basis.kind + "' and " +
+                      std::to_string(volume.levels.size()) + " levels");
+}
+
+}  // namespace vdblight
