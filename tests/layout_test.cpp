@@ -64,7 +64,9 @@ TEST(Layout, RefusesBadValuesWithAClearMessage) {
     p.spacing = 0;
     p.resolution = -3;
     EXPECT_THROW(placeUniformGrid(box(0, 0, 0, 1, 1, 1), p, 1), ValueError);
-    EXPECT_THROW(placeUniformGrid(Bounds{}, GridPlacement{0.1}, 1), ValueError);  // empty box
+    GridPlacement spacingOnly;
+    spacingOnly.spacing = 0.1;
+    EXPECT_THROW(placeUniformGrid(Bounds{}, spacingOnly, 1), ValueError);  // empty box
 }
 
 TEST(Layout, RefusesAbsurdGridsWithTheMemoryFigure) {
