@@ -143,6 +143,30 @@ void checkOutputWritable(const std::string& path) {
         throw IoError("cannot write '" + path + "': directory '" + dir.string() + "' is not writable");
 }
 
+void emitText(const std::string& path, const std::string& text) {
+    if (path.empty()) {
+        std::cout << text;
+        return;
+    }
+    const std::string temp = path + ".tmp-" + std::to_string(::getpid());
+    {
+        std::ofstream file(temp, std::ios::binary);
+        file << text;
+        file.flush();
+        if (!file) {
+            std::error_code ec;
+            fs::remove(temp, ec);
+            throw IoError("cannot write '" + path + "'");
+        }
+    }
+    std::error_code ec;
+    fs::rename(temp, path, ec);
+    if (ec) {
+        fs::remove(temp, ec);
+        throw IoError("cannot write '" + path + "': " + ec.message());
+    }
+}
+
 namespace {
 std::atomic<bool> gInterrupted{false};
 extern "C" void onSignal(int) { gInterrupted = true; }

@@ -42,6 +42,10 @@ std::vector<ReferencePoint> readPointsCsv(const std::string& path);
 /// writable, and it is not a directory). Throws IoError.
 void checkOutputWritable(const std::string& path);
 
+/// Writes `text` to stdout if `path` is empty, else atomically to `path` (a temporary file
+/// in the same directory, then renamed): a failure never leaves a partial file.
+void emitText(const std::string& path, const std::string& text);
+
 /// Installs a SIGINT/SIGTERM handler that only sets a flag, read by the interrupter.
 void installInterruptHandler();
 bool interruptRequested();

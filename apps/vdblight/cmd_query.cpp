@@ -1,5 +1,5 @@
 // vdblight query VOLUME: irradiance E(x, n) at one point or at the rows of a CSV file.
-#include <fstream>
+#include <sstream>
 #include <iostream>
 
 #include "app_common.h"
@@ -37,12 +37,7 @@ void run(const QueryCommand& c) {
     const OutsidePolicy policy = c.outside == "error" ? OutsidePolicy::Throw : OutsidePolicy::Clamp;
     const IrradianceQuery query(volume, policy);
 
-    std::ofstream file;
-    if (!c.output.empty()) {
-        file.open(c.output);
-        if (!file) throw IoError("cannot write '" + c.output + "'");
-    }
-    std::ostream& out = c.output.empty() ? std::cout : file;
+    std::ostringstream out;
     out.precision(9);
     out << "x,y,z,nx,ny,nz,E_r,E_g,E_b\n";
     std::size_t clamped = 0;
@@ -53,6 +48,7 @@ void run(const QueryCommand& c) {
         out << p.position.x << ',' << p.position.y << ',' << p.position.z << ',' << n.x << ',' << n.y << ',' << n.z
             << ',' << e.x << ',' << e.y << ',' << e.z << '\n';
     }
+    emitText(c.output, out.str());
     if (clamped > 0)
         std::cerr << "vdblight: warning: " << clamped << " of " << points.size()
                   << " points lie outside the volume's node box and were clamped to its boundary\n";

@@ -1,5 +1,5 @@
 // vdblight reference [SCENE] --points FILE.csv: ground-truth irradiance without SH or grid.
-#include <fstream>
+#include <sstream>
 #include <iostream>
 
 #include "app_common.h"
@@ -33,12 +33,7 @@ void run(const ReferenceCommand& c) {
     ProgressBar progress(c.quiet);
     const std::vector<ReferenceResult> results = referenceIrradiance(scene, tracer, points, options, &progress);
 
-    std::ofstream file;
-    if (!c.output.empty()) {
-        file.open(c.output);
-        if (!file) throw IoError("cannot write '" + c.output + "'");
-    }
-    std::ostream& out = c.output.empty() ? std::cout : file;
+    std::ostringstream out;
     out.precision(9);
     out << "x,y,z,nx,ny,nz,E_r,E_g,E_b,stderr_r,stderr_g,stderr_b\n";
     for (std::size_t i = 0; i < points.size(); ++i) {
@@ -49,6 +44,7 @@ void run(const ReferenceCommand& c) {
             << ',' << r.irradiance.x << ',' << r.irradiance.y << ',' << r.irradiance.z << ',' << r.standardError.x
             << ',' << r.standardError.y << ',' << r.standardError.z << '\n';
     }
+    emitText(c.output, out.str());
 }
 }  // namespace
 
