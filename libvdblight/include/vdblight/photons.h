@@ -52,6 +52,9 @@ struct PhotonOptions {
 /// Upper bound on PhotonOptions::photons (more is refused with a time estimate).
 constexpr uint64_t kMaxPhotons = 20'000'000'000ull;
 
+/// Throws ValueError for 0 photons or more than kMaxPhotons (with a rough time estimate).
+void checkPhotonCount(uint64_t photons);
+
 struct PhotonStats {
     uint64_t photons = 0;
     uint64_t segments = 0;   ///< path segments walked through the grid

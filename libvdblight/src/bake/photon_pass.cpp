@@ -126,15 +126,7 @@ private:
 };
 
 void checkOptions(const GridSpec& grid, const PhotonOptions& options) {
-    if (options.photons == 0) throw ValueError("photon count must be at least 1");
-    if (options.photons > kMaxPhotons) {
-        // A rough rate (about a million photons per second per thread) to say how absurd.
-        const double hours = double(options.photons) / 1e6 / 2.0 / 3600.0;
-        std::ostringstream s;
-        s << options.photons << " photons would take about " << std::llround(hours)
-          << " hours on 2 threads (at ~1 M photons/s per thread); at most " << kMaxPhotons << " are accepted";
-        throw ValueError(s.str());
-    }
+    checkPhotonCount(options.photons);
     if (options.threads < 0) throw ValueError("thread count must be positive (0 = all cores)");
     if (grid.nx < 2 || grid.ny < 2 || grid.nz < 2)
         throw ValueError("the photon pass needs at least 2 nodes along every axis, got " + std::to_string(grid.nx) +
@@ -162,6 +154,18 @@ void normalise(const std::vector<double>& total, const GridSpec& g, std::vector<
     });
 }
 }  // namespace
+
+void checkPhotonCount(uint64_t photons) {
+    if (photons == 0) throw ValueError("the photon count must be at least 1");
+    if (photons > kMaxPhotons) {
+        // A rough rate (about a million photons per second per thread) to say how absurd.
+        const double hours = double(photons) / 1e6 / 2.0 / 3600.0;
+        std::ostringstream s;
+        s << photons << " photons would take about " << std::llround(hours)
+          << " hours on 2 threads (at ~1 M photons/s per thread); at most " << kMaxPhotons << " are accepted";
+        throw ValueError(s.str());
+    }
+}
 
 uint64_t photonBatchSize(uint64_t photons, std::size_t nodes) {
     const uint64_t byCount = (photons + 255) / 256;
