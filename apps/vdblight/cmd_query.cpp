@@ -7,6 +7,7 @@
 #include "vdblight/errors.h"
 #include "vdblight/query.h"
 #include "vdblight/vdb_io.h"
+#include "vdblight/vector_grid_lookup.h"
 
 namespace vdblight::app {
 
@@ -17,9 +18,12 @@ struct QueryCommand {
     std::string points;
     std::string output;
     std::string outside = "clamp";
+    std::string interp = "trilinear";
 };
 
 void run(const QueryCommand& c) {
+    if (c.interp != "trilinear" && c.interp != "tricubic")
+        throw ValueError("--interp must be trilinear or tricubic, got '" + c.interp + "'");
     if (c.at.empty() == c.points.empty()) throw ValueError("give either --at x,y,z or --points FILE.csv");
     std::vector<ReferencePoint> points;
     if (!c.at.empty()) {
@@ -36,6 +40,13 @@ void run(const QueryCommand& c) {
     const Volume volume = readVolume(c.volume);
     const OutsidePolicy policy = c.outside == "error" ? OutsidePolicy::Throw : OutsidePolicy::Clamp;
     const IrradianceQuery query(volume, policy);
+    std::unique_ptr<VolumeLookup> cubic;  // --interp tricubic (irradiance-vector volumes)
+    if (c.interp == "tricubic") {
+        if (!VectorGridLookup::accepts(volume))
+            throw ValueError("--interp tricubic needs an irradiance-vector volume (bake --method photons); this one is '" +
+                             volume.basis.kind + "'");
+        cubic = std::make_unique<VectorGridLookup>(volume, policy, Interpolation::Tricubic);
+    }
 
     std::ostringstream out;
     out.precision(9);
@@ -44,7 +55,7 @@ void run(const QueryCommand& c) {
     for (const ReferencePoint& p : points) {
         if (!query.inside(p.position)) ++clamped;
         const Vec3f n = normalize(p.normal);
-        const Rgb e = query.irradiance(p.position, n);
+        const Rgb e = cubic ? cubic->irradiance(p.position, n) : query.irradiance(p.position, n);
         out << p.position.x << ',' << p.position.y << ',' << p.position.z << ',' << n.x << ',' << n.y << ',' << n.z
             << ',' << e.x << ',' << e.y << ',' << e.z << '\n';
     }
@@ -65,6 +76,8 @@ void addQueryCommand(CLI::App& app) {
     cmd->add_option("-o,--output", c->output, "Write the CSV here instead of stdout");
     cmd->add_option("--outside", c->outside, "Points outside the node box: clamp (to the nearest boundary point) or error")
         ->check(CLI::IsMember({"clamp", "error"}))
+        ->capture_default_str();
+    cmd->add_option("--interp", c->interp, "Spatial interpolation: trilinear or tricubic (irradiance-vector volumes)")
         ->capture_default_str();
     cmd->callback([c] { run(*c); });
 }

@@ -1,6 +1,7 @@
 // The kinds of volume that IrradianceQuery can read. A new kind adds one line here.
 #include "vdblight/errors.h"
 #include "vdblight/query.h"
+#include "vdblight/vector_grid_lookup.h"
 
 namespace vdblight {
 
@@ -14,6 +15,7 @@ std::unique_ptr<VolumeLookup> make(const Volume& volume, OutsidePolicy outside) 
 const std::vector<LookupKind>& lookupKinds() {
     static const std::vector<LookupKind> kinds = {
         {"sh2-uniform", &ShUniformLookup::accepts, &make<ShUniformLookup>},
+        {"irradiance-vectors-uniform", &VectorGridLookup::accepts, &make<VectorGridLookup>},
     };
     return kinds;
 }

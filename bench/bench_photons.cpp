@@ -1,0 +1,197 @@
+// vdblight_bench_photons: speed and error of the photon pass (Pacanowski et al.), in one run.
+//
+//  1. Throughput on a ~26 k-triangle scene (Cornell box + two spheres) with the paper's
+//     20 x 22 x 20 grid: photons/s, segments/s, face crossings/s, and the pass's Embree
+//     rays/s against raw Embree rays/s (random rays in the scene, same threads). The paper:
+//     8 M photons in 58 s (24 k triangles, 2009 CPU); our target: 8 M photons in under 4 s.
+//  2. Error against time on the default scene: RMS error against `reference` at random
+//     free-space points for the photon vector grid and the SH gather volume at the same grid
+//     resolution, at about equal bake times (several budgets).
+// `--quick` shrinks every workload for a CI smoke run; the figures are then noisy.
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <string>
+
+#include "vdblight/bake.h"
+#include "vdblight/photons.h"
+#include "vdblight/query.h"
+#include "vdblight/reference.h"
+#include "vdblight/scene.h"
+#include "vdblight/scene_generators.h"
+#include "vdblight/trace.h"
+#include "vdblight/vector_grid_lookup.h"
+
+using namespace vdblight;
+
+namespace {
+double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+
+double rawRaysPerSecond(const Tracer& tracer, const Bounds& box, std::size_t total, int threads) {
+    tbb::task_arena arena(threads);
+    std::atomic<std::size_t> hits{0};
+    const double t0 = now();
+    arena.execute([&] {
+        tbb::parallel_for(0, threads, [&](int w) { hits += tracer.traceRandomRays(box, total / threads, uint64_t(w) + 1); });
+    });
+    const double dt = now() - t0;
+    if (hits == std::size_t(-1)) std::puts("");
+    return double(total / threads * threads) / dt;
+}
+
+Scene paperSizedScene() {
+    Scene s = loadScene(defaultScenePath());
+    s.name = "cornell_box+spheres";
+    Material white = s.materials[0];
+    for (const Material& m : s.materials)
+        if (m.name.find("white") != std::string::npos) white = m;
+    white.emission = {0, 0, 0};
+    s.materials.push_back(white);
+    const uint32_t id = uint32_t(s.materials.size() - 1);
+    appendIcosphere(s, {0.15f, 0.08f, 0.12f}, 0.07f, 5, id);  // 20 480 triangles
+    appendIcosphere(s, {0.42f, 0.42f, 0.15f}, 0.06f, 4, id);  // 5 120
+    return s;
+}
+
+void benchThroughput(int threads, bool quick) {
+    const Scene scene = paperSizedScene();
+    const Tracer tracer(scene);
+    const Bounds b = scene.bounds();
+    GridSpec g;
+    g.nx = 20, g.ny = 22, g.nz = 20;
+    g.spacing = b.size().y / 22.0;
+    g.origin = b.lo + Vec3d(1, 1, 1) * (0.5 * g.spacing);
+    PhotonOptions o;
+    o.photons = quick ? 400'000 : 8'000'000;
+    o.threads = threads;
+    PhotonStats st;
+    bakePhotons(scene, tracer, g, o, nullptr, &st);
+    const double raw = rawRaysPerSecond(tracer, b, quick ? 400'000 : 4'000'000, threads);
+    std::printf("\n[throughput] scene %s, %zu triangles, grid %dx%dx%d, %d threads\n", scene.name.c_str(),
+                scene.triangleCount(), g.nx, g.ny, g.nz, threads);
+    std::printf("  %.2f M photons in %.2f s: %.2f M photons/s, %.2f M segments/s, %.1f M face crossings/s "
+                "(%.1f crossings per segment)\n",
+                st.photons / 1e6, st.seconds, st.photons / st.seconds / 1e6, st.segments / st.seconds / 1e6,
+                st.crossings / st.seconds / 1e6, double(st.crossings) / double(st.segments));
+    const double passRays = double(st.rays.total()) / st.seconds;
+    std::printf("  photon pass %.2f M rays/s vs raw Embree %.2f M rays/s (ratio %.2f; the rest is the grid walk)\n",
+                passRays / 1e6, raw / 1e6, passRays / raw);
+    const double eightM = 8e6 / (st.photons / st.seconds);
+    std::printf("  8 M photons: %.2f s %s (paper: 58 s on a 2009 CPU, %.0fx; target < 4 s: %s)\n", eightM,
+                quick ? "extrapolated" : "measured", 58.0 / eightM, eightM < 4.0 ? "met" : "NOT met");
+}
+
+struct ErrorSet {
+    std::vector<ReferencePoint> points;
+    std::vector<ReferenceResult> ref;
+};
+
+ErrorSet freeSpacePoints(const Scene& scene, const Tracer& tracer, const Bounds& box, int count, uint32_t samples,
+                         int threads) {
+    // Random points and normals in the node box; points inside solids (reference E = 0 for
+    // every normal there: no light enters a closed block) are dropped.
+    Rng rng(2024);
+    ErrorSet out;
+    std::vector<ReferencePoint> cand;
+    for (int i = 0; i < count * 5 / 4; ++i)
+        cand.push_back({Vec3f(box.lo + box.size() * Vec3d(rng.uniform(), rng.uniform(), rng.uniform())),
+                        uniformSphere(rng.uniform(), rng.uniform())});
+    ReferenceOptions ro;
+    ro.samples = samples;
+    ro.threads = threads;
+    const std::vector<ReferenceResult> r = referenceIrradiance(scene, tracer, cand, ro);
+    for (std::size_t i = 0; i < cand.size() && int(out.points.size()) < count; ++i)
+        if (luminance(Rgb(r[i].irradiance)) > 1e-6f) out.points.push_back(cand[i]), out.ref.push_back(r[i]);
+    return out;
+}
+
+// sqrt(sum |E - E_ref|^2 / sum |E_ref|^2) over luminance: relative RMS error.
+template <typename F>
+double relativeRms(const ErrorSet& set, F&& lookup) {
+    double num = 0, den = 0;
+    for (std::size_t i = 0; i < set.points.size(); ++i) {
+        const double e = luminance(lookup(set.points[i].position, normalize(set.points[i].normal)));
+        const double r = luminance(Rgb(set.ref[i].irradiance));
+        num += (e - r) * (e - r);
+        den += r * r;
+    }
+    return std::sqrt(num / den);
+}
+
+void benchErrorVsTime(int threads, bool quick) {
+    const Scene scene = loadScene(defaultScenePath());
+    const Tracer tracer(scene);
+    GridPlacement p;
+    p.resolution = quick ? 8 : 16;
+    const GridSpec g = placeUniformGrid(scene.bounds(), p, 1);
+    const int points = quick ? 100 : 1000;
+    const double t0 = now();
+    const ErrorSet set = freeSpacePoints(scene, tracer, g.nodeBounds(), points, quick ? 2048 : 32768, threads);
+    std::printf("\n[error vs time] default scene, grid %dx%dx%d, %zu random free-space points, reference %u samples "
+                "(%.1f s), %d threads; relative RMS error of luminance\n",
+                g.nx, g.ny, g.nz, set.points.size(), quick ? 2048u : 32768u, now() - t0, threads);
+    std::printf("  %-10s %-9s %-10s | %-11s %-9s %-10s %-10s\n", "SH rays", "SH time", "SH error", "photons", "time",
+                "trilinear", "tricubic");
+    const std::vector<uint32_t> budgets = quick ? std::vector<uint32_t>{32, 128} : std::vector<uint32_t>{32, 128, 512, 2048};
+    double photonRate = 0;
+    for (uint32_t rays : budgets) {
+        GatherOptions go;
+        go.raysPerNode = rays;
+        go.threads = threads;
+        BakeStats bs;
+        const Volume sh = bakeShGather(scene, tracer, g, go, nullptr, &bs);
+        const IrradianceQuery shq(sh);
+        const double shErr = relativeRms(set, [&](const Vec3f& x, const Vec3f& n) { return shq.irradiance(x, n); });
+
+        // Photons for about the same time (rate from the previous run; first a calibration).
+        if (photonRate == 0) {
+            PhotonOptions po;
+            po.photons = 100'000;
+            po.threads = threads;
+            PhotonStats ps;
+            bakePhotons(scene, tracer, g, po, nullptr, &ps);
+            photonRate = ps.photons / ps.seconds;
+        }
+        PhotonOptions po;
+        po.photons = std::max<uint64_t>(10'000, uint64_t(photonRate * bs.seconds));
+        po.threads = threads;
+        PhotonStats ps;
+        const Volume iv = bakePhotons(scene, tracer, g, po, nullptr, &ps);
+        photonRate = ps.photons / ps.seconds;
+        const VectorGridLookup lin(iv, OutsidePolicy::Clamp, Interpolation::Trilinear);
+        const VectorGridLookup cub(iv, OutsidePolicy::Clamp, Interpolation::Tricubic);
+        const double linErr = relativeRms(set, [&](const Vec3f& x, const Vec3f& n) { return lin.irradiance(x, n); });
+        const double cubErr = relativeRms(set, [&](const Vec3f& x, const Vec3f& n) { return cub.irradiance(x, n); });
+        std::printf("  %-10u %-9.2f %-10.4f | %-11llu %-9.2f %-10.4f %-10.4f\n", rays, bs.seconds, shErr,
+                    (unsigned long long)po.photons, ps.seconds, linErr, cubErr);
+    }
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+    bool quick = false;
+    int threads = 0;
+    for (int i = 1; i < argc; ++i) {
+        if (!std::strcmp(argv[i], "--quick")) quick = true;
+        else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
+        else {
+            std::fprintf(stderr, "usage: vdblight_bench_photons [--quick] [--threads N]\n");
+            return 2;
+        }
+    }
+    if (threads <= 0) threads = tbb::this_task_arena::max_concurrency();
+    std::printf("vdblight_bench_photons%s: %d threads\n", quick ? " (quick smoke run, noisy figures)" : "", threads);
+    try {
+        benchThroughput(threads, quick);
+        benchErrorVsTime(threads, quick);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "vdblight_bench_photons: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}

@@ -1,0 +1,121 @@
+// The photon pass (Pacanowski et al. 2009, section 3.3): photons traced from the lights
+// fill a grid of irradiance vectors (irradiance_vectors.h).
+//
+// Each photon path segment is walked through the node lattice without further ray tests;
+// every time it crosses a plane of nodes (a voxel face) inside the node box, its
+// contribution goes to the nearest node on that plane, for the direction delta that faces
+// the light: a photon travelling along +a feeds I_{-a} (docs/format.md, "sign convention").
+// Assigning a crossing to the nearest node is counting the photons through the node's dual
+// face, a square of side h centred on it, clipped by the node box: area h^2, halved on the
+// box's boundary and quartered on its edges (the paper's A_delta).
+//
+// The flux through a face is the irradiance times its area, whatever the photons' angles,
+// so <I_delta, delta> = sum(phi) / A estimates the irradiance on a surface facing delta.
+// The estimators differ in the vector each photon adds (w = direction towards the light):
+//  - Flux (default): phi w / |w_a| / A. Unbiased for the whole irradiance vector
+//    integral of L w dw: crossings are distributed as L |w_a| dw dA.
+//  - PaperCosine: phi w / A, the paper's formula. Its delta component converges to
+//    integral of L w_a^2 dw, not the irradiance (2/3 of it under a uniform sky; see
+//    docs/methods.md and tests/photons_test.cpp).
+//
+// Determinism: photon i's random numbers depend only on (seed, i). Photons are processed in
+// fixed-size batches (the size depends only on the photon count), each batch accumulating
+// into its own buffer; buffers are added to the total in batch order. Same seed, same bits
+// for any thread count.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "vdblight/layout.h"
+#include "vdblight/light.h"
+#include "vdblight/volume.h"
+
+namespace vdblight {
+
+struct Scene;
+class Tracer;
+class Interrupter;
+
+enum class PhotonEstimator { Flux, PaperCosine };
+
+struct PhotonOptions {
+    uint64_t photons = 1'000'000;  ///< photons emitted in total
+    uint64_t seed = 1;
+    int threads = 0;               ///< 0 = all hardware threads
+    PhotonEstimator estimator = PhotonEstimator::Flux;
+    /// maxBounces = diffuse reflections a photon may make; Russian roulette by albedo from
+    /// the first reflection (survival probability = the largest albedo component).
+    TransportOptions transport;
+};
+
+/// Upper bound on PhotonOptions::photons (more is refused with a time estimate).
+constexpr uint64_t kMaxPhotons = 20'000'000'000ull;
+
+/// Throws ValueError for 0 photons or more than kMaxPhotons (with a rough time estimate).
+void checkPhotonCount(uint64_t photons);
+
+struct PhotonStats {
+    uint64_t photons = 0;
+    uint64_t segments = 0;   ///< path segments walked through the grid
+    uint64_t crossings = 0;  ///< face crossings added to the grid
+    RayCount rays;
+    double seconds = 0;
+    uint64_t batches = 0;
+    uint64_t batchSize = 0;
+};
+
+/// Bakes an irradiance-vector volume on `grid` (at least 2 nodes along every axis).
+/// Throws ValueError (bad options or grid), SceneError (nothing emits), Cancelled.
+Volume bakePhotons(const Scene& scene, const Tracer& tracer, const GridSpec& grid, const PhotonOptions& options,
+                   Interrupter* interrupter = nullptr, PhotonStats* stats = nullptr);
+
+/// Photons per batch for a photon count and grid size (never a function of threads): at
+/// least 1/256 of the photons and enough that adding a batch's buffer to the total costs
+/// little next to tracing it.
+uint64_t photonBatchSize(uint64_t photons, std::size_t nodes);
+
+/// Calls onCrossing(axis, i, j, k) for every crossing of the segment g0 -> g1 (lattice
+/// coordinates: node (i, j, k) sits at (i, j, k)) with a plane of nodes x_axis = m,
+/// 0 <= m < dims[axis], at a point inside the closed node box; (i, j, k) is the node of that
+/// plane nearest to the crossing. Planes through an end point count. The crossings are
+/// visited axis by axis: they are the faces a 3-D DDA through the cells would visit.
+template <typename F>
+void forEachFaceCrossing(const Vec3d& g0, const Vec3d& g1, const int dims[3], F&& onCrossing) {
+    const Vec3d d = g1 - g0;
+    // Clip to the node box (slightly padded; crossings are checked exactly below).
+    double t0 = 0.0, t1 = 1.0;
+    constexpr double kPad = 1e-9;
+    for (int a = 0; a < 3; ++a) {
+        const double lo = -kPad, hi = dims[a] - 1 + kPad;
+        if (d[a] == 0.0) {
+            if (g0[a] < lo || g0[a] > hi) return;
+            continue;
+        }
+        double ta = (lo - g0[a]) / d[a], tb = (hi - g0[a]) / d[a];
+        if (ta > tb) std::swap(ta, tb);
+        t0 = std::max(t0, ta);
+        t1 = std::min(t1, tb);
+    }
+    if (t0 > t1) return;
+    for (int a = 0; a < 3; ++a) {
+        if (d[a] == 0.0) continue;
+        const int b = (a + 1) % 3, c = (a + 2) % 3;
+        const double ea = g0[a] + t0 * d[a], fa = g0[a] + t1 * d[a];
+        const int mlo = std::max(0, int(std::ceil(std::min(ea, fa))));
+        const int mhi = std::min(dims[a] - 1, int(std::floor(std::max(ea, fa))));
+        const double inv = 1.0 / d[a];
+        for (int m = mlo; m <= mhi; ++m) {
+            const double t = (m - g0[a]) * inv;
+            const double pb = g0[b] + t * d[b], pc = g0[c] + t * d[c];
+            if (!(pb >= 0.0 && pc >= 0.0 && pb <= dims[b] - 1 && pc <= dims[c] - 1)) continue;
+            int idx[3];
+            idx[a] = m;
+            idx[b] = int(pb + 0.5);
+            idx[c] = int(pc + 0.5);
+            onCrossing(a, idx[0], idx[1], idx[2]);
+        }
+    }
+}
+
+}  // namespace vdblight

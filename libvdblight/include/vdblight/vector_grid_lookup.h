@@ -1,0 +1,43 @@
+// Lookup of irradiance-vector volumes (basis "irradiance_vectors", one level): spatial
+// interpolation of the three vectors chosen by the signs of n's components, then the
+// directional blend I_n = I_x n_x^2 + I_y n_y^2 + I_z n_z^2, E = <I_n, n> (Pacanowski et al.
+// section 4.1; irradiance_vectors.h).
+//
+// Spatial interpolation is trilinear, or tricubic: per axis the Catmull-Rom cubic through
+// four nodes (one-sided at the box's faces by linear extrapolation of the end nodes), which
+// reproduces linear fields exactly and is C1 across cells.
+#pragma once
+
+#include <vector>
+
+#include "vdblight/query.h"
+
+namespace vdblight {
+
+enum class Interpolation { Trilinear, Tricubic };
+
+class VectorGridLookup final : public VolumeLookup {
+public:
+    VectorGridLookup(const Volume& volume, OutsidePolicy outside, Interpolation interp = Interpolation::Trilinear);
+    Rgb irradiance(const Vec3f& x, const Vec3f& n) const override;
+    Bounds bounds() const override { return grid_.nodeBounds(); }
+
+    static bool accepts(const Volume& volume);
+
+private:
+    void locate(const Vec3f& x, int idx[3], float frac[3]) const;
+    int weightsAndNodes(int axis, int i, float f, int nodes[4], float w[4]) const;
+
+    GridSpec grid_;
+    OutsidePolicy outside_;
+    Interpolation interp_;
+    Vec3f origin_;
+    float invSpacing_;
+    std::vector<float> data_;  ///< the volume's level 0, kFloatsPerNode per node
+};
+
+/// The simple lookup used to test VectorGridLookup: trilinear in double over the volume's
+/// own arrays, then the n^2 blend.
+Rgbd referenceVectorLookup(const Volume& volume, const Vec3d& x, const Vec3d& n);
+
+}  // namespace vdblight

@@ -1,0 +1,137 @@
+#include "vdblight/vector_grid_lookup.h"
+
+#include <algorithm>
+#include <sstream>
+
+#include "vdblight/errors.h"
+#include "vdblight/irradiance_vectors.h"
+
+namespace vdblight {
+
+bool VectorGridLookup::accepts(const Volume& volume) {
+    return volume.basis.kind == iv::basis().kind && volume.levels.size() == 1 &&
+           volume.basis.channelCount() == iv::kChannels;
+}
+
+VectorGridLookup::VectorGridLookup(const Volume& volume, OutsidePolicy outside, Interpolation interp)
+    : outside_(outside), interp_(interp) {
+    if (!accepts(volume)) throw FormatError("not a single-level irradiance-vector volume");
+    grid_ = volume.levels[0].grid;
+    origin_ = Vec3f(grid_.origin);
+    invSpacing_ = float(1.0 / grid_.spacing);
+    data_ = volume.levels[0].data;
+}
+
+void VectorGridLookup::locate(const Vec3f& x, int idx[3], float frac[3]) const {
+    const Vec3f g = (x - origin_) * invSpacing_;
+    const int dims[3] = {grid_.nx, grid_.ny, grid_.nz};
+    if (outside_ == OutsidePolicy::Throw) {
+        const float tol = 1e-4f;
+        for (int a = 0; a < 3; ++a)
+            if (!(g[a] >= -tol && g[a] <= dims[a] - 1 + tol)) {
+                std::ostringstream s;
+                s << "point (" << x.x << ", " << x.y << ", " << x.z << ") is outside the volume";
+                throw ValueError(s.str());
+            }
+    }
+    for (int a = 0; a < 3; ++a) {
+        float c = g[a];
+        if (!(c >= 0.0f)) c = 0.0f;  // also NaN
+        if (c > float(dims[a] - 1)) c = float(dims[a] - 1);
+        idx[a] = std::min(int(c), std::max(dims[a] - 2, 0));
+        frac[a] = c - float(idx[a]);
+    }
+}
+
+// Taps along one axis: node indices and weights; returns the number of taps (2 or 4).
+int VectorGridLookup::weightsAndNodes(int axis, int i, float t, int nodes[4], float w[4]) const {
+    const int n = axis == 0 ? grid_.nx : (axis == 1 ? grid_.ny : grid_.nz);
+    auto clampNode = [n](int k) { return std::min(std::max(k, 0), n - 1); };
+    if (interp_ == Interpolation::Trilinear) {
+        nodes[0] = clampNode(i), nodes[1] = clampNode(i + 1);
+        w[0] = 1 - t, w[1] = t;
+        return 2;
+    }
+    // Catmull-Rom through nodes i-1 .. i+2.
+    const float t2 = t * t, t3 = t2 * t;
+    w[0] = 0.5f * (-t3 + 2 * t2 - t);
+    w[1] = 0.5f * (3 * t3 - 5 * t2 + 2);
+    w[2] = 0.5f * (-3 * t3 + 4 * t2 + t);
+    w[3] = 0.5f * (t3 - t2);
+    // Missing end nodes are linear extrapolations: v(-1) = 2 v(0) - v(1), v(n) = 2 v(n-1) - v(n-2).
+    if (i - 1 < 0) {
+        w[1] += 2 * w[0], w[2] -= w[0], w[0] = 0;
+    }
+    if (i + 2 > n - 1) {
+        w[2] += 2 * w[3], w[1] -= w[3], w[3] = 0;
+    }
+    for (int k = 0; k < 4; ++k) nodes[k] = clampNode(i - 1 + k);
+    return 4;
+}
+
+Rgb VectorGridLookup::irradiance(const Vec3f& x, const Vec3f& n) const {
+    int idx[3];
+    float frac[3];
+    locate(x, idx, frac);
+    int nodes[3][4];
+    float w[3][4];
+    int taps = 0;
+    for (int a = 0; a < 3; ++a) taps = weightsAndNodes(a, idx[a], frac[a], nodes[a], w[a]);
+    // The three directions this normal reads, by the signs of its components.
+    int offset[3];
+    for (int a = 0; a < 3; ++a) offset[a] = 9 * iv::direction(a, n[a] < 0.0f);
+
+    float interp[iv::kFloatsPerNode] = {};
+    for (int c = 0; c < taps; ++c)
+        for (int b = 0; b < taps; ++b) {
+            const float wbc = w[1][b] * w[2][c];
+            if (wbc == 0.0f) continue;
+            for (int a = 0; a < taps; ++a) {
+                const float wt = w[0][a] * wbc;
+                if (wt == 0.0f) continue;
+                const float* p = data_.data() + grid_.index(nodes[0][a], nodes[1][b], nodes[2][c]) * iv::kFloatsPerNode;
+                for (int d = 0; d < 3; ++d)
+                    for (int f = 0; f < 9; ++f) interp[offset[d] + f] += wt * p[offset[d] + f];
+            }
+        }
+    return iv::irradiance(interp, n);
+}
+
+Rgbd referenceVectorLookup(const Volume& volume, const Vec3d& x, const Vec3d& nIn) {
+    const VolumeLevel& level = volume.levels.at(0);
+    const GridSpec& g = level.grid;
+    const Vec3d n = normalize(nIn);
+    const Vec3d lattice = (x - g.origin) / g.spacing;
+    const int dims[3] = {g.nx, g.ny, g.nz};
+    int lo[3];
+    double frac[3];
+    for (int a = 0; a < 3; ++a) {
+        const double c = std::min(std::max(lattice[a], 0.0), double(dims[a] - 1));
+        lo[a] = std::min(int(std::floor(c)), std::max(dims[a] - 2, 0));
+        frac[a] = c - lo[a];
+    }
+    Rgbd e{0, 0, 0};
+    for (int corner = 0; corner < 8; ++corner) {
+        int idx[3];
+        double w = 1.0;
+        for (int a = 0; a < 3; ++a) {
+            const int bit = (corner >> a) & 1;
+            idx[a] = std::min(lo[a] + bit, dims[a] - 1);
+            w *= bit ? frac[a] : 1.0 - frac[a];
+        }
+        const float* p = level.nodeData(g.index(idx[0], idx[1], idx[2]), iv::kChannels);
+        for (int a = 0; a < 3; ++a) {
+            const float* v = p + 9 * iv::direction(a, n[a] < 0.0);
+            for (int c = 0; c < 3; ++c) {
+                const double dotn = v[3 * c] * n.x + v[3 * c + 1] * n.y + v[3 * c + 2] * n.z;
+                const double s = w * n[a] * n[a] * dotn;
+                if (c == 0) e.x += s;
+                else if (c == 1) e.y += s;
+                else e.z += s;
+            }
+        }
+    }
+    return e;
+}
+
+}  // namespace vdblight

@@ -1,0 +1,96 @@
+// End-to-end tests of `vdblight bake --method photons` and `query --interp`: a photon bake
+// that info and query read, and bad input (one line, non-zero exit, no file).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "test_util.h"
+#include "vdblight/vdb_io.h"
+
+using namespace vdblight;
+namespace fs = std::filesystem;
+
+namespace {
+const std::string kCli = VDBLIGHT_CLI_PATH;
+
+struct CliRun {
+    int status;
+    std::string output;
+};
+
+CliRun runCli(const std::string& args) {
+    CliRun r;
+    r.status = test::runCommand(kCli + " " + args, &r.output);
+    return r;
+}
+
+int countLines(const std::string& s) {
+    int n = 0;
+    for (char c : s) n += c == '\n';
+    return n;
+}
+
+std::size_t filesIn(const fs::path& dir) {
+    std::size_t n = 0;
+    for (auto& e : fs::directory_iterator(dir)) n += e.is_regular_file() ? 1 : 0;
+    return n;
+}
+
+void expectCleanFailure(const test::TempDir& dir, const std::string& args, const std::string& expectedText) {
+    const std::size_t before = filesIn(dir.path());
+    const CliRun r = runCli(args);
+    EXPECT_NE(r.status, 0) << args << "\n" << r.output;
+    EXPECT_LT(r.status, 128) << "crashed: " << args << "\n" << r.output;
+    EXPECT_EQ(countLines(r.output), 1) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(expectedText), std::string::npos) << args << "\nexpected '" << expectedText << "' in: " << r.output;
+    EXPECT_EQ(filesIn(dir.path()), before) << "a file was left behind by: " << args;
+}
+}  // namespace
+
+TEST(CliPhotons, BakeInfoQueryOnTheDefaultScene) {
+    test::TempDir dir;
+    const std::string out = dir.file("photons.vdb");
+    const CliRun bake = runCli("bake --method photons --photons 100000 --resolution 6 -o " + out);
+    ASSERT_EQ(bake.status, 0) << bake.output;
+    EXPECT_NE(bake.output.find("photons/s"), std::string::npos) << bake.output;
+    EXPECT_NE(bake.output.find("face crossings"), std::string::npos) << bake.output;
+    const Volume v = readVolume(out);
+    EXPECT_EQ(v.basis.kind, "irradiance_vectors");
+    EXPECT_EQ(v.basis.channelCount(), 18);
+    EXPECT_EQ(metaString(v.meta, "method"), "photons");
+    EXPECT_EQ(metaNumber(v.meta, "photons", 0), 100000);
+
+    const CliRun info = runCli("info " + out);
+    EXPECT_EQ(info.status, 0) << info.output;
+    EXPECT_NE(info.output.find("iv_ypos_r"), std::string::npos) << info.output;
+
+    // Under the ceiling light, facing up: lit; both interpolations answer.
+    for (const char* interp : {"trilinear", "tricubic"}) {
+        const CliRun q = runCli("query " + out + " --at 0.28,0.45,0.2 --normal 0,1,0 --interp " + interp);
+        ASSERT_EQ(q.status, 0) << q.output;
+        const std::string row = q.output.substr(q.output.find('\n') + 1);
+        double vals[9];
+        ASSERT_EQ(std::sscanf(row.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &vals[0], &vals[1], &vals[2], &vals[3],
+                              &vals[4], &vals[5], &vals[6], &vals[7], &vals[8]),
+                  9)
+            << q.output;
+        EXPECT_GT(vals[6], 0.5) << interp;
+    }
+}
+
+TEST(CliPhotons, BadInputFailsCleanly) {
+    test::TempDir dir;
+    const std::string out = dir.file("bad.vdb");
+    expectCleanFailure(dir, "bake --method photons --photons 0 -o " + out, "photon count must be at least 1");
+    expectCleanFailure(dir, "bake --method photons --photons 900000000000000 -o " + out, "hours");
+    expectCleanFailure(dir, "bake --method fotons -o " + out, "--method must be gather or photons");
+    // A scene without light (a tetrahedron, no emitters, black sky), even with --allow-dark.
+    const std::string obj = dir.file("dark.obj");
+    test::writeTextFile(obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+    expectCleanFailure(dir, "bake --method photons --allow-dark --photons 1000 " + obj + " -o " + out, "no light");
+    // An invalid interpolation name, and tricubic on an SH volume.
+    const std::string sh = dir.file("sh.vdb");
+    ASSERT_EQ(runCli("bake --resolution 3 --rays 8 -q -o " + sh).status, 0);
+    expectCleanFailure(dir, "query " + sh + " --at 0.3,0.3,0.3 --interp cubic", "--interp must be trilinear or tricubic");
+    expectCleanFailure(dir, "query " + sh + " --at 0.3,0.3,0.3 --interp tricubic", "needs an irradiance-vector volume");
+}
