@@ -3,9 +3,10 @@
 //
 // The anti-aliased pass estimates, for every node i and SH coefficient j, eq. 5/6:
 //   c_ij = sum_s L(x_s, w_s) Y_j(w_s) b_i(x_s) / (p(w_s) sum_s b_i(x_s))
-// with ray origins x_s spread uniformly over each cell (a randomly shifted Halton point set
-// in bases 3, 5, 7) and directions w_s from a scrambled Sobol (0,2) set, uniform on the
-// sphere (p = 1/(4 pi)); b_i is the trilinear basis function of node i. Emissive triangles
+// with ray origins x_s spread uniformly over each cell and directions w_s uniform on the
+// sphere (p = 1/(4 pi)), both from one 5-D Halton point set (bases 2, 3 for the direction,
+// 5, 7, 11 for the position) randomly shifted per cell; b_i is the trilinear basis function
+// of node i. Emissive triangles
 // add one NEE sample per origin (MIS as in the point pass), punctual lights are evaluated
 // exactly at every origin.
 //

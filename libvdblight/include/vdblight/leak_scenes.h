@@ -8,6 +8,7 @@
 
 #include <vector>
 
+#include "vdblight/layout.h"
 #include "vdblight/scene.h"
 
 namespace vdblight {
@@ -34,6 +35,16 @@ LeakScene makeTownScene();
 /// A closed room with an emissive ceiling panel and a "bed": a row of thin bars 0.06 thick
 /// and a slab on top of them.
 LeakScene makeBarsScene();
+
+/// `count` evaluation points for leak measurements: uniformly random in `box`, kept if in
+/// the domain of interest and within `maxDistance` of a surface; each with a uniformly
+/// random unit normal. Deterministic in `seed`. Throws ValueError if too few points qualify.
+struct EvalPoint {
+    Vec3f position;
+    Vec3f normal;
+};
+std::vector<EvalPoint> leakEvalPoints(const LeakScene& scene, const Bounds& box, double maxDistance, int count,
+                                      uint64_t seed);
 
 /// Appends a box of six separate faces, each shrunk by `gap` at its edges so that cracks
 /// of width about `gap` open along the box's edges (section 7); front faces outwards.

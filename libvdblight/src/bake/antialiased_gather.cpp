@@ -68,10 +68,13 @@ void bakeCell(const RadianceEstimator& estimator, const Tracer& tracer, const Gr
             for (int ch = 0; ch < 3; ++ch) term[3 * j + ch] += double(l[ch]) * y[j] / double(kSpherePdf);
         // ... one NEE sample of the emissive triangles ...
         if (nee) {
-            float u, v;
-            sobol02(i, hashCombine(stream, kLightPoint), u, v);
+            // The point on the light: Halton bases 13, 17 (independent of the cell's bases 2..11).
+            const double shift = toUnitDouble(hashCombine(stream, kLightPoint));
+            double u = radicalInverse(13, i) + shift, v = radicalInverse(17, i) + shift * 0.618034;
+            u -= std::floor(u);
+            v -= std::floor(v);
             LightSample ls;
-            if (estimator.sampleEmissiveTriangles(s.origin, u, v, toUnitFloat(hashCombine(stream ^ kLightChoice, i)), ls,
+            if (estimator.sampleEmissiveTriangles(s.origin, float(u), float(v), toUnitFloat(hashCombine(stream ^ kLightChoice, i)), ls,
                                                   count)) {
                 sh::evalUnrolled(ls.direction, y);
                 const Rgb weight = ls.weight * misWeight(ls.pdf, kSpherePdf);
@@ -190,8 +193,8 @@ Volume bakeShAntialiased(const Scene& scene, const Tracer& tracer, const GridSpe
     m["seed"] = int64_t(o.seed);
     m["bounces"] = int64_t(o.transport.maxBounces);
     m["roulette_start"] = int64_t(o.transport.rouletteStart);
-    m["origin_sampling"] = std::string("shifted Halton (bases 3, 5, 7) per cell, trilinear weights, eq. 6");
-    m["direction_sampling"] = std::string("scrambled Sobol (0,2) uniform sphere + NEE on emissive triangles; punctual lights exact per origin");
+    m["origin_sampling"] = std::string("shifted Halton (bases 5, 7, 11) per cell, trilinear weights, eq. 6");
+    m["direction_sampling"] = std::string("shifted Halton (bases 2, 3) uniform sphere + NEE on emissive triangles; punctual lights exact per origin");
     m["nodes"] = int64_t(nodes);
     m["cells"] = int64_t(cells);
     m["origins_accepted"] = int64_t(accepted);

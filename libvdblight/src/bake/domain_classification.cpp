@@ -10,7 +10,16 @@ namespace vdblight {
 
 namespace {
 // Independent scrambles of one cell's sample dimensions (the anti-aliased pass uses more).
-enum CellDimension : uint64_t { kShiftX = 11, kShiftY = 12, kShiftZ = 13, kCellDirection = 14 };
+enum CellDimension : uint64_t { kShiftX = 11, kShiftY = 12, kShiftZ = 13, kShiftU = 14, kShiftV = 15 };
+
+/// Sample i of the cell's 5-D Halton point set (bases 2, 3 for the direction, 5, 7, 11 for
+/// the position), Cranley-Patterson rotated by the cell's shifts. A scrambled Sobol (0,2)
+/// direction paired with Halton positions correlates (the trilinearly weighted SH sums of a
+/// constant sky then converge more slowly than with random samples); all-Halton does not.
+double haltonShifted(uint32_t base, uint32_t i, double shift) {
+    const double u = radicalInverse(base, i) + shift;
+    return u - std::floor(u);
+}
 
 bool isBackFace(const Hit& hit, const Vec3f& direction) {
     return hit.hit() && dot(hit.geometricNormal, direction) > 0.0f;
@@ -51,7 +60,8 @@ std::vector<CellSample> classifyCell(const Tracer& tracer, const GridSpec& grid,
     const uint64_t stream = hashCombine(seed, cell);
     const double shift[3] = {toUnitDouble(hashCombine(stream, kShiftX)), toUnitDouble(hashCombine(stream, kShiftY)),
                              toUnitDouble(hashCombine(stream, kShiftZ))};
-    const uint32_t bases[3] = {3, 5, 7};  // base 2 is the direction's (Sobol) dimension
+    const double shiftU = toUnitDouble(hashCombine(stream, kShiftU)), shiftV = toUnitDouble(hashCombine(stream, kShiftV));
+    const uint32_t bases[3] = {5, 7, 11};
 
     std::vector<CellSample> samples(rays);
     if (hits) hits->assign(rays, Hit{});
@@ -59,15 +69,9 @@ std::vector<CellSample> classifyCell(const Tracer& tracer, const GridSpec& grid,
     for (uint32_t i = 0; i < rays; ++i) {
         CellSample& s = samples[i];
         Vec3d p;
-        for (int a = 0; a < 3; ++a) {
-            double u = radicalInverse(bases[a], i) + shift[a];
-            u -= std::floor(u);
-            p[a] = lo[a] + extent[a] * u;
-        }
+        for (int a = 0; a < 3; ++a) p[a] = lo[a] + extent[a] * haltonShifted(bases[a], i, shift[a]);
         s.origin = Vec3f(p);
-        float u, v;
-        sobol02(i, hashCombine(stream, kCellDirection), u, v);
-        s.direction = uniformSphere(u, v);
+        s.direction = uniformSphere(float(haltonShifted(2, i, shiftU)), float(haltonShifted(3, i, shiftV)));
         if (domain == DomainMode::All) {
             s.accepted = true;
             if (hits) {

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "vdblight/errors.h"
+#include "vdblight/sampling.h"
 #include "vdblight/scene_generators.h"
 
 namespace vdblight {
@@ -118,6 +120,20 @@ LeakScene makeBarsScene() {
     }
     horizontalQuad(l.scene, 1.99f, 1.1f, 1.9f, 1.1f, 1.9f, /*up=*/false, light);
     return l;
+}
+
+std::vector<EvalPoint> leakEvalPoints(const LeakScene& scene, const Bounds& box, double maxDistance, int count,
+                                      uint64_t seed) {
+    std::vector<EvalPoint> out;
+    Rng rng(seed, 0x1eacu);
+    for (uint64_t tries = 0; int(out.size()) < count; ++tries) {
+        if (tries > 1000ull * uint64_t(count) + 100000) throw ValueError("too few points lie near surfaces in the box");
+        const Vec3d p = box.lo + box.size() * Vec3d(rng.uniform(), rng.uniform(), rng.uniform());
+        if (!scene.inDomain(p) || scene.distanceToSurface(p) > maxDistance) continue;
+        const float u = rng.uniform(), v = rng.uniform();
+        out.push_back({Vec3f(p), uniformSphere(u, v)});
+    }
+    return out;
 }
 
 void appendCrackedBox(Scene& scene, const Vec3f& lo, const Vec3f& hi, float gap, uint32_t materialId) {
