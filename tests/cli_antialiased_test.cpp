@@ -60,7 +60,6 @@ TEST(CliAntialiased, BadOptionsGiveOneLineAndNoFile) {
         {"--invalidate-backface 1.5", "--invalidate-backface must be in [0, 1]"},
         {"--invalidate-backface -0.1", "--invalidate-backface must be in [0, 1]"},
         {"--sampling antialiased --invalidate-backface 0.2", "applies to --sampling point only"},
-        {"--sampling antialiased --rays 0", "--rays"},
     };
     for (const auto& [args, expected] : cases) {
         std::string text;
