@@ -8,3 +8,4 @@ cd "$ROOT/build"
 ctest --output-on-failure -j "${JOBS:-$(nproc)}" --timeout 1200
 "$ROOT/build/bin/vdblight_bench" --quick
 "$ROOT/build/bin/vdblight_bench_photons" --quick
+"$ROOT/build/bin/vdblight_bench_antialiased" --quick

@@ -5,6 +5,7 @@
 #include "app_common.h"
 #include "commands.h"
 #include "vdblight/bake.h"
+#include "vdblight/bake_antialiased.h"
 #include "vdblight/errors.h"
 #include "vdblight/layout.h"
 #include "vdblight/photons.h"
@@ -28,9 +29,29 @@ struct BakeCommand {
     bool quiet = false;
     std::string method = "gather";
     uint64_t photons = 1'000'000;
+    std::string sampling = "point";  // point | antialiased (bake_antialiased.h)
+    std::string domain;              // all | interior; default interior for antialiased
+    double invalidateBackface = -1;  // < 0: off (point sampling only)
 };
 
 void runPhotons(const BakeCommand& c);
+
+/// Runs the pass the sampling options select.
+Volume bakeSelected(const BakeCommand& c, const Scene& scene, const Tracer& tracer, const GridSpec& grid,
+                    const GatherOptions& options, Interrupter* progress, BakeStats* stats) {
+    if (c.sampling == "antialiased") {
+        AntialiasedOptions aa;
+        aa.raysPerCell = options.raysPerNode;
+        aa.seed = options.seed;
+        aa.threads = options.threads;
+        aa.transport = options.transport;
+        aa.domain = c.domain == "all" ? DomainMode::All : DomainMode::Interior;
+        return bakeShAntialiased(scene, tracer, grid, aa, progress, stats);
+    }
+    if (c.invalidateBackface >= 0)
+        return bakeShGatherInvalidated(scene, tracer, grid, options, c.invalidateBackface, progress, stats);
+    return bakeShGather(scene, tracer, grid, options, progress, stats);
+}
 
 void run(const BakeCommand& c) {
     if (c.method != "gather" && c.method != "photons")
@@ -44,7 +65,9 @@ void run(const BakeCommand& c) {
     placement.resolution = (c.spacing > 0 || c.resolution > 0) ? c.resolution : 16;
     if (!c.bounds.empty()) placement.bounds = parseBounds(c.bounds);
     // Bytes per node while baking and writing: float coefficients plus OpenVDB's copy.
-    const GridSpec grid = placeUniformGrid(scene.bounds(), placement, 2 * sh::kCoeffs * 3 * sizeof(float));
+    // The anti-aliased pass also holds double accumulators per node (coefficients + 2 weights).
+    const std::size_t extra = c.sampling == "antialiased" ? (sh::kCoeffs * 3 + 2) * sizeof(double) : 0;
+    const GridSpec grid = placeUniformGrid(scene.bounds(), placement, 2 * sh::kCoeffs * 3 * sizeof(float) + extra);
 
     const Tracer tracer(scene);
     GatherOptions options;
@@ -55,7 +78,7 @@ void run(const BakeCommand& c) {
 
     ProgressBar progress(c.quiet);
     BakeStats stats;
-    Volume volume = bakeShGather(scene, tracer, grid, options, &progress, &stats);
+    Volume volume = bakeSelected(c, scene, tracer, grid, options, &progress, &stats);
     volume.meta["scene_file"] = c.scene.path.empty() ? std::string("(bundled default) ") + defaultScenePath() : c.scene.path;
     volume.meta["sky"] = c.scene.skyMap.empty() ? (c.scene.sky.empty() ? std::string("0,0,0") : c.scene.sky)
                                                 : "map:" + c.scene.skyMap;
@@ -73,8 +96,12 @@ void run(const BakeCommand& c) {
                   << formatCount(double(stats.rays.total())) << " rays (" << formatCount(double(stats.rays.intersect))
                   << " closest-hit, " << formatCount(double(stats.rays.occluded)) << " shadow) in "
                   << formatSeconds(stats.seconds) << ", " << formatCount(stats.raysPerSecond()) << " rays/s on "
-                  << int64_t(std::get<int64_t>(volume.meta["threads"])) << " threads. Wrote " << c.output
-                  << " (SH order 2 radiance, 9 Vec3f grids).\n";
+                  << int64_t(std::get<int64_t>(volume.meta["threads"])) << " threads";
+        if (c.sampling == "antialiased") std::cout << " (sampling antialiased, domain " << metaString(volume.meta, "domain") << ")";
+        if (volume.meta.count("nodes_dilated"))
+            std::cout << "; " << metaString(volume.meta, "nodes_dilated") << " nodes filled by dilation";
+        std::cout << ". Wrote " << c.output << " (SH order 2 radiance, 9 Vec3f grids"
+                  << (volume.levels[0].validity.empty() ? "" : " + validity") << ").\n";
     }
 }
 // --method photons: an irradiance-vector volume filled by photon tracing.
@@ -134,13 +161,34 @@ void addBakeCommand(CLI::App& app) {
     cmd->add_option("--method", c->method, "gather (SH order 2 at each node) or photons (irradiance vectors, Pacanowski et al.)")
         ->capture_default_str();
     cmd->add_option("--photons", c->photons, "Photons emitted in total (--method photons)")->capture_default_str();
+    cmd->add_option("--sampling", c->sampling,
+                    "point: project at the nodes; antialiased: trilinear-weighted origins over each cell "
+                    "(Kontkanen-Laine eq. 6; --rays is then rays per cell)")
+        ->capture_default_str();
+    cmd->add_option("--domain", c->domain,
+                    "antialiased only: all, or interior = only origins that see no back-face (default)");
+    auto* invalidate = cmd->add_option("--invalidate-backface", c->invalidateBackface,
+                    "point only: nodes whose rays hit back-faces more than this fraction (0..1) are replaced by "
+                    "dilating valid neighbours");
     cmd->add_flag("-q,--quiet", c->quiet, "No progress bar and no summary");
-    cmd->callback([c, spacing, resolution] {
+    cmd->callback([c, spacing, resolution, invalidate] {
         // Refuse explicit zero or negative values here: 0 would otherwise mean "default".
         if (spacing->count() > 0 && !(c->spacing > 0))
             throw ValueError("--spacing must be positive, got " + std::to_string(c->spacing));
         if (resolution->count() > 0 && c->resolution < 1)
             throw ValueError("--resolution must be at least 1, got " + std::to_string(c->resolution));
+        if (c->sampling != "point" && c->sampling != "antialiased")
+            throw ValueError("--sampling must be point or antialiased, got '" + c->sampling + "'");
+        if (!c->domain.empty() && c->domain != "all" && c->domain != "interior")
+            throw ValueError("--domain must be all or interior, got '" + c->domain + "'");
+        if (!c->domain.empty() && c->sampling != "antialiased")
+            throw ValueError("--domain needs --sampling antialiased (point sampling has --invalidate-backface)");
+        if (invalidate->count() > 0 && !(c->invalidateBackface >= 0 && c->invalidateBackface <= 1))
+            throw ValueError("--invalidate-backface must be in [0, 1], got " + std::to_string(c->invalidateBackface));
+        if (invalidate->count() > 0 && c->sampling != "point")
+            throw ValueError("--invalidate-backface applies to --sampling point only");
+        if (c->method == "photons" && (c->sampling != "point" || !c->domain.empty() || invalidate->count() > 0))
+            throw ValueError("--sampling, --domain and --invalidate-backface apply to --method gather only");
         run(*c);
     });
 }

@@ -46,7 +46,10 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
 
 /// Projects the incident radiance at one point into nine RGB SH coefficients (double),
 /// with the sampling of bakeShGather for stream `streamIndex`. Exposed for tests.
+/// If `tracer` and `backFaceHits` are given, the first hit of every gathered ray is traced
+/// here (same hits, same result) and the rays whose first hit is a back-face are counted.
 void projectIncidentRadiance(const RadianceEstimator& estimator, const Vec3f& x, uint32_t rays,
-                             uint64_t seed, uint64_t streamIndex, Rgbd out[9], RayCount& count);
+                             uint64_t seed, uint64_t streamIndex, Rgbd out[9], RayCount& count,
+                             const Tracer* tracer = nullptr, uint32_t* backFaceHits = nullptr);
 
 }  // namespace vdblight

@@ -25,6 +25,7 @@ namespace vdblight {
 
 struct Scene;
 class Tracer;
+struct Hit;
 
 struct TransportOptions {
     /// Maximum number of diffuse reflections on a path from a light to the receiver:
@@ -66,7 +67,11 @@ public:
     /// Radiance arriving at `origin` along the ray leaving it in unit direction `dir`, which
     /// the caller drew with solid-angle pdf `dirPdf`. Emission of a directly hit emissive
     /// triangle is MIS-weighted against NEE (the caller's NEE sample carries the rest).
-    Rgb gatherRadiance(const Vec3f& origin, const Vec3f& dir, float dirPdf, Rng& rng, RayCount& rays) const;
+    /// If `firstHit` is given, it is the caller's result of tracing Ray{origin, dir} (already
+    /// counted by the caller), which is used instead of tracing that ray again (the
+    /// anti-aliased pass classifies origins with the same hits; bake_antialiased.h).
+    Rgb gatherRadiance(const Vec3f& origin, const Vec3f& dir, float dirPdf, Rng& rng, RayCount& rays,
+                       const Hit* firstHit = nullptr) const;
 
     /// One NEE sample of emissive triangles as seen from a point in free space, using the
     /// stratified pair (u, v) for the point on the light and `w` to choose the triangle.

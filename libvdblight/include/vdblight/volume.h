@@ -37,6 +37,10 @@ struct VolumeLevel {
     GridSpec grid;
     /// Node-major: data[(node * channels + c) * 3 + rgb], node = grid.index(i, j, k).
     std::vector<float> data;
+    /// Optional, empty or one value per node in [0, 1]: the fraction of the node's
+    /// trilinear basis-function weight that lay in the domain of interest when it was baked
+    /// (bake_antialiased.h); written as the FloatGrid `validity` (docs/format.md).
+    std::vector<float> validity;
 
     const float* nodeData(std::size_t node, int channels) const { return data.data() + node * channels * 3; }
 };

@@ -22,7 +22,8 @@ enum Dimension : uint64_t { kDirection = 1, kLightPoint = 2, kLightChoice = 3, k
 }  // namespace
 
 void projectIncidentRadiance(const RadianceEstimator& estimator, const Vec3f& x, uint32_t rays, uint64_t seed,
-                             uint64_t streamIndex, Rgbd out[9], RayCount& count) {
+                             uint64_t streamIndex, Rgbd out[9], RayCount& count, const Tracer* tracer,
+                             uint32_t* backFaceHits) {
     const uint64_t stream = hashCombine(seed, streamIndex);
     Rng rng(stream, kPath);
     const double lightOffset = toUnitDouble(hashCombine(stream, kLightChoice));
@@ -37,7 +38,15 @@ void projectIncidentRadiance(const RadianceEstimator& estimator, const Vec3f& x,
         sobol02(i, hashCombine(stream, kDirection), u, v);
         const Vec3f dir = uniformSphere(u, v);
         constexpr float kSpherePdf = float(1.0 / (4.0 * kPi));
-        const Rgb l = estimator.gatherRadiance(x, dir, kSpherePdf, rng, count);
+        Rgb l;
+        if (tracer && backFaceHits) {
+            ++count.intersect;
+            const Hit first = tracer->intersect(Ray{x, dir});
+            if (first.hit() && dot(first.geometricNormal, dir) > 0.0f) ++*backFaceHits;
+            l = estimator.gatherRadiance(x, dir, kSpherePdf, rng, count, &first);
+        } else {
+            l = estimator.gatherRadiance(x, dir, kSpherePdf, rng, count);
+        }
         sh::evalUnrolled(dir, y);
         for (int j = 0; j < sh::kCoeffs; ++j) {
             acc[j][0] += double(l.x) * y[j];

@@ -144,14 +144,19 @@ Rgb RadianceEstimator::directAtSurface(const Vec3f& p, const Vec3f& n, Rng& rng,
 }
 
 Rgb RadianceEstimator::gatherRadiance(const Vec3f& origin, const Vec3f& dir, float dirPdf, Rng& rng,
-                                      RayCount& rays) const {
+                                      RayCount& rays, const Hit* firstHit) const {
     Rgb radiance{0, 0, 0};
     Rgb throughput{1, 1, 1};
     Ray ray{origin, dir};
     float pdf = dirPdf;  // pdf of the direction of the current ray
     for (int reflection = 1;; ++reflection) {
-        ++rays.intersect;
-        const Hit hit = tracer_.intersect(ray);
+        Hit hit;
+        if (reflection == 1 && firstHit) {
+            hit = *firstHit;  // traced and counted by the caller
+        } else {
+            ++rays.intersect;
+            hit = tracer_.intersect(ray);
+        }
         if (!hit.hit()) {
             radiance += throughput * scene_.sky.radiance(ray.direction);
             break;

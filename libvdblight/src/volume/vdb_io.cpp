@@ -144,6 +144,28 @@ Vec3SGrid::Ptr buildChannelGrid(const VolumeLevel& level, int channel, int chann
     return grid;
 }
 
+/// Name of the optional per-node scalar grid (VolumeLevel::validity; docs/format.md).
+const std::string kValidityName = "validity";
+using FloatLeafT = openvdb::FloatGrid::TreeType::LeafNodeType;
+
+/// The level's validity as a FloatGrid whose voxels are all active, like the channel grids.
+openvdb::FloatGrid::Ptr buildValidityGrid(const VolumeLevel& level, const std::vector<Coord>& origins) {
+    const GridSpec& g = level.grid;
+    std::vector<std::unique_ptr<FloatLeafT>> leaves(origins.size());
+    tbb::parallel_for(std::size_t(0), origins.size(), [&](std::size_t n) {
+        const Coord o = origins[n];
+        auto leaf = std::make_unique<FloatLeafT>(o, 0.0f, false);
+        for (int z = o.z(); z < std::min(o.z() + kLeafDim, g.nz); ++z)
+            for (int y = o.y(); y < std::min(o.y() + kLeafDim, g.ny); ++y)
+                for (int x = o.x(); x < std::min(o.x() + kLeafDim, g.nx); ++x)
+                    leaf->setValueOn(FloatLeafT::coordToOffset(Coord(x, y, z)), level.validity[g.index(x, y, z)]);
+        leaves[n] = std::move(leaf);
+    });
+    auto grid = openvdb::FloatGrid::create(0.0f);
+    for (auto& leaf : leaves) grid->tree().addLeaf(leaf.release());
+    return grid;
+}
+
 /// File-level metadata: the caller's entries plus the structural keys.
 openvdb::MetaMap fileMetadata(const Volume& volume) {
     openvdb::MetaMap meta;
@@ -167,9 +189,11 @@ void tagGrid(openvdb::GridBase& grid, const Volume& volume, int level, int chann
     grid.insertMeta(kPrefix + "format_version", openvdb::Int64Metadata(kFormatVersion));
     grid.insertMeta(kPrefix + "basis", openvdb::StringMetadata(volume.basis.kind));
     grid.insertMeta(kPrefix + "level", openvdb::Int64Metadata(level));
-    grid.insertMeta(kPrefix + "channel", openvdb::Int64Metadata(channel));
-    grid.insertMeta(kPrefix + "channel_name",
-                    openvdb::StringMetadata(volume.basis.channelNames[std::size_t(channel)]));
+    if (channel >= 0) {  // channel -1: the validity grid, which is no basis channel
+        grid.insertMeta(kPrefix + "channel", openvdb::Int64Metadata(channel));
+        grid.insertMeta(kPrefix + "channel_name",
+                        openvdb::StringMetadata(volume.basis.channelNames[std::size_t(channel)]));
+    }
     grid.insertMeta(kPrefix + "origin", openvdb::Vec3DMetadata({g.origin.x, g.origin.y, g.origin.z}));
     grid.insertMeta(kPrefix + "spacing", openvdb::DoubleMetadata(g.spacing));
     grid.insertMeta(kPrefix + "dims", openvdb::Vec3IMetadata({g.nx, g.ny, g.nz}));
@@ -213,6 +237,8 @@ void checkWritable(const Volume& volume, const WriteOptions& options) {
         for (const std::string& c : volume.basis.channelNames)
             if (!names.insert(gridNameFor(c, int(l))).second)
                 throw ValueError("grid name '" + gridNameFor(c, int(l)) + "' would appear twice");
+    for (const std::string& c : volume.basis.channelNames)
+        if (c == kValidityName) throw ValueError("channel name '" + kValidityName + "' is reserved for the validity grid");
 }
 
 openvdb::GridCPtrVec buildGrids(const Volume& volume, const WriteOptions& options) {
@@ -231,6 +257,15 @@ openvdb::GridCPtrVec buildGrids(const Volume& volume, const WriteOptions& option
             grid->setVectorType(openvdb::VEC_INVARIANT);
             grid->setSaveFloatAsHalf(options.halfFloat);
             tagGrid(*grid, volume, int(l), c);
+            grids.push_back(grid);
+        }
+        if (!level.validity.empty()) {
+            openvdb::FloatGrid::Ptr grid = buildValidityGrid(level, origins);
+            grid->setName(gridNameFor(kValidityName, int(l)));
+            grid->setTransform(levelTransform(level.grid));
+            grid->setGridClass(openvdb::GRID_UNKNOWN);
+            grid->setSaveFloatAsHalf(options.halfFloat);
+            tagGrid(*grid, volume, int(l), -1);
             grids.push_back(grid);
         }
     }
@@ -440,6 +475,36 @@ void copyChannel(const Vec3SGrid& grid, VolumeLevel& level, int channel, int cha
     });
 }
 
+/// Reads the optional validity FloatGrid of a level: same placement and active voxels as the
+/// channel grids, values in [0, 1] (checked by Volume::validate).
+void readValidity(OpenedFile& f, const std::string& name, VolumeLevel& out, const std::string& path) {
+    openvdb::GridBase::Ptr base;
+    try {
+        base = f.file->readGrid(name);
+    } catch (const std::exception& e) {
+        formatError(path, "grid '" + name + "' cannot be read (truncated or corrupt?): " + e.what());
+    }
+    auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
+    if (!grid) formatError(path, "grid '" + name + "' has type " + base->valueType() + ", expected float");
+    const GridSpec& g = out.grid;
+    const openvdb::math::Transform& xf = grid->transform();
+    const openvdb::Vec3d o = xf.indexToWorld(Coord(0, 0, 0));
+    const double tol = 1e-9 * std::max({g.spacing, std::abs(g.origin.x), std::abs(g.origin.y), std::abs(g.origin.z)});
+    if (!xf.isLinear() || std::abs(xf.voxelSize().x() - g.spacing) > tol || std::abs(o.x() - g.origin.x) > tol ||
+        std::abs(o.y() - g.origin.y) > tol || std::abs(o.z() - g.origin.z) > tol)
+        formatError(path, "grid '" + name + "' has a transform that does not match its level's origin and spacing");
+    const openvdb::CoordBBox box = grid->evalActiveVoxelBoundingBox();
+    if (grid->activeVoxelCount() != g.nodeCount() || box.min() != Coord(0, 0, 0) ||
+        box.max() != Coord(g.nx - 1, g.ny - 1, g.nz - 1))
+        formatError(path, "grid '" + name + "' does not have exactly one active voxel per node");
+    grid->tree().voxelizeActiveTiles();
+    out.validity.assign(g.nodeCount(), 0.0f);
+    for (auto v = grid->cbeginValueOn(); v; ++v) {
+        const Coord c = v.getCoord();
+        out.validity[g.index(c.x(), c.y(), c.z())] = *v;
+    }
+}
+
 VolumeLevel readLevel(OpenedFile& f, const BasisDesc& basis, int level, const std::string& path) {
     VolumeLevel out;
     out.grid = readLevelSpec(*f.meta, level, path);
@@ -462,6 +527,8 @@ VolumeLevel readLevel(OpenedFile& f, const BasisDesc& basis, int level, const st
         if (out.data.empty()) out.data.assign(g.nodeCount() * std::size_t(channels) * 3, 0.0f);
         copyChannel(*grid, out, c, channels);
     }
+    const std::string validityName = gridNameFor(kValidityName, level);
+    if (f.file->hasGrid(validityName)) readValidity(f, validityName, out, path);
     return out;
 }
 

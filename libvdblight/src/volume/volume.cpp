@@ -37,6 +37,14 @@ void validateLevel(const VolumeLevel& level, std::size_t index, int channels) {
                           std::to_string(expected) + " (" + std::to_string(g.nodeCount()) + " nodes x " +
                           std::to_string(channels) + " channels x 3)");
     }
+    if (!level.validity.empty()) {
+        if (level.validity.size() != g.nodeCount()) {
+            throw FormatError(where + " has " + std::to_string(level.validity.size()) + " validity values, expected " +
+                              std::to_string(g.nodeCount()));
+        }
+        for (float v : level.validity)
+            if (!(v >= 0.0f && v <= 1.0f)) throw FormatError(where + " has a validity outside [0, 1]");
+    }
 }
 
 }  // namespace

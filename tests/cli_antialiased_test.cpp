@@ -1,0 +1,73 @@
+// End-to-end tests of `vdblight bake --sampling/--domain/--invalidate-backface`: the
+// options bake, store validity and query; bad values give one line, a non-zero exit and no file.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "test_util.h"
+#include "vdblight/vdb_io.h"
+
+using namespace vdblight;
+namespace fs = std::filesystem;
+
+namespace {
+const std::string kCli = VDBLIGHT_CLI_PATH;
+
+int run(const std::string& args, std::string* out) { return test::runCommand(kCli + " " + args, out); }
+
+int countLines(const std::string& s) {
+    int n = 0;
+    for (char c : s) n += c == '\n';
+    return n;
+}
+
+std::size_t filesIn(const fs::path& dir) {
+    std::size_t n = 0;
+    for (auto& e : fs::directory_iterator(dir)) n += e.is_regular_file() ? 1 : 0;
+    return n;
+}
+}  // namespace
+
+TEST(CliAntialiased, EverySamplingBakesStoresAndQueries) {
+    test::TempDir dir;
+    const std::string variants[] = {"--sampling antialiased", "--sampling antialiased --domain all",
+                                    "--sampling point --invalidate-backface 0.1", "--sampling point"};
+    for (const std::string& v : variants) {
+        const std::string out = dir.file("v.vdb");
+        std::string text;
+        ASSERT_EQ(run("bake -q -o " + out + " --resolution 5 --rays 32 " + v, &text), 0) << v << "\n" << text;
+        const Volume vol = readVolume(out);
+        EXPECT_EQ(vol.levels[0].validity.empty(), v == "--sampling point") << v;
+        EXPECT_EQ(metaString(vol.meta, "sampling"), v.find("antialiased") != std::string::npos ? "antialiased" : "point");
+        if (v == "--sampling antialiased") {
+            EXPECT_EQ(metaString(vol.meta, "domain"), "interior");  // the default
+        }
+        ASSERT_EQ(run("query " + out + " --at 0,1,0 --normal 0,1,0", &text), 0) << text;
+        ASSERT_EQ(run("info " + out, &text), 0) << text;
+        if (!vol.levels[0].validity.empty()) {
+            EXPECT_NE(text.find("validity"), std::string::npos) << text;
+        }
+    }
+}
+
+TEST(CliAntialiased, BadOptionsGiveOneLineAndNoFile) {
+    test::TempDir dir;
+    const std::string out = dir.file("bad.vdb");
+    const std::pair<std::string, std::string> cases[] = {
+        {"--sampling trilinear", "--sampling must be point or antialiased"},
+        {"--sampling antialiased --domain outside", "--domain must be all or interior"},
+        {"--domain interior", "--domain needs --sampling antialiased"},
+        {"--invalidate-backface 1.5", "--invalidate-backface must be in [0, 1]"},
+        {"--invalidate-backface -0.1", "--invalidate-backface must be in [0, 1]"},
+        {"--sampling antialiased --invalidate-backface 0.2", "applies to --sampling point only"},
+    };
+    for (const auto& [args, expected] : cases) {
+        std::string text;
+        const int status = run("bake -o " + out + " --resolution 4 " + args, &text);
+        EXPECT_NE(status, 0) << args;
+        EXPECT_LT(status, 128) << args;
+        EXPECT_EQ(countLines(text), 1) << args << "\n" << text;
+        EXPECT_NE(text.find(expected), std::string::npos) << args << "\n" << text;
+        EXPECT_EQ(filesIn(dir.path()), 0u) << args;
+    }
+}
