@@ -1,6 +1,7 @@
 // The kinds of volume that IrradianceQuery can read. A new kind adds one line here.
 #include "vdblight/errors.h"
 #include "vdblight/query.h"
+#include "vdblight/query_levels.h"
 
 namespace vdblight {
 
@@ -14,6 +15,7 @@ std::unique_ptr<VolumeLookup> make(const Volume& volume, OutsidePolicy outside) 
 const std::vector<LookupKind>& lookupKinds() {
     static const std::vector<LookupKind> kinds = {
         {"sh2-uniform", &ShUniformLookup::accepts, &make<ShUniformLookup>},
+        {"sh2-levels", &ShLevelsLookup::accepts, &make<ShLevelsLookup>},
     };
     return kinds;
 }
