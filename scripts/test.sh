@@ -7,3 +7,4 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT/build"
 ctest --output-on-failure -j "${JOBS:-$(nproc)}" --timeout 1200
 "$ROOT/build/bin/vdblight_bench" --quick
+"$ROOT/build/bin/vdblight_bench_layouts" --quick
