@@ -1,6 +1,8 @@
 // Tests of the volume module: Volume checks and the .vdb reader/writer (docs/format.md).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
@@ -225,31 +227,51 @@ TEST(VdbIo, HalfFloatHalvesTheFile) {
 }
 
 TEST(VdbIo, TwoLevelsRoundTrip) {
+    // A consistent two-level structure (docs/format.md, "Levels"): K = 3, level-0 cell
+    // (0, 0, 0) refined, level 1 holding exactly that cell's 4^3 child corners.
     test::TempDir dir;
     Volume v = makeVolume(2, 3, 2);
-    Volume fine = makeVolume(9, 8, 3, 5);
-    fine.levels[0].grid.spacing = 0.125;
-    v.levels.push_back(fine.levels[0]);
+    v.levels[0].refinedCells = {0};
+    Volume fine = makeVolume(4, 7, 4, 5);
+    VolumeLevel level1;
+    level1.grid = fine.levels[0].grid;
+    level1.grid.spacing = 0.125;
+    for (int k = 0; k < 4; ++k)
+        for (int j = 0; j < 4; ++j)
+            for (int i = 0; i < 4; ++i) level1.activeNodes.push_back(level1.grid.index(i, j, k));
+    std::sort(level1.activeNodes.begin(), level1.activeNodes.end());
+    level1.data.assign(fine.levels[0].data.begin(), fine.levels[0].data.begin() + 64 * 27);
+    v.levels.push_back(level1);
     writeVolume(v, dir.file("two.vdb"));
     const Volume r = readVolume(dir.file("two.vdb"));
     ASSERT_EQ(r.levels.size(), 2u);
     EXPECT_EQ(r.levels[1].grid.spacing, 0.125);
     EXPECT_EQ(r.levels[1].data, v.levels[1].data);
+    EXPECT_EQ(r.levels[1].activeNodes, v.levels[1].activeNodes);
+    EXPECT_EQ(r.levels[0].refinedCells, v.levels[0].refinedCells);
     EXPECT_EQ(r.levels[0].data, v.levels[0].data);
     const FileInfo info = inspectVolumeFile(dir.file("two.vdb"));
-    ASSERT_EQ(info.grids.size(), 18u);
+    ASSERT_EQ(info.grids.size(), 19u);
     EXPECT_EQ(info.grids[0].name, "sh_l0m0");
-    EXPECT_EQ(info.grids[9].name, "sh_l0m0_L1");
+    EXPECT_EQ(info.grids[9].name, "refined_L0");
+    EXPECT_EQ(info.grids[9].activeVoxels, 1u);
+    EXPECT_EQ(info.grids[10].name, "sh_l0m0_L1");
     int fineGrids = 0;
     for (const GridInfo& g : info.grids) {
         if (g.level == 1) {
             ++fineGrids;
             EXPECT_EQ(g.name.substr(g.name.size() - 3), "_L1");
-            EXPECT_EQ(g.activeVoxels, 9u * 8u * 3u);
+            EXPECT_EQ(g.activeVoxels, 64u);
             EXPECT_DOUBLE_EQ(g.voxelSize, 0.125);
         }
     }
     EXPECT_EQ(fineGrids, 9);
+
+    // Two unrelated levels (no refinement structure) are refused before writing.
+    Volume bad = makeVolume(2, 3, 2);
+    bad.levels.push_back(makeVolume(9, 8, 3, 5).levels[0]);
+    EXPECT_THROW(writeVolume(bad, dir.file("bad.vdb")), ValueError);
+    EXPECT_FALSE(std::filesystem::exists(dir.file("bad.vdb")));
 }
 
 TEST(VdbIo, OverwritesAnExistingFile) {

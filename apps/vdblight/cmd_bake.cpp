@@ -6,6 +6,8 @@
 #include "commands.h"
 #include "vdblight/bake.h"
 #include "vdblight/bake_antialiased.h"
+#include "vdblight/bake_levels.h"
+#include "vdblight/layout_levels.h"
 #include "vdblight/errors.h"
 #include "vdblight/layout.h"
 #include "vdblight/photons.h"
@@ -32,6 +34,9 @@ struct BakeCommand {
     std::string sampling = "point";  // point | antialiased (bake_antialiased.h)
     std::string domain;              // all | interior; default interior for antialiased
     double invalidateBackface = -1;  // < 0: off (point sampling only)
+    std::string layout = "uniform";
+    int refine = 3;
+    int levels = 3;
 };
 
 void runPhotons(const BakeCommand& c);
@@ -77,8 +82,23 @@ void run(const BakeCommand& c) {
     options.transport = transportFromOptions(c.scene);
 
     ProgressBar progress(c.quiet);
-    BakeStats stats;
-    Volume volume = bakeSelected(c, scene, tracer, grid, options, &progress, &stats);
+    LevelsBakeStats stats;
+    LevelsPlacement levels;
+    levels.kind = parseLayoutKind(c.layout);
+    levels.refine = c.refine;
+    levels.levels = c.levels;
+    Volume volume;
+    if (levels.kind == LayoutKind::Uniform) {
+        volume = bakeSelected(c, scene, tracer, grid, options, &progress, &stats);
+    } else {
+        const LevelLayout layout = placeLevels(grid, scene.positions, scene.indices, levels,
+                                               2 * sh::kCoeffs * 3 * sizeof(float));
+        volume = bakeShGatherLevels(scene, tracer, layout, options, &progress, &stats);
+        if (!c.quiet)
+            std::cout << "Layout " << c.layout << ": " << volume.levels.size() << " levels refined by " << layout.refine
+                      << ", " << layout.totalNodes() << " nodes (" << stats.seamNodes << " seam nodes set from the coarser level) vs "
+                      << layout.denseEquivalentNodes() << " in a dense grid at the finest spacing.\n";
+    }
     volume.meta["scene_file"] = c.scene.path.empty() ? std::string("(bundled default) ") + defaultScenePath() : c.scene.path;
     volume.meta["sky"] = c.scene.skyMap.empty() ? (c.scene.sky.empty() ? std::string("0,0,0") : c.scene.sky)
                                                 : "map:" + c.scene.skyMap;
@@ -87,7 +107,7 @@ void run(const BakeCommand& c) {
     writeVolume(volume, c.output, write);
 
     if (!c.quiet) {
-        std::cout << "Baked " << grid.nodeCount() << " nodes (" << grid.nx << " x " << grid.ny << " x " << grid.nz
+        std::cout << "Baked " << stats.nodes << " nodes (" << (volume.levels.size() > 1 ? "level 0: " : "") << grid.nx << " x " << grid.ny << " x " << grid.nz
                   << ", spacing " << grid.spacing << ") of scene '" << scene.name << "' ("
                   << scene.triangleCount() << " triangles";
         if (scene.stats.degenerateTrianglesSkipped)
@@ -170,8 +190,21 @@ void addBakeCommand(CLI::App& app) {
     auto* invalidate = cmd->add_option("--invalidate-backface", c->invalidateBackface,
                     "point only: nodes whose rays hit back-faces more than this fraction (0..1) are replaced by "
                     "dilating valid neighbours");
+    cmd->add_option("--layout", c->layout, "Node layout: uniform, bilevel (Greger et al.) or adaptive (n levels)")
+        ->capture_default_str();
+    auto* refine = cmd->add_option("--refine", c->refine, "bilevel/adaptive: split refined cells K x K x K")->capture_default_str();
+    auto* levelsOpt = cmd->add_option("--levels", c->levels, "adaptive: number of levels including the first")->capture_default_str();
     cmd->add_flag("-q,--quiet", c->quiet, "No progress bar and no summary");
-    cmd->callback([c, spacing, resolution, invalidate] {
+    cmd->callback([c, spacing, resolution, invalidate, refine, levelsOpt] {
+        const LayoutKind kind = parseLayoutKind(c->layout);
+        if (c->refine < 2) throw ValueError("--refine must be at least 2, got " + std::to_string(c->refine));
+        if (c->levels < 1) throw ValueError("--levels must be at least 1, got " + std::to_string(c->levels));
+        if (c->levels > 16)
+            throw ValueError("--levels " + std::to_string(c->levels) + " is absurd (each level multiplies the resolution by --refine); use at most 16");
+        if (kind == LayoutKind::Uniform && refine->count() > 0) throw ValueError("--refine needs --layout bilevel or adaptive");
+        if (kind != LayoutKind::Adaptive && levelsOpt->count() > 0) throw ValueError("--levels needs --layout adaptive");
+        if (kind != LayoutKind::Uniform && (c->sampling != "point" || invalidate->count() > 0 || c->method != "gather"))
+            throw ValueError("--layout bilevel/adaptive works with --method gather and --sampling point only");
         // Refuse explicit zero or negative values here: 0 would otherwise mean "default".
         if (spacing->count() > 0 && !(c->spacing > 0))
             throw ValueError("--spacing must be positive, got " + std::to_string(c->spacing));

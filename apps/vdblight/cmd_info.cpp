@@ -52,8 +52,9 @@ void printHuman(const Volume& v, const FileInfo& f) {
                                                            : " RGB channels: radiance SH coefficients)\n");
     for (std::size_t l = 0; l < v.levels.size(); ++l) {
         const GridSpec& g = v.levels[l].grid;
-        std::cout << "  level " << l << ": " << g.nx << " x " << g.ny << " x " << g.nz << " = " << g.nodeCount()
-                  << " nodes, spacing " << g.spacing << ", node bounds " << vec(g.nodeBounds().lo, false) << " - "
+        std::cout << "  level " << l << ": " << g.nx << " x " << g.ny << " x " << g.nz << " box, "
+                  << v.levels[l].storedNodes() << (v.levels[l].sparse() ? " active" : "") << " nodes, "
+                  << v.levels[l].refinedCells.size() << " refined cells, spacing " << g.spacing << ", node bounds " << vec(g.nodeBounds().lo, false) << " - "
                   << vec(g.nodeBounds().hi, false) << "\n";
     }
     std::cout << "  grids:\n";
@@ -70,7 +71,8 @@ void printJson(const Volume& v, const FileInfo& f) {
       << ",\n  \"basis\": " << jsonString(v.basis.kind) << ",\n  \"levels\": [";
     for (std::size_t l = 0; l < v.levels.size(); ++l) {
         const GridSpec& g = v.levels[l].grid;
-        o << (l ? ", " : "") << "{\"dims\": [" << g.nx << ", " << g.ny << ", " << g.nz << "], \"nodes\": " << g.nodeCount()
+        o << (l ? ", " : "") << "{\"dims\": [" << g.nx << ", " << g.ny << ", " << g.nz << "], \"nodes\": " << v.levels[l].storedNodes()
+          << ", \"refined_cells\": " << v.levels[l].refinedCells.size()
           << ", \"spacing\": " << g.spacing << ", \"origin\": " << vec(g.origin, true)
           << ", \"node_bounds_min\": " << vec(g.nodeBounds().lo, true) << ", \"node_bounds_max\": " << vec(g.nodeBounds().hi, true) << "}";
     }

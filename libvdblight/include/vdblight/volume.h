@@ -41,7 +41,19 @@ struct VolumeLevel {
     /// trilinear basis-function weight that lay in the domain of interest when it was baked
     /// (bake_antialiased.h); written as the FloatGrid `validity` (docs/format.md).
     std::vector<float> validity;
+    /// Sparse levels (refined levels of a bilevel / n-level volume): the linear indices
+    /// grid.index(i, j, k) of the nodes that exist, strictly ascending; `data` then holds
+    /// these nodes in this order (its "node" is a position in this list). Empty = dense:
+    /// every node of the box exists and `data` is in node order.
+    std::vector<uint64_t> activeNodes;
+    /// Cells of this level refined into the next level, each named by the linear index
+    /// grid.index(i, j, k) of its lower corner node, strictly ascending. Empty on the
+    /// finest level (and on a single-level volume).
+    std::vector<uint64_t> refinedCells;
 
+    bool sparse() const { return !activeNodes.empty(); }
+    /// Nodes stored in `data`.
+    std::size_t storedNodes() const { return sparse() ? activeNodes.size() : grid.nodeCount(); }
     const float* nodeData(std::size_t node, int channels) const { return data.data() + node * channels * 3; }
 };
 
@@ -50,9 +62,19 @@ struct Volume {
     std::vector<VolumeLevel> levels;  ///< level 0 is the coarsest (a uniform volume has one)
     Metadata meta;
 
-    /// Throws FormatError if levels, grids and data sizes are inconsistent.
+    /// Throws FormatError if levels, grids and data sizes are inconsistent, or if the level
+    /// structure of a multi-level volume is (see validateLevelStructure in layout_levels.h).
     void validate() const;
+    /// Refinement factor K between consecutive levels (1 for a single-level volume).
+    int refineFactor() const;
 };
+
+/// The level-structure part of Volume::validate: level 0 dense; for several levels, every
+/// level's spacing h0 / K^l with one integer K >= 2, the same origin, dims (n - 1) K + 1,
+/// refined cells inside the box and under a refined parent, and active nodes exactly the
+/// corners of the children of the coarser level's refined cells. Throws FormatError naming
+/// the first problem.
+void validateLevelStructure(const Volume& volume);
 
 /// Reads a metadata value (with conversion between int and double), or `fallback`.
 double metaNumber(const Metadata& meta, const std::string& key, double fallback);

@@ -2,6 +2,7 @@
 #include "vdblight/errors.h"
 #include "vdblight/query.h"
 #include "vdblight/vector_grid_lookup.h"
+#include "vdblight/query_levels.h"
 
 namespace vdblight {
 
@@ -16,6 +17,7 @@ const std::vector<LookupKind>& lookupKinds() {
     static const std::vector<LookupKind> kinds = {
         {"sh2-uniform", &ShUniformLookup::accepts, &make<ShUniformLookup>},
         {"irradiance-vectors-uniform", &VectorGridLookup::accepts, &make<VectorGridLookup>},
+        {"sh2-levels", &ShLevelsLookup::accepts, &make<ShLevelsLookup>},
     };
     return kinds;
 }

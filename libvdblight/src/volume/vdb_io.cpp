@@ -51,6 +51,9 @@ std::string gridNameFor(const std::string& channel, int level) {
     return level == 0 ? channel : channel + "_L" + std::to_string(level);
 }
 
+/// The mask of refined cells of level k (docs/format.md, "Levels").
+std::string maskNameFor(int level) { return "refined_L" + std::to_string(level); }
+
 std::string levelKey(int level, const char* what) {
     return kPrefix + "level" + std::to_string(level) + "_" + what;
 }
@@ -109,6 +112,20 @@ openvdb::math::Transform::Ptr levelTransform(const GridSpec& g) {
     return xform;
 }
 
+/// A mask voxel (i, j, k) is the cell whose lower corner is node (i, j, k): its centre sits
+/// half a spacing above that node.
+openvdb::math::Transform::Ptr maskTransform(const GridSpec& g) {
+    auto xform = openvdb::math::Transform::createLinearTransform(g.spacing);
+    const double half = 0.5 * g.spacing;
+    xform->postTranslate(openvdb::Vec3d(g.origin.x + half, g.origin.y + half, g.origin.z + half));
+    return xform;
+}
+
+Coord unpackCoord(const GridSpec& g, uint64_t linear) {
+    const uint64_t nx = uint64_t(g.nx), ny = uint64_t(g.ny);
+    return Coord(int(linear % nx), int((linear / nx) % ny), int(linear / (nx * ny)));
+}
+
 // ---------------------------------------------------------------------------------------
 // Writing
 
@@ -144,11 +161,38 @@ Vec3SGrid::Ptr buildChannelGrid(const VolumeLevel& level, int channel, int chann
     return grid;
 }
 
+/// One channel of a sparse level: exactly its active nodes are active voxels.
+Vec3SGrid::Ptr buildSparseChannelGrid(const VolumeLevel& level, int channel, int channels) {
+    auto grid = Vec3SGrid::create(openvdb::Vec3s(0.0f));
+    auto acc = grid->getAccessor();
+    for (std::size_t n = 0; n < level.activeNodes.size(); ++n) {
+        const float* v = level.nodeData(n, channels) + channel * 3;
+        acc.setValue(unpackCoord(level.grid, level.activeNodes[n]), openvdb::Vec3s(v[0], v[1], v[2]));
+    }
+    return grid;
+}
+
+/// The mask of refined cells of one level.
+openvdb::BoolGrid::Ptr buildMaskGrid(const Volume& volume, int level) {
+    const VolumeLevel& lv = volume.levels[std::size_t(level)];
+    auto grid = openvdb::BoolGrid::create(false);
+    auto acc = grid->getAccessor();
+    for (uint64_t cell : lv.refinedCells) acc.setValue(unpackCoord(lv.grid, cell), true);
+    grid->setName(maskNameFor(level));
+    grid->setTransform(maskTransform(lv.grid));
+    grid->setGridClass(openvdb::GRID_UNKNOWN);
+    grid->insertMeta(kPrefix + "format_version", openvdb::Int64Metadata(kFormatVersion));
+    grid->insertMeta(kPrefix + "level", openvdb::Int64Metadata(level));
+    grid->insertMeta(kPrefix + "mask", openvdb::StringMetadata("refined cells"));
+    return grid;
+}
+
 /// Name of the optional per-node scalar grid (VolumeLevel::validity; docs/format.md).
 const std::string kValidityName = "validity";
 using FloatLeafT = openvdb::FloatGrid::TreeType::LeafNodeType;
 
 /// The level's validity as a FloatGrid whose voxels are all active, like the channel grids.
+/// Only dense levels carry validity (the anti-aliased pass bakes uniform volumes).
 openvdb::FloatGrid::Ptr buildValidityGrid(const VolumeLevel& level, const std::vector<Coord>& origins) {
     const GridSpec& g = level.grid;
     std::vector<std::unique_ptr<FloatLeafT>> leaves(origins.size());
@@ -239,6 +283,13 @@ void checkWritable(const Volume& volume, const WriteOptions& options) {
                 throw ValueError("grid name '" + gridNameFor(c, int(l)) + "' would appear twice");
     for (const std::string& c : volume.basis.channelNames)
         if (c == kValidityName) throw ValueError("channel name '" + kValidityName + "' is reserved for the validity grid");
+    for (const VolumeLevel& level : volume.levels)
+        if (level.sparse() && !level.validity.empty())
+            throw ValueError("validity is stored for dense levels only");
+    if (volume.levels.size() > 1)
+        for (std::size_t l = 0; l + 1 < volume.levels.size(); ++l)
+            if (!names.insert(maskNameFor(int(l))).second)
+                throw ValueError("grid name '" + maskNameFor(int(l)) + "' would appear twice");
 }
 
 openvdb::GridCPtrVec buildGrids(const Volume& volume, const WriteOptions& options) {
@@ -246,9 +297,12 @@ openvdb::GridCPtrVec buildGrids(const Volume& volume, const WriteOptions& option
     openvdb::GridCPtrVec grids;
     for (std::size_t l = 0; l < volume.levels.size(); ++l) {
         const VolumeLevel& level = volume.levels[l];
-        const std::vector<Coord> origins = leafOrigins(level.grid);
+        const std::vector<Coord> origins = level.sparse() ? std::vector<Coord>() : leafOrigins(level.grid);
         std::vector<Vec3SGrid::Ptr> built(std::size_t(channels), nullptr);
-        tbb::parallel_for(0, channels, [&](int c) { built[std::size_t(c)] = buildChannelGrid(level, c, channels, origins); });
+        tbb::parallel_for(0, channels, [&](int c) {
+            built[std::size_t(c)] = level.sparse() ? buildSparseChannelGrid(level, c, channels)
+                                                   : buildChannelGrid(level, c, channels, origins);
+        });
         for (int c = 0; c < channels; ++c) {
             Vec3SGrid::Ptr grid = built[std::size_t(c)];
             grid->setName(gridNameFor(volume.basis.channelNames[std::size_t(c)], int(l)));
@@ -268,6 +322,7 @@ openvdb::GridCPtrVec buildGrids(const Volume& volume, const WriteOptions& option
             tagGrid(*grid, volume, int(l), -1);
             grids.push_back(grid);
         }
+        if (volume.levels.size() > 1 && l + 1 < volume.levels.size()) grids.push_back(buildMaskGrid(volume, int(l)));
     }
     return grids;
 }
@@ -436,18 +491,28 @@ Metadata userMetadata(const openvdb::MetaMap& meta) {
     return out;
 }
 
-/// Throws unless `grid` is a Vec3SGrid placed as `g` whose active voxels are exactly [0, dims).
-Vec3SGrid::Ptr checkChannelGrid(const openvdb::GridBase::Ptr& base, const GridSpec& g, const std::string& path) {
+/// True if `xf` is the linear transform placing voxel (0, 0, 0) at `o` with voxel size h.
+bool placedAt(const openvdb::math::Transform& xf, const Vec3d& at, double h) {
+    const openvdb::Vec3d o = xf.indexToWorld(Coord(0, 0, 0)), vs = xf.voxelSize();
+    const double tol = 1e-9 * std::max({h, std::abs(at.x), std::abs(at.y), std::abs(at.z)});
+    return xf.isLinear() && std::abs(vs.x() - h) <= tol && std::abs(vs.y() - h) <= tol && std::abs(vs.z() - h) <= tol &&
+           std::abs(o.x() - at.x) <= tol && std::abs(o.y() - at.y) <= tol && std::abs(o.z() - at.z) <= tol;
+}
+
+/// Throws unless `grid` is a Vec3SGrid placed as `g`.
+Vec3SGrid::Ptr checkPlacedChannel(const openvdb::GridBase::Ptr& base, const GridSpec& g, const std::string& path) {
     auto grid = openvdb::gridPtrCast<Vec3SGrid>(base);
     const std::string name = "grid '" + base->getName() + "' ";
     if (!grid) formatError(path, name + "has type " + base->valueType() + ", expected vec3s");
-    const openvdb::math::Transform& xf = grid->transform();
-    const openvdb::Vec3d o = xf.indexToWorld(Coord(0, 0, 0)), vs = xf.voxelSize();
-    const double tol = 1e-9 * std::max({g.spacing, std::abs(g.origin.x), std::abs(g.origin.y), std::abs(g.origin.z)});
-    const bool placed = xf.isLinear() && std::abs(vs.x() - g.spacing) <= tol && std::abs(vs.y() - g.spacing) <= tol &&
-                        std::abs(vs.z() - g.spacing) <= tol && std::abs(o.x() - g.origin.x) <= tol &&
-                        std::abs(o.y() - g.origin.y) <= tol && std::abs(o.z() - g.origin.z) <= tol;
-    if (!placed) formatError(path, name + "has a transform that does not match its level's origin and spacing");
+    if (!placedAt(grid->transform(), g.origin, g.spacing))
+        formatError(path, name + "has a transform that does not match its level's origin and spacing");
+    return grid;
+}
+
+/// Throws unless `grid` is a Vec3SGrid placed as `g` whose active voxels are exactly [0, dims).
+Vec3SGrid::Ptr checkChannelGrid(const openvdb::GridBase::Ptr& base, const GridSpec& g, const std::string& path) {
+    Vec3SGrid::Ptr grid = checkPlacedChannel(base, g, path);
+    const std::string name = "grid '" + base->getName() + "' ";
     const openvdb::CoordBBox box = grid->evalActiveVoxelBoundingBox();
     const bool inside = box.min() == Coord(0, 0, 0) && box.max() == Coord(g.nx - 1, g.ny - 1, g.nz - 1);
     if (grid->activeVoxelCount() != g.nodeCount() || !inside) {
@@ -473,6 +538,75 @@ void copyChannel(const Vec3SGrid& grid, VolumeLevel& level, int channel, int cha
             out[0] = v->x(), out[1] = v->y(), out[2] = v->z();
         }
     });
+}
+
+bool insideBox(const openvdb::CoordBBox& box, int nx, int ny, int nz) {
+    return box.empty() || (box.min().x() >= 0 && box.min().y() >= 0 && box.min().z() >= 0 && box.max().x() < nx &&
+                           box.max().y() < ny && box.max().z() < nz);
+}
+
+/// Linear indices of the active voxels of `grid` (inside the level's box), ascending.
+std::vector<uint64_t> activeLinear(const openvdb::GridBase& grid, const GridSpec& g) {
+    std::vector<uint64_t> out;
+    const auto& tree = static_cast<const Vec3SGrid&>(grid).tree();
+    for (auto it = tree.cbeginValueOn(); it; ++it) {
+        const Coord c = it.getCoord();
+        out.push_back(g.index(c.x(), c.y(), c.z()));
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+/// A channel of a refined (sparse) level: placed as `g`, active voxels inside the box and
+/// the same as the level's first channel (`first`, null for the first channel).
+Vec3SGrid::Ptr checkSparseChannelGrid(const openvdb::GridBase::Ptr& base, const GridSpec& g,
+                                      const Vec3SGrid* first, const std::string& path) {
+    Vec3SGrid::Ptr grid = checkPlacedChannel(base, g, path);
+    grid->tree().voxelizeActiveTiles();
+    const std::string name = "grid '" + base->getName() + "' ";
+    if (grid->activeVoxelCount() == 0) formatError(path, name + "has no active voxels");
+    if (!insideBox(grid->evalActiveVoxelBoundingBox(), g.nx, g.ny, g.nz))
+        formatError(path, name + "has active voxels outside its level's node box");
+    if (first && !grid->tree().hasSameTopology(first->tree()))
+        formatError(path, name + "has other active voxels than the first channel of its level");
+    return grid;
+}
+
+void copySparseChannel(const Vec3SGrid& grid, VolumeLevel& level, int channel, int channels) {
+    for (auto it = grid.tree().cbeginValueOn(); it; ++it) {
+        const Coord c = it.getCoord();
+        const uint64_t linear = level.grid.index(c.x(), c.y(), c.z());
+        const auto at = std::lower_bound(level.activeNodes.begin(), level.activeNodes.end(), linear);
+        float* out = level.data.data() + (std::size_t(at - level.activeNodes.begin()) * channels + channel) * 3;
+        out[0] = it->x(), out[1] = it->y(), out[2] = it->z();
+    }
+}
+
+/// Reads the mask of refined cells of `level` into its refinedCells.
+void readMask(OpenedFile& f, VolumeLevel& level, int index, const std::string& path) {
+    const std::string name = maskNameFor(index);
+    if (!f.file->hasGrid(name))
+        formatError(path, "has no grid '" + name + "' (the mask of level " + std::to_string(index) + "'s refined cells)");
+    openvdb::GridBase::Ptr base;
+    try {
+        base = f.file->readGrid(name);
+    } catch (const std::exception& e) {
+        formatError(path, "grid '" + name + "' cannot be read (truncated or corrupt?): " + e.what());
+    }
+    auto mask = openvdb::gridPtrCast<openvdb::BoolGrid>(base);
+    if (!mask) formatError(path, "grid '" + name + "' has type " + base->valueType() + ", expected bool");
+    const GridSpec& g = level.grid;
+    const double half = 0.5 * g.spacing;
+    if (!placedAt(mask->transform(), g.origin + Vec3d(half, half, half), g.spacing))
+        formatError(path, "grid '" + name + "' has a transform that does not match its level's cells");
+    mask->tree().voxelizeActiveTiles();
+    if (!insideBox(mask->evalActiveVoxelBoundingBox(), g.nx - 1, g.ny - 1, g.nz - 1))
+        formatError(path, "grid '" + name + "' marks cells outside its level's cell range");
+    for (auto it = mask->tree().cbeginValueOn(); it; ++it) {
+        const Coord c = it.getCoord();
+        level.refinedCells.push_back(g.index(c.x(), c.y(), c.z()));
+    }
+    std::sort(level.refinedCells.begin(), level.refinedCells.end());
 }
 
 /// Reads the optional validity FloatGrid of a level: same placement and active voxels as the
@@ -513,6 +647,7 @@ VolumeLevel readLevel(OpenedFile& f, const BasisDesc& basis, int level, const st
         formatError(path, "has invalid dimensions, spacing or origin for level " + std::to_string(level));
     }
     const int channels = basis.channelCount();
+    Vec3SGrid::Ptr first;
     for (int c = 0; c < channels; ++c) {
         const std::string name = gridNameFor(basis.channelNames[std::size_t(c)], level);
         if (!f.file->hasGrid(name)) formatError(path, "has no grid '" + name + "'");
@@ -522,13 +657,23 @@ VolumeLevel readLevel(OpenedFile& f, const BasisDesc& basis, int level, const st
         } catch (const std::exception& e) {
             formatError(path, "grid '" + name + "' cannot be read (truncated or corrupt?): " + e.what());
         }
+        if (level > 0) {  // refined levels are sparse
+            Vec3SGrid::Ptr grid = checkSparseChannelGrid(base, g, first.get(), path);
+            if (c == 0) {
+                first = grid;
+                out.activeNodes = activeLinear(*grid, g);
+                out.data.assign(out.activeNodes.size() * std::size_t(channels) * 3, 0.0f);
+            }
+            copySparseChannel(*grid, out, c, channels);
+            continue;
+        }
         Vec3SGrid::Ptr grid = checkChannelGrid(base, g, path);
         // Allocated only once a grid has confirmed the node count (metadata could be corrupt).
         if (out.data.empty()) out.data.assign(g.nodeCount() * std::size_t(channels) * 3, 0.0f);
         copyChannel(*grid, out, c, channels);
     }
     const std::string validityName = gridNameFor(kValidityName, level);
-    if (f.file->hasGrid(validityName)) readValidity(f, validityName, out, path);
+    if (level == 0 && f.file->hasGrid(validityName)) readValidity(f, validityName, out, path);
     return out;
 }
 
@@ -587,6 +732,8 @@ Volume readVolume(const std::string& path) {
     const int64_t levels = requireMeta<int64_t>(meta, kPrefix + "levels", path);
     if (levels < 1 || levels > 64) formatError(path, "has an invalid level count " + std::to_string(levels));
     for (int l = 0; l < int(levels); ++l) volume.levels.push_back(readLevel(f, volume.basis, l, path));
+    if (levels > 1)
+        for (int l = 0; l + 1 < int(levels); ++l) readMask(f, volume.levels[std::size_t(l)], l, path);
     volume.meta = userMetadata(meta);
     try {
         volume.validate();

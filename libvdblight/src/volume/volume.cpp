@@ -31,10 +31,10 @@ void validateLevel(const VolumeLevel& level, std::size_t index, int channels) {
         throw FormatError(where + " has invalid spacing " + std::to_string(g.spacing) + " (must be finite and > 0)");
     }
     if (!isFinite(g.origin)) throw FormatError(where + " has a non-finite origin");
-    const std::size_t expected = g.nodeCount() * std::size_t(channels) * 3;
+    const std::size_t expected = level.storedNodes() * std::size_t(channels) * 3;
     if (level.data.size() != expected) {
         throw FormatError(where + " holds " + std::to_string(level.data.size()) + " floats, expected " +
-                          std::to_string(expected) + " (" + std::to_string(g.nodeCount()) + " nodes x " +
+                          std::to_string(expected) + " (" + std::to_string(level.storedNodes()) + " nodes x " +
                           std::to_string(channels) + " channels x 3)");
     }
     if (!level.validity.empty()) {
@@ -68,6 +68,11 @@ void Volume::validate() const {
     }
     if (levels.empty()) throw FormatError("volume has no levels");
     for (std::size_t i = 0; i < levels.size(); ++i) validateLevel(levels[i], i, basis.channelCount());
+    validateLevelStructure(*this);
+}
+
+int Volume::refineFactor() const {
+    return levels.size() < 2 ? 1 : int(std::lround(levels[0].grid.spacing / levels[1].grid.spacing));
 }
 
 double metaNumber(const Metadata& meta, const std::string& key, double fallback) {

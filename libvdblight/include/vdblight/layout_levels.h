@@ -1,0 +1,79 @@
+// Multi-level layouts (Greger et al. section 3.1, grown to n levels): a uniform first
+// level, and cells that contain geometry subdivided K x K x K into the next level.
+//
+// Level l has spacing h0 / K^l, the same origin as level 0 and dims (n_{l-1} - 1) K + 1, so
+// node (i, j, k) of level l-1 is node (K i, K j, K k) of level l. A cell is named by its
+// lower corner node. Level 0 is dense; a finer level holds only the corners of the children
+// of refined cells (VolumeLevel::activeNodes), so a query never needs any other node.
+//
+// Seams: a fine node that touches a coarser cell which is not refined (on a shared face,
+// edge or corner) is a "seam node". Its value is not baked but set to what the coarser
+// level interpolates there (applySeamConstraints), which makes the reconstruction C0
+// across level boundaries: trilinear interpolation reproduces the coarse (bi)linear
+// function exactly on the shared face.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "vdblight/layout.h"
+#include "vdblight/math.h"
+#include "vdblight/volume.h"
+
+namespace vdblight {
+
+/// Exact triangle / axis-aligned box overlap (Akenine-Moeller's separating-axis test, in
+/// double). Touching counts as overlapping.
+bool triangleOverlapsBox(const Vec3d& a, const Vec3d& b, const Vec3d& c, const Bounds& box);
+
+enum class LayoutKind { Uniform, Bilevel, Adaptive };
+/// "uniform" | "bilevel" | "adaptive" (ValueError otherwise).
+LayoutKind parseLayoutKind(const std::string& name);
+const char* layoutName(LayoutKind kind);
+
+struct LevelsPlacement {
+    LayoutKind kind = LayoutKind::Bilevel;
+    int refine = 3;                  ///< K: cells split K x K x K (>= 2)
+    int levels = 3;                  ///< adaptive: number of levels including level 0 (>= 1)
+    uint64_t maxNodes = 50'000'000;  ///< refuse layouts with more nodes in total
+};
+
+/// A placed layout: the levels' grids, active nodes and refined cells (no data yet).
+struct LevelLayout {
+    LayoutKind kind = LayoutKind::Uniform;
+    int refine = 1;
+    std::vector<VolumeLevel> levels;  ///< data left empty
+
+    uint64_t totalNodes() const;
+    /// Nodes a dense grid at the finest spacing over the same box would have.
+    double denseEquivalentNodes() const;
+};
+
+/// Builds the levels over `level0` (a uniform grid, e.g. from placeUniformGrid) for the
+/// triangles (positions, 3 indices each). A level-l cell is refined when a triangle
+/// overlaps it; cells on the border of the node box are tested extended outwards by half a
+/// level-0 spacing (the inset of the node box from the scene walls), so walls refine them.
+/// Refinement stops early if no cell of a level contains geometry.
+/// Throws ValueError for refine < 2, levels < 1, a level-0 grid with fewer than two nodes
+/// along an axis (multi-level only), or a layout beyond maxNodes / index range (the error
+/// states the estimated memory with `bytesPerNode`); the estimate is checked before each
+/// level's nodes are allocated.
+LevelLayout placeLevels(const GridSpec& level0, const std::vector<Vec3f>& positions,
+                        const std::vector<uint32_t>& indices, const LevelsPlacement& placement,
+                        std::size_t bytesPerNode);
+
+/// Position in level.data of the node with linear index `linear`, or -1 if it is not active.
+int64_t findNode(const VolumeLevel& level, uint64_t linear);
+/// True if the cell with lower-corner linear index `cell` is refined.
+bool isRefined(const VolumeLevel& level, uint64_t cell);
+
+/// Seam nodes of level `level` (>= 1): positions in levels[level].activeNodes, ascending.
+std::vector<std::size_t> seamNodes(const std::vector<VolumeLevel>& levels, int level, int refine);
+
+/// Sets every seam node of levels 1.. (coarse to fine) to the coarser level's trilinear
+/// interpolation at its position. Requires a structurally valid volume with filled data.
+void applySeamConstraints(Volume& volume);
+
+}  // namespace vdblight

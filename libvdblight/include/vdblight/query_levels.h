@@ -1,0 +1,49 @@
+// Lookups in multi-level (bilevel / adaptive) SH order-2 volumes (Greger et al. section
+// 3.3, n levels): find the level-0 cell of x; while the cell is refined, descend into its
+// K^3 children; interpolate trilinearly in the finest cell reached, then convolve with the
+// cosine lobe for the normal. Seam nodes (layout_levels.h) make the result continuous.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "vdblight/query.h"
+
+namespace vdblight {
+
+/// The fast lookup: level 0 as a dense array, finer levels as "bricks" of (K + 1)^3 nodes
+/// (one per refined cell) with a child table per cell, coefficients pre-multiplied by A_l.
+class ShLevelsLookup final : public VolumeLookup {
+public:
+    /// Throws FormatError if a refined cell's child node is missing (never reads an unbaked node).
+    ShLevelsLookup(const Volume& volume, OutsidePolicy outside);
+    Rgb irradiance(const Vec3f& x, const Vec3f& n) const override;
+    Bounds bounds() const override { return grid_.nodeBounds(); }
+    /// Level whose cell the lookup at x interpolates in.
+    int levelAt(const Vec3f& x) const;
+
+    static bool accepts(const Volume& volume);
+
+private:
+    struct Level {
+        std::vector<int32_t> child;  ///< per cell (level 0) or per brick cell: brick index in the next level, -1
+        std::vector<float> nodes;    ///< level 0: dense node-major; finer: per brick (K+1)^3 nodes
+    };
+    template <typename Visit>
+    void descend(const Vec3f& x, Visit visit) const;
+
+    GridSpec grid_;  ///< level 0
+    OutsidePolicy outside_;
+    int K_ = 1;
+    Vec3f origin_;
+    float invSpacing_ = 1;
+    std::vector<Level> levels_;
+};
+
+/// The simple lookup ShLevelsLookup is tested against: descends through the volume's own
+/// refined-cell lists, finds every node by binary search, interpolates in double and
+/// convolves with the generic SH code. Throws FormatError if it would read a node that is
+/// not active. `level`, if given, receives the level used.
+Rgbd referenceLevelsLookup(const Volume& volume, const Vec3d& x, const Vec3d& n, int* level = nullptr);
+
+}  // namespace vdblight

@@ -1,0 +1,101 @@
+// Seam nodes: fine nodes touching a coarser cell that is not refined take the coarse
+// interpolation, so that the multi-level reconstruction is continuous (C0).
+#include <cmath>
+
+#include "vdblight/errors.h"
+#include "vdblight/layout_levels.h"
+
+namespace vdblight {
+
+namespace {
+
+struct Node {
+    int i, j, k;
+};
+
+Node unpackNode(const GridSpec& g, uint64_t linear) {
+    const uint64_t nx = uint64_t(g.nx), ny = uint64_t(g.ny);
+    return {int(linear % nx), int((linear / nx) % ny), int(linear / (nx * ny))};
+}
+
+/// Coarse cell indices along one axis whose closed extent contains fine index p.
+int coarseCandidates(int p, int K, int coarseCells, int out[2]) {
+    int n = 0;
+    const int c = p / K;
+    if (p % K != 0) {
+        out[n++] = c;
+    } else {
+        if (c - 1 >= 0) out[n++] = c - 1;
+        if (c < coarseCells) out[n++] = c;
+    }
+    return n;
+}
+
+/// Visits the coarse cells (lower-corner linear index) containing fine node p; stops early
+/// when `visit` returns false.
+template <typename F>
+void forCoarseCells(const GridSpec& coarse, int K, const Node& p, F visit) {
+    int ci[2], cj[2], ck[2];
+    const int ni = coarseCandidates(p.i, K, coarse.nx - 1, ci);
+    const int nj = coarseCandidates(p.j, K, coarse.ny - 1, cj);
+    const int nk = coarseCandidates(p.k, K, coarse.nz - 1, ck);
+    for (int c = 0; c < nk; ++c)
+        for (int b = 0; b < nj; ++b)
+            for (int a = 0; a < ni; ++a)
+                if (!visit(Node{ci[a], cj[b], ck[c]})) return;
+}
+
+}  // namespace
+
+std::vector<std::size_t> seamNodes(const std::vector<VolumeLevel>& levels, int level, int K) {
+    const VolumeLevel& fine = levels.at(std::size_t(level));
+    const VolumeLevel& coarse = levels.at(std::size_t(level - 1));
+    std::vector<std::size_t> seams;
+    for (std::size_t n = 0; n < fine.activeNodes.size(); ++n) {
+        const Node p = unpackNode(fine.grid, fine.activeNodes[n]);
+        bool seam = false;
+        forCoarseCells(coarse.grid, K, p, [&](const Node& c) {
+            seam = !isRefined(coarse, coarse.grid.index(c.i, c.j, c.k));
+            return !seam;
+        });
+        if (seam) seams.push_back(n);
+    }
+    return seams;
+}
+
+void applySeamConstraints(Volume& volume) {
+    const int floats = volume.basis.channelCount() * 3;
+    for (std::size_t l = 1; l < volume.levels.size(); ++l) {
+        const VolumeLevel& coarse = volume.levels[l - 1];
+        VolumeLevel& fine = volume.levels[l];
+        const int K = int(std::lround(coarse.grid.spacing / fine.grid.spacing));
+        for (std::size_t n : seamNodes(volume.levels, int(l), K)) {
+            const Node p = unpackNode(fine.grid, fine.activeNodes[n]);
+            // A refined coarse cell containing p: all its corners exist on the coarse level.
+            Node cell{-1, -1, -1};
+            forCoarseCells(coarse.grid, K, p, [&](const Node& c) {
+                if (!isRefined(coarse, coarse.grid.index(c.i, c.j, c.k))) return true;
+                cell = c;
+                return false;
+            });
+            if (cell.i < 0) throw FormatError("level " + std::to_string(l) + " has a node outside every refined cell");
+            const double t[3] = {double(p.i - K * cell.i) / K, double(p.j - K * cell.j) / K,
+                                 double(p.k - K * cell.k) / K};
+            std::vector<double> acc(std::size_t(floats), 0.0);
+            for (int corner = 0; corner < 8; ++corner) {
+                const int d[3] = {corner & 1, (corner >> 1) & 1, corner >> 2};
+                double w = 1.0;
+                for (int a = 0; a < 3; ++a) w *= d[a] ? t[a] : 1.0 - t[a];
+                if (w == 0.0) continue;
+                const int64_t at = findNode(coarse, coarse.grid.index(cell.i + d[0], cell.j + d[1], cell.k + d[2]));
+                if (at < 0) throw FormatError("level " + std::to_string(l - 1) + " misses a corner of a refined cell");
+                const float* src = coarse.data.data() + std::size_t(at) * std::size_t(floats);
+                for (int f = 0; f < floats; ++f) acc[std::size_t(f)] += w * double(src[f]);
+            }
+            float* dst = fine.data.data() + n * std::size_t(floats);
+            for (int f = 0; f < floats; ++f) dst[f] = float(acc[std::size_t(f)]);
+        }
+    }
+}
+
+}  // namespace vdblight

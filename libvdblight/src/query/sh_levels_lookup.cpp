@@ -1,0 +1,202 @@
+// Multi-level SH order-2 lookup: descend through refined cells, interpolate in the finest.
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "vdblight/errors.h"
+#include "vdblight/layout_levels.h"
+#include "vdblight/query_levels.h"
+#include "vdblight/sh.h"
+
+namespace vdblight {
+
+namespace {
+constexpr int kFloats = sh::kCoeffs * 3;
+
+/// Copies one node's coefficients with the cosine-lobe constants A_l folded in.
+void copyFolded(const float* src, float* dst) {
+    for (int f = 0; f < kFloats; ++f) dst[f] = src[f] * float(sh::kCosineLobe[sh::bandOf(f / 3)]);
+}
+
+/// Trilinear blend of 8 nodes (strides in floats) then the 9-term dot product with Y(n).
+inline Rgb interpolate(const float* base, std::size_t sx, std::size_t sy, std::size_t sz, float fx, float fy, float fz,
+                       const float y[sh::kCoeffs]) {
+    const float* corners[8] = {base, base + sx, base + sy, base + sx + sy,
+                               base + sz, base + sx + sz, base + sy + sz, base + sx + sy + sz};
+    const float wx[2] = {1 - fx, fx}, wy[2] = {1 - fy, fy}, wz[2] = {1 - fz, fz};
+    float interp[kFloats] = {};
+    for (int c = 0; c < 8; ++c) {
+        const float w = wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2];
+        const float* p = corners[c];
+        for (int f = 0; f < kFloats; ++f) interp[f] += w * p[f];
+    }
+    Rgb e{0, 0, 0};
+    for (int c = 0; c < sh::kCoeffs; ++c) e += Rgb(interp[3 * c], interp[3 * c + 1], interp[3 * c + 2]) * y[c];
+    return e;
+}
+
+/// Lattice coordinate along one axis clamped into the cells [0, n - 1), split into cell and fraction.
+inline void splitCell(float g, int n, int& i, float& f) {
+    if (!(g >= 0.0f)) g = 0.0f;
+    if (g > float(n - 1)) g = float(n - 1);
+    i = std::min(int(g), n - 2);
+    f = g - float(i);
+}
+
+inline void splitLocal(float& f, int K, int& i) {
+    const float g = f * float(K);
+    i = std::min(int(g), K - 1);
+    f = g - float(i);
+}
+
+int64_t positionIn(const std::vector<uint64_t>& sorted, uint64_t value) {
+    const auto it = std::lower_bound(sorted.begin(), sorted.end(), value);
+    return it != sorted.end() && *it == value ? int64_t(it - sorted.begin()) : -1;
+}
+}  // namespace
+
+bool ShLevelsLookup::accepts(const Volume& volume) { return volume.basis.kind == "sh2" && volume.levels.size() > 1; }
+
+ShLevelsLookup::ShLevelsLookup(const Volume& volume, OutsidePolicy outside) : outside_(outside) {
+    const VolumeLevel& l0 = volume.levels[0];
+    grid_ = l0.grid;
+    K_ = volume.refineFactor();
+    origin_ = Vec3f(grid_.origin);
+    invSpacing_ = float(1.0 / grid_.spacing);
+    const int K = K_, side = K + 1;
+    levels_.resize(volume.levels.size());
+
+    levels_[0].nodes.resize(l0.data.size());
+    for (std::size_t n = 0; n < grid_.nodeCount(); ++n) copyFolded(l0.nodeData(n, sh::kCoeffs), &levels_[0].nodes[n * kFloats]);
+    levels_[0].child.resize(std::size_t(grid_.nx - 1) * (grid_.ny - 1) * (grid_.nz - 1));
+    for (int k = 0; k < grid_.nz - 1; ++k)
+        for (int j = 0; j < grid_.ny - 1; ++j)
+            for (int i = 0; i < grid_.nx - 1; ++i)
+                levels_[0].child[i + std::size_t(grid_.nx - 1) * (j + std::size_t(grid_.ny - 1) * k)] =
+                    int32_t(positionIn(l0.refinedCells, grid_.index(i, j, k)));
+
+    for (std::size_t l = 1; l < volume.levels.size(); ++l) {
+        const VolumeLevel& parent = volume.levels[l - 1];
+        const VolumeLevel& fine = volume.levels[l];
+        const GridSpec& pg = parent.grid;
+        Level& out = levels_[l];
+        const std::size_t bricks = parent.refinedCells.size();
+        out.nodes.resize(bricks * std::size_t(side * side * side) * kFloats);
+        if (l + 1 < volume.levels.size()) out.child.resize(bricks * std::size_t(K * K * K));
+        for (std::size_t b = 0; b < bricks; ++b) {
+            const uint64_t cell = parent.refinedCells[b];
+            const int pi = int(cell % uint64_t(pg.nx)), pj = int(cell / uint64_t(pg.nx) % uint64_t(pg.ny)),
+                      pk = int(cell / (uint64_t(pg.nx) * uint64_t(pg.ny)));
+            for (int w = 0; w < side; ++w)
+                for (int v = 0; v < side; ++v)
+                    for (int u = 0; u < side; ++u) {
+                        const int64_t at = findNode(fine, fine.grid.index(pi * K + u, pj * K + v, pk * K + w));
+                        if (at < 0) throw FormatError("level " + std::to_string(l) + " misses a node of a refined cell");
+                        copyFolded(fine.nodeData(std::size_t(at), sh::kCoeffs),
+                                   &out.nodes[(b * side * side * side + u + side * (v + side * std::size_t(w))) * kFloats]);
+                        if (out.child.empty() || u == K || v == K || w == K) continue;
+                        out.child[b * K * K * K + u + K * (v + K * std::size_t(w))] = int32_t(
+                            positionIn(fine.refinedCells, fine.grid.index(pi * K + u, pj * K + v, pk * K + w)));
+                    }
+        }
+    }
+}
+
+template <typename Visit>
+void ShLevelsLookup::descend(const Vec3f& x, Visit visit) const {
+    const Vec3f g = (x - origin_) * invSpacing_;
+    if (outside_ == OutsidePolicy::Throw) {
+        const float tol = 1e-4f;
+        if (!(g.x >= -tol && g.y >= -tol && g.z >= -tol && g.x <= grid_.nx - 1 + tol && g.y <= grid_.ny - 1 + tol &&
+              g.z <= grid_.nz - 1 + tol)) {
+            std::ostringstream s;
+            s << "point (" << x.x << ", " << x.y << ", " << x.z << ") is outside the volume";
+            throw ValueError(s.str());
+        }
+    }
+    int i, j, k;
+    float fx, fy, fz;
+    splitCell(g.x, grid_.nx, i, fx);
+    splitCell(g.y, grid_.ny, j, fy);
+    splitCell(g.z, grid_.nz, k, fz);
+    int32_t brick = levels_[0].child[i + std::size_t(grid_.nx - 1) * (j + std::size_t(grid_.ny - 1) * k)];
+    if (brick < 0) {
+        const std::size_t sx = kFloats, sy = std::size_t(grid_.nx) * kFloats, sz = std::size_t(grid_.ny) * sy;
+        visit(0, levels_[0].nodes.data() + grid_.index(i, j, k) * kFloats, sx, sy, sz, fx, fy, fz);
+        return;
+    }
+    const int K = K_, side = K + 1;
+    for (std::size_t l = 1;; ++l) {
+        splitLocal(fx, K, i);
+        splitLocal(fy, K, j);
+        splitLocal(fz, K, k);
+        const Level& level = levels_[l];
+        const int32_t next = level.child.empty() ? -1 : level.child[std::size_t(brick) * K * K * K + i + K * (j + K * k)];
+        if (next < 0) {
+            const std::size_t sx = kFloats, sy = std::size_t(side) * kFloats, sz = std::size_t(side) * sy;
+            const float* base = level.nodes.data() +
+                                (std::size_t(brick) * side * side * side + i + side * (j + std::size_t(side) * k)) * kFloats;
+            visit(int(l), base, sx, sy, sz, fx, fy, fz);
+            return;
+        }
+        brick = next;
+    }
+}
+
+Rgb ShLevelsLookup::irradiance(const Vec3f& x, const Vec3f& n) const {
+    float y[sh::kCoeffs];
+    sh::evalUnrolled(n, y);
+    Rgb e;
+    descend(x, [&](int, const float* base, std::size_t sx, std::size_t sy, std::size_t sz, float fx, float fy, float fz) {
+        e = interpolate(base, sx, sy, sz, fx, fy, fz, y);
+    });
+    return e;
+}
+
+int ShLevelsLookup::levelAt(const Vec3f& x) const {
+    int level = 0;
+    descend(x, [&](int l, const float*, std::size_t, std::size_t, std::size_t, float, float, float) { level = l; });
+    return level;
+}
+
+Rgbd referenceLevelsLookup(const Volume& volume, const Vec3d& x, const Vec3d& n, int* levelUsed) {
+    const GridSpec& g0 = volume.levels.at(0).grid;
+    const int K = volume.refineFactor();
+    const int dims[3] = {g0.nx, g0.ny, g0.nz};
+    int cell[3];
+    double frac[3];
+    for (int a = 0; a < 3; ++a) {
+        const double u = std::min(std::max((x[a] - g0.origin[a]) / g0.spacing, 0.0), double(dims[a] - 1));
+        cell[a] = std::min(int(std::floor(u)), dims[a] - 2);
+        frac[a] = u - cell[a];
+    }
+    std::size_t l = 0;
+    while (l + 1 < volume.levels.size() &&
+           isRefined(volume.levels[l], volume.levels[l].grid.index(cell[0], cell[1], cell[2]))) {
+        for (int a = 0; a < 3; ++a) {
+            const double u = frac[a] * K;
+            const int c = std::min(int(std::floor(u)), K - 1);
+            frac[a] = u - c;
+            cell[a] = cell[a] * K + c;
+        }
+        ++l;
+    }
+    const VolumeLevel& level = volume.levels[l];
+    double y[9];
+    sh::evalGeneric(2, normalize(n), y);
+    Rgbd e{0, 0, 0};
+    for (int corner = 0; corner < 8; ++corner) {
+        const int d[3] = {corner & 1, (corner >> 1) & 1, corner >> 2};
+        double w = 1.0;
+        for (int a = 0; a < 3; ++a) w *= d[a] ? frac[a] : 1.0 - frac[a];
+        const int64_t at = findNode(level, level.grid.index(cell[0] + d[0], cell[1] + d[1], cell[2] + d[2]));
+        if (at < 0) throw FormatError("lookup would read a node of level " + std::to_string(l) + " that was not baked");
+        const float* p = level.nodeData(std::size_t(at), volume.basis.channelCount());
+        for (int j = 0; j < 9; ++j)
+            e += Rgbd(p[3 * j], p[3 * j + 1], p[3 * j + 2]) * (w * sh::kCosineLobe[sh::bandOf(j)] * y[j]);
+    }
+    if (levelUsed) *levelUsed = int(l);
+    return e;
+}
+
+}  // namespace vdblight

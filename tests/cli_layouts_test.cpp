@@ -1,0 +1,86 @@
+// End-to-end: `vdblight bake --layout bilevel|adaptive`, `info` and `query` on the result,
+// and bad layout options refused with one line, a non-zero exit and no file.
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+#include "test_util.h"
+
+using namespace vdblight;
+namespace fs = std::filesystem;
+
+namespace {
+const std::string kCli = VDBLIGHT_CLI_PATH;
+
+struct CliRun {
+    int status;
+    std::string output;
+};
+
+CliRun runCli(const std::string& args) {
+    CliRun r;
+    r.status = test::runCommand(kCli + " " + args, &r.output);
+    return r;
+}
+
+int countLines(const std::string& s) {
+    int n = 0;
+    for (char c : s) n += c == '\n';
+    return n;
+}
+
+void expectCleanFailure(const test::TempDir& dir, const std::string& args, const std::string& text) {
+    const std::string out = dir.file("bad.vdb");
+    const CliRun r = runCli(args + " -o " + out);
+    EXPECT_NE(r.status, 0) << args;
+    EXPECT_LT(r.status, 128) << "crashed: " << args;
+    EXPECT_EQ(countLines(r.output), 1) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(text), std::string::npos) << args << "\nexpected '" << text << "' in: " << r.output;
+    EXPECT_FALSE(fs::exists(out)) << args;
+}
+
+double firstIrradiance(const std::string& csv) {
+    std::istringstream lines(csv);
+    std::string header, row;
+    std::getline(lines, header);
+    std::getline(lines, row);
+    std::istringstream rs(row);
+    double v[9];
+    char comma;
+    for (double& x : v) rs >> x >> comma;
+    return v[6];
+}
+}  // namespace
+
+TEST(CliLayouts, BilevelAndAdaptiveBakeInfoAndQuery) {
+    test::TempDir dir;
+    for (const std::string layout : {"bilevel", "adaptive"}) {
+        const std::string out = dir.file(layout + ".vdb");
+        const CliRun bake = runCli("bake -o " + out + " --resolution 5 --rays 32 --bounces 2 --layout " + layout +
+                                   (layout == "adaptive" ? " --levels 3 --refine 2" : ""));
+        ASSERT_EQ(bake.status, 0) << bake.output;
+        EXPECT_NE(bake.output.find("Layout " + layout), std::string::npos) << bake.output;
+        const CliRun info = runCli("info " + out);
+        ASSERT_EQ(info.status, 0) << info.output;
+        EXPECT_NE(info.output.find("refined_L0"), std::string::npos) << info.output;
+        EXPECT_NE(info.output.find("active nodes"), std::string::npos) << info.output;
+        const CliRun json = runCli("info --json " + out);
+        EXPECT_NE(json.output.find("\"layout\": \"" + layout + "\""), std::string::npos) << json.output;
+        const CliRun up = runCli("query " + out + " --at 0.278,0.1,0.28 --normal 0,1,0");
+        ASSERT_EQ(up.status, 0) << up.output;
+        EXPECT_GT(firstIrradiance(up.output), 0.5);  // under the ceiling light
+    }
+}
+
+TEST(CliLayouts, BadLayoutOptionsFailCleanly) {
+    test::TempDir dir;
+    expectCleanFailure(dir, "bake --layout bilevel --refine 1", "--refine must be at least 2");
+    expectCleanFailure(dir, "bake --layout adaptive --refine 0", "--refine must be at least 2");
+    expectCleanFailure(dir, "bake --layout adaptive --levels 0", "--levels must be at least 1");
+    expectCleanFailure(dir, "bake --layout adaptive --levels 1000", "absurd");
+    expectCleanFailure(dir, "bake --layout adaptive --levels 14 --refine 8", "index range");
+    expectCleanFailure(dir, "bake --layout adaptive --levels 4 --refine 8 --resolution 20", "MiB");
+    expectCleanFailure(dir, "bake --layout octree", "unknown layout 'octree'");
+    expectCleanFailure(dir, "bake --refine 3", "--refine needs --layout");
+    expectCleanFailure(dir, "bake --layout bilevel --levels 3", "--levels needs --layout adaptive");
+}
