@@ -36,9 +36,10 @@ public:
     /// The box in which lookups interpolate (outside it the outside policy applies).
     virtual Bounds bounds() const = 0;
     /// The nine RGB radiance coefficients of SH order 2 (docs/format.md convention, not
-    /// convolved) reconstructed at x, for kinds whose basis is SH order 2 (used by export).
+    /// convolved) reconstructed at x, for kinds whose basis is SH order 2 (used by export,
+    /// hence double positions: at a node position it returns that node's values).
     /// Default: throws FormatError, because the kind stores another basis.
-    virtual void shRadiance(const Vec3f& x, Rgb out[9]) const {
+    virtual void shRadiance(const Vec3d& x, Rgb out[9]) const {
         (void)x;
         (void)out;
         throw FormatError("this volume kind stores no SH order-2 coefficients");
@@ -83,7 +84,7 @@ public:
     Bounds bounds() const override { return grid_.nodeBounds(); }
     /// Nine interpolated radiance coefficients at x (RGB each).
     void radianceCoefficients(const Vec3f& x, Rgb out[9]) const;
-    void shRadiance(const Vec3f& x, Rgb out[9]) const override { radianceCoefficients(x, out); }
+    void shRadiance(const Vec3d& x, Rgb out[9]) const override;
 
     static bool accepts(const Volume& volume);
 

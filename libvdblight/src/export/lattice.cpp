@@ -52,7 +52,7 @@ std::vector<std::vector<float>> sampleLayout(const IrradianceQuery& query, const
     // Probe once so that a layout that does not fit fails before any allocation.
     Rgb probe[9];
     try {
-        lookup.shRadiance(Vec3f(lattice.point(0, 0, 0)), probe);
+        lookup.shRadiance(lattice.point(0, 0, 0), probe);
     } catch (const FormatError&) {
         throw FormatError(std::string("layout '") + layoutName(layout) + "' does not fit volume kind '" +
                           query.kind() + "' (it stores no SH order-2 coefficients)");
@@ -66,7 +66,7 @@ std::vector<std::vector<float>> sampleLayout(const IrradianceQuery& query, const
         for (int k = r.begin(); k < r.end(); ++k)
             for (int j = 0; j < ny; ++j)
                 for (int i = 0; i < nx; ++i) {
-                    lookup.shRadiance(Vec3f(lattice.point(i, j, k)), L);
+                    lookup.shRadiance(lattice.point(i, j, k), L);
                     packTexel(layout, L, texel.data());
                     const std::size_t t = (std::size_t(k) * ny + j) * nx + i;
                     for (std::size_t tex = 0; tex < textures; ++tex)
