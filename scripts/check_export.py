@@ -73,8 +73,9 @@ def load_textures(manifest, directory):
     return out
 
 
-def sample_trilinear(tex, uvw):
-    """GPU linear filtering with clamp-to-edge: texel coordinate t = uvw * size - 0.5."""
+def sample_trilinear(tex, uvw, max_abs=False):
+    """GPU linear filtering with clamp-to-edge: texel coordinate t = uvw * size - 0.5.
+    With max_abs, the largest magnitude of the 8 texels instead (for the error scale)."""
     nz, ny, nx, _ = tex.shape
     size = np.array([nx, ny, nz], dtype=np.float64)
     t = uvw * size - 0.5
@@ -84,15 +85,19 @@ def sample_trilinear(tex, uvw):
     for corner in range(8):
         bits = np.array([(corner >> a) & 1 for a in range(3)])
         idx = np.clip(i0 + bits, 0, size.astype(np.int64) - 1)
+        value = tex[idx[:, 2], idx[:, 1], idx[:, 0]]
+        if max_abs:
+            result = np.maximum(result, np.abs(value))
+            continue
         w = np.prod(np.where(bits == 1, f, 1.0 - f), axis=1)
-        result += w[:, None] * tex[idx[:, 2], idx[:, 1], idx[:, 0]]
+        result += w[:, None] * value
     return result
 
 
-def irradiance_terms(manifest, textures, x, n):
+def irradiance_terms(manifest, textures, x, n, max_abs=False):
     """docs/engines.md: the terms whose sum is E(x, n), per colour channel: shape (terms, points, 3)."""
     uvw = x * np.array(manifest["uvw_scale"]) + np.array(manifest["uvw_bias"])
-    s = {name: sample_trilinear(tex, uvw) for name, tex in textures.items()}
+    s = {name: sample_trilinear(tex, uvw, max_abs) for name, tex in textures.items()}
     layout = manifest["layout"]
     nx_, ny_, nz_ = n[:, 0], n[:, 1], n[:, 2]
     terms = []
@@ -164,12 +169,13 @@ def main():
         want = query(args.cli, args.volume, x, n)
 
     tol = 1e-3 if manifest["component_type"] == "float16" else 1e-5
-    # Relative to the size of the terms that make up E at that point (sum of their magnitudes):
-    # rounding a texel to half or float scales with the terms, and where they cancel (E close
-    # to 0 next to a bright light) no finite precision is relative to E itself. Floor: 1% of
-    # the mean over all samples (black nodes inside solid objects interpolated with lit ones).
-    magnitude = np.abs(terms).sum(axis=0)
-    scale = np.maximum(magnitude, 0.01 * magnitude.mean())
+    # Relative to the size of the terms that make up E around that point (sum of their
+    # magnitudes, each with the largest of its 8 texels): rounding texels to half or float,
+    # and the query's float position, scale with these, and where terms cancel (E close to 0
+    # next to a bright light or a black node inside an object) no finite precision is
+    # relative to E itself.
+    scale = np.abs(irradiance_terms(manifest, textures, x, np.abs(n), max_abs=True)).sum(axis=0)
+    scale = np.maximum(scale, 1e-30)
     rel = np.abs(got - want) / scale
     worst = int(np.argmax(rel.max(axis=1)))
     print("%s %s %s: %d points, max relative error %.3g (tolerance %g) at x=%s n=%s: got %s want %s" % (
