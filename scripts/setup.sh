@@ -30,6 +30,16 @@ else
   echo "setup: all Debian packages present"
 fi
 
+# ktx-parse (npm, version pinned in scripts/ktx/package.json): the independent KTX2 reader
+# that the export tests use.
+if [ ! -d "$ROOT/scripts/ktx/node_modules/ktx-parse" ]; then
+  if ! command -v npm >/dev/null; then
+    echo "setup: installing npm"
+    if [ "$(id -u)" -ne 0 ]; then sudo apt-get install -y -qq npm >/dev/null; else apt-get install -y -qq npm >/dev/null; fi
+  fi
+  (cd "$ROOT/scripts/ktx" && npm ci --no-audit --no-fund --loglevel=error)
+fi
+
 cmake -S "$ROOT" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$BUILD_DIR" -j "$JOBS"
 echo "setup: built $BUILD_DIR/bin/vdblight"

@@ -9,5 +9,6 @@ void addBakeCommand(CLI::App& app);
 void addQueryCommand(CLI::App& app);
 void addInfoCommand(CLI::App& app);
 void addReferenceCommand(CLI::App& app);
+void addExportCommand(CLI::App& app);
 
 }  // namespace vdblight::app

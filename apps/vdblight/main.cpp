@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
     vdblight::app::addQueryCommand(app);
     vdblight::app::addInfoCommand(app);
     vdblight::app::addReferenceCommand(app);
+    vdblight::app::addExportCommand(app);
     vdblight::app::installInterruptHandler();
 
     try {

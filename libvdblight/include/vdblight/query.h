@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "vdblight/errors.h"
 #include "vdblight/math.h"
 #include "vdblight/volume.h"
 
@@ -34,6 +35,15 @@ public:
     virtual Rgb irradiance(const Vec3f& x, const Vec3f& n) const = 0;
     /// The box in which lookups interpolate (outside it the outside policy applies).
     virtual Bounds bounds() const = 0;
+    /// The nine RGB radiance coefficients of SH order 2 (docs/format.md convention, not
+    /// convolved) reconstructed at x, for kinds whose basis is SH order 2 (used by export,
+    /// hence double positions: at a node position it returns that node's values).
+    /// Default: throws FormatError, because the kind stores another basis.
+    virtual void shRadiance(const Vec3d& x, Rgb out[9]) const {
+        (void)x;
+        (void)out;
+        throw FormatError("this volume kind stores no SH order-2 coefficients");
+    }
 };
 
 /// A registry entry: `accepts` says whether a volume is of this kind, `create` builds it.
@@ -57,6 +67,8 @@ public:
     const Bounds& bounds() const { return bounds_; }
     /// Name of the lookup kind in use (e.g. "sh2-uniform").
     const char* kind() const { return kind_; }
+    /// The lookup behind this query (for per-basis hooks such as shRadiance).
+    const VolumeLookup& lookup() const { return *lookup_; }
 
 private:
     std::unique_ptr<VolumeLookup> lookup_;
@@ -72,6 +84,7 @@ public:
     Bounds bounds() const override { return grid_.nodeBounds(); }
     /// Nine interpolated radiance coefficients at x (RGB each).
     void radianceCoefficients(const Vec3f& x, Rgb out[9]) const;
+    void shRadiance(const Vec3d& x, Rgb out[9]) const override;
 
     static bool accepts(const Volume& volume);
 

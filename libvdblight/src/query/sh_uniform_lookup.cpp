@@ -1,5 +1,6 @@
 #include "vdblight/query.h"
 
+#include <cmath>
 #include <sstream>
 
 #include "vdblight/errors.h"
@@ -68,6 +69,44 @@ void ShUniformLookup::radianceCoefficients(const Vec3f& x, Rgb out[9]) const {
             const float a = float(sh::kCosineLobe[sh::bandOf(c)]);
             out[c] += Rgb(p[3 * c], p[3 * c + 1], p[3 * c + 2]) * (w / a);
         }
+    }
+}
+
+void ShUniformLookup::shRadiance(const Vec3d& x, Rgb out[9]) const {
+    // Located in double and snapped onto a node within 1e-9 of a cell, so that sampling at a
+    // node's position returns exactly that node (export relies on it); accumulated in double.
+    const int dims[3] = {grid_.nx, grid_.ny, grid_.nz};
+    int lo[3];
+    double frac[3];
+    for (int a = 0; a < 3; ++a) {
+        double g = (x[a] - grid_.origin[a]) / grid_.spacing;
+        if (std::fabs(g - std::round(g)) < 1e-9) g = std::round(g);
+        if (outside_ == OutsidePolicy::Throw && !(g >= -1e-4 && g <= dims[a] - 1 + 1e-4)) {
+            std::ostringstream s;
+            s << "point (" << x.x << ", " << x.y << ", " << x.z << ") is outside the volume";
+            throw ValueError(s.str());
+        }
+        if (!(g >= 0.0)) g = 0.0;  // also maps NaN to the boundary
+        g = std::min(g, double(dims[a] - 1));
+        lo[a] = std::min(int(g), std::max(dims[a] - 2, 0));
+        frac[a] = g - lo[a];
+    }
+    double sum[kFloatsPerNode] = {};
+    for (int corner = 0; corner < 8; ++corner) {
+        double w = 1.0;
+        int idx[3];
+        for (int a = 0; a < 3; ++a) {
+            const int bit = (corner >> a) & 1;
+            idx[a] = std::min(lo[a] + bit, dims[a] - 1);
+            w *= bit ? frac[a] : 1.0 - frac[a];
+        }
+        if (w == 0.0) continue;
+        const float* p = coeffs_.data() + grid_.index(idx[0], idx[1], idx[2]) * kFloatsPerNode;
+        for (int f = 0; f < kFloatsPerNode; ++f) sum[f] += w * p[f];
+    }
+    for (int c = 0; c < sh::kCoeffs; ++c) {
+        const double a = sh::kCosineLobe[sh::bandOf(c)];
+        out[c] = Rgb(float(sum[3 * c] / a), float(sum[3 * c + 1] / a), float(sum[3 * c + 2] / a));
     }
 }
 

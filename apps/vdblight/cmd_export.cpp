@@ -1,0 +1,56 @@
+// vdblight export VOLUME -o OUTDIR: dense 3-D textures + manifest.json for game engines.
+#include <iostream>
+
+#include "app_common.h"
+#include "commands.h"
+#include "vdblight/errors.h"
+#include "vdblight/export.h"
+#include "vdblight/vdb_io.h"
+
+namespace vdblight::app {
+
+namespace {
+struct ExportCommand {
+    std::string volume;
+    std::string output;
+    std::string format = "ktx2";
+    std::string layout = "sh2-packed";
+    bool half = false, full = false;
+    int resolution = 0;
+    bool quiet = false;
+};
+
+void run(const ExportCommand& c) {
+    if (c.half && c.full) throw ValueError("give --half or --float, not both");
+    ExportOptions o;
+    o.format = parseTextureFormat(c.format);
+    o.layout = parseExportLayout(c.layout);
+    o.halfFloat = !c.full;
+    o.resolution = c.resolution;
+    const Volume volume = readVolume(c.volume);
+    const ExportSummary s = exportTextures(volume, c.output, o);
+    if (!c.quiet)
+        std::cout << "Exported " << s.files.size() - 1 << " " << formatName(o.format) << " textures ("
+                  << layoutName(o.layout) << ", " << (o.halfFloat ? "half" : "float") << ") of "
+                  << s.lattice.dims[0] << " x " << s.lattice.dims[1] << " x " << s.lattice.dims[2]
+                  << " texels + manifest.json to " << c.output << " (" << formatBytes(double(s.bytes)) << ")\n";
+}
+}  // namespace
+
+void addExportCommand(CLI::App& app) {
+    auto c = std::make_shared<ExportCommand>();
+    CLI::App* cmd = app.add_subcommand("export", "Dense 3-D textures + manifest.json for engines (docs/engines.md)");
+    cmd->add_option("volume", c->volume, "Volume (.vdb) written by vdblight bake")->required();
+    cmd->add_option("-o,--output", c->output, "Output directory (created if missing)")->required();
+    cmd->add_option("--format", c->format, "ktx2, dds, exr-atlas or raw")->capture_default_str();
+    cmd->add_option("--layout", c->layout, "sh2 (9 coefficient textures), sh2-packed (7, dot-product ready) or sh1 (3)")
+        ->capture_default_str();
+    cmd->add_flag("--half", c->half, "16-bit float texels (the default)");
+    cmd->add_flag("--float", c->full, "32-bit float texels");
+    cmd->add_option("--resolution", c->resolution,
+                    "Texels along the longest axis (default: the volume's finest node spacing)");
+    cmd->add_flag("-q,--quiet", c->quiet, "Print nothing on success");
+    cmd->callback([c] { run(*c); });
+}
+
+}  // namespace vdblight::app

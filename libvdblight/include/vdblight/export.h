@@ -1,0 +1,82 @@
+// Dense 3-D textures of a baked volume for game engines and custom renderers.
+//
+// Export samples the volume through IrradianceQuery on a dense lattice of texels (texel
+// (i, j, k) <-> lattice point lo + spacing * (i, j, k)), so that every kind of volume exports
+// the same way; by default the lattice is the volume's finest node spacing over its bounds,
+// so a uniform volume exports its nodes. Each texture is RGBA (half or float); a layout says
+// what the components mean; `manifest.json` beside the textures states all of it, and
+// docs/engines.md gives the shader code.
+//
+//   ExportOptions o;
+//   o.format = TextureFormat::Ktx2;
+//   o.layout = ExportLayout::Sh2Packed;
+//   ExportSummary s = exportTextures(readVolume("cornell.vdb"), "out/", o);
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "vdblight/math.h"
+#include "vdblight/volume.h"
+
+namespace vdblight {
+
+/// The container written for each texture.
+enum class TextureFormat {
+    Ktx2,      ///< KTX 2.0 3-D texture, vkFormat 97 (RGBA16F) or 109 (RGBA32F)
+    Dds,       ///< DDS + DX10 header, TEXTURE3D, DXGI format 10 (RGBA16F) or 2 (RGBA32F)
+    ExrAtlas,  ///< OpenEXR 2-D atlas of z slices (columns x rows of tiles, z = 0 top left)
+    Raw,       ///< little-endian RGBA arrays, x fastest, no header
+};
+
+/// What the four components of each texture hold (docs/engines.md).
+enum class ExportLayout {
+    Sh2,        ///< 9 textures: SH coefficient j's radiance RGB, alpha 0 (as stored in the .vdb)
+    Sh2Packed,  ///< 7 textures shAr shAg shAb shBr shBg shBb shC: irradiance by dot products
+    Sh1,        ///< 3 textures shAr shAg shAb: the order-1 (L0 + L1) part of the irradiance
+};
+
+/// Parses "ktx2" | "dds" | "exr-atlas" | "raw" (ValueError listing the choices otherwise).
+TextureFormat parseTextureFormat(const std::string& name);
+/// Parses "sh2" | "sh2-packed" | "sh1" (ValueError listing the choices otherwise).
+ExportLayout parseExportLayout(const std::string& name);
+const char* formatName(TextureFormat format);
+const char* layoutName(ExportLayout layout);
+
+struct ExportOptions {
+    TextureFormat format = TextureFormat::Ktx2;
+    ExportLayout layout = ExportLayout::Sh2Packed;
+    bool halfFloat = true;                  ///< 16-bit floats (default) or 32-bit
+    int resolution = 0;                     ///< texels along the longest axis; 0: finest node spacing
+    uint64_t maxBytes = 4ull << 30;         ///< refuse exports needing more memory than this
+};
+
+/// The dense lattice of texels. Texel (i, j, k) holds the volume at point(i, j, k); its
+/// centre in normalised texture coordinates is ((i, j, k) + 0.5) / dims.
+struct TextureLattice {
+    Vec3d lo, hi;          ///< the box spanned by the texel points (the volume's node box)
+    int dims[3] = {0, 0, 0};
+    Vec3d spacing() const;  ///< distance between neighbouring texel points per axis
+    Vec3d point(int i, int j, int k) const;
+    uint64_t texelCount() const { return uint64_t(dims[0]) * uint64_t(dims[1]) * uint64_t(dims[2]); }
+};
+
+/// Chooses the lattice over `bounds`: `resolution` texels along the longest axis (others in
+/// proportion), or with 0 the spacing `finestSpacing`. Throws ValueError for resolution < 2.
+TextureLattice chooseLattice(const Bounds& bounds, double finestSpacing, int resolution);
+
+struct ExportSummary {
+    TextureLattice lattice;
+    std::vector<std::string> files;  ///< written files (textures, then manifest.json), full paths
+    uint64_t bytes = 0;               ///< total size of the written files
+};
+
+/// Writes the textures and `manifest.json` into `outDir` (created if missing). Everything is
+/// checked and sampled before the first byte is written; files go to temporary names and
+/// are renamed at the end, so an error leaves no partial file. Throws FormatError (the layout
+/// does not fit the volume kind), ValueError (texture larger than the format allows, memory
+/// above maxBytes, values beyond the half-float range) or IoError (directory not writable).
+ExportSummary exportTextures(const Volume& volume, const std::string& outDir, const ExportOptions& options);
+
+}  // namespace vdblight

@@ -1,0 +1,188 @@
+// exportTextures: check everything, sample, then write all files under temporary names and
+// rename them into place at the end (an error leaves nothing half-written).
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "export_internal.h"
+#include "vdblight/errors.h"
+
+namespace vdblight {
+
+namespace fs = std::filesystem;
+using namespace exporter;
+
+namespace {
+std::string extension(TextureFormat f) {
+    switch (f) {
+        case TextureFormat::Ktx2: return ".ktx2";
+        case TextureFormat::Dds: return ".dds";
+        case TextureFormat::ExrAtlas: return ".exr";
+        case TextureFormat::Raw: return ".raw";
+    }
+    return "";
+}
+
+std::string gib(double bytes) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.2f GiB", bytes / double(1ull << 30));
+    return buf;
+}
+
+std::string dimsText(const TextureLattice& l) {
+    return std::to_string(l.dims[0]) + " x " + std::to_string(l.dims[1]) + " x " + std::to_string(l.dims[2]);
+}
+
+// Texture sizes the format (and the APIs that load it) allow; ValueError naming the limit.
+void checkFormatLimits(TextureFormat format, const TextureLattice& l) {
+    const int largest = std::max(l.dims[0], std::max(l.dims[1], l.dims[2]));
+    if (format == TextureFormat::Dds && largest > 2048)
+        throw ValueError("a " + dimsText(l) + " texture exceeds the DDS volume limit of 2048 texels per axis "
+                         "(D3D11/D3D12 maximum 3-D texture size); lower --resolution");
+    if (format == TextureFormat::Ktx2 && largest > 2048)
+        throw ValueError("a " + dimsText(l) + " texture exceeds the KTX2 export limit of 2048 texels per axis "
+                         "(maxImageDimension3D of desktop Vulkan GPUs, and the D3D limit); lower --resolution");
+    if (format == TextureFormat::ExrAtlas) {
+        const AtlasGrid g = atlasGrid(l.dims[2]);
+        const long long w = 1LL * g.columns * l.dims[0], h = 1LL * g.rows * l.dims[1];
+        if (w > 16384 || h > 16384)
+            throw ValueError("the EXR atlas would be " + std::to_string(w) + " x " + std::to_string(h) +
+                             " pixels, over the 16384-pixel 2-D texture limit (D3D11/D3D12, Unity); lower --resolution");
+    }
+    if (l.texelCount() > (1ull << 31))
+        throw ValueError("a " + dimsText(l) + " texture has over 2^31 texels; lower --resolution");
+}
+
+void checkHalfRange(const std::vector<std::vector<float>>& textures, const std::vector<TextureDesc>& descs) {
+    for (std::size_t t = 0; t < textures.size(); ++t)
+        for (std::size_t i = 0; i < textures[t].size(); ++i) {
+            const float v = textures[t][i];
+            if (std::isfinite(v) && std::fabs(v) <= 65504.0f) continue;
+            std::ostringstream s;
+            s << "texture '" << descs[t].name << "' texel " << i / 4 << " holds " << v
+              << ", outside the half-float range (+-65504); export with --float";
+            throw ValueError(s.str());
+        }
+}
+
+// The directory (or its first existing ancestor) must be a writable directory.
+void checkOutputDirectory(const fs::path& dir) {
+    std::error_code ec;
+    fs::path p = fs::absolute(dir, ec);
+    while (!p.empty() && !fs::exists(p, ec)) {
+        if (p == p.parent_path()) break;
+        p = p.parent_path();
+    }
+    if (!fs::is_directory(p, ec))
+        throw IoError("cannot create output directory '" + dir.string() + "': '" + p.string() + "' is not a directory");
+    if (::access(p.c_str(), W_OK) != 0)
+        throw IoError("cannot write into '" + dir.string() + "': '" + p.string() + "' is not writable");
+}
+
+// Files written under temporary names; commit() renames them, the destructor removes what is
+// left (and the directories it created) after an error.
+class StagedFiles {
+public:
+    explicit StagedFiles(const fs::path& dir) : dir_(dir) {}
+    ~StagedFiles() {
+        std::error_code ec;
+        for (const auto& f : files_) fs::remove(f.first, ec);
+        for (auto it = createdDirs_.rbegin(); it != createdDirs_.rend(); ++it) fs::remove(*it, ec);
+    }
+    void createDirectory() {
+        std::vector<fs::path> missing;
+        std::error_code ec;
+        for (fs::path p = fs::absolute(dir_); !fs::exists(p, ec) && p != p.parent_path(); p = p.parent_path())
+            missing.push_back(p);
+        for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
+            if (!fs::create_directory(*it, ec) && !fs::is_directory(*it))
+                throw IoError("cannot create output directory '" + it->string() + "': " + ec.message());
+            createdDirs_.push_back(*it);
+        }
+    }
+    std::string stage(const std::string& name) {
+        const fs::path final = dir_ / name;
+        const fs::path tmp = dir_ / ("." + name + ".tmp-" + std::to_string(::getpid()));
+        files_.push_back({tmp, final});
+        return tmp.string();
+    }
+    std::vector<std::string> commit() {
+        std::vector<std::string> out;
+        for (const auto& f : files_) {
+            std::error_code ec;
+            fs::rename(f.first, f.second, ec);
+            if (ec) throw IoError("cannot rename into '" + f.second.string() + "': " + ec.message());
+            out.push_back(f.second.string());
+        }
+        files_.clear();
+        createdDirs_.clear();
+        return out;
+    }
+
+private:
+    fs::path dir_;
+    std::vector<std::pair<fs::path, fs::path>> files_;
+    std::vector<fs::path> createdDirs_;
+};
+}  // namespace
+
+ExportSummary exportTextures(const Volume& volume, const std::string& outDir, const ExportOptions& o) {
+    if (outDir.empty()) throw IoError("no output directory given");
+    const IrradianceQuery query(volume);
+    double finest = 0;
+    for (const VolumeLevel& level : volume.levels)
+        finest = finest > 0 ? std::min(finest, level.grid.spacing) : level.grid.spacing;
+    ExportSummary summary;
+    summary.lattice = chooseLattice(query.bounds(), finest, o.resolution);
+    const TextureLattice& lattice = summary.lattice;
+    checkFormatLimits(o.format, lattice);
+
+    const std::vector<TextureDesc> descs = layoutTextures(o.layout);
+    const double bytesPerTexel = double(descs.size()) * 16.0 + (o.halfFloat ? 16.0 : 32.0);
+    const double needed = double(lattice.texelCount()) * bytesPerTexel;
+    if (needed > double(o.maxBytes))
+        throw ValueError("exporting " + dimsText(lattice) + " texels in " + std::to_string(descs.size()) +
+                         " textures would need " + gib(needed) + " of memory (limit " + gib(double(o.maxBytes)) +
+                         "); lower --resolution");
+    checkOutputDirectory(outDir);
+
+    const std::vector<std::vector<float>> textures = sampleLayout(query, lattice, o.layout);
+    if (o.halfFloat) checkHalfRange(textures, descs);
+
+    StagedFiles staged(outDir);
+    staged.createDirectory();
+    ManifestInput manifest;
+    manifest.options = &o;
+    manifest.lattice = &lattice;
+    manifest.volumeKind = query.kind();
+    manifest.textures = descs;
+    for (std::size_t t = 0; t < descs.size(); ++t) {
+        TextureImage image;
+        image.rgba = textures[t].data();
+        std::copy_n(lattice.dims, 3, image.dims);
+        image.half = o.halfFloat;
+        image.name = descs[t].name;
+        const std::string file = descs[t].name + extension(o.format);
+        const std::string path = staged.stage(file);
+        uint64_t offset = 0;
+        switch (o.format) {
+            case TextureFormat::Ktx2: offset = writeKtx2(path, image); break;
+            case TextureFormat::Dds: offset = writeDds(path, image); break;
+            case TextureFormat::ExrAtlas: offset = writeExrAtlas(path, image); break;
+            case TextureFormat::Raw: offset = writeRaw(path, image); break;
+        }
+        manifest.fileNames.push_back(file);
+        manifest.dataOffsets.push_back(offset);
+    }
+    const std::string json = manifestJson(manifest);
+    writeBytes(staged.stage("manifest.json"), std::vector<uint8_t>(json.begin(), json.end()));
+    summary.files = staged.commit();
+    for (const std::string& f : summary.files) summary.bytes += fs::file_size(f);
+    return summary;
+}
+
+}  // namespace vdblight

@@ -1,0 +1,75 @@
+// Pieces of the export module shared between its files (not public API).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "vdblight/export.h"
+#include "vdblight/query.h"
+
+namespace vdblight::exporter {
+
+/// One texture of a layout: its name (also the file's stem) and what each component holds.
+struct TextureDesc {
+    std::string name;
+    std::array<std::string, 4> components;
+};
+
+/// The textures a layout writes, in order.
+std::vector<TextureDesc> layoutTextures(ExportLayout layout);
+
+/// Converts nine SH order-2 radiance coefficients into the layout's texels: 4 floats per
+/// texture, textures in layoutTextures order.
+void packTexel(ExportLayout layout, const Rgb coeffs[9], float* out);
+
+/// Samples the query at every lattice point: one RGBA float array per texture, x fastest.
+/// Throws FormatError if the layout does not fit the volume kind.
+std::vector<std::vector<float>> sampleLayout(const IrradianceQuery& query, const TextureLattice& lattice,
+                                             ExportLayout layout);
+
+/// One texture ready to be written.
+struct TextureImage {
+    const float* rgba = nullptr;  ///< 4 floats per texel, x fastest, then y, then z
+    int dims[3] = {0, 0, 0};
+    bool half = true;
+    std::string name;
+};
+
+/// Columns and rows of an EXR atlas for `depth` slices: columns = ceil(sqrt(depth)).
+struct AtlasGrid {
+    int columns = 1, rows = 1;
+};
+AtlasGrid atlasGrid(int depth);
+
+/// Texel data as little-endian bytes (IEEE half or float per component).
+std::vector<uint8_t> encodeTexels(const float* values, std::size_t count, bool half);
+/// Writes `bytes` to `path` (throws IoError).
+void writeBytes(const std::string& path, const std::vector<uint8_t>& bytes);
+
+/// The writers return the byte offset of the texel data in the file (0 for EXR, which
+/// has its own structure).
+uint64_t writeKtx2(const std::string& path, const TextureImage& image);
+uint64_t writeDds(const std::string& path, const TextureImage& image);
+uint64_t writeExrAtlas(const std::string& path, const TextureImage& image);
+uint64_t writeRaw(const std::string& path, const TextureImage& image);
+
+/// Format constants that the manifest reports.
+constexpr uint32_t kVkR16G16B16A16Sfloat = 97;
+constexpr uint32_t kVkR32G32B32A32Sfloat = 109;
+constexpr uint32_t kDxgiR16G16B16A16Float = 10;
+constexpr uint32_t kDxgiR32G32B32A32Float = 2;
+
+/// Everything the manifest describes.
+struct ManifestInput {
+    const ExportOptions* options = nullptr;
+    const TextureLattice* lattice = nullptr;
+    std::string volumeKind;
+    std::vector<TextureDesc> textures;
+    std::vector<std::string> fileNames;  ///< file name of each texture, in order
+    std::vector<uint64_t> dataOffsets;   ///< byte offset of the texels in each file
+};
+std::string manifestJson(const ManifestInput& in);
+
+}  // namespace vdblight::exporter

@@ -1,0 +1,80 @@
+// The dense texel lattice and sampling a volume onto it through IrradianceQuery.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "export_internal.h"
+#include "vdblight/errors.h"
+
+namespace vdblight {
+
+Vec3d TextureLattice::spacing() const {
+    Vec3d s;
+    for (int a = 0; a < 3; ++a) s[a] = dims[a] > 1 ? (hi[a] - lo[a]) / double(dims[a] - 1) : 0.0;
+    return s;
+}
+
+Vec3d TextureLattice::point(int i, int j, int k) const {
+    const int idx[3] = {i, j, k};
+    Vec3d p;
+    // lo + (hi - lo) * i / (n - 1): exact at both ends, so the outermost texels sit on the box.
+    for (int a = 0; a < 3; ++a)
+        p[a] = dims[a] > 1 ? lo[a] + (hi[a] - lo[a]) * double(idx[a]) / double(dims[a] - 1) : lo[a];
+    return p;
+}
+
+TextureLattice chooseLattice(const Bounds& bounds, double finestSpacing, int resolution) {
+    if (resolution != 0 && resolution < 2) throw ValueError("--resolution must be at least 2 texels");
+    TextureLattice l;
+    l.lo = bounds.lo;
+    l.hi = bounds.hi;
+    const Vec3d size = bounds.size();
+    const double longest = std::max(size.x, std::max(size.y, size.z));
+    double step = finestSpacing;
+    if (resolution > 0 && longest > 0) step = longest / double(resolution - 1);
+    if (!(step > 0)) throw ValueError("the volume has no node spacing to export at");
+    for (int a = 0; a < 3; ++a) {
+        const double n = std::round(size[a] / step) + 1.0;
+        if (!(n < 1e9)) throw ValueError("the export lattice would have over 1e9 texels along an axis");
+        l.dims[a] = std::max(1, int(n));
+    }
+    return l;
+}
+
+namespace exporter {
+
+std::vector<std::vector<float>> sampleLayout(const IrradianceQuery& query, const TextureLattice& lattice,
+                                             ExportLayout layout) {
+    const VolumeLookup& lookup = query.lookup();
+    const std::size_t textures = layoutTextures(layout).size();
+    // Probe once so that a layout that does not fit fails before any allocation.
+    Rgb probe[9];
+    try {
+        lookup.shRadiance(lattice.point(0, 0, 0), probe);
+    } catch (const FormatError&) {
+        throw FormatError(std::string("layout '") + layoutName(layout) + "' does not fit volume kind '" +
+                          query.kind() + "' (it stores no SH order-2 coefficients)");
+    }
+    const std::size_t count = lattice.texelCount();
+    std::vector<std::vector<float>> out(textures, std::vector<float>(count * 4));
+    const int nx = lattice.dims[0], ny = lattice.dims[1];
+    tbb::parallel_for(tbb::blocked_range<int>(0, lattice.dims[2]), [&](const tbb::blocked_range<int>& r) {
+        std::vector<float> texel(textures * 4);
+        Rgb L[9];
+        for (int k = r.begin(); k < r.end(); ++k)
+            for (int j = 0; j < ny; ++j)
+                for (int i = 0; i < nx; ++i) {
+                    lookup.shRadiance(lattice.point(i, j, k), L);
+                    packTexel(layout, L, texel.data());
+                    const std::size_t t = (std::size_t(k) * ny + j) * nx + i;
+                    for (std::size_t tex = 0; tex < textures; ++tex)
+                        std::copy_n(texel.data() + 4 * tex, 4, out[tex].data() + 4 * t);
+                }
+    });
+    return out;
+}
+
+}  // namespace exporter
+}  // namespace vdblight

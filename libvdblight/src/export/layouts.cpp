@@ -1,0 +1,130 @@
+// Export layouts: which textures a layout writes and how nine SH order-2 radiance
+// coefficients become their texels. The formulas are those of docs/engines.md.
+#include <cmath>
+
+#include "export_internal.h"
+#include "vdblight/errors.h"
+#include "vdblight/sh.h"
+
+namespace vdblight {
+
+TextureFormat parseTextureFormat(const std::string& name) {
+    if (name == "ktx2") return TextureFormat::Ktx2;
+    if (name == "dds") return TextureFormat::Dds;
+    if (name == "exr-atlas") return TextureFormat::ExrAtlas;
+    if (name == "raw") return TextureFormat::Raw;
+    throw ValueError("unknown export format '" + name + "' (choose ktx2, dds, exr-atlas or raw)");
+}
+
+ExportLayout parseExportLayout(const std::string& name) {
+    if (name == "sh2") return ExportLayout::Sh2;
+    if (name == "sh2-packed") return ExportLayout::Sh2Packed;
+    if (name == "sh1") return ExportLayout::Sh1;
+    throw ValueError("unknown export layout '" + name + "' (choose sh2, sh2-packed or sh1)");
+}
+
+const char* formatName(TextureFormat format) {
+    switch (format) {
+        case TextureFormat::Ktx2: return "ktx2";
+        case TextureFormat::Dds: return "dds";
+        case TextureFormat::ExrAtlas: return "exr-atlas";
+        case TextureFormat::Raw: return "raw";
+    }
+    return "?";
+}
+
+const char* layoutName(ExportLayout layout) {
+    switch (layout) {
+        case ExportLayout::Sh2: return "sh2";
+        case ExportLayout::Sh2Packed: return "sh2-packed";
+        case ExportLayout::Sh1: return "sh1";
+    }
+    return "?";
+}
+
+namespace exporter {
+
+namespace {
+// Real SH constants (docs/format.md "SH convention") and the cosine-lobe factors A_l.
+const double kC0 = 0.5 / std::sqrt(kPi);             // Y_0
+const double kC1 = std::sqrt(3.0 / (4.0 * kPi));     // Y_1..3 / (y, z, x)
+const double kC2 = std::sqrt(15.0 / (4.0 * kPi));    // Y_4, Y_5, Y_7 / (xy, yz, xz)
+const double kC3 = std::sqrt(5.0 / (16.0 * kPi));    // Y_6 / (3 z^2 - 1)
+const double kC4 = std::sqrt(15.0 / (16.0 * kPi));   // Y_8 / (x^2 - y^2)
+const double kA0 = sh::kCosineLobe[0], kA1 = sh::kCosineLobe[1], kA2 = sh::kCosineLobe[2];
+
+const char* const kRgb[3] = {"red", "green", "blue"};
+
+std::vector<TextureDesc> packedA(bool order2) {
+    std::vector<TextureDesc> t;
+    for (int c = 0; c < 3; ++c) {
+        const std::string ch = kRgb[c];
+        t.push_back({std::string("shA") + "rgb"[c],
+                     {ch + ": A1*c1*L3 (coefficient of n.x)", ch + ": A1*c1*L1 (coefficient of n.y)",
+                      ch + ": A1*c1*L2 (coefficient of n.z)", ch + (order2 ? ": A0*c0*L0 - A2*c3*L6 (constant term)" : ": A0*c0*L0 (constant term)")}});
+    }
+    return t;
+}
+
+double channel(const Rgb& c, int ch) { return ch == 0 ? c.x : (ch == 1 ? c.y : c.z); }
+}  // namespace
+
+std::vector<TextureDesc> layoutTextures(ExportLayout layout) {
+    std::vector<TextureDesc> t;
+    switch (layout) {
+        case ExportLayout::Sh2:
+            for (int j = 0; j < sh::kCoeffs; ++j) {
+                const std::string L = "L" + std::to_string(j);
+                t.push_back({std::string("sh2_") + sh::gridName(j),
+                             {L + " red", L + " green", L + " blue", "unused (0)"}});
+            }
+            break;
+        case ExportLayout::Sh1:
+            t = packedA(false);
+            break;
+        case ExportLayout::Sh2Packed:
+            t = packedA(true);
+            for (int c = 0; c < 3; ++c) {
+                const std::string ch = kRgb[c];
+                t.push_back({std::string("shB") + "rgb"[c],
+                             {ch + ": A2*c2*L4 (coefficient of n.x*n.y)", ch + ": A2*c2*L5 (coefficient of n.y*n.z)",
+                              ch + ": 3*A2*c3*L6 (coefficient of n.z*n.z)", ch + ": A2*c2*L7 (coefficient of n.z*n.x)"}});
+            }
+            t.push_back({"shC",
+                         {"red: A2*c4*L8 (coefficient of n.x^2 - n.y^2)", "green: A2*c4*L8", "blue: A2*c4*L8",
+                          "unused (0)"}});
+            break;
+    }
+    return t;
+}
+
+void packTexel(ExportLayout layout, const Rgb L[9], float* out) {
+    if (layout == ExportLayout::Sh2) {
+        for (int j = 0; j < sh::kCoeffs; ++j) {
+            out[4 * j + 0] = L[j].x;
+            out[4 * j + 1] = L[j].y;
+            out[4 * j + 2] = L[j].z;
+            out[4 * j + 3] = 0.0f;
+        }
+        return;
+    }
+    const bool order2 = layout == ExportLayout::Sh2Packed;
+    for (int c = 0; c < 3; ++c) {
+        float* a = out + 4 * c;
+        a[0] = float(kA1 * kC1 * channel(L[3], c));
+        a[1] = float(kA1 * kC1 * channel(L[1], c));
+        a[2] = float(kA1 * kC1 * channel(L[2], c));
+        a[3] = float(kA0 * kC0 * channel(L[0], c) - (order2 ? kA2 * kC3 * channel(L[6], c) : 0.0));
+        if (!order2) continue;
+        float* b = out + 12 + 4 * c;
+        b[0] = float(kA2 * kC2 * channel(L[4], c));
+        b[1] = float(kA2 * kC2 * channel(L[5], c));
+        b[2] = float(3.0 * kA2 * kC3 * channel(L[6], c));
+        b[3] = float(kA2 * kC2 * channel(L[7], c));
+        out[24 + c] = float(kA2 * kC4 * channel(L[8], c));
+    }
+    if (order2) out[27] = 0.0f;
+}
+
+}  // namespace exporter
+}  // namespace vdblight

@@ -1,0 +1,128 @@
+// manifest.json: everything a shader or loader needs to use the exported textures
+// (docs/engines.md explains each field).
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "export_internal.h"
+#include "vdblight/sh.h"
+
+namespace vdblight::exporter {
+
+namespace {
+std::string quote(const std::string& s) {
+    std::string out = "\"";
+    for (char c : s) {
+        if (c == '"' || c == '\\') out += '\\';
+        if (static_cast<unsigned char>(c) < 0x20) {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\u%04x", c);
+            out += buf;
+            continue;
+        }
+        out += c;
+    }
+    return out + "\"";
+}
+std::string num(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    return buf;
+}
+std::string vec(const Vec3d& v) { return "[" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + "]"; }
+
+const char* irradianceFormula(ExportLayout layout) {
+    switch (layout) {
+        case ExportLayout::Sh2:
+            return "E = sum_j A_l(j) * L_j * Y_j(n) per colour channel, L_j = texture sh2_<j>.rgb, "
+                   "Y_j as in docs/format.md (c0..c4 below), A_0 = A0, A_1 = A1, A_2 = A2";
+        case ExportLayout::Sh2Packed:
+            return "E_c = dot(shAc, (n, 1)) + dot(shBc, (n.x*n.y, n.y*n.z, n.z*n.z, n.z*n.x)) "
+                   "+ shC.c * (n.x*n.x - n.y*n.y), for c in r, g, b and a unit normal n";
+        case ExportLayout::Sh1:
+            return "E_c = dot(shAc, (n, 1)) for c in r, g, b and a unit normal n "
+                   "(order-1 SH: the band-2 part of the volume's irradiance is left out)";
+    }
+    return "";
+}
+}  // namespace
+
+std::string manifestJson(const ManifestInput& in) {
+    const ExportOptions& o = *in.options;
+    const TextureLattice& l = *in.lattice;
+    const Vec3d h = l.spacing();
+    Vec3d scale, bias;
+    for (int a = 0; a < 3; ++a) {
+        if (l.dims[a] > 1) {
+            scale[a] = 1.0 / (h[a] * l.dims[a]);
+            bias[a] = (0.5 - l.lo[a] / h[a]) / l.dims[a];
+        } else {
+            scale[a] = 0.0;
+            bias[a] = 0.5;
+        }
+    }
+    std::ostringstream s;
+    s << "{\n";
+    s << "  \"vdblight_export_version\": 1,\n";
+    s << "  \"volume_kind\": " << quote(in.volumeKind) << ",\n";
+    s << "  \"format\": " << quote(formatName(o.format)) << ",\n";
+    s << "  \"layout\": " << quote(layoutName(o.layout)) << ",\n";
+    s << "  \"component_type\": " << quote(o.halfFloat ? "float16" : "float32") << ",\n";
+    s << "  \"byte_order\": \"little-endian\",\n";
+    s << "  \"dims\": [" << l.dims[0] << ", " << l.dims[1] << ", " << l.dims[2] << "],\n";
+    s << "  \"bounds_min\": " << vec(l.lo) << ",\n";
+    s << "  \"bounds_max\": " << vec(l.hi) << ",\n";
+    s << "  \"texel_spacing\": " << vec(h) << ",\n";
+    s << "  \"texel_points\": \"texel (i, j, k) holds the volume at bounds_min + texel_spacing * (i, j, k); "
+         "between texel points the volume is trilinear\",\n";
+    s << "  \"uvw_scale\": " << vec(scale) << ",\n";
+    s << "  \"uvw_bias\": " << vec(bias) << ",\n";
+    s << "  \"uvw_formula\": \"uvw = x * uvw_scale + uvw_bias = ((x - bounds_min) / texel_spacing + 0.5) / dims "
+         "(the half-texel offset puts texel centres on the texel points)\",\n";
+    s << "  \"sampler\": {\"filter\": \"linear\", \"address\": \"clamp-to-edge\", \"mipmaps\": false, \"srgb\": false},\n";
+    s << "  \"texel_order\": \"RGBA per texel; x fastest, then y, then z (texel (i, j, k) at index i + dims[0] * (j + "
+         "dims[1] * k))\",\n";
+    s << "  \"irradiance\": " << quote(irradianceFormula(o.layout)) << ",\n";
+    s << "  \"units\": \"irradiance in W/m^2 (or the scene's radiometric unit times sr); positions in scene units\",\n";
+    s << "  \"constants\": {\"A0\": " << num(sh::kCosineLobe[0]) << ", \"A1\": " << num(sh::kCosineLobe[1])
+      << ", \"A2\": " << num(sh::kCosineLobe[2]) << ", \"c0\": " << num(0.5 / std::sqrt(kPi))
+      << ", \"c1\": " << num(std::sqrt(3.0 / (4.0 * kPi))) << ", \"c2\": " << num(std::sqrt(15.0 / (4.0 * kPi)))
+      << ", \"c3\": " << num(std::sqrt(5.0 / (16.0 * kPi))) << ", \"c4\": " << num(std::sqrt(15.0 / (16.0 * kPi)))
+      << "},\n";
+    switch (o.format) {
+        case TextureFormat::Ktx2:
+            s << "  \"ktx2\": {\"vkFormat\": " << (o.halfFloat ? kVkR16G16B16A16Sfloat : kVkR32G32B32A32Sfloat)
+              << ", \"KTXorientation\": \"ruo\", \"levels\": 1},\n";
+            break;
+        case TextureFormat::Dds:
+            s << "  \"dds\": {\"dxgiFormat\": " << (o.halfFloat ? kDxgiR16G16B16A16Float : kDxgiR32G32B32A32Float)
+              << ", \"resourceDimension\": \"TEXTURE3D\", \"arraySize\": 1, \"mipLevels\": 1},\n";
+            break;
+        case TextureFormat::ExrAtlas: {
+            const AtlasGrid g = atlasGrid(l.dims[2]);
+            s << "  \"exr_atlas\": {\"columns\": " << g.columns << ", \"rows\": " << g.rows
+              << ", \"slice_width\": " << l.dims[0] << ", \"slice_height\": " << l.dims[1]
+              << ", \"slices\": " << l.dims[2] << ", \"width\": " << g.columns * l.dims[0]
+              << ", \"height\": " << g.rows * l.dims[1]
+              << ", \"placement\": \"slice z is the tile at column z % columns, row z / columns (z = 0 top left); "
+                 "image row r of a tile holds texel row j = r; unused tiles are 0\"},\n";
+            break;
+        }
+        case TextureFormat::Raw:
+            s << "  \"raw\": {\"header_bytes\": 0},\n";
+            break;
+    }
+    s << "  \"textures\": [\n";
+    for (std::size_t t = 0; t < in.textures.size(); ++t) {
+        const TextureDesc& d = in.textures[t];
+        s << "    {\"name\": " << quote(d.name) << ", \"file\": " << quote(in.fileNames[t]);
+        if (o.format != TextureFormat::ExrAtlas) s << ", \"data_offset\": " << in.dataOffsets[t];
+        s << ", \"components\": [" << quote(d.components[0]) << ", " << quote(d.components[1]) << ", "
+          << quote(d.components[2]) << ", " << quote(d.components[3]) << "]}"
+          << (t + 1 < in.textures.size() ? "," : "") << "\n";
+    }
+    s << "  ]\n}\n";
+    return s.str();
+}
+
+}  // namespace vdblight::exporter

@@ -1,0 +1,48 @@
+// Little-endian texel encoding, plain file writing, and the `raw` format (no header).
+#include <half.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+
+#include "export_internal.h"
+#include "vdblight/errors.h"
+
+namespace vdblight::exporter {
+
+namespace {
+void putLe(std::vector<uint8_t>& out, uint32_t v, int bytes) {
+    for (int b = 0; b < bytes; ++b) out.push_back(uint8_t(v >> (8 * b)));
+}
+}  // namespace
+
+std::vector<uint8_t> encodeTexels(const float* values, std::size_t count, bool half) {
+    std::vector<uint8_t> out;
+    out.reserve(count * (half ? 2 : 4));
+    for (std::size_t i = 0; i < count; ++i) {
+        if (half) {
+            putLe(out, Imath::half(values[i]).bits(), 2);
+        } else {
+            uint32_t bits;
+            std::memcpy(&bits, &values[i], 4);
+            putLe(out, bits, 4);
+        }
+    }
+    return out;
+}
+
+void writeBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
+    std::FILE* f = std::fopen(path.c_str(), "wb");
+    if (!f) throw IoError("cannot write '" + path + "': " + std::strerror(errno));
+    const bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+    const bool closed = std::fclose(f) == 0;
+    if (!ok || !closed) throw IoError("cannot write '" + path + "': disk full or I/O error");
+}
+
+uint64_t writeRaw(const std::string& path, const TextureImage& image) {
+    const std::size_t texels = std::size_t(image.dims[0]) * image.dims[1] * image.dims[2];
+    writeBytes(path, encodeTexels(image.rgba, texels * 4, image.half));
+    return 0;
+}
+
+}  // namespace vdblight::exporter

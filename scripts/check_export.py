@@ -1,0 +1,188 @@
+#!/usr/bin/python3
+"""Round trip of `vdblight export`, outside the C++ code.
+
+Reads the textures of an export directory using ONLY manifest.json and the formulas of
+docs/engines.md (container headers are parsed from the KTX 2.0 / DDS specifications, not
+taken from the manifest), evaluates irradiance at random points and normals with the
+trilinear filtering a GPU does (clamp-to-edge, half-texel offset), and compares it with
+`vdblight query` on the original volume.
+
+    /usr/bin/python3 scripts/check_export.py --cli build/bin/vdblight --volume v.vdb --export outdir
+
+Exit status 0 if every sample matches within the tolerance (1e-3 relative for half
+textures, 1e-5 for float), 1 otherwise. Needs numpy (Debian: python3-numpy).
+"""
+import argparse
+import json
+import os
+import struct
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+KTX2_IDENTIFIER = bytes([0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32, 0x30, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A])
+
+
+def read_ktx2(data, dtype):
+    """Level 0 of a KTX 2.0 file: the level index entry at byte 80 gives offset and length."""
+    if data[:12] != KTX2_IDENTIFIER:
+        raise ValueError("not a KTX 2.0 file")
+    vk_format, type_size, w, h, d, layers, faces, levels, scheme = struct.unpack_from("<9I", data, 12)
+    if scheme != 0 or faces != 1 or layers != 0:
+        raise ValueError("unexpected KTX2 header")
+    offset, length, _ = struct.unpack_from("<3Q", data, 80)
+    texels = np.frombuffer(data, dtype=dtype, count=length // np.dtype(dtype).itemsize, offset=offset)
+    return texels.reshape(d, h, w, 4), vk_format
+
+
+def read_dds(data, dtype):
+    """DDS with the DX10 header: 4 + 124 + 20 bytes, then the texels."""
+    if data[:4] != b"DDS " or struct.unpack_from("<I", data, 4)[0] != 124 or data[84:88] != b"DX10":
+        raise ValueError("not a DDS file with a DX10 header")
+    h, w, _, d = struct.unpack_from("<4I", data, 12)
+    dxgi = struct.unpack_from("<I", data, 128)[0]
+    texels = np.frombuffer(data, dtype=dtype, count=w * h * d * 4, offset=148)
+    return texels.reshape(d, h, w, 4), dxgi
+
+
+def load_textures(manifest, directory):
+    dtype = "<f2" if manifest["component_type"] == "float16" else "<f4"
+    nx, ny, nz = manifest["dims"]
+    fmt = manifest["format"]
+    out = {}
+    for tex in manifest["textures"]:
+        with open(os.path.join(directory, tex["file"]), "rb") as f:
+            data = f.read()
+        if fmt == "raw":
+            arr = np.frombuffer(data, dtype=dtype).reshape(nz, ny, nx, 4)
+        elif fmt == "ktx2":
+            arr, vk = read_ktx2(data, dtype)
+            if vk != manifest["ktx2"]["vkFormat"]:
+                raise ValueError("vkFormat %d differs from the manifest" % vk)
+        elif fmt == "dds":
+            arr, dxgi = read_dds(data, dtype)
+            if dxgi != manifest["dds"]["dxgiFormat"]:
+                raise ValueError("dxgiFormat %d differs from the manifest" % dxgi)
+        else:
+            raise ValueError("format %s is not read by this script (the EXR atlas is checked with OpenEXR)" % fmt)
+        if arr.shape != (nz, ny, nx, 4):
+            raise ValueError("%s has shape %s, manifest says %s" % (tex["file"], arr.shape, (nz, ny, nx, 4)))
+        out[tex["name"]] = arr.astype(np.float64)
+    return out
+
+
+def sample_trilinear(tex, uvw, max_abs=False):
+    """GPU linear filtering with clamp-to-edge: texel coordinate t = uvw * size - 0.5.
+    With max_abs, the largest magnitude of the 8 texels instead (for the error scale)."""
+    nz, ny, nx, _ = tex.shape
+    size = np.array([nx, ny, nz], dtype=np.float64)
+    t = uvw * size - 0.5
+    i0 = np.floor(t).astype(np.int64)
+    f = t - i0
+    result = np.zeros((uvw.shape[0], 4))
+    for corner in range(8):
+        bits = np.array([(corner >> a) & 1 for a in range(3)])
+        idx = np.clip(i0 + bits, 0, size.astype(np.int64) - 1)
+        value = tex[idx[:, 2], idx[:, 1], idx[:, 0]]
+        if max_abs:
+            result = np.maximum(result, np.abs(value))
+            continue
+        w = np.prod(np.where(bits == 1, f, 1.0 - f), axis=1)
+        result += w[:, None] * value
+    return result
+
+
+def irradiance_terms(manifest, textures, x, n, max_abs=False):
+    """docs/engines.md: the terms whose sum is E(x, n), per colour channel: shape (terms, points, 3)."""
+    uvw = x * np.array(manifest["uvw_scale"]) + np.array(manifest["uvw_bias"])
+    s = {name: sample_trilinear(tex, uvw, max_abs) for name, tex in textures.items()}
+    layout = manifest["layout"]
+    nx_, ny_, nz_ = n[:, 0], n[:, 1], n[:, 2]
+    terms = []
+    if layout in ("sh2-packed", "sh1"):
+        n1 = [nx_, ny_, nz_, np.ones_like(nx_)]
+        for i in range(4):
+            terms.append(np.column_stack([s["shA" + c][:, i] * n1[i] for c in "rgb"]))
+        if layout == "sh2-packed":
+            quad = [nx_ * ny_, ny_ * nz_, nz_ * nz_, nz_ * nx_]
+            for i in range(4):
+                terms.append(np.column_stack([s["shB" + c][:, i] * quad[i] for c in "rgb"]))
+            terms.append(s["shC"][:, :3] * (nx_ * nx_ - ny_ * ny_)[:, None])
+        return np.array(terms)
+    if layout == "sh2":
+        k = manifest["constants"]
+        a = [k["A0"], k["A1"], k["A1"], k["A1"], k["A2"], k["A2"], k["A2"], k["A2"], k["A2"]]
+        y = [np.full_like(nx_, k["c0"]), k["c1"] * ny_, k["c1"] * nz_, k["c1"] * nx_, k["c2"] * nx_ * ny_,
+             k["c2"] * ny_ * nz_, k["c3"] * (3 * nz_ * nz_ - 1), k["c2"] * nx_ * nz_, k["c4"] * (nx_ * nx_ - ny_ * ny_)]
+        names = [t["name"] for t in manifest["textures"]]
+        return np.array([a[j] * s[names[j]][:, :3] * y[j][:, None] for j in range(9)])
+    raise ValueError("unknown layout " + layout)
+
+
+def query(cli, volume, points, normals):
+    with tempfile.TemporaryDirectory() as tmp:
+        csv = os.path.join(tmp, "points.csv")
+        np.savetxt(csv, np.column_stack([points, normals]), delimiter=",", fmt="%.9g",
+                   header="x,y,z,nx,ny,nz", comments="")
+        out = os.path.join(tmp, "e.csv")
+        subprocess.run([cli, "query", volume, "--points", csv, "-o", out], check=True, stderr=subprocess.DEVNULL)
+        return np.loadtxt(out, delimiter=",", skiprows=1)[:, 6:9]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--cli", required=True)
+    ap.add_argument("--volume", required=True)
+    ap.add_argument("--export", required=True)
+    ap.add_argument("--points", type=int, default=500)
+    ap.add_argument("--seed", type=int, default=7)
+    args = ap.parse_args()
+
+    with open(os.path.join(args.export, "manifest.json")) as f:
+        manifest = json.load(f)
+    textures = load_textures(manifest, args.export)
+    rng = np.random.default_rng(args.seed)
+    lo, hi = np.array(manifest["bounds_min"]), np.array(manifest["bounds_max"])
+    # Points inside the box and a margin of 10% outside (clamp-to-edge must equal the query's clamp).
+    margin = 0.1 * (hi - lo)
+    x = (lo - margin) + rng.random((args.points, 3)) * (hi - lo + 2 * margin)
+    x = x.astype(np.float32).astype(np.float64)  # the query reads float32 positions
+    n = rng.normal(size=(args.points, 3))
+    n /= np.linalg.norm(n, axis=1)[:, None]
+    n = n.astype(np.float32).astype(np.float64)
+    n /= np.linalg.norm(n, axis=1)[:, None]
+
+    terms = irradiance_terms(manifest, textures, x, n)
+    got = terms.sum(axis=0)
+    if manifest["layout"] == "sh1":
+        # The order-1 part of E from the full query: the band-1 term is odd in n, so it is
+        # (E(n) - E(-n)) / 2; the band-0 term is the mean over the six axis normals, where
+        # the band-2 terms cancel.
+        axes = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], dtype=np.float64)
+        rows_x = np.repeat(x, 8, axis=0)
+        rows_n = np.concatenate([np.vstack([n[i], -n[i], axes]) for i in range(len(n))])
+        e = query(args.cli, args.volume, rows_x, rows_n).reshape(len(n), 8, 3)
+        want = e[:, 2:, :].mean(axis=1) + 0.5 * (e[:, 0, :] - e[:, 1, :])
+    else:
+        want = query(args.cli, args.volume, x, n)
+
+    tol = 1e-3 if manifest["component_type"] == "float16" else 1e-5
+    # Relative to the size of the terms that make up E around that point (sum of their
+    # magnitudes, each with the largest of its 8 texels): rounding texels to half or float,
+    # and the query's float position, scale with these, and where terms cancel (E close to 0
+    # next to a bright light or a black node inside an object) no finite precision is
+    # relative to E itself.
+    scale = np.abs(irradiance_terms(manifest, textures, x, np.abs(n), max_abs=True)).sum(axis=0)
+    scale = np.maximum(scale, 1e-30)
+    rel = np.abs(got - want) / scale
+    worst = int(np.argmax(rel.max(axis=1)))
+    print("%s %s %s: %d points, max relative error %.3g (tolerance %g) at x=%s n=%s: got %s want %s" % (
+        manifest["format"], manifest["layout"], manifest["component_type"], len(x), rel.max(), tol,
+        np.round(x[worst], 4), np.round(n[worst], 4), got[worst], want[worst]))
+    return 0 if rel.max() <= tol else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
