@@ -6,6 +6,8 @@
 #include "commands.h"
 #include "vdblight/bake.h"
 #include "vdblight/bake_antialiased.h"
+#include "vdblight/bake_bins.h"
+#include "vdblight/bins.h"
 #include "vdblight/bake_levels.h"
 #include "vdblight/layout_levels.h"
 #include "vdblight/errors.h"
@@ -37,6 +39,7 @@ struct BakeCommand {
     std::string layout = "uniform";
     int refine = 3;
     int levels = 3;
+    std::string basis = "sh2";  // sh2 | bins:R | moment:n[:R] (bins.h)
 };
 
 void runPhotons(const BakeCommand& c);
@@ -72,7 +75,10 @@ void run(const BakeCommand& c) {
     // Bytes per node while baking and writing: float coefficients plus OpenVDB's copy.
     // The anti-aliased pass also holds double accumulators per node (coefficients + 2 weights).
     const std::size_t extra = c.sampling == "antialiased" ? (sh::kCoeffs * 3 + 2) * sizeof(double) : 0;
-    const GridSpec grid = placeUniformGrid(scene.bounds(), placement, 2 * sh::kCoeffs * 3 * sizeof(float) + extra);
+    const bins::BasisSpec basisSpec = bins::parseBasisSpec(c.basis);
+    const bool binned = basisSpec.kind != bins::BasisSpec::Kind::Sh2;
+    const std::size_t channels = binned ? std::size_t(basisSpec.binCount()) : std::size_t(sh::kCoeffs);
+    const GridSpec grid = placeUniformGrid(scene.bounds(), placement, 2 * channels * 3 * sizeof(float) + extra);
 
     const Tracer tracer(scene);
     GatherOptions options;
@@ -88,7 +94,18 @@ void run(const BakeCommand& c) {
     levels.refine = c.refine;
     levels.levels = c.levels;
     Volume volume;
-    if (levels.kind == LayoutKind::Uniform) {
+    if (binned) {  // Greger bins / moments on any layout
+        BinsBakeOptions bo;
+        bo.basis = basisSpec;
+        bo.samplesPerBin = std::max<uint32_t>(1, uint32_t((uint64_t(c.rays) + basisSpec.binCount() - 1) / basisSpec.binCount()));
+        bo.seed = c.seed;
+        bo.threads = c.threads;
+        bo.transport = options.transport;
+        const LevelLayout layout = levels.kind == LayoutKind::Uniform
+                                       ? uniformLayout(grid)
+                                       : placeLevels(grid, scene.positions, scene.indices, levels, 2 * channels * 3 * sizeof(float));
+        volume = bakeBins(scene, tracer, layout, bo, &progress, &stats);
+    } else if (levels.kind == LayoutKind::Uniform) {
         volume = bakeSelected(c, scene, tracer, grid, options, &progress, &stats);
     } else {
         const LevelLayout layout = placeLevels(grid, scene.positions, scene.indices, levels,
@@ -120,6 +137,10 @@ void run(const BakeCommand& c) {
         if (c.sampling == "antialiased") std::cout << " (sampling antialiased, domain " << metaString(volume.meta, "domain") << ")";
         if (volume.meta.count("nodes_dilated"))
             std::cout << "; " << metaString(volume.meta, "nodes_dilated") << " nodes filled by dilation";
+        if (binned)
+            std::cout << ". Wrote " << c.output << " (basis " << volume.basis.kind << ", " << channels << " Vec3f grids, "
+                      << metaString(volume.meta, "samples_per_bin") << " samples per bin).\n";
+        else
         std::cout << ". Wrote " << c.output << " (SH order 2 radiance, 9 Vec3f grids"
                   << (volume.levels[0].validity.empty() ? "" : " + validity") << ").\n";
     }
@@ -194,9 +215,17 @@ void addBakeCommand(CLI::App& app) {
         ->capture_default_str();
     auto* refine = cmd->add_option("--refine", c->refine, "bilevel/adaptive: split refined cells K x K x K")->capture_default_str();
     auto* levelsOpt = cmd->add_option("--levels", c->levels, "adaptive: number of levels including the first")->capture_default_str();
+    cmd->add_option("--basis", c->basis,
+                    "Directional basis: sh2, bins:R (Greger: 2 R^2 equal-area bins of irradiance) or moment:n[:R] "
+                    "(n-th moment, eq. 5, for glossy lookups with query --view; R = 17 by default); with bins, "
+                    "--rays is rounded up to a multiple of the bin count")
+        ->capture_default_str();
     cmd->add_flag("-q,--quiet", c->quiet, "No progress bar and no summary");
     cmd->callback([c, spacing, resolution, invalidate, refine, levelsOpt] {
         const LayoutKind kind = parseLayoutKind(c->layout);
+        if (bins::parseBasisSpec(c->basis).kind != bins::BasisSpec::Kind::Sh2 &&
+            (c->method != "gather" || c->sampling != "point" || invalidate->count() > 0))
+            throw ValueError("--basis bins/moment works with --method gather and --sampling point only");
         if (c->refine < 2) throw ValueError("--refine must be at least 2, got " + std::to_string(c->refine));
         if (c->levels < 1) throw ValueError("--levels must be at least 1, got " + std::to_string(c->levels));
         if (c->levels > 16)
