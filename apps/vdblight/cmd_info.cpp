@@ -49,7 +49,9 @@ std::string vec(const Vec3d& v, bool json) {
 void printHuman(const Volume& v, const FileInfo& f) {
     std::cout << f.path << ": " << formatBytes(double(f.fileBytes)) << " on disk\n"
               << "  basis: " << v.basis.kind << " (" << v.basis.channelCount() << (v.basis.kind == "irradiance_vectors" ? " channels: irradiance vectors per direction and colour)\n"
-                                                           : " RGB channels: radiance SH coefficients)\n");
+                                                           : v.basis.kind.rfind("bins:", 0) == 0   ? " RGB channels: irradiance per equal-area bin)\n"
+                                                           : v.basis.kind.rfind("moment:", 0) == 0 ? " RGB channels: moment per equal-area bin, query with --view)\n"
+                                                                                                   : " RGB channels: radiance SH coefficients)\n");
     for (std::size_t l = 0; l < v.levels.size(); ++l) {
         const GridSpec& g = v.levels[l].grid;
         std::cout << "  level " << l << ": " << g.nx << " x " << g.ny << " x " << g.nz << " box, "
