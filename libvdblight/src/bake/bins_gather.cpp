@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -104,7 +105,15 @@ Volume bakeBins(const Scene& scene, const Tracer& tracer, const LevelLayout& lay
     volume.validate();
 
     const auto start = std::chrono::steady_clock::now();
-    const std::vector<float> weights = bins::quadratureWeights(options.basis);
+    // Transposed (column i contiguous), so that the product below is a sequence of axpys over
+    // j, which vectorises without reordering any sum (same bits as the row-by-row dot product).
+    const std::vector<float> weights = [&] {
+        const std::vector<float> w = bins::quadratureWeights(options.basis);
+        std::vector<float> t(w.size());
+        for (int j = 0; j < bins; ++j)
+            for (int i = 0; i < bins; ++i) t[std::size_t(i) * bins + j] = w[std::size_t(j) * bins + i];
+        return t;
+    }();
     uint64_t seams = 0;
     const std::vector<std::pair<int, std::size_t>> work = nodesToBake(volume, seams);
     const RadianceEstimator estimator(scene, tracer, options.transport);
@@ -119,7 +128,7 @@ Volume bakeBins(const Scene& scene, const Tracer& tracer, const LevelLayout& lay
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, work.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
             RayCount& count = rayCounts.local();
             std::vector<Rgbd> integral(static_cast<std::size_t>(bins));
-            std::vector<float> mean(floats);
+            std::vector<float> out(floats);  // colour-major: out[c * bins + j]
             for (std::size_t w = r.begin(); w != r.end(); ++w) {
                 if (cancelled.load(std::memory_order_relaxed)) return;
                 VolumeLevel& level = volume.levels[std::size_t(work[w].first)];
@@ -128,22 +137,26 @@ Volume bakeBins(const Scene& scene, const Tracer& tracer, const LevelLayout& lay
                 const uint64_t stream = (uint64_t(work[w].first) << 56) | linear;
                 gatherBinRadiance(estimator, Vec3f(level.grid.node(std::size_t(linear))), R, options.samplesPerBin,
                                   options.seed, stream, integral.data(), count);
+                // Quadrature (eq. 4 / 5 with integrated weights): H_j = sum_i W_ji Lbar_i,
+                // Lbar_i = I_i / Omega; summed over i in order for every j.
                 const double invOmega = 1.0 / bins::binSolidAngle(R);
-                for (int b = 0; b < bins; ++b)
-                    for (int c = 0; c < 3; ++c) mean[std::size_t(b) * 3 + c] = float(integral[std::size_t(b)][c] * invOmega);
-                // Quadrature (eq. 4 / 5 with integrated weights): H_j = sum_i W_ji Lbar_i.
-                float* dst = level.data.data() + n * floats;
-                for (int j = 0; j < bins; ++j) {
-                    const float* wrow = &weights[std::size_t(j) * bins];
-                    float e[3] = {0, 0, 0};
-                    for (int i = 0; i < bins; ++i) {
-                        const float wi = wrow[i];
-                        e[0] += wi * mean[std::size_t(i) * 3];
-                        e[1] += wi * mean[std::size_t(i) * 3 + 1];
-                        e[2] += wi * mean[std::size_t(i) * 3 + 2];
+                std::fill(out.begin(), out.end(), 0.0f);
+                float* outR = out.data();
+                float* outG = outR + bins;
+                float* outB = outG + bins;
+                for (int i = 0; i < bins; ++i) {
+                    const float lr = float(integral[std::size_t(i)].x * invOmega), lg = float(integral[std::size_t(i)].y * invOmega),
+                                lb = float(integral[std::size_t(i)].z * invOmega);
+                    if (lr == 0.0f && lg == 0.0f && lb == 0.0f) continue;  // adds exact zeros
+                    const float* col = &weights[std::size_t(i) * bins];
+                    for (int j = 0; j < bins; ++j) {
+                        outR[j] += col[j] * lr;
+                        outG[j] += col[j] * lg;
+                        outB[j] += col[j] * lb;
                     }
-                    dst[3 * j] = e[0], dst[3 * j + 1] = e[1], dst[3 * j + 2] = e[2];
                 }
+                float* dst = level.data.data() + n * floats;
+                for (int j = 0; j < bins; ++j) dst[3 * j] = outR[j], dst[3 * j + 1] = outG[j], dst[3 * j + 2] = outB[j];
                 const uint64_t finished = done.fetch_add(1, std::memory_order_relaxed) + 1;
                 if (interrupter) {
                     interrupter->progress(finished);
