@@ -129,7 +129,7 @@ void run(const BakeCommand& c) {
                   << scene.triangleCount() << " triangles";
         if (scene.stats.degenerateTrianglesSkipped)
             std::cout << ", " << scene.stats.degenerateTrianglesSkipped << " degenerate skipped";
-        std::cout << ") with " << c.rays << " rays per node and up to " << c.scene.bounces << " bounces: "
+        std::cout << ") with " << (binned ? metaString(volume.meta, "rays_per_node") : std::to_string(c.rays)) << " rays per node and up to " << c.scene.bounces << " bounces: "
                   << formatCount(double(stats.rays.total())) << " rays (" << formatCount(double(stats.rays.intersect))
                   << " closest-hit, " << formatCount(double(stats.rays.occluded)) << " shadow) in "
                   << formatSeconds(stats.seconds) << ", " << formatCount(stats.raysPerSecond()) << " rays/s on "
