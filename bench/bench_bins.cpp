@@ -81,6 +81,14 @@ void benchPaperConfig(const Scene& scene, const Tracer& tracer, int threads, boo
                 b.basis.kind.c_str(), sh.raysPerNode, (unsigned long long)bs.nodes, (unsigned long long)bs.seamNodes,
                 bs.seconds, int(std::get<int64_t>(b.meta.at("threads"))), 1440.0 / bs.seconds, sh.raysPerNode,
                 ss.seconds, bs.seconds / ss.seconds);
+    // The paper looked radiance up in a radiosity solution: one ray per direction. The
+    // closest in ray count here is direct light only (one ray + one NEE shadow ray each).
+    BinsBakeOptions direct = binsOptions(quick ? "bins:8" : "bins:17", 1, threads);
+    direct.transport.maxBounces = 0;
+    LevelsBakeStats ds;
+    bakeBins(scene, tracer, layout, direct, nullptr, &ds);
+    std::printf("  the same with 0 bounces (direct light only; about the paper's ray count): %.2f s, %.1f M rays\n",
+                ds.seconds, double(ds.rays.total()) / 1e6);
 }
 
 void benchError(const Scene& scene, const Tracer& tracer, int threads, bool quick) {
