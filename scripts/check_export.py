@@ -11,6 +11,12 @@ trilinear filtering a GPU does (clamp-to-edge, half-texel offset), and compares 
 
 Exit status 0 if every sample matches within the tolerance (1e-3 relative for half
 textures, 1e-5 for float), 1 otherwise. Needs numpy (Debian: python3-numpy).
+
+Layouts: sh2, sh2-packed, sh1 (SH volumes) and vectors (irradiance-vector volumes) are
+matched against the query. compact (Pacanowski et al. section 4.2) is lossy: with
+--vectors-export DIR (a float `vectors` export of the same volume) every compact texel is
+checked against the section 4.2 encoding of the vectors texels; its error against the query
+is printed, and checked only with --compact-tolerance.
 """
 import argparse
 import json

@@ -91,6 +91,9 @@ TEST_F(CliSlice, ExrPixelsEqualQueryAtThePixelCentres) {
         ASSERT_EQ(runCommand(kCli + " slice " + vol + " --axis x --at " + std::to_string(at) +
                                  " --normal 1,0.5,-0.25 --size 12 -o " + out.file("s.exr"), &log), 0) << log;
         Imf::InputFile file(out.file("s.exr").c_str());
+        const auto* axisAttr = file.header().findTypedAttribute<Imf::StringAttribute>("vdblightAxis");
+        ASSERT_NE(axisAttr, nullptr) << kind;
+        EXPECT_EQ(axisAttr->value(), "x");
         const Imath::Box2i dw = file.header().dataWindow();
         const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
         // --axis x: image (u, v) = (z, y), size 12 along the longer side.
