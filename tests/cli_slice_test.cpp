@@ -223,4 +223,13 @@ TEST_F(CliSlice, BadInputFailsWithOneLineAndWritesNothing) {
     EXPECT_NE(log.find("does not fit"), std::string::npos) << log;
     EXPECT_EQ(lines(log), 1) << log;
     EXPECT_TRUE(fs::is_empty(out.path()));
+    // vdb-preview: too many voxels, or a missing volume, leave no directory behind.
+    EXPECT_NE(runCommand(kCli + " export " + path("sh.vdb") + " -o " + out.file("p") +
+                             " --format vdb-preview --resolution 2000", &log), 0);
+    EXPECT_EQ(lines(log), 1) << log;
+    EXPECT_NE(log.find("lower --resolution"), std::string::npos) << log;
+    EXPECT_NE(runCommand(kCli + " export " + out.file("missing.vdb") + " -o " + out.file("p") + " --format vdb-preview", &log),
+              0);
+    EXPECT_EQ(lines(log), 1) << log;
+    EXPECT_TRUE(fs::is_empty(out.path()));
 }
