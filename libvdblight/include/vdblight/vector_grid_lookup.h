@@ -21,6 +21,8 @@ public:
     VectorGridLookup(const Volume& volume, OutsidePolicy outside, Interpolation interp = Interpolation::Trilinear);
     Rgb irradiance(const Vec3f& x, const Vec3f& n) const override;
     Bounds bounds() const override { return grid_.nodeBounds(); }
+    /// Trilinear in double (whatever the Interpolation), snapped onto nodes within 1e-9 cells.
+    void irradianceVectors(const Vec3d& x, float out[54]) const override;
 
     static bool accepts(const Volume& volume);
 

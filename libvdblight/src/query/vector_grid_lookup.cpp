@@ -1,6 +1,7 @@
 #include "vdblight/vector_grid_lookup.h"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include "vdblight/errors.h"
@@ -132,6 +133,44 @@ Rgbd referenceVectorLookup(const Volume& volume, const Vec3d& x, const Vec3d& nI
         }
     }
     return e;
+}
+
+}  // namespace vdblight
+
+namespace vdblight {
+
+void VectorGridLookup::irradianceVectors(const Vec3d& x, float out[54]) const {
+    static_assert(iv::kFloatsPerNode == 54, "54 floats per node");
+    const int dims[3] = {grid_.nx, grid_.ny, grid_.nz};
+    int lo[3];
+    double frac[3];
+    for (int a = 0; a < 3; ++a) {
+        double g = (x[a] - grid_.origin[a]) / grid_.spacing;
+        if (std::fabs(g - std::round(g)) < 1e-9) g = std::round(g);
+        if (outside_ == OutsidePolicy::Throw && !(g >= -1e-4 && g <= dims[a] - 1 + 1e-4)) {
+            std::ostringstream s;
+            s << "point (" << x.x << ", " << x.y << ", " << x.z << ") is outside the volume";
+            throw ValueError(s.str());
+        }
+        if (!(g >= 0.0)) g = 0.0;  // also NaN
+        g = std::min(g, double(dims[a] - 1));
+        lo[a] = std::min(int(g), std::max(dims[a] - 2, 0));
+        frac[a] = g - lo[a];
+    }
+    double sum[iv::kFloatsPerNode] = {};
+    for (int corner = 0; corner < 8; ++corner) {
+        double w = 1.0;
+        int idx[3];
+        for (int a = 0; a < 3; ++a) {
+            const int bit = (corner >> a) & 1;
+            idx[a] = std::min(lo[a] + bit, dims[a] - 1);
+            w *= bit ? frac[a] : 1.0 - frac[a];
+        }
+        if (w == 0.0) continue;
+        const float* p = data_.data() + grid_.index(idx[0], idx[1], idx[2]) * iv::kFloatsPerNode;
+        for (int f = 0; f < iv::kFloatsPerNode; ++f) sum[f] += w * p[f];
+    }
+    for (int f = 0; f < iv::kFloatsPerNode; ++f) out[f] = float(sum[f]);
 }
 
 }  // namespace vdblight
