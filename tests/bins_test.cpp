@@ -257,7 +257,7 @@ TEST(BinsBake, SmallEmitterAndMomentClosedForms) {
     }
 }
 
-TEST(BinsBake, SameBitsForOneAndTwoThreadsOnEveryLayout) {
+TEST(BinsBake, SameBitsForOneAndTwoThreadsUniformAndBilevel) {
     const Scene s = loadScene(defaultScenePath());
     const Tracer tracer(s);
     GridPlacement p;
