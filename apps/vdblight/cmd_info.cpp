@@ -49,6 +49,7 @@ std::string vec(const Vec3d& v, bool json) {
 void printHuman(const Volume& v, const FileInfo& f) {
     std::cout << f.path << ": " << formatBytes(double(f.fileBytes)) << " on disk\n"
               << "  basis: " << v.basis.kind << " (" << v.basis.channelCount() << (v.basis.kind == "irradiance_vectors" ? " channels: irradiance vectors per direction and colour)\n"
+                                                           : v.basis.kind == "irradiance_vectors_compact" ? " channels: colour and direction per direction)\n"
                                                            : " RGB channels: radiance SH coefficients)\n");
     for (std::size_t l = 0; l < v.levels.size(); ++l) {
         const GridSpec& g = v.levels[l].grid;
