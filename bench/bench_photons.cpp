@@ -7,6 +7,7 @@
 //  2. Error against time on the default scene: RMS error against `reference` at random
 //     free-space points for the photon vector grid and the SH gather volume at the same grid
 //     resolution, at about equal bake times (several budgets).
+//  3. The compact colour + direction form (section 4.2): file size saved and error added.
 // `--quick` shrinks every workload for a CI smoke run; the figures are then noisy.
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -19,7 +20,12 @@
 #include <ctime>
 #include <string>
 
+#include <filesystem>
+#include <unistd.h>
+
 #include "vdblight/bake.h"
+#include "vdblight/irradiance_vectors_compact.h"
+#include "vdblight/vdb_io.h"
 #include "vdblight/photons.h"
 #include "vdblight/query.h"
 #include "vdblight/reference.h"
@@ -192,6 +198,56 @@ void benchErrorVsTime(int threads, bool quick) {
                     (unsigned long long)po.photons, ps.seconds, linErr, cubErr);
     }
 }
+// The compact colour + direction form (section 4.2): file size saved and error added, against
+// the full form of the same bake, at the same free-space points as above.
+void benchCompact(int threads, bool quick) {
+    const Scene scene = loadScene(defaultScenePath());
+    const Tracer tracer(scene);
+    GridPlacement p;
+    p.resolution = 16;
+    const GridSpec g = placeUniformGrid(scene.bounds(), p, 1);
+    const ErrorSet set = freeSpacePoints(scene, tracer, g.nodeBounds(), quick ? 100 : 1000, quick ? 2048 : 32768, threads);
+    PhotonOptions po;
+    po.photons = quick ? 200'000 : 4'000'000;
+    po.threads = threads;
+    const Volume full = bakePhotons(scene, tracer, g, po);
+    const Volume compact = iv::compact(full);
+
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::temp_directory_path() / ("vdblight_bench_compact_" + std::to_string(getpid()));
+    fs::create_directories(dir);
+    auto sizeOf = [&](const Volume& v, bool half, const char* name) {
+        WriteOptions w;
+        w.halfFloat = half;
+        const fs::path path = dir / name;
+        writeVolume(v, path.string(), w);
+        return double(fs::file_size(path));
+    };
+    const double fullBytes = sizeOf(full, false, "full.vdb"), halfBytes = sizeOf(full, true, "half.vdb"),
+                 compactBytes = sizeOf(compact, true, "compact.vdb");
+    const Volume compactRead = readVolume((dir / "compact.vdb").string());
+    fs::remove_all(dir);
+
+    std::printf("\n[compact form] default scene, grid %dx%dx%d (%zu nodes), %.1f M photons, %zu free-space points\n", g.nx,
+                g.ny, g.nz, g.nodeCount(), po.photons / 1e6, set.points.size());
+    std::printf("  file size: full float %.0f KiB, full half %.0f KiB, compact half %.0f KiB (%.2fx smaller than full "
+                "float; data 216 -> 72 bytes per node)\n",
+                fullBytes / 1024, halfBytes / 1024, compactBytes / 1024, fullBytes / compactBytes);
+    std::printf("  %-10s | %-14s %-14s | %-s\n", "interp", "full error", "compact error", "compact vs full (RMS difference)");
+    for (Interpolation in : {Interpolation::Trilinear, Interpolation::Tricubic}) {
+        const VectorGridLookup a(full, OutsidePolicy::Clamp, in), b(compactRead, OutsidePolicy::Clamp, in);
+        const double ea = relativeRms(set, [&](const Vec3f& x, const Vec3f& n) { return a.irradiance(x, n); });
+        const double eb = relativeRms(set, [&](const Vec3f& x, const Vec3f& n) { return b.irradiance(x, n); });
+        double num = 0, den = 0;
+        for (const ReferencePoint& pt : set.points) {
+            const Vec3f n = normalize(pt.normal);
+            const double va = luminance(a.irradiance(pt.position, n)), vb = luminance(b.irradiance(pt.position, n));
+            num += (vb - va) * (vb - va), den += va * va;
+        }
+        std::printf("  %-10s | %-14.4f %-14.4f | %.4f\n", in == Interpolation::Trilinear ? "trilinear" : "tricubic", ea, eb,
+                    std::sqrt(num / den));
+    }
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -212,6 +268,7 @@ int main(int argc, char** argv) {
     try {
         if (only.empty() || only == "throughput") benchThroughput(threads, quick);
         if (only.empty() || only == "error") benchErrorVsTime(threads, quick);
+        if (only.empty() || only == "compact") benchCompact(threads, quick);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "vdblight_bench_photons: %s\n", e.what());
         return 1;
