@@ -12,6 +12,7 @@
 #include "vdblight/errors.h"
 #include "vdblight/export.h"
 #include "vdblight/irradiance_vectors.h"
+#include "vdblight/irradiance_vectors_compact.h"
 #include "vdblight/layout_levels.h"
 #include "vdblight/query_levels.h"
 #include "vdblight/sh.h"
@@ -197,6 +198,33 @@ TEST(ExportKinds, LayoutsThatDoNotFitTheKindAreRefusedBeforeWriting) {
     EXPECT_TRUE(fs::is_empty(dir.path()));
     EXPECT_THROW(parseExportLayout("vector"), ValueError);
     EXPECT_EQ(parseExportLayout("compact"), ExportLayout::Compact);
+}
+
+TEST(ExportKinds, CompactVolumesExportAsCompactExactlyAtTheNodes) {
+    // Positive vectors so that every node has a well-defined direction of the colour sum.
+    Volume full = vectorVolume(7);
+    for (float& f : full.levels[0].data) f = std::abs(f) + 0.01f;
+    const Volume packed = iv::compact(full);
+    test::TempDir dir;
+    ExportOptions o;
+    o.format = TextureFormat::Raw;
+    o.halfFloat = false;
+    o.layout = ExportLayout::Vectors;
+    EXPECT_THROW(exportTextures(packed, dir.file("v"), o), FormatError);
+    EXPECT_FALSE(fs::exists(dir.file("v")));
+    o.layout = ExportLayout::Compact;
+    exportTextures(packed, dir.file("c"), o);
+    // The default lattice is the node lattice: texel (i,j,k) of ivc_<d>_colour is the stored colour.
+    std::ifstream in(dir.file("c") + "/ivc_xpos_colour.raw", std::ios::binary);
+    ASSERT_TRUE(in.good());
+    const GridSpec& g = packed.levels[0].grid;
+    std::vector<float> texels(g.nodeCount() * 4);
+    in.read(reinterpret_cast<char*>(texels.data()), std::streamsize(texels.size() * sizeof(float)));
+    ASSERT_TRUE(in.good());
+    for (std::size_t node = 0; node < g.nodeCount(); ++node)
+        for (int c = 0; c < 3; ++c)
+            ASSERT_NEAR(texels[node * 4 + c], packed.levels[0].data[node * iv::kCompactFloatsPerNode + c], 1e-5f)
+                << "node " << node;
 }
 
 TEST(ExportKinds, SlicePixelsAreTheQueryAtTheirCentres) {

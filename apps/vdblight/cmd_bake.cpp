@@ -12,6 +12,7 @@
 #include "vdblight/layout_levels.h"
 #include "vdblight/errors.h"
 #include "vdblight/layout.h"
+#include "vdblight/irradiance_vectors_compact.h"
 #include "vdblight/photons.h"
 #include "vdblight/sh.h"
 #include "vdblight/trace.h"
@@ -33,6 +34,7 @@ struct BakeCommand {
     bool quiet = false;
     std::string method = "gather";
     uint64_t photons = 1'000'000;
+    bool compact = false;            // --method photons: write the section 4.2 form
     std::string sampling = "point";  // point | antialiased (bake_antialiased.h)
     std::string domain;              // all | interior; default interior for antialiased
     double invalidateBackface = -1;  // < 0: off (point sampling only)
@@ -170,7 +172,8 @@ void runPhotons(const BakeCommand& c) {
     volume.meta["sky"] = c.scene.skyMap.empty() ? (c.scene.sky.empty() ? std::string("0,0,0") : c.scene.sky)
                                                 : "map:" + c.scene.skyMap;
     WriteOptions write;
-    write.halfFloat = c.half;
+    write.halfFloat = c.half || c.compact;
+    if (c.compact) volume = iv::compact(volume);
     writeVolume(volume, c.output, write);
     if (!c.quiet) {
         std::cout << "Baked " << grid.nodeCount() << " nodes (" << grid.nx << " x " << grid.ny << " x " << grid.nz
@@ -180,7 +183,9 @@ void runPhotons(const BakeCommand& c) {
                   << " face crossings, " << formatCount(double(stats.rays.total())) << " rays in "
                   << formatSeconds(stats.seconds) << " ("
                   << formatCount(stats.seconds > 0 ? double(stats.photons) / stats.seconds : 0.0) << " photons/s). Wrote "
-                  << c.output << " (irradiance vectors, 18 Vec3f grids).\n";
+                  << c.output
+                  << (c.compact ? " (compact irradiance vectors: colour + direction, 12 half-float Vec3 grids).\n"
+                                : " (irradiance vectors, 18 Vec3f grids).\n");
     }
 }
 }  // namespace
@@ -202,6 +207,9 @@ void addBakeCommand(CLI::App& app) {
     cmd->add_option("--method", c->method, "gather (SH order 2 at each node) or photons (irradiance vectors, Pacanowski et al.)")
         ->capture_default_str();
     cmd->add_option("--photons", c->photons, "Photons emitted in total (--method photons)")->capture_default_str();
+    cmd->add_flag("--compact", c->compact,
+                  "--method photons: write the compact colour + direction form (Pacanowski et al. 4.2; 12 half-float "
+                  "grids) instead of the 18 full grids");
     cmd->add_option("--sampling", c->sampling,
                     "point: project at the nodes; antialiased: trilinear-weighted origins over each cell "
                     "(Kontkanen-Laine eq. 6; --rays is then rays per cell)")
@@ -251,6 +259,7 @@ void addBakeCommand(CLI::App& app) {
             throw ValueError("--invalidate-backface applies to --sampling point only");
         if (c->method == "photons" && (c->sampling != "point" || !c->domain.empty() || invalidate->count() > 0))
             throw ValueError("--sampling, --domain and --invalidate-backface apply to --method gather only");
+        if (c->compact && c->method != "photons") throw ValueError("--compact applies to --method photons only");
         run(*c);
     });
 }

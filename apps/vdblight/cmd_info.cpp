@@ -46,12 +46,19 @@ std::string vec(const Vec3d& v, bool json) {
     return o.str();
 }
 
+/// What the channels of a basis hold, for the human-readable listing.
+const char* describeChannels(const std::string& kind) {
+    if (kind == "sh2") return " RGB channels: radiance SH coefficients";
+    if (kind == "irradiance_vectors") return " channels: irradiance vectors per direction and colour";
+    if (kind == "irradiance_vectors_compact") return " channels: colour and direction per direction";
+    if (kind.rfind("bins:", 0) == 0) return " RGB channels: irradiance per equal-area bin";
+    if (kind.rfind("moment:", 0) == 0) return " RGB channels: moment per equal-area bin, query with --view";
+    return " channels";
+}
+
 void printHuman(const Volume& v, const FileInfo& f) {
     std::cout << f.path << ": " << formatBytes(double(f.fileBytes)) << " on disk\n"
-              << "  basis: " << v.basis.kind << " (" << v.basis.channelCount() << (v.basis.kind == "irradiance_vectors" ? " channels: irradiance vectors per direction and colour)\n"
-                                                           : v.basis.kind.rfind("bins:", 0) == 0   ? " RGB channels: irradiance per equal-area bin)\n"
-                                                           : v.basis.kind.rfind("moment:", 0) == 0 ? " RGB channels: moment per equal-area bin, query with --view)\n"
-                                                                                                   : " RGB channels: radiance SH coefficients)\n");
+              << "  basis: " << v.basis.kind << " (" << v.basis.channelCount() << describeChannels(v.basis.kind) << ")\n";
     for (std::size_t l = 0; l < v.levels.size(); ++l) {
         const GridSpec& g = v.levels[l].grid;
         std::cout << "  level " << l << ": " << g.nx << " x " << g.ny << " x " << g.nz << " box, "
