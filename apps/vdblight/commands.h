@@ -10,5 +10,6 @@ void addQueryCommand(CLI::App& app);
 void addInfoCommand(CLI::App& app);
 void addReferenceCommand(CLI::App& app);
 void addExportCommand(CLI::App& app);
+void addPrtCommand(CLI::App& app);
 
 }  // namespace vdblight::app

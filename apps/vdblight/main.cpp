@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
     vdblight::app::addInfoCommand(app);
     vdblight::app::addReferenceCommand(app);
     vdblight::app::addExportCommand(app);
+    vdblight::app::addPrtCommand(app);
     vdblight::app::installInterruptHandler();
 
     try {

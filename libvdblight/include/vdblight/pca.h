@@ -18,8 +18,9 @@ struct PcaBasis {
 
 /// PCA of the n x dim row-major matrix `rows`: the mean row and the first
 /// min(keep, n, dim) right singular vectors of the centred matrix (Eigen BDCSVD).
+/// With centre == false the mean is zero and the SVD is of `rows` itself.
 /// Throws ValueError on n == 0, dim == 0 or keep < 0.
-PcaBasis fitPca(const std::vector<float>& rows, int n, int dim, int keep);
+PcaBasis fitPca(const std::vector<float>& rows, int n, int dim, int keep, bool centre = true);
 
 /// Eq. 8: coefficients (count values) of one row `x` (dim values).
 void pcaProject(const PcaBasis& b, const float* x, float* coeffs);

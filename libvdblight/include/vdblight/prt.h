@@ -33,6 +33,10 @@ struct PrtOptions {
     uint32_t visCoeffs = 50;       ///< PCA coefficients kept per depth buffer
     uint32_t trainLights = 1000;   ///< example point lights for the direct-light basis
     uint32_t transferCoeffs = 10;  ///< direct-light basis vectors per cluster
+    /// Direct-light basis as the paper's eq. 7 (centred, examples as they are). Default
+    /// (false): every example scaled to unit length and no centring, since lighting vectors
+    /// form a cone (a brighter light scales them); this halves the held-out error here.
+    bool paperBasis = false;
     uint64_t seed = 1;
     int threads = 0;               ///< 0: all cores
 };
@@ -99,6 +103,7 @@ struct PrtData {
     std::string sceneName, sceneHash;
     uint64_t seed = 1;
     uint32_t trainLights = 0;
+    bool paperBasis = false;
     double secondsSamples = 0, secondsVisibility = 0, secondsBasis = 0, secondsTransfer = 0;
 };
 

@@ -112,7 +112,16 @@ void bakeLightBasis(PrtData& prt, const Scene& scene, const Tracer& tracer, cons
         for (std::size_t k = 0; k < l; ++k)
             std::copy(direct.begin() + std::ptrdiff_t(k * n + b), direct.begin() + std::ptrdiff_t(k * n + e),
                       rows.begin() + std::ptrdiff_t(k * std::size_t(nc)));
-        prt.lightBasis[c] = fitPca(rows, int(l), nc, int(o.transferCoeffs));
+        if (!o.paperBasis) {
+            for (std::size_t k = 0; k < l; ++k) {
+                float* row = rows.data() + k * std::size_t(nc);
+                double norm2 = 0;
+                for (int j = 0; j < nc; ++j) norm2 += double(row[j]) * row[j];
+                const double scale = norm2 > 0 ? 1.0 / std::sqrt(norm2) : 0.0;
+                for (int j = 0; j < nc; ++j) row[j] = float(row[j] * scale);
+            }
+        }
+        prt.lightBasis[c] = fitPca(rows, int(l), nc, int(o.transferCoeffs), o.paperBasis);
     }
 }
 
@@ -173,6 +182,7 @@ PrtData bakePrt(const Scene& scene, const Tracer& tracer, const PrtOptions& o, I
     prt.sceneName = scene.name;
     prt.sceneHash = scene.contentHash();
     prt.seed = o.seed;
+    prt.paperBasis = o.paperBasis;
     prt.bounds = scene.bounds();
     prt.depthCap = float(length(prt.bounds.size()) * 1.01 + 1e-3);
     prt.visGrid = std::max(2, int(std::lround(std::sqrt(double(o.visDirs)))));

@@ -8,7 +8,7 @@
 
 namespace vdblight {
 
-PcaBasis fitPca(const std::vector<float>& rows, int n, int dim, int keep) {
+PcaBasis fitPca(const std::vector<float>& rows, int n, int dim, int keep, bool centre) {
     if (n <= 0 || dim <= 0) throw ValueError("PCA needs at least one row and one column");
     if (keep < 0) throw ValueError("PCA: number of components must not be negative");
     if (rows.size() != std::size_t(n) * std::size_t(dim)) throw ValueError("PCA: matrix size mismatch");
@@ -16,7 +16,7 @@ PcaBasis fitPca(const std::vector<float>& rows, int n, int dim, int keep) {
     Mat a(n, dim);
     for (int i = 0; i < n; ++i)
         for (int j = 0; j < dim; ++j) a(i, j) = rows[std::size_t(i) * std::size_t(dim) + std::size_t(j)];
-    const Eigen::RowVectorXd mu = a.colwise().mean();
+    const Eigen::RowVectorXd mu = centre ? Eigen::RowVectorXd(a.colwise().mean()) : Eigen::RowVectorXd::Zero(dim);
     a.rowwise() -= mu;
 
     PcaBasis b;

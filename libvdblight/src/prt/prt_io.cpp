@@ -205,6 +205,7 @@ void writePrt(const PrtData& prt, const std::string& path, const PrtWriteOptions
     m.insertMeta(kP + "depth_cap", openvdb::FloatMetadata(prt.depthCap));
     m.insertMeta(kP + "train_lights", openvdb::Int64Metadata(prt.trainLights));
     m.insertMeta(kP + "transfer_coeffs", openvdb::Int64Metadata(prt.transferStride - 1));
+    m.insertMeta(kP + "light_basis", openvdb::StringMetadata(prt.paperBasis ? "centred" : "normalised_uncentred"));
     m.insertMeta(kP + "quantized", openvdb::BoolMetadata(options.quantize));
     m.insertMeta(kP + "sparse_threshold", openvdb::FloatMetadata(thr));
     m.insertMeta(kP + "values", openvdb::Int64Metadata(int64_t(n.values)));
@@ -300,6 +301,7 @@ PrtData readPrt(const std::string& path) {
     prt.visCoeffStride = int(meta<int64_t>(m, "vis_coeffs", path));
     prt.depthCap = meta<float>(m, "depth_cap", path);
     prt.trainLights = uint32_t(meta<int64_t>(m, "train_lights", path));
+    prt.paperBasis = meta<std::string>(m, "light_basis", path) == "centred";
     prt.transferStride = int(meta<int64_t>(m, "transfer_coeffs", path)) + 1;
     const openvdb::Vec3d lo = meta<openvdb::Vec3d>(m, "bounds_lo", path), hi = meta<openvdb::Vec3d>(m, "bounds_hi", path);
     prt.bounds.lo = {lo[0], lo[1], lo[2]};
