@@ -169,7 +169,9 @@ void runRelight(const PrtRelightCommand& c) {
     emitText(c.output, formatLighting(prt, lit, ply));
 }
 
-void printInfo(const std::string& path) {
+}  // namespace
+
+void printPrtInfo(const std::string& path) {
     const PrtData prt = readPrt(path);
     const PrtFileInfo info = inspectPrt(path);
     std::cout << path << ": PRT file, " << formatBytes(double(info.fileBytes)) << " on disk\n"
@@ -187,8 +189,6 @@ void printInfo(const std::string& path) {
               << formatSeconds(prt.secondsVisibility) << ", basis " << formatSeconds(prt.secondsBasis)
               << ", transfer " << formatSeconds(prt.secondsTransfer) << "\n";
 }
-
-}  // namespace
 
 void addPrtCommand(CLI::App& app) {
     CLI::App* prt = app.add_subcommand("prt", "Precomputed radiance transfer for moving point lights (Leonhardt & Bohn)");
@@ -234,7 +234,7 @@ void addPrtCommand(CLI::App& app) {
     auto path = std::make_shared<std::string>();
     CLI::App* info = prt->add_subcommand("info", "Describe a PRT file: sizes before and after compression");
     info->add_option("file", *path, "PRT file")->required();
-    info->callback([path] { printInfo(*path); });
+    info->callback([path] { printPrtInfo(*path); });
 }
 
 }  // namespace vdblight::app
