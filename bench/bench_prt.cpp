@@ -34,7 +34,6 @@ std::vector<Rgb> sampledIndirect(const SurfaceSamples& s, const Tracer& tracer, 
                                  uint64_t seed) {
     const std::vector<float> direct = exactDirectUnit(s, tracer, light, 1);
     const std::size_t n = s.size();
-    const float area = float(s.areaPerSample);
     std::vector<Rgb> out(n, Rgb{0, 0, 0});
     for (std::size_t r = 0; r < n; ++r) {
         Rng rng(seed, r);
@@ -42,7 +41,7 @@ std::vector<Rgb> sampledIndirect(const SurfaceSamples& s, const Tracer& tracer, 
         for (std::size_t k = 0; k < m; ++k) {
             const std::size_t j = std::min(n - 1, std::size_t(rng.uniform() * float(n)));
             if (j == r || direct[j] == 0.0f) continue;
-            const float f = diskTransfer(s.position[r], s.normal[r], s.position[j], s.normal[j], area);
+            const float f = diskTransfer(s.position[r], s.normal[r], s.position[j], s.normal[j], s.area[j]);
             if (f <= 0.0f) continue;
             const Vec3f a = offsetRayOrigin(s.position[r], s.normal[r], s.position[j] - s.position[r]);
             const Vec3f b = offsetRayOrigin(s.position[j], s.normal[j], s.position[r] - s.position[j]);

@@ -46,7 +46,7 @@ const char* kSmall = " --samples 300 --cluster-size 100 --vis-dirs 256 --vis-coe
 TEST(CliPrt, BakeRelightInfo) {
     test::TempDir dir;
     const std::string prt = dir.file("box_prt.vdb");
-    const CliRun bake = runCli("prt bake -o " + prt + kSmall);
+    const CliRun bake = runCli("prt bake -o " + prt + kSmall + " --volume-resolution 4");
     ASSERT_EQ(bake.status, 0) << bake.output;
     EXPECT_NE(bake.output.find("time: samples"), std::string::npos) << bake.output;
 
@@ -82,6 +82,17 @@ TEST(CliPrt, BakeRelightInfo) {
     std::getline(p, line);
     EXPECT_EQ(line, "ply");
 
+    // The relit volume is an ordinary SH volume: info and query read it.
+    const std::string vol = dir.file("relit.vdb");
+    const CliRun rv = runCli("prt relight " + prt + " --light 0.28,0.4,0.28 -q -o " + dir.file("v.csv") + " --volume-out " + vol);
+    ASSERT_EQ(rv.status, 0) << rv.output;
+    const CliRun vinfo = runCli("info " + vol);
+    EXPECT_EQ(vinfo.status, 0) << vinfo.output;
+    EXPECT_NE(vinfo.output.find("sh2"), std::string::npos) << vinfo.output;
+    const CliRun q = runCli("query " + vol + " --at 0.1,0.3,0.3 --normal 1,0,0");
+    ASSERT_EQ(q.status, 0) << q.output;
+    EXPECT_NE(q.output.find("E_r"), std::string::npos) << q.output;
+
     const CliRun outside = runCli("prt relight " + prt + " --light 5,5,5 -q -o " + dir.file("far.csv"));
     EXPECT_EQ(outside.status, 0);
     EXPECT_NE(outside.output.find("outside the scene bounds"), std::string::npos) << outside.output;
@@ -102,5 +113,7 @@ TEST(CliPrt, BadInput) {
     ASSERT_EQ(runCli("prt bake -q -o " + prt + kSmall).status, 0);
     expectCleanFailure(dir, "query " + prt + " --at 0.2,0.2,0.2", "not a vdblight volume");
     expectCleanFailure(dir, "prt relight " + prt + " --light 0.2,0.2", "--light");
+    expectCleanFailure(dir, "prt relight " + prt + " --light 0.2,0.2,0.2 -o " + dir.file("x.csv") + " --volume-out " +
+                                dir.file("x.vdb"), "has no volume");
     expectCleanFailure(dir, "prt relight " + prt + " --light 0.2,0.2,0.2,-1,0,0", "negative");
 }

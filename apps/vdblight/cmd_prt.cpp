@@ -11,6 +11,7 @@
 #include "vdblight/prt_io.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
+#include "vdblight/vdb_io.h"
 
 namespace vdblight::app {
 
@@ -33,6 +34,7 @@ struct PrtRelightCommand {
     std::string output;
     std::string format;  ///< csv | ply (default from the extension)
     std::string referenceScene;
+    std::string volumeOutput;
     int threads = 0;
     bool quiet = false;
 };
@@ -128,7 +130,11 @@ void runRelight(const PrtRelightCommand& c) {
     if (c.format.empty()) ply = c.output.size() > 4 && c.output.substr(c.output.size() - 4) == ".ply";
     else if (c.format != "csv" && c.format != "ply") throw ValueError("--format must be csv or ply");
     if (!c.output.empty()) checkOutputWritable(c.output);
+    if (!c.volumeOutput.empty()) checkOutputWritable(c.volumeOutput);
     const PrtData prt = readPrt(c.input);
+    if (!c.volumeOutput.empty() && !prt.hasVolume()) {
+        throw ValueError("'" + c.input + "' has no volume: bake it with --volume-resolution to use --volume-out");
+    }
     for (const PrtLight& l : lights) {
         if (!prt.bounds.contains(Vec3d(l.position))) {
             std::cerr << "vdblight: warning: light at " << l.position.x << "," << l.position.y << "," << l.position.z
@@ -166,6 +172,16 @@ void runRelight(const PrtRelightCommand& c) {
         std::cerr << "reference: RMS relative error direct " << rmsRelativeError(lit.direct, direct) << ", indirect "
                   << rmsRelativeError(lit.indirect, indirect) << "\n";
     }
+    if (!c.volumeOutput.empty()) {
+        const double v0 = seconds();
+        const Volume volume = relightVolume(prt, lights);
+        const double v1 = seconds();
+        writeVolume(volume, c.volumeOutput);
+        if (!c.quiet) {
+            std::cerr << "prt relight: volume of " << prt.volumeGrid.nodeCount() << " nodes in "
+                      << formatSeconds(v1 - v0) << " -> " << c.volumeOutput << "\n";
+        }
+    }
     emitText(c.output, formatLighting(prt, lit, ply));
 }
 
@@ -182,6 +198,11 @@ void printPrtInfo(const std::string& path) {
               << " coefficients\n"
               << "  direct-light basis: " << prt.trainLights << " training lights -> " << prt.transferStride - 1
               << " vectors per cluster\n"
+              << "  relightable volume: "
+              << (prt.hasVolume() ? std::to_string(prt.volumeGrid.nx) + " x " + std::to_string(prt.volumeGrid.ny) + " x " +
+                                        std::to_string(prt.volumeGrid.nz) + " nodes"
+                                  : std::string("none"))
+              << "\n"
               << "  values: " << info.values << " (" << info.droppedValues << " dropped as near zero)\n"
               << "  bytes: " << info.bytesFloat32 << " as dense 32-bit floats, " << info.bytesStored
               << " stored (sparse" << (info.bytesStored * 2 <= info.bytesFloat32 + 8 ? ", 16-bit" : "") << ")\n"
@@ -208,6 +229,8 @@ void addPrtCommand(CLI::App& app) {
         ->capture_default_str();
     bake->add_option("--sparse-threshold", b->write.sparseThreshold,
                      "Drop matrix entries below this fraction of their row's largest")->capture_default_str();
+    bake->add_option("--volume-resolution", b->options.volumeResolution,
+                     "Also make an SH volume with this many nodes along the longest axis relightable");
     bake->add_flag("--paper-basis", b->options.paperBasis,
                    "Direct-light basis exactly as the paper's eq. 7 (centred, unnormalised examples)");
     bake->add_flag("--no-quantize", b->noQuantize, "Store 32-bit floats instead of 16-bit");
@@ -227,6 +250,8 @@ void addPrtCommand(CLI::App& app) {
     relight->add_option("--format", r->format, "csv or ply (default: from the extension, else csv)");
     relight->add_option("--reference", r->referenceScene,
                         "Scene to compute the exact direct and uncompressed one-bounce light from; prints the errors");
+    relight->add_option("--volume-out", r->volumeOutput,
+                        "Write the relit SH volume (.vdb, one-bounce radiance; needs a bake with --volume-resolution)");
     relight->add_option("--threads", r->threads, "Worker threads for --reference (0 = all cores)");
     relight->add_flag("-q,--quiet", r->quiet, "No timing line");
     relight->callback([r] { runRelight(*r); });

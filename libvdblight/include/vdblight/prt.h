@@ -16,8 +16,10 @@
 #include <string>
 #include <vector>
 
+#include "vdblight/layout.h"
 #include "vdblight/math.h"
 #include "vdblight/pca.h"
+#include "vdblight/volume.h"
 
 namespace vdblight {
 
@@ -37,6 +39,9 @@ struct PrtOptions {
     /// (false): every example scaled to unit length and no centring, since lighting vectors
     /// form a cone (a brighter light scales them); this halves the held-out error here.
     bool paperBasis = false;
+    /// > 0: the nodes of a uniform SH volume with this many nodes along the longest axis
+    /// (placeUniformGrid over the scene bounds) are receivers too (relightable volume).
+    int volumeResolution = 0;
     uint64_t seed = 1;
     int threads = 0;               ///< 0: all cores
 };
@@ -47,6 +52,7 @@ struct SurfaceSamples {
     std::vector<Vec3f> normal;   ///< unit front-face normal
     std::vector<Rgb> albedo;
     std::vector<uint32_t> cluster;
+    std::vector<float> area;             ///< surface area each sample stands for (Voronoi estimate)
     std::vector<uint32_t> clusterBegin;  ///< clusters + 1 entries
     std::vector<Vec3f> clusterRoot;      ///< root point of each cluster
     double radius = 0;                   ///< Poisson-disk radius used
@@ -57,7 +63,9 @@ struct SurfaceSamples {
 
 /// Area-weighted random candidates (independent of the tessellation), thinned in candidate
 /// order by Poisson-disk elimination: a candidate is dropped if an accepted sample facing the
-/// same side lies within `radius`. radius == 0 derives it from `targetCount`.
+/// same side lies within `radius`. radius == 0 derives it from `targetCount`. Each sample's
+/// area is estimated from 32 uniform points per sample assigned to their nearest sample
+/// (facing the same side): thinning leaves the edges of faces denser than their interiors.
 /// Then farthest-point clustering (see clusterSamples). Throws ValueError on bad counts.
 SurfaceSamples generateSurfaceSamples(const Scene& scene, double radius, uint32_t targetCount,
                                       uint32_t clusterSize, uint64_t seed);
@@ -99,6 +107,11 @@ struct PrtData {
     /// transfer[s][k * samples + r]: irradiance at receiver r per unit basis coefficient k of
     /// sender cluster s (k = 0: the mean vector), RGB (sender albedo included).
     std::vector<std::vector<Rgb>> transfer;
+    /// Relightable volume (empty volumeTransfer if none): volumeTransfer[s][(k * nodes + node)
+    /// * 9 + j] is SH coefficient j of the radiance arriving at the node per unit coefficient k.
+    GridSpec volumeGrid;
+    std::vector<std::vector<Rgb>> volumeTransfer;
+    bool hasVolume() const { return !volumeTransfer.empty(); }
     Bounds bounds;
     std::string sceneName, sceneHash;
     uint64_t seed = 1;
@@ -137,6 +150,16 @@ PrtLighting relightPrt(const PrtData& prt, const std::vector<PrtLight>& lights);
 /// through projection and transfer (eq. 10) only.
 std::vector<Rgb> prtTransfer(const PrtData& prt, const std::vector<float>& direct);
 
+/// SH radiance coefficients (9 per node, node-major) of the light reflected once by the
+/// samples into the volume's nodes, for a given per-sample direct unit irradiance.
+std::vector<Rgb> prtVolumeTransfer(const PrtData& prt, const std::vector<float>& direct);
+
+/// Relights the volume: an `sh2` Volume (one dense level) holding the radiance that reaches
+/// each node after one diffuse bounce off the surfaces (the lights' own direct radiance is not
+/// included). `query` and `export` read it like any baked volume. Throws ValueError if the
+/// PRT data has no volume.
+Volume relightVolume(const PrtData& prt, const std::vector<PrtLight>& lights);
+
 // --- References (uncompressed, for tests and error reports) ------------------------------
 
 /// Exact direct irradiance per unit intensity at each sample from a point at `p`: cos / d^2
@@ -159,6 +182,23 @@ inline float diskTransfer(const Vec3f& p, const Vec3f& n, const Vec3f& q, const 
     const float cs = -dot(m, w) * inv;
     if (cr <= 0.0f || cs <= 0.0f) return 0.0f;
     return cr * cs * area / (d2 + area * float(kInvPi));
+}
+
+/// Uncompressed one-bounce SH radiance at the nodes of `grid` (9 per node) from every
+/// sample, visibility by ray: sender j adds albedo_j / pi * direct_j * Y(w) * solid angle.
+std::vector<Rgb> referenceVolume(const SurfaceSamples& s, const GridSpec& grid, const Tracer& tracer,
+                                 const std::vector<float>& direct, int threads = 0);
+
+/// Solid angle of a sender disk of area `area` at (q, m) seen from p: cos_s * 2 pi (1 -
+/// d / sqrt(d^2 + area / pi)) (exact on axis, area cos / d^2 far away), 0 from behind.
+inline float diskSolidAngle(const Vec3f& p, const Vec3f& q, const Vec3f& m, float area) {
+    const Vec3f w = q - p;
+    const float d2 = dot(w, w);
+    if (d2 <= 0.0f) return 0.0f;
+    const float d = std::sqrt(d2);
+    const float cs = -dot(m, w) / d;
+    if (cs <= 0.0f) return 0.0f;
+    return cs * float(2.0 * kPi) * (1.0f - d / std::sqrt(d2 + area * float(kInvPi)));
 }
 
 /// sqrt(sum |a - b|^2 / sum |b|^2) over RGB components.

@@ -134,7 +134,6 @@ void bakeTransfer(PrtData& prt, const Tracer& tracer, const PrtOptions& o, Inter
     const int stride = int(o.transferCoeffs) + 1;
     prt.transferStride = stride;
     prt.transfer.assign(s.clusters(), std::vector<Rgb>(std::size_t(stride) * n, Rgb{0, 0, 0}));
-    const float area = float(s.areaPerSample);
     if (in) in->start("transfer", n);
     std::atomic<uint64_t> done{0};
     std::atomic<bool> cancelled{false};
@@ -148,7 +147,7 @@ void bakeTransfer(PrtData& prt, const Tracer& tracer, const PrtOptions& o, Inter
             const std::size_t nc = e - b;
             for (uint32_t j = b; j < e; ++j) {
                 if (j == r) continue;
-                const float f = diskTransfer(s.position[r], s.normal[r], s.position[j], s.normal[j], area);
+                const float f = diskTransfer(s.position[r], s.normal[r], s.position[j], s.normal[j], s.area[j]);
                 if (f <= 0.0f) continue;
                 if (!visibleBetween(tracer, s.position[r], s.normal[r], s.position[j], s.normal[j])) continue;
                 const Rgb w = s.albedo[j] * float(f * kInvPi);
@@ -185,6 +184,12 @@ PrtData bakePrt(const Scene& scene, const Tracer& tracer, const PrtOptions& o, I
     prt.paperBasis = o.paperBasis;
     prt.bounds = scene.bounds();
     prt.depthCap = float(length(prt.bounds.size()) * 1.01 + 1e-3);
+    if (o.volumeResolution < 0 || o.volumeResolution > 256) throw ValueError("--volume-resolution must be in 0..256");
+    if (o.volumeResolution > 0) {
+        GridPlacement placement;
+        placement.resolution = o.volumeResolution;
+        prt.volumeGrid = placeUniformGrid(prt.bounds, placement, sizeof(float) * 27);
+    }
     prt.visGrid = std::max(2, int(std::lround(std::sqrt(double(o.visDirs)))));
 
     double area = 0;
@@ -209,6 +214,10 @@ PrtData bakePrt(const Scene& scene, const Tracer& tracer, const PrtOptions& o, I
     double t3 = now();
     prt.secondsBasis = t3 - t2;
     bakeTransfer(prt, tracer, o, in);
+    if (o.volumeResolution > 0) {
+        checkCancel(in);
+        bakeVolumeTransfer(prt, tracer, o.threads);
+    }
     prt.secondsTransfer = now() - t3;
     return prt;
 }

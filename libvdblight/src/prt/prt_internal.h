@@ -46,3 +46,8 @@ inline float unshadowedUnit(const Vec3f& p, const Vec3f& n, const Vec3f& l, floa
 }
 
 }  // namespace vdblight::prt_detail
+
+namespace vdblight {
+/// Fills prt.volumeTransfer for prt.volumeGrid (volume_transfer.cpp).
+void bakeVolumeTransfer(PrtData& prt, const Tracer& tracer, int threads);
+}  // namespace vdblight

@@ -94,6 +94,7 @@ vp::PointDataGrid::Ptr buildPoints(const PrtData& prt, bool quantize) {
     const SurfaceSamples& s = prt.samples;
     std::vector<openvdb::Vec3f> pos(s.size()), nrm(s.size()), alb(s.size());
     std::vector<int32_t> id(s.size()), cl(s.size());
+    const std::vector<float>& area = s.area;
     for (std::size_t i = 0; i < s.size(); ++i) {
         pos[i] = {s.position[i].x, s.position[i].y, s.position[i].z};
         nrm[i] = {s.normal[i].x, s.normal[i].y, s.normal[i].z};
@@ -114,6 +115,9 @@ vp::PointDataGrid::Ptr buildPoints(const PrtData& prt, bool quantize) {
     vp::appendAttribute<openvdb::Vec3f>(tree, "Cd");
     vp::populateAttribute<vp::PointDataTree, PIT, vp::PointAttributeVector<openvdb::Vec3f>>(
         tree, index->tree(), "Cd", vp::PointAttributeVector<openvdb::Vec3f>(alb));
+    vp::appendAttribute<float>(tree, "area");
+    vp::populateAttribute<vp::PointDataTree, PIT, vp::PointAttributeVector<float>>(
+        tree, index->tree(), "area", vp::PointAttributeVector<float>(area));
     vp::appendAttribute<int32_t>(tree, "id");
     vp::populateAttribute<vp::PointDataTree, PIT, vp::PointAttributeVector<int32_t>>(
         tree, index->tree(), "id", vp::PointAttributeVector<int32_t>(id));
@@ -183,6 +187,23 @@ void writePrt(const PrtData& prt, const std::string& path, const PrtWriteOptions
                 }
             }
     }
+    openvdb::Vec3SGrid::Ptr volumeTransfer;
+    if (prt.hasVolume()) {
+        volumeTransfer = openvdb::Vec3SGrid::create(openvdb::Vec3f(0.0f));
+        auto acc = volumeTransfer->getAccessor();
+        const std::size_t count = prt.volumeGrid.nodeCount() * 9;
+        for (std::size_t c = 0; c < s.clusters(); ++c)
+            for (int k = 0; k < prt.transferStride; ++k)
+                for (std::size_t i = 0; i < count; ++i) {
+                    const Rgb& v = prt.volumeTransfer[c][std::size_t(k) * count + i];
+                    n.values += 3;
+                    if (v.x == 0.0f && v.y == 0.0f && v.z == 0.0f) continue;
+                    if (!isFinite(v)) throw ValueError("PRT data has non-finite volume transfer values");
+                    acc.setValue(Coord(int(c), k, int(i)), openvdb::Vec3f(v.x, v.y, v.z));
+                }
+        finishGrid(*volumeTransfer, "prt_volume_transfer", options.quantize);
+        volumeTransfer->setVectorType(openvdb::VEC_INVARIANT);
+    }
     finishGrid(*visBasis, "prt_vis_basis", options.quantize);
     finishGrid(*lightBasis, "prt_light_basis", options.quantize);
     finishGrid(*transfer, "prt_transfer", options.quantize);
@@ -221,7 +242,14 @@ void writePrt(const PrtData& prt, const std::string& path, const PrtWriteOptions
         m.insertMeta(kP + "cluster" + std::to_string(c) + "_root", openvdb::Vec3DMetadata(openvdb::Vec3d(r.x, r.y, r.z)));
     }
 
+    if (prt.hasVolume()) {
+        const GridSpec& g = prt.volumeGrid;
+        m.insertMeta(kP + "volume_origin", openvdb::Vec3DMetadata(openvdb::Vec3d(g.origin.x, g.origin.y, g.origin.z)));
+        m.insertMeta(kP + "volume_spacing", openvdb::DoubleMetadata(g.spacing));
+        m.insertMeta(kP + "volume_dims", openvdb::Vec3IMetadata(openvdb::Vec3i(g.nx, g.ny, g.nz)));
+    }
     openvdb::GridCPtrVec grids{points, visBasis, lightBasis, transfer};
+    if (volumeTransfer) grids.push_back(volumeTransfer);
     const std::string tmp = createTemp(path);
     try {
         openvdb::io::File(tmp).write(grids, m);
@@ -320,6 +348,7 @@ PrtData readPrt(const std::string& path) {
     s.normal.resize(n);
     s.albedo.resize(n);
     s.cluster.resize(n);
+    s.area.resize(n);
     prt.visCoeffs.assign(n * std::size_t(prt.visCoeffStride), 0.0f);
     for (std::size_t c = 0; c < k; ++c) {
         const openvdb::Vec3d r = meta<openvdb::Vec3d>(m, "cluster" + std::to_string(c) + "_root", path);
@@ -335,6 +364,7 @@ PrtData readPrt(const std::string& path) {
             vp::AttributeHandle<openvdb::Vec3f> hn(leaf->constAttributeArray("N"));
             vp::AttributeHandle<openvdb::Vec3f> ha(leaf->constAttributeArray("Cd"));
             vp::AttributeHandle<int32_t> hi(leaf->constAttributeArray("id"));
+            vp::AttributeHandle<float> har(leaf->constAttributeArray("area"));
             vp::AttributeHandle<int32_t> hc(leaf->constAttributeArray("cluster"));
             vp::AttributeHandle<float> hv(leaf->constAttributeArray("vis"));
             if (hv.stride() != openvdb::Index(prt.visCoeffStride)) throw FormatError("vis stride mismatch");
@@ -351,6 +381,7 @@ PrtData readPrt(const std::string& path) {
                 s.normal[std::size_t(i)] = {nn[0], nn[1], nn[2]};
                 s.albedo[std::size_t(i)] = {aa[0], aa[1], aa[2]};
                 s.cluster[std::size_t(i)] = uint32_t(c);
+                s.area[std::size_t(i)] = har.get(*idx);
                 for (int q = 0; q < prt.visCoeffStride; ++q)
                     prt.visCoeffs[std::size_t(i) * std::size_t(prt.visCoeffStride) + std::size_t(q)] = hv.get(*idx, openvdb::Index(q));
             }
@@ -390,6 +421,31 @@ PrtData readPrt(const std::string& path) {
         const openvdb::Vec3f v = *it;
         prt.transfer[std::size_t(xyz.x())][std::size_t(xyz.y()) * n + std::size_t(xyz.z())] = Rgb{v[0], v[1], v[2]};
     }
+    if (m.getMetadata<openvdb::Vec3IMetadata>(kP + "volume_dims")) {
+        GridSpec& g = prt.volumeGrid;
+        const openvdb::Vec3d origin = meta<openvdb::Vec3d>(m, "volume_origin", path);
+        const openvdb::Vec3i d = meta<openvdb::Vec3i>(m, "volume_dims", path);
+        g.origin = {origin[0], origin[1], origin[2]};
+        g.spacing = meta<double>(m, "volume_spacing", path);
+        g.nx = d[0];
+        g.ny = d[1];
+        g.nz = d[2];
+        if (g.nx < 1 || g.ny < 1 || g.nz < 1 || g.nodeCount() > (1u << 24) || !(g.spacing > 0)) {
+            throw FormatError("'" + path + "' is not a valid PRT file: bad volume dims");
+        }
+        const std::size_t count = g.nodeCount() * 9;
+        auto vt = requireGrid<openvdb::Vec3SGrid>(*o.file, "prt_volume_transfer", path);
+        prt.volumeTransfer.assign(k, std::vector<Rgb>(std::size_t(prt.transferStride) * count, Rgb{0, 0, 0}));
+        for (auto it = vt->cbeginValueOn(); it; ++it) {
+            const Coord xyz = it.getCoord();
+            if (xyz.x() < 0 || std::size_t(xyz.x()) >= k || xyz.y() < 0 || xyz.y() >= prt.transferStride ||
+                xyz.z() < 0 || std::size_t(xyz.z()) >= count) {
+                throw FormatError("'" + path + "' is not a valid PRT file: volume transfer entry out of range");
+            }
+            const openvdb::Vec3f v = *it;
+            prt.volumeTransfer[std::size_t(xyz.x())][std::size_t(xyz.y()) * count + std::size_t(xyz.z())] = Rgb{v[0], v[1], v[2]};
+        }
+    }
     return prt;
 }
 
@@ -404,9 +460,10 @@ PrtFileInfo inspectPrt(const std::string& path) {
     info.droppedValues = uint64_t(meta<int64_t>(m, "dropped_values", path));
     info.bytesFloat32 = info.values * 4;
     uint64_t stored = 0;
-    for (const char* name : {"prt_vis_basis", "prt_light_basis", "prt_transfer"}) {
+    for (const char* name : {"prt_vis_basis", "prt_light_basis", "prt_transfer", "prt_volume_transfer"}) {
+        if (!o.file->hasGrid(name)) continue;
         auto g = o.file->readGrid(name);
-        const uint64_t channels = std::string(name) == "prt_transfer" ? 3 : 1;
+        const uint64_t channels = std::string(name).find("transfer") != std::string::npos ? 3 : 1;
         stored += g->activeVoxelCount() * channels * (g->saveFloatAsHalf() ? 2 : 4);
     }
     const uint64_t visValues = info.samples * uint64_t(meta<int64_t>(m, "vis_coeffs", path));

@@ -98,13 +98,12 @@ std::vector<float> exactDirectUnit(const SurfaceSamples& s, const Tracer& tracer
 std::vector<Rgb> referenceIndirect(const SurfaceSamples& s, const Tracer& tracer, const std::vector<float>& direct,
                                    int threads) {
     if (direct.size() != s.size()) throw ValueError("direct lighting has the wrong number of samples");
-    const float area = float(s.areaPerSample);
     std::vector<Rgb> out(s.size(), Rgb{0, 0, 0});
     parallelFor(s.size(), threads, [&](std::size_t r) {
         Rgbd acc{0, 0, 0};
         for (std::size_t j = 0; j < s.size(); ++j) {
             if (j == r || direct[j] == 0.0f) continue;
-            const float f = diskTransfer(s.position[r], s.normal[r], s.position[j], s.normal[j], area);
+            const float f = diskTransfer(s.position[r], s.normal[r], s.position[j], s.normal[j], s.area[j]);
             if (f <= 0.0f || !visibleBetween(tracer, s.position[r], s.normal[r], s.position[j], s.normal[j])) continue;
             acc += Rgbd(s.albedo[j]) * (double(f) * kInvPi * direct[j]);
         }

@@ -9,6 +9,7 @@
 // wall keep their samples.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <unordered_map>
 
 #include "vdblight/errors.h"
@@ -119,6 +120,43 @@ SurfaceSamples generateSurfaceSamples(const Scene& scene, double radius, uint32_
         accepted.push_back({p, n, uint32_t(t)});
     }
 
+    // Area per sample: uniform points (by area) go to their nearest same-facing sample.
+    std::vector<double> areaCount(accepted.size(), 0.0);
+    const std::size_t areaPoints = 32 * accepted.size();
+    double assigned = 0;
+    for (std::size_t k = 0; k < areaPoints; ++k) {
+        Rng rng(hashCombine(seed, 0x5eedu), k);
+        const double u = toUnitDouble((uint64_t(rng.next()) << 32) | rng.next()) * area;
+        std::size_t t = std::size_t(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin());
+        t = std::min(std::max<std::size_t>(t, 1), tris) - 1;
+        float b1, b2;
+        uniformTriangle(rng.uniform(), rng.uniform(), b1, b2);
+        const Vec3f a = scene.vertex(t, 0), b = scene.vertex(t, 1), c = scene.vertex(t, 2);
+        const Vec3f p = a * (1.0f - b1 - b2) + b * b1 + c * b2;
+        const Vec3f n = normalize(cross(b - a, c - a));
+        const int cx = int(std::floor(p.x / cell)), cy = int(std::floor(p.y / cell)), cz = int(std::floor(p.z / cell));
+        float best = std::numeric_limits<float>::infinity();
+        uint32_t owner = 0;
+        for (int reach = 1; reach <= 2 && !std::isfinite(best); ++reach)
+            for (int dz = -reach; dz <= reach; ++dz)
+                for (int dy = -reach; dy <= reach; ++dy)
+                    for (int dx = -reach; dx <= reach; ++dx) {
+                        const auto it = grid.find(cellKey(cx + dx, cy + dy, cz + dz));
+                        if (it == grid.end()) continue;
+                        for (uint32_t j : it->second) {
+                            const Vec3f d = accepted[j].p - p;
+                            const float d2 = dot(d, d);
+                            if (dot(accepted[j].n, n) > 0.0f && (d2 < best || (d2 == best && j < owner))) {
+                                best = d2;
+                                owner = j;
+                            }
+                        }
+                    }
+        if (!std::isfinite(best)) continue;
+        areaCount[owner] += 1.0;
+        assigned += 1.0;
+    }
+
     std::vector<Vec3f> pts(accepted.size());
     for (std::size_t i = 0; i < accepted.size(); ++i) pts[i] = accepted[i].p;
     std::vector<Vec3f> roots;
@@ -138,6 +176,7 @@ SurfaceSamples generateSurfaceSamples(const Scene& scene, double radius, uint32_
         s.normal.push_back(c.n);
         s.albedo.push_back(scene.material(c.tri).albedo);
         s.cluster.push_back(owner[i]);
+        s.area.push_back(float(assigned > 0 ? areaCount[i] / assigned * area : area / double(accepted.size())));
         s.clusterBegin[owner[i] + 1]++;
     }
     for (std::size_t c = 0; c < roots.size(); ++c) s.clusterBegin[c + 1] += s.clusterBegin[c];
