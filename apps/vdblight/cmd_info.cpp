@@ -4,6 +4,8 @@
 
 #include "app_common.h"
 #include "commands.h"
+#include "vdblight/errors.h"
+#include "vdblight/prt_io.h"
 #include "vdblight/vdb_io.h"
 
 namespace vdblight::app {
@@ -110,6 +112,12 @@ void addInfoCommand(CLI::App& app) {
     cmd->add_option("volume", *path, "Volume (.vdb)")->required();
     cmd->add_flag("--json", *json, "Machine-readable JSON");
     cmd->callback([path, json] {
+        bool prt = false;  // a PRT file holds samples and transfer, not a volume
+        try {
+            prt = isPrtFile(*path);
+        } catch (const Error&) {
+        }  // readVolume below reports unreadable files as before
+        if (prt) return printPrtInfo(*path);
         const Volume volume = readVolume(*path);
         const FileInfo info = inspectVolumeFile(*path);
         if (*json) printJson(volume, info);
