@@ -1,14 +1,12 @@
 // Point sampling with the engines' leak heuristic: nodes whose rays see too many back-faces
 // are invalid and get their valid neighbours' values by dilation.
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <vector>
 
+#include "parallel_nodes.h"
 #include "vdblight/bake_antialiased.h"
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
@@ -38,34 +36,15 @@ Volume bakeShGatherInvalidated(const Scene& scene, const Tracer& tracer, const G
     std::vector<uint32_t> backFaces(nodes, 0);
 
     const RadianceEstimator estimator(scene, tracer, options.transport);
-    tbb::enumerable_thread_specific<RayCount> rayCounts;
-    std::atomic<uint64_t> done{0};
-    std::atomic<bool> cancelled{false};
-    if (interrupter) interrupter->start("baking (point, back-face invalidation)", nodes);
-    const auto start = std::chrono::steady_clock::now();
-    const int threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
-    tbb::task_arena arena(threads);
-    arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nodes, 1), [&](const tbb::blocked_range<std::size_t>& r) {
-            RayCount& count = rayCounts.local();
-            for (std::size_t n = r.begin(); n != r.end(); ++n) {
-                if (cancelled.load(std::memory_order_relaxed)) return;
-                Rgbd coeffs[sh::kCoeffs];
-                projectIncidentRadiance(estimator, Vec3f(grid.node(n)), options.raysPerNode, options.seed, n, coeffs,
-                                        count, &tracer, &backFaces[n]);
-                float* dst = level.data.data() + n * kValues;
-                for (int j = 0; j < sh::kCoeffs; ++j)
-                    for (int c = 0; c < 3; ++c) dst[3 * j + c] = float(coeffs[j][c]);
-                const uint64_t finished = done.fetch_add(1, std::memory_order_relaxed) + 1;
-                if (interrupter) {
-                    interrupter->progress(finished);
-                    if (interrupter->wasInterrupted()) cancelled = true;
-                }
-            }
+    const bake_detail::ParallelRun run =
+        bake_detail::forEachItemInParallel(nodes, options.threads, interrupter, [&](std::size_t n, RayCount& count) {
+            Rgbd coeffs[sh::kCoeffs];
+            projectIncidentRadiance(estimator, Vec3f(grid.node(n)), options.raysPerNode, options.seed, n, coeffs, count,
+                                    &tracer, &backFaces[n]);
+            float* dst = level.data.data() + n * kValues;
+            for (int j = 0; j < sh::kCoeffs; ++j)
+                for (int c = 0; c < 3; ++c) dst[3 * j + c] = float(coeffs[j][c]);
         });
-    });
-    if (interrupter) interrupter->end();
-    if (cancelled) throw Cancelled("bake cancelled");
 
     level.validity.assign(nodes, 0.0f);
     std::vector<uint8_t> valid(nodes, 0);
@@ -83,33 +62,20 @@ Volume bakeShGatherInvalidated(const Scene& scene, const Tracer& tracer, const G
                          " of its rays (do the normals look reversed? check the faces' winding)");
     }
     const int passes = invalid ? dilateUnfilledNodes(level, sh::kCoeffs, valid, weight) : 0;
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-    RayCount total;
-    for (const RayCount& c : rayCounts) total += c;
     Metadata& m = volume.meta;
-    m["scene_name"] = scene.name;
-    m["scene_hash"] = scene.contentHash();
-    m["scene_triangles"] = int64_t(scene.triangleCount());
+    bake_detail::addCommonBakeMetadata(m, scene, options.transport, options.seed, nodes, run);
     m["method"] = std::string("gather");
     m["sampling"] = std::string("point");
     m["invalidate_backface"] = maxBackfaceFraction;
     m["rays_per_node"] = int64_t(options.raysPerNode);
-    m["seed"] = int64_t(options.seed);
-    m["bounces"] = int64_t(options.transport.maxBounces);
-    m["roulette_start"] = int64_t(options.transport.rouletteStart);
     m["direction_sampling"] = std::string("scrambled Sobol (0,2) uniform sphere + NEE on emissive triangles; punctual lights exact");
-    m["nodes"] = int64_t(nodes);
     m["nodes_dilated"] = int64_t(invalid);
     m["dilation_passes"] = int64_t(passes);
-    m["rays_intersect"] = int64_t(total.intersect);
-    m["rays_occluded"] = int64_t(total.occluded);
-    m["bake_seconds"] = seconds;
-    m["threads"] = int64_t(threads);
     if (stats) {
         stats->nodes = nodes;
-        stats->rays = total;
-        stats->seconds = seconds;
+        stats->rays = run.rays;
+        stats->seconds = run.seconds;
     }
     return volume;
 }

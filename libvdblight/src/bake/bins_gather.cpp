@@ -1,7 +1,4 @@
 // The point-gather pass for Greger bins and higher moments (bake_bins.h).
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <atomic>
@@ -10,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "parallel_nodes.h"
 #include "vdblight/bake_bins.h"
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
@@ -104,7 +102,6 @@ Volume bakeBins(const Scene& scene, const Tracer& tracer, const LevelLayout& lay
     for (VolumeLevel& l : volume.levels) l.data.assign(l.storedNodes() * floats, 0.0f);
     volume.validate();
 
-    const auto start = std::chrono::steady_clock::now();
     // Transposed (column i contiguous), so that the product below is a sequence of axpys over
     // j, which vectorises without reordering any sum (same bits as the row-by-row dot product).
     const std::vector<float> weights = [&] {
@@ -117,66 +114,44 @@ Volume bakeBins(const Scene& scene, const Tracer& tracer, const LevelLayout& lay
     uint64_t seams = 0;
     const std::vector<std::pair<int, std::size_t>> work = nodesToBake(volume, seams);
     const RadianceEstimator estimator(scene, tracer, options.transport);
-    tbb::enumerable_thread_specific<RayCount> rayCounts;
-    std::atomic<uint64_t> done{0};
-    std::atomic<bool> cancelled{false};
-    if (interrupter) interrupter->start("baking", work.size());
-
-    const int threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
-    tbb::task_arena arena(threads);
-    arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, work.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
-            RayCount& count = rayCounts.local();
-            std::vector<Rgbd> integral(static_cast<std::size_t>(bins));
-            std::vector<float> out(floats);  // colour-major: out[c * bins + j]
-            for (std::size_t w = r.begin(); w != r.end(); ++w) {
-                if (cancelled.load(std::memory_order_relaxed)) return;
-                VolumeLevel& level = volume.levels[std::size_t(work[w].first)];
-                const std::size_t n = work[w].second;
-                const uint64_t linear = level.sparse() ? level.activeNodes[n] : n;
-                const uint64_t stream = (uint64_t(work[w].first) << 56) | linear;
-                gatherBinRadiance(estimator, Vec3f(level.grid.node(std::size_t(linear))), R, options.samplesPerBin,
-                                  options.seed, stream, integral.data(), count);
-                // Quadrature (eq. 4 / 5 with integrated weights): H_j = sum_i W_ji Lbar_i,
-                // Lbar_i = I_i / Omega; summed over i in order for every j.
-                const double invOmega = 1.0 / bins::binSolidAngle(R);
-                std::fill(out.begin(), out.end(), 0.0f);
-                float* outR = out.data();
-                float* outG = outR + bins;
-                float* outB = outG + bins;
-                for (int i = 0; i < bins; ++i) {
-                    const float lr = float(integral[std::size_t(i)].x * invOmega), lg = float(integral[std::size_t(i)].y * invOmega),
-                                lb = float(integral[std::size_t(i)].z * invOmega);
-                    if (lr == 0.0f && lg == 0.0f && lb == 0.0f) continue;  // adds exact zeros
-                    const float* col = &weights[std::size_t(i) * bins];
-                    for (int j = 0; j < bins; ++j) {
-                        outR[j] += col[j] * lr;
-                        outG[j] += col[j] * lg;
-                        outB[j] += col[j] * lb;
-                    }
-                }
-                float* dst = level.data.data() + n * floats;
-                for (int j = 0; j < bins; ++j) dst[3 * j] = outR[j], dst[3 * j + 1] = outG[j], dst[3 * j + 2] = outB[j];
-                const uint64_t finished = done.fetch_add(1, std::memory_order_relaxed) + 1;
-                if (interrupter) {
-                    interrupter->progress(finished);
-                    if (interrupter->wasInterrupted()) cancelled = true;
+    const bake_detail::ParallelRun run =
+        bake_detail::forEachItemInParallel(work.size(), options.threads, interrupter, [&](std::size_t w, RayCount& count) {
+            // Per-thread scratch, reused across nodes (no allocation per node once sized).
+            thread_local std::vector<Rgbd> integral;
+            thread_local std::vector<float> out;  // colour-major: out[c * bins + j]
+            integral.resize(static_cast<std::size_t>(bins));
+            out.resize(floats);
+            VolumeLevel& level = volume.levels[std::size_t(work[w].first)];
+            const std::size_t n = work[w].second;
+            const uint64_t linear = level.sparse() ? level.activeNodes[n] : n;
+            const uint64_t stream = (uint64_t(work[w].first) << 56) | linear;
+            gatherBinRadiance(estimator, Vec3f(level.grid.node(std::size_t(linear))), R, options.samplesPerBin,
+                              options.seed, stream, integral.data(), count);
+            // Quadrature (eq. 4 / 5 with integrated weights): H_j = sum_i W_ji Lbar_i,
+            // Lbar_i = I_i / Omega; summed over i in order for every j.
+            const double invOmega = 1.0 / bins::binSolidAngle(R);
+            std::fill(out.begin(), out.end(), 0.0f);
+            float* outR = out.data();
+            float* outG = outR + bins;
+            float* outB = outG + bins;
+            for (int i = 0; i < bins; ++i) {
+                const float lr = float(integral[std::size_t(i)].x * invOmega), lg = float(integral[std::size_t(i)].y * invOmega),
+                            lb = float(integral[std::size_t(i)].z * invOmega);
+                if (lr == 0.0f && lg == 0.0f && lb == 0.0f) continue;  // adds exact zeros
+                const float* col = &weights[std::size_t(i) * bins];
+                for (int j = 0; j < bins; ++j) {
+                    outR[j] += col[j] * lr;
+                    outG[j] += col[j] * lg;
+                    outB[j] += col[j] * lb;
                 }
             }
+            float* dst = level.data.data() + n * floats;
+            for (int j = 0; j < bins; ++j) dst[3 * j] = outR[j], dst[3 * j + 1] = outG[j], dst[3 * j + 2] = outB[j];
         });
-    });
-    if (interrupter) interrupter->end();
-    if (cancelled) throw Cancelled("bake cancelled");
     if (volume.levels.size() > 1) applySeamConstraints(volume);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-
-    RayCount total;
-    for (const RayCount& c : rayCounts) total += c;
 
     Metadata& m = volume.meta;
-    m["scene_name"] = scene.name;
-    m["scene_hash"] = scene.contentHash();
-    m["scene_triangles"] = int64_t(scene.triangleCount());
+    bake_detail::addCommonBakeMetadata(m, scene, options.transport, options.seed, layout.totalNodes(), run);
     m["method"] = std::string("gather");
     m["sampling"] = std::string("point");
     m["bins_resolution"] = int64_t(R);
@@ -184,25 +159,17 @@ Volume bakeBins(const Scene& scene, const Tracer& tracer, const LevelLayout& lay
     m["moment_order"] = int64_t(options.basis.order);
     m["samples_per_bin"] = int64_t(options.samplesPerBin);
     m["rays_per_node"] = int64_t(uint64_t(bins) * options.samplesPerBin);
-    m["seed"] = int64_t(options.seed);
-    m["bounces"] = int64_t(options.transport.maxBounces);
-    m["roulette_start"] = int64_t(options.transport.rouletteStart);
     m["direction_sampling"] =
         std::string("scrambled Sobol (0,2) stratified inside each equal-area bin + NEE on emissive triangles; punctual lights exact");
     m["quadrature"] = std::string("eq. 5: (n+1)/2 * sum_i Lbar_i * integral over bin i of max(0, w . w_j)^n");
     m["layout"] = std::string(layoutName(layout.kind));
     m["refine"] = int64_t(layout.refine);
-    m["nodes"] = int64_t(layout.totalNodes());
     m["nodes_seam"] = int64_t(seams);
-    m["rays_intersect"] = int64_t(total.intersect);
-    m["rays_occluded"] = int64_t(total.occluded);
-    m["bake_seconds"] = seconds;
-    m["threads"] = int64_t(threads);
 
     if (stats) {
         stats->nodes = layout.totalNodes();
-        stats->rays = total;
-        stats->seconds = seconds;
+        stats->rays = run.rays;
+        stats->seconds = run.seconds;
         stats->seamNodes = seams;
     }
     return volume;

@@ -1,13 +1,11 @@
 // The point-gather pass over the levels of a bilevel / adaptive layout.
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <atomic>
 #include <chrono>
 #include <utility>
 #include <vector>
 
+#include "parallel_nodes.h"
 #include "vdblight/bake_levels.h"
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
@@ -51,73 +49,39 @@ Volume bakeShGatherLevels(const Scene& scene, const Tracer& tracer, const LevelL
     uint64_t seams = 0;
     const std::vector<std::pair<int, std::size_t>> work = nodesToBake(volume, seams);
     const RadianceEstimator estimator(scene, tracer, options.transport);
-    tbb::enumerable_thread_specific<RayCount> rayCounts;
-    std::atomic<uint64_t> done{0};
-    std::atomic<bool> cancelled{false};
-    if (interrupter) interrupter->start("baking", work.size());
-
-    const auto start = std::chrono::steady_clock::now();
-    const int threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
-    tbb::task_arena arena(threads);
-    arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, work.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
-            RayCount& count = rayCounts.local();
-            for (std::size_t w = r.begin(); w != r.end(); ++w) {
-                if (cancelled.load(std::memory_order_relaxed)) return;
-                VolumeLevel& level = volume.levels[std::size_t(work[w].first)];
-                const std::size_t n = work[w].second;
-                const uint64_t linear = level.sparse() ? level.activeNodes[n] : n;
-                const uint64_t stream = (uint64_t(work[w].first) << 56) | linear;
-                Rgbd coeffs[sh::kCoeffs];
-                projectIncidentRadiance(estimator, Vec3f(level.grid.node(std::size_t(linear))), options.raysPerNode,
-                                        options.seed, stream, coeffs, count);
-                float* dst = level.data.data() + n * kFloats;
-                for (int j = 0; j < sh::kCoeffs; ++j) {
-                    dst[3 * j + 0] = float(coeffs[j].x);
-                    dst[3 * j + 1] = float(coeffs[j].y);
-                    dst[3 * j + 2] = float(coeffs[j].z);
-                }
-                const uint64_t finished = done.fetch_add(1, std::memory_order_relaxed) + 1;
-                if (interrupter) {
-                    interrupter->progress(finished);
-                    if (interrupter->wasInterrupted()) cancelled = true;
-                }
+    const bake_detail::ParallelRun run =
+        bake_detail::forEachItemInParallel(work.size(), options.threads, interrupter, [&](std::size_t w, RayCount& count) {
+            VolumeLevel& level = volume.levels[std::size_t(work[w].first)];
+            const std::size_t n = work[w].second;
+            const uint64_t linear = level.sparse() ? level.activeNodes[n] : n;
+            const uint64_t stream = (uint64_t(work[w].first) << 56) | linear;
+            Rgbd coeffs[sh::kCoeffs];
+            projectIncidentRadiance(estimator, Vec3f(level.grid.node(std::size_t(linear))), options.raysPerNode,
+                                    options.seed, stream, coeffs, count);
+            float* dst = level.data.data() + n * kFloats;
+            for (int j = 0; j < sh::kCoeffs; ++j) {
+                dst[3 * j + 0] = float(coeffs[j].x);
+                dst[3 * j + 1] = float(coeffs[j].y);
+                dst[3 * j + 2] = float(coeffs[j].z);
             }
         });
-    });
-    if (interrupter) interrupter->end();
-    if (cancelled) throw Cancelled("bake cancelled");
     applySeamConstraints(volume);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-
-    RayCount total;
-    for (const RayCount& c : rayCounts) total += c;
 
     Metadata& m = volume.meta;
-    m["scene_name"] = scene.name;
-    m["scene_hash"] = scene.contentHash();
-    m["scene_triangles"] = int64_t(scene.triangleCount());
+    bake_detail::addCommonBakeMetadata(m, scene, options.transport, options.seed, layout.totalNodes(), run);
     m["method"] = std::string("gather");
     m["sampling"] = std::string("point");
     m["rays_per_node"] = int64_t(options.raysPerNode);
-    m["seed"] = int64_t(options.seed);
-    m["bounces"] = int64_t(options.transport.maxBounces);
-    m["roulette_start"] = int64_t(options.transport.rouletteStart);
     m["direction_sampling"] = std::string("scrambled Sobol (0,2) uniform sphere + NEE on emissive triangles; punctual lights exact");
     m["layout"] = std::string(layoutName(layout.kind));
     m["refine"] = int64_t(layout.refine);
-    m["nodes"] = int64_t(layout.totalNodes());
     m["nodes_seam"] = int64_t(seams);
     m["nodes_dense_equivalent"] = layout.denseEquivalentNodes();
-    m["rays_intersect"] = int64_t(total.intersect);
-    m["rays_occluded"] = int64_t(total.occluded);
-    m["bake_seconds"] = seconds;
-    m["threads"] = int64_t(threads);
 
     if (stats) {
         stats->nodes = layout.totalNodes();
-        stats->rays = total;
-        stats->seconds = seconds;
+        stats->rays = run.rays;
+        stats->seconds = run.seconds;
         stats->seamNodes = seams;
     }
     return volume;
