@@ -5,6 +5,7 @@
 #include "app_common.h"
 #include "commands.h"
 #include "vdblight/bake.h"
+#include "vdblight/bake_adaptive.h"
 #include "vdblight/bake_antialiased.h"
 #include "vdblight/bake_levels.h"
 #include "vdblight/layout_levels.h"
@@ -37,6 +38,9 @@ struct BakeCommand {
     std::string layout = "uniform";
     int refine = 3;
     int levels = 3;
+    double targetError = 0;  // > 0: error-targeted point gather (bake_adaptive.h)
+    uint32_t maxRays = 4096;
+    uint32_t minRays = 32;
 };
 
 void runPhotons(const BakeCommand& c);
@@ -44,6 +48,28 @@ void runPhotons(const BakeCommand& c);
 /// Runs the pass the sampling options select.
 Volume bakeSelected(const BakeCommand& c, const Scene& scene, const Tracer& tracer, const GridSpec& grid,
                     const GatherOptions& options, Interrupter* progress, BakeStats* stats) {
+    if (c.targetError > 0) {
+        AdaptiveOptions a;
+        a.targetError = c.targetError;
+        a.minRays = c.minRays;
+        a.maxRays = c.maxRays;
+        a.seed = options.seed;
+        a.threads = options.threads;
+        a.transport = options.transport;
+        AdaptiveStats as;
+        Volume v = bakeShGatherAdaptive(scene, tracer, grid, a, progress, &as);
+        *stats = as;
+        if (!c.quiet)
+            std::cout << "Error-targeted: relative standard error of mean irradiance p50 " << as.errorQuantile(0.5)
+                      << ", p95 " << as.errorQuantile(0.95) << ", max " << as.errorQuantile(1.0) << " (target "
+                      << c.targetError << ", " << as.nodesAtMax << " nodes stopped at --max-rays " << c.maxRays << "); "
+                      << formatCount(double(as.samples)) << " gathered rays, "
+                      << formatCount(double(as.samples) / double(as.nodes)) << " per node, "
+                      << formatCount(double(uint64_t(c.maxRays) * as.nodes - as.samples)) << " ("
+                      << int(100.0 * (1.0 - double(as.samples) / (double(c.maxRays) * as.nodes)))
+                      << " %) saved against " << c.maxRays << " rays on every node.\n";
+        return v;
+    }
     if (c.sampling == "antialiased") {
         AntialiasedOptions aa;
         aa.raysPerCell = options.raysPerNode;
@@ -194,8 +220,20 @@ void addBakeCommand(CLI::App& app) {
         ->capture_default_str();
     auto* refine = cmd->add_option("--refine", c->refine, "bilevel/adaptive: split refined cells K x K x K")->capture_default_str();
     auto* levelsOpt = cmd->add_option("--levels", c->levels, "adaptive: number of levels including the first")->capture_default_str();
+    auto* target = cmd->add_option("--target-error", c->targetError,
+                    "point gather: sample each node in doubling rounds until the relative standard error of its "
+                    "mean irradiance is below this (e.g. 0.02), up to --max-rays");
+    auto* maxRays = cmd->add_option("--max-rays", c->maxRays, "--target-error: most rays a node may take")->capture_default_str();
+    auto* minRays = cmd->add_option("--min-rays", c->minRays, "--target-error: rays of the first round")->capture_default_str();
     cmd->add_flag("-q,--quiet", c->quiet, "No progress bar and no summary");
-    cmd->callback([c, spacing, resolution, invalidate, refine, levelsOpt] {
+    cmd->callback([c, spacing, resolution, invalidate, refine, levelsOpt, target, maxRays, minRays] {
+        if (target->count() > 0 && !(c->targetError > 0 && c->targetError <= 1))
+            throw ValueError("--target-error must be in (0, 1], got " + std::to_string(c->targetError));
+        if (target->count() == 0 && (maxRays->count() > 0 || minRays->count() > 0))
+            throw ValueError("--max-rays and --min-rays need --target-error");
+        if (target->count() > 0 && (c->method != "gather" || c->sampling != "point" || invalidate->count() > 0 ||
+                                    parseLayoutKind(c->layout) != LayoutKind::Uniform))
+            throw ValueError("--target-error works with --method gather, --sampling point and --layout uniform only");
         const LayoutKind kind = parseLayoutKind(c->layout);
         if (c->refine < 2) throw ValueError("--refine must be at least 2, got " + std::to_string(c->refine));
         if (c->levels < 1) throw ValueError("--levels must be at least 1, got " + std::to_string(c->levels));

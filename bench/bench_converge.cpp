@@ -1,0 +1,204 @@
+// vdblight_bench_converge: skip what a scene does not need (issue 8).
+//
+// Part 1, error-targeted bake (bake_adaptive.h) on the default scene: the fixed-budget bake
+// with N rays per node has a worst node error; the error-targeted bake with that target and
+// at most N rays reaches it everywhere. Printed: gathered rays and wall time of both, the
+// estimated error distribution, and the error of each node's mean irradiance (SH DC) against
+// a converged estimate (independent seed, 16x the rays) -- measured, not estimated.
+//
+// Part 2, many lights (light/punctual_sampler.h): a 64 x 64 floor with blocks and L point
+// lights scattered over it (total intensity fixed), L = 100 ... 10000. Each light count is
+// baked to the same target error (error-targeted bake) with the light sampler and, where it
+// is affordable, with every light evaluated exactly at every vertex (the old path). Printed:
+// seconds, rays, and the measured error against a converged estimate.
+// `--quick` shrinks the workloads for CI.
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "vdblight/bake.h"
+#include "vdblight/bake_adaptive.h"
+#include "vdblight/scene.h"
+#include "vdblight/scene_generators.h"
+#include "vdblight/trace.h"
+
+using namespace vdblight;
+
+namespace {
+double ebarOf(const float* node) {
+    constexpr double kY00 = 0.28209479177387814;
+    return kPi * kY00 * double(luminance(Rgb(node[0], node[1], node[2])));
+}
+double ebarOf(const Rgbd c[9]) {
+    constexpr double kY00 = 0.28209479177387814;
+    return kPi * kY00 * (0.2126 * c[0].x + 0.7152 * c[0].y + 0.0722 * c[0].z);
+}
+
+// Converged mean irradiance per node (independent seed).
+std::vector<double> convergedEbar(const Scene& s, const Tracer& tracer, const GridSpec& g, uint32_t rays,
+                                  const TransportOptions& t) {
+    const RadianceEstimator estimator(s, tracer, t);
+    std::vector<double> out(g.nodeCount());
+    tbb::parallel_for(std::size_t(0), g.nodeCount(), [&](std::size_t n) {
+        Rgbd c[9];
+        RayCount count;
+        projectIncidentRadiance(estimator, Vec3f(g.node(n)), rays, 424242, n, c, count);
+        out[n] = ebarOf(c);
+    });
+    return out;
+}
+
+struct Measured {
+    double max = 0, p95 = 0, rms = 0;
+};
+Measured measure(const Volume& v, const std::vector<double>& truth) {
+    std::vector<double> e;
+    for (std::size_t n = 0; n < truth.size(); ++n)
+        if (truth[n] > 0) e.push_back(std::abs(ebarOf(v.levels[0].data.data() + n * 27) - truth[n]) / truth[n]);
+    std::sort(e.begin(), e.end());
+    Measured m;
+    if (e.empty()) return m;
+    double s2 = 0;
+    for (double x : e) s2 += x * x;
+    m.rms = std::sqrt(s2 / e.size());
+    m.max = e.back();
+    m.p95 = e[std::min(e.size() - 1, std::size_t(std::ceil(0.95 * e.size())) - 1)];
+    return m;
+}
+
+void partAdaptive(bool quick) {
+    const Scene s = loadScene(defaultScenePath());
+    const Tracer tracer(s);
+    GridPlacement p;
+    p.resolution = quick ? 5 : 8;
+    const GridSpec g = placeUniformGrid(s.bounds(), p, 1);
+    const uint32_t budget = quick ? 512 : 2048;
+    std::printf("\n== Error-targeted bake: default scene, %d x %d x %d nodes, fixed budget %u rays/node ==\n", g.nx, g.ny,
+                g.nz, budget);
+    const std::vector<double> truth = convergedEbar(s, tracer, g, 16 * budget, TransportOptions{});
+
+    AdaptiveOptions fixed;
+    fixed.targetError = 1e-9;
+    fixed.minRays = fixed.maxRays = budget;
+    AdaptiveStats f;
+    const Volume vf = bakeShGatherAdaptive(s, tracer, g, fixed, nullptr, &f);
+    const Measured mf = measure(vf, truth);
+
+    AdaptiveOptions o;
+    o.targetError = f.errorQuantile(1.0);
+    o.minRays = 16;
+    o.maxRays = budget;
+    AdaptiveStats a;
+    const Volume va = bakeShGatherAdaptive(s, tracer, g, o, nullptr, &a);
+    const Measured ma = measure(va, truth);
+    std::printf("%-22s %10s %8s %12s %12s %12s %12s %12s\n", "bake", "rays/node", "seconds", "est.err p50",
+                "est.err max", "meas.err rms", "meas.err p95", "meas.err max");
+    std::printf("%-22s %10.0f %8.3f %12.4f %12.4f %12.4f %12.4f %12.4f\n", "fixed", double(f.samples) / g.nodeCount(),
+                f.seconds, f.errorQuantile(0.5), f.errorQuantile(1.0), mf.rms, mf.p95, mf.max);
+    std::printf("%-22s %10.0f %8.3f %12.4f %12.4f %12.4f %12.4f %12.4f\n", "error-targeted", double(a.samples) / g.nodeCount(),
+                a.seconds, a.errorQuantile(0.5), a.errorQuantile(1.0), ma.rms, ma.p95, ma.max);
+    std::printf("ratio error-targeted / fixed: gathered rays %.3f, all rays %.3f, seconds %.3f (target = fixed bake's max "
+                "estimated error %.4f)\n",
+                double(a.samples) / double(f.samples), double(a.rays.total()) / double(f.rays.total()),
+                a.seconds / f.seconds, o.targetError);
+
+    // A sweep of targets: rays used and honesty (share of nodes within 1.5x of the target).
+    std::printf("%-8s %10s %8s %14s %14s\n", "target", "rays/node", "seconds", "within 1.5x", "nodes at max");
+    for (double target : {0.08, 0.04, 0.02, 0.01}) {
+        AdaptiveOptions t;
+        t.targetError = target;
+        t.minRays = 16;
+        t.maxRays = 16 * budget;
+        AdaptiveStats st;
+        const Volume v = bakeShGatherAdaptive(s, tracer, g, t, nullptr, &st);
+        int within = 0, total = 0;
+        for (std::size_t n = 0; n < truth.size(); ++n) {
+            if (!(truth[n] > 0)) continue;
+            ++total;
+            if (std::abs(ebarOf(v.levels[0].data.data() + n * 27) - truth[n]) / truth[n] <= 1.5 * target) ++within;
+        }
+        std::printf("%-8.3f %10.0f %8.3f %13.1f%% %14llu\n", target, double(st.samples) / g.nodeCount(), st.seconds,
+                    100.0 * within / total, (unsigned long long)st.nodesAtMax);
+    }
+}
+
+// 64 x 64 floor, 16 blocks, L point lights between 0.5 and 4 units above the floor.
+Scene manyLightsScene(int lights) {
+    Scene s;
+    s.name = "many_lights_" + std::to_string(lights);
+    s.materials.push_back(Material{});
+    s.materials[0].albedo = Rgb(0.6f, 0.6f, 0.6f);
+    addTriangle(s, Vec3f(0, 0, 0), Vec3f(0, 0, 64), Vec3f(64, 0, 64), 0);
+    addTriangle(s, Vec3f(0, 0, 0), Vec3f(64, 0, 64), Vec3f(64, 0, 0), 0);
+    for (int i = 0; i < 4; ++i)
+        for (int k = 0; k < 4; ++k) {
+            const Vec3f lo(8.0f + 16 * i, 0, 8.0f + 16 * k);
+            appendBox(s, lo, lo + Vec3f(3, 3, 3), false, 0);
+        }
+    Rng rng(99);
+    const float intensity = 2000.0f / float(lights);
+    for (int l = 0; l < lights; ++l) {
+        const Vec3f pos(64 * rng.uniform(), 0.5f + 3.5f * rng.uniform(), 64 * rng.uniform());
+        const float r = 0.5f + rng.uniform();
+        s.pointLights.push_back({pos, Rgb(r, 1, 2 - r) * intensity});
+    }
+    return s;
+}
+
+void partManyLights(bool quick) {
+    const double target = 0.03;
+    std::printf("\n== Many lights: 64 x 64 floor + 16 blocks, L point lights, baked to target error %.2f ==\n", target);
+    std::printf("%-7s %-9s %8s %10s %12s %12s %12s\n", "lights", "lights", "seconds", "rays/node", "shadow rays",
+                "meas.err p95", "meas.err max");
+    const std::vector<int> counts = quick ? std::vector<int>{100, 1000} : std::vector<int>{100, 300, 1000, 3000, 10000};
+    double firstSampled = 0, firstExact = 0;
+    for (int lights : counts) {
+        const Scene s = manyLightsScene(lights);
+        const Tracer tracer(s);
+        GridSpec g;
+        g.origin = Vec3d(2, 1.5, 2);
+        g.spacing = quick ? 20 : 8;
+        g.nx = g.nz = quick ? 4 : 8;
+        g.ny = 1;
+        TransportOptions t;
+        t.maxBounces = 2;
+        const std::vector<double> truth = convergedEbar(s, tracer, g, quick ? 4096 : 16384, t);
+        for (bool exact : {false, true}) {
+            if (exact && lights > (quick ? 100 : 1000)) {
+                std::printf("%-7d %-9s %8s  (skipped: every light at every vertex)\n", lights, "exact", "-");
+                continue;
+            }
+            AdaptiveOptions o;
+            o.targetError = target;
+            o.minRays = 32;
+            o.maxRays = 16384;
+            o.transport = t;
+            o.transport.exactLightLimit = exact ? (1u << 30) : 16;
+            AdaptiveStats st;
+            const Volume v = bakeShGatherAdaptive(s, tracer, g, o, nullptr, &st);
+            const Measured m = measure(v, truth);
+            std::printf("%-7d %-9s %8.3f %10.0f %12llu %12.4f %12.4f\n", lights, exact ? "exact" : "sampled", st.seconds,
+                        double(st.samples) / g.nodeCount(), (unsigned long long)st.rays.occluded, m.p95, m.max);
+            double& first = exact ? firstExact : firstSampled;
+            if (first == 0) first = st.seconds;
+            else
+                std::printf("        %s: light count x%.0f, time x%.2f\n", exact ? "exact" : "sampled",
+                            double(lights) / counts[0], st.seconds / first);
+        }
+    }
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+    const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+    std::printf("vdblight_bench_converge%s\n", quick ? " --quick (small workloads, noisy figures)" : "");
+    partAdaptive(quick);
+    partManyLights(quick);
+    return 0;
+}
