@@ -138,8 +138,7 @@ TEST(Adaptive, EstimatedErrorIsHonest) {
     const GridSpec g = smallGrid(s, 4);
     AdaptiveOptions o;
     o.targetError = 0.03;
-    o.minRays = 16;
-    o.maxRays = 4096;
+    o.maxRays = 4096;  // first round: the default (64)
     AdaptiveStats st;
     const Volume v = bakeShGatherAdaptive(s, tracer, g, o, nullptr, &st);
     const RadianceEstimator estimator(s, tracer, o.transport);
@@ -182,7 +181,6 @@ TEST(Adaptive, HalfTheRaysOfTheFixedBakeAtEqualMaximumError) {
 
     AdaptiveOptions o;
     o.targetError = emax;
-    o.minRays = 16;
     o.maxRays = 1024;
     AdaptiveStats a;
     bakeShGatherAdaptive(s, tracer, g, o, nullptr, &a);

@@ -40,7 +40,7 @@ struct BakeCommand {
     int levels = 3;
     double targetError = 0;  // > 0: error-targeted point gather (bake_adaptive.h)
     uint32_t maxRays = 4096;
-    uint32_t minRays = 32;
+    uint32_t minRays = 64;
 };
 
 void runPhotons(const BakeCommand& c);

@@ -2,93 +2,112 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include "vdblight/scene.h"
 
 namespace vdblight {
 
-namespace {
-// Cosine of the angle between the spot axis and the direction from the spot apex to the
-// nearest... conservative test: can any point of the sphere (centre, radius) be inside the cone?
-bool coneMayReachSphere(const SpotLight& s, const Vec3d& centre, double radius) {
-    const Vec3d d = centre - Vec3d(s.position);
-    const double dist = length(d);
-    if (dist <= radius) return true;
-    const double cosAxis = dot(d, Vec3d(s.direction)) / dist;
-    const double angle = std::acos(std::clamp(cosAxis, -1.0, 1.0));
-    const double spread = std::asin(std::min(1.0, radius / dist));
-    return angle - spread <= double(s.outerConeAngle);
-}
-}  // namespace
-
 PunctualLightSampler::PunctualLightSampler(const Scene& scene) {
-    Bounds b = scene.bounds();
+    std::vector<Vec3d> pos;
+    std::vector<double> power;
     for (const PointLight& l : scene.pointLights) {
-        lights_.push_back({l.position, std::max(0.0f, luminance(l.intensity)), -1});
-        b.extend(Vec3d(l.position));
+        pos.emplace_back(l.position);
+        power.push_back(std::max(0.0f, luminance(l.intensity)));
     }
-    for (std::size_t s = 0; s < scene.spotLights.size(); ++s) {
-        lights_.push_back({scene.spotLights[s].position, std::max(0.0f, luminance(scene.spotLights[s].intensity)),
-                           int32_t(s)});
-        b.extend(Vec3d(scene.spotLights[s].position));
+    for (const SpotLight& s : scene.spotLights) {
+        pos.emplace_back(s.position);
+        power.push_back(std::max(0.0f, luminance(s.intensity)));
     }
-    const std::size_t n = lights_.size();
-    if (n == 0) return;
-    // A few thousand cells at most: the table is cells x lights doubles.
-    res_ = n < 64 ? 2 : (n * 512 * 8 > (std::size_t(64) << 20) ? 4 : 8);
-    const Vec3d size = vmax(b.size(), Vec3d(1e-6, 1e-6, 1e-6));
-    lo_ = b.lo;
-    cellSize_ = size / double(res_);
-    const double half = 0.5 * length(cellSize_);
-    const std::size_t cells = std::size_t(res_) * res_ * res_;
-    cdf_.resize(cells * n);
-    std::vector<double> importance(n);
-    for (std::size_t c = 0; c < cells; ++c) {
-        const int i = int(c % res_), j = int((c / res_) % res_), k = int(c / (std::size_t(res_) * res_));
-        const Vec3d clo = lo_ + Vec3d(i * cellSize_.x, j * cellSize_.y, k * cellSize_.z);
-        const Vec3d chi = clo + cellSize_;
-        const Vec3d centre = (clo + chi) * 0.5;
-        double total = 0;
-        for (std::size_t l = 0; l < n; ++l) {
-            const Vec3d p(lights_[l].position);
-            const Vec3d nearest = vmin(vmax(p, clo), chi);
-            const Vec3d d = nearest - p;
-            double imp = lights_[l].power / std::max(dot(d, d), half * half);
-            if (lights_[l].spot >= 0 && !coneMayReachSphere(scene.spotLights[lights_[l].spot], centre, half)) imp = 0;
-            importance[l] = imp;
-            total += imp;
-        }
-        const double mix = total > 0 ? kUniformMix : 1.0;
-        double running = 0;
-        double* cdf = cdf_.data() + c * n;
-        for (std::size_t l = 0; l < n; ++l) {
-            running += (total > 0 ? (1.0 - mix) * importance[l] / total : 0.0) + mix / double(n);
-            cdf[l] = running;
-        }
-        for (std::size_t l = 0; l < n; ++l) cdf[l] /= running;
-        cdf[n - 1] = 1.0;
-    }
+    if (pos.empty()) return;
+    lightOrder_.resize(pos.size());
+    std::iota(lightOrder_.begin(), lightOrder_.end(), 0u);
+    nodes_.reserve(2 * pos.size());
+    build(0, uint32_t(pos.size()), pos, power);
+    slotOf_.resize(pos.size());
+    for (uint32_t i = 0; i < lightOrder_.size(); ++i) slotOf_[lightOrder_[i]] = i;
 }
 
-std::size_t PunctualLightSampler::cellOf(const Vec3f& x) const {
-    auto axis = [&](float v, double lo, double size) {
-        const double t = std::floor((double(v) - lo) / size);
-        return std::size_t(std::clamp(t, 0.0, double(res_ - 1)));  // also maps NaN to 0
+int32_t PunctualLightSampler::build(uint32_t begin, uint32_t end, const std::vector<Vec3d>& pos,
+                                    const std::vector<double>& power) {
+    const int32_t index = int32_t(nodes_.size());
+    nodes_.emplace_back();
+    Bounds b;
+    double total = 0;
+    for (uint32_t i = begin; i < end; ++i) {
+        b.extend(pos[lightOrder_[i]]);
+        total += power[lightOrder_[i]];
+    }
+    Node node;
+    node.centre = (b.lo + b.hi) * 0.5;
+    node.radius = 0.5 * length(b.size());
+    node.power = total;
+    node.begin = begin;
+    node.end = end;
+    if (end - begin > 1) {
+        const Vec3d size = b.size();
+        const int axis = size.x >= size.y && size.x >= size.z ? 0 : (size.y >= size.z ? 1 : 2);
+        const uint32_t mid = begin + (end - begin) / 2;
+        auto key = [&](uint32_t l) { return axis == 0 ? pos[l].x : (axis == 1 ? pos[l].y : pos[l].z); };
+        // Ties broken by index: the tree does not depend on the standard library's sort.
+        std::nth_element(lightOrder_.begin() + begin, lightOrder_.begin() + mid, lightOrder_.begin() + end,
+                         [&](uint32_t a, uint32_t c) { return key(a) < key(c) || (key(a) == key(c) && a < c); });
+        node.left = build(begin, mid, pos, power);
+        node.right = build(mid, end, pos, power);
+    }
+    nodes_[index] = node;
+    return index;
+}
+
+double PunctualLightSampler::leftProbability(const Node& node, const Vec3d& x) const {
+    auto importance = [&](const Node& c) {
+        const Vec3d d = c.centre - x;
+        return c.power / std::max(dot(d, d), std::max(c.radius * c.radius, 1e-30));
     };
-    return axis(x.x, lo_.x, cellSize_.x) + res_ * (axis(x.y, lo_.y, cellSize_.y) + res_ * axis(x.z, lo_.z, cellSize_.z));
+    const Node& l = nodes_[node.left];
+    const Node& r = nodes_[node.right];
+    const double il = importance(l), ir = importance(r);
+    const double byCount = double(l.end - l.begin) / double(node.end - node.begin);
+    const double byImportance = il + ir > 0 && std::isfinite(il + ir) ? il / (il + ir) : byCount;
+    return (1.0 - kUniformMix) * byImportance + kUniformMix * byCount;
 }
 
 uint32_t PunctualLightSampler::sample(const Vec3f& x, double u, double& pmf) const {
-    const std::size_t n = lights_.size();
-    const double* cdf = cdf_.data() + cellOf(x) * n;
-    const std::size_t l = std::min<std::size_t>(std::upper_bound(cdf, cdf + n, u) - cdf, n - 1);
-    pmf = cdf[l] - (l > 0 ? cdf[l - 1] : 0.0);
-    return uint32_t(l);
+    const Vec3d p(x);
+    pmf = 1.0;
+    int32_t n = 0;
+    while (nodes_[n].left >= 0) {
+        const double pl = leftProbability(nodes_[n], p);
+        if (u < pl) {
+            u = u / pl;
+            pmf *= pl;
+            n = nodes_[n].left;
+        } else {
+            u = (u - pl) / (1.0 - pl);
+            pmf *= 1.0 - pl;
+            n = nodes_[n].right;
+        }
+        u = std::min(std::max(u, 0.0), std::nextafter(1.0, 0.0));
+    }
+    return lightOrder_[nodes_[n].begin];
 }
 
 double PunctualLightSampler::pmf(const Vec3f& x, uint32_t l) const {
-    const double* cdf = cdf_.data() + cellOf(x) * lights_.size();
-    return cdf[l] - (l > 0 ? cdf[l - 1] : 0.0);
+    const Vec3d p(x);
+    const uint32_t slot = slotOf_[l];
+    double pmf = 1.0;
+    int32_t n = 0;
+    while (nodes_[n].left >= 0) {
+        const double pl = leftProbability(nodes_[n], p);
+        if (slot < nodes_[nodes_[n].left].end) {
+            pmf *= pl;
+            n = nodes_[n].left;
+        } else {
+            pmf *= 1.0 - pl;
+            n = nodes_[n].right;
+        }
+    }
+    return pmf;
 }
 
 }  // namespace vdblight
