@@ -138,7 +138,7 @@ void run(const BakeCommand& c) {
                   << scene.triangleCount() << " triangles";
         if (scene.stats.degenerateTrianglesSkipped)
             std::cout << ", " << scene.stats.degenerateTrianglesSkipped << " degenerate skipped";
-        std::cout << ") with " << c.rays << " rays per node and up to " << c.scene.bounces << " bounces: "
+        std::cout << ") with " << (c.targetError > 0 ? std::string("error-targeted") : std::to_string(c.rays)) << " rays per node and up to " << c.scene.bounces << " bounces: "
                   << formatCount(double(stats.rays.total())) << " rays (" << formatCount(double(stats.rays.intersect))
                   << " closest-hit, " << formatCount(double(stats.rays.occluded)) << " shadow) in "
                   << formatSeconds(stats.seconds) << ", " << formatCount(stats.raysPerSecond()) << " rays/s on "
@@ -229,6 +229,9 @@ void addBakeCommand(CLI::App& app) {
     cmd->callback([c, spacing, resolution, invalidate, refine, levelsOpt, target, maxRays, minRays] {
         if (target->count() > 0 && !(c->targetError > 0 && c->targetError <= 1))
             throw ValueError("--target-error must be in (0, 1], got " + std::to_string(c->targetError));
+        if (target->count() > 0 && (c->minRays < 2 || c->maxRays < c->minRays))
+            throw ValueError("--min-rays must be at least 2 and --max-rays at least --min-rays, got " +
+                             std::to_string(c->minRays) + " and " + std::to_string(c->maxRays));
         if (target->count() == 0 && (maxRays->count() > 0 || minRays->count() > 0))
             throw ValueError("--max-rays and --min-rays need --target-error");
         if (target->count() > 0 && (c->method != "gather" || c->sampling != "point" || invalidate->count() > 0 ||
