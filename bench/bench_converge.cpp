@@ -26,6 +26,7 @@
 #include "vdblight/scene.h"
 #include "vdblight/scene_generators.h"
 #include "vdblight/trace.h"
+#include "bench_scenes.h"
 
 using namespace vdblight;
 
@@ -134,29 +135,6 @@ void partAdaptive(bool quick) {
     }
 }
 
-// 64 x 64 floor, 16 blocks, L point lights between 0.5 and 4 units above the floor.
-Scene manyLightsScene(int lights) {
-    Scene s;
-    s.name = "many_lights_" + std::to_string(lights);
-    s.materials.push_back(Material{});
-    s.materials[0].albedo = Rgb(0.6f, 0.6f, 0.6f);
-    addTriangle(s, Vec3f(0, 0, 0), Vec3f(0, 0, 64), Vec3f(64, 0, 64), 0);
-    addTriangle(s, Vec3f(0, 0, 0), Vec3f(64, 0, 64), Vec3f(64, 0, 0), 0);
-    for (int i = 0; i < 4; ++i)
-        for (int k = 0; k < 4; ++k) {
-            const Vec3f lo(8.0f + 16 * i, 0, 8.0f + 16 * k);
-            appendBox(s, lo, lo + Vec3f(3, 3, 3), false, 0);
-        }
-    Rng rng(99);
-    const float intensity = 2000.0f / float(lights);
-    for (int l = 0; l < lights; ++l) {
-        const Vec3f pos(64 * rng.uniform(), 0.5f + 3.5f * rng.uniform(), 64 * rng.uniform());
-        const float r = 0.5f + rng.uniform();
-        s.pointLights.push_back({pos, Rgb(r, 1, 2 - r) * intensity});
-    }
-    return s;
-}
-
 void partManyLights(bool quick) {
     const double target = 0.03;
     std::printf("\n== Many lights: 64 x 64 floor + 16 blocks, L point lights, baked to target error %.2f ==\n", target);
@@ -165,7 +143,7 @@ void partManyLights(bool quick) {
     const std::vector<int> counts = quick ? std::vector<int>{100, 1000} : std::vector<int>{100, 300, 1000, 3000, 10000};
     double firstSampled = 0, firstExact = 0;
     for (int lights : counts) {
-        const Scene s = manyLightsScene(lights);
+        const Scene s = bench::manyLightsScene(lights);
         const Tracer tracer(s);
         GridSpec g;
         g.origin = Vec3d(4, 1.5, 4);  // nodes between the blocks, none inside one
