@@ -154,7 +154,7 @@ int main(int argc, char** argv) {
     suite.push_back({"cornell", loadScene(defaultScenePath()), quick ? 6 : 10});
     suite.push_back({"thin_wall", makeThinWallScene().scene, quick ? 8 : 16});
     if (!quick) {
-        suite.push_back({"office", bench::officeScene(2, 6), 16});     // ~82 k triangles
+        suite.push_back({"office", bench::officeScene(2, 5), 16});     // ~41 k triangles
         suite.push_back({"town", makeTownScene().scene, 16});
         suite.push_back({"dense_100k", bench::officeScene(8, 5), 16});  // ~164 k triangles
         suite.push_back({"many_lights", bench::manyLightsScene(1000), 16});

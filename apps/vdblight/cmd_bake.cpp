@@ -13,6 +13,7 @@
 #include "vdblight/layout.h"
 #include "vdblight/photons.h"
 #include "vdblight/sh.h"
+#include "vdblight/sh_window.h"
 #include "vdblight/trace.h"
 #include "vdblight/vdb_io.h"
 
@@ -38,6 +39,7 @@ struct BakeCommand {
     std::string layout = "uniform";
     int refine = 3;
     int levels = 3;
+    bool shWindow = false;
     double targetError = 0;  // > 0: error-targeted point gather (bake_adaptive.h)
     uint32_t maxRays = 4096;
     uint32_t minRays = 64;
@@ -125,6 +127,7 @@ void run(const BakeCommand& c) {
                       << ", " << layout.totalNodes() << " nodes (" << stats.seamNodes << " seam nodes set from the coarser level) vs "
                       << layout.denseEquivalentNodes() << " in a dense grid at the finest spacing.\n";
     }
+    if (c.shWindow) applyShWindow(volume);
     volume.meta["scene_file"] = c.scene.path.empty() ? std::string("(bundled default) ") + defaultScenePath() : c.scene.path;
     volume.meta["sky"] = c.scene.skyMap.empty() ? (c.scene.sky.empty() ? std::string("0,0,0") : c.scene.sky)
                                                 : "map:" + c.scene.skyMap;
@@ -225,10 +228,14 @@ void addBakeCommand(CLI::App& app) {
                     "mean irradiance is below this (e.g. 0.02), up to --max-rays");
     auto* maxRays = cmd->add_option("--max-rays", c->maxRays, "--target-error: most rays a node may take")->capture_default_str();
     auto* minRays = cmd->add_option("--min-rays", c->minRays, "--target-error: rays of the first round")->capture_default_str();
+    cmd->add_flag("--sh-window", c->shWindow,
+                  "gather: window the SH bands (1, 0.584, 0.135) so that irradiance is never negative (blurs; "
+                  "docs/methods.md)");
     cmd->add_flag("-q,--quiet", c->quiet, "No progress bar and no summary");
     cmd->callback([c, spacing, resolution, invalidate, refine, levelsOpt, target, maxRays, minRays] {
         if (target->count() > 0 && !(c->targetError > 0 && c->targetError <= 1))
             throw ValueError("--target-error must be in (0, 1], got " + std::to_string(c->targetError));
+        if (c->shWindow && c->method != "gather") throw ValueError("--sh-window applies to --method gather only");
         if (target->count() > 0 && (c->minRays < 2 || c->maxRays < c->minRays))
             throw ValueError("--min-rays must be at least 2 and --max-rays at least --min-rays, got " +
                              std::to_string(c->minRays) + " and " + std::to_string(c->maxRays));
