@@ -1,4 +1,4 @@
-// End-to-end: `vdblight bake --target-error`, its summary and metadata, and bad options
+// End-to-end: `vdblight bake --target-error` and `--sh-window`, summary and metadata, and bad options
 // refused with one line, a non-zero exit and no file.
 #include <gtest/gtest.h>
 
@@ -47,4 +47,17 @@ TEST(CliAdaptive, RefusesBadOptions) {
         EXPECT_EQ(countLines(text), 1) << args << "\n" << text;
         EXPECT_FALSE(fs::exists(out)) << args;
     }
+}
+
+TEST(CliShWindow, RecordsTheWindowAndRefusesPhotons) {
+    test::TempDir dir;
+    const std::string out = dir.file("w.vdb");
+    std::string text;
+    ASSERT_EQ(0, test::runCommand(kCli + " bake -q --resolution 3 --rays 16 --sh-window -o " + out, &text)) << text;
+    ASSERT_EQ(0, test::runCommand(kCli + " info " + out, &text)) << text;
+    EXPECT_NE(text.find("sh_window = non-negative spline window"), std::string::npos) << text;
+    const std::string bad = dir.file("bad.vdb");
+    EXPECT_NE(0, test::runCommand(kCli + " bake --method photons --sh-window -o " + bad, &text));
+    EXPECT_EQ(countLines(text), 1) << text;
+    EXPECT_FALSE(fs::exists(bad));
 }
