@@ -5,7 +5,8 @@
 // differently and never counted twice:
 //  - direct light from emitters: emissive triangles (sampled by area, chosen in proportion
 //    to power), punctual lights (point, spot, directional; delta distributions, evaluated
-//    exactly with one shadow ray each);
+//    exactly with one shadow ray each, or -- with many point/spot lights -- one of them
+//    chosen per vertex by a light tree, see TransportOptions::exactLightLimit);
 //  - everything else: light reflected by surfaces (recursively, with NEE at every bounce)
 //    and the sky where rays escape. Gathered by tracing rays in chosen directions.
 // Emissive triangles are reached both ways: by NEE samples and by gathered rays that hit
