@@ -13,6 +13,8 @@
 #include <vector>
 
 #include "vdblight/bake_levels.h"
+#include "vdblight/errors.h"
+#include "vdblight/office_scene.h"
 #include "vdblight/query_levels.h"
 #include "vdblight/reference.h"
 #include "vdblight/sampling.h"
@@ -60,7 +62,12 @@ LevelLayout closestLayout(const Scene& scene, LayoutKind kind, int refine, int l
     LevelLayout best;
     double bestGap = 1e300;
     for (int r = 2; r <= 64; ++r) {
-        LevelLayout l = makeLayout(scene, kind, r, refine, levels);
+        LevelLayout l;
+        try {
+            l = makeLayout(scene, kind, r, refine, levels);
+        } catch (const ValueError&) {  // too few first-level nodes on a short axis
+            continue;
+        }
         const double gap = std::abs(std::log(double(l.totalNodes()) / double(target)));
         if (gap < bestGap) bestGap = gap, best = std::move(l);
         if (l.totalNodes() > 4 * target) break;
@@ -200,6 +207,7 @@ int main(int argc, char** argv) {
     try {
         const Scene scene = loadScene(defaultScenePath());
         benchLayouts(scene, threads, quick);
+        benchLayouts(makeOfficeScene(1), threads, quick);  // the paper's kind of scene (office_scene.h)
         benchPaperConfig(scene, threads, quick);
         benchQuery(scene, quick);
     } catch (const std::exception& e) {

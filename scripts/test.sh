@@ -10,5 +10,7 @@ ctest --output-on-failure -j "${JOBS:-$(nproc)}" --timeout 1200
 "$ROOT/build/bin/vdblight_bench_photons" --quick
 "$ROOT/build/bin/vdblight_bench_antialiased" --quick
 "$ROOT/build/bin/vdblight_bench_layouts" --quick
+"$ROOT/build/bin/vdblight_bench_bins" --quick
+"$ROOT/build/bin/vdblight_bench_prt" --quick
 "$ROOT/build/bin/vdblight_bench_converge" --quick
 "$ROOT/build/bin/vdblight_bench_error" --quick

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "cli_util.h"
 #include "test_util.h"
 #include "vdblight/vdb_io.h"
 
@@ -11,21 +12,9 @@ using namespace vdblight;
 namespace fs = std::filesystem;
 
 namespace {
-const std::string kCli = VDBLIGHT_CLI_PATH;
-
-int run(const std::string& args, std::string* out) { return test::runCommand(kCli + " " + args, out); }
-
-int countLines(const std::string& s) {
-    int n = 0;
-    for (char c : s) n += c == '\n';
-    return n;
-}
-
-std::size_t filesIn(const fs::path& dir) {
-    std::size_t n = 0;
-    for (auto& e : fs::directory_iterator(dir)) n += e.is_regular_file() ? 1 : 0;
-    return n;
-}
+int run(const std::string& args, std::string* out) { return test::runCommand(test::cliPath() + " " + args, out); }
+using test::countLines;
+using test::filesIn;
 }  // namespace
 
 TEST(CliAntialiased, EverySamplingBakesStoresAndQueries) {

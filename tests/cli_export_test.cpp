@@ -87,7 +87,8 @@ TEST_F(CliExport, BadInputFailsWithOneLineAndWritesNothing) {
         std::string args, expected;
     } cases[] = {
         {"--format png", "unknown export format 'png'"},
-        {"--layout vectors", "unknown export layout 'vectors'"},
+        {"--layout bogus", "unknown export layout 'bogus'"},
+        {"--layout vectors", "does not fit volume kind"},
         {"--format dds --resolution 3000", "2048"},
         {"--format raw --resolution 1200", "GiB"},
         {"--half --float", "not both"},

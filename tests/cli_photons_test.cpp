@@ -4,48 +4,13 @@
 
 #include <filesystem>
 
+#include "cli_util.h"
 #include "test_util.h"
 #include "vdblight/vdb_io.h"
 
 using namespace vdblight;
+using namespace vdblight::test;
 namespace fs = std::filesystem;
-
-namespace {
-const std::string kCli = VDBLIGHT_CLI_PATH;
-
-struct CliRun {
-    int status;
-    std::string output;
-};
-
-CliRun runCli(const std::string& args) {
-    CliRun r;
-    r.status = test::runCommand(kCli + " " + args, &r.output);
-    return r;
-}
-
-int countLines(const std::string& s) {
-    int n = 0;
-    for (char c : s) n += c == '\n';
-    return n;
-}
-
-std::size_t filesIn(const fs::path& dir) {
-    std::size_t n = 0;
-    for (auto& e : fs::directory_iterator(dir)) n += e.is_regular_file() ? 1 : 0;
-    return n;
-}
-
-void expectCleanFailure(const test::TempDir& dir, const std::string& args, const std::string& expectedText) {
-    const std::size_t before = filesIn(dir.path());
-    const CliRun r = runCli(args);
-    EXPECT_NE(r.status, 0) << args << "\n" << r.output;
-    EXPECT_LT(r.status, 128) << "crashed: " << args << "\n" << r.output;
-    EXPECT_EQ(countLines(r.output), 1) << args << "\n" << r.output;
-    EXPECT_NE(r.output.find(expectedText), std::string::npos) << args << "\nexpected '" << expectedText << "' in: " << r.output;
-    EXPECT_EQ(filesIn(dir.path()), before) << "a file was left behind by: " << args;
-}
-}  // namespace
 
 TEST(CliPhotons, BakeInfoQueryOnTheDefaultScene) {
     test::TempDir dir;
@@ -76,6 +41,36 @@ TEST(CliPhotons, BakeInfoQueryOnTheDefaultScene) {
             << q.output;
         EXPECT_GT(vals[6], 0.5) << interp;
     }
+}
+
+TEST(CliPhotons, CompactBakeIsSmallerAndReadable) {
+    test::TempDir dir;
+    const std::string full = dir.file("full.vdb"), compact = dir.file("compact.vdb");
+    // Resolution 16: enough nodes that the grids' data, not their headers, make the file.
+    ASSERT_EQ(runCli("bake --method photons --photons 50000 --resolution 16 -q -o " + full).status, 0);
+    const CliRun bake = runCli("bake --method photons --photons 50000 --resolution 16 --compact -o " + compact);
+    ASSERT_EQ(bake.status, 0) << bake.output;
+    EXPECT_NE(bake.output.find("compact"), std::string::npos) << bake.output;
+    const Volume v = readVolume(compact);
+    EXPECT_EQ(v.basis.kind, "irradiance_vectors_compact");
+    EXPECT_EQ(v.basis.channelCount(), 12);
+    EXPECT_LT(fs::file_size(compact) * 2, fs::file_size(full));  // 72 vs 216 bytes per node, plus headers
+    const CliRun info = runCli("info " + compact);
+    EXPECT_EQ(info.status, 0) << info.output;
+    EXPECT_NE(info.output.find("ivc_ypos_rgb"), std::string::npos) << info.output;
+    for (const char* interp : {"trilinear", "tricubic"}) {
+        const CliRun q = runCli("query " + compact + " --at 0.28,0.45,0.2 --normal 0,1,0 --interp " + interp);
+        ASSERT_EQ(q.status, 0) << q.output;
+        const std::string row = q.output.substr(q.output.find('\n') + 1);
+        double vals[9];
+        ASSERT_EQ(std::sscanf(row.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &vals[0], &vals[1], &vals[2], &vals[3],
+                              &vals[4], &vals[5], &vals[6], &vals[7], &vals[8]),
+                  9)
+            << q.output;
+        EXPECT_GT(vals[6], 0.5) << interp;
+    }
+    expectCleanFailure(dir, "bake --compact --resolution 3 --rays 8 -o " + dir.file("sh.vdb"),
+                       "--compact applies to --method photons only");
 }
 
 TEST(CliPhotons, BadInputFailsCleanly) {

@@ -12,49 +12,16 @@
 #include <sstream>
 #include <thread>
 
+#include "cli_util.h"
 #include "test_util.h"
 #include "vdblight/vdb_io.h"
 
 using namespace vdblight;
+using namespace vdblight::test;
 namespace fs = std::filesystem;
 
 namespace {
-const std::string kCli = VDBLIGHT_CLI_PATH;
 const std::string kSource = VDBLIGHT_SOURCE_DIR;
-
-struct CliRun {
-    int status;
-    std::string output;
-};
-
-CliRun runCli(const std::string& args) {
-    CliRun r;
-    r.status = test::runCommand(kCli + " " + args, &r.output);
-    return r;
-}
-
-int countLines(const std::string& s) {
-    int n = 0;
-    for (char c : s) n += c == '\n';
-    return n;
-}
-
-std::size_t filesIn(const fs::path& dir) {
-    std::size_t n = 0;
-    for (auto& e : fs::directory_iterator(dir)) n += e.is_regular_file() ? 1 : 0;
-    return n;
-}
-
-// A bad command: fails with one line naming the problem and leaves no file behind.
-void expectCleanFailure(const test::TempDir& dir, const std::string& args, const std::string& expectedText) {
-    const std::size_t before = filesIn(dir.path());
-    const CliRun r = runCli(args);
-    EXPECT_NE(r.status, 0) << args << "\n" << r.output;
-    EXPECT_LT(r.status, 128) << "crashed: " << args << "\n" << r.output;
-    EXPECT_EQ(countLines(r.output), 1) << args << "\n" << r.output;
-    EXPECT_NE(r.output.find(expectedText), std::string::npos) << args << "\nexpected '" << expectedText << "' in: " << r.output;
-    EXPECT_EQ(filesIn(dir.path()), before) << "a file was left behind by: " << args;
-}
 }  // namespace
 
 TEST(Cli, HelpListsTheSubcommands) {
@@ -196,7 +163,7 @@ TEST(Cli, CtrlCStopsCleanlyAndLeavesNoFile) {
     ASSERT_GE(pid, 0);
     if (pid == 0) {
         // A bake that takes minutes.
-        execl(kCli.c_str(), kCli.c_str(), "bake", "-q", "-o", out.c_str(), "--resolution", "60", "--rays", "4096",
+        execl(cliPath().c_str(), cliPath().c_str(), "bake", "-q", "-o", out.c_str(), "--resolution", "60", "--rays", "4096",
               static_cast<char*>(nullptr));
         _exit(127);
     }

@@ -320,7 +320,8 @@ TEST(Export, BadRequestsFailBeforeWritingAnything) {
     const Volume v = makeVolume(3, 3, 3, 8);
     test::TempDir dir;
     EXPECT_THROW(parseTextureFormat("png"), ValueError);
-    EXPECT_THROW(parseExportLayout("vectors"), ValueError);
+    EXPECT_THROW(parseExportLayout("bogus"), ValueError);
+    EXPECT_THROW(exportTextures(v, dir.file("a"), options(TextureFormat::Raw, ExportLayout::Vectors, true)), FormatError);
     ExportOptions huge = options(TextureFormat::Dds, ExportLayout::Sh2, true);
     huge.resolution = 3000;
     EXPECT_THROW(exportTextures(v, dir.file("a"), huge), ValueError);

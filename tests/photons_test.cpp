@@ -15,6 +15,8 @@
 #include "vdblight/irradiance_vectors.h"
 #include "vdblight/photon_emitter.h"
 #include "vdblight/photons.h"
+#include "vdblight/radical_inverse_fast.h"
+#include "vdblight/sampling.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
 
@@ -87,6 +89,28 @@ TEST(FaceWalk, CrossingsAndNearestNodes) {
     got.clear();
     forEachFaceCrossing({-0.5, -0.4, -0.3}, {2.6, 2.7, 2.8}, dims, record);
     EXPECT_EQ(got.size(), 5u);
+}
+
+// The table-driven radical inverse of the photon pass against the digit-by-digit reference.
+template <uint32_t Base>
+void expectRadicalInverseMatches() {
+    for (uint64_t i : {0ull, 1ull, 2ull, 3ull, 4ull, 5ull, 10ull, 12345ull, 1000000ull, 8000000ull, 123456789ull,
+                       20000000000ull}) {
+        const double fast = radicalInverseFast<Base>(i), ref = radicalInverse(Base, i);
+        EXPECT_NEAR(fast, ref, 1e-15) << "base " << Base << " index " << i;
+        EXPECT_LT(fast, 1.0);
+    }
+    for (uint64_t i = 0; i < 5000; ++i) ASSERT_NEAR(radicalInverseFast<Base>(i), radicalInverse(Base, i), 1e-15) << i;
+}
+
+TEST(RadicalInverseFast, MatchesTheReference) {
+    expectRadicalInverseMatches<2>();
+    expectRadicalInverseMatches<3>();
+    expectRadicalInverseMatches<5>();
+    expectRadicalInverseMatches<7>();
+    expectRadicalInverseMatches<11>();
+    expectRadicalInverseMatches<13>();
+    EXPECT_EQ(radicalInverseFast<3>(4), 1.0 / 3.0 + 1.0 / 9.0);
 }
 
 TEST(PhotonEmitter, RefusesASceneWithoutLight) {

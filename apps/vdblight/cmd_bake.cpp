@@ -7,10 +7,13 @@
 #include "vdblight/bake.h"
 #include "vdblight/bake_adaptive.h"
 #include "vdblight/bake_antialiased.h"
+#include "vdblight/bake_bins.h"
+#include "vdblight/bins.h"
 #include "vdblight/bake_levels.h"
 #include "vdblight/layout_levels.h"
 #include "vdblight/errors.h"
 #include "vdblight/layout.h"
+#include "vdblight/irradiance_vectors_compact.h"
 #include "vdblight/photons.h"
 #include "vdblight/sh.h"
 #include "vdblight/sh_window.h"
@@ -33,6 +36,7 @@ struct BakeCommand {
     bool quiet = false;
     std::string method = "gather";
     uint64_t photons = 1'000'000;
+    bool compact = false;            // --method photons: write the section 4.2 form
     std::string sampling = "point";  // point | antialiased (bake_antialiased.h)
     std::string domain;              // all | interior; default interior for antialiased
     double invalidateBackface = -1;  // < 0: off (point sampling only)
@@ -43,6 +47,7 @@ struct BakeCommand {
     double targetError = 0;  // > 0: error-targeted point gather (bake_adaptive.h)
     uint32_t maxRays = 4096;
     uint32_t minRays = 64;
+    std::string basis = "sh2";  // sh2 | bins:R | moment:n[:R] (bins.h)
 };
 
 void runPhotons(const BakeCommand& c);
@@ -100,7 +105,10 @@ void run(const BakeCommand& c) {
     // Bytes per node while baking and writing: float coefficients plus OpenVDB's copy.
     // The anti-aliased pass also holds double accumulators per node (coefficients + 2 weights).
     const std::size_t extra = c.sampling == "antialiased" ? (sh::kCoeffs * 3 + 2) * sizeof(double) : 0;
-    const GridSpec grid = placeUniformGrid(scene.bounds(), placement, 2 * sh::kCoeffs * 3 * sizeof(float) + extra);
+    const bins::BasisSpec basisSpec = bins::parseBasisSpec(c.basis);
+    const bool binned = basisSpec.kind != bins::BasisSpec::Kind::Sh2;
+    const std::size_t channels = binned ? std::size_t(basisSpec.binCount()) : std::size_t(sh::kCoeffs);
+    const GridSpec grid = placeUniformGrid(scene.bounds(), placement, 2 * channels * 3 * sizeof(float) + extra);
 
     const Tracer tracer(scene);
     GatherOptions options;
@@ -116,7 +124,18 @@ void run(const BakeCommand& c) {
     levels.refine = c.refine;
     levels.levels = c.levels;
     Volume volume;
-    if (levels.kind == LayoutKind::Uniform) {
+    if (binned) {  // Greger bins / moments on any layout
+        BinsBakeOptions bo;
+        bo.basis = basisSpec;
+        bo.samplesPerBin = std::max<uint32_t>(1, uint32_t((uint64_t(c.rays) + basisSpec.binCount() - 1) / basisSpec.binCount()));
+        bo.seed = c.seed;
+        bo.threads = c.threads;
+        bo.transport = options.transport;
+        const LevelLayout layout = levels.kind == LayoutKind::Uniform
+                                       ? uniformLayout(grid)
+                                       : placeLevels(grid, scene.positions, scene.indices, levels, 2 * channels * 3 * sizeof(float));
+        volume = bakeBins(scene, tracer, layout, bo, &progress, &stats);
+    } else if (levels.kind == LayoutKind::Uniform) {
         volume = bakeSelected(c, scene, tracer, grid, options, &progress, &stats);
     } else {
         const LevelLayout layout = placeLevels(grid, scene.positions, scene.indices, levels,
@@ -141,7 +160,9 @@ void run(const BakeCommand& c) {
                   << scene.triangleCount() << " triangles";
         if (scene.stats.degenerateTrianglesSkipped)
             std::cout << ", " << scene.stats.degenerateTrianglesSkipped << " degenerate skipped";
-        std::cout << ") with " << (c.targetError > 0 ? std::string("error-targeted") : std::to_string(c.rays)) << " rays per node and up to " << c.scene.bounces << " bounces: "
+        std::cout << ") with " << (c.targetError > 0 ? std::string("error-targeted")
+                                   : binned ? metaString(volume.meta, "rays_per_node") : std::to_string(c.rays))
+                  << " rays per node and up to " << c.scene.bounces << " bounces: "
                   << formatCount(double(stats.rays.total())) << " rays (" << formatCount(double(stats.rays.intersect))
                   << " closest-hit, " << formatCount(double(stats.rays.occluded)) << " shadow) in "
                   << formatSeconds(stats.seconds) << ", " << formatCount(stats.raysPerSecond()) << " rays/s on "
@@ -149,6 +170,10 @@ void run(const BakeCommand& c) {
         if (c.sampling == "antialiased") std::cout << " (sampling antialiased, domain " << metaString(volume.meta, "domain") << ")";
         if (volume.meta.count("nodes_dilated"))
             std::cout << "; " << metaString(volume.meta, "nodes_dilated") << " nodes filled by dilation";
+        if (binned)
+            std::cout << ". Wrote " << c.output << " (basis " << volume.basis.kind << ", " << channels << " Vec3f grids, "
+                      << metaString(volume.meta, "samples_per_bin") << " samples per bin).\n";
+        else
         std::cout << ". Wrote " << c.output << " (SH order 2 radiance, 9 Vec3f grids"
                   << (volume.levels[0].validity.empty() ? "" : " + validity") << ").\n";
     }
@@ -178,7 +203,8 @@ void runPhotons(const BakeCommand& c) {
     volume.meta["sky"] = c.scene.skyMap.empty() ? (c.scene.sky.empty() ? std::string("0,0,0") : c.scene.sky)
                                                 : "map:" + c.scene.skyMap;
     WriteOptions write;
-    write.halfFloat = c.half;
+    write.halfFloat = c.half || c.compact;
+    if (c.compact) volume = iv::compact(volume);
     writeVolume(volume, c.output, write);
     if (!c.quiet) {
         std::cout << "Baked " << grid.nodeCount() << " nodes (" << grid.nx << " x " << grid.ny << " x " << grid.nz
@@ -188,7 +214,9 @@ void runPhotons(const BakeCommand& c) {
                   << " face crossings, " << formatCount(double(stats.rays.total())) << " rays in "
                   << formatSeconds(stats.seconds) << " ("
                   << formatCount(stats.seconds > 0 ? double(stats.photons) / stats.seconds : 0.0) << " photons/s). Wrote "
-                  << c.output << " (irradiance vectors, 18 Vec3f grids).\n";
+                  << c.output
+                  << (c.compact ? " (compact irradiance vectors: colour + direction, 12 half-float Vec3 grids).\n"
+                                : " (irradiance vectors, 18 Vec3f grids).\n");
     }
 }
 }  // namespace
@@ -210,6 +238,9 @@ void addBakeCommand(CLI::App& app) {
     cmd->add_option("--method", c->method, "gather (SH order 2 at each node) or photons (irradiance vectors, Pacanowski et al.)")
         ->capture_default_str();
     cmd->add_option("--photons", c->photons, "Photons emitted in total (--method photons)")->capture_default_str();
+    cmd->add_flag("--compact", c->compact,
+                  "--method photons: write the compact colour + direction form (Pacanowski et al. 4.2; 12 half-float "
+                  "grids) instead of the 18 full grids");
     cmd->add_option("--sampling", c->sampling,
                     "point: project at the nodes; antialiased: trilinear-weighted origins over each cell "
                     "(Kontkanen-Laine eq. 6; --rays is then rays per cell)")
@@ -231,20 +262,30 @@ void addBakeCommand(CLI::App& app) {
     cmd->add_flag("--sh-window", c->shWindow,
                   "gather: window the SH bands (1, 0.584, 0.135) so that irradiance is never negative (blurs; "
                   "docs/methods.md)");
+    cmd->add_option("--basis", c->basis,
+                    "Directional basis: sh2, bins:R (Greger: 2 R^2 equal-area bins of irradiance) or moment:n[:R] "
+                    "(n-th moment, eq. 5, for glossy lookups with query --view; R = 17 by default); with bins, "
+                    "--rays is rounded up to a multiple of the bin count")
+        ->capture_default_str();
     cmd->add_flag("-q,--quiet", c->quiet, "No progress bar and no summary");
     cmd->callback([c, spacing, resolution, invalidate, refine, levelsOpt, target, maxRays, minRays] {
         if (target->count() > 0 && !(c->targetError > 0 && c->targetError <= 1))
             throw ValueError("--target-error must be in (0, 1], got " + std::to_string(c->targetError));
-        if (c->shWindow && c->method != "gather") throw ValueError("--sh-window applies to --method gather only");
+        if (c->shWindow && (c->method != "gather" || bins::parseBasisSpec(c->basis).kind != bins::BasisSpec::Kind::Sh2))
+            throw ValueError("--sh-window applies to --method gather with --basis sh2 only");
         if (target->count() > 0 && (c->minRays < 2 || c->maxRays < c->minRays))
             throw ValueError("--min-rays must be at least 2 and --max-rays at least --min-rays, got " +
                              std::to_string(c->minRays) + " and " + std::to_string(c->maxRays));
         if (target->count() == 0 && (maxRays->count() > 0 || minRays->count() > 0))
             throw ValueError("--max-rays and --min-rays need --target-error");
         if (target->count() > 0 && (c->method != "gather" || c->sampling != "point" || invalidate->count() > 0 ||
-                                    parseLayoutKind(c->layout) != LayoutKind::Uniform))
-            throw ValueError("--target-error works with --method gather, --sampling point and --layout uniform only");
+                                    parseLayoutKind(c->layout) != LayoutKind::Uniform ||
+                                    bins::parseBasisSpec(c->basis).kind != bins::BasisSpec::Kind::Sh2))
+            throw ValueError("--target-error works with --method gather, --sampling point, --layout uniform and --basis sh2 only");
         const LayoutKind kind = parseLayoutKind(c->layout);
+        if (bins::parseBasisSpec(c->basis).kind != bins::BasisSpec::Kind::Sh2 &&
+            (c->method != "gather" || c->sampling != "point" || invalidate->count() > 0))
+            throw ValueError("--basis bins/moment works with --method gather and --sampling point only");
         if (c->refine < 2) throw ValueError("--refine must be at least 2, got " + std::to_string(c->refine));
         if (c->levels < 1) throw ValueError("--levels must be at least 1, got " + std::to_string(c->levels));
         if (c->levels > 16)
@@ -270,6 +311,7 @@ void addBakeCommand(CLI::App& app) {
             throw ValueError("--invalidate-backface applies to --sampling point only");
         if (c->method == "photons" && (c->sampling != "point" || !c->domain.empty() || invalidate->count() > 0))
             throw ValueError("--sampling, --domain and --invalidate-backface apply to --method gather only");
+        if (c->compact && c->method != "photons") throw ValueError("--compact applies to --method photons only");
         run(*c);
     });
 }

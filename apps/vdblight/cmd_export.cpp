@@ -1,10 +1,12 @@
 // vdblight export VOLUME -o OUTDIR: dense 3-D textures + manifest.json for game engines.
+#include <filesystem>
 #include <iostream>
 
 #include "app_common.h"
 #include "commands.h"
 #include "vdblight/errors.h"
 #include "vdblight/export.h"
+#include "vdblight/preview.h"
 #include "vdblight/vdb_io.h"
 
 namespace vdblight::app {
@@ -22,6 +24,26 @@ struct ExportCommand {
 
 void run(const ExportCommand& c) {
     if (c.half && c.full) throw ValueError("give --half or --float, not both");
+    if (c.format == "vdb-preview") {  // preview grids for Blender / Houdini (preview.h)
+        namespace fs = std::filesystem;
+        const Volume volume = readVolume(c.volume);
+        std::error_code ec;
+        const bool created = !fs::is_directory(c.output, ec);
+        if (created && !fs::create_directories(c.output, ec))
+            throw IoError("cannot create output directory '" + c.output + "'" + (ec ? ": " + ec.message() : ""));
+        const std::string file = (fs::path(c.output) / "preview.vdb").string();
+        TextureLattice l;
+        try {
+            l = exportPreviewVdb(volume, file, c.resolution);
+        } catch (...) {
+            if (created) fs::remove(c.output, ec);  // leave nothing behind
+            throw;
+        }
+        if (!c.quiet)
+            std::cout << "Wrote preview grids (irradiance_avg, irradiance_<axis><pos|neg>, density) of " << l.dims[0]
+                      << " x " << l.dims[1] << " x " << l.dims[2] << " voxels to " << file << "\n";
+        return;
+    }
     ExportOptions o;
     o.format = parseTextureFormat(c.format);
     o.layout = parseExportLayout(c.layout);
@@ -42,8 +64,8 @@ void addExportCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand("export", "Dense 3-D textures + manifest.json for engines (docs/engines.md)");
     cmd->add_option("volume", c->volume, "Volume (.vdb) written by vdblight bake")->required();
     cmd->add_option("-o,--output", c->output, "Output directory (created if missing)")->required();
-    cmd->add_option("--format", c->format, "ktx2, dds, exr-atlas or raw")->capture_default_str();
-    cmd->add_option("--layout", c->layout, "sh2 (9 coefficient textures), sh2-packed (7, dot-product ready) or sh1 (3)")
+    cmd->add_option("--format", c->format, "ktx2, dds, exr-atlas, raw, or vdb-preview (OUTDIR/preview.vdb for Blender/Houdini)")->capture_default_str();
+    cmd->add_option("--layout", c->layout, "SH volumes: sh2 (9 coefficient textures), sh2-packed (7, dot-product ready) or sh1 (3); irradiance-vector volumes: vectors (18) or compact (12)")
         ->capture_default_str();
     cmd->add_flag("--half", c->half, "16-bit float texels (the default)");
     cmd->add_flag("--float", c->full, "32-bit float texels");

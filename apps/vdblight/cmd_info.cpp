@@ -4,6 +4,8 @@
 
 #include "app_common.h"
 #include "commands.h"
+#include "vdblight/errors.h"
+#include "vdblight/prt_io.h"
 #include "vdblight/vdb_io.h"
 
 namespace vdblight::app {
@@ -46,10 +48,19 @@ std::string vec(const Vec3d& v, bool json) {
     return o.str();
 }
 
+/// What the channels of a basis hold, for the human-readable listing.
+const char* describeChannels(const std::string& kind) {
+    if (kind == "sh2") return " RGB channels: radiance SH coefficients";
+    if (kind == "irradiance_vectors") return " channels: irradiance vectors per direction and colour";
+    if (kind == "irradiance_vectors_compact") return " channels: colour and direction per direction";
+    if (kind.rfind("bins:", 0) == 0) return " RGB channels: irradiance per equal-area bin";
+    if (kind.rfind("moment:", 0) == 0) return " RGB channels: moment per equal-area bin, query with --view";
+    return " channels";
+}
+
 void printHuman(const Volume& v, const FileInfo& f) {
     std::cout << f.path << ": " << formatBytes(double(f.fileBytes)) << " on disk\n"
-              << "  basis: " << v.basis.kind << " (" << v.basis.channelCount() << (v.basis.kind == "irradiance_vectors" ? " channels: irradiance vectors per direction and colour)\n"
-                                                           : " RGB channels: radiance SH coefficients)\n");
+              << "  basis: " << v.basis.kind << " (" << v.basis.channelCount() << describeChannels(v.basis.kind) << ")\n";
     for (std::size_t l = 0; l < v.levels.size(); ++l) {
         const GridSpec& g = v.levels[l].grid;
         std::cout << "  level " << l << ": " << g.nx << " x " << g.ny << " x " << g.nz << " box, "
@@ -101,6 +112,12 @@ void addInfoCommand(CLI::App& app) {
     cmd->add_option("volume", *path, "Volume (.vdb)")->required();
     cmd->add_flag("--json", *json, "Machine-readable JSON");
     cmd->callback([path, json] {
+        bool prt = false;  // a PRT file holds samples and transfer, not a volume
+        try {
+            prt = isPrtFile(*path);
+        } catch (const Error&) {
+        }  // readVolume below reports unreadable files as before
+        if (prt) return printPrtInfo(*path);
         const Volume volume = readVolume(*path);
         const FileInfo info = inspectVolumeFile(*path);
         if (*json) printJson(volume, info);

@@ -4,6 +4,7 @@
 
 #include "app_common.h"
 #include "commands.h"
+#include "vdblight/bins.h"
 #include "vdblight/errors.h"
 #include "vdblight/query.h"
 #include "vdblight/vdb_io.h"
@@ -19,6 +20,7 @@ struct QueryCommand {
     std::string output;
     std::string outside = "clamp";
     std::string interp = "trilinear";
+    std::string view;  // moment volumes: view vector, mirrored about the normal (bins.h)
 };
 
 void run(const QueryCommand& c) {
@@ -35,11 +37,22 @@ void run(const QueryCommand& c) {
     } else {
         points = readPointsCsv(c.points);
     }
+    Vec3f view;
+    if (!c.view.empty()) {
+        view = Vec3f(parseTriple(c.view, "--view"));
+        if (!(length(view) > 0)) throw ValueError("--view must not be zero");
+        view = normalize(view);
+    }
     if (!c.output.empty()) checkOutputWritable(c.output);
 
     const Volume volume = readVolume(c.volume);
     const OutsidePolicy policy = c.outside == "error" ? OutsidePolicy::Throw : OutsidePolicy::Clamp;
     const IrradianceQuery query(volume, policy);
+    const bool moment = volume.basis.kind.rfind("moment:", 0) == 0;
+    if (moment && c.view.empty())
+        throw ValueError("a moment volume ('" + volume.basis.kind + "') needs --view vx,vy,vz (towards the eye)");
+    if (!moment && !c.view.empty())
+        throw ValueError("--view applies to moment volumes (bake --basis moment:N); this one is '" + volume.basis.kind + "'");
     std::unique_ptr<VolumeLookup> cubic;  // --interp tricubic (irradiance-vector volumes)
     if (c.interp == "tricubic") {
         if (!VectorGridLookup::accepts(volume))
@@ -55,7 +68,8 @@ void run(const QueryCommand& c) {
     for (const ReferencePoint& p : points) {
         if (!query.inside(p.position)) ++clamped;
         const Vec3f n = normalize(p.normal);
-        const Rgb e = cubic ? cubic->irradiance(p.position, n) : query.irradiance(p.position, n);
+        const Vec3f d = moment ? normalize(bins::reflectView(view, n)) : n;  // moment: the reflected view vector
+        const Rgb e = cubic ? cubic->irradiance(p.position, d) : query.irradiance(p.position, d);
         out << p.position.x << ',' << p.position.y << ',' << p.position.z << ',' << n.x << ',' << n.y << ',' << n.z
             << ',' << e.x << ',' << e.y << ',' << e.z << '\n';
     }
@@ -79,6 +93,9 @@ void addQueryCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--interp", c->interp, "Spatial interpolation: trilinear or tricubic (irradiance-vector volumes)")
         ->capture_default_str();
+    cmd->add_option("--view", c->view,
+                    "Moment volumes (bake --basis moment:N): unit vector from the surface towards the eye; the "
+                    "lookup direction is its mirror about the normal (Greger et al. section 5.2)");
     cmd->callback([c] { run(*c); });
 }
 

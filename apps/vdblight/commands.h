@@ -10,5 +10,9 @@ void addQueryCommand(CLI::App& app);
 void addInfoCommand(CLI::App& app);
 void addReferenceCommand(CLI::App& app);
 void addExportCommand(CLI::App& app);
+void addSliceCommand(CLI::App& app);
+void addPrtCommand(CLI::App& app);
+/// What `prt info` prints (also used by `info` when given a PRT file).
+void printPrtInfo(const std::string& path);
 
 }  // namespace vdblight::app

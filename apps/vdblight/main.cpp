@@ -15,6 +15,8 @@ int main(int argc, char** argv) {
     vdblight::app::addInfoCommand(app);
     vdblight::app::addReferenceCommand(app);
     vdblight::app::addExportCommand(app);
+    vdblight::app::addSliceCommand(app);
+    vdblight::app::addPrtCommand(app);
     vdblight::app::installInterruptHandler();
 
     try {

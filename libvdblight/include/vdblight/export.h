@@ -35,11 +35,13 @@ enum class ExportLayout {
     Sh2,        ///< 9 textures: SH coefficient j's radiance RGB, alpha 0 (as stored in the .vdb)
     Sh2Packed,  ///< 7 textures shAr shAg shAb shBr shBg shBb shC: irradiance by dot products
     Sh1,        ///< 3 textures shAr shAg shAb: the order-1 (L0 + L1) part of the irradiance
+    Vectors,    ///< 18 textures iv_<dir>_<r|g|b>: an irradiance vector (world xyz) each, alpha 0
+    Compact,    ///< 12 textures ivc_<dir>_colour / ivc_<dir>_dir: Pacanowski et al. section 4.2
 };
 
 /// Parses "ktx2" | "dds" | "exr-atlas" | "raw" (ValueError listing the choices otherwise).
 TextureFormat parseTextureFormat(const std::string& name);
-/// Parses "sh2" | "sh2-packed" | "sh1" (ValueError listing the choices otherwise).
+/// Parses "sh2" | "sh2-packed" | "sh1" | "vectors" | "compact" (ValueError listing the choices otherwise).
 ExportLayout parseExportLayout(const std::string& name);
 const char* formatName(TextureFormat format);
 const char* layoutName(ExportLayout layout);

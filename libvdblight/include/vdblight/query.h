@@ -44,6 +44,14 @@ public:
         (void)out;
         throw FormatError("this volume kind stores no SH order-2 coefficients");
     }
+    /// The 18 irradiance vectors (54 floats in the channel order of irradiance_vectors.h)
+    /// interpolated trilinearly at x, for irradiance-vector kinds (used by export; at a node
+    /// position it returns that node's values). Default: throws FormatError.
+    virtual void irradianceVectors(const Vec3d& x, float out[54]) const {
+        (void)x;
+        (void)out;
+        throw FormatError("this volume kind stores no irradiance vectors");
+    }
 };
 
 /// A registry entry: `accepts` says whether a volume is of this kind, `create` builds it.

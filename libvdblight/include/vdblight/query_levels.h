@@ -19,6 +19,9 @@ public:
     ShLevelsLookup(const Volume& volume, OutsidePolicy outside);
     Rgb irradiance(const Vec3f& x, const Vec3f& n) const override;
     Bounds bounds() const override { return grid_.nodeBounds(); }
+    /// Located in double (snapped onto nodes within 1e-9 cells) and interpolated in double in
+    /// the finest cell that contains x, so a node position returns that node (export).
+    void shRadiance(const Vec3d& x, Rgb out[9]) const override;
     /// Level whose cell the lookup at x interpolates in.
     int levelAt(const Vec3f& x) const;
 

@@ -6,6 +6,10 @@
 // Spatial interpolation is trilinear, or tricubic: per axis the Catmull-Rom cubic through
 // four nodes (one-sided at the box's faces by linear extrapolation of the end nodes), which
 // reproduces linear fields exactly and is C1 across cells.
+//
+// It also reads the compact colour + direction form (basis "irradiance_vectors_compact",
+// irradiance_vectors_compact.h): colour and direction are interpolated the same way, then
+// decoded by iv::compactIrradiance.
 #pragma once
 
 #include <vector>
@@ -21,6 +25,8 @@ public:
     VectorGridLookup(const Volume& volume, OutsidePolicy outside, Interpolation interp = Interpolation::Trilinear);
     Rgb irradiance(const Vec3f& x, const Vec3f& n) const override;
     Bounds bounds() const override { return grid_.nodeBounds(); }
+    /// Trilinear in double (whatever the Interpolation), snapped onto nodes within 1e-9 cells.
+    void irradianceVectors(const Vec3d& x, float out[54]) const override;
 
     static bool accepts(const Volume& volume);
 
@@ -33,7 +39,10 @@ private:
     Interpolation interp_;
     Vec3f origin_;
     float invSpacing_;
-    std::vector<float> data_;  ///< the volume's level 0, kFloatsPerNode per node
+    bool compact_ = false;
+    int stride_ = 0;           ///< floats per node
+    int perDirection_ = 0;     ///< floats per direction delta (9 full, 6 compact)
+    std::vector<float> data_;  ///< the volume's level 0, stride_ floats per node
 };
 
 /// The simple lookup used to test VectorGridLookup: trilinear in double over the volume's

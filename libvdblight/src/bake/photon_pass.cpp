@@ -4,6 +4,10 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <atomic>
 #include <chrono>
 #include <cstring>
@@ -15,6 +19,7 @@
 #include "vdblight/irradiance_vectors.h"
 #include "vdblight/photon_emitter.h"
 #include "vdblight/photons.h"
+#include "vdblight/radical_inverse_fast.h"
 #include "vdblight/sampling.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
@@ -25,6 +30,41 @@ namespace {
 // Independent Cranley-Patterson shifts of the emission dimensions.
 enum Dimension : uint64_t { kChoose = 1, kPos1, kPos2, kDir1, kDir2, kPath };
 
+/// The per-batch sums are stored direction-major, and within a direction with the axis of
+/// that direction varying fastest: the crossings of one segment with the planes normal to
+/// axis a are then neighbours in memory (a stride of 9 floats), which keeps the walk in
+/// cache. normalise() turns this into the volume's node-major order.
+struct SumLayout {
+    std::size_t nodes = 0;
+    std::size_t stride[3][3];  ///< stride[a][b]: step in nodes of index b in the arrays of axis a
+
+    explicit SumLayout(const GridSpec& g) : nodes(g.nodeCount()) {
+        const std::size_t n[3] = {std::size_t(g.nx), std::size_t(g.ny), std::size_t(g.nz)};
+        for (int a = 0; a < 3; ++a) {
+            const int b = (a + 1) % 3, c = (a + 2) % 3;
+            stride[a][a] = 1;
+            stride[a][b] = n[a];
+            stride[a][c] = n[a] * n[b];
+        }
+    }
+    /// First float of (direction d, node (i, j, k)); 9 floats (colour-major vectors) follow.
+    std::size_t offset(int d, int i, int j, int k) const {
+        const int a = d / 2;
+        return (std::size_t(d) * nodes + i * stride[a][0] + j * stride[a][1] + k * stride[a][2]) * 9;
+    }
+};
+
+/// dst[0..8] += src[0..8] (src 16-byte aligned): the walk's innermost operation.
+inline void addNine(float* dst, const float* src) {
+#if defined(__SSE2__)
+    _mm_storeu_ps(dst, _mm_add_ps(_mm_loadu_ps(dst), _mm_load_ps(src)));
+    _mm_storeu_ps(dst + 4, _mm_add_ps(_mm_loadu_ps(dst + 4), _mm_load_ps(src + 4)));
+    dst[8] += src[8];
+#else
+    for (int f = 0; f < 9; ++f) dst[f] += src[f];
+#endif
+}
+
 struct Counters {
     uint64_t segments = 0, crossings = 0;
     RayCount rays;
@@ -34,7 +74,8 @@ struct Counters {
 class PhotonWalker {
 public:
     PhotonWalker(const Scene& scene, const Tracer& tracer, const GridSpec& grid, const PhotonOptions& options)
-        : scene_(scene), tracer_(tracer), grid_(grid), options_(options), emitter_(scene, cover(scene, grid)) {
+        : scene_(scene), tracer_(tracer), grid_(grid), layout_(grid), options_(options),
+          emitter_(scene, cover(scene, grid)) {
         dims_[0] = grid.nx, dims_[1] = grid.ny, dims_[2] = grid.nz;
         invSpacing_ = 1.0 / grid.spacing;
         for (int k = 0; k < 6; ++k) shift_[k] = toUnitDouble(hashCombine(options.seed, uint64_t(k + 1)));
@@ -43,15 +84,18 @@ public:
         farDistance_ = float(4.0 * length(b.size()) + 4.0 * length(b.center()) + 1.0);
     }
 
-    /// Traces photon `index` and adds its crossings to `sums` (kFloatsPerNode per node).
+    /// Traces photon `index` and adds its crossings to `sums` (kFloatsPerNode per node, in
+    /// SumLayout order).
     void trace(uint64_t index, float* sums, Counters& count) const {
         const double invN = 1.0 / double(options_.photons);
-        auto qmc = [&](uint32_t base, int dim) {
-            double v = radicalInverse(base, index) + shift_[dim];
+        auto wrap = [&](double v, int dim) {
+            v += shift_[dim];
             return float(v - std::floor(v));
         };
         Rng rng(hashCombine(options_.seed, index), kPath);
-        Photon p = emitter_.emit(qmc(2, 0), qmc(3, 1), qmc(5, 2), qmc(7, 3), qmc(11, 4), rng.uniform());
+        Photon p = emitter_.emit(wrap(radicalInverseFast<2>(index), 0), wrap(radicalInverseFast<3>(index), 1),
+                                 wrap(radicalInverseFast<5>(index), 2), wrap(radicalInverseFast<7>(index), 3),
+                                 wrap(radicalInverseFast<11>(index), 4), rng.uniform());
         Rgb power = p.power * float(invN);
         Vec3f origin = p.origin, dir = p.direction;
         for (int bounce = 0;; ++bounce) {
@@ -95,20 +139,24 @@ private:
         ++count.segments;
         // The vector each crossing of a plane normal to axis a adds, per colour: w = -dir
         // (towards the light), scaled by 1 / |dir_a| for the flux estimator.
-        float add[3][9];
-        int target[3];
+        alignas(16) float add[3][12];
+        float* target[3];
+        const float w[3] = {-dir.x, -dir.y, -dir.z};
+        const float rgb[3] = {power.x, power.y, power.z};
         for (int a = 0; a < 3; ++a) {
-            const float scale = options_.estimator == PhotonEstimator::Flux && dir[a] != 0.0f ? 1.0f / std::abs(dir[a]) : 1.0f;
-            for (int c = 0; c < 3; ++c)
-                for (int k = 0; k < 3; ++k) add[a][3 * c + k] = -power[c] * dir[k] * scale;
-            target[a] = iv::direction(a, dir[a] > 0.0f) * 9;
+            const float scale = options_.estimator == PhotonEstimator::Flux && w[a] != 0.0f ? 1.0f / std::abs(w[a]) : 1.0f;
+            for (int c = 0; c < 3; ++c) {
+                const float pc = rgb[c] * scale;
+                for (int k = 0; k < 3; ++k) add[a][3 * c + k] = pc * w[k];
+            }
+            target[a] = sums + layout_.offset(iv::direction(a, w[a] < 0.0f), 0, 0, 0);
         }
         const Vec3d g0 = (Vec3d(from) - grid_.origin) * invSpacing_;
         const Vec3d g1 = (Vec3d(to) - grid_.origin) * invSpacing_;
         uint64_t crossings = 0;
         forEachFaceCrossing(g0, g1, dims_, [&](int a, int i, int j, int k) {
-            float* dst = sums + grid_.index(i, j, k) * iv::kFloatsPerNode + target[a];
-            for (int f = 0; f < 9; ++f) dst[f] += add[a][f];
+            const std::size_t* st = layout_.stride[a];
+            addNine(target[a] + (i * st[0] + j * st[1] + k * st[2]) * 9, add[a]);
             ++crossings;
         });
         count.crossings += crossings;
@@ -117,6 +165,7 @@ private:
     const Scene& scene_;
     const Tracer& tracer_;
     GridSpec grid_;
+    SumLayout layout_;
     PhotonOptions options_;
     PhotonEmitter emitter_;
     int dims_[3];
@@ -134,10 +183,12 @@ void checkOptions(const GridSpec& grid, const PhotonOptions& options) {
     if (!(grid.spacing > 0) || !std::isfinite(grid.spacing)) throw ValueError("grid spacing must be positive");
 }
 
-/// Divides the photon sums by the dual-face areas (halved on the node box's boundary).
+/// Divides the photon sums (SumLayout order) by the dual-face areas (halved on the node
+/// box's boundary) into node-major order.
 void normalise(const std::vector<double>& total, const GridSpec& g, std::vector<float>& out) {
     out.resize(total.size());
     const int dims[3] = {g.nx, g.ny, g.nz};
+    const SumLayout layout(g);
     tbb::parallel_for(0, g.nz, [&](int k) {
         for (int j = 0; j < g.ny; ++j)
             for (int i = 0; i < g.nx; ++i) {
@@ -148,7 +199,8 @@ void normalise(const std::vector<double>& total, const GridSpec& g, std::vector<
                     double area = g.spacing * g.spacing;
                     for (int b = 0; b < 3; ++b)
                         if (b != a && (idx[b] == 0 || idx[b] == dims[b] - 1)) area *= 0.5;
-                    for (int f = 0; f < 9; ++f) out[base + 9 * d + f] = float(total[base + 9 * d + f] / area);
+                    const double* src = total.data() + layout.offset(d, i, j, k);
+                    for (int f = 0; f < 9; ++f) out[base + 9 * d + f] = float(src[f] / area);
                 }
             }
     });
@@ -183,7 +235,11 @@ Volume bakePhotons(const Scene& scene, const Tracer& tracer, const GridSpec& gri
     const uint64_t batches = (options.photons + batchSize - 1) / batchSize;
 
     const int threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
-    const uint64_t slots = std::min<uint64_t>(uint64_t(threads), batches);
+    // Several batches per thread and round (memory permitting), so that a thread held up
+    // by the machine's load does not leave the others waiting at every round's reduction.
+    const uint64_t bufferBytes = uint64_t(floats) * sizeof(float);
+    const uint64_t affordable = std::max<uint64_t>(1, (uint64_t(256) << 20) / bufferBytes);
+    const uint64_t slots = std::min<uint64_t>(batches, std::max<uint64_t>(threads, std::min<uint64_t>(4 * threads, affordable)));
     std::vector<std::vector<float>> buffers(slots, std::vector<float>(floats));
     std::vector<double> total(floats, 0.0);
     std::vector<Counters> batchCounts(batches);

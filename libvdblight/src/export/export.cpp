@@ -10,6 +10,7 @@
 
 #include "export_internal.h"
 #include "vdblight/errors.h"
+#include "vdblight/irradiance_vectors_compact.h"
 
 namespace vdblight {
 
@@ -132,6 +133,11 @@ private:
 
 ExportSummary exportTextures(const Volume& volume, const std::string& outDir, const ExportOptions& o) {
     if (outDir.empty()) throw IoError("no output directory given");
+    // A compact volume interpolates colour and direction separately between nodes; full
+    // vectors interpolated trilinearly would not reproduce its query, so only `compact` fits.
+    if (o.layout == ExportLayout::Vectors && volume.basis.kind == iv::compactBasis().kind)
+        throw FormatError("layout 'vectors' does not fit a compact irradiance-vector volume (its colour and direction "
+                          "are interpolated separately); use --layout compact");
     const IrradianceQuery query(volume);
     double finest = 0;
     for (const VolumeLevel& level : volume.levels)

@@ -24,6 +24,12 @@ std::vector<TextureDesc> layoutTextures(ExportLayout layout);
 /// texture, textures in layoutTextures order.
 void packTexel(ExportLayout layout, const Rgb coeffs[9], float* out);
 
+/// True for the layouts read from SH order-2 coefficients, false for irradiance-vector ones.
+bool layoutIsSh(ExportLayout layout);
+/// Converts the 54 floats of the 18 irradiance vectors (irradiance_vectors.h order) into the
+/// texels of the `vectors` or `compact` layout.
+void packVectorTexel(ExportLayout layout, const float v[54], float* out);
+
 /// Samples the query at every lattice point: one RGBA float array per texture, x fastest.
 /// Throws FormatError if the layout does not fit the volume kind.
 std::vector<std::vector<float>> sampleLayout(const IrradianceQuery& query, const TextureLattice& lattice,

@@ -49,13 +49,17 @@ std::vector<std::vector<float>> sampleLayout(const IrradianceQuery& query, const
                                              ExportLayout layout) {
     const VolumeLookup& lookup = query.lookup();
     const std::size_t textures = layoutTextures(layout).size();
+    const bool isSh = layoutIsSh(layout);
     // Probe once so that a layout that does not fit fails before any allocation.
-    Rgb probe[9];
     try {
-        lookup.shRadiance(lattice.point(0, 0, 0), probe);
+        Rgb probe[9];
+        float vectors[54];
+        if (isSh) lookup.shRadiance(lattice.point(0, 0, 0), probe);
+        else lookup.irradianceVectors(lattice.point(0, 0, 0), vectors);
     } catch (const FormatError&) {
-        throw FormatError(std::string("layout '") + layoutName(layout) + "' does not fit volume kind '" +
-                          query.kind() + "' (it stores no SH order-2 coefficients)");
+        throw FormatError(std::string("layout '") + layoutName(layout) + "' does not fit volume kind '" + query.kind() +
+                          (isSh ? "' (it stores no SH order-2 coefficients; try --layout vectors or compact)"
+                                : "' (it stores no irradiance vectors; try --layout sh2, sh2-packed or sh1)"));
     }
     const std::size_t count = lattice.texelCount();
     std::vector<std::vector<float>> out(textures, std::vector<float>(count * 4));
@@ -63,11 +67,17 @@ std::vector<std::vector<float>> sampleLayout(const IrradianceQuery& query, const
     tbb::parallel_for(tbb::blocked_range<int>(0, lattice.dims[2]), [&](const tbb::blocked_range<int>& r) {
         std::vector<float> texel(textures * 4);
         Rgb L[9];
+        float v[54];
         for (int k = r.begin(); k < r.end(); ++k)
             for (int j = 0; j < ny; ++j)
                 for (int i = 0; i < nx; ++i) {
-                    lookup.shRadiance(lattice.point(i, j, k), L);
-                    packTexel(layout, L, texel.data());
+                    if (isSh) {
+                        lookup.shRadiance(lattice.point(i, j, k), L);
+                        packTexel(layout, L, texel.data());
+                    } else {
+                        lookup.irradianceVectors(lattice.point(i, j, k), v);
+                        packVectorTexel(layout, v, texel.data());
+                    }
                     const std::size_t t = (std::size_t(k) * ny + j) * nx + i;
                     for (std::size_t tex = 0; tex < textures; ++tex)
                         std::copy_n(texel.data() + 4 * tex, 4, out[tex].data() + 4 * t);

@@ -4,6 +4,7 @@
 
 #include "export_internal.h"
 #include "vdblight/errors.h"
+#include "vdblight/irradiance_vectors.h"
 #include "vdblight/sh.h"
 
 namespace vdblight {
@@ -13,14 +14,16 @@ TextureFormat parseTextureFormat(const std::string& name) {
     if (name == "dds") return TextureFormat::Dds;
     if (name == "exr-atlas") return TextureFormat::ExrAtlas;
     if (name == "raw") return TextureFormat::Raw;
-    throw ValueError("unknown export format '" + name + "' (choose ktx2, dds, exr-atlas or raw)");
+    throw ValueError("unknown export format '" + name + "' (choose ktx2, dds, exr-atlas, raw or vdb-preview)");
 }
 
 ExportLayout parseExportLayout(const std::string& name) {
     if (name == "sh2") return ExportLayout::Sh2;
     if (name == "sh2-packed") return ExportLayout::Sh2Packed;
     if (name == "sh1") return ExportLayout::Sh1;
-    throw ValueError("unknown export layout '" + name + "' (choose sh2, sh2-packed or sh1)");
+    if (name == "vectors") return ExportLayout::Vectors;
+    if (name == "compact") return ExportLayout::Compact;
+    throw ValueError("unknown export layout '" + name + "' (choose sh2, sh2-packed, sh1, vectors or compact)");
 }
 
 const char* formatName(TextureFormat format) {
@@ -38,6 +41,8 @@ const char* layoutName(ExportLayout layout) {
         case ExportLayout::Sh2: return "sh2";
         case ExportLayout::Sh2Packed: return "sh2-packed";
         case ExportLayout::Sh1: return "sh1";
+        case ExportLayout::Vectors: return "vectors";
+        case ExportLayout::Compact: return "compact";
     }
     return "?";
 }
@@ -54,6 +59,8 @@ const double kC4 = std::sqrt(15.0 / (16.0 * kPi));   // Y_8 / (x^2 - y^2)
 const double kA0 = sh::kCosineLobe[0], kA1 = sh::kCosineLobe[1], kA2 = sh::kCosineLobe[2];
 
 const char* const kRgb[3] = {"red", "green", "blue"};
+// Direction names in irradiance_vectors.h order (as in the .vdb grid names).
+const char* const kDirName[6] = {"xpos", "xneg", "ypos", "yneg", "zpos", "zneg"};
 
 std::vector<TextureDesc> packedA(bool order2) {
     std::vector<TextureDesc> t;
@@ -94,6 +101,24 @@ std::vector<TextureDesc> layoutTextures(ExportLayout layout) {
                          {"red: A2*c4*L8 (coefficient of n.x^2 - n.y^2)", "green: A2*c4*L8", "blue: A2*c4*L8",
                           "unused (0)"}});
             break;
+        case ExportLayout::Vectors:
+            for (int d = 0; d < iv::kDirections; ++d)
+                for (int c = 0; c < 3; ++c) {
+                    const std::string what = std::string(kRgb[c]) + " irradiance vector I_" + kDirName[d];
+                    t.push_back({std::string("iv_") + kDirName[d] + "_" + "rgb"[c],
+                                 {what + " .x", what + " .y", what + " .z", "unused (0)"}});
+                }
+            break;
+        case ExportLayout::Compact:
+            for (int d = 0; d < iv::kDirections; ++d) {
+                const std::string dir = kDirName[d];
+                t.push_back({"ivc_" + dir + "_colour",
+                             {"|I_" + dir + " red|", "|I_" + dir + " green|", "|I_" + dir + " blue|", "unused (0)"}});
+                t.push_back({"ivc_" + dir + "_dir",
+                             {"d.x", "d.y", "d.z: d = normalize(I_" + dir + " red + green + blue), 0 if that sum is 0",
+                              "unused (0)"}});
+            }
+            break;
     }
     return t;
 }
@@ -124,6 +149,34 @@ void packTexel(ExportLayout layout, const Rgb L[9], float* out) {
         out[24 + c] = float(kA2 * kC4 * channel(L[8], c));
     }
     if (order2) out[27] = 0.0f;
+}
+
+bool layoutIsSh(ExportLayout layout) { return layout != ExportLayout::Vectors && layout != ExportLayout::Compact; }
+
+void packVectorTexel(ExportLayout layout, const float v[54], float* out) {
+    for (int d = 0; d < iv::kDirections; ++d) {
+        const float* vec[3] = {v + 3 * iv::channel(d, 0), v + 3 * iv::channel(d, 1), v + 3 * iv::channel(d, 2)};
+        if (layout == ExportLayout::Vectors) {
+            for (int c = 0; c < 3; ++c) {
+                float* t = out + 4 * (3 * d + c);
+                t[0] = vec[c][0], t[1] = vec[c][1], t[2] = vec[c][2], t[3] = 0.0f;
+            }
+            continue;
+        }
+        // Section 4.2: colour = the three vectors' lengths, direction = their normalised sum.
+        float* colour = out + 8 * d;
+        float* dir = colour + 4;
+        double sum[3] = {0, 0, 0};
+        for (int c = 0; c < 3; ++c) {
+            const double x = vec[c][0], y = vec[c][1], z = vec[c][2];
+            colour[c] = float(std::sqrt(x * x + y * y + z * z));
+            sum[0] += x, sum[1] += y, sum[2] += z;
+        }
+        const double len = std::sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
+        for (int a = 0; a < 3; ++a) dir[a] = len > 0 ? float(sum[a] / len) : 0.0f;
+        colour[3] = 0.0f;
+        dir[3] = 0.0f;
+    }
 }
 
 }  // namespace exporter

@@ -42,6 +42,13 @@ const char* irradianceFormula(ExportLayout layout) {
         case ExportLayout::Sh1:
             return "E_c = dot(shAc, (n, 1)) for c in r, g, b and a unit normal n "
                    "(order-1 SH: the band-2 part of the volume's irradiance is left out)";
+        case ExportLayout::Vectors:
+            return "E_c = sum over axes a of n_a^2 * dot(I_(a, sign n_a) c, n), I_(a, s) c = texture "
+                   "iv_<a><pos|neg>_<c>.rgb (Pacanowski et al. section 4.1), for c in r, g, b and a unit normal n";
+        case ExportLayout::Compact:
+            return "E_c = sum over axes a of n_a^2 * ivc_<a><pos|neg>_colour.c * dot(ivc_<a><pos|neg>_dir.rgb, n), "
+                   "sign by n_a (Pacanowski et al. section 4.2: each vector I_c ~ |I_c| * d, lossy where the "
+                   "three colours' vectors differ in direction), for c in r, g, b and a unit normal n";
     }
     return "";
 }

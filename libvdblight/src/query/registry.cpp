@@ -3,6 +3,7 @@
 #include "vdblight/query.h"
 #include "vdblight/vector_grid_lookup.h"
 #include "vdblight/query_levels.h"
+#include "vdblight/bins_lookup.h"
 
 namespace vdblight {
 
@@ -18,6 +19,7 @@ const std::vector<LookupKind>& lookupKinds() {
         {"sh2-uniform", &ShUniformLookup::accepts, &make<ShUniformLookup>},
         {"irradiance-vectors-uniform", &VectorGridLookup::accepts, &make<VectorGridLookup>},
         {"sh2-levels", &ShLevelsLookup::accepts, &make<ShLevelsLookup>},
+        {"bins", &BinsLookup::accepts, &make<BinsLookup>},
     };
     return kinds;
 }

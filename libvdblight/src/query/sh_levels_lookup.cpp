@@ -153,6 +153,56 @@ Rgb ShLevelsLookup::irradiance(const Vec3f& x, const Vec3f& n) const {
     return e;
 }
 
+void ShLevelsLookup::shRadiance(const Vec3d& x, Rgb out[9]) const {
+    // The same descent as descend(), in double, with coordinates within 1e-9 of a node
+    // snapped onto it at every level, so that a lattice point on a node reads that node.
+    const auto snap = [](double g) { return std::fabs(g - std::round(g)) < 1e-9 ? std::round(g) : g; };
+    const int dims[3] = {grid_.nx, grid_.ny, grid_.nz};
+    int cell[3];
+    double frac[3];
+    for (int a = 0; a < 3; ++a) {
+        double g = snap((x[a] - grid_.origin[a]) / grid_.spacing);
+        if (outside_ == OutsidePolicy::Throw && !(g >= -1e-4 && g <= dims[a] - 1 + 1e-4)) {
+            std::ostringstream s;
+            s << "point (" << x.x << ", " << x.y << ", " << x.z << ") is outside the volume";
+            throw ValueError(s.str());
+        }
+        if (!(g >= 0.0)) g = 0.0;  // also NaN
+        g = std::min(g, double(dims[a] - 1));
+        cell[a] = std::min(int(g), dims[a] - 2);
+        frac[a] = g - cell[a];
+    }
+    const float* base = levels_[0].nodes.data() + grid_.index(cell[0], cell[1], cell[2]) * kFloats;
+    std::size_t sx = kFloats, sy = std::size_t(grid_.nx) * kFloats, sz = std::size_t(grid_.ny) * sy;
+    int32_t brick = levels_[0].child[cell[0] + std::size_t(grid_.nx - 1) * (cell[1] + std::size_t(grid_.ny - 1) * cell[2])];
+    const int K = K_, side = K + 1;
+    for (std::size_t l = 1; brick >= 0; ++l) {
+        for (int a = 0; a < 3; ++a) {
+            const double g = snap(frac[a] * K);
+            cell[a] = std::min(int(g), K - 1);
+            frac[a] = g - cell[a];
+        }
+        const Level& level = levels_[l];
+        base = level.nodes.data() +
+               (std::size_t(brick) * side * side * side + cell[0] + side * (cell[1] + std::size_t(side) * cell[2])) * kFloats;
+        sx = kFloats, sy = std::size_t(side) * kFloats, sz = std::size_t(side) * sy;
+        brick = level.child.empty() ? -1 : level.child[std::size_t(brick) * K * K * K + cell[0] + K * (cell[1] + K * cell[2])];
+    }
+    double sum[kFloats] = {};
+    for (int corner = 0; corner < 8; ++corner) {
+        const int d[3] = {corner & 1, (corner >> 1) & 1, corner >> 2};
+        double w = 1.0;
+        for (int a = 0; a < 3; ++a) w *= d[a] ? frac[a] : 1.0 - frac[a];
+        if (w == 0.0) continue;
+        const float* p = base + d[0] * sx + d[1] * sy + d[2] * sz;
+        for (int f = 0; f < kFloats; ++f) sum[f] += w * p[f];
+    }
+    for (int c = 0; c < sh::kCoeffs; ++c) {
+        const double a = sh::kCosineLobe[sh::bandOf(c)];  // unfold the constants copyFolded applied
+        out[c] = Rgb(float(sum[3 * c] / a), float(sum[3 * c + 1] / a), float(sum[3 * c + 2] / a));
+    }
+}
+
 int ShLevelsLookup::levelAt(const Vec3f& x) const {
     int level = 0;
     descend(x, [&](int l, const float*, std::size_t, std::size_t, std::size_t, float, float, float) { level = l; });

@@ -1,21 +1,27 @@
 #include "vdblight/vector_grid_lookup.h"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include "vdblight/errors.h"
 #include "vdblight/irradiance_vectors.h"
+#include "vdblight/irradiance_vectors_compact.h"
 
 namespace vdblight {
 
 bool VectorGridLookup::accepts(const Volume& volume) {
-    return volume.basis.kind == iv::basis().kind && volume.levels.size() == 1 &&
-           volume.basis.channelCount() == iv::kChannels;
+    if (volume.levels.size() != 1) return false;
+    return (volume.basis.kind == iv::basis().kind && volume.basis.channelCount() == iv::kChannels) ||
+           (volume.basis.kind == iv::compactBasis().kind && volume.basis.channelCount() == iv::kCompactChannels);
 }
 
 VectorGridLookup::VectorGridLookup(const Volume& volume, OutsidePolicy outside, Interpolation interp)
     : outside_(outside), interp_(interp) {
     if (!accepts(volume)) throw FormatError("not a single-level irradiance-vector volume");
+    compact_ = volume.basis.kind == iv::compactBasis().kind;
+    stride_ = compact_ ? iv::kCompactFloatsPerNode : iv::kFloatsPerNode;
+    perDirection_ = stride_ / iv::kDirections;
     grid_ = volume.levels[0].grid;
     origin_ = Vec3f(grid_.origin);
     invSpacing_ = float(1.0 / grid_.spacing);
@@ -79,7 +85,7 @@ Rgb VectorGridLookup::irradiance(const Vec3f& x, const Vec3f& n) const {
     for (int a = 0; a < 3; ++a) taps = weightsAndNodes(a, idx[a], frac[a], nodes[a], w[a]);
     // The three directions this normal reads, by the signs of its components.
     int offset[3];
-    for (int a = 0; a < 3; ++a) offset[a] = 9 * iv::direction(a, n[a] < 0.0f);
+    for (int a = 0; a < 3; ++a) offset[a] = perDirection_ * iv::direction(a, n[a] < 0.0f);
 
     float interp[iv::kFloatsPerNode] = {};
     for (int c = 0; c < taps; ++c)
@@ -89,12 +95,12 @@ Rgb VectorGridLookup::irradiance(const Vec3f& x, const Vec3f& n) const {
             for (int a = 0; a < taps; ++a) {
                 const float wt = w[0][a] * wbc;
                 if (wt == 0.0f) continue;
-                const float* p = data_.data() + grid_.index(nodes[0][a], nodes[1][b], nodes[2][c]) * iv::kFloatsPerNode;
+                const float* p = data_.data() + grid_.index(nodes[0][a], nodes[1][b], nodes[2][c]) * stride_;
                 for (int d = 0; d < 3; ++d)
-                    for (int f = 0; f < 9; ++f) interp[offset[d] + f] += wt * p[offset[d] + f];
+                    for (int f = 0; f < perDirection_; ++f) interp[offset[d] + f] += wt * p[offset[d] + f];
             }
         }
-    return iv::irradiance(interp, n);
+    return compact_ ? iv::compactIrradiance(interp, n) : iv::irradiance(interp, n);
 }
 
 Rgbd referenceVectorLookup(const Volume& volume, const Vec3d& x, const Vec3d& nIn) {
@@ -132,6 +138,49 @@ Rgbd referenceVectorLookup(const Volume& volume, const Vec3d& x, const Vec3d& nI
         }
     }
     return e;
+}
+
+}  // namespace vdblight
+
+namespace vdblight {
+
+void VectorGridLookup::irradianceVectors(const Vec3d& x, float out[54]) const {
+    static_assert(iv::kFloatsPerNode == 54, "54 floats per node");
+    const int dims[3] = {grid_.nx, grid_.ny, grid_.nz};
+    int lo[3];
+    double frac[3];
+    for (int a = 0; a < 3; ++a) {
+        double g = (x[a] - grid_.origin[a]) / grid_.spacing;
+        if (std::fabs(g - std::round(g)) < 1e-9) g = std::round(g);
+        if (outside_ == OutsidePolicy::Throw && !(g >= -1e-4 && g <= dims[a] - 1 + 1e-4)) {
+            std::ostringstream s;
+            s << "point (" << x.x << ", " << x.y << ", " << x.z << ") is outside the volume";
+            throw ValueError(s.str());
+        }
+        if (!(g >= 0.0)) g = 0.0;  // also NaN
+        g = std::min(g, double(dims[a] - 1));
+        lo[a] = std::min(int(g), std::max(dims[a] - 2, 0));
+        frac[a] = g - lo[a];
+    }
+    double sum[iv::kFloatsPerNode] = {};
+    for (int corner = 0; corner < 8; ++corner) {
+        double w = 1.0;
+        int idx[3];
+        for (int a = 0; a < 3; ++a) {
+            const int bit = (corner >> a) & 1;
+            idx[a] = std::min(lo[a] + bit, dims[a] - 1);
+            w *= bit ? frac[a] : 1.0 - frac[a];
+        }
+        if (w == 0.0) continue;
+        const float* p = data_.data() + grid_.index(idx[0], idx[1], idx[2]) * stride_;
+        float expanded[iv::kFloatsPerNode];
+        if (compact_) {  // vectors of a compact volume: decompress each node, then interpolate
+            iv::expandNode(p, expanded);
+            p = expanded;
+        }
+        for (int f = 0; f < iv::kFloatsPerNode; ++f) sum[f] += w * p[f];
+    }
+    for (int f = 0; f < iv::kFloatsPerNode; ++f) out[f] = float(sum[f]);
 }
 
 }  // namespace vdblight

@@ -1,0 +1,265 @@
+// vdblight prt bake|relight|info: precomputed radiance transfer for moving point lights
+// (Leonhardt & Bohn). Options are parsed into structs; the work is in vdblight/prt.h.
+#include <chrono>
+#include <iostream>
+#include <sstream>
+
+#include "app_common.h"
+#include "commands.h"
+#include "vdblight/errors.h"
+#include "vdblight/prt.h"
+#include "vdblight/prt_io.h"
+#include "vdblight/scene.h"
+#include "vdblight/trace.h"
+#include "vdblight/vdb_io.h"
+
+namespace vdblight::app {
+
+namespace {
+
+struct PrtBakeCommand {
+    std::string scene;
+    std::string output;
+    PrtOptions options;
+    PrtWriteOptions write;
+    bool noQuantize = false;
+    bool quiet = false;
+};
+
+struct PrtRelightCommand {
+    std::string input;
+    std::vector<std::string> lights;
+    float areaSize = 0;
+    int areaSamples = 5;
+    std::string output;
+    std::string format;  ///< csv | ply (default from the extension)
+    std::string referenceScene;
+    std::string volumeOutput;
+    int threads = 0;
+    bool quiet = false;
+};
+
+double seconds() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+void runBake(PrtBakeCommand& c) {
+    checkOutputWritable(c.output);
+    const Scene scene = loadScene(c.scene.empty() ? defaultScenePath() : c.scene);
+    const Tracer tracer(scene);
+    c.write.quantize = !c.noQuantize;
+    ProgressBar progress(c.quiet);
+    const PrtData prt = bakePrt(scene, tracer, c.options, &progress);
+    writePrt(prt, c.output, c.write);
+    if (c.quiet) return;
+    const PrtFileInfo info = inspectPrt(c.output);
+    std::cout << "prt bake: " << prt.samples.size() << " samples (radius " << prt.samples.radius << "), "
+              << prt.samples.clusters() << " clusters, " << prt.visGrid * prt.visGrid << " visibility directions -> "
+              << prt.visCoeffStride << " coefficients, " << prt.trainLights << " training lights -> "
+              << prt.transferStride - 1 << " basis vectors\n"
+              << "time: samples " << formatSeconds(prt.secondsSamples) << ", visibility "
+              << formatSeconds(prt.secondsVisibility) << ", basis " << formatSeconds(prt.secondsBasis)
+              << ", transfer " << formatSeconds(prt.secondsTransfer) << "\n"
+              << "storage: " << formatBytes(double(info.bytesFloat32)) << " as dense 32-bit floats, "
+              << formatBytes(double(info.bytesStored)) << " stored, file " << formatBytes(double(info.fileBytes))
+              << " (" << c.output << ")\n";
+}
+
+PrtLight parseLight(const std::string& text, float size, int samples) {
+    std::vector<double> v;
+    std::stringstream ss(text);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+        try {
+            std::size_t used = 0;
+            v.push_back(std::stod(item, &used));
+            if (used != item.size()) throw std::invalid_argument(item);
+        } catch (const std::exception&) {
+            throw ValueError("--light '" + text + "': expected x,y,z or x,y,z,r,g,b numbers");
+        }
+    }
+    if (v.size() != 3 && v.size() != 6) throw ValueError("--light '" + text + "': expected x,y,z or x,y,z,r,g,b");
+    for (double x : v)
+        if (!std::isfinite(x)) throw ValueError("--light '" + text + "': numbers must be finite");
+    PrtLight l;
+    l.position = Vec3f(Vec3d{v[0], v[1], v[2]});
+    if (v.size() == 6) {
+        if (v[3] < 0 || v[4] < 0 || v[5] < 0) throw ValueError("--light '" + text + "': intensity must not be negative");
+        l.intensity = Rgb(Vec3d{v[3], v[4], v[5]});
+    }
+    l.size = size;
+    l.areaSamples = samples;
+    return l;
+}
+
+std::string formatLighting(const PrtData& prt, const PrtLighting& lit, bool ply) {
+    const SurfaceSamples& s = prt.samples;
+    std::ostringstream out;
+    out.precision(7);
+    if (ply) {
+        out << "ply\nformat ascii 1.0\ncomment vdblight prt relight: irradiance W/m^2, radiance W/(m^2 sr)\n"
+            << "element vertex " << s.size() << "\n";
+        for (const char* p : {"x", "y", "z", "nx", "ny", "nz"}) out << "property float " << p << "\n";
+        out << "property int cluster\n";
+        for (const char* p : {"direct", "indirect", "radiance"})
+            for (const char* ch : {"_r", "_g", "_b"}) out << "property float " << p << ch << "\n";
+        out << "end_header\n";
+    } else {
+        out << "x,y,z,nx,ny,nz,cluster,direct_r,direct_g,direct_b,indirect_r,indirect_g,indirect_b,radiance_r,"
+               "radiance_g,radiance_b\n";
+    }
+    const char sep = ply ? ' ' : ',';
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        const Vec3f& p = s.position[i];
+        const Vec3f& n = s.normal[i];
+        const Rgb& d = lit.direct[i];
+        const Rgb& e = lit.indirect[i];
+        const Rgb l = s.albedo[i] * (d + e) * float(kInvPi);
+        out << p.x << sep << p.y << sep << p.z << sep << n.x << sep << n.y << sep << n.z << sep << s.cluster[i];
+        for (const Rgb& v : {d, e, l}) out << sep << v.x << sep << v.y << sep << v.z;
+        out << '\n';
+    }
+    return out.str();
+}
+
+void runRelight(const PrtRelightCommand& c) {
+    if (c.lights.empty()) throw ValueError("give at least one --light x,y,z[,r,g,b]");
+    std::vector<PrtLight> lights;
+    for (const std::string& t : c.lights) lights.push_back(parseLight(t, c.areaSize, c.areaSamples));
+    bool ply = c.format == "ply";
+    if (c.format.empty()) ply = c.output.size() > 4 && c.output.substr(c.output.size() - 4) == ".ply";
+    else if (c.format != "csv" && c.format != "ply") throw ValueError("--format must be csv or ply");
+    if (!c.output.empty()) checkOutputWritable(c.output);
+    if (!c.volumeOutput.empty()) checkOutputWritable(c.volumeOutput);
+    const PrtData prt = readPrt(c.input);
+    if (!c.volumeOutput.empty() && !prt.hasVolume()) {
+        throw ValueError("'" + c.input + "' has no volume: bake it with --volume-resolution to use --volume-out");
+    }
+    for (const PrtLight& l : lights) {
+        if (!prt.bounds.contains(Vec3d(l.position))) {
+            std::cerr << "vdblight: warning: light at " << l.position.x << "," << l.position.y << "," << l.position.z
+                      << " is outside the scene bounds (lit as given; the basis was trained inside)\n";
+        }
+    }
+    const double t0 = seconds();
+    const PrtLighting lit = relightPrt(prt, lights);
+    const double t1 = seconds();
+    if (!c.quiet) {
+        std::cerr << "prt relight: " << prt.samples.size() << " samples, " << lights.size() << " light(s) in "
+                  << formatSeconds(t1 - t0) << "\n";
+    }
+    if (!c.referenceScene.empty()) {
+        // Ground truth: exact direct light by shadow rays, uncompressed one-bounce transfer.
+        const Scene scene = loadScene(c.referenceScene);
+        if (scene.contentHash() != prt.sceneHash) {
+            std::cerr << "vdblight: warning: --reference scene differs from the baked one\n";
+        }
+        const Tracer tracer(scene);
+        std::vector<Rgb> direct(prt.samples.size(), Rgb{0, 0, 0}), indirect = direct;
+        for (const PrtLight& l : lights) {
+            if (insideSolid(tracer, l.position)) {
+                std::cerr << "vdblight: warning: light at " << l.position.x << "," << l.position.y << ","
+                          << l.position.z << " is inside a solid\n";
+            }
+            if (l.size > 0) throw ValueError("--reference supports point lights only");
+            const std::vector<float> d = exactDirectUnit(prt.samples, tracer, l.position, c.threads);
+            const std::vector<Rgb> e = referenceIndirect(prt.samples, tracer, d, c.threads);
+            for (std::size_t i = 0; i < d.size(); ++i) {
+                direct[i] += l.intensity * d[i];
+                indirect[i] += l.intensity * e[i];
+            }
+        }
+        std::cerr << "reference: RMS relative error direct " << rmsRelativeError(lit.direct, direct) << ", indirect "
+                  << rmsRelativeError(lit.indirect, indirect) << "\n";
+    }
+    if (!c.volumeOutput.empty()) {
+        const double v0 = seconds();
+        const Volume volume = relightVolume(prt, lights);
+        const double v1 = seconds();
+        writeVolume(volume, c.volumeOutput);
+        if (!c.quiet) {
+            std::cerr << "prt relight: volume of " << prt.volumeGrid.nodeCount() << " nodes in "
+                      << formatSeconds(v1 - v0) << " -> " << c.volumeOutput << "\n";
+        }
+    }
+    emitText(c.output, formatLighting(prt, lit, ply));
+}
+
+}  // namespace
+
+void printPrtInfo(const std::string& path) {
+    const PrtData prt = readPrt(path);
+    const PrtFileInfo info = inspectPrt(path);
+    std::cout << path << ": PRT file, " << formatBytes(double(info.fileBytes)) << " on disk\n"
+              << "  scene " << prt.sceneName << " (" << prt.sceneHash << ")\n"
+              << "  " << info.samples << " samples in " << info.clusters << " clusters (radius "
+              << prt.samples.radius << ")\n"
+              << "  visibility: " << prt.visGrid * prt.visGrid << " directions -> " << prt.visCoeffStride
+              << " coefficients\n"
+              << "  direct-light basis: " << prt.trainLights << " training lights -> " << prt.transferStride - 1
+              << " vectors per cluster\n"
+              << "  relightable volume: "
+              << (prt.hasVolume() ? std::to_string(prt.volumeGrid.nx) + " x " + std::to_string(prt.volumeGrid.ny) + " x " +
+                                        std::to_string(prt.volumeGrid.nz) + " nodes"
+                                  : std::string("none"))
+              << "\n"
+              << "  values: " << info.values << " (" << info.droppedValues << " dropped as near zero)\n"
+              << "  bytes: " << info.bytesFloat32 << " as dense 32-bit floats, " << info.bytesStored
+              << " stored (sparse" << (info.bytesStored * 2 <= info.bytesFloat32 + 8 ? ", 16-bit" : "") << ")\n"
+              << "  bake time: samples " << formatSeconds(prt.secondsSamples) << ", visibility "
+              << formatSeconds(prt.secondsVisibility) << ", basis " << formatSeconds(prt.secondsBasis)
+              << ", transfer " << formatSeconds(prt.secondsTransfer) << "\n";
+}
+
+void addPrtCommand(CLI::App& app) {
+    CLI::App* prt = app.add_subcommand("prt", "Precomputed radiance transfer for moving point lights (Leonhardt & Bohn)");
+    prt->require_subcommand(1);
+
+    auto b = std::make_shared<PrtBakeCommand>();
+    CLI::App* bake = prt->add_subcommand("bake", "Samples, compressed visibility, direct-light basis and transfer");
+    bake->add_option("scene", b->scene, "Scene file; default: the bundled Cornell box");
+    bake->add_option("-o,--output", b->output, "PRT file to write (.vdb)")->required();
+    bake->add_option("--samples", b->options.samples, "Target number of surface samples")->capture_default_str();
+    bake->add_option("--sample-radius", b->options.sampleRadius, "Poisson-disk radius (overrides --samples)");
+    bake->add_option("--cluster-size", b->options.clusterSize, "Samples per cluster (about)")->capture_default_str();
+    bake->add_option("--vis-dirs", b->options.visDirs, "Hemisphere directions per depth buffer")->capture_default_str();
+    bake->add_option("--vis-coeffs", b->options.visCoeffs, "PCA coefficients kept per depth buffer")->capture_default_str();
+    bake->add_option("--train-lights", b->options.trainLights, "Example point lights for the basis")->capture_default_str();
+    bake->add_option("--transfer-coeffs", b->options.transferCoeffs, "Direct-light basis vectors per cluster")
+        ->capture_default_str();
+    bake->add_option("--sparse-threshold", b->write.sparseThreshold,
+                     "Drop matrix entries below this fraction of their row's largest")->capture_default_str();
+    bake->add_option("--volume-resolution", b->options.volumeResolution,
+                     "Also make an SH volume with this many nodes along the longest axis relightable");
+    bake->add_flag("--paper-basis", b->options.paperBasis,
+                   "Direct-light basis exactly as the paper's eq. 7 (centred, unnormalised examples)");
+    bake->add_flag("--no-quantize", b->noQuantize, "Store 32-bit floats instead of 16-bit");
+    bake->add_option("--seed", b->options.seed, "Random seed")->capture_default_str();
+    bake->add_option("--threads", b->options.threads, "Worker threads (0 = all cores)")->capture_default_str();
+    bake->add_flag("-q,--quiet", b->quiet, "No progress or summary");
+    bake->callback([b] { runBake(*b); });
+
+    auto r = std::make_shared<PrtRelightCommand>();
+    CLI::App* relight = prt->add_subcommand("relight", "Per-sample direct and indirect light for new light positions");
+    relight->add_option("file", r->input, "PRT file from 'prt bake'")->required();
+    relight->add_option("--light", r->lights, "Point light x,y,z[,r,g,b] (intensity W/sr; repeatable)")->required();
+    relight->add_option("--area-size", r->areaSize, "Make every light a square of this side (XZ plane)");
+    relight->add_option("--area-samples", r->areaSamples, "Points per side of an area light")
+        ->check(CLI::Range(1, 64))->capture_default_str();
+    relight->add_option("-o,--output", r->output, "Write CSV or PLY here instead of stdout");
+    relight->add_option("--format", r->format, "csv or ply (default: from the extension, else csv)");
+    relight->add_option("--reference", r->referenceScene,
+                        "Scene to compute the exact direct and uncompressed one-bounce light from; prints the errors");
+    relight->add_option("--volume-out", r->volumeOutput,
+                        "Write the relit SH volume (.vdb, one-bounce radiance; needs a bake with --volume-resolution)");
+    relight->add_option("--threads", r->threads, "Worker threads for --reference (0 = all cores)");
+    relight->add_flag("-q,--quiet", r->quiet, "No timing line");
+    relight->callback([r] { runRelight(*r); });
+
+    auto path = std::make_shared<std::string>();
+    CLI::App* info = prt->add_subcommand("info", "Describe a PRT file: sizes before and after compression");
+    info->add_option("file", *path, "PRT file")->required();
+    info->callback([path] { printPrtInfo(*path); });
+}
+
+}  // namespace vdblight::app

@@ -1,0 +1,207 @@
+// Precomputed radiance transfer for moving local lights (Leonhardt & Bohn, "Precomputed
+// Illumination for Virtual Reality Scenarios"); see docs/methods.md.
+//
+// Bake: surface samples spread uniformly over the scene (section 4.1), clustered; per-sample
+// hemispherical depth buffers compressed by a per-cluster PCA (4.2); a per-cluster PCA basis
+// of example direct lighting from point lights placed through the scene (4.3.1); transfer
+// matrices from every sender cluster's basis vectors to every receiver sample (4.3.2, eq. 10)
+// with one diffuse bounce computed sample to sample with ray-traced visibility.
+// Relight (section 5): visibility -> direct light -> projection -> transfer -> indirect.
+//
+// Quantities: direct and indirect values are irradiance (W/m^2) at a sample on its front
+// side; a sample's outgoing radiance is albedo / pi * (direct + indirect).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "vdblight/layout.h"
+#include "vdblight/math.h"
+#include "vdblight/pca.h"
+#include "vdblight/volume.h"
+
+namespace vdblight {
+
+struct Scene;
+class Tracer;
+class Interrupter;
+
+struct PrtOptions {
+    double sampleRadius = 0;       ///< Poisson-disk radius (scene units); 0: derived from `samples`
+    uint32_t samples = 2000;       ///< target sample count when sampleRadius == 0
+    uint32_t clusterSize = 1000;   ///< about this many samples per cluster
+    uint32_t visDirs = 2048;       ///< hemisphere directions per depth buffer (rounded to g*g)
+    uint32_t visCoeffs = 50;       ///< PCA coefficients kept per depth buffer
+    uint32_t trainLights = 1000;   ///< example point lights for the direct-light basis
+    uint32_t transferCoeffs = 10;  ///< direct-light basis vectors per cluster
+    /// Direct-light basis as the paper's eq. 7 (centred, examples as they are). Default
+    /// (false): every example scaled to unit length and no centring, since lighting vectors
+    /// form a cone (a brighter light scales them); this halves the held-out error here.
+    bool paperBasis = false;
+    /// > 0: the nodes of a uniform SH volume with this many nodes along the longest axis
+    /// (placeUniformGrid over the scene bounds) are receivers too (relightable volume).
+    int volumeResolution = 0;
+    uint64_t seed = 1;
+    int threads = 0;               ///< 0: all cores
+};
+
+/// Surface samples, ordered by cluster (cluster c holds [clusterBegin[c], clusterBegin[c+1])).
+struct SurfaceSamples {
+    std::vector<Vec3f> position;
+    std::vector<Vec3f> normal;   ///< unit front-face normal
+    std::vector<Rgb> albedo;
+    std::vector<uint32_t> cluster;
+    std::vector<float> area;             ///< surface area each sample stands for (Voronoi estimate)
+    std::vector<uint32_t> clusterBegin;  ///< clusters + 1 entries
+    std::vector<Vec3f> clusterRoot;      ///< root point of each cluster
+    double radius = 0;                   ///< Poisson-disk radius used
+    double areaPerSample = 0;            ///< total surface area / sample count
+    std::size_t size() const { return position.size(); }
+    std::size_t clusters() const { return clusterRoot.size(); }
+};
+
+/// Area-weighted random candidates (independent of the tessellation), thinned in candidate
+/// order by Poisson-disk elimination: a candidate is dropped if an accepted sample facing the
+/// same side lies within `radius`. radius == 0 derives it from `targetCount`. Each sample's
+/// area is estimated from 32 uniform points per sample assigned to their nearest sample
+/// (facing the same side): thinning leaves the edges of faces denser than their interiors.
+/// Then farthest-point clustering (see clusterSamples). Throws ValueError on bad counts.
+SurfaceSamples generateSurfaceSamples(const Scene& scene, double radius, uint32_t targetCount,
+                                      uint32_t clusterSize, uint64_t seed);
+
+/// Farthest-point roots (first = sample 0, then the sample farthest from all roots, ties to
+/// the lower index), round(n / clusterSize) of them at least one; every sample joins its
+/// nearest root. Returns the cluster of each point.
+std::vector<uint32_t> clusterSamples(const std::vector<Vec3f>& points, uint32_t clusterSize,
+                                     std::vector<Vec3f>* roots = nullptr);
+
+/// The g x g hemisphere directions: cell centres of the unit square through the
+/// Shirley-Chiu concentric map to the disk, lifted to the hemisphere with equal areas.
+/// Local frame: +Z is the normal.
+Vec3f visibilityDirection(int g, int index);
+
+/// The (up to) four nearest depth-buffer directions of a local direction (z > 0) and their
+/// bilinear weights in the concentric square (paper figure 2). Returns how many (4).
+int visibilityNeighbours(int g, const Vec3f& localDir, int index[4], float weight[4]);
+
+/// One light for relighting: a point light, or a small square area light (`size` > 0): a
+/// square in the XZ plane of `areaSamples` x `areaSamples` isotropic points sharing `intensity`.
+struct PrtLight {
+    Vec3f position;
+    Rgb intensity{1, 1, 1};  ///< W/sr (area light: total intensity along its normal)
+    float size = 0;
+    int areaSamples = 5;
+};
+
+/// The baked data (what a _prt.vdb holds).
+struct PrtData {
+    SurfaceSamples samples;
+    int visGrid = 0;             ///< g: depth buffers have g*g directions
+    float depthCap = 0;          ///< depth stored for rays that leave the scene
+    std::vector<PcaBasis> visBasis;     ///< per cluster, dim = g*g
+    std::vector<float> visCoeffs;       ///< per sample, visCoeffStride values (zero padded)
+    int visCoeffStride = 0;
+    std::vector<PcaBasis> lightBasis;   ///< per cluster, dim = cluster size
+    int transferStride = 0;             ///< transferCoeffs + 1 (row 0 = the mean)
+    /// transfer[s][k * samples + r]: irradiance at receiver r per unit basis coefficient k of
+    /// sender cluster s (k = 0: the mean vector), RGB (sender albedo included).
+    std::vector<std::vector<Rgb>> transfer;
+    /// Relightable volume (empty volumeTransfer if none): volumeTransfer[s][(k * nodes + node)
+    /// * 9 + j] is SH coefficient j of the radiance arriving at the node per unit coefficient k.
+    GridSpec volumeGrid;
+    std::vector<std::vector<Rgb>> volumeTransfer;
+    bool hasVolume() const { return !volumeTransfer.empty(); }
+    Bounds bounds;
+    std::string sceneName, sceneHash;
+    uint64_t seed = 1;
+    uint32_t trainLights = 0;
+    bool paperBasis = false;
+    double secondsSamples = 0, secondsVisibility = 0, secondsBasis = 0, secondsTransfer = 0;
+};
+
+/// The whole bake. Throws ValueError on bad options (with a memory / ray estimate where a
+/// count is absurd), Cancelled through `interrupter`.
+PrtData bakePrt(const Scene& scene, const Tracer& tracer, const PrtOptions& options,
+                Interrupter* interrupter = nullptr);
+
+/// `count` example light positions: Halton points in the scene bounds (inset by 2%),
+/// skipping points that classifyLightPosition calls inside a solid.
+std::vector<Vec3f> trainingLightPositions(const Scene& scene, const Tracer& tracer, uint32_t count);
+
+/// True if `p` looks inside a solid: most of six axis rays first hit a back face.
+bool insideSolid(const Tracer& tracer, const Vec3f& p);
+
+/// Per-sample relit irradiance (RGB, W/m^2).
+struct PrtLighting {
+    std::vector<Rgb> direct;
+    std::vector<Rgb> indirect;
+};
+
+/// Direct irradiance per unit intensity (scalar) from a point at `p` using the compressed
+/// visibility.
+std::vector<float> prtDirectUnit(const PrtData& prt, const Vec3f& p);
+
+/// Section 5: direct from the compressed visibility, then projection onto each cluster's
+/// basis and the transfer matrices. Lights add linearly.
+PrtLighting relightPrt(const PrtData& prt, const std::vector<PrtLight>& lights);
+
+/// Indirect irradiance from a given per-sample direct unit irradiance `direct` (scalar),
+/// through projection and transfer (eq. 10) only.
+std::vector<Rgb> prtTransfer(const PrtData& prt, const std::vector<float>& direct);
+
+/// SH radiance coefficients (9 per node, node-major) of the light reflected once by the
+/// samples into the volume's nodes, for a given per-sample direct unit irradiance.
+std::vector<Rgb> prtVolumeTransfer(const PrtData& prt, const std::vector<float>& direct);
+
+/// Relights the volume: an `sh2` Volume (one dense level) holding the radiance that reaches
+/// each node after one diffuse bounce off the surfaces (the lights' own direct radiance is not
+/// included). `query` and `export` read it like any baked volume. Throws ValueError if the
+/// PRT data has no volume.
+Volume relightVolume(const PrtData& prt, const std::vector<PrtLight>& lights);
+
+// --- References (uncompressed, for tests and error reports) ------------------------------
+
+/// Exact direct irradiance per unit intensity at each sample from a point at `p`: cos / d^2
+/// with visibility by a shadow ray.
+std::vector<float> exactDirectUnit(const SurfaceSamples& s, const Tracer& tracer, const Vec3f& p, int threads = 0);
+
+/// Uncompressed one-bounce indirect irradiance: every sample j reflects albedo_j / pi *
+/// direct_j towards every receiver through the form factor below, visibility by ray.
+std::vector<Rgb> referenceIndirect(const SurfaceSamples& s, const Tracer& tracer, const std::vector<float>& direct,
+                                   int threads = 0);
+
+/// Irradiance at a receiver (p, n) from a sender disk of area `area` at (q, m) with unit
+/// radiance, without visibility: cos_r cos_s area / (d^2 + area / pi) (exact on axis).
+inline float diskTransfer(const Vec3f& p, const Vec3f& n, const Vec3f& q, const Vec3f& m, float area) {
+    const Vec3f w = q - p;
+    const float d2 = dot(w, w);
+    if (d2 <= 0.0f) return 0.0f;
+    const float inv = 1.0f / std::sqrt(d2);
+    const float cr = dot(n, w) * inv;
+    const float cs = -dot(m, w) * inv;
+    if (cr <= 0.0f || cs <= 0.0f) return 0.0f;
+    return cr * cs * area / (d2 + area * float(kInvPi));
+}
+
+/// Uncompressed one-bounce SH radiance at the nodes of `grid` (9 per node) from every
+/// sample, visibility by ray: sender j adds albedo_j / pi * direct_j * Y(w) * solid angle.
+std::vector<Rgb> referenceVolume(const SurfaceSamples& s, const GridSpec& grid, const Tracer& tracer,
+                                 const std::vector<float>& direct, int threads = 0);
+
+/// Solid angle of a sender disk of area `area` at (q, m) seen from p: cos_s * 2 pi (1 -
+/// d / sqrt(d^2 + area / pi)) (exact on axis, area cos / d^2 far away), 0 from behind.
+inline float diskSolidAngle(const Vec3f& p, const Vec3f& q, const Vec3f& m, float area) {
+    const Vec3f w = q - p;
+    const float d2 = dot(w, w);
+    if (d2 <= 0.0f) return 0.0f;
+    const float d = std::sqrt(d2);
+    const float cs = -dot(m, w) / d;
+    if (cs <= 0.0f) return 0.0f;
+    return cs * float(2.0 * kPi) * (1.0f - d / std::sqrt(d2 + area * float(kInvPi)));
+}
+
+/// sqrt(sum |a - b|^2 / sum |b|^2) over RGB components.
+double rmsRelativeError(const std::vector<Rgb>& a, const std::vector<Rgb>& b);
+
+}  // namespace vdblight

@@ -1,0 +1,87 @@
+#include "vdblight/irradiance_vectors_compact.h"
+
+#include <cmath>
+
+#include "vdblight/errors.h"
+
+namespace vdblight {
+namespace iv {
+
+BasisDesc compactBasis() {
+    static const char* kAxis[3] = {"x", "y", "z"};
+    BasisDesc desc;
+    desc.kind = "irradiance_vectors_compact";
+    for (int d = 0; d < kDirections; ++d) {
+        const std::string stem = std::string("ivc_") + kAxis[d / 2] + (d % 2 ? "neg" : "pos");
+        desc.channelNames.push_back(stem + "_rgb");
+        desc.channelNames.push_back(stem + "_dir");
+    }
+    return desc;
+}
+
+void compactNode(const float* full, float* out) {
+    for (int d = 0; d < kDirections; ++d) {
+        const float* v = full + 9 * d;  // colour-major: v[3 c + k]
+        float* colour = out + 6 * d;
+        float* dir = colour + 3;
+        double sum[3] = {0, 0, 0};
+        for (int c = 0; c < 3; ++c) {
+            double n2 = 0;
+            for (int k = 0; k < 3; ++k) {
+                n2 += double(v[3 * c + k]) * v[3 * c + k];
+                sum[k] += v[3 * c + k];
+            }
+            colour[c] = float(std::sqrt(n2));
+        }
+        const double len = std::sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
+        for (int k = 0; k < 3; ++k) dir[k] = len > 0 ? float(sum[k] / len) : 0.0f;
+    }
+}
+
+void expandNode(const float* compactValues, float* full) {
+    for (int d = 0; d < kDirections; ++d) {
+        const float* colour = compactValues + 6 * d;
+        const float* dir = colour + 3;
+        float* v = full + 9 * d;  // colour-major: v[3 c + k]
+        for (int c = 0; c < 3; ++c)
+            for (int k = 0; k < 3; ++k) v[3 * c + k] = colour[c] * dir[k];
+    }
+}
+
+Volume compact(const Volume& full) {
+    if (full.basis.kind != basis().kind || full.basis.channelCount() != kChannels || full.levels.size() != 1 ||
+        full.levels[0].sparse())
+        throw FormatError("the compact form needs a single-level irradiance-vector volume, got basis '" +
+                          full.basis.kind + "'");
+    Volume out;
+    out.basis = compactBasis();
+    out.meta = full.meta;
+    out.meta["compact_form"] = std::string("Pacanowski et al. 2009 section 4.2: colour |I_R|,|I_G|,|I_B| + unit direction of I_R+I_G+I_B per delta");
+    out.levels.resize(1);
+    VolumeLevel& level = out.levels[0];
+    level.grid = full.levels[0].grid;
+    level.validity = full.levels[0].validity;
+    const std::size_t nodes = full.levels[0].storedNodes();
+    level.data.resize(nodes * kCompactFloatsPerNode);
+    for (std::size_t n = 0; n < nodes; ++n)
+        compactNode(full.levels[0].data.data() + n * kFloatsPerNode, level.data.data() + n * kCompactFloatsPerNode);
+    return out;
+}
+
+Rgb compactIrradiance(const float* v, const Vec3f& n) {
+    Rgb e{0, 0, 0};
+    for (int a = 0; a < 3; ++a) {
+        const float w = n[a] * n[a];
+        if (w == 0.0f) continue;
+        const float* colour = v + 6 * direction(a, n[a] < 0.0f);
+        const Vec3f d(colour[3], colour[4], colour[5]);
+        const float len = length(d);
+        if (!(len > 0.0f)) continue;
+        const float cosine = dot(d, n) / len;
+        e += Rgb(colour[0], colour[1], colour[2]) * (cosine * w);
+    }
+    return e;
+}
+
+}  // namespace iv
+}  // namespace vdblight

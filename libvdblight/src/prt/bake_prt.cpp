@@ -1,0 +1,225 @@
+// The PRT bake: samples, compressed visibility, direct-light basis, transfer matrices.
+#include <atomic>
+#include <chrono>
+#include <cmath>
+
+#include "prt_internal.h"
+#include "vdblight/errors.h"
+#include "vdblight/interrupter.h"
+#include "vdblight/sampling.h"
+#include "vdblight/scene.h"
+
+namespace vdblight {
+
+using namespace prt_detail;
+
+namespace {
+
+double now() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+void checkCancel(Interrupter* in) {
+    if (in && in->wasInterrupted()) throw Cancelled("PRT bake cancelled");
+}
+
+void validate(const PrtOptions& o) {
+    if (o.sampleRadius < 0 || !std::isfinite(o.sampleRadius)) throw ValueError("--sample-radius must be positive");
+    if (o.sampleRadius == 0 && (o.samples == 0 || o.samples > 2000000)) {
+        throw ValueError("--samples must be in 1..2000000 (got " + std::to_string(o.samples) + ")");
+    }
+    if (o.clusterSize == 0) throw ValueError("--cluster-size must be positive");
+    if (o.visDirs < 4 || o.visDirs > 65536) throw ValueError("--vis-dirs must be in 4..65536");
+    if (o.visCoeffs == 0 || o.visCoeffs > o.visDirs) throw ValueError("--vis-coeffs must be in 1..--vis-dirs");
+    if (o.trainLights == 0 || o.trainLights > 100000) throw ValueError("--train-lights must be in 1..100000");
+    if (o.transferCoeffs == 0 || o.transferCoeffs > o.trainLights) {
+        throw ValueError("--transfer-coeffs must be in 1..--train-lights");
+    }
+    if (o.threads < 0) throw ValueError("thread count must be positive (0 = all cores)");
+}
+
+/// Refuses a bake whose transfer matrices or rays would not fit a machine (the estimate
+/// is in the message).
+void checkBudget(double n, const PrtOptions& o) {
+    const double k = std::max(1.0, std::round(n / o.clusterSize));
+    const double matrixBytes = k * double(o.transferCoeffs + 1) * n * 12.0;
+    const double rays = n * n + n * double(o.visDirs) + n * double(o.trainLights);
+    if (matrixBytes > 8e9) {
+        throw ValueError("transfer matrices would take " + std::to_string(uint64_t(matrixBytes / 1e6)) +
+                         " MB for " + std::to_string(uint64_t(n)) + " samples: use fewer samples or larger clusters");
+    }
+    if (rays > 2e11) {
+        throw ValueError("the bake would trace " + std::to_string(uint64_t(rays / 1e9)) +
+                         " billion rays: use fewer samples or directions");
+    }
+}
+
+/// 4.2: per cluster, depth buffers (n_c x g^2), PCA, projected coefficients.
+void bakeVisibility(PrtData& prt, const Tracer& tracer, const PrtOptions& o, Interrupter* in) {
+    const SurfaceSamples& s = prt.samples;
+    const int g = prt.visGrid, d = g * g;
+    std::vector<Vec3f> local(static_cast<std::size_t>(d));
+    for (int t = 0; t < d; ++t) local[std::size_t(t)] = visibilityDirection(g, t);
+    prt.visCoeffStride = int(o.visCoeffs);
+    prt.visCoeffs.assign(s.size() * std::size_t(prt.visCoeffStride), 0.0f);
+    if (in) in->start("visibility", s.clusters());
+    for (std::size_t c = 0; c < s.clusters(); ++c) {
+        checkCancel(in);
+        const uint32_t b = s.clusterBegin[c], e = s.clusterBegin[c + 1];
+        const int nc = int(e - b);
+        std::vector<float> depth(std::size_t(nc) * std::size_t(d));
+        parallelFor(std::size_t(nc), o.threads, [&](std::size_t li) {
+            const std::size_t i = b + li;
+            Vec3f t1, t2;
+            orthonormalBasis(s.normal[i], t1, t2);
+            for (int t = 0; t < d; ++t) {
+                const Vec3f& l = local[std::size_t(t)];
+                const Vec3f w = t1 * l.x + t2 * l.y + s.normal[i] * l.z;
+                Ray ray{offsetRayOrigin(s.position[i], s.normal[i], w), w, 0.0f, prt.depthCap};
+                const Hit h = tracer.intersect(ray);
+                depth[li * std::size_t(d) + std::size_t(t)] = h.hit() ? std::min(h.t, prt.depthCap) : prt.depthCap;
+            }
+        });
+        prt.visBasis[c] = fitPca(depth, nc, d, int(o.visCoeffs));
+        for (int li = 0; li < nc; ++li) {
+            pcaProject(prt.visBasis[c], depth.data() + std::size_t(li) * std::size_t(d),
+                       prt.visCoeffs.data() + (b + std::size_t(li)) * std::size_t(prt.visCoeffStride));
+        }
+        if (in) in->progress(c + 1);
+    }
+    if (in) in->end();
+}
+
+/// 4.3.1: per cluster, PCA of the direct lighting of the example lights.
+void bakeLightBasis(PrtData& prt, const Scene& scene, const Tracer& tracer, const PrtOptions& o, Interrupter* in) {
+    const SurfaceSamples& s = prt.samples;
+    const std::vector<Vec3f> lights = trainingLightPositions(scene, tracer, o.trainLights);
+    prt.trainLights = uint32_t(lights.size());
+    const std::size_t n = s.size(), l = lights.size();
+    std::vector<float> direct(l * n);  // row = one light
+    if (in) in->start("direct-light basis", l);
+    for (std::size_t k = 0; k < l; ++k) {
+        checkCancel(in);
+        const std::vector<float> row = exactDirectUnit(s, tracer, lights[k], o.threads);
+        std::copy(row.begin(), row.end(), direct.begin() + std::ptrdiff_t(k * n));
+        if (in) in->progress(k + 1);
+    }
+    if (in) in->end();
+    for (std::size_t c = 0; c < s.clusters(); ++c) {
+        const uint32_t b = s.clusterBegin[c], e = s.clusterBegin[c + 1];
+        const int nc = int(e - b);
+        std::vector<float> rows(l * std::size_t(nc));
+        for (std::size_t k = 0; k < l; ++k)
+            std::copy(direct.begin() + std::ptrdiff_t(k * n + b), direct.begin() + std::ptrdiff_t(k * n + e),
+                      rows.begin() + std::ptrdiff_t(k * std::size_t(nc)));
+        if (!o.paperBasis) {
+            for (std::size_t k = 0; k < l; ++k) {
+                float* row = rows.data() + k * std::size_t(nc);
+                double norm2 = 0;
+                for (int j = 0; j < nc; ++j) norm2 += double(row[j]) * row[j];
+                const double scale = norm2 > 0 ? 1.0 / std::sqrt(norm2) : 0.0;
+                for (int j = 0; j < nc; ++j) row[j] = float(row[j] * scale);
+            }
+        }
+        prt.lightBasis[c] = fitPca(rows, int(l), nc, int(o.transferCoeffs), o.paperBasis);
+    }
+}
+
+/// 4.3.2: sender cluster s lights the scene with its mean and each basis vector (sender
+/// radiance albedo/pi * value); one bounce to every receiver by the disk form factor with
+/// ray-traced visibility. Each receiver's sums run in sender order: deterministic.
+void bakeTransfer(PrtData& prt, const Tracer& tracer, const PrtOptions& o, Interrupter* in) {
+    const SurfaceSamples& s = prt.samples;
+    const std::size_t n = s.size();
+    const int stride = int(o.transferCoeffs) + 1;
+    prt.transferStride = stride;
+    prt.transfer.assign(s.clusters(), std::vector<Rgb>(std::size_t(stride) * n, Rgb{0, 0, 0}));
+    if (in) in->start("transfer", n);
+    std::atomic<uint64_t> done{0};
+    std::atomic<bool> cancelled{false};
+    parallelFor(n, o.threads, [&](std::size_t r) {
+        if (cancelled.load(std::memory_order_relaxed)) return;
+        std::vector<double> acc(std::size_t(stride) * 3);
+        for (std::size_t c = 0; c < s.clusters(); ++c) {
+            const PcaBasis& basis = prt.lightBasis[c];
+            std::fill(acc.begin(), acc.end(), 0.0);
+            const uint32_t b = s.clusterBegin[c], e = s.clusterBegin[c + 1];
+            const std::size_t nc = e - b;
+            for (uint32_t j = b; j < e; ++j) {
+                if (j == r) continue;
+                const float f = diskTransfer(s.position[r], s.normal[r], s.position[j], s.normal[j], s.area[j]);
+                if (f <= 0.0f) continue;
+                if (!visibleBetween(tracer, s.position[r], s.normal[r], s.position[j], s.normal[j])) continue;
+                const Rgb w = s.albedo[j] * float(f * kInvPi);
+                const std::size_t lj = j - b;
+                for (int k = 0; k < stride; ++k) {
+                    const float v = k == 0 ? basis.mean[lj] : (k - 1 < basis.count ? basis.vectors[std::size_t(k - 1) * nc + lj] : 0.0f);
+                    acc[std::size_t(k) * 3 + 0] += double(w.x) * v;
+                    acc[std::size_t(k) * 3 + 1] += double(w.y) * v;
+                    acc[std::size_t(k) * 3 + 2] += double(w.z) * v;
+                }
+            }
+            for (int k = 0; k < stride; ++k) {
+                prt.transfer[c][std::size_t(k) * n + r] =
+                    Rgb{float(acc[std::size_t(k) * 3]), float(acc[std::size_t(k) * 3 + 1]), float(acc[std::size_t(k) * 3 + 2])};
+            }
+        }
+        if (in) {
+            in->progress(++done);
+            if (in->wasInterrupted()) cancelled = true;
+        }
+    });
+    if (in) in->end();
+    if (cancelled) throw Cancelled("PRT bake cancelled");
+}
+
+}  // namespace
+
+PrtData bakePrt(const Scene& scene, const Tracer& tracer, const PrtOptions& o, Interrupter* in) {
+    validate(o);
+    PrtData prt;
+    prt.sceneName = scene.name;
+    prt.sceneHash = scene.contentHash();
+    prt.seed = o.seed;
+    prt.paperBasis = o.paperBasis;
+    prt.bounds = scene.bounds();
+    prt.depthCap = float(length(prt.bounds.size()) * 1.01 + 1e-3);
+    if (o.volumeResolution < 0 || o.volumeResolution > 256) throw ValueError("--volume-resolution must be in 0..256");
+    if (o.volumeResolution > 0) {
+        GridPlacement placement;
+        placement.resolution = o.volumeResolution;
+        prt.volumeGrid = placeUniformGrid(prt.bounds, placement, sizeof(float) * 27);
+    }
+    prt.visGrid = std::max(2, int(std::lround(std::sqrt(double(o.visDirs)))));
+
+    double area = 0;
+    for (std::size_t t = 0; t < scene.triangleCount(); ++t) {
+        const Vec3d a(scene.vertex(t, 0)), b(scene.vertex(t, 1)), c(scene.vertex(t, 2));
+        area += 0.5 * length(cross(b - a, c - a));
+    }
+    // Random sequential packing covers about 55% with disks of radius r/2 (as the sampler).
+    checkBudget(o.sampleRadius > 0 ? 2.2 * area / (kPi * o.sampleRadius * o.sampleRadius) : double(o.samples), o);
+
+    double t0 = now();
+    prt.samples = generateSurfaceSamples(scene, o.sampleRadius, o.samples, o.clusterSize, o.seed);
+    checkBudget(double(prt.samples.size()), o);
+    prt.visBasis.resize(prt.samples.clusters());
+    prt.lightBasis.resize(prt.samples.clusters());
+    double t1 = now();
+    prt.secondsSamples = t1 - t0;
+    bakeVisibility(prt, tracer, o, in);
+    double t2 = now();
+    prt.secondsVisibility = t2 - t1;
+    bakeLightBasis(prt, scene, tracer, o, in);
+    double t3 = now();
+    prt.secondsBasis = t3 - t2;
+    bakeTransfer(prt, tracer, o, in);
+    if (o.volumeResolution > 0) {
+        checkCancel(in);
+        bakeVolumeTransfer(prt, tracer, o.threads);
+    }
+    prt.secondsTransfer = now() - t3;
+    return prt;
+}
+
+}  // namespace vdblight

@@ -1,0 +1,35 @@
+// Example light positions for the direct-light basis (4.3.1) and the inside-a-solid test.
+#include <cmath>
+
+#include "prt_internal.h"
+#include "vdblight/errors.h"
+#include "vdblight/sampling.h"
+#include "vdblight/scene.h"
+
+namespace vdblight {
+
+bool insideSolid(const Tracer& tracer, const Vec3f& p) {
+    static const Vec3f dirs[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    int back = 0;
+    for (const Vec3f& d : dirs) {
+        const Hit h = tracer.intersect(Ray{p, d});
+        if (h.hit() && dot(h.geometricNormal, d) > 0.0f) ++back;
+    }
+    return back >= 4;
+}
+
+std::vector<Vec3f> trainingLightPositions(const Scene& scene, const Tracer& tracer, uint32_t count) {
+    const Bounds b = scene.bounds();
+    const Vec3d lo = b.lo + b.size() * 0.02, size = b.size() * 0.96;
+    std::vector<Vec3f> out;
+    const uint64_t limit = uint64_t(count) * 64 + 64;
+    for (uint64_t i = 1; out.size() < count && i <= limit; ++i) {
+        const Vec3f p(Vec3d{lo.x + size.x * radicalInverse(2, i), lo.y + size.y * radicalInverse(3, i),
+                            lo.z + size.z * radicalInverse(5, i)});
+        if (!insideSolid(tracer, p)) out.push_back(p);
+    }
+    if (out.empty()) throw SceneError("no example light position outside solids: is the scene closed inside out?");
+    return out;
+}
+
+}  // namespace vdblight

@@ -1,0 +1,229 @@
+// Bins / moment lookup: descend through refined cells, pick (or blend) bins, trilinear in space.
+#include "vdblight/bins_lookup.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "vdblight/errors.h"
+#include "vdblight/layout_levels.h"
+
+namespace vdblight {
+
+namespace {
+inline void splitCell(float g, int n, int& i, float& f) {
+    if (!(g >= 0.0f)) g = 0.0f;
+    if (g > float(n - 1)) g = float(n - 1);
+    i = std::min(int(g), n - 2);
+    if (i < 0) i = 0;
+    f = g - float(i);
+}
+inline void splitLocal(float& f, int K, int& i) {
+    const float g = f * float(K);
+    i = std::min(int(g), K - 1);
+    f = g - float(i);
+}
+int64_t positionIn(const std::vector<uint64_t>& sorted, uint64_t value) {
+    const auto it = std::lower_bound(sorted.begin(), sorted.end(), value);
+    return it != sorted.end() && *it == value ? int64_t(it - sorted.begin()) : -1;
+}
+}  // namespace
+
+bool BinsLookup::accepts(const Volume& volume) {
+    bins::BasisSpec spec;
+    return bins::specFromVolume(volume.basis, spec);
+}
+
+BinsLookup::BinsLookup(const Volume& volume, OutsidePolicy outside, bool interpolateBins)
+    : interpolateBins_(interpolateBins), outside_(outside) {
+    if (!bins::specFromVolume(volume.basis, spec_))
+        throw FormatError("volume basis '" + volume.basis.kind + "' is not a bins or moment basis");
+    const VolumeLevel& l0 = volume.levels.at(0);
+    grid_ = l0.grid;
+    K_ = volume.refineFactor();
+    origin_ = Vec3f(grid_.origin);
+    invSpacing_ = float(1.0 / grid_.spacing);
+    floatsPerNode_ = std::size_t(spec_.binCount()) * 3;
+    levels_.resize(volume.levels.size());
+    for (std::size_t l = 0; l < volume.levels.size(); ++l) levels_[l].data = volume.levels[l].data;
+    if (volume.levels.size() == 1 || grid_.nx < 2 || grid_.ny < 2 || grid_.nz < 2) return;
+
+    const int K = K_, side = K + 1;
+    levels_[0].child.resize(std::size_t(grid_.nx - 1) * (grid_.ny - 1) * (grid_.nz - 1));
+    for (int k = 0; k < grid_.nz - 1; ++k)
+        for (int j = 0; j < grid_.ny - 1; ++j)
+            for (int i = 0; i < grid_.nx - 1; ++i)
+                levels_[0].child[i + std::size_t(grid_.nx - 1) * (j + std::size_t(grid_.ny - 1) * k)] =
+                    int32_t(positionIn(l0.refinedCells, grid_.index(i, j, k)));
+    for (std::size_t l = 1; l < volume.levels.size(); ++l) {
+        const VolumeLevel& parent = volume.levels[l - 1];
+        const VolumeLevel& fine = volume.levels[l];
+        const GridSpec& pg = parent.grid;
+        Level& out = levels_[l];
+        const std::size_t bricks = parent.refinedCells.size();
+        out.nodes.resize(bricks * std::size_t(side * side * side));
+        if (l + 1 < volume.levels.size()) out.child.resize(bricks * std::size_t(K * K * K));
+        for (std::size_t b = 0; b < bricks; ++b) {
+            const uint64_t cell = parent.refinedCells[b];
+            const int pi = int(cell % uint64_t(pg.nx)), pj = int(cell / uint64_t(pg.nx) % uint64_t(pg.ny)),
+                      pk = int(cell / (uint64_t(pg.nx) * uint64_t(pg.ny)));
+            for (int w = 0; w < side; ++w)
+                for (int v = 0; v < side; ++v)
+                    for (int u = 0; u < side; ++u) {
+                        const uint64_t linear = fine.grid.index(pi * K + u, pj * K + v, pk * K + w);
+                        const int64_t at = findNode(fine, linear);
+                        if (at < 0) throw FormatError("level " + std::to_string(l) + " misses a node of a refined cell");
+                        out.nodes[b * side * side * side + u + side * (v + side * std::size_t(w))] = uint32_t(at);
+                        if (out.child.empty() || u == K || v == K || w == K) continue;
+                        out.child[b * K * K * K + u + K * (v + K * std::size_t(w))] =
+                            int32_t(positionIn(fine.refinedCells, linear));
+                    }
+        }
+    }
+}
+
+int BinsLookup::binWeights(const Vec3f& d, int channels[4], float weights[4]) const {
+    const int R = spec_.resolution;
+    int h;
+    float u, v;
+    bins::directionToSquare(d, h, u, v);
+    if (!interpolateBins_) {
+        const int iu = std::max(0, std::min(int(u * float(R)), R - 1));
+        const int iv = std::max(0, std::min(int(v * float(R)), R - 1));
+        channels[0] = bins::channel(R, h, iu, iv);
+        weights[0] = 1.0f;
+        return 1;
+    }
+    const float gu = u * float(R) - 0.5f, gv = v * float(R) - 0.5f;
+    const int iu0 = int(std::floor(gu)), iv0 = int(std::floor(gv));
+    const float fu = gu - float(iu0), fv = gv - float(iv0);
+    int count = 0;
+    for (int b = 0; b < 2; ++b)
+        for (int a = 0; a < 2; ++a) {
+            // Across an edge of the square (the equator) lies the other hemisphere's border bin
+            // at the mirrored position; across a corner, both edges: back to this hemisphere.
+            int iu = iu0 + a, iv = iv0 + b, hh = h;
+            if (iu < 0 || iu >= R) hh = 1 - hh, iu = std::max(0, std::min(iu, R - 1));
+            if (iv < 0 || iv >= R) hh = 1 - hh, iv = std::max(0, std::min(iv, R - 1));
+            channels[count] = bins::channel(R, hh, iu, iv);
+            weights[count] = (a ? fu : 1.0f - fu) * (b ? fv : 1.0f - fv);
+            ++count;
+        }
+    return count;
+}
+
+Rgb BinsLookup::irradiance(const Vec3f& x, const Vec3f& d) const {
+    const Vec3f g = (x - origin_) * invSpacing_;
+    if (outside_ == OutsidePolicy::Throw) {
+        const float tol = 1e-4f;
+        if (!(g.x >= -tol && g.y >= -tol && g.z >= -tol && g.x <= grid_.nx - 1 + tol && g.y <= grid_.ny - 1 + tol &&
+              g.z <= grid_.nz - 1 + tol)) {
+            std::ostringstream s;
+            s << "point (" << x.x << ", " << x.y << ", " << x.z << ") is outside the volume";
+            throw ValueError(s.str());
+        }
+    }
+    int channels[4];
+    float bw[4];
+    const int nb = binWeights(d, channels, bw);
+
+    int i = 0, j = 0, k = 0;
+    float f[3] = {0, 0, 0};
+    const int dims[3] = {grid_.nx, grid_.ny, grid_.nz};
+    int* idx[3] = {&i, &j, &k};
+    for (int a = 0; a < 3; ++a) {
+        if (dims[a] < 2) continue;  // a flat axis: one node, no interpolation
+        splitCell(g[a], dims[a], *idx[a], f[a]);
+    }
+    // The eight corner nodes (positions in a level's data) and the level they are in.
+    std::size_t corner[8];
+    const Level* level = &levels_[0];
+    const int32_t top = levels_[0].child.empty()
+                            ? -1
+                            : levels_[0].child[i + std::size_t(grid_.nx - 1) * (j + std::size_t(grid_.ny - 1) * k)];
+    if (top < 0) {
+        const int di = grid_.nx > 1, dj = grid_.ny > 1, dk = grid_.nz > 1;
+        for (int c = 0; c < 8; ++c)
+            corner[c] = grid_.index(i + (c & 1) * di, j + ((c >> 1) & 1) * dj, k + (c >> 2) * dk);
+    } else {
+        const int K = K_, side = K + 1;
+        int32_t brick = top;
+        for (std::size_t l = 1;; ++l) {
+            splitLocal(f[0], K, i);
+            splitLocal(f[1], K, j);
+            splitLocal(f[2], K, k);
+            const Level& lv = levels_[l];
+            const int32_t next = lv.child.empty() ? -1 : lv.child[std::size_t(brick) * K * K * K + i + K * (j + K * k)];
+            if (next < 0) {
+                const uint32_t* nodes = lv.nodes.data() + std::size_t(brick) * side * side * side;
+                for (int c = 0; c < 8; ++c)
+                    corner[c] = nodes[(i + (c & 1)) + side * ((j + ((c >> 1) & 1)) + side * (k + (c >> 2)))];
+                level = &lv;
+                break;
+            }
+            brick = next;
+        }
+    }
+    const float wx[2] = {1 - f[0], f[0]}, wy[2] = {1 - f[1], f[1]}, wz[2] = {1 - f[2], f[2]};
+    Rgb e{0, 0, 0};
+    for (int c = 0; c < 8; ++c) {
+        const float w = wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2];
+        const float* p = level->data.data() + corner[c] * floatsPerNode_;
+        for (int b = 0; b < nb; ++b) {
+            const float* q = p + 3 * channels[b];
+            e += Rgb(q[0], q[1], q[2]) * (w * bw[b]);
+        }
+    }
+    return e;
+}
+
+Rgbd referenceBinsLookup(const Volume& volume, const Vec3d& x, const Vec3f& d) {
+    bins::BasisSpec spec;
+    if (!bins::specFromVolume(volume.basis, spec)) throw FormatError("not a bins or moment volume");
+    const GridSpec& g0 = volume.levels.at(0).grid;
+    const int K = volume.refineFactor();
+    const int dims[3] = {g0.nx, g0.ny, g0.nz};
+    int cell[3];
+    double frac[3];
+    for (int a = 0; a < 3; ++a) {
+        if (dims[a] < 2) {
+            cell[a] = 0, frac[a] = 0;
+            continue;
+        }
+        const double u = std::min(std::max((x[a] - g0.origin[a]) / g0.spacing, 0.0), double(dims[a] - 1));
+        cell[a] = std::min(int(std::floor(u)), dims[a] - 2);
+        frac[a] = u - cell[a];
+    }
+    std::size_t l = 0;
+    while (l + 1 < volume.levels.size() &&
+           isRefined(volume.levels[l], volume.levels[l].grid.index(cell[0], cell[1], cell[2]))) {
+        for (int a = 0; a < 3; ++a) {
+            const double u = frac[a] * K;
+            const int c = std::min(int(std::floor(u)), K - 1);
+            frac[a] = u - c;
+            cell[a] = cell[a] * K + c;
+        }
+        ++l;
+    }
+    const VolumeLevel& level = volume.levels[l];
+    const int bin = bins::binOf(spec.resolution, d);
+    Rgbd e{0, 0, 0};
+    for (int corner = 0; corner < 8; ++corner) {
+        int c[3];
+        double w = 1.0;
+        for (int a = 0; a < 3; ++a) {
+            const int bit = (corner >> a) & 1;
+            if (dims[a] < 2 && bit) w = 0.0;
+            c[a] = cell[a] + (dims[a] < 2 ? 0 : bit);
+            w *= bit ? frac[a] : 1.0 - frac[a];
+        }
+        if (w == 0.0) continue;
+        const int64_t at = findNode(level, level.grid.index(c[0], c[1], c[2]));
+        if (at < 0) throw FormatError("lookup would read a node of level " + std::to_string(l) + " that was not baked");
+        const float* p = level.nodeData(std::size_t(at), volume.basis.channelCount()) + 3 * bin;
+        e += Rgbd(p[0], p[1], p[2]) * w;
+    }
+    return e;
+}
+
+}  // namespace vdblight

@@ -1,0 +1,119 @@
+// End to end: vdblight prt bake / relight / info, and the refusals.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "test_util.h"
+
+namespace fs = std::filesystem;
+using namespace vdblight;
+
+namespace {
+const std::string kCli = VDBLIGHT_CLI_PATH;
+const std::string kSource = VDBLIGHT_SOURCE_DIR;
+
+struct CliRun {
+    int status;
+    std::string output;
+};
+
+CliRun runCli(const std::string& args) {
+    CliRun r;
+    r.status = test::runCommand(kCli + " " + args, &r.output);
+    return r;
+}
+
+std::size_t filesIn(const fs::path& dir) {
+    std::size_t n = 0;
+    for (auto& e : fs::directory_iterator(dir)) n += e.is_regular_file() ? 1 : 0;
+    return n;
+}
+
+void expectCleanFailure(const test::TempDir& dir, const std::string& args, const std::string& text) {
+    const std::size_t before = filesIn(dir.path());
+    const CliRun r = runCli(args);
+    EXPECT_NE(r.status, 0) << args << "\n" << r.output;
+    EXPECT_LT(r.status, 128) << args;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(text), std::string::npos) << args << "\nexpected '" << text << "' in: " << r.output;
+    EXPECT_EQ(filesIn(dir.path()), before) << "a file was left behind by: " << args;
+}
+
+const char* kSmall = " --samples 300 --cluster-size 100 --vis-dirs 256 --vis-coeffs 20 --train-lights 40 --transfer-coeffs 8";
+}  // namespace
+
+TEST(CliPrt, BakeRelightInfo) {
+    test::TempDir dir;
+    const std::string prt = dir.file("box_prt.vdb");
+    const CliRun bake = runCli("prt bake -o " + prt + kSmall + " --volume-resolution 4");
+    ASSERT_EQ(bake.status, 0) << bake.output;
+    EXPECT_NE(bake.output.find("time: samples"), std::string::npos) << bake.output;
+
+    const CliRun info = runCli("info " + prt);
+    ASSERT_EQ(info.status, 0) << info.output;
+    EXPECT_NE(info.output.find("PRT file"), std::string::npos) << info.output;
+    EXPECT_NE(info.output.find("as dense 32-bit floats"), std::string::npos) << info.output;
+    EXPECT_EQ(runCli("prt info " + prt).output, info.output);
+
+    const CliRun csv = runCli("prt relight " + prt + " --light 0.28,0.4,0.28,1,1,1 --light 0.1,0.3,0.4 -o " +
+                              dir.file("lit.csv") + " --reference " + kSource + "/data/cornell_box.obj");
+    ASSERT_EQ(csv.status, 0) << csv.output;
+    EXPECT_NE(csv.output.find("reference: RMS relative error"), std::string::npos) << csv.output;
+    std::ifstream in(dir.file("lit.csv"));
+    std::string line;
+    std::getline(in, line);
+    EXPECT_EQ(line.rfind("x,y,z,nx,ny,nz,cluster,direct_r", 0), 0u) << line;
+    int rows = 0;
+    bool lit = false;
+    while (std::getline(in, line)) {
+        ++rows;
+        std::stringstream ss(line);
+        std::string v;
+        for (int k = 0; k < 8; ++k) std::getline(ss, v, ',');
+        lit = lit || std::stod(v) > 0;
+    }
+    EXPECT_GT(rows, 200);
+    EXPECT_TRUE(lit);
+
+    const CliRun ply = runCli("prt relight " + prt + " --light 0.28,0.4,0.28 --area-size 0.1 -q -o " + dir.file("lit.ply"));
+    ASSERT_EQ(ply.status, 0) << ply.output;
+    std::ifstream p(dir.file("lit.ply"));
+    std::getline(p, line);
+    EXPECT_EQ(line, "ply");
+
+    // The relit volume is an ordinary SH volume: info and query read it.
+    const std::string vol = dir.file("relit.vdb");
+    const CliRun rv = runCli("prt relight " + prt + " --light 0.28,0.4,0.28 -q -o " + dir.file("v.csv") + " --volume-out " + vol);
+    ASSERT_EQ(rv.status, 0) << rv.output;
+    const CliRun vinfo = runCli("info " + vol);
+    EXPECT_EQ(vinfo.status, 0) << vinfo.output;
+    EXPECT_NE(vinfo.output.find("sh2"), std::string::npos) << vinfo.output;
+    const CliRun q = runCli("query " + vol + " --at 0.1,0.3,0.3 --normal 1,0,0");
+    ASSERT_EQ(q.status, 0) << q.output;
+    EXPECT_NE(q.output.find("E_r"), std::string::npos) << q.output;
+
+    const CliRun outside = runCli("prt relight " + prt + " --light 5,5,5 -q -o " + dir.file("far.csv"));
+    EXPECT_EQ(outside.status, 0);
+    EXPECT_NE(outside.output.find("outside the scene bounds"), std::string::npos) << outside.output;
+}
+
+TEST(CliPrt, BadInput) {
+    test::TempDir dir;
+    expectCleanFailure(dir, "prt bake -o " + dir.file("a.vdb") + " --samples 0", "--samples");
+    expectCleanFailure(dir, "prt bake -o " + dir.file("a.vdb") + " --samples 1000000 --cluster-size 1000000",
+                       "billion rays");
+    expectCleanFailure(dir, "prt bake -o " + dir.file("a.vdb") + " --vis-coeffs 0", "--vis-coeffs");
+    expectCleanFailure(dir, "prt bake -o " + dir.file("nodir/a.vdb") + kSmall, "nodir");
+    // An SH volume is not a PRT file, and a PRT file is not a volume.
+    const std::string vol = dir.file("vol.vdb");
+    ASSERT_EQ(runCli("bake -q --resolution 4 --rays 16 -o " + vol).status, 0);
+    expectCleanFailure(dir, "prt relight " + vol + " --light 0.2,0.2,0.2", "not a PRT file");
+    const std::string prt = dir.file("p.vdb");
+    ASSERT_EQ(runCli("prt bake -q -o " + prt + kSmall).status, 0);
+    expectCleanFailure(dir, "query " + prt + " --at 0.2,0.2,0.2", "not a vdblight volume");
+    expectCleanFailure(dir, "prt relight " + prt + " --light 0.2,0.2", "--light");
+    expectCleanFailure(dir, "prt relight " + prt + " --light 0.2,0.2,0.2 -o " + dir.file("x.csv") + " --volume-out " +
+                                dir.file("x.vdb"), "has no volume");
+    expectCleanFailure(dir, "prt relight " + prt + " --light 0.2,0.2,0.2,-1,0,0", "negative");
+}

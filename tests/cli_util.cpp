@@ -1,0 +1,41 @@
+#include "cli_util.h"
+
+#include <gtest/gtest.h>
+
+namespace vdblight::test {
+
+const std::string& cliPath() {
+    static const std::string path = VDBLIGHT_CLI_PATH;
+    return path;
+}
+
+CliRun runCli(const std::string& args) {
+    CliRun r;
+    r.status = runCommand(cliPath() + " " + args, &r.output);
+    return r;
+}
+
+int countLines(const std::string& text) {
+    int n = 0;
+    for (char c : text) n += c == '\n';
+    return n;
+}
+
+std::size_t filesIn(const std::filesystem::path& dir) {
+    std::size_t n = 0;
+    for (auto& e : std::filesystem::directory_iterator(dir)) n += e.is_regular_file() ? 1 : 0;
+    return n;
+}
+
+void expectCleanFailure(const TempDir& dir, const std::string& args, const std::string& expectedText) {
+    const std::size_t before = filesIn(dir.path());
+    const CliRun r = runCli(args);
+    EXPECT_NE(r.status, 0) << args << "\n" << r.output;
+    EXPECT_LT(r.status, 128) << "crashed: " << args << "\n" << r.output;
+    EXPECT_EQ(countLines(r.output), 1) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(expectedText), std::string::npos)
+        << args << "\nexpected '" << expectedText << "' in: " << r.output;
+    EXPECT_EQ(filesIn(dir.path()), before) << "a file was left behind by: " << args;
+}
+
+}  // namespace vdblight::test

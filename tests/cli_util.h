@@ -1,0 +1,30 @@
+// Helpers for end-to-end tests of the `vdblight` program (tests/cli_*_test.cpp).
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "test_util.h"
+
+namespace vdblight::test {
+
+/// Path of the built `vdblight` executable.
+const std::string& cliPath();
+
+struct CliRun {
+    int status;          ///< exit status (128 + signal if it was killed)
+    std::string output;  ///< stdout and stderr together
+};
+
+/// Runs `vdblight ARGS` through the shell.
+CliRun runCli(const std::string& args);
+
+int countLines(const std::string& text);
+/// Number of regular files directly in `dir`.
+std::size_t filesIn(const std::filesystem::path& dir);
+
+/// Expects `vdblight ARGS` to fail cleanly: non-zero exit without a crash, exactly one line
+/// of output containing `expectedText`, and no new file in `dir`.
+void expectCleanFailure(const TempDir& dir, const std::string& args, const std::string& expectedText);
+
+}  // namespace vdblight::test
