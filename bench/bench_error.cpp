@@ -4,7 +4,8 @@
 // scene; a small town under a sky and a sun; a room of >= 100 k triangles; 1 000 point
 // lights over a floor (`--quick`: Cornell box and thin wall only, smaller grids).
 // Methods: point SH (uniform grid), anti-aliased SH (interior domain), bilevel layout
-// (point SH, refine 2), photons (irradiance vectors). Five budgets each (rays per node or
+// (point SH, refine 2), Greger bins (2 R^2 ~ budget bins, one ray each), photons
+// (irradiance vectors). Five budgets each (rays per node or
 // cell; photons = rays x level-0 nodes x 4), same threads, same run.
 // Error: at fixed free-space points (random in the scene's box, kept if no axis ray from
 // them hits a back face) with random unit normals, |E - Eref| / max(Eref, 0.05 mean Eref),
@@ -30,6 +31,7 @@
 #include "bench_scenes.h"
 #include "vdblight/bake.h"
 #include "vdblight/bake_antialiased.h"
+#include "vdblight/bake_bins.h"
 #include "vdblight/bake_levels.h"
 #include "vdblight/layout_levels.h"
 #include "vdblight/leak_scenes.h"
@@ -163,7 +165,7 @@ int main(int argc, char** argv) {
                                                 : std::vector<uint32_t>{16, 32, 64, 128, 256};
     const int points = quick ? 200 : 1000;
     const uint32_t refSamples = quick ? 4096 : 32768;
-    std::fprintf(stderr, "vdblight_bench_error%s: %zu scenes x 4 methods x %zu budgets, %d points\n",
+    std::fprintf(stderr, "vdblight_bench_error%s: %zu scenes x 5 methods x %zu budgets, %d points\n",
                  quick ? " --quick (small workloads)" : "", suite.size(), budgets.size(), points);
     std::fprintf(csv, "scene,method,layout,nodes,bytes,bake_seconds,budget,rays_or_photons,err_rms,err_p95,err_max\n");
 
@@ -215,6 +217,14 @@ int main(int argc, char** argv) {
             } catch (const Error& e) {
                 std::fprintf(stderr, "  bilevel on %s: %s\n", ss.name.c_str(), e.what());
             }
+
+            // Greger bins: 2 R^2 bins with one sample each, R chosen so that 2 R^2 ~ budget.
+            BinsBakeOptions bo;
+            bo.basis.kind = bins::BasisSpec::Kind::Bins;
+            bo.basis.resolution = std::max(1, int(std::lround(std::sqrt(budget / 2.0))));
+            LevelsBakeStats bs;
+            v = bakeBins(s, tracer, uniformLayout(grid), bo, nullptr, &bs);
+            row("bins", "uniform", v, bs.nodes, bs.seconds, budget, bs.rays.total());
 
             PhotonOptions p;
             p.photons = uint64_t(budget) * grid.nodeCount() * 4;
