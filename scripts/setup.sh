@@ -13,7 +13,8 @@ JOBS="${JOBS:-$(nproc)}"
 PACKAGES=(build-essential cmake pkg-config
           libopenvdb-dev libembree-dev libopenexr-dev libeigen3-dev libcli11-dev libtbb-dev
           libassimp-dev libboost-iostreams-dev libgtest-dev libbenchmark-dev
-          python3-openvdb python3-imath python3-numpy blender zlib1g-dev)
+          python3-openvdb python3-imath python3-numpy blender zlib1g-dev
+          gnuplot-nox)  # gnuplot-nox: scripts/plot_error.sh (issue 8)
 
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -12,3 +12,5 @@ ctest --output-on-failure -j "${JOBS:-$(nproc)}" --timeout 1200
 "$ROOT/build/bin/vdblight_bench_layouts" --quick
 "$ROOT/build/bin/vdblight_bench_bins" --quick
 "$ROOT/build/bin/vdblight_bench_prt" --quick
+"$ROOT/build/bin/vdblight_bench_converge" --quick
+"$ROOT/build/bin/vdblight_bench_error" --quick

@@ -5,6 +5,7 @@
 #include "app_common.h"
 #include "commands.h"
 #include "vdblight/bake.h"
+#include "vdblight/bake_adaptive.h"
 #include "vdblight/bake_antialiased.h"
 #include "vdblight/bake_bins.h"
 #include "vdblight/bins.h"
@@ -15,6 +16,7 @@
 #include "vdblight/irradiance_vectors_compact.h"
 #include "vdblight/photons.h"
 #include "vdblight/sh.h"
+#include "vdblight/sh_window.h"
 #include "vdblight/trace.h"
 #include "vdblight/vdb_io.h"
 
@@ -41,6 +43,10 @@ struct BakeCommand {
     std::string layout = "uniform";
     int refine = 3;
     int levels = 3;
+    bool shWindow = false;
+    double targetError = 0;  // > 0: error-targeted point gather (bake_adaptive.h)
+    uint32_t maxRays = 4096;
+    uint32_t minRays = 64;
     std::string basis = "sh2";  // sh2 | bins:R | moment:n[:R] (bins.h)
 };
 
@@ -49,6 +55,28 @@ void runPhotons(const BakeCommand& c);
 /// Runs the pass the sampling options select.
 Volume bakeSelected(const BakeCommand& c, const Scene& scene, const Tracer& tracer, const GridSpec& grid,
                     const GatherOptions& options, Interrupter* progress, BakeStats* stats) {
+    if (c.targetError > 0) {
+        AdaptiveOptions a;
+        a.targetError = c.targetError;
+        a.minRays = c.minRays;
+        a.maxRays = c.maxRays;
+        a.seed = options.seed;
+        a.threads = options.threads;
+        a.transport = options.transport;
+        AdaptiveStats as;
+        Volume v = bakeShGatherAdaptive(scene, tracer, grid, a, progress, &as);
+        *stats = as;
+        if (!c.quiet)
+            std::cout << "Error-targeted: relative standard error of mean irradiance p50 " << as.errorQuantile(0.5)
+                      << ", p95 " << as.errorQuantile(0.95) << ", max " << as.errorQuantile(1.0) << " (target "
+                      << c.targetError << ", " << as.nodesAtMax << " nodes stopped at --max-rays " << c.maxRays << "); "
+                      << formatCount(double(as.samples)) << " gathered rays, "
+                      << formatCount(double(as.samples) / double(as.nodes)) << " per node, "
+                      << formatCount(double(uint64_t(c.maxRays) * as.nodes - as.samples)) << " ("
+                      << int(100.0 * (1.0 - double(as.samples) / (double(c.maxRays) * as.nodes)))
+                      << " %) saved against " << c.maxRays << " rays on every node.\n";
+        return v;
+    }
     if (c.sampling == "antialiased") {
         AntialiasedOptions aa;
         aa.raysPerCell = options.raysPerNode;
@@ -118,6 +146,7 @@ void run(const BakeCommand& c) {
                       << ", " << layout.totalNodes() << " nodes (" << stats.seamNodes << " seam nodes set from the coarser level) vs "
                       << layout.denseEquivalentNodes() << " in a dense grid at the finest spacing.\n";
     }
+    if (c.shWindow) applyShWindow(volume);
     volume.meta["scene_file"] = c.scene.path.empty() ? std::string("(bundled default) ") + defaultScenePath() : c.scene.path;
     volume.meta["sky"] = c.scene.skyMap.empty() ? (c.scene.sky.empty() ? std::string("0,0,0") : c.scene.sky)
                                                 : "map:" + c.scene.skyMap;
@@ -131,7 +160,9 @@ void run(const BakeCommand& c) {
                   << scene.triangleCount() << " triangles";
         if (scene.stats.degenerateTrianglesSkipped)
             std::cout << ", " << scene.stats.degenerateTrianglesSkipped << " degenerate skipped";
-        std::cout << ") with " << (binned ? metaString(volume.meta, "rays_per_node") : std::to_string(c.rays)) << " rays per node and up to " << c.scene.bounces << " bounces: "
+        std::cout << ") with " << (c.targetError > 0 ? std::string("error-targeted")
+                                   : binned ? metaString(volume.meta, "rays_per_node") : std::to_string(c.rays))
+                  << " rays per node and up to " << c.scene.bounces << " bounces: "
                   << formatCount(double(stats.rays.total())) << " rays (" << formatCount(double(stats.rays.intersect))
                   << " closest-hit, " << formatCount(double(stats.rays.occluded)) << " shadow) in "
                   << formatSeconds(stats.seconds) << ", " << formatCount(stats.raysPerSecond()) << " rays/s on "
@@ -223,13 +254,34 @@ void addBakeCommand(CLI::App& app) {
         ->capture_default_str();
     auto* refine = cmd->add_option("--refine", c->refine, "bilevel/adaptive: split refined cells K x K x K")->capture_default_str();
     auto* levelsOpt = cmd->add_option("--levels", c->levels, "adaptive: number of levels including the first")->capture_default_str();
+    auto* target = cmd->add_option("--target-error", c->targetError,
+                    "point gather: sample each node in doubling rounds until the relative standard error of its "
+                    "mean irradiance is below this (e.g. 0.02), up to --max-rays");
+    auto* maxRays = cmd->add_option("--max-rays", c->maxRays, "--target-error: most rays a node may take")->capture_default_str();
+    auto* minRays = cmd->add_option("--min-rays", c->minRays, "--target-error: rays of the first round")->capture_default_str();
+    cmd->add_flag("--sh-window", c->shWindow,
+                  "gather: window the SH bands (1, 0.584, 0.135) so that irradiance is never negative (blurs; "
+                  "docs/methods.md)");
     cmd->add_option("--basis", c->basis,
                     "Directional basis: sh2, bins:R (Greger: 2 R^2 equal-area bins of irradiance) or moment:n[:R] "
                     "(n-th moment, eq. 5, for glossy lookups with query --view; R = 17 by default); with bins, "
                     "--rays is rounded up to a multiple of the bin count")
         ->capture_default_str();
     cmd->add_flag("-q,--quiet", c->quiet, "No progress bar and no summary");
-    cmd->callback([c, spacing, resolution, invalidate, refine, levelsOpt] {
+    cmd->callback([c, spacing, resolution, invalidate, refine, levelsOpt, target, maxRays, minRays] {
+        if (target->count() > 0 && !(c->targetError > 0 && c->targetError <= 1))
+            throw ValueError("--target-error must be in (0, 1], got " + std::to_string(c->targetError));
+        if (c->shWindow && (c->method != "gather" || bins::parseBasisSpec(c->basis).kind != bins::BasisSpec::Kind::Sh2))
+            throw ValueError("--sh-window applies to --method gather with --basis sh2 only");
+        if (target->count() > 0 && (c->minRays < 2 || c->maxRays < c->minRays))
+            throw ValueError("--min-rays must be at least 2 and --max-rays at least --min-rays, got " +
+                             std::to_string(c->minRays) + " and " + std::to_string(c->maxRays));
+        if (target->count() == 0 && (maxRays->count() > 0 || minRays->count() > 0))
+            throw ValueError("--max-rays and --min-rays need --target-error");
+        if (target->count() > 0 && (c->method != "gather" || c->sampling != "point" || invalidate->count() > 0 ||
+                                    parseLayoutKind(c->layout) != LayoutKind::Uniform ||
+                                    bins::parseBasisSpec(c->basis).kind != bins::BasisSpec::Kind::Sh2))
+            throw ValueError("--target-error works with --method gather, --sampling point, --layout uniform and --basis sh2 only");
         const LayoutKind kind = parseLayoutKind(c->layout);
         if (bins::parseBasisSpec(c->basis).kind != bins::BasisSpec::Kind::Sh2 &&
             (c->method != "gather" || c->sampling != "point" || invalidate->count() > 0))

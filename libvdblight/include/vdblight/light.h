@@ -5,7 +5,8 @@
 // differently and never counted twice:
 //  - direct light from emitters: emissive triangles (sampled by area, chosen in proportion
 //    to power), punctual lights (point, spot, directional; delta distributions, evaluated
-//    exactly with one shadow ray each);
+//    exactly with one shadow ray each, or -- with many point/spot lights -- one of them
+//    chosen per vertex by a light tree, see TransportOptions::exactLightLimit);
 //  - everything else: light reflected by surfaces (recursively, with NEE at every bounce)
 //    and the sky where rays escape. Gathered by tracing rays in chosen directions.
 // Emissive triangles are reached both ways: by NEE samples and by gathered rays that hit
@@ -16,6 +17,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "vdblight/math.h"
@@ -26,6 +28,7 @@ namespace vdblight {
 struct Scene;
 class Tracer;
 struct Hit;
+class PunctualLightSampler;
 
 struct TransportOptions {
     /// Maximum number of diffuse reflections on a path from a light to the receiver:
@@ -33,6 +36,11 @@ struct TransportOptions {
     int maxBounces = 8;
     /// Bounce from which Russian roulette may end a path (unbiased: survivors are reweighted).
     int rouletteStart = 3;
+    /// Scenes with at most this many point + spot lights evaluate every one of them exactly
+    /// (one shadow ray each) at every vertex. Above it, each vertex picks ONE of them with
+    /// the power- and distance-aware sampler of light/punctual_sampler.h (unbiased; cost per
+    /// vertex independent of the light count). Directional lights are always exact.
+    uint32_t exactLightLimit = 16;
 };
 
 /// Counts rays per calling context; summed deterministically by the caller.
@@ -82,7 +90,19 @@ public:
                                  RayCount& rays) const;
 
     /// Appends the exactly evaluated, unoccluded punctual lights at free-space point x.
-    void punctualLights(const Vec3f& x, std::vector<LightSample>& out, RayCount& rays) const;
+    /// With `skipSampled`, the point and spot lights are left out when samplesPunctualLights()
+    /// (the caller adds samplePunctualLight() per sample instead).
+    void punctualLights(const Vec3f& x, std::vector<LightSample>& out, RayCount& rays,
+                        bool skipSampled = false) const;
+
+    /// True when the scene has more point + spot lights than options().exactLightLimit.
+    bool samplesPunctualLights() const { return bool(punctualSampler_); }
+    /// Number of point + spot lights in the scene.
+    std::size_t pointAndSpotLightCount() const;
+    /// One sample of the point and spot lights at x with u in [0, 1): one light chosen by
+    /// the many-light sampler, weight = its irradiance at normal incidence / pmf (pdf = 0:
+    /// a delta). False if the chosen light is occluded, dark or behind its spot cone.
+    bool samplePunctualLight(const Vec3f& x, double u, LightSample& out, RayCount& rays) const;
 
     /// Solid-angle pdf with which sampleEmissiveTriangles picks the point at distance t
     /// along unit direction dir from x on triangle `tri` (0 if it is not an emitter).
@@ -105,6 +125,7 @@ private:
     std::vector<float> emitterArea_;
     std::vector<Vec3f> unitNormals_;   ///< per triangle, front-face orientation
     std::vector<int32_t> emitterOf_;   ///< per triangle, index into emitters_ or -1
+    std::shared_ptr<const PunctualLightSampler> punctualSampler_;  ///< null: lights exact
 };
 
 }  // namespace vdblight

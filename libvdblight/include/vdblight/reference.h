@@ -3,8 +3,9 @@
 //
 //   E(x, n) = integral over the hemisphere of n of L(w) cos(w, n) dw
 // Reflected light and sky by cosine-weighted stratified directions, emissive triangles by
-// NEE with the cosine weight, punctual lights exactly. The standard error comes from the
-// sample variance of the per-sample estimates.
+// NEE with the cosine weight, punctual lights exactly (or, above
+// TransportOptions::exactLightLimit point/spot lights, one sampled per sample: light.h). The
+// standard error comes from the sample variance of the per-sample estimates.
 #pragma once
 
 #include <cstdint>

@@ -21,7 +21,7 @@
 namespace vdblight {
 
 namespace {
-enum Dimension : uint64_t { kLightPoint = 21, kLightChoice = 22, kPath = 23 };
+enum Dimension : uint64_t { kLightPoint = 21, kLightChoice = 22, kPath = 23, kPunctualChoice = 24 };
 constexpr int kValues = sh::kCoeffs * 3;
 
 /// One cell's contribution to its eight corner nodes (corner bit 0 = +x, 1 = +y, 2 = +z).
@@ -82,9 +82,16 @@ void bakeCell(const RadianceEstimator& estimator, const Tracer& tracer, const Gr
                     for (int ch = 0; ch < 3; ++ch) term[3 * j + ch] += double(weight[ch]) * y[j];
             }
         }
-        // ... and the punctual lights, exactly, at this origin.
+        // ... and the punctual lights at this origin: exactly, or with many point/spot lights
+        // one of them chosen by the light tree (light.h; Halton base 19, shifted per cell).
         punctual.clear();
-        estimator.punctualLights(s.origin, punctual, count);
+        estimator.punctualLights(s.origin, punctual, count, true);
+        if (estimator.samplesPunctualLights()) {
+            double u = radicalInverse(19, i) + toUnitDouble(hashCombine(stream, kPunctualChoice));
+            u -= std::floor(u);
+            LightSample ls;
+            if (estimator.samplePunctualLight(s.origin, u, ls, count)) punctual.push_back(ls);
+        }
         for (const LightSample& p : punctual) {
             sh::evalUnrolled(p.direction, y);
             for (int j = 0; j < sh::kCoeffs; ++j)
@@ -194,7 +201,7 @@ Volume bakeShAntialiased(const Scene& scene, const Tracer& tracer, const GridSpe
     m["bounces"] = int64_t(o.transport.maxBounces);
     m["roulette_start"] = int64_t(o.transport.rouletteStart);
     m["origin_sampling"] = std::string("shifted Halton (bases 5, 7, 11) per cell, trilinear weights, eq. 6");
-    m["direction_sampling"] = std::string("shifted Halton (bases 2, 3) uniform sphere + NEE on emissive triangles; punctual lights exact per origin");
+    m["direction_sampling"] = std::string("shifted Halton (bases 2, 3) uniform sphere + NEE on emissive triangles; punctual lights exact per origin (one sampled per origin above the exact-light limit)");
     m["nodes"] = int64_t(nodes);
     m["cells"] = int64_t(cells);
     m["origins_accepted"] = int64_t(accepted);

@@ -13,76 +13,16 @@
 #include "vdblight/scene.h"
 #include "vdblight/sh.h"
 #include "vdblight/trace.h"
+#include "node_sampler.h"
 
 namespace vdblight {
-
-namespace {
-// Independent scrambles for the sample dimensions of one node.
-enum Dimension : uint64_t { kDirection = 1, kLightPoint = 2, kLightChoice = 3, kPath = 4 };
-}  // namespace
 
 void projectIncidentRadiance(const RadianceEstimator& estimator, const Vec3f& x, uint32_t rays, uint64_t seed,
                              uint64_t streamIndex, Rgbd out[9], RayCount& count, const Tracer* tracer,
                              uint32_t* backFaceHits) {
-    const uint64_t stream = hashCombine(seed, streamIndex);
-    Rng rng(stream, kPath);
-    const double lightOffset = toUnitDouble(hashCombine(stream, kLightChoice));
-    double acc[sh::kCoeffs][3] = {};
-    double lightAcc[sh::kCoeffs][3] = {};
-    float y[sh::kCoeffs];
-    const bool nee = estimator.hasEmissiveTriangles();
-
-    for (uint32_t i = 0; i < rays; ++i) {
-        // Reflected light and sky: stratified directions, uniform over the sphere.
-        float u, v;
-        sobol02(i, hashCombine(stream, kDirection), u, v);
-        const Vec3f dir = uniformSphere(u, v);
-        constexpr float kSpherePdf = float(1.0 / (4.0 * kPi));
-        Rgb l;
-        if (tracer && backFaceHits) {
-            ++count.intersect;
-            const Hit first = tracer->intersect(Ray{x, dir});
-            if (first.hit() && dot(first.geometricNormal, dir) > 0.0f) ++*backFaceHits;
-            l = estimator.gatherRadiance(x, dir, kSpherePdf, rng, count, &first);
-        } else {
-            l = estimator.gatherRadiance(x, dir, kSpherePdf, rng, count);
-        }
-        sh::evalUnrolled(dir, y);
-        for (int j = 0; j < sh::kCoeffs; ++j) {
-            acc[j][0] += double(l.x) * y[j];
-            acc[j][1] += double(l.y) * y[j];
-            acc[j][2] += double(l.z) * y[j];
-        }
-        // Emissive triangles: one NEE sample per ray, stratified on the light too.
-        if (nee) {
-            sobol02(i, hashCombine(stream, kLightPoint), u, v);
-            double w = radicalInverse(3, i) + lightOffset;
-            w -= std::floor(w);
-            LightSample s;
-            if (estimator.sampleEmissiveTriangles(x, u, v, float(w), s, count)) {
-                sh::evalUnrolled(s.direction, y);
-                const Rgb weight = s.weight * misWeight(s.pdf, float(1.0 / (4.0 * kPi)));
-                for (int j = 0; j < sh::kCoeffs; ++j) {
-                    lightAcc[j][0] += double(weight.x) * y[j];
-                    lightAcc[j][1] += double(weight.y) * y[j];
-                    lightAcc[j][2] += double(weight.z) * y[j];
-                }
-            }
-        }
-    }
-    const double dirScale = rays > 0 ? 4.0 * kPi / rays : 0.0;  // 1 / uniform-sphere pdf / N
-    const double lightScale = rays > 0 ? 1.0 / rays : 0.0;
-    for (int j = 0; j < sh::kCoeffs; ++j)
-        out[j] = Rgbd(acc[j][0], acc[j][1], acc[j][2]) * dirScale +
-                 Rgbd(lightAcc[j][0], lightAcc[j][1], lightAcc[j][2]) * lightScale;
-
-    // Punctual lights are deltas: their projection is exact, one shadow ray each.
-    std::vector<LightSample> punctual;
-    estimator.punctualLights(x, punctual, count);
-    for (const LightSample& s : punctual) {
-        sh::evalUnrolled(s.direction, y);
-        for (int j = 0; j < sh::kCoeffs; ++j) out[j] += Rgbd(s.weight) * double(y[j]);
-    }
+    detail::NodeSampler sampler(estimator, x, seed, streamIndex, rays);
+    sampler.addSamples(0, rays, count, tracer, backFaceHits);
+    sampler.coefficients(out, count);
 }
 
 Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& grid, const GatherOptions& options,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "punctual_sampler.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
 
@@ -52,6 +53,41 @@ RadianceEstimator::RadianceEstimator(const Scene& scene, const Tracer& tracer, T
         emitterPmf_.push_back(float(power[e] / total));
     }
     if (!emitterCdf_.empty()) emitterCdf_.back() = 1.0f;
+    if (scene.pointLights.size() + scene.spotLights.size() > options_.exactLightLimit)
+        punctualSampler_ = std::make_shared<const PunctualLightSampler>(scene);
+}
+
+std::size_t RadianceEstimator::pointAndSpotLightCount() const {
+    return scene_.pointLights.size() + scene_.spotLights.size();
+}
+
+bool RadianceEstimator::samplePunctualLight(const Vec3f& x, double u, LightSample& out, RayCount& rays) const {
+    if (!punctualSampler_) return false;
+    double pmf = 0;
+    const uint32_t l = punctualSampler_->sample(x, u, pmf);
+    if (!(pmf > 0)) return false;
+    Vec3f pos;
+    Rgb intensity;
+    if (l < scene_.pointLights.size()) {
+        pos = scene_.pointLights[l].position;
+        intensity = scene_.pointLights[l].intensity;
+    } else {
+        const SpotLight& s = scene_.spotLights[l - scene_.pointLights.size()];
+        pos = s.position;
+        const Vec3f d = x - s.position;
+        const float len = length(d);
+        if (!(len > 0)) return false;
+        intensity = s.intensity * spotFalloff(s, d / len);
+    }
+    const Vec3f toLight = pos - x;
+    const float dist2 = dot(toLight, toLight);
+    if (!(dist2 > 0) || maxComponent(intensity) <= 0) return false;
+    ++rays.occluded;
+    if (tracer_.occluded(Ray{x, toLight, 0.0f, kShadowEnd})) return false;
+    out.direction = toLight / std::sqrt(dist2);
+    out.weight = intensity * float(1.0 / (double(dist2) * pmf));
+    out.pdf = 0.0f;
+    return true;
 }
 
 bool RadianceEstimator::sampleEmissiveTriangles(const Vec3f& x, float u, float v, float w, LightSample& out,
@@ -99,7 +135,8 @@ Rgb RadianceEstimator::emittedRadiance(uint32_t tri, const Vec3f& dir) const {
     return Rgb(0, 0, 0);
 }
 
-void RadianceEstimator::punctualLights(const Vec3f& x, std::vector<LightSample>& out, RayCount& rays) const {
+void RadianceEstimator::punctualLights(const Vec3f& x, std::vector<LightSample>& out, RayCount& rays,
+                                       bool skipSampled) const {
     auto addPoint = [&](const Vec3f& pos, const Rgb& intensity) {
         const Vec3f toLight = pos - x;
         const float dist2 = dot(toLight, toLight);
@@ -108,11 +145,14 @@ void RadianceEstimator::punctualLights(const Vec3f& x, std::vector<LightSample>&
         if (tracer_.occluded(Ray{x, toLight, 0.0f, kShadowEnd})) return;
         out.push_back({toLight / std::sqrt(dist2), intensity / dist2});
     };
-    for (const PointLight& l : scene_.pointLights) addPoint(l.position, l.intensity);
-    for (const SpotLight& s : scene_.spotLights) {
-        const Vec3f d = x - s.position;
-        const float len = length(d);
-        if (len > 0) addPoint(s.position, s.intensity * spotFalloff(s, d / len));
+    const bool exact = !(skipSampled && punctualSampler_);
+    if (exact) {
+        for (const PointLight& l : scene_.pointLights) addPoint(l.position, l.intensity);
+        for (const SpotLight& s : scene_.spotLights) {
+            const Vec3f d = x - s.position;
+            const float len = length(d);
+            if (len > 0) addPoint(s.position, s.intensity * spotFalloff(s, d / len));
+        }
     }
     for (const DirectionalLight& l : scene_.directionalLights) {
         const Vec3f toLight = -normalize(l.direction);
@@ -137,8 +177,14 @@ Rgb RadianceEstimator::directAtSurface(const Vec3f& p, const Vec3f& n, Rng& rng,
     if (!scene_.pointLights.empty() || !scene_.spotLights.empty() || !scene_.directionalLights.empty()) {
         thread_local std::vector<LightSample> punctual;
         punctual.clear();
-        punctualLights(p, punctual, rays);
+        punctualLights(p, punctual, rays, true);
         for (const LightSample& l : punctual) e += l.weight * std::max(0.0f, dot(n, l.direction));
+        if (punctualSampler_) {
+            // 53-bit u: the pmf of a light among thousands is below float resolution.
+            const double hi = double(rng.next() >> 5), lo = double(rng.next() >> 6);
+            const double u = (hi * 67108864.0 + lo) * (1.0 / 9007199254740992.0);
+            if (samplePunctualLight(p, u, s, rays)) e += s.weight * std::max(0.0f, dot(n, s.direction));
+        }
     }
     return e;
 }

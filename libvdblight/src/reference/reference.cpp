@@ -29,6 +29,7 @@ ChunkSum integrateChunk(const RadianceEstimator& estimator, const ReferencePoint
     Vec3f t, b;
     orthonormalBasis(n, t, b);
     const double lightOffset = toUnitDouble(hashCombine(stream, 3));
+    const double punctualOffset = toUnitDouble(hashCombine(stream, 4));
     ChunkSum s;
     for (uint32_t i = first; i < first + count; ++i) {
         float u, v;
@@ -46,6 +47,14 @@ ChunkSum integrateChunk(const RadianceEstimator& estimator, const ReferencePoint
                 const float cosine = std::max(0.0f, dot(n, ls.direction));
                 value += Rgbd(ls.weight) * double(cosine * misWeight(ls.pdf, cosine * float(kInvPi)));
             }
+        }
+        if (estimator.samplesPunctualLights()) {
+            // Many point/spot lights: one chosen per sample (light.h), part of the variance.
+            double w = radicalInverse(5, i) + punctualOffset;
+            w -= std::floor(w);
+            LightSample ls;
+            if (estimator.samplePunctualLight(point.position, w, ls, rays))
+                value += Rgbd(ls.weight) * double(std::max(0.0f, dot(n, ls.direction)));
         }
         s.sum += value;
         s.sumSquares += value * value;
@@ -109,10 +118,11 @@ std::vector<ReferenceResult> referenceIrradiance(const Scene& scene, const Trace
         variance = vmax(variance, Rgbd(0, 0, 0)) * (n / std::max(1.0, n - 1.0));
         results[p].irradiance = mean;
         results[p].standardError = {std::sqrt(variance.x / n), std::sqrt(variance.y / n), std::sqrt(variance.z / n)};
-        // Punctual lights are exact: no variance.
+        // Punctual lights evaluated exactly (all, or the directional ones when point and
+        // spot lights are sampled above): no variance.
         punctual.clear();
         RayCount rays;
-        estimator.punctualLights(points[p].position, punctual, rays);
+        estimator.punctualLights(points[p].position, punctual, rays, true);
         for (const LightSample& s : punctual)
             results[p].irradiance += Rgbd(s.weight) * double(std::max(0.0f, dot(normals[p], s.direction)));
     }

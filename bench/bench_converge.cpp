@@ -1,0 +1,191 @@
+// vdblight_bench_converge: skip what a scene does not need (issue 8).
+//
+// Part 1, error-targeted bake (bake_adaptive.h) on the default scene: the fixed-budget bake
+// with N rays per node has a worst node error; the error-targeted bake with that target and
+// at most N rays reaches it everywhere. Printed: gathered rays and wall time of both, the
+// estimated error distribution, and the error of each node's mean irradiance (SH DC) against
+// a converged estimate (independent seed, 16x the rays) -- measured, not estimated.
+//
+// Part 2, many lights (light/punctual_sampler.h): a 64 x 64 floor with blocks and L point
+// lights scattered over it (total intensity fixed), L = 100 ... 10000. Each light count is
+// baked to the same target error (error-targeted bake) with the light sampler and, where it
+// is affordable, with every light evaluated exactly at every vertex (the old path). Printed:
+// seconds, rays, and the measured error against a converged estimate.
+// `--quick` shrinks the workloads for CI.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "vdblight/bake.h"
+#include "vdblight/bake_adaptive.h"
+#include "vdblight/scene.h"
+#include "vdblight/scene_generators.h"
+#include "vdblight/trace.h"
+#include "bench_scenes.h"
+
+using namespace vdblight;
+
+namespace {
+double ebarOf(const float* node) {
+    constexpr double kY00 = 0.28209479177387814;
+    return kPi * kY00 * double(luminance(Rgb(node[0], node[1], node[2])));
+}
+
+// Converged mean irradiance per node (independent seed, `rays` per node); prints the
+// converged values' own worst estimated relative standard error.
+std::vector<double> convergedEbar(const Scene& s, const Tracer& tracer, const GridSpec& g, uint32_t rays,
+                                  const TransportOptions& t) {
+    AdaptiveOptions o;
+    o.targetError = 1e-9;
+    o.minRays = o.maxRays = rays;
+    o.seed = 424242;
+    o.transport = t;
+    AdaptiveStats st;
+    const Volume v = bakeShGatherAdaptive(s, tracer, g, o, nullptr, &st);
+    std::vector<double> out(g.nodeCount());
+    for (std::size_t n = 0; n < out.size(); ++n) out[n] = ebarOf(v.levels[0].data.data() + n * 27);
+    std::printf("(converged values: %u rays per node, their own estimated relative standard error p50 %.4f, max %.4f)\n",
+                rays, st.errorQuantile(0.5), st.errorQuantile(1.0));
+    return out;
+}
+
+struct Measured {
+    double max = 0, p95 = 0, rms = 0;
+};
+Measured measure(const Volume& v, const std::vector<double>& truth) {
+    std::vector<double> e;
+    for (std::size_t n = 0; n < truth.size(); ++n)
+        if (truth[n] > 0) e.push_back(std::abs(ebarOf(v.levels[0].data.data() + n * 27) - truth[n]) / truth[n]);
+    std::sort(e.begin(), e.end());
+    Measured m;
+    if (e.empty()) return m;
+    double s2 = 0;
+    for (double x : e) s2 += x * x;
+    m.rms = std::sqrt(s2 / e.size());
+    m.max = e.back();
+    m.p95 = e[std::min(e.size() - 1, std::size_t(std::ceil(0.95 * e.size())) - 1)];
+    return m;
+}
+
+void partAdaptive(bool quick) {
+    const Scene s = loadScene(defaultScenePath());
+    const Tracer tracer(s);
+    GridPlacement p;
+    p.resolution = quick ? 5 : 8;
+    const GridSpec g = placeUniformGrid(s.bounds(), p, 1);
+    const uint32_t budget = quick ? 512 : 2048;
+    std::printf("\n== Error-targeted bake: default scene, %d x %d x %d nodes, fixed budget %u rays/node ==\n", g.nx, g.ny,
+                g.nz, budget);
+    const std::vector<double> truth = convergedEbar(s, tracer, g, 16 * budget, TransportOptions{});
+
+    AdaptiveOptions fixed;
+    fixed.targetError = 1e-9;
+    fixed.minRays = fixed.maxRays = budget;
+    AdaptiveStats f;
+    const Volume vf = bakeShGatherAdaptive(s, tracer, g, fixed, nullptr, &f);
+    const Measured mf = measure(vf, truth);
+
+    std::printf("%-30s %10s %8s %12s %12s %12s %12s %12s\n", "bake", "rays/node", "seconds", "est.err p50",
+                "est.err max", "meas.err rms", "meas.err p95", "meas.err max");
+    std::printf("%-30s %10.0f %8.3f %12.4f %12.4f %12.4f %12.4f %12.4f\n", "fixed", double(f.samples) / g.nodeCount(),
+                f.seconds, f.errorQuantile(0.5), f.errorQuantile(1.0), mf.rms, mf.p95, mf.max);
+    // Equal maximum error: the target starts at the fixed bake's worst estimated error and is
+    // lowered until the error-targeted bake's worst MEASURED error is at most the fixed one's.
+    for (double factor : {1.0, 0.8, 0.65, 0.5, 0.4}) {
+        AdaptiveOptions o;
+        o.targetError = factor * f.errorQuantile(1.0);
+        o.maxRays = budget;
+        AdaptiveStats a;
+        const Volume va = bakeShGatherAdaptive(s, tracer, g, o, nullptr, &a);
+        const Measured ma = measure(va, truth);
+        char name[64];
+        std::snprintf(name, sizeof name, "error-targeted %.4f", o.targetError);
+        std::printf("%-30s %10.0f %8.3f %12.4f %12.4f %12.4f %12.4f %12.4f\n", name, double(a.samples) / g.nodeCount(),
+                    a.seconds, a.errorQuantile(0.5), a.errorQuantile(1.0), ma.rms, ma.p95, ma.max);
+        if (ma.max <= mf.max) {
+            std::printf("at equal maximum measured error (%.4f <= %.4f): error-targeted / fixed gathered rays %.3f, "
+                        "all rays %.3f, seconds %.3f\n",
+                        ma.max, mf.max, double(a.samples) / double(f.samples),
+                        double(a.rays.total()) / double(f.rays.total()), a.seconds / f.seconds);
+            break;
+        }
+    }
+
+    // A sweep of targets: rays used and honesty (share of nodes within 1.5x of the target).
+    std::printf("%-8s %10s %8s %14s %14s\n", "target", "rays/node", "seconds", "within 1.5x", "nodes at max");
+    for (double target : {0.08, 0.04, 0.02, 0.01}) {
+        AdaptiveOptions t;
+        t.targetError = target;
+        t.maxRays = 16 * budget;
+        AdaptiveStats st;
+        const Volume v = bakeShGatherAdaptive(s, tracer, g, t, nullptr, &st);
+        int within = 0, total = 0;
+        for (std::size_t n = 0; n < truth.size(); ++n) {
+            if (!(truth[n] > 0)) continue;
+            ++total;
+            if (std::abs(ebarOf(v.levels[0].data.data() + n * 27) - truth[n]) / truth[n] <= 1.5 * target) ++within;
+        }
+        std::printf("%-8.3f %10.0f %8.3f %13.1f%% %14llu\n", target, double(st.samples) / g.nodeCount(), st.seconds,
+                    100.0 * within / total, (unsigned long long)st.nodesAtMax);
+    }
+}
+
+void partManyLights(bool quick) {
+    const double target = 0.03;
+    std::printf("\n== Many lights: 64 x 64 floor + 16 blocks, L point lights, baked to target error %.2f ==\n", target);
+    std::printf("%-7s %-9s %8s %10s %12s %12s %12s\n", "lights", "lights", "seconds", "rays/node", "shadow rays",
+                "meas.err p95", "meas.err max");
+    const std::vector<int> counts = quick ? std::vector<int>{100, 1000} : std::vector<int>{100, 300, 1000, 3000, 10000};
+    double firstSampled = 0, firstExact = 0;
+    for (int lights : counts) {
+        const Scene s = bench::manyLightsScene(lights);
+        const Tracer tracer(s);
+        GridSpec g;
+        g.origin = Vec3d(4, 1.5, 4);  // nodes between the blocks, none inside one
+        g.spacing = quick ? 16 : 8;
+        g.nx = g.nz = quick ? 4 : 8;
+        g.ny = 1;
+        TransportOptions t;
+        t.maxBounces = 2;
+        const std::vector<double> truth = convergedEbar(s, tracer, g, quick ? 8192 : 65536, t);
+        for (bool exact : {false, true}) {
+            if (exact && lights > (quick ? 100 : 1000)) {
+                std::printf("%-7d %-9s %8s  (skipped: every light at every vertex)\n", lights, "exact", "-");
+                continue;
+            }
+            AdaptiveOptions o;
+            o.targetError = target;
+            o.maxRays = 16384;
+            o.transport = t;
+            o.transport.exactLightLimit = exact ? (1u << 30) : 16;
+            AdaptiveStats st;
+            const Volume v = bakeShGatherAdaptive(s, tracer, g, o, nullptr, &st);
+            const Measured m = measure(v, truth);
+            if (std::getenv("VDBLIGHT_BENCH_DEBUG"))
+                for (std::size_t n = 0; n < truth.size(); ++n)
+                    std::printf("   node %zu truth %.5f baked %.5f est %.4f rays %u\n", n, truth[n],
+                                ebarOf(v.levels[0].data.data() + n * 27), st.estimatedError[n], st.raysPerNode[n]);
+            std::printf("%-7d %-9s %8.3f %10.0f %12llu %12.4f %12.4f\n", lights, exact ? "exact" : "sampled", st.seconds,
+                        double(st.samples) / g.nodeCount(), (unsigned long long)st.rays.occluded, m.p95, m.max);
+            double& first = exact ? firstExact : firstSampled;
+            if (first == 0) first = st.seconds;
+            else
+                std::printf("        %s: light count x%.0f, time x%.2f\n", exact ? "exact" : "sampled",
+                            double(lights) / counts[0], st.seconds / first);
+        }
+    }
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+    const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+    std::printf("vdblight_bench_converge%s\n", quick ? " --quick (small workloads, noisy figures)" : "");
+    partAdaptive(quick);
+    partManyLights(quick);
+    return 0;
+}

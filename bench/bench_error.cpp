@@ -1,0 +1,242 @@
+// vdblight_bench_error: run time against error for every method, on a scene suite (issue 8).
+//
+// Scenes: the default Cornell box; an office-like room (~41 k triangles); the thin-wall leak
+// scene; a small town under a sky and a sun; a room of >= 100 k triangles; 1 000 point
+// lights over a floor (`--quick`: Cornell box and thin wall only, smaller grids).
+// Methods: point SH (uniform grid), anti-aliased SH (interior domain), bilevel layout
+// (point SH, refine 2), Greger bins (2 R^2 ~ budget bins, one ray each), photons
+// (irradiance vectors). Five budgets each (rays per node or
+// cell; photons = rays x level-0 nodes x 4), same threads, same run.
+// Error: at fixed free-space points (random in the scene's box, kept if no axis ray from
+// them hits a back face) with random unit normals, |E - Eref| / max(Eref, 0.05 mean Eref),
+// luminance; RMS, 95th percentile and maximum. Eref from `reference` with enough samples,
+// cached under $VDBLIGHT_BENCH_CACHE (default /tmp/vdblight_bench_cache) by scene content
+// hash, point count and samples; the benchmark prints the reference's worst relative standard
+// error next to the smallest RMS error it reports.
+// Output: CSV on stdout (or --csv FILE): scene,method,layout,nodes,bytes,bake_seconds,budget,
+// rays_or_photons,err_rms,err_p95,err_max. scripts/plot_error.sh draws docs/images/.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+#include "bench_scenes.h"
+#include "vdblight/bake.h"
+#include "vdblight/bake_antialiased.h"
+#include "vdblight/bake_bins.h"
+#include "vdblight/bake_levels.h"
+#include "vdblight/layout_levels.h"
+#include "vdblight/leak_scenes.h"
+#include "vdblight/photons.h"
+#include "vdblight/query.h"
+#include "vdblight/reference.h"
+#include "vdblight/trace.h"
+#include "vdblight/vdb_io.h"
+
+using namespace vdblight;
+namespace fs = std::filesystem;
+
+namespace {
+struct SuiteScene {
+    std::string name;
+    Scene scene;
+    int resolution;
+};
+
+std::vector<ReferencePoint> freeSpacePoints(const Scene& s, const Tracer& tracer, const Bounds& box, int count) {
+    Rng rng(2024);
+    std::vector<ReferencePoint> pts;
+    const Vec3f axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    for (int tries = 0; int(pts.size()) < count && tries < 100 * count; ++tries) {
+        const Vec3d t(0.05 + 0.9 * rng.uniform(), 0.05 + 0.9 * rng.uniform(), 0.05 + 0.9 * rng.uniform());
+        const Vec3f p(box.lo + box.size() * t);
+        bool inside = false;
+        for (const Vec3f& d : axes) {
+            const Hit h = tracer.intersect(Ray{p, d});
+            if (h.hit() && dot(h.geometricNormal, d) > 0) inside = true;
+        }
+        const Vec3f n = uniformSphere(rng.uniform(), rng.uniform());
+        if (!inside) pts.push_back({p, n});
+    }
+    (void)s;
+    return pts;
+}
+
+std::vector<double> cachedReference(const Scene& s, const Tracer& tracer, const std::vector<ReferencePoint>& pts,
+                                    uint32_t samples, double& worstRelSe) {
+    const char* env = std::getenv("VDBLIGHT_BENCH_CACHE");
+    const fs::path dir = env ? fs::path(env) : fs::temp_directory_path() / "vdblight_bench_cache";
+    fs::create_directories(dir);
+    const fs::path file = dir / (s.contentHash() + "_" + std::to_string(pts.size()) + "_" + std::to_string(samples) + ".txt");
+    std::vector<double> ref, se;
+    if (std::ifstream in{file}) {
+        double a, b;
+        while (in >> a >> b) ref.push_back(a), se.push_back(b);
+    }
+    if (ref.size() != pts.size()) {
+        ReferenceOptions o;
+        o.samples = samples;
+        const auto r = referenceIrradiance(s, tracer, pts, o);
+        ref.clear(), se.clear();
+        for (const auto& x : r) ref.push_back(luminance(Rgb(x.irradiance))), se.push_back(luminance(Rgb(x.standardError)));
+        const fs::path tmp = file.string() + ".tmp";
+        {
+            std::ofstream out(tmp);
+            out.precision(17);
+            for (std::size_t i = 0; i < ref.size(); ++i) out << ref[i] << ' ' << se[i] << '\n';
+        }
+        fs::rename(tmp, file);
+        std::fprintf(stderr, "  reference for %s: %zu points x %u samples computed and cached in %s\n", s.name.c_str(),
+                     pts.size(), samples, file.c_str());
+    } else {
+        std::fprintf(stderr, "  reference for %s: read from cache %s (scene hash %s)\n", s.name.c_str(), file.c_str(),
+                     s.contentHash().c_str());
+    }
+    double mean = 0;
+    for (double r : ref) mean += r / ref.size();
+    worstRelSe = 0;
+    for (std::size_t i = 0; i < ref.size(); ++i) worstRelSe = std::max(worstRelSe, se[i] / std::max(ref[i], 0.05 * mean));
+    return ref;
+}
+
+struct Errors {
+    double rms = 0, p95 = 0, max = 0;
+};
+Errors measure(const Volume& v, const std::vector<ReferencePoint>& pts, const std::vector<double>& ref) {
+    const IrradianceQuery q(v);
+    double mean = 0;
+    for (double r : ref) mean += r / ref.size();
+    std::vector<double> e;
+    double s2 = 0;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+        double got = luminance(q.irradiance(pts[i].position, normalize(pts[i].normal)));
+        if (!std::isfinite(got)) got = 1e30;
+        const double rel = std::abs(got - ref[i]) / std::max(ref[i], 0.05 * mean);
+        e.push_back(rel);
+        s2 += rel * rel;
+    }
+    std::sort(e.begin(), e.end());
+    return {std::sqrt(s2 / e.size()), e[std::size_t(std::ceil(0.95 * e.size())) - 1], e.back()};
+}
+
+uint64_t bytesOnDisk(const Volume& v) {
+    const fs::path tmp = fs::temp_directory_path() / ("vdblight_bench_error_" + std::to_string(::getpid()) + ".vdb");
+    writeVolume(v, tmp.string());
+    const uint64_t size = fs::file_size(tmp);
+    fs::remove(tmp);
+    return size;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+    bool quick = false;
+    std::string csvPath;
+    for (int i = 1; i < argc; ++i) {
+        if (std::strcmp(argv[i], "--quick") == 0) quick = true;
+        else if (std::strcmp(argv[i], "--csv") == 0 && i + 1 < argc) csvPath = argv[++i];
+        else {
+            std::fprintf(stderr, "usage: vdblight_bench_error [--quick] [--csv FILE]\n");
+            return 1;
+        }
+    }
+    FILE* csv = csvPath.empty() ? stdout : std::fopen(csvPath.c_str(), "w");
+    if (!csv) {
+        std::fprintf(stderr, "vdblight_bench_error: cannot write %s\n", csvPath.c_str());
+        return 1;
+    }
+    std::vector<SuiteScene> suite;
+    suite.push_back({"cornell", loadScene(defaultScenePath()), quick ? 6 : 10});
+    suite.push_back({"thin_wall", makeThinWallScene().scene, quick ? 8 : 16});
+    if (!quick) {
+        suite.push_back({"office", bench::officeScene(2, 5), 16});     // ~41 k triangles
+        suite.push_back({"town", makeTownScene().scene, 16});
+        suite.push_back({"dense_100k", bench::officeScene(8, 5), 16});  // ~164 k triangles
+        suite.push_back({"many_lights", bench::manyLightsScene(1000), 32});  // 2 nodes high
+    }
+    const std::vector<uint32_t> budgets = quick ? std::vector<uint32_t>{8, 16, 32, 64, 128}
+                                                : std::vector<uint32_t>{16, 32, 64, 128, 256};
+    const int points = quick ? 200 : 1000;
+    const uint32_t refSamples = quick ? 4096 : 32768;
+    std::fprintf(stderr, "vdblight_bench_error%s: %zu scenes x 5 methods x %zu budgets, %d points\n",
+                 quick ? " --quick (small workloads)" : "", suite.size(), budgets.size(), points);
+    std::fprintf(csv, "scene,method,layout,nodes,bytes,bake_seconds,budget,rays_or_photons,err_rms,err_p95,err_max\n");
+
+    for (SuiteScene& ss : suite) {
+        const Scene& s = ss.scene;
+        const Tracer tracer(s);
+        GridPlacement placement;
+        placement.resolution = ss.resolution;
+        const GridSpec grid = placeUniformGrid(s.bounds(), placement, 1);
+        const auto pts = freeSpacePoints(s, tracer, grid.nodeBounds(), points);
+        double worstRelSe = 0;
+        const auto ref = cachedReference(s, tracer, pts, refSamples, worstRelSe);
+        double smallestRms = 1e30;
+        auto row = [&](const char* method, const char* layout, const Volume& v, uint64_t nodes, double seconds,
+                       uint32_t budget, uint64_t work) {
+            const Errors e = measure(v, pts, ref);
+            smallestRms = std::min(smallestRms, e.rms);
+            std::fprintf(csv, "%s,%s,%s,%llu,%llu,%.4f,%u,%llu,%.5f,%.5f,%.5f\n", ss.name.c_str(), method, layout,
+                         (unsigned long long)nodes, (unsigned long long)bytesOnDisk(v), seconds, budget,
+                         (unsigned long long)work, e.rms, e.p95, e.max);
+            std::fflush(csv);
+        };
+        std::fprintf(stderr, "  %s: %zu triangles, %d x %d x %d nodes, %zu points\n", ss.name.c_str(), s.triangleCount(),
+                     grid.nx, grid.ny, grid.nz, pts.size());
+        for (uint32_t budget : budgets) {
+            GatherOptions g;
+            g.raysPerNode = budget;
+            BakeStats st;
+            Volume v = bakeShGather(s, tracer, grid, g, nullptr, &st);
+            row("point_sh", "uniform", v, st.nodes, st.seconds, budget, st.rays.total());
+
+            AntialiasedOptions a;
+            a.raysPerCell = budget;
+            try {
+                v = bakeShAntialiased(s, tracer, grid, a, nullptr, &st);
+                row("antialiased_sh", "uniform", v, st.nodes, st.seconds, budget, st.rays.total());
+            } catch (const Error& e) {
+                std::fprintf(stderr, "  antialiased on %s: %s\n", ss.name.c_str(), e.what());
+            }
+
+            LevelsPlacement lp;
+            lp.kind = LayoutKind::Bilevel;
+            lp.refine = 2;
+            try {
+                const LevelLayout layout = placeLevels(grid, s.positions, s.indices, lp, 1);
+                LevelsBakeStats ls;
+                v = bakeShGatherLevels(s, tracer, layout, g, nullptr, &ls);
+                row("point_sh", "bilevel", v, ls.nodes, ls.seconds, budget, ls.rays.total());
+            } catch (const Error& e) {
+                std::fprintf(stderr, "  bilevel on %s: %s\n", ss.name.c_str(), e.what());
+            }
+
+            // Greger bins: 2 R^2 bins with one sample each, R chosen so that 2 R^2 ~ budget.
+            BinsBakeOptions bo;
+            bo.basis.kind = bins::BasisSpec::Kind::Bins;
+            bo.basis.resolution = std::max(1, int(std::lround(std::sqrt(budget / 2.0))));
+            LevelsBakeStats bs;
+            v = bakeBins(s, tracer, uniformLayout(grid), bo, nullptr, &bs);
+            row("bins", "uniform", v, bs.nodes, bs.seconds, budget, bs.rays.total());
+
+            PhotonOptions p;
+            p.photons = uint64_t(budget) * grid.nodeCount() * 4;
+            PhotonStats ps;
+            v = bakePhotons(s, tracer, grid, p, nullptr, &ps);
+            row("photons", "uniform", v, grid.nodeCount(), ps.seconds, budget, ps.photons);
+        }
+        std::fprintf(stderr, "  %s: reference worst relative standard error %.4f, smallest RMS error reported %.4f: %s\n",
+                     ss.name.c_str(), worstRelSe, smallestRms,
+                     worstRelSe <= smallestRms / 5 ? "reference noise below a fifth of it"
+                                                   : "REFERENCE NOISE ABOVE A FIFTH OF IT (the smallest errors measure noise)");
+    }
+    if (csv != stdout) std::fclose(csv);
+    return 0;
+}

@@ -1,0 +1,162 @@
+// The sampling of one point-gather node, split into ranges of samples so that a node can
+// be sampled in rounds (the error-targeted bake, bake_adaptive.h) with exactly the samples
+// and sums of the fixed-budget bake: after samples [0, N) the coefficients have the same
+// bits as projectIncidentRadiance with N rays.
+//
+// Besides the SH sums it keeps the first two moments of each sample's estimate of the
+// node's mean irradiance over all normals, Ebar = (1/4) * integral of L over the sphere
+// (luminance). Ebar is exactly the SH DC term's irradiance (pi * Y00 * L00), so it has no
+// SH truncation error, and its per-sample estimate is pi * lum(L_i) + lum(NEE_i) / 4
+// (+ lum(punctual_i) / 4 when punctual lights are sampled).
+#pragma once
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "vdblight/bake.h"
+#include "vdblight/light.h"
+#include "vdblight/sampling.h"
+#include "vdblight/sh.h"
+#include "vdblight/trace.h"
+
+namespace vdblight::detail {
+
+class NodeSampler {
+public:
+    // Independent scrambles for the sample dimensions of one node.
+    enum Dimension : uint64_t { kDirection = 1, kLightPoint = 2, kLightChoice = 3, kPath = 4, kPunctual = 5 };
+
+    /// `plannedRays`: the most samples this node will take. At the node itself, point and
+    /// spot lights are sampled (one per sample) only if the estimator samples them and there
+    /// are more of them than planned samples; otherwise each costs one shadow ray, once.
+    NodeSampler(const RadianceEstimator& estimator, const Vec3f& x, uint64_t seed, uint64_t streamIndex,
+                uint32_t plannedRays)
+        : estimator_(estimator), x_(x), stream_(hashCombine(seed, streamIndex)), rng_(stream_, kPath),
+          sampledLights_(estimator.samplesPunctualLights() && estimator.pointAndSpotLightCount() > plannedRays),
+          lightOffset_(toUnitDouble(hashCombine(stream_, kLightChoice))),
+          punctualOffset_(toUnitDouble(hashCombine(stream_, kPunctual))) {}
+
+    /// Adds samples [first, last) (sample numbers of the node's stratified sequence; rounds
+    /// must be consecutive starting at 0). Optional first-hit tracing as in bake.h.
+    void addSamples(uint32_t first, uint32_t last, RayCount& count, const Tracer* tracer = nullptr,
+                    uint32_t* backFaceHits = nullptr) {
+        float y[sh::kCoeffs];
+        const bool nee = estimator_.hasEmissiveTriangles();
+        constexpr float kSpherePdf = float(1.0 / (4.0 * kPi));
+        for (uint32_t i = first; i < last; ++i) {
+            // Reflected light and sky: stratified directions, uniform over the sphere.
+            float u, v;
+            sobol02(i, hashCombine(stream_, kDirection), u, v);
+            const Vec3f dir = uniformSphere(u, v);
+            Rgb l;
+            if (tracer && backFaceHits) {
+                ++count.intersect;
+                const Hit hit = tracer->intersect(Ray{x_, dir});
+                if (hit.hit() && dot(hit.geometricNormal, dir) > 0.0f) ++*backFaceHits;
+                l = estimator_.gatherRadiance(x_, dir, kSpherePdf, rng_, count, &hit);
+            } else {
+                l = estimator_.gatherRadiance(x_, dir, kSpherePdf, rng_, count);
+            }
+            sh::evalUnrolled(dir, y);
+            for (int j = 0; j < sh::kCoeffs; ++j) {
+                acc_[j][0] += double(l.x) * y[j];
+                acc_[j][1] += double(l.y) * y[j];
+                acc_[j][2] += double(l.z) * y[j];
+            }
+            double ebar = kPi * double(luminance(l));
+            // Emissive triangles: one NEE sample per ray, stratified on the light too.
+            if (nee) {
+                sobol02(i, hashCombine(stream_, kLightPoint), u, v);
+                double w = radicalInverse(3, i) + lightOffset_;
+                w -= std::floor(w);
+                LightSample s;
+                if (estimator_.sampleEmissiveTriangles(x_, u, v, float(w), s, count)) {
+                    sh::evalUnrolled(s.direction, y);
+                    const Rgb weight = s.weight * misWeight(s.pdf, kSpherePdf);
+                    addLight(weight, y);
+                    ebar += 0.25 * double(luminance(weight));
+                }
+            }
+            // Many punctual lights: one chosen per sample (light.h), stratified choice.
+            if (sampledLights_) {
+                double w = radicalInverse(5, i) + punctualOffset_;
+                w -= std::floor(w);
+                LightSample s;
+                if (estimator_.samplePunctualLight(x_, w, s, count)) {
+                    sh::evalUnrolled(s.direction, y);
+                    addLight(s.weight, y);
+                    ebar += 0.25 * double(luminance(s.weight));
+                }
+            }
+            ebarSum_ += ebar;
+            ebarSquares_ += ebar * ebar;
+        }
+        samples_ = last;
+    }
+
+    /// Evaluates the exactly computed punctual lights once (all of them, or only the
+    /// directional ones when point/spot lights are sampled); returns their Ebar part.
+    double exactEbar(RayCount& count) {
+        if (!exactDone_) {
+            thread_local std::vector<LightSample> punctual;
+            punctual.clear();
+            estimator_.punctualLights(x_, punctual, count, sampledLights_);
+            float y[sh::kCoeffs];
+            // Punctual lights are deltas: their projection is exact, one shadow ray each.
+            for (const LightSample& s : punctual) {
+                sh::evalUnrolled(s.direction, y);
+                for (int j = 0; j < sh::kCoeffs; ++j) exact_[j] += Rgbd(s.weight) * double(y[j]);
+                exactEbar_ += 0.25 * double(luminance(s.weight));
+            }
+            exactDone_ = true;
+        }
+        return exactEbar_;
+    }
+
+    /// The SH coefficients from the samples so far plus the exact punctual part.
+    void coefficients(Rgbd out[sh::kCoeffs], RayCount& count) {
+        exactEbar(count);
+        const double dirScale = samples_ > 0 ? 4.0 * kPi / samples_ : 0.0;  // 1 / uniform-sphere pdf / N
+        const double lightScale = samples_ > 0 ? 1.0 / samples_ : 0.0;
+        for (int j = 0; j < sh::kCoeffs; ++j)
+            out[j] = Rgbd(acc_[j][0], acc_[j][1], acc_[j][2]) * dirScale +
+                     Rgbd(lightAcc_[j][0], lightAcc_[j][1], lightAcc_[j][2]) * lightScale + exact_[j];
+    }
+
+    uint32_t samples() const { return samples_; }
+    /// Mean of the per-sample Ebar estimates and the standard error of that mean from the
+    /// sample variance (an overestimate for the stratified direction part: conservative).
+    double ebarMean() const { return samples_ ? ebarSum_ / samples_ : 0.0; }
+    double ebarStandardError() const {
+        if (samples_ < 2) return std::numeric_limits<double>::infinity();
+        const double n = samples_, mean = ebarSum_ / n;
+        const double var = std::max(0.0, ebarSquares_ / n - mean * mean) * n / (n - 1.0);
+        return std::sqrt(var / n);
+    }
+
+private:
+    void addLight(const Rgb& weight, const float y[sh::kCoeffs]) {
+        for (int j = 0; j < sh::kCoeffs; ++j) {
+            lightAcc_[j][0] += double(weight.x) * y[j];
+            lightAcc_[j][1] += double(weight.y) * y[j];
+            lightAcc_[j][2] += double(weight.z) * y[j];
+        }
+    }
+
+    const RadianceEstimator& estimator_;
+    Vec3f x_;
+    uint64_t stream_;
+    Rng rng_;
+    bool sampledLights_;
+    double lightOffset_, punctualOffset_;
+    double acc_[sh::kCoeffs][3] = {};
+    double lightAcc_[sh::kCoeffs][3] = {};
+    double ebarSum_ = 0, ebarSquares_ = 0;
+    Rgbd exact_[sh::kCoeffs] = {};
+    double exactEbar_ = 0;
+    bool exactDone_ = false;
+    uint32_t samples_ = 0;
+};
+
+}  // namespace vdblight::detail

@@ -1,0 +1,21 @@
+#include "vdblight/sh_window.h"
+
+#include "vdblight/errors.h"
+#include "vdblight/sh.h"
+
+namespace vdblight {
+
+void applyShWindow(Volume& volume) {
+    if (volume.basis.kind != "sh2") throw ValueError("--sh-window applies to SH order-2 volumes only");
+    if (volume.meta.count("sh_window")) throw ValueError("the volume is already windowed");
+    for (VolumeLevel& level : volume.levels) {
+        const std::size_t nodes = level.data.size() / (sh::kCoeffs * 3);
+        for (std::size_t n = 0; n < nodes; ++n)
+            for (int j = 1; j < sh::kCoeffs; ++j)
+                for (int c = 0; c < 3; ++c)
+                    level.data[(n * sh::kCoeffs + j) * 3 + c] *= float(sh::kNonNegativeWindow[sh::bandOf(j)]);
+    }
+    volume.meta["sh_window"] = std::string("non-negative spline window w_l = 1/(1 + 0.177732 l^2 (l+1)^2): 1, 0.584478, 0.135165");
+}
+
+}  // namespace vdblight

@@ -1,0 +1,63 @@
+// End-to-end: `vdblight bake --target-error` and `--sh-window`, summary and metadata, and bad options
+// refused with one line, a non-zero exit and no file.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "test_util.h"
+
+using namespace vdblight;
+namespace fs = std::filesystem;
+
+namespace {
+const std::string kCli = VDBLIGHT_CLI_PATH;
+
+int countLines(const std::string& s) {
+    int n = 0;
+    for (char c : s) n += c == '\n';
+    return n;
+}
+}  // namespace
+
+TEST(CliAdaptive, BakesToTheTargetAndReportsIt) {
+    test::TempDir dir;
+    const std::string out = dir.file("a.vdb");
+    std::string text;
+    ASSERT_EQ(0, test::runCommand(kCli + " bake --resolution 4 --target-error 0.05 --max-rays 1024 -o " + out, &text))
+        << text;
+    EXPECT_NE(text.find("Error-targeted: relative standard error"), std::string::npos) << text;
+    EXPECT_NE(text.find("saved against 1024 rays on every node"), std::string::npos) << text;
+    ASSERT_EQ(0, test::runCommand(kCli + " info " + out, &text)) << text;
+    EXPECT_NE(text.find("target_error = 0.05"), std::string::npos) << text;
+    EXPECT_NE(text.find("estimated_error_p95"), std::string::npos) << text;
+    EXPECT_NE(text.find("samples_saved_vs_max"), std::string::npos) << text;
+}
+
+TEST(CliAdaptive, RefusesBadOptions) {
+    test::TempDir dir;
+    const std::string out = dir.file("bad.vdb");
+    for (const std::string args : {"--target-error 0", "--target-error 2", "--max-rays 100",
+                                   "--target-error 0.1 --min-rays 1", "--target-error 0.1 --min-rays 128 --max-rays 64",
+                                   "--target-error 0.1 --sampling antialiased", "--target-error 0.1 --layout bilevel",
+                                   "--target-error 0.1 --method photons"}) {
+        std::string text;
+        const int status = test::runCommand(kCli + " bake --resolution 2 " + args + " -o " + out, &text);
+        EXPECT_NE(status, 0) << args;
+        EXPECT_LT(status, 128) << "crashed: " << args;
+        EXPECT_EQ(countLines(text), 1) << args << "\n" << text;
+        EXPECT_FALSE(fs::exists(out)) << args;
+    }
+}
+
+TEST(CliShWindow, RecordsTheWindowAndRefusesPhotons) {
+    test::TempDir dir;
+    const std::string out = dir.file("w.vdb");
+    std::string text;
+    ASSERT_EQ(0, test::runCommand(kCli + " bake -q --resolution 3 --rays 16 --sh-window -o " + out, &text)) << text;
+    ASSERT_EQ(0, test::runCommand(kCli + " info " + out, &text)) << text;
+    EXPECT_NE(text.find("sh_window = non-negative spline window"), std::string::npos) << text;
+    const std::string bad = dir.file("bad.vdb");
+    EXPECT_NE(0, test::runCommand(kCli + " bake --method photons --sh-window -o " + bad, &text));
+    EXPECT_EQ(countLines(text), 1) << text;
+    EXPECT_FALSE(fs::exists(bad));
+}
