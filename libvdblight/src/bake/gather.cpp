@@ -1,12 +1,10 @@
 // The point-gather pass: SH order-2 radiance at every node of a uniform grid.
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <atomic>
 #include <chrono>
 #include <vector>
 
+#include "parallel_nodes.h"
 #include "vdblight/bake.h"
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
@@ -40,64 +38,29 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     level.data.assign(nodes * sh::kCoeffs * 3, 0.0f);
 
     const RadianceEstimator estimator(scene, tracer, options.transport);
-    tbb::enumerable_thread_specific<RayCount> rayCounts;
-    std::atomic<uint64_t> done{0};
-    std::atomic<bool> cancelled{false};
-    if (interrupter) interrupter->start("baking", nodes);
-
-    const auto start = std::chrono::steady_clock::now();
-    const int threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
-    tbb::task_arena arena(threads);
-    arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nodes, 1), [&](const tbb::blocked_range<std::size_t>& r) {
-            RayCount& count = rayCounts.local();
-            for (std::size_t n = r.begin(); n != r.end(); ++n) {
-                if (cancelled.load(std::memory_order_relaxed)) return;
-                Rgbd coeffs[sh::kCoeffs];
-                projectIncidentRadiance(estimator, Vec3f(grid.node(n)), options.raysPerNode, options.seed, n,
-                                        coeffs, count);
-                float* dst = level.data.data() + n * sh::kCoeffs * 3;
-                for (int j = 0; j < sh::kCoeffs; ++j) {
-                    dst[3 * j + 0] = float(coeffs[j].x);
-                    dst[3 * j + 1] = float(coeffs[j].y);
-                    dst[3 * j + 2] = float(coeffs[j].z);
-                }
-                const uint64_t finished = done.fetch_add(1, std::memory_order_relaxed) + 1;
-                if (interrupter) {
-                    interrupter->progress(finished);
-                    if (interrupter->wasInterrupted()) cancelled = true;
-                }
+    const bake_detail::ParallelRun run =
+        bake_detail::forEachItemInParallel(nodes, options.threads, interrupter, [&](std::size_t n, RayCount& count) {
+            Rgbd coeffs[sh::kCoeffs];
+            projectIncidentRadiance(estimator, Vec3f(grid.node(n)), options.raysPerNode, options.seed, n, coeffs, count);
+            float* dst = level.data.data() + n * sh::kCoeffs * 3;
+            for (int j = 0; j < sh::kCoeffs; ++j) {
+                dst[3 * j + 0] = float(coeffs[j].x);
+                dst[3 * j + 1] = float(coeffs[j].y);
+                dst[3 * j + 2] = float(coeffs[j].z);
             }
         });
-    });
-    if (interrupter) interrupter->end();
-    if (cancelled) throw Cancelled("bake cancelled");
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-
-    RayCount total;
-    for (const RayCount& c : rayCounts) total += c;  // integer sums: order does not matter
 
     Metadata& m = volume.meta;
-    m["scene_name"] = scene.name;
-    m["scene_hash"] = scene.contentHash();
-    m["scene_triangles"] = int64_t(scene.triangleCount());
+    bake_detail::addCommonBakeMetadata(m, scene, options.transport, options.seed, nodes, run);
     m["method"] = std::string("gather");
     m["sampling"] = std::string("point");
     m["rays_per_node"] = int64_t(options.raysPerNode);
-    m["seed"] = int64_t(options.seed);
-    m["bounces"] = int64_t(options.transport.maxBounces);
-    m["roulette_start"] = int64_t(options.transport.rouletteStart);
     m["direction_sampling"] = std::string("scrambled Sobol (0,2) uniform sphere + NEE on emissive triangles; punctual lights exact");
-    m["nodes"] = int64_t(nodes);
-    m["rays_intersect"] = int64_t(total.intersect);
-    m["rays_occluded"] = int64_t(total.occluded);
-    m["bake_seconds"] = seconds;
-    m["threads"] = int64_t(threads);
 
     if (stats) {
         stats->nodes = nodes;
-        stats->rays = total;
-        stats->seconds = seconds;
+        stats->rays = run.rays;
+        stats->seconds = run.seconds;
     }
     return volume;
 }

@@ -1,7 +1,4 @@
 // The error-targeted point gather (bake_adaptive.h).
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <atomic>
@@ -9,6 +6,7 @@
 #include <cmath>
 
 #include "node_sampler.h"
+#include "parallel_nodes.h"
 #include "vdblight/bake_adaptive.h"
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
@@ -65,64 +63,40 @@ Volume bakeShGatherAdaptive(const Scene& scene, const Tracer& tracer, const Grid
     std::vector<float> achieved(nodes, 0.0f);
 
     const RadianceEstimator estimator(scene, tracer, o.transport);
-    tbb::enumerable_thread_specific<RayCount> rayCounts;
-    std::atomic<uint64_t> done{0};
-    std::atomic<bool> cancelled{false};
-    if (interrupter) interrupter->start("baking to target error", nodes);
-
-    const auto start = std::chrono::steady_clock::now();
-    const int threads = o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
-    tbb::task_arena arena(threads);
-    arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nodes, 1), [&](const tbb::blocked_range<std::size_t>& r) {
-            RayCount& count = rayCounts.local();
-            for (std::size_t n = r.begin(); n != r.end(); ++n) {
-                if (cancelled.load(std::memory_order_relaxed)) return;
-                detail::NodeSampler sampler(estimator, Vec3f(grid.node(n)), o.seed, n, o.maxRays);
-                uint32_t taken = 0, next = o.minRays;
-                double err = 0;
-                bool previousMet = false;
-                for (;;) {
-                    sampler.addSamples(taken, next, count);
-                    taken = next;
-                    err = relativeError(sampler, count);
-                    // Zero variance (below what a double variance resolves) stops at once; otherwise the rule must hold at the end of
-                    // two consecutive rounds (a rare large sample missing from a small round
-                    // makes a variance look small by chance).
-                    const bool met = err * varianceUncertainty(taken) <= o.targetError;
-                    if (err <= 1e-7 || (met && previousMet) || taken >= o.maxRays) break;
-                    previousMet = met;
-                    next = uint32_t(std::min<uint64_t>(uint64_t(taken) * 2, o.maxRays));
-                }
-                Rgbd coeffs[sh::kCoeffs];
-                sampler.coefficients(coeffs, count);
-                float* dst = level.data.data() + n * sh::kCoeffs * 3;
-                for (int j = 0; j < sh::kCoeffs; ++j) {
-                    dst[3 * j + 0] = float(coeffs[j].x);
-                    dst[3 * j + 1] = float(coeffs[j].y);
-                    dst[3 * j + 2] = float(coeffs[j].z);
-                }
-                raysUsed[n] = taken;
-                achieved[n] = float(std::min(err, 1e30));
-                const uint64_t finished = done.fetch_add(1, std::memory_order_relaxed) + 1;
-                if (interrupter) {
-                    interrupter->progress(finished);
-                    if (interrupter->wasInterrupted()) cancelled = true;
-                }
+    const bake_detail::ParallelRun run =
+        bake_detail::forEachItemInParallel(nodes, o.threads, interrupter, [&](std::size_t n, RayCount& count) {
+            detail::NodeSampler sampler(estimator, Vec3f(grid.node(n)), o.seed, n, o.maxRays);
+            uint32_t taken = 0, next = o.minRays;
+            double err = 0;
+            bool previousMet = false;
+            for (;;) {
+                sampler.addSamples(taken, next, count);
+                taken = next;
+                err = relativeError(sampler, count);
+                // Zero variance (below what a double variance resolves) stops at once; otherwise the rule must hold at the end of
+                // two consecutive rounds (a rare large sample missing from a small round
+                // makes a variance look small by chance).
+                const bool met = err * varianceUncertainty(taken) <= o.targetError;
+                if (err <= 1e-7 || (met && previousMet) || taken >= o.maxRays) break;
+                previousMet = met;
+                next = uint32_t(std::min<uint64_t>(uint64_t(taken) * 2, o.maxRays));
             }
+            Rgbd coeffs[sh::kCoeffs];
+            sampler.coefficients(coeffs, count);
+            float* dst = level.data.data() + n * sh::kCoeffs * 3;
+            for (int j = 0; j < sh::kCoeffs; ++j) {
+                dst[3 * j + 0] = float(coeffs[j].x);
+                dst[3 * j + 1] = float(coeffs[j].y);
+                dst[3 * j + 2] = float(coeffs[j].z);
+            }
+            raysUsed[n] = taken;
+            achieved[n] = float(std::min(err, 1e30));
         });
-    });
-    if (interrupter) interrupter->end();
-    if (cancelled) throw Cancelled("bake cancelled");
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-
-    RayCount total;
-    for (const RayCount& c : rayCounts) total += c;
     AdaptiveStats local;
     AdaptiveStats& s = stats ? *stats : local;
     s.nodes = nodes;
-    s.rays = total;
-    s.seconds = seconds;
+    s.rays = run.rays;
+    s.seconds = run.seconds;
     s.samples = 0;
     s.nodesAtMax = 0;
     for (std::size_t n = 0; n < nodes; ++n) {
@@ -133,9 +107,7 @@ Volume bakeShGatherAdaptive(const Scene& scene, const Tracer& tracer, const Grid
     s.estimatedError = std::move(achieved);
 
     Metadata& m = volume.meta;
-    m["scene_name"] = scene.name;
-    m["scene_hash"] = scene.contentHash();
-    m["scene_triangles"] = int64_t(scene.triangleCount());
+    bake_detail::addCommonBakeMetadata(m, scene, o.transport, o.seed, nodes, run);
     m["method"] = std::string("gather");
     m["sampling"] = std::string("point, error-targeted");
     m["target_error"] = o.targetError;
@@ -149,15 +121,7 @@ Volume bakeShGatherAdaptive(const Scene& scene, const Tracer& tracer, const Grid
     m["estimated_error_p95"] = s.errorQuantile(0.95);
     m["estimated_error_max"] = s.errorQuantile(1.0);
     m["nodes_at_max_rays"] = int64_t(s.nodesAtMax);
-    m["seed"] = int64_t(o.seed);
-    m["bounces"] = int64_t(o.transport.maxBounces);
-    m["roulette_start"] = int64_t(o.transport.rouletteStart);
     m["direction_sampling"] = std::string("scrambled Sobol (0,2) uniform sphere in doubling rounds + NEE on emissive triangles; punctual lights exact or one sampled per ray");
-    m["nodes"] = int64_t(nodes);
-    m["rays_intersect"] = int64_t(total.intersect);
-    m["rays_occluded"] = int64_t(total.occluded);
-    m["bake_seconds"] = seconds;
-    m["threads"] = int64_t(threads);
     return volume;
 }
 
