@@ -6,11 +6,7 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 "$ROOT/scripts/setup.sh"
 cd "$ROOT/build"
 ctest --output-on-failure -j "${JOBS:-$(nproc)}" --timeout 1200
-"$ROOT/build/bin/vdblight_bench" --quick
-"$ROOT/build/bin/vdblight_bench_photons" --quick
-"$ROOT/build/bin/vdblight_bench_antialiased" --quick
-"$ROOT/build/bin/vdblight_bench_layouts" --quick
-"$ROOT/build/bin/vdblight_bench_bins" --quick
-"$ROOT/build/bin/vdblight_bench_prt" --quick
-"$ROOT/build/bin/vdblight_bench_converge" --quick
-"$ROOT/build/bin/vdblight_bench_error" --quick
+# Quick smoke runs of every benchmark (the figures are noisy; full runs: drop --quick).
+for bench in vdblight_bench vdblight_bench_photons vdblight_bench_antialiased vdblight_bench_layouts vdblight_bench_bins vdblight_bench_prt vdblight_bench_converge vdblight_bench_error; do
+  "$ROOT/build/bin/$bench" --quick
+done

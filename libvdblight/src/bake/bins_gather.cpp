@@ -20,20 +20,6 @@ namespace {
 enum Dimension : uint64_t { kDirection = 11, kLightPoint = 12, kLightChoice = 13, kPath = 14 };
 constexpr float kSpherePdf = float(1.0 / (4.0 * kPi));
 
-/// (level, position in the level's data) of every node to bake, seam nodes left out.
-std::vector<std::pair<int, std::size_t>> nodesToBake(const Volume& volume, uint64_t& seams) {
-    std::vector<std::pair<int, std::size_t>> work;
-    const int K = volume.refineFactor();
-    for (std::size_t l = 0; l < volume.levels.size(); ++l) {
-        const std::size_t stored = volume.levels[l].storedNodes();
-        std::vector<char> skip(stored, 0);
-        if (l > 0)
-            for (std::size_t n : seamNodes(volume.levels, int(l), K)) skip[n] = 1, ++seams;
-        for (std::size_t n = 0; n < stored; ++n)
-            if (!skip[n]) work.emplace_back(int(l), n);
-    }
-    return work;
-}
 }  // namespace
 
 LevelLayout uniformLayout(const GridSpec& grid) {
@@ -112,7 +98,7 @@ Volume bakeBins(const Scene& scene, const Tracer& tracer, const LevelLayout& lay
         return t;
     }();
     uint64_t seams = 0;
-    const std::vector<std::pair<int, std::size_t>> work = nodesToBake(volume, seams);
+    const std::vector<std::pair<int, std::size_t>> work = bake_detail::nodesToBake(volume, seams);
     const RadianceEstimator estimator(scene, tracer, options.transport);
     const bake_detail::ParallelRun run =
         bake_detail::forEachItemInParallel(work.size(), options.threads, interrupter, [&](std::size_t w, RayCount& count) {

@@ -18,20 +18,6 @@ namespace vdblight {
 namespace {
 constexpr int kFloats = sh::kCoeffs * 3;
 
-/// (level, position in the level's data) of every node to bake, in a fixed order.
-std::vector<std::pair<int, std::size_t>> nodesToBake(const Volume& volume, uint64_t& seams) {
-    std::vector<std::pair<int, std::size_t>> work;
-    const int K = volume.refineFactor();
-    for (std::size_t l = 0; l < volume.levels.size(); ++l) {
-        const std::size_t stored = volume.levels[l].storedNodes();
-        std::vector<char> skip(stored, 0);
-        if (l > 0)
-            for (std::size_t n : seamNodes(volume.levels, int(l), K)) skip[n] = 1, ++seams;
-        for (std::size_t n = 0; n < stored; ++n)
-            if (!skip[n]) work.emplace_back(int(l), n);
-    }
-    return work;
-}
 }  // namespace
 
 Volume bakeShGatherLevels(const Scene& scene, const Tracer& tracer, const LevelLayout& layout,
@@ -47,7 +33,7 @@ Volume bakeShGatherLevels(const Scene& scene, const Tracer& tracer, const LevelL
     volume.validate();
 
     uint64_t seams = 0;
-    const std::vector<std::pair<int, std::size_t>> work = nodesToBake(volume, seams);
+    const std::vector<std::pair<int, std::size_t>> work = bake_detail::nodesToBake(volume, seams);
     const RadianceEstimator estimator(scene, tracer, options.transport);
     const bake_detail::ParallelRun run =
         bake_detail::forEachItemInParallel(work.size(), options.threads, interrupter, [&](std::size_t w, RayCount& count) {

@@ -1,9 +1,24 @@
 #include "parallel_nodes.h"
 
+#include "vdblight/layout_levels.h"
 #include "vdblight/scene.h"
 
 namespace vdblight {
 namespace bake_detail {
+
+std::vector<std::pair<int, std::size_t>> nodesToBake(const Volume& volume, uint64_t& seams) {
+    std::vector<std::pair<int, std::size_t>> work;
+    const int K = volume.refineFactor();
+    for (std::size_t l = 0; l < volume.levels.size(); ++l) {
+        const std::size_t stored = volume.levels[l].storedNodes();
+        std::vector<char> skip(stored, 0);
+        if (l > 0)
+            for (std::size_t n : seamNodes(volume.levels, int(l), K)) skip[n] = 1, ++seams;
+        for (std::size_t n = 0; n < stored; ++n)
+            if (!skip[n]) work.emplace_back(int(l), n);
+    }
+    return work;
+}
 
 void addCommonBakeMetadata(Metadata& m, const Scene& scene, const TransportOptions& transport, uint64_t seed,
                            uint64_t nodes, const ParallelRun& run) {

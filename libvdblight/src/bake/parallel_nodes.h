@@ -13,6 +13,8 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <utility>
+#include <vector>
 
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
@@ -63,6 +65,10 @@ ParallelRun forEachItemInParallel(std::size_t count, int threads, Interrupter* i
     for (const RayCount& c : rayCounts) run.rays += c;
     return run;
 }
+
+/// (level, position in the level's data) of every node a multi-level bake must sample, in a
+/// fixed order: seam nodes (set afterwards from the coarser level) are left out and counted.
+std::vector<std::pair<int, std::size_t>> nodesToBake(const Volume& volume, uint64_t& seams);
 
 /// The metadata every gather-style pass writes: scene identity, transport, seed, counts, time.
 void addCommonBakeMetadata(Metadata& m, const Scene& scene, const TransportOptions& transport, uint64_t seed,
