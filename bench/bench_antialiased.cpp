@@ -4,7 +4,11 @@
 // closed blocks under a sky and a sun; a room with a bed of thin bars), at an equal ray
 // budget, the error of four bakes against `reference` at random points in the domain of
 // interest within one cell of a surface:
-//   point, point + back-face invalidation/dilation, antialiased/all, antialiased/interior.
+//   point, point + back-face invalidation/dilation, antialiased/all, antialiased/interior,
+//   antialiased/interior with the experimental visible support (AntialiasedOptions).
+// `--fine` adds the thin wall and the bed at half the spacing and the thin wall on a grid
+// shifted by half a spacing (same evaluation points); `--write-volumes DIR` writes every bake
+// as DIR/<scene>[_<variant>]_<method>.vdb (scripts/leak_pictures.sh slices them).
 // Printed per method: relative RMS error sqrt(sum (E - Eref)^2 / sum Eref^2), the RMS and the
 // maximum of the per-point relative error |E - Eref| / Eref, and the bake time and its ratio
 // to point sampling (same run, same threads). `--quick` shrinks the workloads for CI.
