@@ -62,6 +62,13 @@ TEST(SceneCheck, ThinWallSceneListsExactlyTheFlippedFaces) {
     EXPECT_EQ(listed(s), flipped);
 }
 
+TEST(SceneCheck, OpenTownAndBedScenesListNothing) {
+    // A one-sided ground under a sky with closed blocks, and a room with thin bars: probes
+    // inside the blocks or bars see only back-faces and are not open space.
+    EXPECT_TRUE(listed(makeTownScene().scene).empty());
+    EXPECT_TRUE(listed(makeBarsScene().scene).empty());
+}
+
 TEST(SceneCheck, SameCountsForAnyThreadCountAndRefusesBadOptions) {
     Scene s = roomWithBlock();
     flip(s, 5);
