@@ -4,10 +4,15 @@
 // closed blocks under a sky and a sun; a room with a bed of thin bars), at an equal ray
 // budget, the error of four bakes against `reference` at random points in the domain of
 // interest within one cell of a surface:
-//   point, point + back-face invalidation/dilation, antialiased/all, antialiased/interior.
+//   point, point + back-face invalidation/dilation, antialiased/all, antialiased/interior,
+//   antialiased/interior with the experimental visible support (AntialiasedOptions).
+// `--fine` adds the thin wall and the bed at half the spacing and the thin wall on a grid
+// shifted by half a spacing (same evaluation points); `--write-volumes DIR` writes every bake
+// as DIR/<scene>[_<variant>]_<method>.vdb (scripts/leak_pictures.sh slices them).
 // Printed per method: relative RMS error sqrt(sum (E - Eref)^2 / sum Eref^2), the RMS and the
 // maximum of the per-point relative error |E - Eref| / Eref, and the bake time and its ratio
 // to point sampling (same run, same threads). `--quick` shrinks the workloads for CI.
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -20,6 +25,7 @@
 #include "vdblight/query.h"
 #include "vdblight/reference.h"
 #include "vdblight/trace.h"
+#include "vdblight/vdb_io.h"
 
 using namespace vdblight;
 
@@ -27,6 +33,9 @@ namespace {
 struct Case {
     LeakScene scene;
     GridSpec grid;
+    double evalDistance = 0;  ///< evaluation points within this of a surface (0: one grid spacing)
+    std::string label;        ///< printed after the scene name
+    Bounds evalBox;           ///< evaluation points drawn in this box (empty: the grid's node bounds)
 };
 
 GridSpec makeGrid(Vec3d origin, double spacing, int nx, int ny, int nz) {
@@ -59,13 +68,14 @@ Errors measure(const Volume& v, const std::vector<EvalPoint>& pts, const std::ve
     return e;
 }
 
-void runCase(const Case& c, uint32_t raysPerNode, int points, uint32_t refSamples, int threads) {
+void runCase(const Case& c, uint32_t raysPerNode, int points, uint32_t refSamples, int threads,
+             const std::string& writeDir) {
     const Scene& s = c.scene.scene;
     const GridSpec& g = c.grid;
     const Tracer tracer(s);
     TransportOptions transport;
     transport.maxBounces = 3;
-    const std::vector<EvalPoint> pts = leakEvalPoints(c.scene, g.nodeBounds(), g.spacing, points, 11);
+    const std::vector<EvalPoint> pts = leakEvalPoints(c.scene, c.evalBox.empty() ? g.nodeBounds() : c.evalBox, c.evalDistance > 0 ? c.evalDistance : g.spacing, points, 11);
     std::vector<ReferencePoint> rp;
     for (const EvalPoint& p : pts) rp.push_back({p.position, p.normal});
     ReferenceOptions ro;
@@ -86,14 +96,14 @@ void runCase(const Case& c, uint32_t raysPerNode, int points, uint32_t refSample
     ao.transport = transport;
     ao.threads = threads;
 
-    std::printf("\n%s: %d x %d x %d nodes, spacing %.3g, %u rays/node (anti-aliased: %u rays/cell), %d points "
-                "within one cell of a surface, reference %u samples (max rel. std. error %.1f %%)\n",
-                s.name.c_str(), g.nx, g.ny, g.nz, g.spacing, raysPerNode, ao.raysPerCell, int(pts.size()), refSamples,
-                100 * refErr);
+    std::printf("\n%s%s: %d x %d x %d nodes, spacing %.3g, %u rays/node (anti-aliased: %u rays/cell), %d points "
+                "within %.3g of a surface, reference %u samples (max rel. std. error %.1f %%)\n",
+                s.name.c_str(), c.label.c_str(), g.nx, g.ny, g.nz, g.spacing, raysPerNode, ao.raysPerCell,
+                int(pts.size()), c.evalDistance > 0 ? c.evalDistance : g.spacing, refSamples, 100 * refErr);
     std::printf("  %-28s %10s %10s %10s %9s %8s %8s\n", "method", "rel.RMS", "RMS(rel)", "max(rel)", "bake s",
                 "x point", "dilated");
     double pointSeconds = 0;
-    for (int m = 0; m < 4; ++m) {
+    for (int m = 0; m < 5; ++m) {
         BakeStats st;
         Volume v;
         const char* name = "";
@@ -101,10 +111,21 @@ void runCase(const Case& c, uint32_t raysPerNode, int points, uint32_t refSample
         if (m == 1) v = bakeShGatherInvalidated(s, tracer, g, po, 0.25, nullptr, &st), name = "point + invalidation (0.25)";
         if (m >= 2) {
             ao.domain = m == 2 ? DomainMode::All : DomainMode::Interior;
+            ao.visibleSupport = m == 4;
             v = bakeShAntialiased(s, tracer, g, ao, nullptr, &st);
-            name = m == 2 ? "antialiased/all" : "antialiased/interior";
+            name = m == 2 ? "antialiased/all" : m == 3 ? "antialiased/interior" : "aa/interior, visible support";
         }
         if (m == 0) pointSeconds = st.seconds;
+        if (!writeDir.empty()) {
+            static const char* const kFile[5] = {"point", "point_invalidated", "antialiased_all", "antialiased_interior",
+                                                 "antialiased_visible"};
+            std::string tag = s.name;
+            for (char ch : c.label)  // " (2x finer)" -> "_2x_finer"
+                if (std::isalnum(static_cast<unsigned char>(ch))) tag += ch;
+                else if (tag.back() != '_') tag += '_';
+            if (tag.back() == '_') tag.pop_back();
+            writeVolume(v, writeDir + "/" + tag + "_" + kFile[m] + ".vdb");
+        }
         const Errors e = measure(v, pts, ref);
         std::printf("  %-28s %9.1f%% %9.1f%% %9.1f%% %9.3f %8.2f %8s\n", name, 100 * e.normalisedRms,
                     100 * e.rmsRelative, 100 * e.maxRelative, st.seconds, st.seconds / pointSeconds,
@@ -114,17 +135,38 @@ void runCase(const Case& c, uint32_t raysPerNode, int points, uint32_t refSample
 }  // namespace
 
 int main(int argc, char** argv) {
-    const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+    bool quick = false, fine = false;
+    std::string writeDir;
+    for (int a = 1; a < argc; ++a) {
+        if (std::strcmp(argv[a], "--quick") == 0) quick = true;
+        else if (std::strcmp(argv[a], "--fine") == 0) fine = true;
+        else if (std::strcmp(argv[a], "--write-volumes") == 0 && a + 1 < argc) writeDir = argv[++a];
+        else {
+            std::fprintf(stderr, "usage: vdblight_bench_antialiased [--quick] [--fine] [--write-volumes DIR]\n");
+            return 2;
+        }
+    }
     const uint32_t rays = quick ? 64 : 512;
     const int points = quick ? 200 : 1000;
     const uint32_t refSamples = quick ? 1024 : 16384;
     std::printf("vdblight_bench_antialiased%s: error near surfaces against reference, equal ray budget\n",
                 quick ? " --quick (small workloads, noisy figures)" : "");
-    const Case cases[] = {
-        {makeThinWallScene(), makeGrid({0.25, 0.1, 0.1}, 0.25, 15, 8, 8)},
-        {makeTownScene(), makeGrid({0.2, 0.2, 0.2}, 0.4, 20, 7, 20)},
-        {makeBarsScene(), makeGrid({0.15, 0.1, 0.15}, 0.2, 14, 10, 14)},
+    std::vector<Case> cases = {
+        {makeThinWallScene(), makeGrid({0.25, 0.1, 0.1}, 0.25, 15, 8, 8), 0, "", Bounds{}},
+        {makeTownScene(), makeGrid({0.2, 0.2, 0.2}, 0.4, 20, 7, 20), 0, "", Bounds{}},
+        {makeBarsScene(), makeGrid({0.15, 0.1, 0.15}, 0.2, 14, 10, 14), 0, "", Bounds{}},
     };
-    for (const Case& c : cases) runCase(c, rays, points, refSamples, 0);
+    if (fine) {
+        // The same scenes at half the spacing (same evaluation points: within the coarse
+        // spacing of a surface), same rays per node: does a finer grid remove the thin-wall
+        // "lack of resolution" (K&L section 7)?
+        cases.push_back({makeThinWallScene(), makeGrid({0.25, 0.1, 0.1}, 0.125, 29, 15, 15), 0.25, " (2x finer)", Bounds{}});
+        cases.push_back({makeBarsScene(), makeGrid({0.15, 0.1, 0.15}, 0.1, 27, 19, 27), 0.2, " (2x finer)", Bounds{}});
+        // Grid placement instead of resolution: the coarse grid shifted by half a spacing in x,
+        // so that the wall (x in [1.95, 2.05]) lies between the node planes 1.875 and 2.125.
+        cases.push_back({makeThinWallScene(), makeGrid({0.125, 0.1, 0.1}, 0.25, 16, 8, 8), 0.25, " (shifted)",
+                         makeGrid({0.25, 0.1, 0.1}, 0.25, 15, 8, 8).nodeBounds()});
+    }
+    for (const Case& c : cases) runCase(c, rays, points, refSamples, 0, writeDir);
     return 0;
 }

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
     vdblight::app::addReferenceCommand(app);
     vdblight::app::addExportCommand(app);
     vdblight::app::addSliceCommand(app);
+    vdblight::app::addCheckSceneCommand(app);
     vdblight::app::addPrtCommand(app);
     vdblight::app::installInterruptHandler();
 

@@ -44,6 +44,11 @@ struct AntialiasedOptions {
     uint64_t seed = 1;
     int threads = 0;  ///< 0 = all hardware threads
     DomainMode domain = DomainMode::Interior;
+    /// Experimental (off by default; docs/methods.md): an accepted origin contributes to a
+    /// corner node only if the segment from the origin to the node is unoccluded (one
+    /// occlusion ray per corner), so that a node's support does not reach across a wall
+    /// thinner than a cell. Nodes that then get no weight are filled by dilation.
+    bool visibleSupport = false;
     TransportOptions transport;
 };
 

@@ -99,6 +99,16 @@ void bakeCell(const RadianceEstimator& estimator, const Tracer& tracer, const Gr
         }
         for (int c = 0; c < 8; ++c) {
             if (w[c] == 0.0) continue;
+            if (o.visibleSupport) {
+                const Vec3d node(lo.x + (c & 1) * grid.spacing, lo.y + (c >> 1 & 1) * grid.spacing,
+                                 lo.z + (c >> 2 & 1) * grid.spacing);
+                Ray ray;
+                ray.origin = s.origin;
+                ray.direction = Vec3f(node) - s.origin;
+                ray.tfar = 1.0f;
+                ++count.occluded;
+                if (tracer.occluded(ray)) continue;
+            }
             out.norm[c] += w[c];
             for (int v = 0; v < kValues; ++v) out.coeff[c][v] += w[c] * term[v];
         }
@@ -196,6 +206,7 @@ Volume bakeShAntialiased(const Scene& scene, const Tracer& tracer, const GridSpe
     m["method"] = std::string("gather");
     m["sampling"] = std::string("antialiased");
     m["domain"] = std::string(o.domain == DomainMode::Interior ? "interior" : "all");
+    if (o.visibleSupport) m["support"] = std::string("visible (origin-to-node occlusion test)");
     m["rays_per_cell"] = int64_t(o.raysPerCell);
     m["seed"] = int64_t(o.seed);
     m["bounces"] = int64_t(o.transport.maxBounces);
