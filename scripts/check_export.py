@@ -12,8 +12,10 @@ trilinear filtering a GPU does (clamp-to-edge, half-texel offset), and compares 
 Exit status 0 if every sample matches within the tolerance (1e-3 relative for half
 textures, 1e-5 for float), 1 otherwise. Needs numpy (Debian: python3-numpy).
 
-Layouts: sh2, sh2-packed, sh1 (SH volumes) and vectors (irradiance-vector volumes) are
-matched against the query. compact (Pacanowski et al. section 4.2) is lossy: with
+Layouts: sh2, sh2-packed, sh1 (SH volumes), vectors (irradiance-vector volumes) and bins
+(bins:R / moment:n volumes: the four-bin blend of the manifest's `bins.blend`, with the bin
+of a direction found by the formulas of `bins.bin_of_direction`; a moment volume is queried
+with --view 0,0,1) are matched against the query. compact (Pacanowski et al. section 4.2) is lossy: with
 --vectors-export DIR (a float `vectors` export of the same volume) every compact texel is
 checked against the section 4.2 encoding of the vectors texels; its error against the query
 is printed, and checked only with --compact-tolerance.
@@ -138,7 +140,44 @@ def irradiance_terms(manifest, textures, x, n, max_abs=False):
                     cols = [s["ivc_%s_colour" % d][:, c] * along for c in range(3)]
                 terms.append(np.column_stack(cols) * (w * sel)[:, None])
         return np.array(terms)
+    if layout == "bins":
+        # The four-bin blend of the manifest's bins.blend (what `vdblight query` does), per point.
+        R = manifest["bins"]["resolution"]
+        names = [t["name"] for t in manifest["textures"]]
+        h, u, v = direction_to_square(n)
+        gu, gv = u * R - 0.5, v * R - 0.5
+        iu0, iv0 = np.floor(gu).astype(np.int64), np.floor(gv).astype(np.int64)
+        fu, fv = gu - iu0, gv - iv0
+        values = np.stack([s[name][:, :3] for name in names])  # (bins, points, 3)
+        rows = np.arange(len(n))
+        for b in range(2):
+            for a in range(2):
+                iu, iv, hh = iu0 + a, iv0 + b, h.copy()
+                out_u, out_v = (iu < 0) | (iu >= R), (iv < 0) | (iv >= R)
+                hh = np.where(out_u, 1 - hh, hh)
+                hh = np.where(out_v, 1 - hh, hh)
+                iu, iv = np.clip(iu, 0, R - 1), np.clip(iv, 0, R - 1)
+                channel = hh * R * R + iv * R + iu
+                w = (fu if a else 1 - fu) * (fv if b else 1 - fv)
+                terms.append(values[channel, rows] * w[:, None])
+        return np.array(terms)
     raise ValueError("unknown layout " + layout)
+
+
+def direction_to_square(d):
+    """docs/format.md / manifest bins.bin_of_direction: hemisphere h and square point (u, v) of unit d."""
+    h = (d[:, 2] < 0).astype(np.int64)
+    inv = 1.0 / np.sqrt(1.0 + np.abs(d[:, 2]))
+    px, py = d[:, 0] * inv, d[:, 1] * inv
+    rho = np.hypot(px, py)
+    phi = np.arctan2(py, px)
+    phi = np.where(phi < -np.pi / 4, phi + 2 * np.pi, phi)
+    q = np.pi / 4
+    a = np.where(phi < q, rho, np.where(phi < 3 * q, -rho * (phi - np.pi / 2) / q,
+                                         np.where(phi < 5 * q, -rho, rho * (phi - 3 * np.pi / 2) / q)))
+    b = np.where(phi < q, rho * phi / q, np.where(phi < 3 * q, rho,
+                                                  np.where(phi < 5 * q, -rho * (phi - np.pi) / q, -rho)))
+    return h, np.clip(0.5 * (a + 1), 0, 1), np.clip(0.5 * (b + 1), 0, 1)
 
 
 def check_compact_encoding(compact, vectors):
@@ -160,13 +199,14 @@ def check_compact_encoding(compact, vectors):
     return worst
 
 
-def query(cli, volume, points, normals):
+def query(cli, volume, points, normals, extra=()):
     with tempfile.TemporaryDirectory() as tmp:
         csv = os.path.join(tmp, "points.csv")
         np.savetxt(csv, np.column_stack([points, normals]), delimiter=",", fmt="%.9g",
                    header="x,y,z,nx,ny,nz", comments="")
         out = os.path.join(tmp, "e.csv")
-        subprocess.run([cli, "query", volume, "--points", csv, "-o", out], check=True, stderr=subprocess.DEVNULL)
+        subprocess.run([cli, "query", volume, "--points", csv, "-o", out] + list(extra), check=True,
+                       stderr=subprocess.DEVNULL)
         return np.loadtxt(out, delimiter=",", skiprows=1)[:, 6:9]
 
 
@@ -198,7 +238,13 @@ def main():
     n = n.astype(np.float32).astype(np.float64)
     n /= np.linalg.norm(n, axis=1)[:, None]
 
-    terms = irradiance_terms(manifest, textures, x, n)
+    moment = manifest["layout"] == "bins" and manifest["bins"]["basis"].startswith("moment:")
+    # A moment volume is queried with the view vector (0, 0, 1) mirrored about n.
+    d = n
+    if moment:
+        d = 2 * n[:, 2:3] * n - np.array([0.0, 0.0, 1.0])
+        d /= np.linalg.norm(d, axis=1)[:, None]
+    terms = irradiance_terms(manifest, textures, x, d)
     got = terms.sum(axis=0)
     if manifest["layout"] == "sh1":
         # The order-1 part of E from the full query: the band-1 term is odd in n, so it is
@@ -210,7 +256,7 @@ def main():
         e = query(args.cli, args.volume, rows_x, rows_n).reshape(len(n), 8, 3)
         want = e[:, 2:, :].mean(axis=1) + 0.5 * (e[:, 0, :] - e[:, 1, :])
     else:
-        want = query(args.cli, args.volume, x, n)
+        want = query(args.cli, args.volume, x, n, ["--view", "0,0,1"] if moment else [])
 
     tol = 1e-3 if manifest["component_type"] == "float16" else 1e-5
     status = 0
@@ -232,7 +278,9 @@ def main():
     # and the query's float position, scale with these, and where terms cancel (E close to 0
     # next to a bright light or a black node inside an object) no finite precision is
     # relative to E itself.
-    scale = np.abs(irradiance_terms(manifest, textures, x, np.abs(n), max_abs=True)).sum(axis=0)
+    # (The bins layout picks its texels by direction: its scale uses the same directions.)
+    scale_dirs = d if manifest["layout"] == "bins" else np.abs(n)
+    scale = np.abs(irradiance_terms(manifest, textures, x, scale_dirs, max_abs=True)).sum(axis=0)
     scale = np.maximum(scale, 1e-30)
     rel = np.abs(got - want) / scale
     worst = int(np.argmax(rel.max(axis=1)))

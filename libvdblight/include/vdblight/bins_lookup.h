@@ -31,6 +31,8 @@ public:
     Rgb irradiance(const Vec3f& x, const Vec3f& d) const override;
     Bounds bounds() const override { return grid_.nodeBounds(); }
     const bins::BasisSpec& spec() const { return spec_; }
+    /// All 2 R^2 bins' RGB values (6 R^2 floats) interpolated in space at x, no direction.
+    void binValues(const Vec3d& x, float* out) const override;
 
     static bool accepts(const Volume& volume);
 
@@ -42,6 +44,11 @@ private:
     };
     /// Up to four (channel, weight) pairs for direction d.
     int binWeights(const Vec3f& d, int channels[4], float weights[4]) const;
+    /// The level and eight corner nodes (positions in its data) around the level-0 lattice
+    /// coordinate g (clamped into the node box), with their trilinear weights; T = float for
+    /// irradiance, double for binValues (exact at the nodes).
+    template <class T>
+    const Level& locate(const T g[3], std::size_t corner[8], float weight[8]) const;
 
     bins::BasisSpec spec_;
     bool interpolateBins_;

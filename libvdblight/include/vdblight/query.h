@@ -52,6 +52,14 @@ public:
         (void)out;
         throw FormatError("this volume kind stores no irradiance vectors");
     }
+    /// Every bin's stored RGB value (3 floats per bin, in channel order of bins.h) interpolated
+    /// trilinearly in space at x, with the lookup's own levels rule, for bins / moment kinds
+    /// (used by export; at a node position it returns that node's values). Default: throws FormatError.
+    virtual void binValues(const Vec3d& x, float* out) const {
+        (void)x;
+        (void)out;
+        throw FormatError("this volume kind stores no directional bins");
+    }
 };
 
 /// A registry entry: `accepts` says whether a volume is of this kind, `create` builds it.

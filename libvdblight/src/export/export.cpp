@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "export_internal.h"
+#include "vdblight/bins.h"
 #include "vdblight/errors.h"
 #include "vdblight/irradiance_vectors_compact.h"
 
@@ -138,6 +139,13 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
     if (o.layout == ExportLayout::Vectors && volume.basis.kind == iv::compactBasis().kind)
         throw FormatError("layout 'vectors' does not fit a compact irradiance-vector volume (its colour and direction "
                           "are interpolated separately); use --layout compact");
+    bins::BasisSpec binSpec;
+    const bool binsVolume = bins::specFromVolume(volume.basis, binSpec);
+    if (binsVolume != (o.layout == ExportLayout::Bins))
+        throw FormatError(std::string("layout '") + layoutName(o.layout) + "' does not fit a '" + volume.basis.kind +
+                          "' volume" + (binsVolume ? " (it stores directional bins); use --layout bins"
+                                                   : " (it stores no directional bins; bins fits bins:R and moment:n volumes)"));
+    const int binResolution = binsVolume ? binSpec.resolution : 0;
     const IrradianceQuery query(volume);
     double finest = 0;
     for (const VolumeLevel& level : volume.levels)
@@ -147,7 +155,7 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
     const TextureLattice& lattice = summary.lattice;
     checkFormatLimits(o.format, lattice);
 
-    const std::vector<TextureDesc> descs = layoutTextures(o.layout);
+    const std::vector<TextureDesc> descs = layoutTextures(o.layout, binResolution);
     const double bytesPerTexel = double(descs.size()) * 16.0 + (o.halfFloat ? 16.0 : 32.0);
     const double needed = double(lattice.texelCount()) * bytesPerTexel;
     if (needed > double(o.maxBytes))
@@ -156,7 +164,7 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
                          "); lower --resolution");
     checkOutputDirectory(outDir);
 
-    const std::vector<std::vector<float>> textures = sampleLayout(query, lattice, o.layout);
+    const std::vector<std::vector<float>> textures = sampleLayout(query, lattice, o.layout, binResolution);
     if (o.halfFloat) checkHalfRange(textures, descs);
 
     StagedFiles staged(outDir);
@@ -165,6 +173,9 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
     manifest.options = &o;
     manifest.lattice = &lattice;
     manifest.volumeKind = query.kind();
+    manifest.basisKind = volume.basis.kind;
+    manifest.binResolution = binResolution;
+    manifest.momentOrder = binsVolume ? binSpec.order : 0;
     manifest.textures = descs;
     for (std::size_t t = 0; t < descs.size(); ++t) {
         TextureImage image;

@@ -17,14 +17,15 @@ struct TextureDesc {
     std::array<std::string, 4> components;
 };
 
-/// The textures a layout writes, in order.
-std::vector<TextureDesc> layoutTextures(ExportLayout layout);
+/// The textures a layout writes, in order (`binResolution`: R of a bins:R / moment volume,
+/// for the bins layout: 2 R^2 textures in channel order).
+std::vector<TextureDesc> layoutTextures(ExportLayout layout, int binResolution = 0);
 
 /// Converts nine SH order-2 radiance coefficients into the layout's texels: 4 floats per
 /// texture, textures in layoutTextures order.
 void packTexel(ExportLayout layout, const Rgb coeffs[9], float* out);
 
-/// True for the layouts read from SH order-2 coefficients, false for irradiance-vector ones.
+/// True for the layouts read from SH order-2 coefficients, false for irradiance-vector and bins ones.
 bool layoutIsSh(ExportLayout layout);
 /// Converts the 54 floats of the 18 irradiance vectors (irradiance_vectors.h order) into the
 /// texels of the `vectors` or `compact` layout.
@@ -33,7 +34,7 @@ void packVectorTexel(ExportLayout layout, const float v[54], float* out);
 /// Samples the query at every lattice point: one RGBA float array per texture, x fastest.
 /// Throws FormatError if the layout does not fit the volume kind.
 std::vector<std::vector<float>> sampleLayout(const IrradianceQuery& query, const TextureLattice& lattice,
-                                             ExportLayout layout);
+                                             ExportLayout layout, int binResolution = 0);
 
 /// One texture ready to be written.
 struct TextureImage {
@@ -72,6 +73,9 @@ struct ManifestInput {
     const ExportOptions* options = nullptr;
     const TextureLattice* lattice = nullptr;
     std::string volumeKind;
+    std::string basisKind;   ///< the volume's vdblight:basis (e.g. "bins:4")
+    int binResolution = 0;   ///< R of a bins / moment volume (bins layout)
+    int momentOrder = 0;     ///< n of a bins / moment volume (1 for bins:R)
     std::vector<TextureDesc> textures;
     std::vector<std::string> fileNames;  ///< file name of each texture, in order
     std::vector<uint64_t> dataOffsets;   ///< byte offset of the texels in each file

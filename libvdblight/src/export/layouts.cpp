@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "export_internal.h"
+#include "vdblight/bins.h"
 #include "vdblight/errors.h"
 #include "vdblight/irradiance_vectors.h"
 #include "vdblight/sh.h"
@@ -23,7 +24,8 @@ ExportLayout parseExportLayout(const std::string& name) {
     if (name == "sh1") return ExportLayout::Sh1;
     if (name == "vectors") return ExportLayout::Vectors;
     if (name == "compact") return ExportLayout::Compact;
-    throw ValueError("unknown export layout '" + name + "' (choose sh2, sh2-packed, sh1, vectors or compact)");
+    if (name == "bins") return ExportLayout::Bins;
+    throw ValueError("unknown export layout '" + name + "' (choose sh2, sh2-packed, sh1, vectors, compact or bins)");
 }
 
 const char* formatName(TextureFormat format) {
@@ -43,6 +45,7 @@ const char* layoutName(ExportLayout layout) {
         case ExportLayout::Sh1: return "sh1";
         case ExportLayout::Vectors: return "vectors";
         case ExportLayout::Compact: return "compact";
+        case ExportLayout::Bins: return "bins";
     }
     return "?";
 }
@@ -76,7 +79,7 @@ std::vector<TextureDesc> packedA(bool order2) {
 double channel(const Rgb& c, int ch) { return ch == 0 ? c.x : (ch == 1 ? c.y : c.z); }
 }  // namespace
 
-std::vector<TextureDesc> layoutTextures(ExportLayout layout) {
+std::vector<TextureDesc> layoutTextures(ExportLayout layout, int binResolution) {
     std::vector<TextureDesc> t;
     switch (layout) {
         case ExportLayout::Sh2:
@@ -119,6 +122,12 @@ std::vector<TextureDesc> layoutTextures(ExportLayout layout) {
                               "unused (0)"}});
             }
             break;
+        case ExportLayout::Bins:
+            for (int c = 0; c < 2 * binResolution * binResolution; ++c) {
+                const std::string what = "bin " + std::to_string(c) + " (" + bins::channelName(binResolution, c) + ")";
+                t.push_back({bins::channelName(binResolution, c), {what + " red", what + " green", what + " blue", "unused (0)"}});
+            }
+            break;
     }
     return t;
 }
@@ -151,7 +160,9 @@ void packTexel(ExportLayout layout, const Rgb L[9], float* out) {
     if (order2) out[27] = 0.0f;
 }
 
-bool layoutIsSh(ExportLayout layout) { return layout != ExportLayout::Vectors && layout != ExportLayout::Compact; }
+bool layoutIsSh(ExportLayout layout) {
+    return layout != ExportLayout::Vectors && layout != ExportLayout::Compact && layout != ExportLayout::Bins;
+}
 
 void packVectorTexel(ExportLayout layout, const float v[54], float* out) {
     for (int d = 0; d < iv::kDirections; ++d) {

@@ -49,6 +49,10 @@ const char* irradianceFormula(ExportLayout layout) {
             return "E_c = sum over axes a of n_a^2 * ivc_<a><pos|neg>_colour.c * dot(ivc_<a><pos|neg>_dir.rgb, n), "
                    "sign by n_a (Pacanowski et al. section 4.2: each vector I_c ~ |I_c| * d, lossy where the "
                    "three colours' vectors differ in direction), for c in r, g, b and a unit normal n";
+        case ExportLayout::Bins:
+            return "E(d).rgb = texture of the bin of direction d (bins.bin_of_direction; d = the normal n for bins:R, "
+                   "the view vector mirrored about n for moment:n), or the bilinear blend of the four bins of "
+                   "bins.blend (what vdblight query does)";
     }
     return "";
 }
@@ -96,6 +100,25 @@ std::string manifestJson(const ManifestInput& in) {
       << ", \"c1\": " << num(std::sqrt(3.0 / (4.0 * kPi))) << ", \"c2\": " << num(std::sqrt(15.0 / (4.0 * kPi)))
       << ", \"c3\": " << num(std::sqrt(5.0 / (16.0 * kPi))) << ", \"c4\": " << num(std::sqrt(15.0 / (16.0 * kPi)))
       << "},\n";
+    if (o.layout == ExportLayout::Bins) {
+        const int R = in.binResolution;
+        s << "  \"bins\": {\"basis\": " << quote(in.basisKind) << ", \"resolution\": " << R
+          << ", \"count\": " << 2 * R * R << ", \"moment_order\": " << in.momentOrder << ",\n";
+        s << "    \"texture_of_bin\": \"bin (h, iu, iv) is texture index h*R*R + iv*R + iu, named "
+             "bin_h<h>_u<iu>_v<iv>; its rgb is the stored value, alpha 0\",\n";
+        s << "    \"bin_of_direction\": \"unit d: h = 1 if d.z < 0 else 0; (px, py) = (d.x, d.y) / sqrt(1 + |d.z|); "
+             "rho = |(px, py)|, phi = atan2(py, px) in [-pi/4, 7pi/4); phi < pi/4: a = rho, b = a*phi/(pi/4); "
+             "phi < 3pi/4: b = rho, a = -b*(phi - pi/2)/(pi/4); phi < 5pi/4: a = -rho, b = a*(phi - pi)/(pi/4); "
+             "else b = -rho, a = -b*(phi - 3pi/2)/(pi/4); u = clamp((a + 1)/2, 0, 1), v = clamp((b + 1)/2, 0, 1); "
+             "bin (h, min(floor(u*R), R-1), min(floor(v*R), R-1)) (docs/format.md)\",\n";
+        s << "    \"blend\": \"vdblight query's default: gu = u*R - 0.5, gv = v*R - 0.5, iu0 = floor(gu), iv0 = floor(gv), "
+             "fu = gu - iu0, fv = gv - iv0; bins (iu0 + a, iv0 + b), a, b in {0, 1}, weight (a ? fu : 1 - fu) * "
+             "(b ? fv : 1 - fv); an index outside [0, R-1] is clamped and flips h (both outside: h flips twice)\",\n";
+        s << "    \"bin_of_texture\": [";
+        for (int c = 0; c < 2 * R * R; ++c)
+            s << (c ? ", " : "") << "[" << c / (R * R) << ", " << c % R << ", " << c % (R * R) / R << "]";
+        s << "]},\n";
+    }
     switch (o.format) {
         case TextureFormat::Ktx2:
             s << "  \"ktx2\": {\"vkFormat\": " << (o.halfFloat ? kVkR16G16B16A16Sfloat : kVkR32G32B32A32Sfloat)

@@ -11,17 +11,19 @@
 namespace vdblight {
 
 namespace {
-inline void splitCell(float g, int n, int& i, float& f) {
-    if (!(g >= 0.0f)) g = 0.0f;
-    if (g > float(n - 1)) g = float(n - 1);
+template <class T>
+inline void splitCell(T g, int n, int& i, T& f) {
+    if (!(g >= T(0))) g = T(0);
+    if (g > T(n - 1)) g = T(n - 1);
     i = std::min(int(g), n - 2);
     if (i < 0) i = 0;
-    f = g - float(i);
+    f = g - T(i);
 }
-inline void splitLocal(float& f, int K, int& i) {
-    const float g = f * float(K);
+template <class T>
+inline void splitLocal(T& f, int K, int& i) {
+    const T g = f * T(K);
     i = std::min(int(g), K - 1);
-    f = g - float(i);
+    f = g - T(i);
 }
 int64_t positionIn(const std::vector<uint64_t>& sorted, uint64_t value) {
     const auto it = std::lower_bound(sorted.begin(), sorted.end(), value);
@@ -112,31 +114,16 @@ int BinsLookup::binWeights(const Vec3f& d, int channels[4], float weights[4]) co
     return count;
 }
 
-Rgb BinsLookup::irradiance(const Vec3f& x, const Vec3f& d) const {
-    const Vec3f g = (x - origin_) * invSpacing_;
-    if (outside_ == OutsidePolicy::Throw) {
-        const float tol = 1e-4f;
-        if (!(g.x >= -tol && g.y >= -tol && g.z >= -tol && g.x <= grid_.nx - 1 + tol && g.y <= grid_.ny - 1 + tol &&
-              g.z <= grid_.nz - 1 + tol)) {
-            std::ostringstream s;
-            s << "point (" << x.x << ", " << x.y << ", " << x.z << ") is outside the volume";
-            throw ValueError(s.str());
-        }
-    }
-    int channels[4];
-    float bw[4];
-    const int nb = binWeights(d, channels, bw);
-
+template <class T>
+const BinsLookup::Level& BinsLookup::locate(const T g[3], std::size_t corner[8], float weight[8]) const {
     int i = 0, j = 0, k = 0;
-    float f[3] = {0, 0, 0};
+    T f[3] = {0, 0, 0};
     const int dims[3] = {grid_.nx, grid_.ny, grid_.nz};
     int* idx[3] = {&i, &j, &k};
     for (int a = 0; a < 3; ++a) {
         if (dims[a] < 2) continue;  // a flat axis: one node, no interpolation
         splitCell(g[a], dims[a], *idx[a], f[a]);
     }
-    // The eight corner nodes (positions in a level's data) and the level they are in.
-    std::size_t corner[8];
     const Level* level = &levels_[0];
     const int32_t top = levels_[0].child.empty()
                             ? -1
@@ -164,17 +151,52 @@ Rgb BinsLookup::irradiance(const Vec3f& x, const Vec3f& d) const {
             brick = next;
         }
     }
-    const float wx[2] = {1 - f[0], f[0]}, wy[2] = {1 - f[1], f[1]}, wz[2] = {1 - f[2], f[2]};
+    const T wx[2] = {1 - f[0], f[0]}, wy[2] = {1 - f[1], f[1]}, wz[2] = {1 - f[2], f[2]};
+    for (int c = 0; c < 8; ++c) weight[c] = float(wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2]);
+    return *level;
+}
+
+Rgb BinsLookup::irradiance(const Vec3f& x, const Vec3f& d) const {
+    const Vec3f gv = (x - origin_) * invSpacing_;
+    if (outside_ == OutsidePolicy::Throw) {
+        const float tol = 1e-4f;
+        if (!(gv.x >= -tol && gv.y >= -tol && gv.z >= -tol && gv.x <= grid_.nx - 1 + tol &&
+              gv.y <= grid_.ny - 1 + tol && gv.z <= grid_.nz - 1 + tol)) {
+            std::ostringstream s;
+            s << "point (" << x.x << ", " << x.y << ", " << x.z << ") is outside the volume";
+            throw ValueError(s.str());
+        }
+    }
+    const float g[3] = {gv.x, gv.y, gv.z};
+    std::size_t corner[8];
+    float w[8];
+    const Level& level = locate(g, corner, w);
+    int channels[4];
+    float bw[4];
+    const int nb = binWeights(d, channels, bw);
     Rgb e{0, 0, 0};
     for (int c = 0; c < 8; ++c) {
-        const float w = wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2];
-        const float* p = level->data.data() + corner[c] * floatsPerNode_;
+        const float* p = level.data.data() + corner[c] * floatsPerNode_;
         for (int b = 0; b < nb; ++b) {
             const float* q = p + 3 * channels[b];
-            e += Rgb(q[0], q[1], q[2]) * (w * bw[b]);
+            e += Rgb(q[0], q[1], q[2]) * (w[c] * bw[b]);
         }
     }
     return e;
+}
+
+void BinsLookup::binValues(const Vec3d& x, float* out) const {
+    std::size_t corner[8];
+    float w[8];
+    // In double, so that at a node position the weights are exactly 0 and 1 (the node's values).
+    const double g[3] = {(x.x - grid_.origin.x) / grid_.spacing, (x.y - grid_.origin.y) / grid_.spacing,
+                         (x.z - grid_.origin.z) / grid_.spacing};
+    const Level& level = locate(g, corner, w);
+    std::fill(out, out + floatsPerNode_, 0.0f);
+    for (int c = 0; c < 8; ++c) {
+        const float* p = level.data.data() + corner[c] * floatsPerNode_;
+        for (std::size_t f = 0; f < floatsPerNode_; ++f) out[f] += w[c] * p[f];
+    }
 }
 
 Rgbd referenceBinsLookup(const Volume& volume, const Vec3d& x, const Vec3f& d) {

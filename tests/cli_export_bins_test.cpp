@@ -1,0 +1,100 @@
+// `vdblight export --layout bins` end to end: a small bins:4 volume (uniform and bilevel) and
+// a moment volume exported as ktx2 / dds / raw, read back by scripts/check_export.py from
+// manifest.json alone (the documented four-bin blend) and compared with `vdblight query`.
+// Layouts that do not fit the volume: one line, non-zero exit, nothing written.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "test_util.h"
+
+namespace fs = std::filesystem;
+using vdblight::test::runCommand;
+using vdblight::test::TempDir;
+
+namespace {
+const std::string kCli = VDBLIGHT_CLI_PATH;
+const std::string kSource = VDBLIGHT_SOURCE_DIR;
+
+class CliExportBins : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        dir_ = new TempDir();
+        std::string out;
+        ASSERT_EQ(runCommand(kCli + " bake -q -o " + file("bins.vdb") + " --resolution 4 --rays 48 --bounces 1 --basis bins:4", &out), 0)
+            << out;
+        ASSERT_EQ(runCommand(kCli + " bake -q -o " + file("bilevel.vdb") +
+                                 " --resolution 4 --rays 32 --bounces 1 --basis bins:4 --layout bilevel --refine 2", &out), 0)
+            << out;
+        ASSERT_EQ(runCommand(kCli + " bake -q -o " + file("moment.vdb") + " --resolution 3 --rays 32 --bounces 1 --basis moment:4:4", &out), 0)
+            << out;
+        ASSERT_EQ(runCommand(kCli + " bake -q -o " + file("sh.vdb") + " --resolution 3 --rays 16", &out), 0) << out;
+    }
+    static void TearDownTestSuite() {
+        delete dir_;
+        dir_ = nullptr;
+    }
+    static std::string file(const std::string& name) { return dir_->file(name); }
+    static TempDir* dir_;
+};
+TempDir* CliExportBins::dir_ = nullptr;
+
+int lines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
+
+int roundTrip(const std::string& volume, const std::string& where, std::string* log) {
+    return runCommand("/usr/bin/python3 " + kSource + "/scripts/check_export.py --cli " + kCli + " --volume " + volume +
+                          " --export " + where + " --points 300",
+                      log);
+}
+}  // namespace
+
+TEST_F(CliExportBins, RoundTripThroughTheManifestMatchesQuery) {
+    TempDir out;
+    for (const char* format : {"ktx2", "dds", "raw"})
+        for (const char* precision : {"--half", "--float"}) {
+            const std::string where = out.file(std::string(format) + precision);
+            std::string log;
+            ASSERT_EQ(runCommand(kCli + " export " + file("bins.vdb") + " -o " + where + " --format " + format +
+                                     " --layout bins " + precision, &log), 0) << log;
+            EXPECT_NE(log.find("Exported 32 "), std::string::npos) << log;  // 2 R^2 textures
+            EXPECT_TRUE(fs::exists(where + "/bin_h1_u3_v2." + format));
+            EXPECT_EQ(roundTrip(file("bins.vdb"), where, &log), 0) << format << " " << precision << ": " << log;
+        }
+    std::ifstream m(out.file("raw--float/manifest.json"));
+    const std::string json((std::istreambuf_iterator<char>(m)), {});
+    for (const char* key : {"\"layout\": \"bins\"", "\"resolution\": 4", "\"count\": 32", "\"basis\": \"bins:4\"",
+                            "bin_of_direction", "\"bin_of_texture\": [[0, 0, 0], [0, 1, 0]"})
+        EXPECT_NE(json.find(key), std::string::npos) << key;
+}
+
+TEST_F(CliExportBins, MultiLevelAndMomentVolumesRoundTrip) {
+    TempDir out;
+    for (const char* volume : {"bilevel.vdb", "moment.vdb"}) {
+        const std::string where = out.file(volume);
+        std::string log;
+        // The default lattice is the finest level's spacing: texels on every level-1 node.
+        ASSERT_EQ(runCommand(kCli + " export -q " + file(volume) + " -o " + where + " --format raw --layout bins --float",
+                             &log), 0) << log;
+        EXPECT_EQ(roundTrip(file(volume), where, &log), 0) << volume << ": " << log;
+        EXPECT_NE(log.find("bins float32"), std::string::npos) << log;
+    }
+}
+
+TEST_F(CliExportBins, LayoutsThatDoNotFitAreRefused) {
+    TempDir out;
+    const struct {
+        std::string volume, layout, expected;
+    } cases[] = {
+        {"bins.vdb", "sh2", "use --layout bins"},
+        {"bins.vdb", "vectors", "use --layout bins"},
+        {"sh.vdb", "bins", "stores no directional bins"},
+    };
+    for (const auto& c : cases) {
+        std::string log;
+        const int status = runCommand(kCli + " export " + file(c.volume) + " -o " + out.file("x") + " --layout " + c.layout, &log);
+        EXPECT_NE(status, 0) << c.layout;
+        EXPECT_EQ(lines(log), 1) << c.layout << ": " << log;
+        EXPECT_NE(log.find(c.expected), std::string::npos) << c.layout << ": " << log;
+        EXPECT_FALSE(fs::exists(out.file("x"))) << c.layout;
+    }
+}
