@@ -71,6 +71,7 @@ LeakScene roomWithBlock(float crack) {
 
 struct Classification {
     std::size_t accepted = 0, acceptedOutside = 0, inside = 0, rejectedInside = 0;
+    std::size_t acceptedOutsideOpen = 0;  ///< accepted origins outside `open` (the room itself)
 };
 
 Classification classifyAll(const LeakScene& l, const GridSpec& g, uint32_t rays) {
@@ -84,6 +85,7 @@ Classification classifyAll(const LeakScene& l, const GridSpec& g, uint32_t rays)
             c.acceptedOutside += s.accepted && !in;
             c.inside += in;
             c.rejectedInside += !s.accepted && in;
+            c.acceptedOutsideOpen += s.accepted && !l.open.contains(Vec3d(s.origin));
         }
     return c;
 }
@@ -209,6 +211,39 @@ TEST(Antialiased, PointClassificationWithCracksStaysBelowOnePercent) {
     EXPECT_LT(double(c.acceptedOutside), 0.01 * double(c.accepted));
     // Origins that see a back-face through a crack are outside the domain by its definition
     // (section 5); against the solid geometry they are a loss of samples, not a leak.
+    EXPECT_LT(double(c.rejectedInside), 0.02 * double(c.inside));
+}
+
+TEST(Antialiased, PointClassificationOfAMazeOfClosedWalls) {
+    const LeakScene l = makeMazeScene();
+    // Cells 0.25 wide straddle the 0.1 thick walls; the grid reaches outside the room.
+    const GridSpec g = makeGrid({-0.3, -0.3, -0.3}, 0.25, 19, 8, 19);
+    const Classification c = classifyAll(l, g, 64);
+    const std::size_t roomAccepted = c.accepted - c.acceptedOutsideOpen;
+    const std::size_t roomOutside = c.acceptedOutside - c.acceptedOutsideOpen;  // accepted inside a wall
+    std::printf("  maze: %zu accepted origins, %zu of them outside the domain; in the room %zu accepted, %zu of them "
+                "inside a wall; %zu of %zu origins in the domain rejected\n", c.accepted, c.acceptedOutside,
+                roomAccepted, roomOutside, c.rejectedInside, c.inside);
+    ASSERT_GT(roomAccepted, 50000u);
+    EXPECT_LT(double(roomOutside), 0.001 * double(roomAccepted));
+    EXPECT_LT(double(c.rejectedInside), 0.001 * double(c.inside));
+    // Outside the room the walls' 0.01 stubs through the room's faces (front faces outwards)
+    // hide the cell's few known back-face points from some origins (Algorithm 2 only finds
+    // back-face points through accepted origins' rays): measured 245 of 72 008 (0.34 %), above
+    // the 0.1 % met in the room and by the block (whose room has no stubs), below 0.5 %.
+    EXPECT_LT(double(c.acceptedOutside), 0.005 * double(c.accepted));
+}
+
+TEST(Antialiased, PointClassificationOfACrackedMazeStaysBelowOnePercent) {
+    const LeakScene l = makeMazeScene(0.004f);
+    const GridSpec g = makeGrid({-0.3, -0.3, -0.3}, 0.25, 19, 8, 19);
+    const Classification c = classifyAll(l, g, 64);
+    std::printf("  cracked maze: %zu accepted origins, %zu outside the domain (%zu outside the room); %zu of %zu "
+                "in-domain rejected\n", c.accepted, c.acceptedOutside, c.acceptedOutsideOpen, c.rejectedInside,
+                c.inside);
+    ASSERT_GT(c.accepted, 50000u);
+    EXPECT_LT(double(c.acceptedOutside), 0.01 * double(c.accepted));
+    // As for the cracked block: origins seeing a back-face through a crack are lost samples.
     EXPECT_LT(double(c.rejectedInside), 0.02 * double(c.inside));
 }
 

@@ -36,6 +36,15 @@ LeakScene makeTownScene();
 /// and a slab on top of them.
 LeakScene makeBarsScene();
 
+/// A maze of closed walls: a closed room [0,4]x[0,1.2]x[0,4] lit by a point light, with
+/// closed box walls 0.1 thick forming a serpentine corridor (four long walls attached
+/// alternately to the x = 0 and x = 4 room walls), a short cross wall, a free-standing
+/// wall segment and a lintel hanging from the ceiling. No two walls touch; walls reaching a
+/// room face go 0.01 into it, so no wall face is coplanar with a room face. With
+/// `crack` > 0 every wall is built by appendCrackedBox (faces shrunk by `crack`), the room
+/// stays closed; `solids` are the walls' boxes either way.
+LeakScene makeMazeScene(float crack = 0.0f);
+
 /// `count` evaluation points for leak measurements: uniformly random in `box`, kept if in
 /// the domain of interest and within `maxDistance` of a surface; each with a uniformly
 /// random unit normal. Deterministic in `seed`. Throws ValueError if too few points qualify.

@@ -122,6 +122,32 @@ LeakScene makeBarsScene() {
     return l;
 }
 
+LeakScene makeMazeScene(float crack) {
+    LeakScene l;
+    l.scene.name = crack > 0 ? "maze_cracked" : "maze";
+    const uint32_t wall = material(l.scene, "wall", {0.7f, 0.7f, 0.7f});
+    constexpr double W = 4, H = 1.2, e = 0.01, t = 0.05;  // t: half the wall thickness
+    l.open = box({0, 0, 0}, {W, H, W});
+    appendBox(l.scene, Vec3f(l.open.lo), Vec3f(l.open.hi), /*inward=*/true, wall);
+    const auto addWall = [&](Vec3d lo, Vec3d hi) {
+        if (crack > 0) appendCrackedBox(l.scene, Vec3f(lo), Vec3f(hi), crack, wall);
+        else appendBox(l.scene, Vec3f(lo), Vec3f(hi), /*inward=*/false, wall);
+        l.solids.push_back(box(lo, hi));
+    };
+    // The serpentine: long walls at z = 0.8, 1.6, 2.4, 3.2, floor to ceiling, leaving a
+    // 0.8 wide passage at alternate ends.
+    for (int i = 0; i < 4; ++i) {
+        const double z = 0.8 * (i + 1);
+        if (i % 2 == 0) addWall({-e, -e, z - t}, {W - 0.8, H + e, z + t});
+        else addWall({0.8, -e, z - t}, {W + e, H + e, z + t});
+    }
+    addWall({2.0 - t, -e, -e}, {2.0 + t, H + e, 0.45});      // cross wall in the first corridor
+    addWall({1.6 - t, -e, 1.75}, {1.6 + t, H + e, 2.25});    // free-standing segment
+    addWall({2.6 - t, 0.7, 2.5}, {2.6 + t, H + e, 3.1});     // lintel over the fourth corridor
+    l.scene.pointLights.push_back({{3.6f, 1.0f, 3.6f}, {2.0f, 2.0f, 2.0f}});
+    return l;
+}
+
 std::vector<EvalPoint> leakEvalPoints(const LeakScene& scene, const Bounds& box, double maxDistance, int count,
                                       uint64_t seed) {
     std::vector<EvalPoint> out;
