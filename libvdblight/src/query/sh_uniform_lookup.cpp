@@ -1,3 +1,4 @@
+#include "lattice_locate.h"
 #include "vdblight/query.h"
 
 #include <cmath>
@@ -78,19 +79,7 @@ void ShUniformLookup::shRadiance(const Vec3d& x, Rgb out[9]) const {
     const int dims[3] = {grid_.nx, grid_.ny, grid_.nz};
     int lo[3];
     double frac[3];
-    for (int a = 0; a < 3; ++a) {
-        double g = (x[a] - grid_.origin[a]) / grid_.spacing;
-        if (std::fabs(g - std::round(g)) < 1e-9) g = std::round(g);
-        if (outside_ == OutsidePolicy::Throw && !(g >= -1e-4 && g <= dims[a] - 1 + 1e-4)) {
-            std::ostringstream s;
-            s << "point (" << x.x << ", " << x.y << ", " << x.z << ") is outside the volume";
-            throw ValueError(s.str());
-        }
-        if (!(g >= 0.0)) g = 0.0;  // also maps NaN to the boundary
-        g = std::min(g, double(dims[a] - 1));
-        lo[a] = std::min(int(g), std::max(dims[a] - 2, 0));
-        frac[a] = g - lo[a];
-    }
+    query_detail::locateExact(grid_, x, outside_, lo, frac);
     double sum[kFloatsPerNode] = {};
     for (int corner = 0; corner < 8; ++corner) {
         double w = 1.0;
