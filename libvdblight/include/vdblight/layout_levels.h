@@ -69,6 +69,13 @@ int64_t findNode(const VolumeLevel& level, uint64_t linear);
 /// True if the cell with lower-corner linear index `cell` is refined.
 bool isRefined(const VolumeLevel& level, uint64_t cell);
 
+/// The descent every simple multi-level lookup does: x is clamped into level 0's node box,
+/// then followed down through refined cells. Returns the finest level whose cell contains x,
+/// with that cell's lower node indices and the fractions towards the next nodes (an axis
+/// with a single node has cell 0, fraction 0). `refine` is the volume's refinement factor.
+std::size_t finestCellAt(const std::vector<VolumeLevel>& levels, int refine, const Vec3d& x, int cell[3],
+                         double frac[3]);
+
 /// Seam nodes of level `level` (>= 1): positions in levels[level].activeNodes, ascending.
 std::vector<std::size_t> seamNodes(const std::vector<VolumeLevel>& levels, int level, int refine);
 

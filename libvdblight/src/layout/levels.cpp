@@ -160,6 +160,32 @@ bool isRefined(const VolumeLevel& level, uint64_t cell) {
     return std::binary_search(level.refinedCells.begin(), level.refinedCells.end(), cell);
 }
 
+std::size_t finestCellAt(const std::vector<VolumeLevel>& levels, int refine, const Vec3d& x, int cell[3],
+                         double frac[3]) {
+    const GridSpec& g0 = levels.at(0).grid;
+    const int dims[3] = {g0.nx, g0.ny, g0.nz};
+    for (int a = 0; a < 3; ++a) {
+        if (dims[a] < 2) {
+            cell[a] = 0, frac[a] = 0;
+            continue;
+        }
+        const double u = std::min(std::max((x[a] - g0.origin[a]) / g0.spacing, 0.0), double(dims[a] - 1));
+        cell[a] = std::min(int(std::floor(u)), dims[a] - 2);
+        frac[a] = u - cell[a];
+    }
+    std::size_t l = 0;
+    while (l + 1 < levels.size() && isRefined(levels[l], levels[l].grid.index(cell[0], cell[1], cell[2]))) {
+        for (int a = 0; a < 3; ++a) {
+            const double u = frac[a] * refine;
+            const int c = std::min(int(std::floor(u)), refine - 1);
+            frac[a] = u - c;
+            cell[a] = cell[a] * refine + c;
+        }
+        ++l;
+    }
+    return l;
+}
+
 LevelLayout placeLevels(const GridSpec& level0, const std::vector<Vec3f>& positions,
                         const std::vector<uint32_t>& indices, const LevelsPlacement& p, std::size_t bytesPerNode) {
     const int K = p.refine;

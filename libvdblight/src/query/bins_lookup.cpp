@@ -202,32 +202,11 @@ void BinsLookup::binValues(const Vec3d& x, float* out) const {
 Rgbd referenceBinsLookup(const Volume& volume, const Vec3d& x, const Vec3f& d) {
     bins::BasisSpec spec;
     if (!bins::specFromVolume(volume.basis, spec)) throw FormatError("not a bins or moment volume");
-    const GridSpec& g0 = volume.levels.at(0).grid;
-    const int K = volume.refineFactor();
-    const int dims[3] = {g0.nx, g0.ny, g0.nz};
     int cell[3];
     double frac[3];
-    for (int a = 0; a < 3; ++a) {
-        if (dims[a] < 2) {
-            cell[a] = 0, frac[a] = 0;
-            continue;
-        }
-        const double u = std::min(std::max((x[a] - g0.origin[a]) / g0.spacing, 0.0), double(dims[a] - 1));
-        cell[a] = std::min(int(std::floor(u)), dims[a] - 2);
-        frac[a] = u - cell[a];
-    }
-    std::size_t l = 0;
-    while (l + 1 < volume.levels.size() &&
-           isRefined(volume.levels[l], volume.levels[l].grid.index(cell[0], cell[1], cell[2]))) {
-        for (int a = 0; a < 3; ++a) {
-            const double u = frac[a] * K;
-            const int c = std::min(int(std::floor(u)), K - 1);
-            frac[a] = u - c;
-            cell[a] = cell[a] * K + c;
-        }
-        ++l;
-    }
+    const std::size_t l = finestCellAt(volume.levels, volume.refineFactor(), x, cell, frac);
     const VolumeLevel& level = volume.levels[l];
+    const int dims[3] = {level.grid.nx, level.grid.ny, level.grid.nz};  // a one-node axis stays one node
     const int bin = bins::binOf(spec.resolution, d);
     Rgbd e{0, 0, 0};
     for (int corner = 0; corner < 8; ++corner) {

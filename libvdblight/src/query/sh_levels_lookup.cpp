@@ -210,27 +210,9 @@ int ShLevelsLookup::levelAt(const Vec3f& x) const {
 }
 
 Rgbd referenceLevelsLookup(const Volume& volume, const Vec3d& x, const Vec3d& n, int* levelUsed) {
-    const GridSpec& g0 = volume.levels.at(0).grid;
-    const int K = volume.refineFactor();
-    const int dims[3] = {g0.nx, g0.ny, g0.nz};
     int cell[3];
     double frac[3];
-    for (int a = 0; a < 3; ++a) {
-        const double u = std::min(std::max((x[a] - g0.origin[a]) / g0.spacing, 0.0), double(dims[a] - 1));
-        cell[a] = std::min(int(std::floor(u)), dims[a] - 2);
-        frac[a] = u - cell[a];
-    }
-    std::size_t l = 0;
-    while (l + 1 < volume.levels.size() &&
-           isRefined(volume.levels[l], volume.levels[l].grid.index(cell[0], cell[1], cell[2]))) {
-        for (int a = 0; a < 3; ++a) {
-            const double u = frac[a] * K;
-            const int c = std::min(int(std::floor(u)), K - 1);
-            frac[a] = u - c;
-            cell[a] = cell[a] * K + c;
-        }
-        ++l;
-    }
+    const std::size_t l = finestCellAt(volume.levels, volume.refineFactor(), x, cell, frac);
     const VolumeLevel& level = volume.levels[l];
     double y[9];
     sh::evalGeneric(2, normalize(n), y);
