@@ -32,5 +32,32 @@ inline void locateExact(const GridSpec& grid, const Vec3d& x, OutsidePolicy outs
     }
 }
 
+/// The eight nodes around x and their trilinear weights (double), from locateExact.
+/// Along an axis with a single node both corners are that node.
+struct TrilinearCorners {
+    std::size_t node[8];  ///< grid.index of each corner
+    double weight[8];
+};
+
+inline TrilinearCorners trilinearCorners(const GridSpec& grid, const Vec3d& x, OutsidePolicy outside) {
+    const int dims[3] = {grid.nx, grid.ny, grid.nz};
+    int lo[3];
+    double frac[3];
+    locateExact(grid, x, outside, lo, frac);
+    TrilinearCorners t;
+    for (int corner = 0; corner < 8; ++corner) {
+        double w = 1.0;
+        int idx[3];
+        for (int a = 0; a < 3; ++a) {
+            const int bit = (corner >> a) & 1;
+            idx[a] = std::min(lo[a] + bit, dims[a] - 1);
+            w *= bit ? frac[a] : 1.0 - frac[a];
+        }
+        t.node[corner] = grid.index(idx[0], idx[1], idx[2]);
+        t.weight[corner] = w;
+    }
+    return t;
+}
+
 }  // namespace query_detail
 }  // namespace vdblight

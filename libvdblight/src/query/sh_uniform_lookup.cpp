@@ -76,21 +76,12 @@ void ShUniformLookup::radianceCoefficients(const Vec3f& x, Rgb out[9]) const {
 void ShUniformLookup::shRadiance(const Vec3d& x, Rgb out[9]) const {
     // Located in double and snapped onto a node within 1e-9 of a cell, so that sampling at a
     // node's position returns exactly that node (export relies on it); accumulated in double.
-    const int dims[3] = {grid_.nx, grid_.ny, grid_.nz};
-    int lo[3];
-    double frac[3];
-    query_detail::locateExact(grid_, x, outside_, lo, frac);
+    const query_detail::TrilinearCorners corners = query_detail::trilinearCorners(grid_, x, outside_);
     double sum[kFloatsPerNode] = {};
-    for (int corner = 0; corner < 8; ++corner) {
-        double w = 1.0;
-        int idx[3];
-        for (int a = 0; a < 3; ++a) {
-            const int bit = (corner >> a) & 1;
-            idx[a] = std::min(lo[a] + bit, dims[a] - 1);
-            w *= bit ? frac[a] : 1.0 - frac[a];
-        }
+    for (int c = 0; c < 8; ++c) {
+        const double w = corners.weight[c];
         if (w == 0.0) continue;
-        const float* p = coeffs_.data() + grid_.index(idx[0], idx[1], idx[2]) * kFloatsPerNode;
+        const float* p = coeffs_.data() + corners.node[c] * kFloatsPerNode;
         for (int f = 0; f < kFloatsPerNode; ++f) sum[f] += w * p[f];
     }
     for (int c = 0; c < sh::kCoeffs; ++c) {

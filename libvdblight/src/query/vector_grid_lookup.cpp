@@ -147,21 +147,12 @@ namespace vdblight {
 
 void VectorGridLookup::irradianceVectors(const Vec3d& x, float out[54]) const {
     static_assert(iv::kFloatsPerNode == 54, "54 floats per node");
-    const int dims[3] = {grid_.nx, grid_.ny, grid_.nz};
-    int lo[3];
-    double frac[3];
-    query_detail::locateExact(grid_, x, outside_, lo, frac);
+    const query_detail::TrilinearCorners corners = query_detail::trilinearCorners(grid_, x, outside_);
     double sum[iv::kFloatsPerNode] = {};
-    for (int corner = 0; corner < 8; ++corner) {
-        double w = 1.0;
-        int idx[3];
-        for (int a = 0; a < 3; ++a) {
-            const int bit = (corner >> a) & 1;
-            idx[a] = std::min(lo[a] + bit, dims[a] - 1);
-            w *= bit ? frac[a] : 1.0 - frac[a];
-        }
+    for (int c = 0; c < 8; ++c) {
+        const double w = corners.weight[c];
         if (w == 0.0) continue;
-        const float* p = data_.data() + grid_.index(idx[0], idx[1], idx[2]) * stride_;
+        const float* p = data_.data() + corners.node[c] * stride_;
         float expanded[iv::kFloatsPerNode];
         if (compact_) {  // vectors of a compact volume: decompress each node, then interpolate
             iv::expandNode(p, expanded);
