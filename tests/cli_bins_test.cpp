@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "cli_util.h"
 #include "test_util.h"
 #include "vdblight/bins.h"
 #include "vdblight/bins_lookup.h"
@@ -13,49 +14,9 @@
 using namespace vdblight;
 namespace fs = std::filesystem;
 
-namespace {
-const std::string kCli = VDBLIGHT_CLI_PATH;
-
-struct CliRun {
-    int status;
-    std::string output;
-};
-
-CliRun runCli(const std::string& args) {
-    CliRun r;
-    r.status = test::runCommand(kCli + " " + args, &r.output);
-    return r;
-}
-
-int countLines(const std::string& s) {
-    int n = 0;
-    for (char c : s) n += c == '\n';
-    return n;
-}
-
-void expectCleanFailure(const test::TempDir& dir, const std::string& args, const std::string& text) {
-    const std::string out = dir.file("bad.vdb");
-    const CliRun r = runCli(args + " -o " + out);
-    EXPECT_NE(r.status, 0) << args;
-    EXPECT_LT(r.status, 128) << "crashed: " << args;
-    EXPECT_EQ(countLines(r.output), 1) << args << "\n" << r.output;
-    EXPECT_NE(r.output.find(text), std::string::npos) << args << "\nexpected '" << text << "' in: " << r.output;
-    EXPECT_FALSE(fs::exists(out)) << args;
-}
-
-/// E_r of the first data row of a query CSV.
-double firstIrradiance(const std::string& csv) {
-    std::istringstream lines(csv);
-    std::string header, row;
-    std::getline(lines, header);
-    std::getline(lines, row);
-    std::istringstream rs(row);
-    double v[9];
-    char comma;
-    for (double& x : v) rs >> x >> comma;
-    return v[6];
-}
-}  // namespace
+using test::CliRun;
+using test::firstIrradiance;
+using test::runCli;
 
 TEST(CliBins, BinsAndMomentBakeInfoAndQuery) {
     test::TempDir dir;
@@ -95,10 +56,10 @@ TEST(CliBins, BinsAndMomentBakeInfoAndQuery) {
 TEST(CliBins, BadBasesAreRefusedWithOneLineAndNoFile) {
     test::TempDir dir;
     const std::string base = "bake --resolution 3 --rays 8";
-    expectCleanFailure(dir, base + " --basis bins:0", "at least 1");
-    expectCleanFailure(dir, base + " --basis bins:x", "positive integer");
-    expectCleanFailure(dir, base + " --basis wavelets", "--basis must be sh2, bins:N or moment:N");
-    expectCleanFailure(dir, base + " --basis moment:0", "at least 1");
-    expectCleanFailure(dir, base + " --basis bins:4 --method photons", "--basis bins/moment works with --method gather");
-    expectCleanFailure(dir, base + " --basis bins:4 --sampling antialiased", "--basis bins/moment works with");
+    test::expectCleanFailureWithOutput(dir, base + " --basis bins:0", "at least 1");
+    test::expectCleanFailureWithOutput(dir, base + " --basis bins:x", "positive integer");
+    test::expectCleanFailureWithOutput(dir, base + " --basis wavelets", "--basis must be sh2, bins:N or moment:N");
+    test::expectCleanFailureWithOutput(dir, base + " --basis moment:0", "at least 1");
+    test::expectCleanFailureWithOutput(dir, base + " --basis bins:4 --method photons", "--basis bins/moment works with --method gather");
+    test::expectCleanFailureWithOutput(dir, base + " --basis bins:4 --sampling antialiased", "--basis bins/moment works with");
 }

@@ -10,27 +10,9 @@
 using namespace vdblight;
 namespace fs = std::filesystem;
 
-namespace {
 using test::CliRun;
+using test::firstIrradiance;
 using test::runCli;
-
-// Every bad layout command is given an output path, which must not appear.
-void expectRefused(const test::TempDir& dir, const std::string& args, const std::string& text) {
-    test::expectCleanFailure(dir, args + " -o " + dir.file("bad.vdb"), text);
-}
-
-double firstIrradiance(const std::string& csv) {
-    std::istringstream lines(csv);
-    std::string header, row;
-    std::getline(lines, header);
-    std::getline(lines, row);
-    std::istringstream rs(row);
-    double v[9];
-    char comma;
-    for (double& x : v) rs >> x >> comma;
-    return v[6];
-}
-}  // namespace
 
 TEST(CliLayouts, BilevelAndAdaptiveBakeInfoAndQuery) {
     test::TempDir dir;
@@ -54,13 +36,13 @@ TEST(CliLayouts, BilevelAndAdaptiveBakeInfoAndQuery) {
 
 TEST(CliLayouts, BadLayoutOptionsFailCleanly) {
     test::TempDir dir;
-    expectRefused(dir, "bake --layout bilevel --refine 1", "--refine must be at least 2");
-    expectRefused(dir, "bake --layout adaptive --refine 0", "--refine must be at least 2");
-    expectRefused(dir, "bake --layout adaptive --levels 0", "--levels must be at least 1");
-    expectRefused(dir, "bake --layout adaptive --levels 1000", "absurd");
-    expectRefused(dir, "bake --layout adaptive --levels 14 --refine 8", "index range");
-    expectRefused(dir, "bake --layout adaptive --levels 4 --refine 8 --resolution 20", "MiB");
-    expectRefused(dir, "bake --layout octree", "unknown layout 'octree'");
-    expectRefused(dir, "bake --refine 3", "--refine needs --layout");
-    expectRefused(dir, "bake --layout bilevel --levels 3", "--levels needs --layout adaptive");
+    test::expectCleanFailureWithOutput(dir, "bake --layout bilevel --refine 1", "--refine must be at least 2");
+    test::expectCleanFailureWithOutput(dir, "bake --layout adaptive --refine 0", "--refine must be at least 2");
+    test::expectCleanFailureWithOutput(dir, "bake --layout adaptive --levels 0", "--levels must be at least 1");
+    test::expectCleanFailureWithOutput(dir, "bake --layout adaptive --levels 1000", "absurd");
+    test::expectCleanFailureWithOutput(dir, "bake --layout adaptive --levels 14 --refine 8", "index range");
+    test::expectCleanFailureWithOutput(dir, "bake --layout adaptive --levels 4 --refine 8 --resolution 20", "MiB");
+    test::expectCleanFailureWithOutput(dir, "bake --layout octree", "unknown layout 'octree'");
+    test::expectCleanFailureWithOutput(dir, "bake --refine 3", "--refine needs --layout");
+    test::expectCleanFailureWithOutput(dir, "bake --layout bilevel --levels 3", "--levels needs --layout adaptive");
 }

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <sstream>
+
 namespace vdblight::test {
 
 const std::string& cliPath() {
@@ -36,6 +38,22 @@ void expectCleanFailure(const TempDir& dir, const std::string& args, const std::
     EXPECT_NE(r.output.find(expectedText), std::string::npos)
         << args << "\nexpected '" << expectedText << "' in: " << r.output;
     EXPECT_EQ(filesIn(dir.path()), before) << "a file was left behind by: " << args;
+}
+
+void expectCleanFailureWithOutput(const TempDir& dir, const std::string& args, const std::string& expectedText) {
+    expectCleanFailure(dir, args + " -o " + dir.file("bad.vdb"), expectedText);
+}
+
+double firstIrradiance(const std::string& csv) {
+    std::istringstream lines(csv);
+    std::string header, row;
+    std::getline(lines, header);
+    std::getline(lines, row);
+    std::istringstream rs(row);
+    double v[9] = {};
+    char comma;
+    for (double& x : v) rs >> x >> comma;
+    return v[6];
 }
 
 }  // namespace vdblight::test

@@ -27,4 +27,10 @@ std::size_t filesIn(const std::filesystem::path& dir);
 /// of output containing `expectedText`, and no new file in `dir`.
 void expectCleanFailure(const TempDir& dir, const std::string& args, const std::string& expectedText);
 
+/// The same for a command that would write a volume: ARGS is given `-o DIR/bad.vdb`.
+void expectCleanFailureWithOutput(const TempDir& dir, const std::string& args, const std::string& expectedText);
+
+/// E_r (red irradiance) of the first data row of a `vdblight query` CSV.
+double firstIrradiance(const std::string& csv);
+
 }  // namespace vdblight::test
