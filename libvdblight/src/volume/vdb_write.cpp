@@ -1,0 +1,280 @@
+// Volume -> .vdb file (layout specified in docs/format.md).
+//
+// One Vec3SGrid per (level, channel); voxel (i, j, k) of a level's grids is node (i, j, k)
+// of that level, every node an active voxel. Grids are built leaf by leaf (8^3 voxels) in
+// parallel. Writing goes to a temporary file in the target directory that is renamed over
+// the destination only once complete.
+#include "vdblight/vdb_io.h"
+#include <fcntl.h>
+#include <unistd.h>
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <mutex>
+#include <random>
+#include <set>
+#include <openvdb/openvdb.h>
+#include <openvdb/io/File.h>
+#include <tbb/parallel_for.h>
+#include "vdblight/errors.h"
+#include "vdb_conventions.h"
+
+namespace vdblight {
+namespace {
+using namespace vdb_detail;
+namespace fs = std::filesystem;
+
+// ---------------------------------------------------------------------------------------
+// Writing
+
+/// Origins of the 8^3 leaf blocks overlapping the node box [0, dims).
+std::vector<Coord> leafOrigins(const GridSpec& g) {
+    std::vector<Coord> origins;
+    for (int z = 0; z < g.nz; z += kLeafDim)
+        for (int y = 0; y < g.ny; y += kLeafDim)
+            for (int x = 0; x < g.nx; x += kLeafDim) origins.emplace_back(x, y, z);
+    return origins;
+}
+
+/// One channel of one level as a grid whose voxels are all active (zeros included).
+Vec3SGrid::Ptr buildChannelGrid(const VolumeLevel& level, int channel, int channels,
+                                const std::vector<Coord>& origins) {
+    const GridSpec& g = level.grid;
+    std::vector<std::unique_ptr<LeafT>> leaves(origins.size());
+    tbb::parallel_for(std::size_t(0), origins.size(), [&](std::size_t n) {
+        const Coord o = origins[n];
+        auto leaf = std::make_unique<LeafT>(o, openvdb::Vec3s(0.0f), false);
+        const Coord hi(std::min(o.x() + kLeafDim, g.nx), std::min(o.y() + kLeafDim, g.ny),
+                       std::min(o.z() + kLeafDim, g.nz));
+        for (int z = o.z(); z < hi.z(); ++z)
+            for (int y = o.y(); y < hi.y(); ++y)
+                for (int x = o.x(); x < hi.x(); ++x) {
+                    const float* v = level.nodeData(g.index(x, y, z), channels) + channel * 3;
+                    leaf->setValueOn(LeafT::coordToOffset(Coord(x, y, z)), openvdb::Vec3s(v[0], v[1], v[2]));
+                }
+        leaves[n] = std::move(leaf);
+    });
+    auto grid = Vec3SGrid::create(openvdb::Vec3s(0.0f));
+    for (auto& leaf : leaves) grid->tree().addLeaf(leaf.release());
+    return grid;
+}
+
+/// One channel of a sparse level: exactly its active nodes are active voxels.
+Vec3SGrid::Ptr buildSparseChannelGrid(const VolumeLevel& level, int channel, int channels) {
+    auto grid = Vec3SGrid::create(openvdb::Vec3s(0.0f));
+    auto acc = grid->getAccessor();
+    for (std::size_t n = 0; n < level.activeNodes.size(); ++n) {
+        const float* v = level.nodeData(n, channels) + channel * 3;
+        acc.setValue(unpackCoord(level.grid, level.activeNodes[n]), openvdb::Vec3s(v[0], v[1], v[2]));
+    }
+    return grid;
+}
+
+/// The mask of refined cells of one level.
+openvdb::BoolGrid::Ptr buildMaskGrid(const Volume& volume, int level) {
+    const VolumeLevel& lv = volume.levels[std::size_t(level)];
+    auto grid = openvdb::BoolGrid::create(false);
+    auto acc = grid->getAccessor();
+    for (uint64_t cell : lv.refinedCells) acc.setValue(unpackCoord(lv.grid, cell), true);
+    grid->setName(maskNameFor(level));
+    grid->setTransform(maskTransform(lv.grid));
+    grid->setGridClass(openvdb::GRID_UNKNOWN);
+    grid->insertMeta(kPrefix + "format_version", openvdb::Int64Metadata(kFormatVersion));
+    grid->insertMeta(kPrefix + "level", openvdb::Int64Metadata(level));
+    grid->insertMeta(kPrefix + "mask", openvdb::StringMetadata("refined cells"));
+    return grid;
+}
+
+
+/// The level's validity as a FloatGrid whose voxels are all active, like the channel grids.
+/// Only dense levels carry validity (the anti-aliased pass bakes uniform volumes).
+openvdb::FloatGrid::Ptr buildValidityGrid(const VolumeLevel& level, const std::vector<Coord>& origins) {
+    const GridSpec& g = level.grid;
+    std::vector<std::unique_ptr<FloatLeafT>> leaves(origins.size());
+    tbb::parallel_for(std::size_t(0), origins.size(), [&](std::size_t n) {
+        const Coord o = origins[n];
+        auto leaf = std::make_unique<FloatLeafT>(o, 0.0f, false);
+        for (int z = o.z(); z < std::min(o.z() + kLeafDim, g.nz); ++z)
+            for (int y = o.y(); y < std::min(o.y() + kLeafDim, g.ny); ++y)
+                for (int x = o.x(); x < std::min(o.x() + kLeafDim, g.nx); ++x)
+                    leaf->setValueOn(FloatLeafT::coordToOffset(Coord(x, y, z)), level.validity[g.index(x, y, z)]);
+        leaves[n] = std::move(leaf);
+    });
+    auto grid = openvdb::FloatGrid::create(0.0f);
+    for (auto& leaf : leaves) grid->tree().addLeaf(leaf.release());
+    return grid;
+}
+
+/// File-level metadata: the caller's entries plus the structural keys.
+openvdb::MetaMap fileMetadata(const Volume& volume) {
+    openvdb::MetaMap meta;
+    for (const auto& [key, value] : volume.meta) meta.insertMeta(kPrefix + key, *toVdbMeta(value));
+    meta.insertMeta(kPrefix + "format_version", openvdb::Int64Metadata(kFormatVersion));
+    meta.insertMeta(kPrefix + "basis", openvdb::StringMetadata(volume.basis.kind));
+    meta.insertMeta(kPrefix + "channels", openvdb::StringMetadata(joinNames(volume.basis.channelNames)));
+    meta.insertMeta(kPrefix + "levels", openvdb::Int64Metadata(int64_t(volume.levels.size())));
+    for (std::size_t l = 0; l < volume.levels.size(); ++l) {
+        const GridSpec& g = volume.levels[l].grid;
+        meta.insertMeta(levelKey(int(l), "origin"), openvdb::Vec3DMetadata({g.origin.x, g.origin.y, g.origin.z}));
+        meta.insertMeta(levelKey(int(l), "spacing"), openvdb::DoubleMetadata(g.spacing));
+        meta.insertMeta(levelKey(int(l), "dims"), openvdb::Vec3IMetadata({g.nx, g.ny, g.nz}));
+    }
+    return meta;
+}
+
+/// Per-grid metadata, so that a grid taken out of the file still says what it holds.
+void tagGrid(openvdb::GridBase& grid, const Volume& volume, int level, int channel) {
+    const GridSpec& g = volume.levels[std::size_t(level)].grid;
+    grid.insertMeta(kPrefix + "format_version", openvdb::Int64Metadata(kFormatVersion));
+    grid.insertMeta(kPrefix + "basis", openvdb::StringMetadata(volume.basis.kind));
+    grid.insertMeta(kPrefix + "level", openvdb::Int64Metadata(level));
+    if (channel >= 0) {  // channel -1: the validity grid, which is no basis channel
+        grid.insertMeta(kPrefix + "channel", openvdb::Int64Metadata(channel));
+        grid.insertMeta(kPrefix + "channel_name",
+                        openvdb::StringMetadata(volume.basis.channelNames[std::size_t(channel)]));
+    }
+    grid.insertMeta(kPrefix + "origin", openvdb::Vec3DMetadata({g.origin.x, g.origin.y, g.origin.z}));
+    grid.insertMeta(kPrefix + "spacing", openvdb::DoubleMetadata(g.spacing));
+    grid.insertMeta(kPrefix + "dims", openvdb::Vec3IMetadata({g.nx, g.ny, g.nz}));
+}
+
+/// Rejects NaN/Inf (a file must never carry them) and, for half floats, values that would
+/// overflow to infinity.
+void checkValues(const Volume& volume, const WriteOptions& options) {
+    constexpr float kHalfMax = 65504.0f;
+    const int channels = volume.basis.channelCount();
+    for (std::size_t l = 0; l < volume.levels.size(); ++l) {
+        const std::vector<float>& data = volume.levels[l].data;
+        for (std::size_t n = 0; n < data.size(); ++n) {
+            const bool bad = !std::isfinite(data[n]) || (options.halfFloat && std::abs(data[n]) > kHalfMax);
+            if (!bad) continue;
+            const std::size_t node = n / (std::size_t(channels) * 3);
+            const std::string where = "level " + std::to_string(l) + ", node " + std::to_string(node) + ", channel " +
+                                      volume.basis.channelNames[n / 3 % std::size_t(channels)];
+            if (!std::isfinite(data[n])) throw ValueError("non-finite value at " + where);
+            throw ValueError("value " + std::to_string(data[n]) + " at " + where +
+                             " exceeds the half-float range (65504); write with full floats");
+        }
+    }
+}
+
+void checkWritable(const Volume& volume, const WriteOptions& options) {
+    try {
+        volume.validate();
+    } catch (const FormatError& e) {
+        throw ValueError(std::string("invalid volume: ") + e.what());
+    }
+    for (const auto& entry : volume.meta) {
+        if (entry.first.empty()) throw ValueError("metadata key is empty");
+        if (isStructuralKey(entry.first)) {
+            throw ValueError("metadata key '" + entry.first + "' is reserved (the writer sets it)");
+        }
+    }
+    checkValues(volume, options);
+    std::set<std::string> names;
+    for (std::size_t l = 0; l < volume.levels.size(); ++l)
+        for (const std::string& c : volume.basis.channelNames)
+            if (!names.insert(gridNameFor(c, int(l))).second)
+                throw ValueError("grid name '" + gridNameFor(c, int(l)) + "' would appear twice");
+    for (const std::string& c : volume.basis.channelNames)
+        if (c == kValidityName) throw ValueError("channel name '" + kValidityName + "' is reserved for the validity grid");
+    for (const VolumeLevel& level : volume.levels)
+        if (level.sparse() && !level.validity.empty())
+            throw ValueError("validity is stored for dense levels only");
+    if (volume.levels.size() > 1)
+        for (std::size_t l = 0; l + 1 < volume.levels.size(); ++l)
+            if (!names.insert(maskNameFor(int(l))).second)
+                throw ValueError("grid name '" + maskNameFor(int(l)) + "' would appear twice");
+}
+
+openvdb::GridCPtrVec buildGrids(const Volume& volume, const WriteOptions& options) {
+    const int channels = volume.basis.channelCount();
+    openvdb::GridCPtrVec grids;
+    for (std::size_t l = 0; l < volume.levels.size(); ++l) {
+        const VolumeLevel& level = volume.levels[l];
+        const std::vector<Coord> origins = level.sparse() ? std::vector<Coord>() : leafOrigins(level.grid);
+        std::vector<Vec3SGrid::Ptr> built(std::size_t(channels), nullptr);
+        tbb::parallel_for(0, channels, [&](int c) {
+            built[std::size_t(c)] = level.sparse() ? buildSparseChannelGrid(level, c, channels)
+                                                   : buildChannelGrid(level, c, channels, origins);
+        });
+        for (int c = 0; c < channels; ++c) {
+            Vec3SGrid::Ptr grid = built[std::size_t(c)];
+            grid->setName(gridNameFor(volume.basis.channelNames[std::size_t(c)], int(l)));
+            grid->setTransform(levelTransform(level.grid));
+            grid->setGridClass(openvdb::GRID_UNKNOWN);
+            grid->setVectorType(openvdb::VEC_INVARIANT);
+            grid->setSaveFloatAsHalf(options.halfFloat);
+            tagGrid(*grid, volume, int(l), c);
+            grids.push_back(grid);
+        }
+        if (!level.validity.empty()) {
+            openvdb::FloatGrid::Ptr grid = buildValidityGrid(level, origins);
+            grid->setName(gridNameFor(kValidityName, int(l)));
+            grid->setTransform(levelTransform(level.grid));
+            grid->setGridClass(openvdb::GRID_UNKNOWN);
+            grid->setSaveFloatAsHalf(options.halfFloat);
+            tagGrid(*grid, volume, int(l), -1);
+            grids.push_back(grid);
+        }
+        if (volume.levels.size() > 1 && l + 1 < volume.levels.size()) grids.push_back(buildMaskGrid(volume, int(l)));
+    }
+    return grids;
+}
+
+/// Creates a fresh, uniquely named temporary file beside `path` and returns its name.
+std::string createTempFile(const std::string& path) {
+    static std::atomic<unsigned> counter{0};
+    std::random_device rd;
+    for (int attempt = 0; attempt < 16; ++attempt) {
+        const std::string tmp = path + ".tmp-" + std::to_string(::getpid()) + "-" +
+                                std::to_string(rd() ^ (counter++ * 2654435761u));
+        const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0666);
+        if (fd >= 0) {
+            ::close(fd);
+            return tmp;
+        }
+        if (errno != EEXIST) throw IoError("cannot write '" + path + "': " + std::strerror(errno));
+    }
+    throw IoError("cannot write '" + path + "': no free temporary file name");
+}
+
+void syncFile(const std::string& path) {
+    const int fd = ::open(path.c_str(), O_RDONLY);
+    if (fd < 0 || ::fsync(fd) != 0) {
+        const int err = errno;
+        if (fd >= 0) ::close(fd);
+        throw std::runtime_error(std::string("cannot flush temporary file: ") + std::strerror(err));
+    }
+    ::close(fd);
+}
+
+}  // namespace
+
+void writeVolume(const Volume& volume, const std::string& path, const WriteOptions& options) {
+    checkWritable(volume, options);
+    initOpenVdb();
+    const fs::path parent = fs::path(path).parent_path();
+    std::error_code ec;
+    if (!parent.empty() && !fs::is_directory(parent, ec)) {
+        throw IoError("cannot write '" + path + "': directory '" + parent.string() + "' does not exist");
+    }
+    const openvdb::GridCPtrVec grids = buildGrids(volume, options);
+    const openvdb::MetaMap meta = fileMetadata(volume);
+    const std::string tmp = createTempFile(path);
+    try {
+        openvdb::io::File(tmp).write(grids, meta);
+        syncFile(tmp);
+        if (std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error(std::strerror(errno));
+    } catch (const std::exception& e) {
+        std::remove(tmp.c_str());
+        throw IoError("cannot write '" + path + "': " + e.what());
+    }
+}
+
+}  // namespace vdblight
