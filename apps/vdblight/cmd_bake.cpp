@@ -11,6 +11,7 @@
 #include "vdblight/bins.h"
 #include "vdblight/bake_levels.h"
 #include "vdblight/layout_levels.h"
+#include "vdblight/solid_cull.h"
 #include "vdblight/errors.h"
 #include "vdblight/layout.h"
 #include "vdblight/irradiance_vectors_compact.h"
@@ -43,6 +44,7 @@ struct BakeCommand {
     std::string layout = "uniform";
     int refine = 3;
     int levels = 3;
+    bool cullSolids = false;
     bool shWindow = false;
     double targetError = 0;  // > 0: error-targeted point gather (bake_adaptive.h)
     uint32_t maxRays = 4096;
@@ -138,9 +140,15 @@ void run(const BakeCommand& c) {
     } else if (levels.kind == LayoutKind::Uniform) {
         volume = bakeSelected(c, scene, tracer, grid, options, &progress, &stats);
     } else {
-        const LevelLayout layout = placeLevels(grid, scene.positions, scene.indices, levels,
-                                               2 * sh::kCoeffs * 3 * sizeof(float));
+        levels.keepFinestGeometry = c.cullSolids;
+        LevelLayout layout = placeLevels(grid, scene.positions, scene.indices, levels, 2 * sh::kCoeffs * 3 * sizeof(float));
+        SolidCullStats cull;
+        if (c.cullSolids) cullSolidNodes(layout, tracer, SolidCullOptions(), &cull);
         volume = bakeShGatherLevels(scene, tracer, layout, options, &progress, &stats);
+        if (c.cullSolids && !c.quiet)
+            std::cout << "Solid culling: " << cull.nodesCulled << " of " << cull.nodesBefore
+                      << " nodes left out (inside closed solids: " << cull.solidRegions << " of " << cull.regions
+                      << " regions of geometry-free cells, " << cull.solidCells << " solid cells).\n";
         if (!c.quiet)
             std::cout << "Layout " << c.layout << ": " << volume.levels.size() << " levels refined by " << layout.refine
                       << ", " << layout.totalNodes() << " nodes (" << stats.seamNodes << " seam nodes set from the coarser level) vs "
@@ -267,6 +275,9 @@ void addBakeCommand(CLI::App& app) {
                     "(n-th moment, eq. 5, for glossy lookups with query --view; R = 17 by default); with bins, "
                     "--rays is rounded up to a multiple of the bin count")
         ->capture_default_str();
+    cmd->add_flag("--cull-solids", c->cullSolids,
+                  "bilevel/adaptive with sh2: leave out nodes whose every cell lies inside a closed solid "
+                  "(docs/format.md, Levels); queries there return 0");
     cmd->add_flag("-q,--quiet", c->quiet, "No progress bar and no summary");
     cmd->callback([c, spacing, resolution, invalidate, refine, levelsOpt, target, maxRays, minRays] {
         if (target->count() > 0 && !(c->targetError > 0 && c->targetError <= 1))
@@ -294,6 +305,8 @@ void addBakeCommand(CLI::App& app) {
         if (kind != LayoutKind::Adaptive && levelsOpt->count() > 0) throw ValueError("--levels needs --layout adaptive");
         if (kind != LayoutKind::Uniform && (c->sampling != "point" || invalidate->count() > 0 || c->method != "gather"))
             throw ValueError("--layout bilevel/adaptive works with --method gather and --sampling point only");
+        if (c->cullSolids && (kind == LayoutKind::Uniform || bins::parseBasisSpec(c->basis).kind != bins::BasisSpec::Kind::Sh2))
+            throw ValueError("--cull-solids needs --layout bilevel or adaptive and --basis sh2");
         // Refuse explicit zero or negative values here: 0 would otherwise mean "default".
         if (spacing->count() > 0 && !(c->spacing > 0))
             throw ValueError("--spacing must be positive, got " + std::to_string(c->spacing));

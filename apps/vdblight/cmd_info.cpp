@@ -68,6 +68,14 @@ void printHuman(const Volume& v, const FileInfo& f) {
                   << v.levels[l].refinedCells.size() << " refined cells, spacing " << g.spacing << ", node bounds " << vec(g.nodeBounds().lo, false) << " - "
                   << vec(g.nodeBounds().hi, false) << "\n";
     }
+    if (v.levels.size() > 1) {  // multi-level: what the sparse topology saves against the dense box
+        uint64_t stored = 0;
+        for (const VolumeLevel& l : v.levels) stored += l.storedNodes();
+        const double dense = double(v.levels.back().grid.nodeCount());
+        std::cout << "  nodes: " << stored << " stored vs " << dense << " in a dense box at the finest spacing ("
+                  << 100.0 * (1.0 - double(stored) / dense) << " % saved); "
+                  << int64_t(metaNumber(v.meta, "nodes_culled", 0)) << " culled inside closed solids\n";
+    }
     std::cout << "  grids:\n";
     for (const GridInfo& g : f.grids)
         std::cout << "    " << g.name << "  " << g.valueType << "  " << g.activeVoxels << " active voxels  "

@@ -7,6 +7,7 @@
 #include "vdblight/bins.h"
 #include "vdblight/errors.h"
 #include "vdblight/query.h"
+#include "vdblight/query_levels.h"
 #include "vdblight/vdb_io.h"
 #include "vdblight/vector_grid_lookup.h"
 
@@ -64,9 +65,11 @@ void run(const QueryCommand& c) {
     std::ostringstream out;
     out.precision(9);
     out << "x,y,z,nx,ny,nz,E_r,E_g,E_b\n";
-    std::size_t clamped = 0;
+    std::size_t clamped = 0, culled = 0;
+    const auto* levels = dynamic_cast<const ShLevelsLookup*>(&query.lookup());  // culled volumes: flag solid cells
     for (const ReferencePoint& p : points) {
         if (!query.inside(p.position)) ++clamped;
+        if (levels && levels->inCulledCell(p.position)) ++culled;
         const Vec3f n = normalize(p.normal);
         const Vec3f d = moment ? normalize(bins::reflectView(view, n)) : n;  // moment: the reflected view vector
         const Rgb e = cubic ? cubic->irradiance(p.position, d) : query.irradiance(p.position, d);
@@ -77,6 +80,9 @@ void run(const QueryCommand& c) {
     if (clamped > 0)
         std::cerr << "vdblight: warning: " << clamped << " of " << points.size()
                   << " points lie outside the volume's node box and were clamped to its boundary\n";
+    if (culled > 0)
+        std::cerr << "vdblight: warning: " << culled << " of " << points.size()
+                  << " points lie in cells inside closed solids whose nodes were culled; their irradiance is reported as 0\n";
 }
 }  // namespace
 

@@ -38,6 +38,9 @@ struct LevelsPlacement {
     int refine = 3;                  ///< K: cells split K x K x K (>= 2)
     int levels = 3;                  ///< adaptive: number of levels including level 0 (>= 1)
     uint64_t maxNodes = 50'000'000;  ///< refuse layouts with more nodes in total
+    /// Also list the finest level's cells that contain geometry (LevelLayout::finestGeometryCells,
+    /// one more level of exact triangle-box tests); solid culling needs them.
+    bool keepFinestGeometry = false;
 };
 
 /// A placed layout: the levels' grids, active nodes and refined cells (no data yet).
@@ -45,6 +48,12 @@ struct LevelLayout {
     LayoutKind kind = LayoutKind::Uniform;
     int refine = 1;
     std::vector<VolumeLevel> levels;  ///< data left empty
+    /// With LevelsPlacement::keepFinestGeometry: cells of the finest level (that exist, i.e.
+    /// children of refined cells) overlapped by a triangle (same test as refinement), ascending.
+    std::vector<uint64_t> finestGeometryCells;
+    bool hasFinestGeometry = false;  ///< finestGeometryCells was computed
+    /// Nodes removed by solid culling (solid_cull.h); > 0 makes a bake mark its volume culled.
+    uint64_t culledNodes = 0;
 
     uint64_t totalNodes() const;
     /// Nodes a dense grid at the finest spacing over the same box would have.

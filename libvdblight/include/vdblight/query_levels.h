@@ -15,7 +15,8 @@ namespace vdblight {
 /// (one per refined cell) with a child table per cell, coefficients pre-multiplied by A_l.
 class ShLevelsLookup final : public VolumeLookup {
 public:
-    /// Throws FormatError if a refined cell's child node is missing (never reads an unbaked node).
+    /// Throws FormatError if a refined cell's child node is missing in a volume that is not
+    /// culled (never reads an unbaked node).
     ShLevelsLookup(const Volume& volume, OutsidePolicy outside);
     Rgb irradiance(const Vec3f& x, const Vec3f& n) const override;
     Bounds bounds() const override { return grid_.nodeBounds(); }
@@ -24,12 +25,17 @@ public:
     void shRadiance(const Vec3d& x, Rgb out[9]) const override;
     /// Level whose cell the lookup at x interpolates in.
     int levelAt(const Vec3f& x) const;
+    /// Culled volumes (solid_cull.h): true if the cell the lookup at x ends in has a culled
+    /// (inactive) corner; such a cell lies inside closed geometry, and irradiance() and
+    /// shRadiance() return 0 there instead of reading the missing nodes.
+    bool inCulledCell(const Vec3f& x) const;
 
     static bool accepts(const Volume& volume);
 
 private:
+    static constexpr int32_t kCulled = -2;  ///< child value of a leaf cell with an inactive corner
     struct Level {
-        std::vector<int32_t> child;  ///< per cell (level 0) or per brick cell: brick index in the next level, -1
+        std::vector<int32_t> child;  ///< per cell (level 0) or per brick cell: brick index in the next level, -1 (leaf) or kCulled
         std::vector<float> nodes;    ///< level 0: dense node-major; finer: per brick (K+1)^3 nodes
     };
     template <typename Visit>

@@ -30,6 +30,10 @@ Volume bakeShGatherLevels(const Scene& scene, const Tracer& tracer, const LevelL
     volume.basis = BasisDesc::sh2();
     volume.levels = layout.levels;
     for (VolumeLevel& l : volume.levels) l.data.assign(l.storedNodes() * kFloats, 0.0f);
+    if (layout.culledNodes > 0) {  // solid_cull.h: inactive nodes inside closed solids
+        volume.meta["culling"] = std::string("solid-regions");
+        volume.meta["nodes_culled"] = int64_t(layout.culledNodes);
+    }
     volume.validate();
 
     uint64_t seams = 0;

@@ -226,7 +226,10 @@ LevelLayout placeLevels(const GridSpec& level0, const std::vector<Vec3f>& positi
     for (int l = 1; l < levelCount; ++l) {
         VolumeLevel& coarse = out.levels.back();
         coarse.refinedCells = cellsOf(geometry);
-        if (coarse.refinedCells.empty()) break;
+        if (coarse.refinedCells.empty()) {
+            out.hasFinestGeometry = true;  // the last level placed has no geometry
+            break;
+        }
         // Estimate before allocating: each refined cell brings at most (K + 1)^3 nodes.
         const double estimate = total + double(coarse.refinedCells.size()) * std::pow(K + 1.0, 3.0);
         if (estimate > double(p.maxNodes)) throw ValueError(tooLarge(estimate, bytesPerNode, p.maxNodes, "the layout"));
@@ -238,8 +241,10 @@ LevelLayout placeLevels(const GridSpec& level0, const std::vector<Vec3f>& positi
         fine.grid.nz = (coarse.grid.nz - 1) * K + 1;
         fine.activeNodes = childNodes(coarse.grid, fine.grid, K, coarse.refinedCells);
         total += double(fine.activeNodes.size());
-        if (l + 1 < levelCount) geometry = childGeometry(coarse.grid, fine.grid, K, geometry, tris, margin);
+        const bool finest = l + 1 == levelCount;
+        if (!finest || p.keepFinestGeometry) geometry = childGeometry(coarse.grid, fine.grid, K, geometry, tris, margin);
         out.levels.push_back(std::move(fine));
+        if (finest && p.keepFinestGeometry) out.finestGeometryCells = cellsOf(geometry), out.hasFinestGeometry = true;
     }
     return out;
 }

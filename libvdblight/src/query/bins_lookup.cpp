@@ -41,6 +41,7 @@ BinsLookup::BinsLookup(const Volume& volume, OutsidePolicy outside, bool interpo
     if (!bins::specFromVolume(volume.basis, spec_))
         throw FormatError("volume basis '" + volume.basis.kind + "' is not a bins or moment basis");
     const VolumeLevel& l0 = volume.levels.at(0);
+    if (l0.sparse()) throw FormatError("bins / moment volumes with culled (inactive) level-0 nodes are not supported");
     grid_ = l0.grid;
     K_ = volume.refineFactor();
     origin_ = Vec3f(grid_.origin);

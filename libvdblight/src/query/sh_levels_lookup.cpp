@@ -66,14 +66,24 @@ ShLevelsLookup::ShLevelsLookup(const Volume& volume, OutsidePolicy outside) : ou
     const int K = K_, side = K + 1;
     levels_.resize(volume.levels.size());
 
-    levels_[0].nodes.resize(l0.data.size());
-    for (std::size_t n = 0; n < grid_.nodeCount(); ++n) copyFolded(l0.nodeData(n, sh::kCoeffs), &levels_[0].nodes[n * kFloats]);
+    // Culled volumes (solid_cull.h): inactive nodes are stored as zeros and every leaf cell
+    // with an inactive corner gets the child value kCulled (the lookup returns 0 there).
+    levels_[0].nodes.assign(grid_.nodeCount() * kFloats, 0.0f);
+    std::vector<char> present(grid_.nodeCount(), l0.sparse() ? 0 : 1);
+    for (std::size_t n = 0; n < l0.storedNodes(); ++n) {
+        const std::size_t linear = l0.sparse() ? std::size_t(l0.activeNodes[n]) : n;
+        copyFolded(l0.nodeData(n, sh::kCoeffs), &levels_[0].nodes[linear * kFloats]);
+        present[linear] = 1;
+    }
     levels_[0].child.resize(std::size_t(grid_.nx - 1) * (grid_.ny - 1) * (grid_.nz - 1));
     for (int k = 0; k < grid_.nz - 1; ++k)
         for (int j = 0; j < grid_.ny - 1; ++j)
-            for (int i = 0; i < grid_.nx - 1; ++i)
-                levels_[0].child[i + std::size_t(grid_.nx - 1) * (j + std::size_t(grid_.ny - 1) * k)] =
-                    int32_t(positionIn(l0.refinedCells, grid_.index(i, j, k)));
+            for (int i = 0; i < grid_.nx - 1; ++i) {
+                int32_t child = int32_t(positionIn(l0.refinedCells, grid_.index(i, j, k)));
+                for (int c = 0; c < 8 && child < 0; ++c)
+                    if (!present[grid_.index(i + (c & 1), j + ((c >> 1) & 1), k + (c >> 2))]) child = kCulled;
+                levels_[0].child[i + std::size_t(grid_.nx - 1) * (j + std::size_t(grid_.ny - 1) * k)] = child;
+            }
 
     for (std::size_t l = 1; l < volume.levels.size(); ++l) {
         const VolumeLevel& parent = volume.levels[l - 1];
@@ -81,8 +91,10 @@ ShLevelsLookup::ShLevelsLookup(const Volume& volume, OutsidePolicy outside) : ou
         const GridSpec& pg = parent.grid;
         Level& out = levels_[l];
         const std::size_t bricks = parent.refinedCells.size();
-        out.nodes.resize(bricks * std::size_t(side * side * side) * kFloats);
-        if (l + 1 < volume.levels.size()) out.child.resize(bricks * std::size_t(K * K * K));
+        out.nodes.assign(bricks * std::size_t(side * side * side) * kFloats, 0.0f);
+        const bool culled = metaString(volume.meta, "culling") == "solid-regions";
+        if (l + 1 < volume.levels.size() || culled) out.child.assign(bricks * std::size_t(K * K * K), -1);
+        std::vector<char> brickPresent(std::size_t(side * side * side));
         for (std::size_t b = 0; b < bricks; ++b) {
             const uint64_t cell = parent.refinedCells[b];
             const int pi = int(cell % uint64_t(pg.nx)), pj = int(cell / uint64_t(pg.nx) % uint64_t(pg.ny)),
@@ -91,12 +103,23 @@ ShLevelsLookup::ShLevelsLookup(const Volume& volume, OutsidePolicy outside) : ou
                 for (int v = 0; v < side; ++v)
                     for (int u = 0; u < side; ++u) {
                         const int64_t at = findNode(fine, fine.grid.index(pi * K + u, pj * K + v, pk * K + w));
-                        if (at < 0) throw FormatError("level " + std::to_string(l) + " misses a node of a refined cell");
-                        copyFolded(fine.nodeData(std::size_t(at), sh::kCoeffs),
-                                   &out.nodes[(b * side * side * side + u + side * (v + side * std::size_t(w))) * kFloats]);
+                        if (at < 0 && !culled) throw FormatError("level " + std::to_string(l) + " misses a node of a refined cell");
+                        brickPresent[u + side * (v + side * std::size_t(w))] = at >= 0;
+                        if (at >= 0)
+                            copyFolded(fine.nodeData(std::size_t(at), sh::kCoeffs),
+                                       &out.nodes[(b * side * side * side + u + side * (v + side * std::size_t(w))) * kFloats]);
                         if (out.child.empty() || u == K || v == K || w == K) continue;
                         out.child[b * K * K * K + u + K * (v + K * std::size_t(w))] = int32_t(
                             positionIn(fine.refinedCells, fine.grid.index(pi * K + u, pj * K + v, pk * K + w)));
+                    }
+            if (!culled) continue;
+            for (int w = 0; w < K; ++w)
+                for (int v = 0; v < K; ++v)
+                    for (int u = 0; u < K; ++u) {
+                        int32_t& child = out.child[b * K * K * K + u + K * (v + K * std::size_t(w))];
+                        for (int c = 0; c < 8 && child < 0; ++c)
+                            if (!brickPresent[(u + (c & 1)) + side * ((v + ((c >> 1) & 1)) + side * std::size_t(w + (c >> 2)))])
+                                child = kCulled;
                     }
         }
     }
@@ -122,7 +145,7 @@ void ShLevelsLookup::descend(const Vec3f& x, Visit visit) const {
     int32_t brick = levels_[0].child[i + std::size_t(grid_.nx - 1) * (j + std::size_t(grid_.ny - 1) * k)];
     if (brick < 0) {
         const std::size_t sx = kFloats, sy = std::size_t(grid_.nx) * kFloats, sz = std::size_t(grid_.ny) * sy;
-        visit(0, levels_[0].nodes.data() + grid_.index(i, j, k) * kFloats, sx, sy, sz, fx, fy, fz);
+        visit(0, brick == kCulled ? nullptr : levels_[0].nodes.data() + grid_.index(i, j, k) * kFloats, sx, sy, sz, fx, fy, fz);
         return;
     }
     const int K = K_, side = K + 1;
@@ -132,6 +155,10 @@ void ShLevelsLookup::descend(const Vec3f& x, Visit visit) const {
         splitLocal(fz, K, k);
         const Level& level = levels_[l];
         const int32_t next = level.child.empty() ? -1 : level.child[std::size_t(brick) * K * K * K + i + K * (j + K * k)];
+        if (next == kCulled) {
+            visit(int(l), nullptr, 0, 0, 0, fx, fy, fz);
+            return;
+        }
         if (next < 0) {
             const std::size_t sx = kFloats, sy = std::size_t(side) * kFloats, sz = std::size_t(side) * sy;
             const float* base = level.nodes.data() +
@@ -148,9 +175,15 @@ Rgb ShLevelsLookup::irradiance(const Vec3f& x, const Vec3f& n) const {
     sh::evalUnrolled(n, y);
     Rgb e;
     descend(x, [&](int, const float* base, std::size_t sx, std::size_t sy, std::size_t sz, float fx, float fy, float fz) {
-        e = interpolate(base, sx, sy, sz, fx, fy, fz, y);
+        e = base ? interpolate(base, sx, sy, sz, fx, fy, fz, y) : Rgb(0, 0, 0);
     });
     return e;
+}
+
+bool ShLevelsLookup::inCulledCell(const Vec3f& x) const {
+    bool culled = false;
+    descend(x, [&](int, const float* base, std::size_t, std::size_t, std::size_t, float, float, float) { culled = !base; });
+    return culled;
 }
 
 void ShLevelsLookup::shRadiance(const Vec3d& x, Rgb out[9]) const {
@@ -176,6 +209,10 @@ void ShLevelsLookup::shRadiance(const Vec3d& x, Rgb out[9]) const {
     std::size_t sx = kFloats, sy = std::size_t(grid_.nx) * kFloats, sz = std::size_t(grid_.ny) * sy;
     int32_t brick = levels_[0].child[cell[0] + std::size_t(grid_.nx - 1) * (cell[1] + std::size_t(grid_.ny - 1) * cell[2])];
     const int K = K_, side = K + 1;
+    const auto culledCell = [&] {
+        for (int c = 0; c < sh::kCoeffs; ++c) out[c] = Rgb(0, 0, 0);
+    };
+    if (brick == kCulled) return culledCell();
     for (std::size_t l = 1; brick >= 0; ++l) {
         for (int a = 0; a < 3; ++a) {
             const double g = snap(frac[a] * K);
@@ -187,6 +224,7 @@ void ShLevelsLookup::shRadiance(const Vec3d& x, Rgb out[9]) const {
                (std::size_t(brick) * side * side * side + cell[0] + side * (cell[1] + std::size_t(side) * cell[2])) * kFloats;
         sx = kFloats, sy = std::size_t(side) * kFloats, sz = std::size_t(side) * sy;
         brick = level.child.empty() ? -1 : level.child[std::size_t(brick) * K * K * K + cell[0] + K * (cell[1] + K * cell[2])];
+        if (brick == kCulled) return culledCell();
     }
     double sum[kFloats] = {};
     for (int corner = 0; corner < 8; ++corner) {

@@ -59,6 +59,40 @@ void checkRefinedCells(const std::vector<VolumeLevel>& levels, std::size_t l, in
     }
 }
 
+/// Culled volumes (metadata culling = solid-regions): level l's active nodes are a subset of
+/// the full set (the box for level 0, the corners of the children of level l-1's refined
+/// cells below) that holds every corner of level l's own refined cells.
+void checkCulledNodes(const std::vector<VolumeLevel>& levels, std::size_t l, int K) {
+    const VolumeLevel& level = levels[l];
+    const GridSpec& g = level.grid;
+    if (!level.sparse()) return;  // dense level 0: nothing culled there
+    if (!strictlyAscending(level.activeNodes))
+        throw FormatError(levelName(l) + " lists its active nodes out of order or twice");
+    if (level.activeNodes.back() >= g.nodeCount()) throw FormatError(levelName(l) + " has active nodes outside its box");
+    for (uint64_t node : level.activeNodes) {
+        if (l == 0) break;
+        int i, j, k;
+        unpack(g, node, i, j, k);
+        bool inChild = false;  // node is a corner of a child of a refined cell of level l-1
+        const VolumeLevel& parent = levels[l - 1];
+        for (int c = 0; c < 8 && !inChild; ++c) {
+            const int ci = (i - (c & 1)) / K, cj = (j - ((c >> 1) & 1)) / K, ck = (k - (c >> 2)) / K;
+            if (i - (c & 1) < 0 || j - ((c >> 1) & 1) < 0 || k - (c >> 2) < 0) continue;
+            if (ci > parent.grid.nx - 2 || cj > parent.grid.ny - 2 || ck > parent.grid.nz - 2) continue;
+            inChild = std::binary_search(parent.refinedCells.begin(), parent.refinedCells.end(), parent.grid.index(ci, cj, ck));
+        }
+        if (!inChild) throw FormatError(levelName(l) + " has an active node outside every refined cell of " + levelName(l - 1));
+    }
+    for (uint64_t cell : level.refinedCells) {
+        int i, j, k;
+        unpack(g, cell, i, j, k);
+        for (int c = 0; c < 8; ++c)
+            if (!std::binary_search(level.activeNodes.begin(), level.activeNodes.end(),
+                                    g.index(i + (c & 1), j + ((c >> 1) & 1), k + (c >> 2))))
+                throw FormatError(levelName(l) + " misses a corner of one of its refined cells (culled nodes must not touch refined cells)");
+    }
+}
+
 /// Active nodes of level l must be exactly the corners of the children of level l-1's refined cells.
 void checkActiveNodes(const std::vector<VolumeLevel>& levels, std::size_t l, int K) {
     const VolumeLevel& coarse = levels[l - 1];
@@ -87,7 +121,9 @@ void checkActiveNodes(const std::vector<VolumeLevel>& levels, std::size_t l, int
 void validateLevelStructure(const Volume& volume) {
     const std::vector<VolumeLevel>& levels = volume.levels;
     if (levels.empty()) return;
-    if (levels[0].sparse()) throw FormatError("level 0 must be dense (every node of its box active)");
+    const bool culled = levels.size() > 1 && metaString(volume.meta, "culling") == "solid-regions";
+    if (levels[0].sparse() && !culled)
+        throw FormatError("level 0 must be dense (every node of its box active) unless a multi-level volume is culled");
     if (levels.size() == 1) {
         if (!levels[0].refinedCells.empty()) throw FormatError("a single-level volume has refined cells but no level 1");
         return;
@@ -106,7 +142,10 @@ void validateLevelStructure(const Volume& volume) {
     for (std::size_t l = 0; l < levels.size(); ++l) checkRefinedCells(levels, l, K);
     if (!levels.back().refinedCells.empty())
         throw FormatError("the finest level (" + levelName(levels.size() - 1) + ") has refined cells");
-    for (std::size_t l = 1; l < levels.size(); ++l) checkActiveNodes(levels, l, K);
+    for (std::size_t l = culled ? 0 : 1; l < levels.size(); ++l) {
+        if (culled) checkCulledNodes(levels, l, K);
+        else checkActiveNodes(levels, l, K);
+    }
 }
 
 }  // namespace vdblight

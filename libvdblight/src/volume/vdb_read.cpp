@@ -310,7 +310,7 @@ void readValidity(OpenedFile& f, const std::string& name, VolumeLevel& out, cons
     }
 }
 
-VolumeLevel readLevel(OpenedFile& f, const BasisDesc& basis, int level, const std::string& path) {
+VolumeLevel readLevel(OpenedFile& f, const BasisDesc& basis, int level, const std::string& path, bool multiLevel) {
     VolumeLevel out;
     out.grid = readLevelSpec(*f.meta, level, path);
     const GridSpec& g = out.grid;
@@ -319,6 +319,7 @@ VolumeLevel readLevel(OpenedFile& f, const BasisDesc& basis, int level, const st
     }
     const int channels = basis.channelCount();
     Vec3SGrid::Ptr first;
+    bool sparse = level > 0;  // refined levels; level 0 of a culled multi-level volume (checked by validate)
     for (int c = 0; c < channels; ++c) {
         const std::string name = gridNameFor(basis.channelNames[std::size_t(c)], level);
         if (!f.file->hasGrid(name)) formatError(path, "has no grid '" + name + "'");
@@ -328,7 +329,11 @@ VolumeLevel readLevel(OpenedFile& f, const BasisDesc& basis, int level, const st
         } catch (const std::exception& e) {
             formatError(path, "grid '" + name + "' cannot be read (truncated or corrupt?): " + e.what());
         }
-        if (level > 0) {  // refined levels are sparse
+        if (c == 0 && level == 0 && multiLevel) {
+            const auto typed = openvdb::gridPtrCast<Vec3SGrid>(base);
+            if (typed && typed->activeVoxelCount() < g.nodeCount()) sparse = true;
+        }
+        if (sparse) {
             Vec3SGrid::Ptr grid = checkSparseChannelGrid(base, g, first.get(), path);
             if (c == 0) {
                 first = grid;
@@ -379,7 +384,7 @@ Volume readVolume(const std::string& path) {
     volume.basis.channelNames = splitNames(requireMeta<std::string>(meta, kPrefix + "channels", path));
     const int64_t levels = requireMeta<int64_t>(meta, kPrefix + "levels", path);
     if (levels < 1 || levels > 64) formatError(path, "has an invalid level count " + std::to_string(levels));
-    for (int l = 0; l < int(levels); ++l) volume.levels.push_back(readLevel(f, volume.basis, l, path));
+    for (int l = 0; l < int(levels); ++l) volume.levels.push_back(readLevel(f, volume.basis, l, path, levels > 1));
     if (levels > 1)
         for (int l = 0; l + 1 < int(levels); ++l) readMask(f, volume.levels[std::size_t(l)], l, path);
     volume.meta = userMetadata(meta);
