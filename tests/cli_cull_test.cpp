@@ -37,4 +37,21 @@ TEST(CliCull, BadOptionsFailCleanly) {
     test::TempDir dir;
     test::expectCleanFailureWithOutput(dir, "bake --cull-solids", "--cull-solids needs --layout bilevel or adaptive");
     test::expectCleanFailureWithOutput(dir, "bake --layout bilevel --basis bins:4 --cull-solids", "--basis sh2");
+    test::expectCleanFailureWithOutput(dir, "bake --layout adaptive --refine-distance -0.1", "--refine-distance must be");
+    test::expectCleanFailureWithOutput(dir, "bake --layout adaptive --refine-distance nan", "--refine-distance");
+    test::expectCleanFailureWithOutput(dir, "bake --refine-distance 0.1", "--refine-distance needs --layout");
+    test::expectCleanFailureWithOutput(dir, "bake --layout adaptive --levels 3 --refine 8 --resolution 64 --refine-distance 5", "MiB");
+}
+
+TEST(CliCull, RefineDistanceRefinesMore) {
+    test::TempDir dir;
+    const CliRun plain = runCli("bake -o " + dir.file("a.vdb") + " --resolution 6 --rays 4 --bounces 0 --layout bilevel");
+    const CliRun wide = runCli("bake -o " + dir.file("b.vdb") +
+                               " --resolution 6 --rays 4 --bounces 0 --layout bilevel --refine-distance 0.05");
+    ASSERT_EQ(plain.status, 0) << plain.output;
+    ASSERT_EQ(wide.status, 0) << wide.output;
+    const CliRun info = runCli("info " + dir.file("b.vdb"));
+    EXPECT_NE(info.output.find("refine_distance = 0.05"), std::string::npos) << info.output;
+    const auto nodes = [](const std::string& out) { return std::stoll(out.substr(out.find("Baked ") + 6)); };
+    EXPECT_GT(nodes(wide.output), nodes(plain.output));
 }

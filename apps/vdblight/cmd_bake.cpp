@@ -1,4 +1,5 @@
 // vdblight bake [SCENE] -o OUT.vdb: a uniform SH order-2 irradiance volume.
+#include <cmath>
 #include <iostream>
 #include <thread>
 
@@ -45,6 +46,7 @@ struct BakeCommand {
     int refine = 3;
     int levels = 3;
     bool cullSolids = false;
+    double refineDistance = 0.0;
     bool shWindow = false;
     double targetError = 0;  // > 0: error-targeted point gather (bake_adaptive.h)
     uint32_t maxRays = 4096;
@@ -125,6 +127,7 @@ void run(const BakeCommand& c) {
     levels.kind = parseLayoutKind(c.layout);
     levels.refine = c.refine;
     levels.levels = c.levels;
+    levels.refineDistance = c.refineDistance;
     Volume volume;
     if (binned) {  // Greger bins / moments on any layout
         BinsBakeOptions bo;
@@ -154,6 +157,7 @@ void run(const BakeCommand& c) {
                       << ", " << layout.totalNodes() << " nodes (" << stats.seamNodes << " seam nodes set from the coarser level) vs "
                       << layout.denseEquivalentNodes() << " in a dense grid at the finest spacing.\n";
     }
+    if (c.refineDistance > 0) volume.meta["refine_distance"] = c.refineDistance;
     if (c.shWindow) applyShWindow(volume);
     volume.meta["scene_file"] = c.scene.path.empty() ? std::string("(bundled default) ") + defaultScenePath() : c.scene.path;
     volume.meta["sky"] = c.scene.skyMap.empty() ? (c.scene.sky.empty() ? std::string("0,0,0") : c.scene.sky)
@@ -275,11 +279,15 @@ void addBakeCommand(CLI::App& app) {
                     "(n-th moment, eq. 5, for glossy lookups with query --view; R = 17 by default); with bins, "
                     "--rays is rounded up to a multiple of the bin count")
         ->capture_default_str();
+    auto* refineDistance = cmd->add_option("--refine-distance", c->refineDistance,
+                    "bilevel/adaptive: refine every cell within this distance (scene units, max-norm) of a "
+                    "triangle, not only cells that contain one (0 = Greger's rule)")
+                               ->capture_default_str();
     cmd->add_flag("--cull-solids", c->cullSolids,
                   "bilevel/adaptive with sh2: leave out nodes whose every cell lies inside a closed solid "
                   "(docs/format.md, Levels); queries there return 0");
     cmd->add_flag("-q,--quiet", c->quiet, "No progress bar and no summary");
-    cmd->callback([c, spacing, resolution, invalidate, refine, levelsOpt, target, maxRays, minRays] {
+    cmd->callback([c, spacing, resolution, invalidate, refine, levelsOpt, target, maxRays, minRays, refineDistance] {
         if (target->count() > 0 && !(c->targetError > 0 && c->targetError <= 1))
             throw ValueError("--target-error must be in (0, 1], got " + std::to_string(c->targetError));
         if (c->shWindow && (c->method != "gather" || bins::parseBasisSpec(c->basis).kind != bins::BasisSpec::Kind::Sh2))
@@ -305,6 +313,10 @@ void addBakeCommand(CLI::App& app) {
         if (kind != LayoutKind::Adaptive && levelsOpt->count() > 0) throw ValueError("--levels needs --layout adaptive");
         if (kind != LayoutKind::Uniform && (c->sampling != "point" || invalidate->count() > 0 || c->method != "gather"))
             throw ValueError("--layout bilevel/adaptive works with --method gather and --sampling point only");
+        if (refineDistance->count() > 0 && !(c->refineDistance >= 0 && std::isfinite(c->refineDistance)))
+            throw ValueError("--refine-distance must be a finite distance >= 0, got " + std::to_string(c->refineDistance));
+        if (refineDistance->count() > 0 && kind == LayoutKind::Uniform)
+            throw ValueError("--refine-distance needs --layout bilevel or adaptive");
         if (c->cullSolids && (kind == LayoutKind::Uniform || bins::parseBasisSpec(c->basis).kind != bins::BasisSpec::Kind::Sh2))
             throw ValueError("--cull-solids needs --layout bilevel or adaptive and --basis sh2");
         // Refuse explicit zero or negative values here: 0 would otherwise mean "default".

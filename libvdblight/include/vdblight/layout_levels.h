@@ -41,6 +41,11 @@ struct LevelsPlacement {
     /// Also list the finest level's cells that contain geometry (LevelLayout::finestGeometryCells,
     /// one more level of exact triangle-box tests); solid culling needs them.
     bool keepFinestGeometry = false;
+    /// Refine a cell when a triangle lies within this distance of it (>= 0, scene units; the
+    /// max-norm distance: the cell's test box grown by D on every side overlaps the triangle).
+    /// 0 = Greger's rule (the cell contains geometry). A band of refined cells around the
+    /// surfaces, so that points near (not only on) geometry get the finer levels.
+    double refineDistance = 0.0;
 };
 
 /// A placed layout: the levels' grids, active nodes and refined cells (no data yet).
@@ -62,10 +67,10 @@ struct LevelLayout {
 
 /// Builds the levels over `level0` (a uniform grid, e.g. from placeUniformGrid) for the
 /// triangles (positions, 3 indices each). A level-l cell is refined when a triangle
-/// overlaps it; cells on the border of the node box are tested extended outwards by half a
+/// overlaps it (grown by refineDistance); cells on the border of the node box are tested extended outwards by half a
 /// level-0 spacing (the inset of the node box from the scene walls), so walls refine them.
 /// Refinement stops early if no cell of a level contains geometry.
-/// Throws ValueError for refine < 2, levels < 1, a level-0 grid with fewer than two nodes
+/// Throws ValueError for refine < 2, levels < 1, a negative or non-finite refine distance, a level-0 grid with fewer than two nodes
 /// along an axis (multi-level only), or a layout beyond maxNodes / index range (the error
 /// states the estimated memory with `bytesPerNode`); the estimate is checked before each
 /// level's nodes are allocated.

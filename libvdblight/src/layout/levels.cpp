@@ -20,8 +20,9 @@ CellIndex unpack(const GridSpec& g, uint64_t linear) {
     return {int(linear % nx), int((linear / nx) % ny), int(linear / (nx * ny))};
 }
 
-/// The cell's box, pushed out by `margin` on the sides that lie on the node box border.
-Bounds cellTestBox(const GridSpec& g, const CellIndex& c, double margin) {
+/// The cell's box, pushed out by `margin` on the sides that lie on the node box border,
+/// then grown by `grow` (LevelsPlacement::refineDistance) on every side.
+Bounds cellTestBox(const GridSpec& g, const CellIndex& c, double margin, double grow = 0.0) {
     Bounds b;
     b.lo = g.node(c.i, c.j, c.k);
     b.hi = b.lo + Vec3d(g.spacing, g.spacing, g.spacing);
@@ -29,6 +30,8 @@ Bounds cellTestBox(const GridSpec& g, const CellIndex& c, double margin) {
     for (int a = 0; a < 3; ++a) {
         if (idx[a] == 0) b.lo[a] -= margin;
         if (idx[a] == dims[a] - 2) b.hi[a] += margin;
+        b.lo[a] -= grow;
+        b.hi[a] += grow;
     }
     return b;
 }
@@ -52,7 +55,7 @@ std::vector<uint64_t> cellsOf(const CellTriangles& pairs) {
     return cells;
 }
 
-CellTriangles level0Geometry(const GridSpec& g, const std::vector<Triangle>& tris, double margin) {
+CellTriangles level0Geometry(const GridSpec& g, const std::vector<Triangle>& tris, double margin, double grow) {
     CellTriangles pairs;
     const int dims[3] = {g.nx, g.ny, g.nz};
     for (uint32_t t = 0; t < tris.size(); ++t) {
@@ -61,13 +64,14 @@ CellTriangles level0Geometry(const GridSpec& g, const std::vector<Triangle>& tri
         for (int a = 0; a < 3; ++a) {
             const double mn = std::min({tri.a[a], tri.b[a], tri.c[a]}), mx = std::max({tri.a[a], tri.b[a], tri.c[a]});
             const double u0 = (mn - g.origin[a]) / g.spacing, u1 = (mx - g.origin[a]) / g.spacing;
-            lo[a] = int(std::clamp(std::floor(u0) - 1.0, 0.0, double(dims[a] - 2)));
-            hi[a] = int(std::clamp(std::floor(u1) + 1.0, 0.0, double(dims[a] - 2)));
+            const double reach = std::ceil(grow / g.spacing);
+            lo[a] = int(std::clamp(std::floor(u0) - 1.0 - reach, 0.0, double(dims[a] - 2)));
+            hi[a] = int(std::clamp(std::floor(u1) + 1.0 + reach, 0.0, double(dims[a] - 2)));
         }
         for (int k = lo[2]; k <= hi[2]; ++k)
             for (int j = lo[1]; j <= hi[1]; ++j)
                 for (int i = lo[0]; i <= hi[0]; ++i)
-                    if (triangleOverlapsBox(tri.a, tri.b, tri.c, cellTestBox(g, {i, j, k}, margin)))
+                    if (triangleOverlapsBox(tri.a, tri.b, tri.c, cellTestBox(g, {i, j, k}, margin, grow)))
                         pairs.emplace_back(g.index(i, j, k), t);
     }
     sortPairs(pairs);
@@ -76,7 +80,7 @@ CellTriangles level0Geometry(const GridSpec& g, const std::vector<Triangle>& tri
 
 /// The geometry of the children (in `fine`) of every cell listed in `coarse`.
 CellTriangles childGeometry(const GridSpec& coarseGrid, const GridSpec& fine, int K, const CellTriangles& coarse,
-                            const std::vector<Triangle>& tris, double margin) {
+                            const std::vector<Triangle>& tris, double margin, double grow) {
     CellTriangles pairs;
     for (std::size_t begin = 0; begin < coarse.size();) {
         std::size_t end = begin;
@@ -86,7 +90,7 @@ CellTriangles childGeometry(const GridSpec& coarseGrid, const GridSpec& fine, in
             for (int v = 0; v < K; ++v)
                 for (int u = 0; u < K; ++u) {
                     const CellIndex c{p.i * K + u, p.j * K + v, p.k * K + w};
-                    const Bounds box = cellTestBox(fine, c, margin);
+                    const Bounds box = cellTestBox(fine, c, margin, grow);
                     for (std::size_t n = begin; n < end; ++n) {
                         const Triangle& tri = tris[coarse[n].second];
                         if (triangleOverlapsBox(tri.a, tri.b, tri.c, box))
@@ -192,6 +196,8 @@ LevelLayout placeLevels(const GridSpec& level0, const std::vector<Vec3f>& positi
     int levelCount = p.kind == LayoutKind::Uniform ? 1 : (p.kind == LayoutKind::Bilevel ? 2 : p.levels);
     if (p.kind != LayoutKind::Uniform && K < 2) throw ValueError("refinement must be at least 2, got " + std::to_string(K));
     if (levelCount < 1) throw ValueError("level count must be at least 1, got " + std::to_string(levelCount));
+    if (!(p.refineDistance >= 0.0) || !std::isfinite(p.refineDistance))
+        throw ValueError("refine distance must be finite and >= 0, got " + std::to_string(p.refineDistance));
     LevelLayout out;
     out.kind = p.kind;
     out.refine = levelCount > 1 ? K : 1;
@@ -222,7 +228,8 @@ LevelLayout placeLevels(const GridSpec& level0, const std::vector<Vec3f>& positi
     const double margin = 0.5 * level0.spacing;
 
     double total = double(level0.nodeCount());
-    CellTriangles geometry = level0Geometry(level0, tris, margin);
+    const double grow = p.refineDistance;
+    CellTriangles geometry = level0Geometry(level0, tris, margin, grow);
     for (int l = 1; l < levelCount; ++l) {
         VolumeLevel& coarse = out.levels.back();
         coarse.refinedCells = cellsOf(geometry);
@@ -242,7 +249,7 @@ LevelLayout placeLevels(const GridSpec& level0, const std::vector<Vec3f>& positi
         fine.activeNodes = childNodes(coarse.grid, fine.grid, K, coarse.refinedCells);
         total += double(fine.activeNodes.size());
         const bool finest = l + 1 == levelCount;
-        if (!finest || p.keepFinestGeometry) geometry = childGeometry(coarse.grid, fine.grid, K, geometry, tris, margin);
+        if (!finest || p.keepFinestGeometry) geometry = childGeometry(coarse.grid, fine.grid, K, geometry, tris, margin, grow);
         out.levels.push_back(std::move(fine));
         if (finest && p.keepFinestGeometry) out.finestGeometryCells = cellsOf(geometry), out.hasFinestGeometry = true;
     }
