@@ -14,7 +14,12 @@
 // hash, point count and samples; the benchmark prints the reference's worst relative standard
 // error next to the smallest RMS error it reports.
 // Output: CSV on stdout (or --csv FILE): scene,method,layout,nodes,bytes,bake_seconds,budget,
-// rays_or_photons,err_rms,err_p95,err_max. scripts/plot_error.sh draws docs/images/.
+// rays_or_photons,err_rms,err_p95,err_max,dense_nodes,dense_bytes. dense_* describe the dense
+// box at the finest spacing of the row's layout (= nodes, bytes for uniform rows): for the
+// bilevel and adaptive layouts, the nodes the layout reports as its dense equivalent and the
+// bytes of a dense single-level .vdb at that spacing with the same values (sampled from the
+// baked volume), so the saving is dense_* - nodes / bytes, and it follows whatever the
+// layout places. scripts/plot_error.sh draws docs/images/.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -127,6 +132,29 @@ Errors measure(const Volume& v, const std::vector<ReferencePoint>& pts, const st
     return {std::sqrt(s2 / e.size()), e[std::size_t(std::ceil(0.95 * e.size())) - 1], e.back()};
 }
 
+uint64_t bytesOnDisk(const Volume& v);
+
+/// The dense single-level volume at the finest level's spacing over the same box, with every
+/// node's nine SH coefficients reconstructed from `v` (so the bytes compare like with like).
+Volume denseFinest(const Volume& v) {
+    const IrradianceQuery q(v);
+    Volume dense;
+    dense.basis = v.basis;
+    dense.meta = v.meta;
+    VolumeLevel level;
+    level.grid = v.levels.back().grid;
+    const int channels = v.basis.channelCount();
+    level.data.resize(level.grid.nodeCount() * std::size_t(channels) * 3);
+    Rgb c[9];
+    for (std::size_t n = 0; n < level.grid.nodeCount(); ++n) {
+        q.lookup().shRadiance(level.grid.node(n), c);
+        for (int j = 0; j < channels && j < 9; ++j)
+            for (int k = 0; k < 3; ++k) level.data[(n * channels + j) * 3 + k] = c[j][k];
+    }
+    dense.levels.push_back(std::move(level));
+    return dense;
+}
+
 uint64_t bytesOnDisk(const Volume& v) {
     const fs::path tmp = fs::temp_directory_path() / ("vdblight_bench_error_" + std::to_string(::getpid()) + ".vdb");
     writeVolume(v, tmp.string());
@@ -167,7 +195,8 @@ int main(int argc, char** argv) {
     const uint32_t refSamples = quick ? 4096 : 32768;
     std::fprintf(stderr, "vdblight_bench_error%s: %zu scenes x 5 methods x %zu budgets, %d points\n",
                  quick ? " --quick (small workloads)" : "", suite.size(), budgets.size(), points);
-    std::fprintf(csv, "scene,method,layout,nodes,bytes,bake_seconds,budget,rays_or_photons,err_rms,err_p95,err_max\n");
+    std::fprintf(csv, "scene,method,layout,nodes,bytes,bake_seconds,budget,rays_or_photons,err_rms,err_p95,err_max,"
+                      "dense_nodes,dense_bytes\n");
 
     for (SuiteScene& ss : suite) {
         const Scene& s = ss.scene;
@@ -179,13 +208,17 @@ int main(int argc, char** argv) {
         double worstRelSe = 0;
         const auto ref = cachedReference(s, tracer, pts, refSamples, worstRelSe);
         double smallestRms = 1e30;
+        // denseNodes == 0: a uniform row (its own dense box).
         auto row = [&](const char* method, const char* layout, const Volume& v, uint64_t nodes, double seconds,
-                       uint32_t budget, uint64_t work) {
+                       uint32_t budget, uint64_t work, uint64_t denseNodes = 0) {
             const Errors e = measure(v, pts, ref);
             smallestRms = std::min(smallestRms, e.rms);
-            std::fprintf(csv, "%s,%s,%s,%llu,%llu,%.4f,%u,%llu,%.5f,%.5f,%.5f\n", ss.name.c_str(), method, layout,
-                         (unsigned long long)nodes, (unsigned long long)bytesOnDisk(v), seconds, budget,
-                         (unsigned long long)work, e.rms, e.p95, e.max);
+            const uint64_t bytes = bytesOnDisk(v);
+            const uint64_t denseBytes = denseNodes ? bytesOnDisk(denseFinest(v)) : bytes;
+            std::fprintf(csv, "%s,%s,%s,%llu,%llu,%.4f,%u,%llu,%.5f,%.5f,%.5f,%llu,%llu\n", ss.name.c_str(), method,
+                         layout, (unsigned long long)nodes, (unsigned long long)bytes, seconds, budget,
+                         (unsigned long long)work, e.rms, e.p95, e.max,
+                         (unsigned long long)(denseNodes ? denseNodes : nodes), (unsigned long long)denseBytes);
             std::fflush(csv);
         };
         std::fprintf(stderr, "  %s: %zu triangles, %d x %d x %d nodes, %zu points\n", ss.name.c_str(), s.triangleCount(),
@@ -213,9 +246,21 @@ int main(int argc, char** argv) {
                 const LevelLayout layout = placeLevels(grid, s.positions, s.indices, lp, 1);
                 LevelsBakeStats ls;
                 v = bakeShGatherLevels(s, tracer, layout, g, nullptr, &ls);
-                row("point_sh", "bilevel", v, ls.nodes, ls.seconds, budget, ls.rays.total());
+                row("point_sh", "bilevel", v, ls.nodes, ls.seconds, budget, ls.rays.total(),
+                    uint64_t(std::llround(layout.denseEquivalentNodes())));
             } catch (const Error& e) {
                 std::fprintf(stderr, "  bilevel on %s: %s\n", ss.name.c_str(), e.what());
+            }
+            lp.kind = LayoutKind::Adaptive;  // refine 2, 3 levels
+            lp.levels = 3;
+            try {
+                const LevelLayout layout = placeLevels(grid, s.positions, s.indices, lp, 1);
+                LevelsBakeStats ls;
+                v = bakeShGatherLevels(s, tracer, layout, g, nullptr, &ls);
+                row("point_sh", "adaptive", v, ls.nodes, ls.seconds, budget, ls.rays.total(),
+                    uint64_t(std::llround(layout.denseEquivalentNodes())));
+            } catch (const Error& e) {
+                std::fprintf(stderr, "  adaptive on %s: %s\n", ss.name.c_str(), e.what());
             }
 
             // Greger bins: 2 R^2 bins with one sample each, R chosen so that 2 R^2 ~ budget.

@@ -11,6 +11,7 @@
 #include "vdblight/errors.h"
 #include "vdblight/reference.h"
 #include "vdblight/scene.h"
+#include "vdblight/scene_origin.h"
 #include "vdblight/scene_generators.h"
 #include "vdblight/query.h"
 #include "vdblight/sh_window.h"
@@ -94,11 +95,86 @@ TEST(Stress, ScaleAndPositionInvariance) {
     }
 }
 
-// Far beyond float precision (the unit-scale box 1e5 units away): wrong but finite.
-TEST(Stress, FarFromTheOriginStaysFinite) {
-    const Scene s = transformed(loadScene(defaultScenePath()), 1.0, Vec3d(1e5, 1e5, -1e5));
-    const Volume v = bakeSmall(s, gridIn(s.bounds(), 3));
-    EXPECT_TRUE(allFinite(v));
+// The default scene translated 1e5 units from the origin (docs/scene.md, "Large coordinates"):
+// the scene keeps a double origin and float geometry relative to it, so irradiance at
+// corresponding world points agrees with the untranslated scene within the Monte Carlo error
+// (reference, independent noise: 4 combined standard errors + 1 %), and the baked volume,
+// written to .vdb and read back, maps index space to world space and is queried at world
+// points in double. (With the vertices themselves moved to 1e5 in float, the 0.55-unit box is
+// rounded by 1.4 % of its size and this test fails: issue 8 notes.)
+TEST(Stress, TranslatedFarFromTheOrigin) {
+    const Scene base = loadScene(defaultScenePath());
+    const Vec3d offset(1e5, 1e5, -1e5);
+    Scene s = base;
+    translateScene(s, offset);
+    EXPECT_NEAR(s.worldBounds().lo.x, base.bounds().lo.x + offset.x, 1e-9);
+
+    const Bounds b = base.bounds();
+    Rng rng(5);
+    std::vector<ReferencePoint> pts;
+    std::vector<Vec3d> world;
+    for (int i = 0; i < 12; ++i) {
+        const Vec3d t(0.1 + 0.8 * rng.uniform(), 0.1 + 0.8 * rng.uniform(), 0.1 + 0.8 * rng.uniform());
+        const Vec3d x = b.lo + b.size() * t;
+        pts.push_back({Vec3f(x), uniformSphere(rng.uniform(), rng.uniform())});
+        world.push_back(x + offset);
+    }
+    ReferenceOptions o;
+    o.samples = 4096;
+    o.transport.maxBounces = 3;
+    const Tracer baseTracer(base);
+    const auto expected = referenceIrradiance(base, baseTracer, pts, o);
+    const Tracer tracer(s);
+    std::vector<ReferencePoint> moved = pts;
+    for (std::size_t i = 0; i < pts.size(); ++i) moved[i].position = s.toLocal(world[i]);  // world -> local frame
+    o.seed = 7;  // independent noise
+    const auto got = referenceIrradiance(s, tracer, moved, o);
+    double worstZ = 0;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+        const double e = luminance(Rgb(expected[i].irradiance)), g = luminance(Rgb(got[i].irradiance));
+        const double se = std::hypot(luminance(Rgb(expected[i].standardError)), luminance(Rgb(got[i].standardError)));
+        ASSERT_TRUE(std::isfinite(g));
+        worstZ = std::max(worstZ, std::abs(g - e) / (se + 1e-12));
+        EXPECT_NEAR(g, e, 4 * se + 0.01 * e) << "point " << i;
+    }
+    std::printf("  offset (1e5, 1e5, -1e5): worst |z| %.2f over %zu points\n", worstZ, pts.size());
+
+    // Bake in the local frame, place in the world, write and read back: the .vdb's grid sits at
+    // the world position and a world query equals the untranslated volume's at local points.
+    const GridSpec g = gridIn(s.bounds(), 4);
+    Volume v = bakeSmall(s, g);
+    ASSERT_TRUE(allFinite(v));
+    const Volume vBase = bakeSmall(base, g);
+    placeVolumeInWorld(v, s.origin);
+    const test::TempDir dir;
+    writeVolume(v, dir.file("far.vdb"));
+    const Volume back = readVolume(dir.file("far.vdb"));
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(back.levels[0].grid.origin[a], g.origin[a] + offset[a], 1e-9);
+    const IrradianceQuery q(back), qBase(vBase);
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+        const Vec3f n = normalize(pts[i].normal);
+        const Rgb e = qBase.irradiance(pts[i].position, n), w = q.irradianceWorld(world[i], n);
+        EXPECT_EQ(q.inside(world[i]), qBase.inside(pts[i].position));
+        EXPECT_NEAR(luminance(w), luminance(e), 1e-4 * (std::abs(luminance(e)) + 1e-3)) << "point " << i;
+    }
+}
+
+// Loading recentres a scene far from the origin: the geometry is rewritten relative to a
+// rounded anchor (exactly, in double), the origin carries the rest, and nothing moves near the
+// origin.
+TEST(Stress, RecenteringKeepsWorldPositions) {
+    Scene s = loadScene(defaultScenePath());
+    EXPECT_EQ(recenterScene(s), Vec3d(0, 0, 0));  // near the origin: untouched
+    Scene far = transformed(s, 1e3, Vec3d(1e5, -1e5, 1e5));
+    const Scene before = far;
+    const Vec3d shift = recenterScene(far);
+    EXPECT_NE(shift, Vec3d(0, 0, 0));
+    EXPECT_EQ(far.origin, shift);
+    for (std::size_t i = 0; i < far.positions.size(); ++i)
+        for (int a = 0; a < 3; ++a)
+            EXPECT_EQ(far.toWorld(far.positions[i])[a], double(before.positions[i][a])) << i;  // exact: small integers of ulps
+    const Vec3d c = far.bounds().center(), size = far.bounds().size();
+    EXPECT_LT(length(c), length(size));
 }
 
 // Nodes exactly on surfaces, on shared edges and at corners of the box: finite, non-negative

@@ -100,7 +100,7 @@ Bounds parseBounds(const std::string& text) {
     return b;
 }
 
-std::vector<ReferencePoint> readPointsCsv(const std::string& path) {
+std::vector<ReferencePoint> readPointsCsv(const std::string& path, std::vector<Vec3d>* worldPositions) {
     std::ifstream in(path);
     if (!in) throw IoError("cannot read points file '" + path + "'");
     std::vector<ReferencePoint> points;
@@ -127,6 +127,7 @@ std::vector<ReferencePoint> readPointsCsv(const std::string& path) {
         if (!(length(p.normal) > 0))
             throw ValueError(path + ":" + std::to_string(lineNo) + ": the normal is zero");
         points.push_back(p);
+        if (worldPositions) worldPositions->emplace_back(v[0], v[1], v[2]);
     }
     if (points.empty()) throw ValueError("points file '" + path + "' has no rows");
     return points;

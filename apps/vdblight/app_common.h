@@ -36,7 +36,9 @@ Vec3d parseTriple(const std::string& text, const char* what);
 Bounds parseBounds(const std::string& text);
 
 /// Reads "x,y,z,nx,ny,nz" rows (a header line and '#' comments are skipped).
-std::vector<ReferencePoint> readPointsCsv(const std::string& path);
+/// `worldPositions`, if given, receives the positions in double (world points far from the
+/// origin keep their precision; see docs/scene.md, "Large coordinates").
+std::vector<ReferencePoint> readPointsCsv(const std::string& path, std::vector<Vec3d>* worldPositions = nullptr);
 
 /// Checks before any long work that `path` can be created (its directory exists and is
 /// writable, and it is not a directory). Throws IoError.

@@ -18,6 +18,7 @@
 #include "vdblight/irradiance_vectors_compact.h"
 #include "vdblight/photons.h"
 #include "vdblight/sh.h"
+#include "vdblight/scene_origin.h"
 #include "vdblight/sh_window.h"
 #include "vdblight/trace.h"
 #include "vdblight/vdb_io.h"
@@ -105,7 +106,7 @@ void run(const BakeCommand& c) {
     GridPlacement placement;
     placement.spacing = c.spacing;
     placement.resolution = (c.spacing > 0 || c.resolution > 0) ? c.resolution : 16;
-    if (!c.bounds.empty()) placement.bounds = parseBounds(c.bounds);
+    if (!c.bounds.empty()) placement.bounds = toLocalBounds(parseBounds(c.bounds), scene.origin);
     // Bytes per node while baking and writing: float coefficients plus OpenVDB's copy.
     // The anti-aliased pass also holds double accumulators per node (coefficients + 2 weights).
     const std::size_t extra = c.sampling == "antialiased" ? (sh::kCoeffs * 3 + 2) * sizeof(double) : 0;
@@ -159,6 +160,7 @@ void run(const BakeCommand& c) {
     }
     if (c.refineDistance > 0) volume.meta["refine_distance"] = c.refineDistance;
     if (c.shWindow) applyShWindow(volume);
+    placeVolumeInWorld(volume, scene.origin);  // baked in the scene's local frame (scene_origin.h)
     volume.meta["scene_file"] = c.scene.path.empty() ? std::string("(bundled default) ") + defaultScenePath() : c.scene.path;
     volume.meta["sky"] = c.scene.skyMap.empty() ? (c.scene.sky.empty() ? std::string("0,0,0") : c.scene.sky)
                                                 : "map:" + c.scene.skyMap;
@@ -203,7 +205,7 @@ void runPhotons(const BakeCommand& c) {
     GridPlacement placement;
     placement.spacing = c.spacing;
     placement.resolution = (c.spacing > 0 || c.resolution > 0) ? c.resolution : 16;
-    if (!c.bounds.empty()) placement.bounds = parseBounds(c.bounds);
+    if (!c.bounds.empty()) placement.bounds = toLocalBounds(parseBounds(c.bounds), scene.origin);
     // Bytes per node: double totals, a float buffer per thread, the volume and OpenVDB's copy.
     const GridSpec grid = placeUniformGrid(scene.bounds(), placement, 54 * (8 + 4 * 4));
     const Tracer tracer(scene);
@@ -211,6 +213,7 @@ void runPhotons(const BakeCommand& c) {
     ProgressBar progress(c.quiet);
     PhotonStats stats;
     Volume volume = bakePhotons(scene, tracer, grid, options, &progress, &stats);
+    placeVolumeInWorld(volume, scene.origin);  // baked in the scene's local frame (scene_origin.h)
     volume.meta["scene_file"] = c.scene.path.empty() ? std::string("(bundled default) ") + defaultScenePath() : c.scene.path;
     volume.meta["sky"] = c.scene.skyMap.empty() ? (c.scene.sky.empty() ? std::string("0,0,0") : c.scene.sky)
                                                 : "map:" + c.scene.skyMap;

@@ -8,6 +8,7 @@
 #include "vdblight/errors.h"
 #include "vdblight/query.h"
 #include "vdblight/query_levels.h"
+#include "vdblight/scene_origin.h"
 #include "vdblight/vdb_io.h"
 #include "vdblight/vector_grid_lookup.h"
 
@@ -29,14 +30,16 @@ void run(const QueryCommand& c) {
         throw ValueError("--interp must be trilinear or tricubic, got '" + c.interp + "'");
     if (c.at.empty() == c.points.empty()) throw ValueError("give either --at x,y,z or --points FILE.csv");
     std::vector<ReferencePoint> points;
+    std::vector<Vec3d> world;  // the points in double (volumes far from the origin need it)
     if (!c.at.empty()) {
         ReferencePoint p;
-        p.position = Vec3f(parseTriple(c.at, "--at"));
+        world.push_back(parseTriple(c.at, "--at"));
+        p.position = Vec3f(world.back());
         p.normal = Vec3f(parseTriple(c.normal, "--normal"));
         if (!(length(p.normal) > 0)) throw ValueError("--normal must not be zero");
         points.push_back(p);
     } else {
-        points = readPointsCsv(c.points);
+        points = readPointsCsv(c.points, &world);
     }
     Vec3f view;
     if (!c.view.empty()) {
@@ -66,14 +69,19 @@ void run(const QueryCommand& c) {
     out.precision(9);
     out << "x,y,z,nx,ny,nz,E_r,E_g,E_b\n";
     std::size_t clamped = 0, culled = 0;
-    const auto* levels = dynamic_cast<const ShLevelsLookup*>(&query.lookup());  // culled volumes: flag solid cells
-    for (const ReferencePoint& p : points) {
-        if (!query.inside(p.position)) ++clamped;
+    // Culled volumes flag points in solid cells. A volume far from the origin is wrapped in a
+    // shifted lookup and is not checked here (its lookup still returns the documented 0).
+    const auto* levels = dynamic_cast<const ShLevelsLookup*>(&query.lookup());
+    const bool far = recenteringAnchor(query.bounds()) != Vec3d(0, 0, 0);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const ReferencePoint& p = points[i];
+        if (!query.inside(world[i])) ++clamped;
         if (levels && levels->inCulledCell(p.position)) ++culled;
         const Vec3f n = normalize(p.normal);
         const Vec3f d = moment ? normalize(bins::reflectView(view, n)) : n;  // moment: the reflected view vector
-        const Rgb e = cubic ? cubic->irradiance(p.position, d) : query.irradiance(p.position, d);
-        out << p.position.x << ',' << p.position.y << ',' << p.position.z << ',' << n.x << ',' << n.y << ',' << n.z
+        const Rgb e = cubic ? cubic->irradiance(p.position, d) : query.irradianceWorld(world[i], d);
+        const Vec3d x = far ? world[i] : Vec3d(p.position);  // near the origin: printed as before
+        out << x.x << ',' << x.y << ',' << x.z << ',' << n.x << ',' << n.y << ',' << n.z
             << ',' << e.x << ',' << e.y << ',' << e.z << '\n';
     }
     emitText(c.output, out.str());

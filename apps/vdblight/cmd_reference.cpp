@@ -21,9 +21,11 @@ struct ReferenceCommand {
 };
 
 void run(const ReferenceCommand& c) {
-    const std::vector<ReferencePoint> points = readPointsCsv(c.points);
+    std::vector<Vec3d> world;
+    std::vector<ReferencePoint> points = readPointsCsv(c.points, &world);
     if (!c.output.empty()) checkOutputWritable(c.output);
     const Scene scene = loadSceneFromOptions(c.scene, c.quiet);
+    for (std::size_t i = 0; i < points.size(); ++i) points[i].position = scene.toLocal(world[i]);  // world -> local frame
     const Tracer tracer(scene);
     ReferenceOptions options;
     options.samples = c.samples;
@@ -40,7 +42,8 @@ void run(const ReferenceCommand& c) {
         const ReferencePoint& p = points[i];
         const Vec3f n = normalize(p.normal);
         const ReferenceResult& r = results[i];
-        out << p.position.x << ',' << p.position.y << ',' << p.position.z << ',' << n.x << ',' << n.y << ',' << n.z
+        const Vec3d x = scene.toWorld(p.position);
+        out << x.x << ',' << x.y << ',' << x.z << ',' << n.x << ',' << n.y << ',' << n.z
             << ',' << r.irradiance.x << ',' << r.irradiance.y << ',' << r.irradiance.z << ',' << r.standardError.x
             << ',' << r.standardError.y << ',' << r.standardError.z << '\n';
     }

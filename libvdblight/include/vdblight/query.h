@@ -33,6 +33,9 @@ public:
     virtual ~VolumeLookup() = default;
     /// Irradiance (W/m^2, RGB) at x for the unit normal n.
     virtual Rgb irradiance(const Vec3f& x, const Vec3f& n) const = 0;
+    /// The same at a double-precision world point (a volume far from the origin resolves
+    /// its nodes only in double). Default: rounds x to float.
+    virtual Rgb irradianceWorld(const Vec3d& x, const Vec3f& n) const { return irradiance(Vec3f(x), n); }
     /// The box in which lookups interpolate (outside it the outside policy applies).
     virtual Bounds bounds() const = 0;
     /// The nine RGB radiance coefficients of SH order 2 (docs/format.md convention, not
@@ -78,8 +81,12 @@ public:
 
     /// Irradiance (W/m^2, RGB) at x for the unit normal n.
     Rgb irradiance(const Vec3f& x, const Vec3f& n) const { return lookup_->irradiance(x, n); }
+    /// The same at a world point in double: use this for volumes far from the origin (the
+    /// volume is then read relative to an anchor near its box, shifted_lookup.cpp).
+    Rgb irradianceWorld(const Vec3d& x, const Vec3f& n) const { return lookup_->irradianceWorld(x, n); }
     /// True if x lies inside the volume's node box.
     bool inside(const Vec3f& x) const { return bounds_.contains(Vec3d(x)); }
+    bool inside(const Vec3d& x) const { return bounds_.contains(x); }
     const Bounds& bounds() const { return bounds_; }
     /// Name of the lookup kind in use (e.g. "sh2-uniform").
     const char* kind() const { return kind_; }

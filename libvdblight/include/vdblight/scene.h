@@ -83,7 +83,13 @@ struct SceneStats {
 
 struct Scene {
     std::string name;                  ///< file stem, or "cornell_box" for the default
-    std::vector<Vec3f> positions;      ///< world-space vertices
+    /// World position (double) of the scene's local frame. Vertices, light positions, bounds(),
+    /// tracing, light transport and every bake's node positions are local, i.e. relative to
+    /// `origin`, in float; a volume is placed in the world by adding `origin` to its grids'
+    /// origins (placeVolumeInWorld, scene_origin.h). (0, 0, 0) unless the scene lies far from
+    /// the world origin (docs/scene.md, "Large coordinates").
+    Vec3d origin{0, 0, 0};
+    std::vector<Vec3f> positions;      ///< vertices in the local frame (world = origin + position)
     std::vector<uint32_t> indices;     ///< 3 per triangle
     std::vector<uint32_t> materialIds; ///< 1 per triangle, into materials
     std::vector<Material> materials;
@@ -96,7 +102,13 @@ struct Scene {
     std::size_t triangleCount() const { return materialIds.size(); }
     Vec3f vertex(std::size_t tri, int k) const { return positions[indices[3 * tri + k]]; }
     const Material& material(std::size_t tri) const { return materials[materialIds[tri]]; }
+    /// Bounds of the triangles in the local frame.
     Bounds bounds() const;
+    /// Bounds of the triangles in world space: bounds() + origin.
+    Bounds worldBounds() const;
+    Vec3d toWorld(const Vec3f& local) const { return origin + Vec3d(local); }
+    /// Local float position of a world point (the subtraction is done in double).
+    Vec3f toLocal(const Vec3d& world) const { return Vec3f(world - origin); }
     bool hasEmissiveTriangles() const;
     /// True if anything emits: emissive triangles, punctual lights or a non-black sky.
     bool hasLight() const;
@@ -122,6 +134,8 @@ void validateScene(const Scene& scene);
 
 /// Loads a scene through Assimp: glTF 2.0 (.gltf/.glb), Wavefront OBJ+MTL, PLY.
 /// Applies node transforms, triangulates, skips degenerate triangles (counted in stats).
+/// A scene far from the world origin is recentred (recenterScene, scene_origin.h); Assimp
+/// parses coordinates to float, so precision lost at parse time is not recovered.
 /// Throws SceneError / IoError with a one-line message.
 Scene loadScene(const std::string& path);
 

@@ -4,6 +4,7 @@
 #include "vdblight/vector_grid_lookup.h"
 #include "vdblight/query_levels.h"
 #include "vdblight/bins_lookup.h"
+#include "shifted_lookup.h"
 
 namespace vdblight {
 
@@ -28,7 +29,7 @@ IrradianceQuery::IrradianceQuery(const Volume& volume, OutsidePolicy outside) {
     volume.validate();
     for (const LookupKind& kind : lookupKinds()) {
         if (!kind.accepts(volume)) continue;
-        lookup_ = kind.create(volume, outside);
+        lookup_ = createAnchored(volume, outside, kind.create);  // shifted_lookup.cpp
         bounds_ = lookup_->bounds();
         kind_ = kind.name;
         return;

@@ -28,6 +28,7 @@
 
 #include "vdblight/errors.h"
 #include "vdblight/scene.h"
+#include "vdblight/scene_origin.h"
 
 namespace vdblight {
 
@@ -310,6 +311,7 @@ Scene loadScene(const std::string& path) {
         loader.addNode(*ai->mRootNode, aiMatrix4x4());
         for (unsigned i = 0; i < ai->mNumLights; ++i) loader.addLight(*ai->mLights[i]);
         validateScene(scene);
+        recenterScene(scene);  // far from the origin: local float geometry, double origin
     } catch (const SceneError& e) {
         const std::string what = e.what();
         if (what.find(path) != std::string::npos) throw;

@@ -60,6 +60,12 @@ Bounds Scene::bounds() const {
     return b;
 }
 
+Bounds Scene::worldBounds() const {
+    Bounds b = bounds();
+    if (!b.empty()) { b.lo += origin; b.hi += origin; }
+    return b;
+}
+
 bool Scene::hasEmissiveTriangles() const {
     for (uint32_t id : materialIds)
         if (materials[id].isEmissive()) return true;
@@ -97,6 +103,10 @@ std::string Scene::contentHash() const {
     for (const auto& l : directionalLights) { h.vec(l.direction); h.vec(l.irradiance); }
     h.vec(sky.constant);
     h.byte(sky.map ? 1 : 0);
+    if (origin != Vec3d(0, 0, 0)) {  // only a moved scene hashes its origin (older hashes stay valid)
+        h.str("origin");
+        for (int a = 0; a < 3; ++a) { const double d = origin[a]; uint64_t u; std::memcpy(&u, &d, 8); h.u64(u); }
+    }
     if (sky.map) {
         h.str(sky.map->path);
         h.u32(uint32_t(sky.map->width)); h.u32(uint32_t(sky.map->height));

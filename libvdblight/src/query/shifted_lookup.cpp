@@ -1,0 +1,43 @@
+// A volume far from the world origin is read relative to an anchor near its node box, so that
+// the float arithmetic of the lookups (locate, weights) works on small numbers (shifted_lookup.h).
+#include "shifted_lookup.h"
+
+#include "vdblight/scene_origin.h"
+
+namespace vdblight {
+
+namespace {
+
+class ShiftedLookup final : public VolumeLookup {
+public:
+    ShiftedLookup(std::unique_ptr<VolumeLookup> inner, const Vec3d& anchor) : inner_(std::move(inner)), anchor_(anchor) {}
+
+    Rgb irradiance(const Vec3f& x, const Vec3f& n) const override { return irradianceWorld(Vec3d(x), n); }
+    Rgb irradianceWorld(const Vec3d& x, const Vec3f& n) const override { return inner_->irradiance(Vec3f(x - anchor_), n); }
+    Bounds bounds() const override {
+        Bounds b = inner_->bounds();
+        b.lo += anchor_;
+        b.hi += anchor_;
+        return b;
+    }
+    void shRadiance(const Vec3d& x, Rgb out[9]) const override { inner_->shRadiance(x - anchor_, out); }
+    void irradianceVectors(const Vec3d& x, float out[54]) const override { inner_->irradianceVectors(x - anchor_, out); }
+    void binValues(const Vec3d& x, float* out) const override { inner_->binValues(x - anchor_, out); }
+
+private:
+    std::unique_ptr<VolumeLookup> inner_;
+    Vec3d anchor_;
+};
+
+}  // namespace
+
+std::unique_ptr<VolumeLookup> createAnchored(const Volume& volume, OutsidePolicy outside,
+                                             std::unique_ptr<VolumeLookup> (*create)(const Volume&, OutsidePolicy)) {
+    const Vec3d anchor = volume.levels.empty() ? Vec3d(0, 0, 0) : recenteringAnchor(volume.levels[0].grid.nodeBounds());
+    if (anchor == Vec3d(0, 0, 0)) return create(volume, outside);
+    Volume local = volume;
+    placeVolumeInWorld(local, -anchor);
+    return std::make_unique<ShiftedLookup>(create(local, outside), anchor);
+}
+
+}  // namespace vdblight
