@@ -208,8 +208,8 @@ void benchLayouts(const Scene& scene, int threads, bool quick) {
     if (!quick) std::printf(", %.2f%% at %u rays (SH truncation floor)", 100 * floor16, 16 * rays);
     std::printf("\n");
 
-    std::printf("  %-22s %7s %7s %3s %7s %9s %9s %9s %10s %9s %9s\n", "layout", "baked", "culled", "L", "bake s",
-                "RMS rel", "RMS near", "max near", "near 4xN", "no-noise", "spatial");
+    std::printf("  %-22s %7s %7s %9s %3s %7s %9s %9s %9s %10s %9s %9s\n", "layout", "baked", "culled", "dense box", "L",
+                "bake s", "RMS rel", "RMS near", "max near", "near 4xN", "no-noise", "spatial");
     std::vector<double> rmsNear(configs.size()), rmsClean(configs.size()), rmsSpatial(configs.size());
     for (std::size_t c = 0; c < configs.size(); ++c) {
         const auto measure = [&](uint32_t n, ErrorStats& all, ErrorStats& near, ErrorStats& spatial, double& seconds) {
@@ -236,9 +236,10 @@ void benchLayouts(const Scene& scene, int threads, bool quick) {
         rmsNear[c] = near.rmsValue();
         rmsClean[c] = quick ? 0.0 : noiseFree(near.rmsValue(), near4.rmsValue());
         rmsSpatial[c] = quick ? 0.0 : noiseFree(spatial.rmsValue(), spatial4.rmsValue());
-        std::printf("  %-22s %7llu %7llu %3zu %7.2f %8.2f%% %8.2f%% %8.1f%% %9.2f%% %8.2f%% %8.2f%%\n", configs[c].name,
-                    (unsigned long long)configs[c].layout.totalNodes(),
-                    (unsigned long long)configs[c].layout.culledNodes, configs[c].layout.levels.size(), seconds,
+        std::printf("  %-22s %7llu %7llu %9.0f %3zu %7.2f %8.2f%% %8.2f%% %8.1f%% %9.2f%% %8.2f%% %8.2f%%\n",
+                    configs[c].name, (unsigned long long)configs[c].layout.totalNodes(),
+                    (unsigned long long)configs[c].layout.culledNodes, configs[c].layout.denseEquivalentNodes(),
+                    configs[c].layout.levels.size(), seconds,
                     100 * all.rmsValue(), 100 * near.rmsValue(), 100 * near.max, 100 * near4.rmsValue(),
                     100 * rmsClean[c], 100 * rmsSpatial[c]);
     }
@@ -281,9 +282,10 @@ void benchPaperConfig(const Scene& scene, int threads, bool quick) {
     LevelsBakeStats stats;
     const Volume v = bakeShGatherLevels(scene, tracer, layout, options, nullptr, &stats);
     std::printf("paper configuration (7^3 first level, 3^3 refinement, %u directions): %llu nodes (%llu seam), "
-                "bake %.2f s on %d threads (paper: 24 min; target < 1 s)\n",
+                "bake %.2f s on %d threads, %.2f M rays (%.2f M shadow) (paper: 24 min; target < 1 s)\n",
                 options.raysPerNode, (unsigned long long)stats.nodes, (unsigned long long)stats.seamNodes,
-                stats.seconds, int(std::get<int64_t>(v.meta.at("threads"))));
+                stats.seconds, int(std::get<int64_t>(v.meta.at("threads"))), double(stats.rays.total()) / 1e6,
+                double(stats.rays.occluded) / 1e6);
 }
 
 void benchQuery(const Scene& scene, bool quick) {
@@ -325,6 +327,7 @@ int main(int argc, char** argv) {
             return 2;
         }
     }
+    std::setvbuf(stdout, nullptr, _IOLBF, 0);  // lines as they come when redirected (long full runs)
     std::printf("vdblight_bench_layouts%s\n", quick ? " (quick smoke run, noisy figures)" : "");
     try {
         const Scene scene = loadScene(defaultScenePath());
