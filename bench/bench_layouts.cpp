@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include <tbb/parallel_for.h>
@@ -118,16 +119,23 @@ struct ErrorStats {
 /// Monte Carlo part of the squared error falls as 1/N: e_N^2 = b^2 + n^2, e_4N^2 = b^2 + n^2/4.
 double noiseFree(double eN, double e4N) { return std::sqrt(std::max(0.0, (4 * e4N * e4N - eN * eN) / 3)); }
 
-void benchLayouts(const Scene& scene, int threads, bool quick) {
+struct LayoutBenchOptions {
+    int firstLevel = 0;   ///< first-level resolution of the bilevel layout that sets the node budget (0 = default)
+    uint32_t rays = 0;    ///< rays per node (0 = default)
+    bool decompose = true;  ///< also bake at 4x rays and project SH at the points (noise / interpolation split)
+};
+
+void benchLayouts(const Scene& scene, int threads, bool quick, const LayoutBenchOptions& lo = {}) {
     const Tracer tracer(scene);
-    const uint32_t rays = quick ? 64 : 256;
+    const uint32_t rays = lo.rays ? lo.rays : (quick ? 64 : 256);
+    if (!lo.decompose) quick = true;  // the quick path skips the 4x bakes and the 16x point projections
     GatherOptions options;
     options.raysPerNode = rays;
     options.threads = threads;
 
     // Bilevel as in the paper sets the node budget; the others match it (baked nodes; culled
     // layouts count only the nodes they keep, so culling frees budget for refinement).
-    const LevelLayout bilevel = makeLayout(scene, LayoutKind::Bilevel, quick ? 6 : 8, 3, 2);
+    const LevelLayout bilevel = makeLayout(scene, LayoutKind::Bilevel, lo.firstLevel ? lo.firstLevel : (quick ? 6 : 8), 3, 2);
     const uint64_t target = bilevel.totalNodes();
     std::vector<Config> configs = {
         {"uniform", closestLayout(scene, LayoutKind::Uniform, 2, 1, target)},
@@ -138,7 +146,7 @@ void benchLayouts(const Scene& scene, int threads, bool quick) {
         {"adaptive K=2 L=3 cull",
          closestLayout([&](int r) { return makeCulledLayout(scene, tracer, LayoutKind::Adaptive, r, 2, 3); }, target)},
     };
-    if (!quick) {
+    if (!quick || !lo.decompose) {
         configs.push_back({"adaptive K=2 L=3 D", closestLayout([&](int r) {
                                return makeLayout(scene, LayoutKind::Adaptive, r, 2, 3, 0.5);
                            }, target)});
@@ -147,7 +155,7 @@ void benchLayouts(const Scene& scene, int threads, bool quick) {
     }
 
     // Reference at random free-space points with random normals.
-    const int wanted = quick ? 150 : 1000;
+    const int wanted = quick && lo.decompose ? 150 : 1000;
     const Bounds box = bilevel.levels[0].grid.nodeBounds();
     std::vector<ReferencePoint> points;
     Rng rng(2024);
@@ -156,7 +164,7 @@ void benchLayouts(const Scene& scene, int threads, bool quick) {
         if (freeSpace(tracer, x)) points.push_back({x, uniformSphere(rng.uniform(), rng.uniform())});
     }
     ReferenceOptions ro;
-    ro.samples = quick ? 1024 : 8192;
+    ro.samples = quick && lo.decompose ? 1024 : 8192;
     ro.threads = threads;
     double t0 = now();
     const std::vector<ReferenceResult> ref = referenceIrradiance(scene, tracer, points, ro);
@@ -319,20 +327,33 @@ void benchQuery(const Scene& scene, bool quick) {
 int main(int argc, char** argv) {
     bool quick = false;
     int threads = 0;
+    std::string only;  // --scene cornell|office: one scene's layout table only
+    LayoutBenchOptions lo;
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--quick")) quick = true;
         else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
+        else if (!std::strcmp(argv[i], "--scene") && i + 1 < argc) only = argv[++i];
+        else if (!std::strcmp(argv[i], "--first-level") && i + 1 < argc) lo.firstLevel = std::atoi(argv[++i]);
+        else if (!std::strcmp(argv[i], "--rays") && i + 1 < argc) lo.rays = uint32_t(std::atoi(argv[++i]));
+        else if (!std::strcmp(argv[i], "--no-decompose")) lo.decompose = false;
         else {
-            std::fprintf(stderr, "usage: vdblight_bench_layouts [--quick] [--threads N]\n");
+            std::fprintf(stderr, "usage: vdblight_bench_layouts [--quick] [--threads N] [--scene cornell|office] "
+                                 "[--first-level R] [--rays N] [--no-decompose]\n");
             return 2;
         }
+    }
+    if (!only.empty() && only != "cornell" && only != "office") {
+        std::fprintf(stderr, "vdblight_bench_layouts: --scene must be cornell or office\n");
+        return 2;
     }
     std::setvbuf(stdout, nullptr, _IOLBF, 0);  // lines as they come when redirected (long full runs)
     std::printf("vdblight_bench_layouts%s\n", quick ? " (quick smoke run, noisy figures)" : "");
     try {
         const Scene scene = loadScene(defaultScenePath());
-        benchLayouts(scene, threads, quick);
-        benchLayouts(makeOfficeScene(1), threads, quick);  // the paper's kind of scene (office_scene.h)
+        if (only.empty() || only == "cornell") benchLayouts(scene, threads, quick, lo);
+        if (only.empty() || only == "office")
+            benchLayouts(makeOfficeScene(1), threads, quick, lo);  // the paper's kind of scene (office_scene.h)
+        if (!only.empty()) return 0;
         benchPaperConfig(scene, threads, quick);
         benchQuery(scene, quick);
     } catch (const std::exception& e) {
