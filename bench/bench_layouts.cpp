@@ -10,15 +10,23 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
+#include <string>
 #include <vector>
 
+#include <tbb/parallel_for.h>
+
+#include "vdblight/bake.h"
 #include "vdblight/bake_levels.h"
+#include "vdblight/light.h"
 #include "vdblight/errors.h"
 #include "vdblight/office_scene.h"
 #include "vdblight/query_levels.h"
 #include "vdblight/reference.h"
 #include "vdblight/sampling.h"
 #include "vdblight/scene.h"
+#include "vdblight/sh.h"
+#include "vdblight/solid_cull.h"
 #include "vdblight/trace.h"
 
 using namespace vdblight;
@@ -46,7 +54,11 @@ struct Config {
     LevelLayout layout;
 };
 
-LevelLayout makeLayout(const Scene& scene, LayoutKind kind, int resolution, int refine, int levels) {
+/// A layout for a first-level resolution (throws ValueError if it cannot be placed).
+using LayoutMaker = std::function<LevelLayout(int resolution)>;
+
+LevelLayout makeLayout(const Scene& scene, LayoutKind kind, int resolution, int refine, int levels,
+                       double refineDistanceInH0 = 0.0) {
     GridPlacement p;
     p.resolution = resolution;
     const GridSpec g0 = placeUniformGrid(scene.bounds(), p, 1);
@@ -54,17 +66,34 @@ LevelLayout makeLayout(const Scene& scene, LayoutKind kind, int resolution, int 
     lp.kind = kind;
     lp.refine = refine;
     lp.levels = levels;
+    lp.refineDistance = refineDistanceInH0 * g0.spacing;
     return placeLevels(g0, scene.positions, scene.indices, lp, 1);
 }
 
-/// The layout of `kind` whose node count is closest to `target`, over first-level resolutions.
-LevelLayout closestLayout(const Scene& scene, LayoutKind kind, int refine, int levels, uint64_t target) {
+/// The same, then solid culling (solid_cull.h): totalNodes() counts only the kept nodes.
+LevelLayout makeCulledLayout(const Scene& scene, const Tracer& tracer, LayoutKind kind, int resolution, int refine,
+                             int levels) {
+    GridPlacement p;
+    p.resolution = resolution;
+    const GridSpec g0 = placeUniformGrid(scene.bounds(), p, 1);
+    LevelsPlacement lp;
+    lp.kind = kind;
+    lp.refine = refine;
+    lp.levels = levels;
+    lp.keepFinestGeometry = true;
+    LevelLayout layout = placeLevels(g0, scene.positions, scene.indices, lp, 1);
+    cullSolidNodes(layout, tracer);
+    return layout;
+}
+
+/// The layout whose (baked, i.e. kept) node count is closest to `target`, over first-level resolutions.
+LevelLayout closestLayout(const LayoutMaker& make, uint64_t target) {
     LevelLayout best;
     double bestGap = 1e300;
     for (int r = 2; r <= 64; ++r) {
         LevelLayout l;
         try {
-            l = makeLayout(scene, kind, r, refine, levels);
+            l = make(r);
         } catch (const ValueError&) {  // too few first-level nodes on a short axis
             continue;
         }
@@ -75,6 +104,10 @@ LevelLayout closestLayout(const Scene& scene, LayoutKind kind, int refine, int l
     return best;
 }
 
+LevelLayout closestLayout(const Scene& scene, LayoutKind kind, int refine, int levels, uint64_t target) {
+    return closestLayout([&](int r) { return makeLayout(scene, kind, r, refine, levels); }, target);
+}
+
 struct ErrorStats {
     double rms = 0, max = 0;
     int count = 0;
@@ -82,24 +115,47 @@ struct ErrorStats {
     double rmsValue() const { return count ? std::sqrt(rms / count) : 0.0; }
 };
 
-void benchLayouts(const Scene& scene, int threads, bool quick) {
+/// Noise-free RMS extrapolated from RMS errors at N and 4N rays per node, assuming the
+/// Monte Carlo part of the squared error falls as 1/N: e_N^2 = b^2 + n^2, e_4N^2 = b^2 + n^2/4.
+double noiseFree(double eN, double e4N) { return std::sqrt(std::max(0.0, (4 * e4N * e4N - eN * eN) / 3)); }
+
+struct LayoutBenchOptions {
+    int firstLevel = 0;   ///< first-level resolution of the bilevel layout that sets the node budget (0 = default)
+    uint32_t rays = 0;    ///< rays per node (0 = default)
+    bool decompose = true;  ///< also bake at 4x rays and project SH at the points (noise / interpolation split)
+};
+
+void benchLayouts(const Scene& scene, int threads, bool quick, const LayoutBenchOptions& lo = {}) {
     const Tracer tracer(scene);
-    const uint32_t rays = quick ? 64 : 256;
+    const uint32_t rays = lo.rays ? lo.rays : (quick ? 64 : 256);
+    if (!lo.decompose) quick = true;  // the quick path skips the 4x bakes and the 16x point projections
     GatherOptions options;
     options.raysPerNode = rays;
     options.threads = threads;
 
-    // Bilevel as in the paper sets the node budget; the others match it.
-    const LevelLayout bilevel = makeLayout(scene, LayoutKind::Bilevel, quick ? 6 : 8, 3, 2);
+    // Bilevel as in the paper sets the node budget; the others match it (baked nodes; culled
+    // layouts count only the nodes they keep, so culling frees budget for refinement).
+    const LevelLayout bilevel = makeLayout(scene, LayoutKind::Bilevel, lo.firstLevel ? lo.firstLevel : (quick ? 6 : 8), 3, 2);
     const uint64_t target = bilevel.totalNodes();
     std::vector<Config> configs = {
         {"uniform", closestLayout(scene, LayoutKind::Uniform, 2, 1, target)},
         {"bilevel K=3", bilevel},
         {"adaptive K=2 L=3", closestLayout(scene, LayoutKind::Adaptive, 2, 3, target)},
+        {"bilevel K=3 culled",
+         closestLayout([&](int r) { return makeCulledLayout(scene, tracer, LayoutKind::Bilevel, r, 3, 2); }, target)},
+        {"adaptive K=2 L=3 cull",
+         closestLayout([&](int r) { return makeCulledLayout(scene, tracer, LayoutKind::Adaptive, r, 2, 3); }, target)},
     };
+    if (!quick || !lo.decompose) {
+        configs.push_back({"adaptive K=2 L=3 D", closestLayout([&](int r) {
+                               return makeLayout(scene, LayoutKind::Adaptive, r, 2, 3, 0.5);
+                           }, target)});
+        configs.push_back({"adaptive K=2 L=4", closestLayout(scene, LayoutKind::Adaptive, 2, 4, target)});
+        configs.push_back({"bilevel K=2", closestLayout(scene, LayoutKind::Bilevel, 2, 2, target)});
+    }
 
     // Reference at random free-space points with random normals.
-    const int wanted = quick ? 150 : 1000;
+    const int wanted = quick && lo.decompose ? 150 : 1000;
     const Bounds box = bilevel.levels[0].grid.nodeBounds();
     std::vector<ReferencePoint> points;
     Rng rng(2024);
@@ -108,7 +164,7 @@ void benchLayouts(const Scene& scene, int threads, bool quick) {
         if (freeSpace(tracer, x)) points.push_back({x, uniformSphere(rng.uniform(), rng.uniform())});
     }
     ReferenceOptions ro;
-    ro.samples = quick ? 1024 : 8192;
+    ro.samples = quick && lo.decompose ? 1024 : 8192;
     ro.threads = threads;
     double t0 = now();
     const std::vector<ReferenceResult> ref = referenceIrradiance(scene, tracer, points, ro);
@@ -126,28 +182,103 @@ void benchLayouts(const Scene& scene, int threads, bool quick) {
             return v;
         }(),
         OutsidePolicy::Clamp);
-    std::printf("  %-18s %9s %9s %10s %10s %10s %12s %12s\n", "layout", "nodes", "levels", "bake s", "RMS rel", "max rel",
-                "RMS near", "max near");
-    double rmsNear[3] = {};
+    const auto relError = [&](std::size_t i, const Rgb& e) {
+        const double r = luminance(Rgb(ref[i].irradiance));
+        return std::abs(double(luminance(e)) - r) / std::max(r, 0.05 * meanRef);
+    };
+    const auto isNear = [&](std::size_t i) { return nearMask.levelAt(points[i].position) > 0; };
+
+    // Error floor of any SH order-2 layout: the SH projection baked at each query point itself
+    // (no spatial interpolation), at N and at 16 N rays: SH truncation + Monte Carlo noise.
+    const RadianceEstimator estimator(scene, tracer, options.transport);
+    std::vector<double> sh16(points.size(), 0.0);  // luminance of E from the SH2 projection at the point, 16 N rays
+    const auto pointFloor = [&](uint32_t n, std::vector<double>* keep) {
+        std::vector<double> err(points.size());
+        tbb::parallel_for(std::size_t(0), points.size(), [&](std::size_t i) {
+            Rgbd c[sh::kCoeffs];
+            RayCount count;
+            projectIncidentRadiance(estimator, points[i].position, n, options.seed, 1'000'000 + i, c, count);
+            Rgb f[sh::kCoeffs];
+            for (int j = 0; j < sh::kCoeffs; ++j) f[j] = Rgb(c[j]);
+            const Rgb e = sh::irradiance(f, points[i].normal);
+            err[i] = relError(i, e);
+            if (keep) (*keep)[i] = luminance(e);
+        });
+        ErrorStats near;
+        for (std::size_t i = 0; i < points.size(); ++i)
+            if (isNear(i)) near.add(err[i]);
+        return near.rmsValue();
+    };
+    const double floorN = pointFloor(rays, nullptr), floor16 = quick ? 0.0 : pointFloor(16 * rays, &sh16);
+    std::printf("  SH2 projected at the query points themselves (no interpolation), near geometry: RMS %.2f%% at %u "
+                "rays",
+                100 * floorN, rays);
+    if (!quick) std::printf(", %.2f%% at %u rays (SH truncation floor)", 100 * floor16, 16 * rays);
+    std::printf("\n");
+
+    std::printf("  %-22s %7s %7s %9s %3s %7s %9s %9s %9s %10s %9s %9s\n", "layout", "baked", "culled", "dense box", "L",
+                "bake s", "RMS rel", "RMS near", "max near", "near 4xN", "no-noise", "spatial");
+    std::vector<double> rmsNear(configs.size()), rmsClean(configs.size()), rmsSpatial(configs.size());
     for (std::size_t c = 0; c < configs.size(); ++c) {
-        LevelsBakeStats stats;
-        const Volume v = bakeShGatherLevels(scene, tracer, configs[c].layout, options, nullptr, &stats);
-        const IrradianceQuery q(v);
-        ErrorStats all, near;
-        for (std::size_t i = 0; i < points.size(); ++i) {
-            const double e = luminance(q.irradiance(points[i].position, points[i].normal));
-            const double r = luminance(Rgb(ref[i].irradiance));
-            const double rel = std::abs(e - r) / std::max(r, 0.05 * meanRef);
-            all.add(rel);
-            if (nearMask.levelAt(points[i].position) > 0) near.add(rel);
-        }
+        const auto measure = [&](uint32_t n, ErrorStats& all, ErrorStats& near, ErrorStats& spatial, double& seconds) {
+            GatherOptions o = options;
+            o.raysPerNode = n;
+            LevelsBakeStats stats;
+            const Volume v = bakeShGatherLevels(scene, tracer, configs[c].layout, o, nullptr, &stats);
+            seconds = stats.seconds;
+            const IrradianceQuery q(v);
+            for (std::size_t i = 0; i < points.size(); ++i) {
+                const Rgb e = q.irradiance(points[i].position, points[i].normal);
+                const double rel = relError(i, e);
+                all.add(rel);
+                if (!isNear(i)) continue;
+                near.add(rel);
+                const double r = luminance(Rgb(ref[i].irradiance));
+                spatial.add(std::abs(double(luminance(e)) - sh16[i]) / std::max(r, 0.05 * meanRef));
+            }
+        };
+        ErrorStats all, near, spatial, all4, near4, spatial4;
+        double seconds = 0, seconds4 = 0;
+        measure(rays, all, near, spatial, seconds);
+        if (!quick) measure(4 * rays, all4, near4, spatial4, seconds4);
         rmsNear[c] = near.rmsValue();
-        std::printf("  %-18s %9llu %9zu %10.2f %9.2f%% %9.2f%% %11.2f%% %11.2f%%   (%d near points)\n", configs[c].name,
-                    (unsigned long long)stats.nodes, v.levels.size(), stats.seconds, 100 * all.rmsValue(),
-                    100 * all.max, 100 * near.rmsValue(), 100 * near.max, near.count);
+        rmsClean[c] = quick ? 0.0 : noiseFree(near.rmsValue(), near4.rmsValue());
+        rmsSpatial[c] = quick ? 0.0 : noiseFree(spatial.rmsValue(), spatial4.rmsValue());
+        std::printf("  %-22s %7llu %7llu %9.0f %3zu %7.2f %8.2f%% %8.2f%% %8.1f%% %9.2f%% %8.2f%% %8.2f%%\n",
+                    configs[c].name, (unsigned long long)configs[c].layout.totalNodes(),
+                    (unsigned long long)configs[c].layout.culledNodes, configs[c].layout.denseEquivalentNodes(),
+                    configs[c].layout.levels.size(), seconds,
+                    100 * all.rmsValue(), 100 * near.rmsValue(), 100 * near.max, 100 * near4.rmsValue(),
+                    100 * rmsClean[c], 100 * rmsSpatial[c]);
     }
-    std::printf("  near geometry, RMS error vs uniform: bilevel %.2fx, adaptive %.2fx (target <= 0.70x)\n",
-                rmsNear[1] / rmsNear[0], rmsNear[2] / rmsNear[0]);
+    std::printf("  (%d near points: in cells the %llu-node bilevel refines; 'no-noise' extrapolates N and 4N rays; "
+                "'spatial' is the no-noise error against the SH2 projection at the point itself, i.e. interpolation "
+                "only)\n",
+                [&] {
+                    int n = 0;
+                    for (std::size_t i = 0; i < points.size(); ++i) n += isNear(i);
+                    return n;
+                }(),
+                (unsigned long long)target);
+    std::printf("  near geometry, RMS error vs uniform at %u rays:", rays);
+    std::size_t best = 1;
+    for (std::size_t c = 1; c < configs.size(); ++c) {
+        std::printf("%s %s %.2fx", c > 1 ? "," : "", configs[c].name, rmsNear[c] / rmsNear[0]);
+        if (rmsNear[c] < rmsNear[best]) best = c;
+    }
+    std::printf(" (target <= 0.70x)\n");
+    if (!quick) {
+        std::printf("  without Monte Carlo noise:");
+        for (std::size_t c = 1; c < configs.size(); ++c)
+            std::printf("%s %s %.2fx", c > 1 ? "," : "", configs[c].name, rmsClean[c] / rmsClean[0]);
+        std::printf("\n  interpolation error only (spatial):");
+        for (std::size_t c = 1; c < configs.size(); ++c)
+            std::printf("%s %s %.2fx", c > 1 ? "," : "", configs[c].name, rmsSpatial[c] / rmsSpatial[0]);
+        std::printf("\n");
+    }
+    std::printf("  30%% target %s: best %s at %.2fx uniform's RMS near geometry (%llu vs %llu nodes)\n",
+                rmsNear[best] <= 0.70 * rmsNear[0] ? "MET" : "NOT met", configs[best].name, rmsNear[best] / rmsNear[0],
+                (unsigned long long)configs[best].layout.totalNodes(), (unsigned long long)configs[0].layout.totalNodes());
 }
 
 void benchPaperConfig(const Scene& scene, int threads, bool quick) {
@@ -159,9 +290,10 @@ void benchPaperConfig(const Scene& scene, int threads, bool quick) {
     LevelsBakeStats stats;
     const Volume v = bakeShGatherLevels(scene, tracer, layout, options, nullptr, &stats);
     std::printf("paper configuration (7^3 first level, 3^3 refinement, %u directions): %llu nodes (%llu seam), "
-                "bake %.2f s on %d threads (paper: 24 min; target < 1 s)\n",
+                "bake %.2f s on %d threads, %.2f M rays (%.2f M shadow) (paper: 24 min; target < 1 s)\n",
                 options.raysPerNode, (unsigned long long)stats.nodes, (unsigned long long)stats.seamNodes,
-                stats.seconds, int(std::get<int64_t>(v.meta.at("threads"))));
+                stats.seconds, int(std::get<int64_t>(v.meta.at("threads"))), double(stats.rays.total()) / 1e6,
+                double(stats.rays.occluded) / 1e6);
 }
 
 void benchQuery(const Scene& scene, bool quick) {
@@ -195,19 +327,33 @@ void benchQuery(const Scene& scene, bool quick) {
 int main(int argc, char** argv) {
     bool quick = false;
     int threads = 0;
+    std::string only;  // --scene cornell|office: one scene's layout table only
+    LayoutBenchOptions lo;
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--quick")) quick = true;
         else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
+        else if (!std::strcmp(argv[i], "--scene") && i + 1 < argc) only = argv[++i];
+        else if (!std::strcmp(argv[i], "--first-level") && i + 1 < argc) lo.firstLevel = std::atoi(argv[++i]);
+        else if (!std::strcmp(argv[i], "--rays") && i + 1 < argc) lo.rays = uint32_t(std::atoi(argv[++i]));
+        else if (!std::strcmp(argv[i], "--no-decompose")) lo.decompose = false;
         else {
-            std::fprintf(stderr, "usage: vdblight_bench_layouts [--quick] [--threads N]\n");
+            std::fprintf(stderr, "usage: vdblight_bench_layouts [--quick] [--threads N] [--scene cornell|office] "
+                                 "[--first-level R] [--rays N] [--no-decompose]\n");
             return 2;
         }
     }
+    if (!only.empty() && only != "cornell" && only != "office") {
+        std::fprintf(stderr, "vdblight_bench_layouts: --scene must be cornell or office\n");
+        return 2;
+    }
+    std::setvbuf(stdout, nullptr, _IOLBF, 0);  // lines as they come when redirected (long full runs)
     std::printf("vdblight_bench_layouts%s\n", quick ? " (quick smoke run, noisy figures)" : "");
     try {
         const Scene scene = loadScene(defaultScenePath());
-        benchLayouts(scene, threads, quick);
-        benchLayouts(makeOfficeScene(1), threads, quick);  // the paper's kind of scene (office_scene.h)
+        if (only.empty() || only == "cornell") benchLayouts(scene, threads, quick, lo);
+        if (only.empty() || only == "office")
+            benchLayouts(makeOfficeScene(1), threads, quick, lo);  // the paper's kind of scene (office_scene.h)
+        if (!only.empty()) return 0;
         benchPaperConfig(scene, threads, quick);
         benchQuery(scene, quick);
     } catch (const std::exception& e) {

@@ -110,13 +110,6 @@ LevelLayout place(const TestScene& t, LayoutKind kind, int resolution, int level
     return placeLevels(g0, t.scene.positions, t.scene.indices, p, 1);
 }
 
-struct Idx {
-    int i, j, k;
-};
-Idx unpack(const GridSpec& g, uint64_t n) {
-    return {int(n % uint64_t(g.nx)), int(n / uint64_t(g.nx) % uint64_t(g.ny)), int(n / (uint64_t(g.nx) * g.ny))};
-}
-
 bool refined(const VolumeLevel& l, uint64_t cell) {
     return std::binary_search(l.refinedCells.begin(), l.refinedCells.end(), cell);
 }

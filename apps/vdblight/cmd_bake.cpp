@@ -156,7 +156,10 @@ void run(const BakeCommand& c) {
         if (!c.quiet)
             std::cout << "Layout " << c.layout << ": " << volume.levels.size() << " levels refined by " << layout.refine
                       << ", " << layout.totalNodes() << " nodes (" << stats.seamNodes << " seam nodes set from the coarser level) vs "
-                      << layout.denseEquivalentNodes() << " in a dense grid at the finest spacing.\n";
+                      << layout.denseEquivalentNodes() << " in a dense grid at the finest spacing ("
+                      << 100.0 * (1.0 - double(layout.totalNodes()) / layout.denseEquivalentNodes()) << " % saved"
+                      << (c.cullSolids ? ", " + std::to_string(layout.culledNodes) + " of them culled inside solids" : "")
+                      << ").\n";
     }
     if (c.refineDistance > 0) volume.meta["refine_distance"] = c.refineDistance;
     if (c.shWindow) applyShWindow(volume);

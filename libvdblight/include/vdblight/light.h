@@ -86,8 +86,10 @@ public:
     /// The weight is L / pdf *without* MIS weight; the caller applies
     /// misWeight(out.pdf, its own direction pdf).
     /// Returns false if there are no emissive triangles or the sample is occluded/back-facing.
+    /// If `facing` is given (the normal of a receiving surface), a sample with
+    /// dot(*facing, direction) <= 0 is rejected before its shadow ray: it would add 0 there.
     bool sampleEmissiveTriangles(const Vec3f& x, float u, float v, float w, LightSample& out,
-                                 RayCount& rays) const;
+                                 RayCount& rays, const Vec3f* facing = nullptr) const;
 
     /// Appends the exactly evaluated, unoccluded punctual lights at free-space point x.
     /// With `skipSampled`, the point and spot lights are left out when samplesPunctualLights()

@@ -91,7 +91,7 @@ bool RadianceEstimator::samplePunctualLight(const Vec3f& x, double u, LightSampl
 }
 
 bool RadianceEstimator::sampleEmissiveTriangles(const Vec3f& x, float u, float v, float w, LightSample& out,
-                                                RayCount& rays) const {
+                                                RayCount& rays, const Vec3f* facing) const {
     if (emitters_.empty()) return false;
     const std::size_t e = std::min<std::size_t>(
         std::upper_bound(emitterCdf_.begin(), emitterCdf_.end(), w) - emitterCdf_.begin(), emitters_.size() - 1);
@@ -109,6 +109,7 @@ bool RadianceEstimator::sampleEmissiveTriangles(const Vec3f& x, float u, float v
     float cosLight = -dot(unitNormals_[t], wi);  // > 0 when x sees the front face
     if (m.twoSidedEmission) cosLight = std::abs(cosLight);
     if (cosLight <= 0) return false;
+    if (facing && !(dot(*facing, wi) > 0.0f)) return false;  // behind the receiver: no shadow ray needed
     Ray shadow{x, toLight, 0.0f, kShadowEnd};
     ++rays.occluded;
     if (tracer_.occluded(shadow)) return false;
@@ -168,7 +169,8 @@ Rgb RadianceEstimator::directAtSurface(const Vec3f& p, const Vec3f& n, Rng& rng,
     LightSample s;
     if (!emitters_.empty()) {
         const float u = rng.uniform(), v = rng.uniform(), w = rng.uniform();
-        if (sampleEmissiveTriangles(p, u, v, w, s, rays)) {
+        // A light point behind the surface adds exactly 0 (cosine 0): skip its shadow ray.
+        if (sampleEmissiveTriangles(p, u, v, w, s, rays, &n)) {
             const float cosine = std::max(0.0f, dot(n, s.direction));
             // The continuation ray is cosine-distributed: pdf cos / pi.
             e += s.weight * (cosine * misWeight(s.pdf, cosine * float(kInvPi)));
