@@ -74,8 +74,8 @@ void expectAgree(const std::vector<ReferenceResult>& sampled, const std::vector<
 
 TEST(ManyLights, SamplerExpectationIsTheExactSum) {
     // The expectation of one sampled light's weight over u in [0, 1) is the sum over every
-    // light: integrated here by the midpoint rule with 2^20 values of u (each light's
-    // interval of u is as wide as its pmf, so only lights with pmf below 2^-20 -- negligible
+    // light: integrated here by the midpoint rule with 2^19 values of u (each light's
+    // interval of u is as wide as its pmf, so only lights with pmf below 2^-19 -- negligible
     // contributions by construction of the importance -- can be missed; observed 1e-5).
     const Scene s = withManyLights(1000, 14);
     const Tracer tracer(s);
@@ -92,18 +92,23 @@ TEST(ManyLights, SamplerExpectationIsTheExactSum) {
             exact += luminance(l.weight);
             exactFacing += luminance(l.weight) * std::max(0.0f, dot(n, l.direction));
         }
-        const int K = 1 << 20;
-        double sum = 0, sumFacing = 0;
+        const int K = 1 << 19;
+        double sum = 0, sumFacing = 0, sumWithNormal = 0;
         for (int k = 0; k < K; ++k) {
             LightSample l;
-            if (!estimator.samplePunctualLight(p.position, (k + 0.5) / K, l, rays)) continue;
-            sum += luminance(l.weight);
-            sumFacing += luminance(l.weight) * std::max(0.0f, dot(n, l.direction));
+            if (estimator.samplePunctualLight(p.position, (k + 0.5) / K, l, rays)) {
+                sum += luminance(l.weight);
+                sumFacing += luminance(l.weight) * std::max(0.0f, dot(n, l.direction));
+            }
+            // At a surface the oriented tree also weighs lights by the normal (light_tree.h).
+            if (estimator.samplePunctualLight(p.position, (k + 0.5) / K, l, rays, &n))
+                sumWithNormal += luminance(l.weight) * std::max(0.0f, dot(n, l.direction));
         }
-        std::printf("  exact sum %.6f, expectation of the sampler %.6f (facing a normal: %.6f vs %.6f)\n", exact,
-                    sum / K, exactFacing, sumFacing / K);
+        std::printf("  exact sum %.6f, expectation of the sampler %.6f (facing a normal: %.6f vs %.6f, "
+                    "sampled with the normal %.6f)\n", exact, sum / K, exactFacing, sumFacing / K, sumWithNormal / K);
         EXPECT_NEAR(sum / K, exact, 5e-4 * exact);
         EXPECT_NEAR(sumFacing / K, exactFacing, 5e-4 * exact);
+        EXPECT_NEAR(sumWithNormal / K, exactFacing, 5e-4 * exact);
     }
 }
 
