@@ -43,26 +43,52 @@ LightBounds unionBounds(const LightBounds& a, const LightBounds& b) {
 }
 
 double LightTree::importance(const LightBounds& b, const Vec3d& x, const Vec3d* n) {
+    return importance(b, Cone::of(b), x, n);
+}
+
+LightTree::Cone LightTree::Cone::of(const LightBounds& b) {
+    return {std::cos(b.thetaO), std::sin(b.thetaO), std::cos(b.thetaE)};
+}
+
+// The angles are handled through their cosines and sines (no inverse trigonometry): for
+// clamped differences, cos(max(0, a - b)) = 1 if a < b, else cos a cos b + sin a sin b.
+double LightTree::importance(const LightBounds& b, const Cone& cone, const Vec3d& x, const Vec3d* n) {
     if (!(b.power > 0)) return 0;
-    const Vec3d c = b.box.center();
-    const Vec3d d = x - c;  // from the lights to x
+    const Vec3d d = x - b.box.center();  // from the lights to x
     const double d2 = dot(d, d);
     const Vec3d half = b.box.size() * 0.5;
     const double r2 = dot(half, half);
     const double dist2 = std::max(d2, std::max(r2, 1e-30));
     // Half-angle subtended by the bounding sphere (pi from inside it).
-    const double thetaB = d2 > r2 ? std::asin(std::sqrt(r2 / d2)) : kPi;
+    double cosB = -1, sinB = 0;
+    if (d2 > r2) {
+        const double sin2 = r2 / d2;
+        sinB = std::sqrt(sin2);
+        cosB = std::sqrt(1 - sin2);
+    }
     const double len = std::sqrt(d2);
-    double cosW = len > 0 ? dot(b.axis, d) / len : 1.0;
+    double cosW = len > 0 ? std::clamp(dot(b.axis, d) / len, -1.0, 1.0) : 1.0;
     if (b.twoSided) cosW = std::abs(cosW);
-    const double thetaP = std::max(0.0, safeAcos(cosW) - b.thetaO - thetaB);
-    if (thetaP > b.thetaE) return 0;
-    double imp = b.power * std::max(0.0, std::cos(thetaP)) / dist2;
+    const double sinW = std::sqrt(std::max(0.0, 1 - cosW * cosW));
+    // theta_w - theta_o, clamped at 0
+    double cosX = 1, sinX = 0;
+    if (cosW < cone.cosO) {
+        cosX = cosW * cone.cosO + sinW * cone.sinO;
+        sinX = sinW * cone.cosO - cosW * cone.sinO;
+    }
+    // minus theta_b, clamped at 0
+    double cosP = 1;
+    if (cosX < cosB) cosP = cosX * cosB + sinX * sinB;
+    if (cosP < cone.cosE) return 0;
+    double imp = b.power * std::max(0.0, cosP) / dist2;
     if (n && len > 0) {
-        const double thetaI = safeAcos(-dot(*n, d) / len);  // angle between n and the direction to the lights
-        const double t = std::max(0.0, thetaI - thetaB);
-        if (t >= 0.5 * kPi) return 0;
-        imp *= std::cos(t);
+        const double cosI = std::clamp(-dot(*n, d) / len, -1.0, 1.0);  // n against the direction to the lights
+        if (cosI < cosB) {
+            const double sinI = std::sqrt(std::max(0.0, 1 - cosI * cosI));
+            const double c = cosI * cosB + sinI * sinB;
+            if (c <= 0) return 0;
+            imp *= c;
+        }
     }
     return std::isfinite(imp) ? imp : 0.0;
 }
@@ -102,6 +128,7 @@ int32_t LightTree::build(uint32_t begin, uint32_t end, const std::vector<LightBo
         node.right = build(mid, end, lights, centroid);
         node.bounds = unionBounds(nodes_[node.left].bounds, nodes_[node.right].bounds);
     }
+    node.cone = Cone::of(node.bounds);
     nodes_[index] = node;
     return index;
 }
@@ -109,7 +136,7 @@ int32_t LightTree::build(uint32_t begin, uint32_t end, const std::vector<LightBo
 double LightTree::leftProbability(const Node& node, const Vec3d& x, const Vec3d* n) const {
     const Node& l = nodes_[node.left];
     const Node& r = nodes_[node.right];
-    const double il = importance(l.bounds, x, n), ir = importance(r.bounds, x, n);
+    const double il = importance(l.bounds, l.cone, x, n), ir = importance(r.bounds, r.cone, x, n);
     const double byCount = double(l.end - l.begin) / double(node.end - node.begin);
     const double byImportance = il + ir > 0 && std::isfinite(il + ir) ? il / (il + ir) : byCount;
     return (1.0 - kUniformMix) * byImportance + kUniformMix * byCount;

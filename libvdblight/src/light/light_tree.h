@@ -51,8 +51,14 @@ public:
     static double importance(const LightBounds& b, const Vec3d& x, const Vec3d* n);
 
 private:
+    struct Cone {
+        double cosO, sinO, cosE;
+        static Cone of(const LightBounds& b);
+    };
+    static double importance(const LightBounds& b, const Cone& cone, const Vec3d& x, const Vec3d* n);
     struct Node {
         LightBounds bounds;
+        Cone cone{};
         uint32_t begin = 0, end = 0;    ///< range in order_
         int32_t left = -1, right = -1;  ///< children, -1 for a leaf (one light)
     };
