@@ -122,6 +122,7 @@ TEST(ManyLights, ReferenceWithSamplerMatchesExactSumDirect) {
     o.transport.exactLightLimit = 1u << 30;
     const auto exact = referenceIrradiance(s, tracer, pts, o);
     o.transport.exactLightLimit = 16;
+    o.punctualExactAtPoint = false;  // the sampler at the point too (what this test checks)
     o.seed = 2;  // independent of the exact run, so that the z-scores mean what they say
     const auto sampled = referenceIrradiance(s, tracer, pts, o);
     expectAgree(sampled, exact, "300 point + 3 spot lights, direct");
@@ -142,9 +143,37 @@ TEST(ManyLights, ReferenceWithSamplerMatchesExactSumWithBounces) {
     o.transport.exactLightLimit = 1u << 30;
     const auto exact = referenceIrradiance(s, tracer, pts, o);
     o.transport.exactLightLimit = 16;
+    o.punctualExactAtPoint = false;  // the sampler at the point too (what this test checks)
     o.seed = 2;  // independent of the exact run, so that the z-scores mean what they say
     const auto sampled = referenceIrradiance(s, tracer, pts, o);
     expectAgree(sampled, exact, "60 point + 3 spot lights, 3 bounces");
+}
+
+// The default reference with many lights evaluates them exactly at the point (bounce vertices
+// still sample one): it agrees with the exact path and is less noisy than sampling at the point.
+TEST(ManyLights, ReferenceExactAtThePointMatchesTheExactPath) {
+    const Scene s = withManyLights(60, 13);
+    const Tracer tracer(s);
+    const auto pts = testPoints(s, 8);
+    ReferenceOptions o;
+    o.samples = 8192;
+    o.transport.maxBounces = 3;
+    o.transport.exactLightLimit = 1u << 30;
+    const auto exact = referenceIrradiance(s, tracer, pts, o);
+    o.transport.exactLightLimit = 16;
+    o.seed = 2;
+    const auto atPoint = referenceIrradiance(s, tracer, pts, o);
+    expectAgree(atPoint, exact, "60 point + 3 spot lights, 3 bounces, exact at the point");
+    o.punctualExactAtPoint = false;
+    const auto sampled = referenceIrradiance(s, tracer, pts, o);
+    double seAtPoint = 0, seSampled = 0;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+        seAtPoint += luminance(Rgb(atPoint[i].standardError)) / luminance(Rgb(atPoint[i].irradiance));
+        seSampled += luminance(Rgb(sampled[i].standardError)) / luminance(Rgb(sampled[i].irradiance));
+    }
+    std::printf("  mean relative standard error: exact at the point %.4f, sampled at the point %.4f\n",
+                seAtPoint / pts.size(), seSampled / pts.size());
+    EXPECT_LT(seAtPoint, seSampled);
 }
 
 double dcLuminance(const Rgbd c[9]) { return 0.2126 * c[0].x + 0.7152 * c[0].y + 0.0722 * c[0].z; }
