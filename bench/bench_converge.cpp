@@ -14,6 +14,8 @@
 // evaluated exactly at every vertex ("exact"). Printed: seconds, rays, the measured error
 // against a converged estimate, and per light count the rays each sampler needs at equal
 // (target) error against the exact path, and the time growth with the light count.
+// Part 3, many emissive triangles: the same floor under L small emitters, the global power
+// CDF (before) against the oriented light tree (now), rays at equal target error.
 // `--quick` shrinks the workloads for CI.
 #include <algorithm>
 #include <chrono>
@@ -192,6 +194,66 @@ void partManyLights(bool quick) {
         std::printf("        oriented vs tree at equal target error: rays x%.2f\n", raysMode[1] / raysMode[0]);
     }
 }
+
+// Part 3: the same floor lit by L small one-sided emissive triangles facing down (total power
+// fixed) instead of point lights: the global power CDF (before) against the oriented light
+// tree (now), baked to the same target error.
+Scene manyEmittersScene(int count) {
+    Scene s = bench::manyLightsScene(0);
+    Material m;
+    m.name = "small_emitter";
+    const float side = 0.2f;
+    m.emission = Rgb(1, 1, 1) * (2000.0f / float(count) / (0.5f * side * side * float(kPi)));
+    const uint32_t id = addMaterial(s, m);
+    Rng rng(99);
+    for (int l = 0; l < count; ++l) {
+        const Vec3f p(64 * rng.uniform(), 0.5f + 3.5f * rng.uniform(), 64 * rng.uniform());
+        const float r = 0.5f + rng.uniform();
+        (void)r;
+        addTriangle(s, p, p + Vec3f(side, 0, 0), p + Vec3f(0, 0, side), id);  // normal -y: facing the floor
+    }
+    s.name = "many_emitters_" + std::to_string(count);
+    return s;
+}
+
+void partManyEmitters(bool quick) {
+    const uint32_t rays = quick ? 1024 : 4096;
+    std::printf("\n== Many emissive triangles: 64 x 64 floor + 16 blocks, L small emitters facing down, %u rays per node ==\n",
+                rays);
+    std::printf("%-8s %-7s %8s %14s %14s %12s\n", "emitters", "choice", "seconds", "est.err p50", "est.err p95",
+                "meas.err rms");
+    const std::vector<int> counts = quick ? std::vector<int>{1000} : std::vector<int>{100, 1000, 10000};
+    for (int count : counts) {
+        const Scene s = manyEmittersScene(count);
+        const Tracer tracer(s);
+        GridSpec g;
+        g.origin = Vec3d(4, 1.5, 4);
+        g.spacing = quick ? 16 : 8;
+        g.nx = g.nz = quick ? 4 : 8;
+        g.ny = 1;
+        TransportOptions t;
+        t.maxBounces = 2;
+        const std::vector<double> truth = convergedEbar(s, tracer, g, quick ? 8192 : 65536, t);
+        double err[2] = {0, 0}, secs[2] = {0, 0};
+        for (int mode : {0, 1}) {  // 0: global power CDF (before), 1: oriented tree (now)
+            AdaptiveOptions o;  // fixed budget: every node takes `rays`; its estimated error is measured
+            o.targetError = 1e-9;
+            o.minRays = o.maxRays = rays;
+            o.transport = t;
+            o.transport.orientedLightTree = mode == 1;
+            AdaptiveStats st;
+            const Volume v = bakeShGatherAdaptive(s, tracer, g, o, nullptr, &st);
+            const Measured m = measure(v, truth);
+            err[mode] = st.errorQuantile(0.5);
+            secs[mode] = st.seconds;
+            std::printf("%-8d %-7s %8.3f %14.4f %14.4f %12.4f\n", count, mode ? "tree" : "cdf", st.seconds,
+                        st.errorQuantile(0.5), st.errorQuantile(0.95), m.rms);
+        }
+        const double rayRatio = (err[1] / err[0]) * (err[1] / err[0]);
+        std::printf("        tree vs CDF: rays at equal (median estimated) error x%.2f, time at equal error x%.2f\n",
+                    rayRatio, rayRatio * secs[1] / secs[0]);
+    }
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -199,5 +261,6 @@ int main(int argc, char** argv) {
     std::printf("vdblight_bench_converge%s\n", quick ? " --quick (small workloads, noisy figures)" : "");
     partAdaptive(quick);
     partManyLights(quick);
+    partManyEmitters(quick);
     return 0;
 }
