@@ -36,7 +36,7 @@ struct LightBounds {
 
 class LightTree {
 public:
-    static constexpr double kUniformMix = 0.05;
+    static constexpr double kUniformMix = 0.01;
 
     LightTree() = default;
     explicit LightTree(const std::vector<LightBounds>& lights);
