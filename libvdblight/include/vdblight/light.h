@@ -49,8 +49,9 @@ struct TransportOptions {
     /// lights (power / distance only) and the global power CDF for emissive triangles (kept
     /// for the before/after comparison in vdblight_bench_converge).
     bool orientedLightTree = true;
-    /// Scenes with more emissive triangles than this choose the one to sample with the light
-    /// tree at each point; fewer use the global power CDF (position-independent).
+    /// Scenes with more emissive triangles than this, spread over a box at least 8 times their
+    /// mean size, choose the one to sample with the light tree at each point; others use the
+    /// global power CDF (position-independent; better for one compact tessellated emitter).
     uint32_t emitterTreeMin = 16;
 };
 

@@ -13,6 +13,8 @@ namespace vdblight {
 namespace {
 // Shadow rays stop just short of the light so that the emitter itself does not occlude.
 constexpr float kShadowEnd = 1.0f - 1e-4f;
+// The emitter tree is used when the emitters' common box is this many times their mean size.
+constexpr double kEmitterSpread = 8.0;
 
 float spotFalloff(const SpotLight& s, const Vec3f& fromLight) {
     // glTF KHR_lights_punctual: smooth (squared linear) ramp between the cone cosines.
@@ -66,8 +68,21 @@ RadianceEstimator::RadianceEstimator(const Scene& scene, const Tracer& tracer, T
         emitterPmf_.push_back(float(power[e] / total));
     }
     if (!emitterCdf_.empty()) emitterCdf_.back() = 1.0f;
-    if (options_.orientedLightTree && emitters_.size() > options_.emitterTreeMin)
-        emitterTree_ = std::make_shared<const LightTree>(emitterBounds);
+    if (options_.orientedLightTree && emitters_.size() > options_.emitterTreeMin) {
+        // Only for emitters spread out relative to their size: one compact tessellated emitter
+        // (a disk fan, a panel) is better served by the power CDF, whose stratified choice
+        // keeps the triangles' nearly equal contributions balanced (measured on a 512-triangle
+        // disk: 2 % error in the SH x-term with the tree at 2^15 rays, within 1 % with the CDF).
+        Bounds all;
+        double meanDiag = 0;
+        for (const LightBounds& lb : emitterBounds) {
+            all.extend(lb.box.lo);
+            all.extend(lb.box.hi);
+            meanDiag += length(lb.box.size()) / double(emitterBounds.size());
+        }
+        if (length(all.size()) > kEmitterSpread * meanDiag)
+            emitterTree_ = std::make_shared<const LightTree>(emitterBounds);
+    }
     if (scene.pointLights.size() + scene.spotLights.size() > options_.exactLightLimit) {
         if (!options_.orientedLightTree) {
             punctualSampler_ = std::make_shared<const PunctualLightSampler>(scene);
