@@ -161,6 +161,15 @@ TEST(Stress, TranslatedFarFromTheOrigin) {
         EXPECT_EQ(q.inside(world[i]), qBase.inside(pts[i].position));
         EXPECT_NEAR(luminance(w), luminance(e), 1e-4 * (std::abs(luminance(e)) + 1e-3)) << "point " << i;
     }
+    // The outside policy works in world coordinates and names the world point.
+    const IrradianceQuery strict(back, OutsidePolicy::Throw);
+    EXPECT_NO_THROW(strict.irradianceWorld(back.levels[0].grid.nodeBounds().center(), Vec3f(0, 1, 0)));
+    try {
+        strict.irradianceWorld(offset - Vec3d(5, 5, 5), Vec3f(0, 1, 0));
+        ADD_FAILURE() << "no exception outside the volume";
+    } catch (const ValueError& e) {
+        EXPECT_NE(std::string(e.what()).find("99995"), std::string::npos) << e.what();
+    }
     // Exported textures sample the far volume at its world lattice: the same texels as the
     // untranslated volume's, the lattice moved by the offset.
     ExportOptions eo;
