@@ -6,11 +6,16 @@
 // estimated error distribution, and the error of each node's mean irradiance (SH DC) against
 // a converged estimate (independent seed, 16x the rays) -- measured, not estimated.
 //
-// Part 2, many lights (light/punctual_sampler.h): a 64 x 64 floor with blocks and L point
+// Part 2, many lights (light/light_tree.h): a 64 x 64 floor with blocks and L point
 // lights scattered over it (total intensity fixed), L = 100 ... 10000. Each light count is
-// baked to the same target error (error-targeted bake) with the light sampler and, where it
-// is affordable, with every light evaluated exactly at every vertex (the old path). Printed:
-// seconds, rays, and the measured error against a converged estimate.
+// baked to the same target error (error-targeted bake) with the oriented light tree
+// ("oriented", the default), with the earlier power/distance tree ("tree", before:
+// TransportOptions::orientedLightTree = false) and, where it is affordable, with every light
+// evaluated exactly at every vertex ("exact"). Printed: seconds, rays, the measured error
+// against a converged estimate, and per light count the rays each sampler needs at equal
+// (target) error against the exact path, and the time growth with the light count.
+// Part 3, many emissive triangles: the same floor under L small emitters, the global power
+// CDF (before) against the oriented light tree (now), rays at equal target error.
 // `--quick` shrinks the workloads for CI.
 #include <algorithm>
 #include <chrono>
@@ -141,7 +146,7 @@ void partManyLights(bool quick) {
     std::printf("%-7s %-9s %8s %10s %12s %12s %12s\n", "lights", "lights", "seconds", "rays/node", "shadow rays",
                 "meas.err p95", "meas.err max");
     const std::vector<int> counts = quick ? std::vector<int>{100, 1000} : std::vector<int>{100, 300, 1000, 3000, 10000};
-    double firstSampled = 0, firstExact = 0;
+    double firstSampled[2] = {0, 0}, firstExact = 0;
     for (int lights : counts) {
         const Scene s = bench::manyLightsScene(lights);
         const Tracer tracer(s);
@@ -153,7 +158,10 @@ void partManyLights(bool quick) {
         TransportOptions t;
         t.maxBounces = 2;
         const std::vector<double> truth = convergedEbar(s, tracer, g, quick ? 8192 : 65536, t);
-        for (bool exact : {false, true}) {
+        double raysExact = 0, raysMode[2] = {0, 0};
+        for (int mode : {0, 1, 2}) {  // 0: tree (before), 1: oriented (now), 2: exact
+            const bool exact = mode == 2;
+            const char* name = mode == 0 ? "tree" : (mode == 1 ? "oriented" : "exact");
             if (exact && lights > (quick ? 100 : 1000)) {
                 std::printf("%-7d %-9s %8s  (skipped: every light at every vertex)\n", lights, "exact", "-");
                 continue;
@@ -163,6 +171,7 @@ void partManyLights(bool quick) {
             o.maxRays = 16384;
             o.transport = t;
             o.transport.exactLightLimit = exact ? (1u << 30) : 16;
+            o.transport.orientedLightTree = mode != 0;
             AdaptiveStats st;
             const Volume v = bakeShGatherAdaptive(s, tracer, g, o, nullptr, &st);
             const Measured m = measure(v, truth);
@@ -170,14 +179,79 @@ void partManyLights(bool quick) {
                 for (std::size_t n = 0; n < truth.size(); ++n)
                     std::printf("   node %zu truth %.5f baked %.5f est %.4f rays %u\n", n, truth[n],
                                 ebarOf(v.levels[0].data.data() + n * 27), st.estimatedError[n], st.raysPerNode[n]);
-            std::printf("%-7d %-9s %8.3f %10.0f %12llu %12.4f %12.4f\n", lights, exact ? "exact" : "sampled", st.seconds,
+            std::printf("%-7d %-9s %8.3f %10.0f %12llu %12.4f %12.4f\n", lights, name, st.seconds,
                         double(st.samples) / g.nodeCount(), (unsigned long long)st.rays.occluded, m.p95, m.max);
-            double& first = exact ? firstExact : firstSampled;
+            if (exact) raysExact = double(st.samples);
+            else raysMode[mode] = double(st.samples);
+            double& first = mode == 2 ? firstExact : firstSampled[mode];
             if (first == 0) first = st.seconds;
             else
-                std::printf("        %s: light count x%.0f, time x%.2f\n", exact ? "exact" : "sampled",
-                            double(lights) / counts[0], st.seconds / first);
+                std::printf("        %s: light count x%.0f, time x%.2f\n", name, double(lights) / counts[0], st.seconds / first);
         }
+        if (raysExact > 0)
+            std::printf("        rays per node at equal target error vs the exact path: tree (before) x%.2f, oriented (now) x%.2f\n",
+                        raysMode[0] / raysExact, raysMode[1] / raysExact);
+        std::printf("        oriented vs tree at equal target error: rays x%.2f\n", raysMode[1] / raysMode[0]);
+    }
+}
+
+// Part 3: the same floor lit by L small one-sided emissive triangles facing down (total power
+// fixed) instead of point lights: the global power CDF (before) against the oriented light
+// tree (now), baked to the same target error.
+Scene manyEmittersScene(int count) {
+    Scene s = bench::manyLightsScene(0);
+    Material m;
+    m.name = "small_emitter";
+    const float side = 0.2f;
+    m.emission = Rgb(1, 1, 1) * (2000.0f / float(count) / (0.5f * side * side * float(kPi)));
+    const uint32_t id = addMaterial(s, m);
+    Rng rng(99);
+    for (int l = 0; l < count; ++l) {
+        const Vec3f p(64 * rng.uniform(), 0.5f + 3.5f * rng.uniform(), 64 * rng.uniform());
+        const float r = 0.5f + rng.uniform();
+        (void)r;
+        addTriangle(s, p, p + Vec3f(side, 0, 0), p + Vec3f(0, 0, side), id);  // normal -y: facing the floor
+    }
+    s.name = "many_emitters_" + std::to_string(count);
+    return s;
+}
+
+void partManyEmitters(bool quick) {
+    const uint32_t rays = quick ? 1024 : 4096;
+    std::printf("\n== Many emissive triangles: 64 x 64 floor + 16 blocks, L small emitters facing down, %u rays per node ==\n",
+                rays);
+    std::printf("%-8s %-7s %8s %14s %14s %12s\n", "emitters", "choice", "seconds", "est.err p50", "est.err p95",
+                "meas.err rms");
+    const std::vector<int> counts = quick ? std::vector<int>{1000} : std::vector<int>{100, 1000, 10000};
+    for (int count : counts) {
+        const Scene s = manyEmittersScene(count);
+        const Tracer tracer(s);
+        GridSpec g;
+        g.origin = Vec3d(4, 1.5, 4);
+        g.spacing = quick ? 16 : 8;
+        g.nx = g.nz = quick ? 4 : 8;
+        g.ny = 1;
+        TransportOptions t;
+        t.maxBounces = 2;
+        const std::vector<double> truth = convergedEbar(s, tracer, g, quick ? 8192 : 65536, t);
+        double err[2] = {0, 0}, secs[2] = {0, 0};
+        for (int mode : {0, 1}) {  // 0: global power CDF (before), 1: oriented tree (now)
+            AdaptiveOptions o;  // fixed budget: every node takes `rays`; its estimated error is measured
+            o.targetError = 1e-9;
+            o.minRays = o.maxRays = rays;
+            o.transport = t;
+            o.transport.orientedLightTree = mode == 1;
+            AdaptiveStats st;
+            const Volume v = bakeShGatherAdaptive(s, tracer, g, o, nullptr, &st);
+            const Measured m = measure(v, truth);
+            err[mode] = st.errorQuantile(0.5);
+            secs[mode] = st.seconds;
+            std::printf("%-8d %-7s %8.3f %14.4f %14.4f %12.4f\n", count, mode ? "tree" : "cdf", st.seconds,
+                        st.errorQuantile(0.5), st.errorQuantile(0.95), m.rms);
+        }
+        const double rayRatio = (err[1] / err[0]) * (err[1] / err[0]);
+        std::printf("        tree vs CDF: rays at equal (median estimated) error x%.2f, time at equal error x%.2f\n",
+                    rayRatio, rayRatio * secs[1] / secs[0]);
     }
 }
 }  // namespace
@@ -187,5 +261,6 @@ int main(int argc, char** argv) {
     std::printf("vdblight_bench_converge%s\n", quick ? " --quick (small workloads, noisy figures)" : "");
     partAdaptive(quick);
     partManyLights(quick);
+    partManyEmitters(quick);
     return 0;
 }

@@ -74,8 +74,8 @@ void expectAgree(const std::vector<ReferenceResult>& sampled, const std::vector<
 
 TEST(ManyLights, SamplerExpectationIsTheExactSum) {
     // The expectation of one sampled light's weight over u in [0, 1) is the sum over every
-    // light: integrated here by the midpoint rule with 2^20 values of u (each light's
-    // interval of u is as wide as its pmf, so only lights with pmf below 2^-20 -- negligible
+    // light: integrated here by the midpoint rule with 2^19 values of u (each light's
+    // interval of u is as wide as its pmf, so only lights with pmf below 2^-19 -- negligible
     // contributions by construction of the importance -- can be missed; observed 1e-5).
     const Scene s = withManyLights(1000, 14);
     const Tracer tracer(s);
@@ -92,18 +92,23 @@ TEST(ManyLights, SamplerExpectationIsTheExactSum) {
             exact += luminance(l.weight);
             exactFacing += luminance(l.weight) * std::max(0.0f, dot(n, l.direction));
         }
-        const int K = 1 << 20;
-        double sum = 0, sumFacing = 0;
+        const int K = 1 << 19;
+        double sum = 0, sumFacing = 0, sumWithNormal = 0;
         for (int k = 0; k < K; ++k) {
             LightSample l;
-            if (!estimator.samplePunctualLight(p.position, (k + 0.5) / K, l, rays)) continue;
-            sum += luminance(l.weight);
-            sumFacing += luminance(l.weight) * std::max(0.0f, dot(n, l.direction));
+            if (estimator.samplePunctualLight(p.position, (k + 0.5) / K, l, rays)) {
+                sum += luminance(l.weight);
+                sumFacing += luminance(l.weight) * std::max(0.0f, dot(n, l.direction));
+            }
+            // At a surface the oriented tree also weighs lights by the normal (light_tree.h).
+            if (estimator.samplePunctualLight(p.position, (k + 0.5) / K, l, rays, &n))
+                sumWithNormal += luminance(l.weight) * std::max(0.0f, dot(n, l.direction));
         }
-        std::printf("  exact sum %.6f, expectation of the sampler %.6f (facing a normal: %.6f vs %.6f)\n", exact,
-                    sum / K, exactFacing, sumFacing / K);
+        std::printf("  exact sum %.6f, expectation of the sampler %.6f (facing a normal: %.6f vs %.6f, "
+                    "sampled with the normal %.6f)\n", exact, sum / K, exactFacing, sumFacing / K, sumWithNormal / K);
         EXPECT_NEAR(sum / K, exact, 5e-4 * exact);
         EXPECT_NEAR(sumFacing / K, exactFacing, 5e-4 * exact);
+        EXPECT_NEAR(sumWithNormal / K, exactFacing, 5e-4 * exact);
     }
 }
 
@@ -117,6 +122,7 @@ TEST(ManyLights, ReferenceWithSamplerMatchesExactSumDirect) {
     o.transport.exactLightLimit = 1u << 30;
     const auto exact = referenceIrradiance(s, tracer, pts, o);
     o.transport.exactLightLimit = 16;
+    o.punctualExactAtPoint = false;  // the sampler at the point too (what this test checks)
     o.seed = 2;  // independent of the exact run, so that the z-scores mean what they say
     const auto sampled = referenceIrradiance(s, tracer, pts, o);
     expectAgree(sampled, exact, "300 point + 3 spot lights, direct");
@@ -137,9 +143,37 @@ TEST(ManyLights, ReferenceWithSamplerMatchesExactSumWithBounces) {
     o.transport.exactLightLimit = 1u << 30;
     const auto exact = referenceIrradiance(s, tracer, pts, o);
     o.transport.exactLightLimit = 16;
+    o.punctualExactAtPoint = false;  // the sampler at the point too (what this test checks)
     o.seed = 2;  // independent of the exact run, so that the z-scores mean what they say
     const auto sampled = referenceIrradiance(s, tracer, pts, o);
     expectAgree(sampled, exact, "60 point + 3 spot lights, 3 bounces");
+}
+
+// The default reference with many lights evaluates them exactly at the point (bounce vertices
+// still sample one): it agrees with the exact path and is less noisy than sampling at the point.
+TEST(ManyLights, ReferenceExactAtThePointMatchesTheExactPath) {
+    const Scene s = withManyLights(60, 13);
+    const Tracer tracer(s);
+    const auto pts = testPoints(s, 8);
+    ReferenceOptions o;
+    o.samples = 8192;
+    o.transport.maxBounces = 3;
+    o.transport.exactLightLimit = 1u << 30;
+    const auto exact = referenceIrradiance(s, tracer, pts, o);
+    o.transport.exactLightLimit = 16;
+    o.seed = 2;
+    const auto atPoint = referenceIrradiance(s, tracer, pts, o);
+    expectAgree(atPoint, exact, "60 point + 3 spot lights, 3 bounces, exact at the point");
+    o.punctualExactAtPoint = false;
+    const auto sampled = referenceIrradiance(s, tracer, pts, o);
+    double seAtPoint = 0, seSampled = 0;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+        seAtPoint += luminance(Rgb(atPoint[i].standardError)) / luminance(Rgb(atPoint[i].irradiance));
+        seSampled += luminance(Rgb(sampled[i].standardError)) / luminance(Rgb(sampled[i].irradiance));
+    }
+    std::printf("  mean relative standard error: exact at the point %.4f, sampled at the point %.4f\n",
+                seAtPoint / pts.size(), seSampled / pts.size());
+    EXPECT_LT(seAtPoint, seSampled);
 }
 
 double dcLuminance(const Rgbd c[9]) { return 0.2126 * c[0].x + 0.7152 * c[0].y + 0.0722 * c[0].z; }

@@ -4,11 +4,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include "test_util.h"
 #include "vdblight/bake.h"
 #include "vdblight/errors.h"
+#include "vdblight/export.h"
 #include "vdblight/reference.h"
 #include "vdblight/scene.h"
 #include "vdblight/scene_origin.h"
@@ -157,6 +161,35 @@ TEST(Stress, TranslatedFarFromTheOrigin) {
         EXPECT_EQ(q.inside(world[i]), qBase.inside(pts[i].position));
         EXPECT_NEAR(luminance(w), luminance(e), 1e-4 * (std::abs(luminance(e)) + 1e-3)) << "point " << i;
     }
+    // The outside policy works in world coordinates and names the world point.
+    const IrradianceQuery strict(back, OutsidePolicy::Throw);
+    EXPECT_NO_THROW(strict.irradianceWorld(back.levels[0].grid.nodeBounds().center(), Vec3f(0, 1, 0)));
+    try {
+        strict.irradianceWorld(offset - Vec3d(5, 5, 5), Vec3f(0, 1, 0));
+        ADD_FAILURE() << "no exception outside the volume";
+    } catch (const ValueError& e) {
+        EXPECT_NE(std::string(e.what()).find("99995"), std::string::npos) << e.what();
+    }
+    // Exported textures sample the far volume at its world lattice: the same texels as the
+    // untranslated volume's, the lattice moved by the offset.
+    ExportOptions eo;
+    eo.format = TextureFormat::Raw;
+    eo.halfFloat = false;
+    const ExportSummary far = exportTextures(back, dir.file("far_tex"), eo);
+    const ExportSummary nearS = exportTextures(vBase, dir.file("near_tex"), eo);
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(far.lattice.lo[a], nearS.lattice.lo[a] + offset[a], 1e-9);
+    ASSERT_EQ(far.files.size(), nearS.files.size());
+    std::ifstream f0(far.files[0], std::ios::binary), f1(nearS.files[0], std::ios::binary);
+    const std::string t0((std::istreambuf_iterator<char>(f0)), {}), t1((std::istreambuf_iterator<char>(f1)), {});
+    ASSERT_EQ(t0.size(), t1.size());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i + 4 <= t0.size(); i += 4) {
+        float x0, x1;
+        std::memcpy(&x0, t0.data() + i, 4);
+        std::memcpy(&x1, t1.data() + i, 4);
+        if (std::abs(x0 - x1) > 1e-4f * (std::abs(x1) + 1e-3f)) ++differ;
+    }
+    EXPECT_EQ(differ, 0u) << "of " << t0.size() / 4 << " floats in " << far.files[0];
 }
 
 // Loading recentres a scene far from the origin: the geometry is rewritten relative to a

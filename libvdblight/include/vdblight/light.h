@@ -29,6 +29,7 @@ struct Scene;
 class Tracer;
 struct Hit;
 class PunctualLightSampler;
+class LightTree;
 
 struct TransportOptions {
     /// Maximum number of diffuse reflections on a path from a light to the receiver:
@@ -41,6 +42,17 @@ struct TransportOptions {
     /// the power- and distance-aware sampler of light/punctual_sampler.h (unbiased; cost per
     /// vertex independent of the light count). Directional lights are always exact.
     uint32_t exactLightLimit = 16;
+    /// Light selection among many (light/light_tree.h): true = a tree with orientation cones
+    /// whose importance accounts for distance, power, emission direction and, at surface
+    /// vertices, the receiver's normal, used for point/spot lights above exactLightLimit and
+    /// for emissive triangles above emitterTreeMin; false = the earlier tree for point/spot
+    /// lights (power / distance only) and the global power CDF for emissive triangles (kept
+    /// for the before/after comparison in vdblight_bench_converge).
+    bool orientedLightTree = true;
+    /// Scenes with more emissive triangles than this, spread over a box at least 8 times their
+    /// mean size, choose the one to sample with the light tree at each point; others use the
+    /// global power CDF (position-independent; better for one compact tessellated emitter).
+    uint32_t emitterTreeMin = 16;
 };
 
 /// Counts rays per calling context; summed deterministically by the caller.
@@ -86,9 +98,10 @@ public:
     /// The weight is L / pdf *without* MIS weight; the caller applies
     /// misWeight(out.pdf, its own direction pdf).
     /// Returns false if there are no emissive triangles or the sample is occluded/back-facing.
+    /// `w` is a double so that a tree over thousands of triangles can use 53 bits of it.
     /// If `facing` is given (the normal of a receiving surface), a sample with
     /// dot(*facing, direction) <= 0 is rejected before its shadow ray: it would add 0 there.
-    bool sampleEmissiveTriangles(const Vec3f& x, float u, float v, float w, LightSample& out,
+    bool sampleEmissiveTriangles(const Vec3f& x, float u, float v, double w, LightSample& out,
                                  RayCount& rays, const Vec3f* facing = nullptr) const;
 
     /// Appends the exactly evaluated, unoccluded punctual lights at free-space point x.
@@ -98,17 +111,23 @@ public:
                         bool skipSampled = false) const;
 
     /// True when the scene has more point + spot lights than options().exactLightLimit.
-    bool samplesPunctualLights() const { return bool(punctualSampler_); }
+    bool samplesPunctualLights() const { return bool(punctualSampler_) || bool(punctualTree_); }
     /// Number of point + spot lights in the scene.
     std::size_t pointAndSpotLightCount() const;
     /// One sample of the point and spot lights at x with u in [0, 1): one light chosen by
     /// the many-light sampler, weight = its irradiance at normal incidence / pmf (pdf = 0:
     /// a delta). False if the chosen light is occluded, dark or behind its spot cone.
-    bool samplePunctualLight(const Vec3f& x, double u, LightSample& out, RayCount& rays) const;
+    /// At a surface, `normal` (unit, the side that receives) lets the oriented tree skip lights
+    /// behind it; in free space pass nullptr.
+    bool samplePunctualLight(const Vec3f& x, double u, LightSample& out, RayCount& rays,
+                             const Vec3f* normal = nullptr) const;
 
     /// Solid-angle pdf with which sampleEmissiveTriangles picks the point at distance t
-    /// along unit direction dir from x on triangle `tri` (0 if it is not an emitter).
-    float emitterPdf(uint32_t tri, float t, const Vec3f& dir) const;
+    /// along unit direction dir from x on triangle `tri` (0 if it is not an emitter). With an
+    /// emitter tree the choice depends on x: pass it (nullptr only without a tree).
+    float emitterPdf(uint32_t tri, float t, const Vec3f& dir, const Vec3f* x = nullptr) const;
+    /// True when emissive triangles are chosen by the light tree (emitterTreeMin).
+    bool usesEmitterTree() const { return bool(emitterTree_); }
     /// Emitted radiance of triangle `tri` towards -dir (0 from a one-sided emitter's back).
     Rgb emittedRadiance(uint32_t tri, const Vec3f& dir) const;
 
@@ -127,7 +146,11 @@ private:
     std::vector<float> emitterArea_;
     std::vector<Vec3f> unitNormals_;   ///< per triangle, front-face orientation
     std::vector<int32_t> emitterOf_;   ///< per triangle, index into emitters_ or -1
-    std::shared_ptr<const PunctualLightSampler> punctualSampler_;  ///< null: lights exact
+    std::shared_ptr<const PunctualLightSampler> punctualSampler_;  ///< !orientedLightTree
+    std::shared_ptr<const LightTree> punctualTree_;   ///< orientedLightTree; both null: lights exact
+    std::shared_ptr<const LightTree> emitterTree_;    ///< null: the global power CDF
+    /// Probability of choosing emitter e at x (tree or CDF).
+    double emitterChoicePmf(std::size_t e, const Vec3f& x) const;
 };
 
 }  // namespace vdblight

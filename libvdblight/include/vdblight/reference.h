@@ -3,9 +3,10 @@
 //
 //   E(x, n) = integral over the hemisphere of n of L(w) cos(w, n) dw
 // Reflected light and sky by cosine-weighted stratified directions, emissive triangles by
-// NEE with the cosine weight, punctual lights exactly (or, above
-// TransportOptions::exactLightLimit point/spot lights, one sampled per sample: light.h). The
-// standard error comes from the sample variance of the per-sample estimates.
+// NEE with the cosine weight, punctual lights exactly at the point (above
+// TransportOptions::exactLightLimit point/spot lights still exactly at the point when there are
+// at most `samples` of them, else one sampled per sample; bounce vertices then sample one:
+// light.h). The standard error comes from the sample variance of the per-sample estimates.
 #pragma once
 
 #include <cstdint>
@@ -35,6 +36,10 @@ struct ReferenceOptions {
     uint64_t seed = 1;
     int threads = 0;
     TransportOptions transport;
+    /// With more point/spot lights than transport.exactLightLimit but at most `samples` of
+    /// them, evaluate every one exactly at the point (no variance from the light choice there);
+    /// false: sample one per sample at the point as well (tests of the sampler use this).
+    bool punctualExactAtPoint = true;
 };
 
 /// Throws ValueError for a zero normal; Cancelled if interrupted.

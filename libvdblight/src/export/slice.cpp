@@ -92,7 +92,7 @@ SliceImage sliceVolume(const Volume& volume, const SliceOptions& o) {
     tbb::parallel_for(tbb::blocked_range<int>(0, img.height), [&](const tbb::blocked_range<int>& rows) {
         for (int r = rows.begin(); r < rows.end(); ++r)
             for (int c = 0; c < img.width; ++c) {
-                const Rgb e = query.irradiance(Vec3f(img.pixelCentre(c, r, o.axis, o.at)), unit);
+                const Rgb e = query.irradianceWorld(img.pixelCentre(c, r, o.axis, o.at), unit);
                 float* px = img.rgb.data() + (std::size_t(r) * img.width + c) * 3;
                 px[0] = e.x;
                 px[1] = e.y;

@@ -53,13 +53,13 @@ TextureLattice exportPreviewVdb(const Volume& volume, const std::string& path, i
         for (int k = r.begin(); k < r.end(); ++k)
             for (int j = 0; j < ny; ++j)
                 for (int i = 0; i < nx; ++i) {
-                    const Vec3f x(l.point(i, j, k));
+                    const Vec3d x = l.point(i, j, k);  // double: volumes far from the origin
                     Rgb* v = values.data() + ((std::size_t(k) * ny + j) * nx + i) * 7;
                     Rgb sum(0, 0, 0);
                     for (int d = 0; d < 6; ++d) {
                         Vec3f n(0, 0, 0);
                         n[d / 2] = d % 2 ? -1.0f : 1.0f;
-                        v[1 + d] = query.irradiance(x, n);
+                        v[1 + d] = query.irradianceWorld(x, n);
                         sum += v[1 + d];
                     }
                     v[0] = sum * (1.0f / 6.0f);

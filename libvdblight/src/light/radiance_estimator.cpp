@@ -2,7 +2,9 @@
 
 #include <algorithm>
 
+#include "light_tree.h"
 #include "punctual_sampler.h"
+#include "vdblight/errors.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
 
@@ -11,6 +13,8 @@ namespace vdblight {
 namespace {
 // Shadow rays stop just short of the light so that the emitter itself does not occlude.
 constexpr float kShadowEnd = 1.0f - 1e-4f;
+// The emitter tree is used when the emitters' common box is this many times their mean size.
+constexpr double kEmitterSpread = 8.0;
 
 float spotFalloff(const SpotLight& s, const Vec3f& fromLight) {
     // glTF KHR_lights_punctual: smooth (squared linear) ramp between the cone cosines.
@@ -30,6 +34,7 @@ RadianceEstimator::RadianceEstimator(const Scene& scene, const Tracer& tracer, T
     emitterOf_.assign(n, -1);
     double total = 0.0;
     std::vector<double> power;
+    std::vector<LightBounds> emitterBounds;
     for (std::size_t t = 0; t < n; ++t) {
         const Vec3f a = scene.vertex(t, 0), b = scene.vertex(t, 1), c = scene.vertex(t, 2);
         const Vec3f ng = cross(b - a, c - a);
@@ -45,6 +50,16 @@ RadianceEstimator::RadianceEstimator(const Scene& scene, const Tracer& tracer, T
         emitterArea_.push_back(area);
         power.push_back(p);
         total += p;
+        LightBounds lb;  // around the front normal; two-sided emitters on both sides
+        lb.box.extend(Vec3d(a));
+        lb.box.extend(Vec3d(b));
+        lb.box.extend(Vec3d(c));
+        lb.power = p;
+        lb.axis = Vec3d(unitNormals_[t]);
+        lb.thetaO = 0.0;
+        lb.thetaE = 0.5 * kPi;
+        lb.twoSided = m.twoSidedEmission;
+        emitterBounds.push_back(lb);
     }
     double running = 0.0;
     for (std::size_t e = 0; e < emitters_.size(); ++e) {
@@ -53,18 +68,67 @@ RadianceEstimator::RadianceEstimator(const Scene& scene, const Tracer& tracer, T
         emitterPmf_.push_back(float(power[e] / total));
     }
     if (!emitterCdf_.empty()) emitterCdf_.back() = 1.0f;
-    if (scene.pointLights.size() + scene.spotLights.size() > options_.exactLightLimit)
-        punctualSampler_ = std::make_shared<const PunctualLightSampler>(scene);
+    if (options_.orientedLightTree && emitters_.size() > options_.emitterTreeMin) {
+        // Only for emitters spread out relative to their size: one compact tessellated emitter
+        // (a disk fan, a panel) is better served by the power CDF, whose stratified choice
+        // keeps the triangles' nearly equal contributions balanced (measured on a 512-triangle
+        // disk: 2 % error in the SH x-term with the tree at 2^15 rays, within 1 % with the CDF).
+        Bounds all;
+        double meanDiag = 0;
+        for (const LightBounds& lb : emitterBounds) {
+            all.extend(lb.box.lo);
+            all.extend(lb.box.hi);
+            meanDiag += length(lb.box.size()) / double(emitterBounds.size());
+        }
+        if (length(all.size()) > kEmitterSpread * meanDiag)
+            emitterTree_ = std::make_shared<const LightTree>(emitterBounds);
+    }
+    if (scene.pointLights.size() + scene.spotLights.size() > options_.exactLightLimit) {
+        if (!options_.orientedLightTree) {
+            punctualSampler_ = std::make_shared<const PunctualLightSampler>(scene);
+        } else {
+            std::vector<LightBounds> lights;
+            for (const PointLight& l : scene.pointLights) {
+                LightBounds lb;  // emits everywhere
+                lb.box.extend(Vec3d(l.position));
+                lb.power = std::max(0.0f, luminance(l.intensity));
+                lb.thetaO = kPi;
+                lights.push_back(lb);
+            }
+            for (const SpotLight& s : scene.spotLights) {
+                LightBounds lb;  // emits inside its outer cone only
+                lb.box.extend(Vec3d(s.position));
+                lb.power = std::max(0.0f, luminance(s.intensity));
+                const float len = length(s.direction);
+                lb.axis = len > 0 ? Vec3d(s.direction / len) : Vec3d(0, 0, -1);
+                lb.thetaO = std::min(double(std::max(s.outerConeAngle, 0.0f)), kPi);
+                lb.thetaE = 0.0;
+                lights.push_back(lb);
+            }
+            punctualTree_ = std::make_shared<const LightTree>(lights);
+        }
+    }
+}
+
+double RadianceEstimator::emitterChoicePmf(std::size_t e, const Vec3f& x) const {
+    return emitterTree_ ? emitterTree_->pmf(Vec3d(x), nullptr, uint32_t(e)) : double(emitterPmf_[e]);
 }
 
 std::size_t RadianceEstimator::pointAndSpotLightCount() const {
     return scene_.pointLights.size() + scene_.spotLights.size();
 }
 
-bool RadianceEstimator::samplePunctualLight(const Vec3f& x, double u, LightSample& out, RayCount& rays) const {
-    if (!punctualSampler_) return false;
+bool RadianceEstimator::samplePunctualLight(const Vec3f& x, double u, LightSample& out, RayCount& rays,
+                                            const Vec3f* normal) const {
+    if (!samplesPunctualLights()) return false;
     double pmf = 0;
-    const uint32_t l = punctualSampler_->sample(x, u, pmf);
+    uint32_t l;
+    if (punctualTree_) {
+        const Vec3d n = normal ? Vec3d(*normal) : Vec3d();
+        l = punctualTree_->sample(Vec3d(x), normal ? &n : nullptr, u, pmf);
+    } else {
+        l = punctualSampler_->sample(x, u, pmf);
+    }
     if (!(pmf > 0)) return false;
     Vec3f pos;
     Rgb intensity;
@@ -90,11 +154,19 @@ bool RadianceEstimator::samplePunctualLight(const Vec3f& x, double u, LightSampl
     return true;
 }
 
-bool RadianceEstimator::sampleEmissiveTriangles(const Vec3f& x, float u, float v, float w, LightSample& out,
+bool RadianceEstimator::sampleEmissiveTriangles(const Vec3f& x, float u, float v, double w, LightSample& out,
                                                 RayCount& rays, const Vec3f* facing) const {
     if (emitters_.empty()) return false;
-    const std::size_t e = std::min<std::size_t>(
-        std::upper_bound(emitterCdf_.begin(), emitterCdf_.end(), w) - emitterCdf_.begin(), emitters_.size() - 1);
+    double choicePmf = 0;
+    std::size_t e;
+    if (emitterTree_) {
+        e = emitterTree_->sample(Vec3d(x), nullptr, w, choicePmf);
+        if (!(choicePmf > 0)) return false;
+    } else {
+        e = std::min<std::size_t>(
+            std::upper_bound(emitterCdf_.begin(), emitterCdf_.end(), float(w)) - emitterCdf_.begin(), emitters_.size() - 1);
+        choicePmf = emitterPmf_[e];
+    }
     const uint32_t t = emitters_[e];
     float b1, b2;
     uniformTriangle(u, v, b1, b2);
@@ -114,18 +186,23 @@ bool RadianceEstimator::sampleEmissiveTriangles(const Vec3f& x, float u, float v
     ++rays.occluded;
     if (tracer_.occluded(shadow)) return false;
     // pdf over solid angle = pmf / area * dist^2 / cosLight.
-    const float invPdf = emitterArea_[e] * cosLight / (emitterPmf_[e] * dist2);
+    const float invPdf = emitterTree_ ? float(double(emitterArea_[e]) * cosLight / (choicePmf * dist2))
+                                      : emitterArea_[e] * cosLight / (emitterPmf_[e] * dist2);
     out.direction = wi;
     out.weight = m.emission * invPdf;
     out.pdf = 1.0f / invPdf;
     return true;
 }
 
-float RadianceEstimator::emitterPdf(uint32_t tri, float t, const Vec3f& dir) const {
+float RadianceEstimator::emitterPdf(uint32_t tri, float t, const Vec3f& dir, const Vec3f* x) const {
     const int32_t e = emitterOf_[tri];
     if (e < 0) return 0.0f;
     float cosLight = std::abs(dot(unitNormals_[tri], dir));
     if (!(cosLight > 0)) return 0.0f;
+    if (emitterTree_) {
+        if (!x) throw ValueError("emitterPdf: the emitter tree needs the point the ray left");
+        return float(emitterChoicePmf(std::size_t(e), *x) * double(t) * t / (double(emitterArea_[e]) * cosLight));
+    }
     return emitterPmf_[e] * t * t / (emitterArea_[e] * cosLight);
 }
 
@@ -146,7 +223,7 @@ void RadianceEstimator::punctualLights(const Vec3f& x, std::vector<LightSample>&
         if (tracer_.occluded(Ray{x, toLight, 0.0f, kShadowEnd})) return;
         out.push_back({toLight / std::sqrt(dist2), intensity / dist2});
     };
-    const bool exact = !(skipSampled && punctualSampler_);
+    const bool exact = !(skipSampled && samplesPunctualLights());
     if (exact) {
         for (const PointLight& l : scene_.pointLights) addPoint(l.position, l.intensity);
         for (const SpotLight& s : scene_.spotLights) {
@@ -168,7 +245,14 @@ Rgb RadianceEstimator::directAtSurface(const Vec3f& p, const Vec3f& n, Rng& rng,
     Rgb e{0, 0, 0};
     LightSample s;
     if (!emitters_.empty()) {
-        const float u = rng.uniform(), v = rng.uniform(), w = rng.uniform();
+        const float u = rng.uniform(), v = rng.uniform();
+        double w;
+        if (emitterTree_) {  // 53 bits: a tree over thousands of triangles splits u many times
+            const double hi = double(rng.next() >> 5), lo = double(rng.next() >> 6);
+            w = (hi * 67108864.0 + lo) * (1.0 / 9007199254740992.0);
+        } else {
+            w = rng.uniform();
+        }
         // A light point behind the surface adds exactly 0 (cosine 0): skip its shadow ray.
         if (sampleEmissiveTriangles(p, u, v, w, s, rays, &n)) {
             const float cosine = std::max(0.0f, dot(n, s.direction));
@@ -181,11 +265,11 @@ Rgb RadianceEstimator::directAtSurface(const Vec3f& p, const Vec3f& n, Rng& rng,
         punctual.clear();
         punctualLights(p, punctual, rays, true);
         for (const LightSample& l : punctual) e += l.weight * std::max(0.0f, dot(n, l.direction));
-        if (punctualSampler_) {
+        if (samplesPunctualLights()) {
             // 53-bit u: the pmf of a light among thousands is below float resolution.
             const double hi = double(rng.next() >> 5), lo = double(rng.next() >> 6);
             const double u = (hi * 67108864.0 + lo) * (1.0 / 9007199254740992.0);
-            if (samplePunctualLight(p, u, s, rays)) e += s.weight * std::max(0.0f, dot(n, s.direction));
+            if (samplePunctualLight(p, u, s, rays, &n)) e += s.weight * std::max(0.0f, dot(n, s.direction));
         }
     }
     return e;
@@ -210,7 +294,7 @@ Rgb RadianceEstimator::gatherRadiance(const Vec3f& origin, const Vec3f& dir, flo
             break;
         }
         if (emitterOf_[hit.triangle] >= 0) {
-            const float lightPdf = emitterPdf(hit.triangle, hit.t, ray.direction);
+            const float lightPdf = emitterPdf(hit.triangle, hit.t, ray.direction, &ray.origin);
             radiance += throughput * emittedRadiance(hit.triangle, ray.direction) * misWeight(pdf, lightPdf);
         }
         if (reflection > options_.maxBounces) break;

@@ -2,6 +2,9 @@
 // the float arithmetic of the lookups (locate, weights) works on small numbers (shifted_lookup.h).
 #include "shifted_lookup.h"
 
+#include <sstream>
+
+#include "vdblight/errors.h"
 #include "vdblight/scene_origin.h"
 
 namespace vdblight {
@@ -13,7 +16,16 @@ public:
     ShiftedLookup(std::unique_ptr<VolumeLookup> inner, const Vec3d& anchor) : inner_(std::move(inner)), anchor_(anchor) {}
 
     Rgb irradiance(const Vec3f& x, const Vec3f& n) const override { return irradianceWorld(Vec3d(x), n); }
-    Rgb irradianceWorld(const Vec3d& x, const Vec3f& n) const override { return inner_->irradiance(Vec3f(x - anchor_), n); }
+    Rgb irradianceWorld(const Vec3d& x, const Vec3f& n) const override {
+        try {
+            return inner_->irradiance(Vec3f(x - anchor_), n);
+        } catch (const ValueError&) {  // OutsidePolicy::Throw: name the world point, not the shifted one
+            std::ostringstream s;
+            s.precision(12);
+            s << "point (" << x.x << ", " << x.y << ", " << x.z << ") is outside the volume";
+            throw ValueError(s.str());
+        }
+    }
     Bounds bounds() const override {
         Bounds b = inner_->bounds();
         b.lo += anchor_;

@@ -24,7 +24,7 @@ struct ChunkSum {
 };
 
 ChunkSum integrateChunk(const RadianceEstimator& estimator, const ReferencePoint& point, const Vec3f& n,
-                        uint64_t stream, uint32_t first, uint32_t count, RayCount& rays) {
+                        uint64_t stream, uint32_t first, uint32_t count, bool punctualExactAtPoint, RayCount& rays) {
     Rng rng(stream, first);
     Vec3f t, b;
     orthonormalBasis(n, t, b);
@@ -48,7 +48,7 @@ ChunkSum integrateChunk(const RadianceEstimator& estimator, const ReferencePoint
                 value += Rgbd(ls.weight) * double(cosine * misWeight(ls.pdf, cosine * float(kInvPi)));
             }
         }
-        if (estimator.samplesPunctualLights()) {
+        if (estimator.samplesPunctualLights() && !punctualExactAtPoint) {
             // Many point/spot lights: one chosen per sample (light.h), part of the variance.
             double w = radicalInverse(5, i) + punctualOffset;
             w -= std::floor(w);
@@ -76,6 +76,10 @@ std::vector<ReferenceResult> referenceIrradiance(const Scene& scene, const Trace
     }
 
     const RadianceEstimator estimator(scene, tracer, options.transport);
+    // Many point/spot lights: at the point itself each is evaluated once, exactly (no variance),
+    // when that costs at most one shadow ray per sample; bounce vertices still sample one.
+    const bool exactAtPoint = options.punctualExactAtPoint && estimator.samplesPunctualLights() &&
+                              estimator.pointAndSpotLightCount() <= options.samples;
     const uint32_t chunksPerPoint = (options.samples + kChunk - 1) / kChunk;
     const std::size_t tasks = points.size() * chunksPerPoint;
     std::vector<ChunkSum> chunks(tasks);
@@ -94,7 +98,7 @@ std::vector<ReferenceResult> referenceIrradiance(const Scene& scene, const Trace
             const uint32_t count = std::min(kChunk, options.samples - first);
             RayCount rays;
             chunks[task] = integrateChunk(estimator, points[p], normals[p], hashCombine(options.seed, p), first,
-                                          count, rays);
+                                          count, exactAtPoint, rays);
             if (interrupter) {
                 interrupter->progress(done.fetch_add(1) + 1);
                 if (interrupter->wasInterrupted()) cancelled = true;
@@ -119,10 +123,10 @@ std::vector<ReferenceResult> referenceIrradiance(const Scene& scene, const Trace
         results[p].irradiance = mean;
         results[p].standardError = {std::sqrt(variance.x / n), std::sqrt(variance.y / n), std::sqrt(variance.z / n)};
         // Punctual lights evaluated exactly (all, or the directional ones when point and
-        // spot lights are sampled above): no variance.
+        // spot lights are sampled above, exactAtPoint false): no variance.
         punctual.clear();
         RayCount rays;
-        estimator.punctualLights(points[p].position, punctual, rays, true);
+        estimator.punctualLights(points[p].position, punctual, rays, !exactAtPoint);
         for (const LightSample& s : punctual)
             results[p].irradiance += Rgbd(s.weight) * double(std::max(0.0f, dot(normals[p], s.direction)));
     }
