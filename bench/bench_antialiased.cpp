@@ -5,18 +5,23 @@
 // budget, the error of four bakes against `reference` at random points in the domain of
 // interest within one cell of a surface:
 //   point, point + back-face invalidation/dilation, antialiased/all, antialiased/interior,
-//   antialiased/interior with the experimental visible support (AntialiasedOptions).
+//   antialiased/interior with the experimental visible support (AntialiasedOptions), and
+//   antialiased/all and /interior with the least-squares node fit (NodeFit::LeastSquares).
 // `--fine` adds the thin wall and the bed at half the spacing and the thin wall on a grid
 // shifted by half a spacing (same evaluation points); `--write-volumes DIR` writes every bake
-// as DIR/<scene>[_<variant>]_<method>.vdb (scripts/leak_pictures.sh slices them).
+// as DIR/<scene>[_<variant>]_<method>.vdb (scripts/leak_pictures.sh slices them); `--scene NAME`
+// runs only the cases of that scene (thin_wall_door, small_town, bed_bars).
 // Printed per method: relative RMS error sqrt(sum (E - Eref)^2 / sum Eref^2), the RMS and the
-// maximum of the per-point relative error |E - Eref| / Eref, and the bake time and its ratio
-// to point sampling (same run, same threads). `--quick` shrinks the workloads for CI.
+// maximum of the per-point relative error |E - Eref| / Eref, the bake time (the fastest of
+// three identical bakes, one with --quick: robust to a loaded machine) and its ratio to point
+// sampling (same run, same threads), and the ratio of traced rays to point sampling's.
+// `--quick` shrinks the workloads for CI.
 #include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -68,7 +73,7 @@ Errors measure(const Volume& v, const std::vector<EvalPoint>& pts, const std::ve
     return e;
 }
 
-void runCase(const Case& c, uint32_t raysPerNode, int points, uint32_t refSamples, int threads,
+void runCase(const Case& c, uint32_t raysPerNode, int points, uint32_t refSamples, int threads, int repeats,
              const std::string& writeDir) {
     const Scene& s = c.scene.scene;
     const GridSpec& g = c.grid;
@@ -100,25 +105,35 @@ void runCase(const Case& c, uint32_t raysPerNode, int points, uint32_t refSample
                 "within %.3g of a surface, reference %u samples (max rel. std. error %.1f %%)\n",
                 s.name.c_str(), c.label.c_str(), g.nx, g.ny, g.nz, g.spacing, raysPerNode, ao.raysPerCell,
                 int(pts.size()), c.evalDistance > 0 ? c.evalDistance : g.spacing, refSamples, 100 * refErr);
-    std::printf("  %-28s %10s %10s %10s %9s %8s %8s\n", "method", "rel.RMS", "RMS(rel)", "max(rel)", "bake s",
-                "x point", "dilated");
-    double pointSeconds = 0;
-    for (int m = 0; m < 5; ++m) {
+    std::printf("  %-28s %10s %10s %10s %9s %8s %9s %8s\n", "method", "rel.RMS", "RMS(rel)", "max(rel)", "bake s",
+                "x point", "rays x pt", "dilated");
+    double pointSeconds = 0, pointRays = 0;
+    for (int m = 0; m < 7; ++m) {
         BakeStats st;
         Volume v;
         const char* name = "";
-        if (m == 0) v = bakeShGather(s, tracer, g, po, nullptr, &st), name = "point";
-        if (m == 1) v = bakeShGatherInvalidated(s, tracer, g, po, 0.25, nullptr, &st), name = "point + invalidation (0.25)";
-        if (m >= 2) {
-            ao.domain = m == 2 ? DomainMode::All : DomainMode::Interior;
-            ao.visibleSupport = m == 4;
-            v = bakeShAntialiased(s, tracer, g, ao, nullptr, &st);
-            name = m == 2 ? "antialiased/all" : m == 3 ? "antialiased/interior" : "aa/interior, visible support";
+        double seconds = std::numeric_limits<double>::max();
+        for (int rep = 0; rep < repeats; ++rep) {  // the fastest of `repeats` identical bakes
+            if (m == 0) v = bakeShGather(s, tracer, g, po, nullptr, &st), name = "point";
+            if (m == 1) v = bakeShGatherInvalidated(s, tracer, g, po, 0.25, nullptr, &st), name = "point + invalidation (0.25)";
+            if (m >= 2) {
+                ao.domain = m == 2 || m == 5 ? DomainMode::All : DomainMode::Interior;
+                ao.visibleSupport = m == 4;
+                ao.fit = m >= 5 ? NodeFit::LeastSquares : NodeFit::Projection;
+                if (getenv("VDBL_TAU")) ao.tikhonov = atof(getenv("VDBL_TAU"));
+                v = bakeShAntialiased(s, tracer, g, ao, nullptr, &st);
+                static const char* const kName[5] = {"antialiased/all", "antialiased/interior",
+                                                     "aa/interior, visible support", "aa/all, least-squares",
+                                                     "aa/interior, least-squares"};
+                name = kName[m - 2];
+            }
+            seconds = std::min(seconds, st.seconds);
         }
-        if (m == 0) pointSeconds = st.seconds;
+        st.seconds = seconds;
+        if (m == 0) pointSeconds = st.seconds, pointRays = double(st.rays.total());
         if (!writeDir.empty()) {
-            static const char* const kFile[5] = {"point", "point_invalidated", "antialiased_all", "antialiased_interior",
-                                                 "antialiased_visible"};
+            static const char* const kFile[7] = {"point", "point_invalidated", "antialiased_all", "antialiased_interior",
+                                                 "antialiased_visible", "antialiased_all_lsq", "antialiased_interior_lsq"};
             std::string tag = s.name;
             for (char ch : c.label)  // " (2x finer)" -> "_2x_finer"
                 if (std::isalnum(static_cast<unsigned char>(ch))) tag += ch;
@@ -127,22 +142,23 @@ void runCase(const Case& c, uint32_t raysPerNode, int points, uint32_t refSample
             writeVolume(v, writeDir + "/" + tag + "_" + kFile[m] + ".vdb");
         }
         const Errors e = measure(v, pts, ref);
-        std::printf("  %-28s %9.1f%% %9.1f%% %9.1f%% %9.3f %8.2f %8s\n", name, 100 * e.normalisedRms,
+        std::printf("  %-28s %9.1f%% %9.1f%% %9.1f%% %9.3f %8.2f %9.2f %8s\n", name, 100 * e.normalisedRms,
                     100 * e.rmsRelative, 100 * e.maxRelative, st.seconds, st.seconds / pointSeconds,
-                    metaString(v.meta, "nodes_dilated", "-").c_str());
+                    double(st.rays.total()) / pointRays, metaString(v.meta, "nodes_dilated", "-").c_str());
     }
 }
 }  // namespace
 
 int main(int argc, char** argv) {
     bool quick = false, fine = false;
-    std::string writeDir;
+    std::string writeDir, only;
     for (int a = 1; a < argc; ++a) {
         if (std::strcmp(argv[a], "--quick") == 0) quick = true;
         else if (std::strcmp(argv[a], "--fine") == 0) fine = true;
         else if (std::strcmp(argv[a], "--write-volumes") == 0 && a + 1 < argc) writeDir = argv[++a];
+        else if (std::strcmp(argv[a], "--scene") == 0 && a + 1 < argc) only = argv[++a];
         else {
-            std::fprintf(stderr, "usage: vdblight_bench_antialiased [--quick] [--fine] [--write-volumes DIR]\n");
+            std::fprintf(stderr, "usage: vdblight_bench_antialiased [--quick] [--fine] [--write-volumes DIR] [--scene NAME]\n");
             return 2;
         }
     }
@@ -167,6 +183,7 @@ int main(int argc, char** argv) {
         cases.push_back({makeThinWallScene(), makeGrid({0.125, 0.1, 0.1}, 0.25, 16, 8, 8), 0.25, " (shifted)",
                          makeGrid({0.25, 0.1, 0.1}, 0.25, 15, 8, 8).nodeBounds()});
     }
-    for (const Case& c : cases) runCase(c, rays, points, refSamples, 0, writeDir);
+    for (const Case& c : cases)
+        if (only.empty() || c.scene.scene.name == only) runCase(c, rays, points, refSamples, 0, quick ? 1 : 3, writeDir);
     return 0;
 }

@@ -74,12 +74,12 @@ struct Classification {
     std::size_t acceptedOutsideOpen = 0;  ///< accepted origins outside `open` (the room itself)
 };
 
-Classification classifyAll(const LeakScene& l, const GridSpec& g, uint32_t rays) {
+Classification classifyAll(const LeakScene& l, const GridSpec& g, uint32_t rays, const DomainFallback& fallback = {}) {
     const Tracer tracer(l.scene);
     Classification c;
     RayCount count;
     for (std::size_t cell = 0; cell < cellCount(g); ++cell)
-        for (const CellSample& s : classifyCell(tracer, g, cell, rays, 7, DomainMode::Interior, count)) {
+        for (const CellSample& s : classifyCell(l.scene, tracer, g, cell, rays, 7, DomainMode::Interior, count, nullptr, fallback)) {
             const bool in = l.inDomain(Vec3d(s.origin));
             c.accepted += s.accepted;
             c.acceptedOutside += s.accepted && !in;
@@ -210,8 +210,10 @@ TEST(Antialiased, PointClassificationWithCracksStaysBelowOnePercent) {
                 c.accepted, c.acceptedOutside, c.rejectedInside, c.inside);
     EXPECT_LT(double(c.acceptedOutside), 0.01 * double(c.accepted));
     // Origins that see a back-face through a crack are outside the domain by its definition
-    // (section 5); against the solid geometry they are a loss of samples, not a leak.
-    EXPECT_LT(double(c.rejectedInside), 0.02 * double(c.inside));
+    // (section 5); against the solid geometry they are a loss of samples, not a leak. The
+    // fallback's rays are more chances to look through a crack: measured 2.7 % (1.6 % with
+    // Algorithm 2 alone), bounded at 4 %.
+    EXPECT_LT(double(c.rejectedInside), 0.04 * double(c.inside));
 }
 
 TEST(Antialiased, PointClassificationOfAMazeOfClosedWalls) {
@@ -225,13 +227,16 @@ TEST(Antialiased, PointClassificationOfAMazeOfClosedWalls) {
                 "inside a wall; %zu of %zu origins in the domain rejected\n", c.accepted, c.acceptedOutside,
                 roomAccepted, roomOutside, c.rejectedInside, c.inside);
     ASSERT_GT(roomAccepted, 50000u);
+    EXPECT_LT(double(c.acceptedOutside), 0.001 * double(c.accepted));  // the bound, over the whole grid
     EXPECT_LT(double(roomOutside), 0.001 * double(roomAccepted));
     EXPECT_LT(double(c.rejectedInside), 0.001 * double(c.inside));
-    // Outside the room the walls' 0.01 stubs through the room's faces (front faces outwards)
-    // hide the cell's few known back-face points from some origins (Algorithm 2 only finds
-    // back-face points through accepted origins' rays): measured 245 of 72 008 (0.34 %), above
-    // the 0.1 % met in the room and by the block (whose room has no stubs), below 0.5 %.
-    EXPECT_LT(double(c.acceptedOutside), 0.005 * double(c.accepted));
+    // Algorithm 2 alone (no fallback) misses more than the bound outside the room, where the
+    // walls' 0.01 stubs through the room's faces hide the cell's few known back-face points:
+    // the scene tests the fallback.
+    const Classification plain = classifyAll(l, g, 64, DomainFallback{0, 0});
+    std::printf("  maze without the fallback: %zu of %zu accepted origins outside the domain\n", plain.acceptedOutside,
+                plain.accepted);
+    EXPECT_GT(double(plain.acceptedOutside), 0.002 * double(plain.accepted));
 }
 
 TEST(Antialiased, PointClassificationOfACrackedMazeStaysBelowOnePercent) {
@@ -244,7 +249,9 @@ TEST(Antialiased, PointClassificationOfACrackedMazeStaysBelowOnePercent) {
     ASSERT_GT(c.accepted, 50000u);
     EXPECT_LT(double(c.acceptedOutside), 0.01 * double(c.accepted));
     // As for the cracked block: origins seeing a back-face through a crack are lost samples.
-    EXPECT_LT(double(c.rejectedInside), 0.02 * double(c.inside));
+    // Every fallback ray is one more chance to look through a crack: measured 3.2 % with the
+    // fallback (1.15 % without), bounded at 4 %.
+    EXPECT_LT(double(c.rejectedInside), 0.04 * double(c.inside));
 }
 
 TEST(Antialiased, SameBitsForAnyThreadCountAndValidityThroughAFile) {

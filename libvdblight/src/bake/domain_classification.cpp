@@ -1,8 +1,11 @@
-// Per-cell candidate rays and their point classification (Kontkanen & Laine, Algorithm 2).
+// Per-cell candidate rays and their point classification (Kontkanen & Laine, Algorithm 2),
+// with a fallback check of the accepted origins in cells where back-faces were seen.
+#include <algorithm>
 #include <cmath>
 
 #include "vdblight/bake_antialiased.h"
 #include "vdblight/errors.h"
+#include "vdblight/scene.h"
 #include "vdblight/sampling.h"
 #include "vdblight/trace.h"
 
@@ -10,7 +13,10 @@ namespace vdblight {
 
 namespace {
 // Independent scrambles of one cell's sample dimensions (the anti-aliased pass uses more).
-enum CellDimension : uint64_t { kShiftX = 11, kShiftY = 12, kShiftZ = 13, kShiftU = 14, kShiftV = 15 };
+enum CellDimension : uint64_t {
+    kShiftX = 11, kShiftY = 12, kShiftZ = 13, kShiftU = 14, kShiftV = 15,  // Algorithm 2's candidates
+    kProbeU = 16, kProbeV = 17, kTriangleU = 18, kTriangleV = 19,          // the fallback
+};
 
 /// Sample i of the cell's 5-D Halton point set (bases 2, 3 for the direction, 5, 7, 11 for
 /// the position), Cranley-Patterson rotated by the cell's shifts. A scrambled Sobol (0,2)
@@ -46,8 +52,9 @@ std::size_t cellCount(const GridSpec& grid) {
     return std::size_t(cx) * std::size_t(cy) * std::size_t(cz);
 }
 
-std::vector<CellSample> classifyCell(const Tracer& tracer, const GridSpec& grid, std::size_t cell, uint32_t rays,
-                                     uint64_t seed, DomainMode domain, RayCount& count, std::vector<Hit>* hits) {
+std::vector<CellSample> classifyCell(const Scene& scene, const Tracer& tracer, const GridSpec& grid, std::size_t cell,
+                                     uint32_t rays, uint64_t seed, DomainMode domain, RayCount& count,
+                                     std::vector<Hit>* hits, const DomainFallback& fallback) {
     int cx, cy, cz;
     cellDims(grid, cx, cy, cz);
     if (cell >= cellCount(grid)) throw ValueError("cell index " + std::to_string(cell) + " is out of range");
@@ -66,6 +73,12 @@ std::vector<CellSample> classifyCell(const Tracer& tracer, const GridSpec& grid,
     std::vector<CellSample> samples(rays);
     if (hits) hits->assign(rays, Hit{});
     std::vector<Vec3f> backFacePoints;
+    std::vector<uint32_t> backFaceTriangles;  // distinct triangles of the back-face points, in order found
+    const auto addBackFacePoint = [&](const Vec3f& b, uint32_t triangle) {
+        backFacePoints.push_back(b);
+        if (std::find(backFaceTriangles.begin(), backFaceTriangles.end(), triangle) == backFaceTriangles.end())
+            backFaceTriangles.push_back(triangle);
+    };
     for (uint32_t i = 0; i < rays; ++i) {
         CellSample& s = samples[i];
         Vec3d p;
@@ -97,10 +110,47 @@ std::vector<CellSample> classifyCell(const Tracer& tracer, const GridSpec& grid,
         }
         // A new back-face point: re-test the origins accepted so far against it.
         const Vec3f b = s.origin + s.direction * hit.t;
-        backFacePoints.push_back(b);
+        addBackFacePoint(b, hit.triangle);
         for (uint32_t k = 0; k < i; ++k)
             if (samples[k].accepted && seesBackFace(tracer, samples[k].origin, b, count)) samples[k].accepted = false;
     }
+    if (backFacePoints.empty()) return samples;  // no back-face seen: the whole cell is in the domain
+
+    // The fallback (docs/methods.md): Algorithm 2 accepts an origin from which none of the
+    // cell's few known back-face points is visible and whose own ray met no back-face. Where
+    // a surface hides those points (wall ends poking through a room's faces), origins outside
+    // the domain slip through. In cells that saw back-faces, every accepted origin therefore
+    // shoots query rays towards points on the back-facing triangles found so far and probe
+    // rays in further directions; a back-face hit rejects it, and the hit becomes a back-face
+    // point against which the other accepted origins are tested (Algorithm 2's rule).
+    const auto test = [&](uint32_t i, const Vec3f& dir) {
+        ++count.intersect;
+        const Hit hit = tracer.intersect(Ray{samples[i].origin, dir});
+        if (!isBackFace(hit, dir)) return;
+        samples[i].accepted = false;
+        const Vec3f b = samples[i].origin + dir * hit.t;
+        addBackFacePoint(b, hit.triangle);
+        for (uint32_t k = 0; k < rays; ++k)
+            if (k != i && samples[k].accepted && seesBackFace(tracer, samples[k].origin, b, count))
+                samples[k].accepted = false;
+    };
+    const double triU = toUnitDouble(hashCombine(stream, kTriangleU)), triV = toUnitDouble(hashCombine(stream, kTriangleV));
+    for (uint32_t i = 0; i < rays; ++i)
+        for (uint32_t p = 0; p < fallback.trianglePoints && samples[i].accepted; ++p) {
+            // Point `index` of a 2-D Halton set on the triangles, cycling through them.
+            const uint32_t index = i * fallback.trianglePoints + p;
+            const uint32_t tri = backFaceTriangles[index % backFaceTriangles.size()];
+            float b1, b2;
+            uniformTriangle(float(haltonShifted(2, index, triU)), float(haltonShifted(3, index, triV)), b1, b2);
+            const Vec3f target = scene.vertex(tri, 0) * (1 - b1 - b2) + scene.vertex(tri, 1) * b1 + scene.vertex(tri, 2) * b2;
+            test(i, target - samples[i].origin);
+        }
+    const double probeU = toUnitDouble(hashCombine(stream, kProbeU)), probeV = toUnitDouble(hashCombine(stream, kProbeV));
+    for (uint32_t i = 0; i < rays; ++i)
+        for (uint32_t p = 0; p < fallback.probes && samples[i].accepted; ++p) {
+            const uint32_t index = i * fallback.probes + p;
+            test(i, uniformSphere(float(haltonShifted(2, index, probeU)), float(haltonShifted(3, index, probeV))));
+        }
     return samples;
 }
 
