@@ -336,3 +336,27 @@ TEST(Antialiased, TownInteriorHasLowerErrorThanPointSamplingNearSurfaces) {
                 "anti-aliased interior %.1f %%\n", 100 * ePoint, 100 * eInterior);
     EXPECT_LT(eInterior, 0.7 * ePoint);
 }
+
+TEST(Antialiased, LeakEvaluationPointsLieInTheDomainWithinOneCellOfARealSurface) {
+    // The town's `open` box has air on five sides: only the ground and the blocks count.
+    const LeakScene town = makeTownScene();
+    EXPECT_NEAR(town.distanceToSurface({4.0, 0.3, 2.5}), 0.25, 1e-12);           // 0.25 from a block, 0.3 above ground
+    EXPECT_GT(town.distanceToSurface({0.1, 1.5, 4.0}), 0.5);                     // next to the air at x = 0
+    const LeakScene room = makeThinWallScene();
+    EXPECT_NEAR(room.distanceToSurface({0.1, 1.0, 1.0}), 0.1, 1e-12);            // a room's walls do count
+    const GridSpec g = makeGrid({0.2, 0.2, 0.2}, 0.4, 20, 7, 20);
+    const std::vector<EvalPoint> pts = leakEvalPoints(town, g.nodeBounds(), g.spacing, 1000, 11);
+    ASSERT_EQ(pts.size(), 1000u);
+    for (const EvalPoint& p : pts) {
+        const Vec3d x(p.position);
+        ASSERT_TRUE(town.inDomain(x));
+        // The nearest surface point, by brute force over the ground and the blocks' faces.
+        double d = x.y;
+        for (const Bounds& b : town.solids) {
+            double d2 = 0;
+            for (int a = 0; a < 3; ++a) d2 += std::pow(std::max({b.lo[a] - x[a], 0.0, x[a] - b.hi[a]}), 2);
+            d = std::min(d, std::sqrt(d2));
+        }
+        EXPECT_LE(d, g.spacing + 1e-6) << x.x << " " << x.y << " " << x.z;
+    }
+}
