@@ -10,7 +10,8 @@
 // `--fine` adds the thin wall and the bed at half the spacing and the thin wall on a grid
 // shifted by half a spacing (same evaluation points); `--write-volumes DIR` writes every bake
 // as DIR/<scene>[_<variant>]_<method>.vdb (scripts/leak_pictures.sh slices them); `--scene NAME`
-// runs only the cases of that scene (thin_wall_door, small_town, bed_bars).
+// runs only the cases of that scene (thin_wall_door, small_town, bed_bars); `--tikhonov T`
+// sets the least-squares fit's AntialiasedOptions::tikhonov.
 // Printed per method: relative RMS error sqrt(sum (E - Eref)^2 / sum Eref^2), the RMS and the
 // maximum of the per-point relative error |E - Eref| / Eref, the bake time (the fastest of
 // three identical bakes, one with --quick) and its ratio to point sampling (same run, same
@@ -23,6 +24,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <string>
@@ -85,7 +87,7 @@ Errors measure(const Volume& v, const std::vector<EvalPoint>& pts, const std::ve
 }
 
 void runCase(const Case& c, uint32_t raysPerNode, int points, uint32_t refSamples, int threads, int repeats,
-             const std::string& writeDir) {
+             double tikhonov, const std::string& writeDir) {
     const Scene& s = c.scene.scene;
     const GridSpec& g = c.grid;
     const Tracer tracer(s);
@@ -111,6 +113,7 @@ void runCase(const Case& c, uint32_t raysPerNode, int points, uint32_t refSample
     ao.raysPerCell = uint32_t(std::lround(double(raysPerNode) * double(g.nodeCount()) / double(cellCount(g))));
     ao.transport = transport;
     ao.threads = threads;
+    ao.tikhonov = tikhonov;
 
     std::printf("\n%s%s: %d x %d x %d nodes, spacing %.3g, %u rays/node (anti-aliased: %u rays/cell), %d points "
                 "within %.3g of a surface, reference %u samples (max rel. std. error %.1f %%)\n",
@@ -132,7 +135,6 @@ void runCase(const Case& c, uint32_t raysPerNode, int points, uint32_t refSample
                 ao.domain = m == 2 || m == 5 ? DomainMode::All : DomainMode::Interior;
                 ao.visibleSupport = m == 4;
                 ao.fit = m >= 5 ? NodeFit::LeastSquares : NodeFit::Projection;
-                if (getenv("VDBL_TAU")) ao.tikhonov = atof(getenv("VDBL_TAU"));
                 v = bakeShAntialiased(s, tracer, g, ao, nullptr, &st);
                 static const char* const kName[5] = {"antialiased/all", "antialiased/interior",
                                                      "aa/interior, visible support", "aa/all, least-squares",
@@ -165,13 +167,16 @@ void runCase(const Case& c, uint32_t raysPerNode, int points, uint32_t refSample
 int main(int argc, char** argv) {
     bool quick = false, fine = false;
     std::string writeDir, only;
+    double tikhonov = AntialiasedOptions{}.tikhonov;
     for (int a = 1; a < argc; ++a) {
         if (std::strcmp(argv[a], "--quick") == 0) quick = true;
         else if (std::strcmp(argv[a], "--fine") == 0) fine = true;
         else if (std::strcmp(argv[a], "--write-volumes") == 0 && a + 1 < argc) writeDir = argv[++a];
         else if (std::strcmp(argv[a], "--scene") == 0 && a + 1 < argc) only = argv[++a];
+        else if (std::strcmp(argv[a], "--tikhonov") == 0 && a + 1 < argc) tikhonov = std::atof(argv[++a]);
         else {
-            std::fprintf(stderr, "usage: vdblight_bench_antialiased [--quick] [--fine] [--write-volumes DIR] [--scene NAME]\n");
+            std::fprintf(stderr, "usage: vdblight_bench_antialiased [--quick] [--fine] [--write-volumes DIR] "
+                                 "[--scene NAME] [--tikhonov T]\n");
             return 2;
         }
     }
@@ -197,6 +202,7 @@ int main(int argc, char** argv) {
                          makeGrid({0.25, 0.1, 0.1}, 0.25, 15, 8, 8).nodeBounds()});
     }
     for (const Case& c : cases)
-        if (only.empty() || c.scene.scene.name == only) runCase(c, rays, points, refSamples, 0, quick ? 1 : 3, writeDir);
+        if (only.empty() || c.scene.scene.name == only)
+            runCase(c, rays, points, refSamples, 0, quick ? 1 : 3, tikhonov, writeDir);
     return 0;
 }
