@@ -6,7 +6,8 @@
 // interest within one cell of a surface:
 //   point, point + back-face invalidation/dilation, antialiased/all, antialiased/interior,
 //   antialiased/interior with the experimental visible support (AntialiasedOptions), and
-//   antialiased/all and /interior with the least-squares node fit (NodeFit::LeastSquares).
+//   antialiased/all and /interior with the least-squares node fit (NodeFit::LeastSquares), and
+//   antialiased/interior classified by Algorithm 2 alone (no DomainFallback: its cost).
 // `--fine` adds the thin wall and the bed at half the spacing and the thin wall on a grid
 // shifted by half a spacing (same evaluation points); `--write-volumes DIR` writes every bake
 // as DIR/<scene>[_<variant>]_<method>.vdb (scripts/leak_pictures.sh slices them); `--scene NAME`
@@ -122,7 +123,7 @@ void runCase(const Case& c, uint32_t raysPerNode, int points, uint32_t refSample
     std::printf("  %-28s %10s %10s %10s %9s %8s %9s %9s %8s\n", "method", "rel.RMS", "RMS(rel)", "max(rel)", "bake s",
                 "x point", "cpu x pt", "rays x pt", "dilated");
     double pointSeconds = 0, pointCpu = 0, pointRays = 0;
-    for (int m = 0; m < 7; ++m) {
+    for (int m = 0; m < 8; ++m) {
         BakeStats st;
         Volume v;
         const char* name = "";
@@ -134,11 +135,12 @@ void runCase(const Case& c, uint32_t raysPerNode, int points, uint32_t refSample
             if (m >= 2) {
                 ao.domain = m == 2 || m == 5 ? DomainMode::All : DomainMode::Interior;
                 ao.visibleSupport = m == 4;
-                ao.fit = m >= 5 ? NodeFit::LeastSquares : NodeFit::Projection;
+                ao.fit = m == 5 || m == 6 ? NodeFit::LeastSquares : NodeFit::Projection;
+                ao.fallback = m == 7 ? DomainFallback{0, 0} : DomainFallback{};
                 v = bakeShAntialiased(s, tracer, g, ao, nullptr, &st);
-                static const char* const kName[5] = {"antialiased/all", "antialiased/interior",
+                static const char* const kName[6] = {"antialiased/all", "antialiased/interior",
                                                      "aa/interior, visible support", "aa/all, least-squares",
-                                                     "aa/interior, least-squares"};
+                                                     "aa/interior, least-squares", "aa/interior, Algorithm 2 only"};
                 name = kName[m - 2];
             }
             seconds = std::min(seconds, st.seconds);
@@ -147,8 +149,9 @@ void runCase(const Case& c, uint32_t raysPerNode, int points, uint32_t refSample
         st.seconds = seconds;
         if (m == 0) pointSeconds = st.seconds, pointCpu = cpu, pointRays = double(st.rays.total());
         if (!writeDir.empty()) {
-            static const char* const kFile[7] = {"point", "point_invalidated", "antialiased_all", "antialiased_interior",
-                                                 "antialiased_visible", "antialiased_all_lsq", "antialiased_interior_lsq"};
+            static const char* const kFile[8] = {"point", "point_invalidated", "antialiased_all", "antialiased_interior",
+                                                 "antialiased_visible", "antialiased_all_lsq", "antialiased_interior_lsq",
+                                                 "antialiased_interior_no_fallback"};
             std::string tag = s.name;
             for (char ch : c.label)  // " (2x finer)" -> "_2x_finer"
                 if (std::isalnum(static_cast<unsigned char>(ch))) tag += ch;

@@ -49,13 +49,15 @@ enum class NodeFit {
     LeastSquares,  ///< least-squares fit over the accepted samples (node_least_squares.h)
 };
 
-/// The check after Algorithm 2 in cells where it found back-face points: each accepted
-/// origin also shoots `trianglePoints` query rays towards points on the back-facing
-/// triangles found so far and `probes` rays in further directions; any back-face hit rejects
-/// it (docs/methods.md). {0, 0} is the paper's Algorithm 2 alone.
+/// The check after Algorithm 2 in cells where it found back-face points (docs/methods.md):
+/// an accepted origin whose line to the cell's first back-face point passes through a solid
+/// and out of it again, or meets nothing, is a suspect (one continuation ray per accepted
+/// origin); each suspect shoots `trianglePoints` query rays towards points on the
+/// back-facing triangles found so far and `probes` rays in further directions, and any
+/// back-face hit rejects it. {0, 0} is the paper's Algorithm 2 alone (no continuation rays).
 struct DomainFallback {
-    uint32_t trianglePoints = 2;
-    uint32_t probes = 2;
+    uint32_t trianglePoints = 4;
+    uint32_t probes = 4;
 };
 
 struct AntialiasedOptions {
