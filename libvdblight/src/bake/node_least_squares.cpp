@@ -32,15 +32,18 @@ double NodeGram::rowSum(std::size_t n) const {
 }
 
 namespace {
-/// y = (G + lambda I) x for one column (x, y indexed by node).
-void multiply(const GridSpec& g, const std::vector<double>& entries, double lambda, const std::vector<double>& x,
-              std::vector<double>& y) {
+/// Y = (G + lambda I) X for all `values` columns at once (node-major, like the inputs); per
+/// column the sums run in the same order as for a single column.
+void multiply(const GridSpec& g, const std::vector<double>& entries, double lambda, int values,
+              const std::vector<double>& x, std::vector<double>& y) {
+    const std::size_t V = std::size_t(values);
     for (int k = 0; k < g.nz; ++k)
         for (int j = 0; j < g.ny; ++j)
             for (int i = 0; i < g.nx; ++i) {
                 const std::size_t n = g.index(i, j, k);
                 const double* row = &entries[n * 27];
-                double sum = lambda * x[n];
+                double* out = &y[n * V];
+                for (std::size_t v = 0; v < V; ++v) out[v] = lambda * x[n * V + v];
                 for (int dk = -1; dk <= 1; ++dk) {
                     if (k + dk < 0 || k + dk >= g.nz) continue;
                     for (int dj = -1; dj <= 1; ++dj) {
@@ -48,18 +51,20 @@ void multiply(const GridSpec& g, const std::vector<double>& entries, double lamb
                         for (int di = -1; di <= 1; ++di) {
                             if (i + di < 0 || i + di >= g.nx) continue;
                             const double a = row[(di + 1) + 3 * (dj + 1) + 9 * (dk + 1)];
-                            if (a != 0.0) sum += a * x[g.index(i + di, j + dj, k + dk)];
+                            if (a == 0.0) continue;
+                            const double* in = &x[g.index(i + di, j + dj, k + dk) * V];
+                            for (std::size_t v = 0; v < V; ++v) out[v] += a * in[v];
                         }
                     }
                 }
-                y[n] = sum;
             }
 }
 
-double dotProduct(const std::vector<double>& a, const std::vector<double>& b) {
-    double s = 0;
-    for (std::size_t n = 0; n < a.size(); ++n) s += a[n] * b[n];
-    return s;
+/// Per column v: out[v] = sum over nodes of a[n, v] * b[n, v], in node order.
+void columnDots(const std::vector<double>& a, const std::vector<double>& b, std::size_t V, std::vector<double>& out) {
+    std::fill(out.begin(), out.end(), 0.0);
+    for (std::size_t q = 0; q < a.size(); q += V)
+        for (std::size_t v = 0; v < V; ++v) out[v] += a[q + v] * b[q + v];
 }
 }  // namespace
 
@@ -81,60 +86,79 @@ std::vector<double> solveNodeLeastSquares(const NodeGram& gram, const std::vecto
 
     double largestRow = 0;
     std::vector<double> diagonal(nodes);
-    std::vector<uint8_t> free(nodes, 0);  // nodes the solve changes
     for (std::size_t n = 0; n < nodes; ++n) {
         largestRow = std::max(largestRow, gram.rowSum(n));
         diagonal[n] = gram.at(n, 0, 0, 0);
     }
     const double lambda = tikhonov * largestRow;
-    for (std::size_t n = 0; n < nodes; ++n) free[n] = diagonal[n] + lambda > 0.0;
-
     // Nodes outside the solve (no support, no regularisation) keep their prior; their
     // couplings (zero: a node without support has a zero row and column) move nothing.
-    std::vector<double> out(rhs.size());
-    std::vector<double> x(nodes), b(nodes), r(nodes), z(nodes), p(nodes), ap(nodes);
+    std::vector<uint8_t> free(nodes);
+    for (std::size_t n = 0; n < nodes; ++n) free[n] = diagonal[n] + lambda > 0.0;
+
+    // Jacobi-preconditioned CG, the `values` columns in lockstep (each with its own scalars;
+    // a converged column stops changing). Starts from the prior: CG solves for the correction.
+    const std::size_t V = std::size_t(values), size = nodes * V;
+    std::vector<double> x(prior), b(size), r(size), z(size), p(size), ap(size);
+    for (std::size_t n = 0; n < nodes; ++n)
+        for (std::size_t v = 0; v < V; ++v) b[n * V + v] = free[n] ? rhs[n * V + v] + lambda * prior[n * V + v] : prior[n * V + v];
+    std::vector<double> bNorm(V), rz(V), rzNext(V), pap(V), rr(V), residual(V);
+    std::vector<int> iterations(V, 0);
+    std::vector<uint8_t> active(V, 1);
+    columnDots(b, b, V, bNorm);
+    multiply(g, gram.entries_, lambda, values, x, ap);
+    for (std::size_t n = 0; n < nodes; ++n)
+        for (std::size_t v = 0; v < V; ++v) {
+            const std::size_t q = n * V + v;
+            r[q] = free[n] ? b[q] - ap[q] : 0.0;
+            z[q] = free[n] ? r[q] / (diagonal[n] + lambda) : 0.0;
+            p[q] = z[q];
+        }
+    columnDots(r, z, V, rz);
+    columnDots(r, r, V, rr);
+    for (std::size_t v = 0; v < V; ++v) {
+        bNorm[v] = std::sqrt(bNorm[v]);
+        residual[v] = bNorm[v] > 0 ? std::sqrt(rr[v]) / bNorm[v] : 0.0;
+        active[v] = residual[v] > 1e-10;
+    }
     const int maxIterations = int(std::min<std::size_t>(10 * nodes + 100, 100000));
-    LeastSquaresStats st;
-    for (int v = 0; v < values; ++v) {
-        for (std::size_t n = 0; n < nodes; ++n) {
-            const double pr = prior[n * std::size_t(values) + std::size_t(v)];
-            x[n] = pr;  // start from the prior: CG then solves for the (small) correction
-            b[n] = free[n] ? rhs[n * std::size_t(values) + std::size_t(v)] + lambda * pr : pr;
-        }
-        const double bNorm = std::sqrt(dotProduct(b, b));
-        multiply(g, gram.entries_, lambda, x, ap);
-        for (std::size_t n = 0; n < nodes; ++n) {
-            r[n] = free[n] ? b[n] - ap[n] : 0.0;
-            z[n] = free[n] ? r[n] / (diagonal[n] + lambda) : 0.0;
-            p[n] = z[n];
-        }
-        double rz = dotProduct(r, z);
-        int it = 0;
-        double residual = bNorm > 0 ? std::sqrt(dotProduct(r, r)) / bNorm : 0.0;
-        while (residual > 1e-10 && it < maxIterations) {
-            multiply(g, gram.entries_, lambda, p, ap);
-            for (std::size_t n = 0; n < nodes; ++n)
-                if (!free[n]) ap[n] = 0.0;
-            const double pap = dotProduct(p, ap);
-            if (!(pap > 0)) break;
-            const double alpha = rz / pap;
-            for (std::size_t n = 0; n < nodes; ++n) {
-                x[n] += alpha * p[n];
-                r[n] -= alpha * ap[n];
-                z[n] = free[n] ? r[n] / (diagonal[n] + lambda) : 0.0;
+    for (int it = 0; it < maxIterations && std::count(active.begin(), active.end(), 1) > 0; ++it) {
+        multiply(g, gram.entries_, lambda, values, p, ap);
+        for (std::size_t n = 0; n < nodes; ++n)
+            if (!free[n])
+                for (std::size_t v = 0; v < V; ++v) ap[n * V + v] = 0.0;
+        columnDots(p, ap, V, pap);
+        for (std::size_t v = 0; v < V; ++v)
+            if (active[v] && !(pap[v] > 0)) active[v] = 0;
+        for (std::size_t n = 0; n < nodes; ++n)
+            for (std::size_t v = 0; v < V; ++v) {
+                if (!active[v]) continue;
+                const std::size_t q = n * V + v;
+                const double alpha = rz[v] / pap[v];
+                x[q] += alpha * p[q];
+                r[q] -= alpha * ap[q];
+                z[q] = free[n] ? r[q] / (diagonal[n] + lambda) : 0.0;
             }
-            const double rzNext = dotProduct(r, z);
-            for (std::size_t n = 0; n < nodes; ++n) p[n] = z[n] + (rzNext / rz) * p[n];
-            rz = rzNext;
-            ++it;
-            residual = std::sqrt(dotProduct(r, r)) / bNorm;
+        columnDots(r, z, V, rzNext);
+        columnDots(r, r, V, rr);
+        for (std::size_t n = 0; n < nodes; ++n)
+            for (std::size_t v = 0; v < V; ++v)
+                if (active[v]) p[n * V + v] = z[n * V + v] + (rzNext[v] / rz[v]) * p[n * V + v];
+        for (std::size_t v = 0; v < V; ++v) {
+            if (!active[v]) continue;
+            rz[v] = rzNext[v];
+            ++iterations[v];
+            residual[v] = std::sqrt(rr[v]) / bNorm[v];
+            active[v] = residual[v] > 1e-10;
         }
-        st.maxIterations = std::max(st.maxIterations, it);
-        st.maxRelativeResidual = std::max(st.maxRelativeResidual, residual);
-        for (std::size_t n = 0; n < nodes; ++n) out[n * std::size_t(values) + std::size_t(v)] = x[n];
+    }
+    LeastSquaresStats st;
+    for (std::size_t v = 0; v < V; ++v) {
+        st.maxIterations = std::max(st.maxIterations, iterations[v]);
+        st.maxRelativeResidual = std::max(st.maxRelativeResidual, residual[v]);
     }
     if (stats) *stats = st;
-    return out;
+    return x;
 }
 
 }  // namespace vdblight
