@@ -106,10 +106,10 @@ void run(const BakeCommand& c) {
     if (!c.bounds.empty()) placement.bounds = parseBounds(c.bounds);
     // Bytes per node while baking and writing: float coefficients plus OpenVDB's copy.
     // The anti-aliased pass also holds double accumulators per node (coefficients + 2 weights).
-    // The least-squares fit adds its 27-entry Gram row and the solver's vectors (node_least_squares.h).
-    const std::size_t extra = c.sampling == "antialiased"
-                                  ? (sh::kCoeffs * 3 + 2 + (c.fit == "least-squares" ? 27 + 8 : 0)) * sizeof(double)
-                                  : 0;
+    // The least-squares fit adds its 27-entry Gram row, and its solve a prior and six CG
+    // vectors of all 27 values per node (node_least_squares.h).
+    const std::size_t lsq = c.fit == "least-squares" ? 27 + 7 * sh::kCoeffs * 3 : 0;
+    const std::size_t extra = c.sampling == "antialiased" ? (sh::kCoeffs * 3 + 2 + lsq) * sizeof(double) : 0;
     const bins::BasisSpec basisSpec = bins::parseBasisSpec(c.basis);
     const bool binned = basisSpec.kind != bins::BasisSpec::Kind::Sh2;
     const std::size_t channels = binned ? std::size_t(basisSpec.binCount()) : std::size_t(sh::kCoeffs);

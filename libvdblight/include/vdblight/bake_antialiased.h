@@ -15,9 +15,10 @@
 // sampling rays double as classification rays (an origin whose own ray hits a back-face is
 // rejected and the hit becomes a back-face point; earlier and later origins are tested by
 // query rays towards every known back-face point). In cells where back-faces were seen, a
-// fallback (DomainFallback) then tests each accepted origin with a few more rays, towards
-// points on the back-facing triangles found and in further directions, because a surface can
-// hide the cell's few known back-face points from origins outside the domain.
+// fallback (DomainFallback) then screens the accepted origins (one ray each) and tests the
+// suspects with a few more rays, towards points on the back-facing triangles found and in
+// further directions, because a surface can hide the cell's few known back-face points
+// from origins outside the domain.
 //
 // Node values are eq. 6 (NodeFit::Projection) or, as an option, a least-squares fit of the
 // node values to the same samples (NodeFit::LeastSquares, node_least_squares.h).
