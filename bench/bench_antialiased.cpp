@@ -5,18 +5,29 @@
 // budget, the error of four bakes against `reference` at random points in the domain of
 // interest within one cell of a surface:
 //   point, point + back-face invalidation/dilation, antialiased/all, antialiased/interior,
-//   antialiased/interior with the experimental visible support (AntialiasedOptions).
+//   antialiased/interior with the experimental visible support (AntialiasedOptions), and
+//   antialiased/all and /interior with the least-squares node fit (NodeFit::LeastSquares), and
+//   antialiased/interior classified by Algorithm 2 alone (no DomainFallback: its cost).
 // `--fine` adds the thin wall and the bed at half the spacing and the thin wall on a grid
 // shifted by half a spacing (same evaluation points); `--write-volumes DIR` writes every bake
-// as DIR/<scene>[_<variant>]_<method>.vdb (scripts/leak_pictures.sh slices them).
+// as DIR/<scene>[_<variant>]_<method>.vdb (scripts/leak_pictures.sh slices them); `--scene NAME`
+// runs only the cases of that scene (thin_wall_door, small_town, bed_bars); `--tikhonov T`
+// sets the least-squares fit's AntialiasedOptions::tikhonov.
 // Printed per method: relative RMS error sqrt(sum (E - Eref)^2 / sum Eref^2), the RMS and the
-// maximum of the per-point relative error |E - Eref| / Eref, and the bake time and its ratio
-// to point sampling (same run, same threads). `--quick` shrinks the workloads for CI.
+// maximum of the per-point relative error |E - Eref| / Eref, the bake time (the fastest of
+// three identical bakes, one with --quick) and its ratio to point sampling (same run, same
+// threads), the same ratio for the CPU time of the process (all threads; not inflated by
+// waiting for a core on a loaded machine), and the ratio of traced rays to point sampling's.
+// `--quick` shrinks the workloads for CI.
+#include <sys/resource.h>
+
 #include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -46,6 +57,14 @@ GridSpec makeGrid(Vec3d origin, double spacing, int nx, int ny, int nz) {
     return g;
 }
 
+/// CPU seconds used by the process so far (all threads): a cost that waiting for a core on a
+/// loaded machine does not inflate, unlike the wall-clock bake time.
+double processCpuSeconds() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
 struct Errors {
     double normalisedRms = 0, rmsRelative = 0, maxRelative = 0;
 };
@@ -68,8 +87,8 @@ Errors measure(const Volume& v, const std::vector<EvalPoint>& pts, const std::ve
     return e;
 }
 
-void runCase(const Case& c, uint32_t raysPerNode, int points, uint32_t refSamples, int threads,
-             const std::string& writeDir) {
+void runCase(const Case& c, uint32_t raysPerNode, int points, uint32_t refSamples, int threads, int repeats,
+             double tikhonov, const std::string& writeDir) {
     const Scene& s = c.scene.scene;
     const GridSpec& g = c.grid;
     const Tracer tracer(s);
@@ -95,30 +114,44 @@ void runCase(const Case& c, uint32_t raysPerNode, int points, uint32_t refSample
     ao.raysPerCell = uint32_t(std::lround(double(raysPerNode) * double(g.nodeCount()) / double(cellCount(g))));
     ao.transport = transport;
     ao.threads = threads;
+    ao.tikhonov = tikhonov;
 
     std::printf("\n%s%s: %d x %d x %d nodes, spacing %.3g, %u rays/node (anti-aliased: %u rays/cell), %d points "
                 "within %.3g of a surface, reference %u samples (max rel. std. error %.1f %%)\n",
                 s.name.c_str(), c.label.c_str(), g.nx, g.ny, g.nz, g.spacing, raysPerNode, ao.raysPerCell,
                 int(pts.size()), c.evalDistance > 0 ? c.evalDistance : g.spacing, refSamples, 100 * refErr);
-    std::printf("  %-28s %10s %10s %10s %9s %8s %8s\n", "method", "rel.RMS", "RMS(rel)", "max(rel)", "bake s",
-                "x point", "dilated");
-    double pointSeconds = 0;
-    for (int m = 0; m < 5; ++m) {
+    std::printf("  %-28s %10s %10s %10s %9s %8s %9s %9s %8s\n", "method", "rel.RMS", "RMS(rel)", "max(rel)", "bake s",
+                "x point", "cpu x pt", "rays x pt", "dilated");
+    double pointSeconds = 0, pointCpu = 0, pointRays = 0;
+    for (int m = 0; m < 8; ++m) {
         BakeStats st;
         Volume v;
         const char* name = "";
-        if (m == 0) v = bakeShGather(s, tracer, g, po, nullptr, &st), name = "point";
-        if (m == 1) v = bakeShGatherInvalidated(s, tracer, g, po, 0.25, nullptr, &st), name = "point + invalidation (0.25)";
-        if (m >= 2) {
-            ao.domain = m == 2 ? DomainMode::All : DomainMode::Interior;
-            ao.visibleSupport = m == 4;
-            v = bakeShAntialiased(s, tracer, g, ao, nullptr, &st);
-            name = m == 2 ? "antialiased/all" : m == 3 ? "antialiased/interior" : "aa/interior, visible support";
+        double seconds = std::numeric_limits<double>::max(), cpu = seconds;
+        for (int rep = 0; rep < repeats; ++rep) {  // the fastest of `repeats` identical bakes
+            const double cpuStart = processCpuSeconds();
+            if (m == 0) v = bakeShGather(s, tracer, g, po, nullptr, &st), name = "point";
+            if (m == 1) v = bakeShGatherInvalidated(s, tracer, g, po, 0.25, nullptr, &st), name = "point + invalidation (0.25)";
+            if (m >= 2) {
+                ao.domain = m == 2 || m == 5 ? DomainMode::All : DomainMode::Interior;
+                ao.visibleSupport = m == 4;
+                ao.fit = m == 5 || m == 6 ? NodeFit::LeastSquares : NodeFit::Projection;
+                ao.fallback = m == 7 ? DomainFallback{0, 0} : DomainFallback{};
+                v = bakeShAntialiased(s, tracer, g, ao, nullptr, &st);
+                static const char* const kName[6] = {"antialiased/all", "antialiased/interior",
+                                                     "aa/interior, visible support", "aa/all, least-squares",
+                                                     "aa/interior, least-squares", "aa/interior, Algorithm 2 only"};
+                name = kName[m - 2];
+            }
+            seconds = std::min(seconds, st.seconds);
+            cpu = std::min(cpu, processCpuSeconds() - cpuStart);
         }
-        if (m == 0) pointSeconds = st.seconds;
+        st.seconds = seconds;
+        if (m == 0) pointSeconds = st.seconds, pointCpu = cpu, pointRays = double(st.rays.total());
         if (!writeDir.empty()) {
-            static const char* const kFile[5] = {"point", "point_invalidated", "antialiased_all", "antialiased_interior",
-                                                 "antialiased_visible"};
+            static const char* const kFile[8] = {"point", "point_invalidated", "antialiased_all", "antialiased_interior",
+                                                 "antialiased_visible", "antialiased_all_lsq", "antialiased_interior_lsq",
+                                                 "antialiased_interior_no_fallback"};
             std::string tag = s.name;
             for (char ch : c.label)  // " (2x finer)" -> "_2x_finer"
                 if (std::isalnum(static_cast<unsigned char>(ch))) tag += ch;
@@ -127,22 +160,26 @@ void runCase(const Case& c, uint32_t raysPerNode, int points, uint32_t refSample
             writeVolume(v, writeDir + "/" + tag + "_" + kFile[m] + ".vdb");
         }
         const Errors e = measure(v, pts, ref);
-        std::printf("  %-28s %9.1f%% %9.1f%% %9.1f%% %9.3f %8.2f %8s\n", name, 100 * e.normalisedRms,
-                    100 * e.rmsRelative, 100 * e.maxRelative, st.seconds, st.seconds / pointSeconds,
-                    metaString(v.meta, "nodes_dilated", "-").c_str());
+        std::printf("  %-28s %9.1f%% %9.1f%% %9.1f%% %9.3f %8.2f %9.2f %9.2f %8s\n", name, 100 * e.normalisedRms,
+                    100 * e.rmsRelative, 100 * e.maxRelative, st.seconds, st.seconds / pointSeconds, cpu / pointCpu,
+                    double(st.rays.total()) / pointRays, metaString(v.meta, "nodes_dilated", "-").c_str());
     }
 }
 }  // namespace
 
 int main(int argc, char** argv) {
     bool quick = false, fine = false;
-    std::string writeDir;
+    std::string writeDir, only;
+    double tikhonov = AntialiasedOptions{}.tikhonov;
     for (int a = 1; a < argc; ++a) {
         if (std::strcmp(argv[a], "--quick") == 0) quick = true;
         else if (std::strcmp(argv[a], "--fine") == 0) fine = true;
         else if (std::strcmp(argv[a], "--write-volumes") == 0 && a + 1 < argc) writeDir = argv[++a];
+        else if (std::strcmp(argv[a], "--scene") == 0 && a + 1 < argc) only = argv[++a];
+        else if (std::strcmp(argv[a], "--tikhonov") == 0 && a + 1 < argc) tikhonov = std::atof(argv[++a]);
         else {
-            std::fprintf(stderr, "usage: vdblight_bench_antialiased [--quick] [--fine] [--write-volumes DIR]\n");
+            std::fprintf(stderr, "usage: vdblight_bench_antialiased [--quick] [--fine] [--write-volumes DIR] "
+                                 "[--scene NAME] [--tikhonov T]\n");
             return 2;
         }
     }
@@ -167,6 +204,8 @@ int main(int argc, char** argv) {
         cases.push_back({makeThinWallScene(), makeGrid({0.125, 0.1, 0.1}, 0.25, 16, 8, 8), 0.25, " (shifted)",
                          makeGrid({0.25, 0.1, 0.1}, 0.25, 15, 8, 8).nodeBounds()});
     }
-    for (const Case& c : cases) runCase(c, rays, points, refSamples, 0, writeDir);
+    for (const Case& c : cases)
+        if (only.empty() || c.scene.scene.name == only)
+            runCase(c, rays, points, refSamples, 0, quick ? 1 : 3, tikhonov, writeDir);
     return 0;
 }

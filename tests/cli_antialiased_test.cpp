@@ -1,4 +1,4 @@
-// End-to-end tests of `vdblight bake --sampling/--domain/--invalidate-backface`: the
+// End-to-end tests of `vdblight bake --sampling/--domain/--fit/--invalidate-backface`: the
 // options bake, store validity and query; bad values give one line, a non-zero exit and no file.
 #include <gtest/gtest.h>
 
@@ -20,6 +20,7 @@ using test::filesIn;
 TEST(CliAntialiased, EverySamplingBakesStoresAndQueries) {
     test::TempDir dir;
     const std::string variants[] = {"--sampling antialiased", "--sampling antialiased --domain all",
+                                    "--sampling antialiased --fit least-squares",
                                     "--sampling point --invalidate-backface 0.1", "--sampling point"};
     for (const std::string& v : variants) {
         const std::string out = dir.file("v.vdb");
@@ -30,6 +31,10 @@ TEST(CliAntialiased, EverySamplingBakesStoresAndQueries) {
         EXPECT_EQ(metaString(vol.meta, "sampling"), v.find("antialiased") != std::string::npos ? "antialiased" : "point");
         if (v == "--sampling antialiased") {
             EXPECT_EQ(metaString(vol.meta, "domain"), "interior");  // the default
+            EXPECT_EQ(metaString(vol.meta, "fit"), "projection (eq. 6)");  // the default
+        }
+        if (v.find("least-squares") != std::string::npos) {
+            EXPECT_EQ(metaString(vol.meta, "fit"), "least-squares (Tikhonov towards eq. 6)");
         }
         ASSERT_EQ(run("query " + out + " --at 0,1,0 --normal 0,1,0", &text), 0) << text;
         ASSERT_EQ(run("info " + out, &text), 0) << text;
@@ -49,6 +54,8 @@ TEST(CliAntialiased, BadOptionsGiveOneLineAndNoFile) {
         {"--invalidate-backface 1.5", "--invalidate-backface must be in [0, 1]"},
         {"--invalidate-backface -0.1", "--invalidate-backface must be in [0, 1]"},
         {"--sampling antialiased --invalidate-backface 0.2", "applies to --sampling point only"},
+        {"--sampling antialiased --fit cubic", "--fit must be projection or least-squares"},
+        {"--fit least-squares", "--fit needs --sampling antialiased"},
     };
     for (const auto& [args, expected] : cases) {
         std::string text;

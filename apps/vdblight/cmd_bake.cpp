@@ -42,6 +42,7 @@ struct BakeCommand {
     bool compact = false;            // --method photons: write the section 4.2 form
     std::string sampling = "point";  // point | antialiased (bake_antialiased.h)
     std::string domain;              // all | interior; default interior for antialiased
+    std::string fit;                 // projection | least-squares (antialiased only; default projection)
     double invalidateBackface = -1;  // < 0: off (point sampling only)
     std::string layout = "uniform";
     int refine = 3;
@@ -89,6 +90,7 @@ Volume bakeSelected(const BakeCommand& c, const Scene& scene, const Tracer& trac
         aa.threads = options.threads;
         aa.transport = options.transport;
         aa.domain = c.domain == "all" ? DomainMode::All : DomainMode::Interior;
+        aa.fit = c.fit == "least-squares" ? NodeFit::LeastSquares : NodeFit::Projection;
         return bakeShAntialiased(scene, tracer, grid, aa, progress, stats);
     }
     if (c.invalidateBackface >= 0)
@@ -109,7 +111,10 @@ void run(const BakeCommand& c) {
     if (!c.bounds.empty()) placement.bounds = toLocalBounds(parseBounds(c.bounds), scene.origin);
     // Bytes per node while baking and writing: float coefficients plus OpenVDB's copy.
     // The anti-aliased pass also holds double accumulators per node (coefficients + 2 weights).
-    const std::size_t extra = c.sampling == "antialiased" ? (sh::kCoeffs * 3 + 2) * sizeof(double) : 0;
+    // The least-squares fit adds its 27-entry Gram row, and its solve a prior and six CG
+    // vectors of all 27 values per node (node_least_squares.h).
+    const std::size_t lsq = c.fit == "least-squares" ? 27 + 7 * sh::kCoeffs * 3 : 0;
+    const std::size_t extra = c.sampling == "antialiased" ? (sh::kCoeffs * 3 + 2 + lsq) * sizeof(double) : 0;
     const bins::BasisSpec basisSpec = bins::parseBasisSpec(c.basis);
     const bool binned = basisSpec.kind != bins::BasisSpec::Kind::Sh2;
     const std::size_t channels = binned ? std::size_t(basisSpec.binCount()) : std::size_t(sh::kCoeffs);
@@ -265,6 +270,9 @@ void addBakeCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--domain", c->domain,
                     "antialiased only: all, or interior = only origins that see no back-face (default)");
+    cmd->add_option("--fit", c->fit,
+                    "antialiased only: projection = eq. 6 (default), or least-squares = fit the node values to the "
+                    "samples over the domain (docs/methods.md)");
     auto* invalidate = cmd->add_option("--invalidate-backface", c->invalidateBackface,
                     "point only: nodes whose rays hit back-faces more than this fraction (0..1) are replaced by "
                     "dilating valid neighbours");
@@ -334,6 +342,10 @@ void addBakeCommand(CLI::App& app) {
             throw ValueError("--sampling must be point or antialiased, got '" + c->sampling + "'");
         if (!c->domain.empty() && c->domain != "all" && c->domain != "interior")
             throw ValueError("--domain must be all or interior, got '" + c->domain + "'");
+        if (!c->fit.empty() && c->fit != "projection" && c->fit != "least-squares")
+            throw ValueError("--fit must be projection or least-squares, got '" + c->fit + "'");
+        if (!c->fit.empty() && c->sampling != "antialiased")
+            throw ValueError("--fit needs --sampling antialiased");
         if (!c->domain.empty() && c->sampling != "antialiased")
             throw ValueError("--domain needs --sampling antialiased (point sampling has --invalidate-backface)");
         if (invalidate->count() > 0 && !(c->invalidateBackface >= 0 && c->invalidateBackface <= 1))

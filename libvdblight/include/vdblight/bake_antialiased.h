@@ -14,7 +14,14 @@
 // back-face is visible) count: each cell is classified with the paper's Algorithm 2, whose
 // sampling rays double as classification rays (an origin whose own ray hits a back-face is
 // rejected and the hit becomes a back-face point; earlier and later origins are tested by
-// query rays towards every known back-face point).
+// query rays towards every known back-face point). In cells where back-faces were seen, a
+// fallback (DomainFallback) then screens the accepted origins (one ray each) and tests the
+// suspects with a few more rays, towards points on the back-facing triangles found and in
+// further directions, because a surface can hide the cell's few known back-face points
+// from origins outside the domain.
+//
+// Node values are eq. 6 (NodeFit::Projection) or, as an option, a least-squares fit of the
+// node values to the same samples (NodeFit::LeastSquares, node_least_squares.h).
 //
 // Every node gets a validity: the fraction of its basis-function weight (over its cells'
 // candidate origins) that fell in the domain. Nodes with no accepted weight at all are
@@ -37,6 +44,23 @@ enum class DomainMode {
     Interior,  ///< only origins that see no back-face (K&L section 5, Algorithm 2)
 };
 
+/// How node values are computed from a node's weighted samples (docs/methods.md).
+enum class NodeFit {
+    Projection,    ///< eq. 6: weighted sum / weight sum per node (the paper)
+    LeastSquares,  ///< least-squares fit over the accepted samples (node_least_squares.h)
+};
+
+/// The check after Algorithm 2 in cells where it found back-face points (docs/methods.md):
+/// an accepted origin whose line to the cell's first back-face point passes through a solid
+/// and out of it again, or meets nothing, is a suspect (one continuation ray per accepted
+/// origin); each suspect shoots `trianglePoints` query rays towards points on the
+/// back-facing triangles found so far and `probes` rays in further directions, and any
+/// back-face hit rejects it. {0, 0} is the paper's Algorithm 2 alone (no continuation rays).
+struct DomainFallback {
+    uint32_t trianglePoints = 4;
+    uint32_t probes = 4;
+};
+
 struct AntialiasedOptions {
     /// Candidate ray origins (one ray each) per cell. A grid has about as many cells as
     /// nodes, so this matches GatherOptions::raysPerNode at an equal ray budget.
@@ -44,11 +68,16 @@ struct AntialiasedOptions {
     uint64_t seed = 1;
     int threads = 0;  ///< 0 = all hardware threads
     DomainMode domain = DomainMode::Interior;
+    DomainFallback fallback;  ///< DomainMode::Interior only
     /// Experimental (off by default; docs/methods.md): an accepted origin contributes to a
     /// corner node only if the segment from the origin to the node is unoccluded (one
     /// occlusion ray per corner), so that a node's support does not reach across a wall
     /// thinner than a cell. Nodes that then get no weight are filled by dilation.
     bool visibleSupport = false;
+    NodeFit fit = NodeFit::Projection;
+    /// NodeFit::LeastSquares only: weight of the pull towards the eq.-6 values, relative to
+    /// the Gram row sum of a node with full support (node_least_squares.h).
+    double tikhonov = 0.05;
     TransportOptions transport;
 };
 
@@ -72,12 +101,13 @@ void cellDims(const GridSpec& grid, int& cx, int& cy, int& cz);
 std::size_t cellCount(const GridSpec& grid);
 
 /// The candidate rays of cell `cell` (index cx-major like nodes) and, for
-/// DomainMode::Interior, their classification by Algorithm 2 (All accepts every origin).
-/// `hits` (optional) receives the first hit of each accepted sampling ray. This is the
-/// classification the bake uses; exposed for tests.
-std::vector<CellSample> classifyCell(const Tracer& tracer, const GridSpec& grid, std::size_t cell, uint32_t rays,
-                                     uint64_t seed, DomainMode domain, RayCount& count,
-                                     std::vector<Hit>* hits = nullptr);
+/// DomainMode::Interior, their classification by Algorithm 2 followed by `fallback` (All
+/// accepts every origin). `hits` (optional) receives the first hit of each accepted sampling
+/// ray. `scene` is the one `tracer` was built from. This is the classification the bake
+/// uses; exposed for tests.
+std::vector<CellSample> classifyCell(const Scene& scene, const Tracer& tracer, const GridSpec& grid, std::size_t cell,
+                                     uint32_t rays, uint64_t seed, DomainMode domain, RayCount& count,
+                                     std::vector<Hit>* hits = nullptr, const DomainFallback& fallback = {});
 
 /// Point sampling with the engines' leak heuristic: after the point-gather pass, a node
 /// whose gathered rays hit back-faces in more than `maxBackfaceFraction` of cases is

@@ -17,10 +17,14 @@ struct LeakScene {
     Scene scene;
     Bounds open;                ///< the open space (room interior, or the air above the ground)
     std::vector<Bounds> solids; ///< closed solid boxes inside `open`
+    /// Which faces of `open` are surfaces (bit 2a: the low side of axis a, bit 2a + 1: the
+    /// high side): all six for a room, only the ground (bit 2) for the town under the sky.
+    unsigned openSurfaces = 0x3f;
 
     /// True if p is in the domain of interest (strictly inside `open`, outside every solid).
     bool inDomain(const Vec3d& p) const;
-    /// Distance from p (in the domain) to the nearest surface: a wall of `open` or a solid.
+    /// Distance from p (in the domain) to the nearest surface: a face of `open` that is a
+    /// surface (openSurfaces) or a solid.
     double distanceToSurface(const Vec3d& p) const;
 };
 

@@ -1,19 +1,23 @@
 // The anti-aliased gather pass (Kontkanen & Laine eq. 6, optionally restricted to the
 // domain of interest): each cell's rays are weighted by the trilinear basis functions of
-// its eight nodes; cells are processed in parallel, one z-slab at a time, and reduced into
+// its eight nodes; cells are processed in parallel, a chunk of z-slabs at a time, and reduced into
 // the nodes in cell order.
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "vdblight/bake_antialiased.h"
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
+#include "vdblight/node_least_squares.h"
 #include "vdblight/scene.h"
 #include "vdblight/sh.h"
 #include "vdblight/trace.h"
@@ -29,13 +33,14 @@ struct CellPartial {
     double coeff[8][kValues];
     double norm[8];       ///< sum of b_i over accepted origins (eq. 6 denominator)
     double candidate[8];  ///< sum of b_i over all candidate origins (validity denominator)
+    double gram[8][8];    ///< sum of b_i b_k over accepted origins (NodeFit::LeastSquares)
     uint32_t accepted;
 };
 
-void bakeCell(const RadianceEstimator& estimator, const Tracer& tracer, const GridSpec& grid, std::size_t cell,
+void bakeCell(const Scene& scene, const RadianceEstimator& estimator, const Tracer& tracer, const GridSpec& grid, std::size_t cell,
               const AntialiasedOptions& o, CellPartial& out, RayCount& count, std::vector<LightSample>& punctual) {
     std::vector<Hit> hits;
-    const std::vector<CellSample> samples = classifyCell(tracer, grid, cell, o.raysPerCell, o.seed, o.domain, count, &hits);
+    const std::vector<CellSample> samples = classifyCell(scene, tracer, grid, cell, o.raysPerCell, o.seed, o.domain, count, &hits, o.fallback);
     int cx, cy, cz;
     cellDims(grid, cx, cy, cz);
     const Vec3d lo = grid.node(int(cell % std::size_t(cx)), int(cell / std::size_t(cx) % std::size_t(cy)),
@@ -97,7 +102,9 @@ void bakeCell(const RadianceEstimator& estimator, const Tracer& tracer, const Gr
             for (int j = 0; j < sh::kCoeffs; ++j)
                 for (int ch = 0; ch < 3; ++ch) term[3 * j + ch] += double(p.weight[ch]) * y[j];
         }
+        double used[8];  // the basis weights this origin contributes with
         for (int c = 0; c < 8; ++c) {
+            used[c] = 0.0;
             if (w[c] == 0.0) continue;
             if (o.visibleSupport) {
                 const Vec3d node(lo.x + (c & 1) * grid.spacing, lo.y + (c >> 1 & 1) * grid.spacing,
@@ -109,9 +116,13 @@ void bakeCell(const RadianceEstimator& estimator, const Tracer& tracer, const Gr
                 ++count.occluded;
                 if (tracer.occluded(ray)) continue;
             }
+            used[c] = w[c];
             out.norm[c] += w[c];
             for (int v = 0; v < kValues; ++v) out.coeff[c][v] += w[c] * term[v];
         }
+        if (o.fit == NodeFit::LeastSquares)
+            for (int a = 0; a < 8; ++a)
+                for (int b = 0; b < 8; ++b) out.gram[a][b] += used[a] * used[b];
     }
 }
 }  // namespace
@@ -126,7 +137,11 @@ Volume bakeShAntialiased(const Scene& scene, const Tracer& tracer, const GridSpe
     cellDims(grid, cx, cy, cz);
     const std::size_t cells = cellCount(grid), slabCells = std::size_t(cx) * std::size_t(cy);
 
+    if (o.fit == NodeFit::LeastSquares && !(o.tikhonov >= 0 && std::isfinite(o.tikhonov)))
+        throw ValueError("the Tikhonov weight must be finite and >= 0, got " + std::to_string(o.tikhonov));
     std::vector<double> acc(nodes * kValues, 0.0), norm(nodes, 0.0), candidate(nodes, 0.0);
+    std::optional<NodeGram> gram;
+    if (o.fit == NodeFit::LeastSquares) gram.emplace(grid);
     const RadianceEstimator estimator(scene, tracer, o.transport);
     tbb::enumerable_thread_specific<RayCount> rayCounts;
     tbb::enumerable_thread_specific<std::vector<LightSample>> punctualScratch;
@@ -138,13 +153,19 @@ Volume bakeShAntialiased(const Scene& scene, const Tracer& tracer, const GridSpe
     const auto start = std::chrono::steady_clock::now();
     const int threads = o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
     tbb::task_arena arena(threads);
-    std::vector<CellPartial> slab(slabCells);
-    for (int ck = 0; ck < cz && !cancelled; ++ck) {
+    // Cells are baked in chunks of whole z-slabs (at most ~kChunkCells cells, at least one
+    // slab) so that the parallel loop balances over many cells between reductions.
+    constexpr std::size_t kChunkCells = 8192;
+    const int slabsPerChunk = int(std::clamp<std::size_t>(kChunkCells / slabCells, 1, std::size_t(cz)));
+    std::vector<CellPartial> chunk(std::size_t(slabsPerChunk) * slabCells);
+    for (int ck0 = 0; ck0 < cz && !cancelled; ck0 += slabsPerChunk) {
+        const std::size_t first = std::size_t(ck0) * slabCells;
+        const std::size_t count = std::size_t(std::min(cz - ck0, slabsPerChunk)) * slabCells;
         arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, slabCells, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 1), [&](const tbb::blocked_range<std::size_t>& r) {
                 for (std::size_t c = r.begin(); c != r.end(); ++c) {
                     if (cancelled.load(std::memory_order_relaxed)) return;
-                    bakeCell(estimator, tracer, grid, std::size_t(ck) * slabCells + c, o, slab[c], rayCounts.local(),
+                    bakeCell(scene, estimator, tracer, grid, first + c, o, chunk[c], rayCounts.local(),
                              punctualScratch.local());
                     const uint64_t finished = done.fetch_add(1, std::memory_order_relaxed) + 1;
                     if (interrupter) {
@@ -156,16 +177,19 @@ Volume bakeShAntialiased(const Scene& scene, const Tracer& tracer, const GridSpe
         });
         if (cancelled) break;
         // Fixed-order reduction: cells in index order, corners in bit order.
-        for (std::size_t c = 0; c < slabCells; ++c) {
-            const int ci = int(c % std::size_t(cx)), cj = int(c / std::size_t(cx));
-            accepted += slab[c].accepted;
+        for (std::size_t c = 0; c < count; ++c) {
+            const CellPartial& part = chunk[c];
+            const int ci = int(c % std::size_t(cx)), cj = int(c / std::size_t(cx) % std::size_t(cy)),
+                      ck = ck0 + int(c / slabCells);
+            accepted += part.accepted;
+            if (gram) gram->addCell(ci, cj, ck, part.gram);
             for (int corner = 0; corner < 8; ++corner) {
                 const int i = ci + (corner & 1), j = cj + (corner >> 1 & 1), k = ck + (corner >> 2 & 1);
                 if (i >= grid.nx || j >= grid.ny || k >= grid.nz) continue;  // flat axis
                 const std::size_t n = grid.index(i, j, k);
-                norm[n] += slab[c].norm[corner];
-                candidate[n] += slab[c].candidate[corner];
-                for (int v = 0; v < kValues; ++v) acc[n * kValues + v] += slab[c].coeff[corner][v];
+                norm[n] += part.norm[corner];
+                candidate[n] += part.candidate[corner];
+                for (int v = 0; v < kValues; ++v) acc[n * kValues + v] += part.coeff[corner][v];
             }
         }
     }
@@ -195,6 +219,13 @@ Volume bakeShAntialiased(const Scene& scene, const Tracer& tracer, const GridSpe
         for (int v = 0; v < kValues; ++v) level.data[n * kValues + v] = float(acc[n * kValues + v] / norm[n]);
     }
     const int passes = unfilled ? dilateUnfilledNodes(level, sh::kCoeffs, filled, norm) : 0;
+    LeastSquaresStats fitStats;
+    if (gram) {
+        // The least-squares fit, pulled towards the eq.-6 values (dilated where unsupported).
+        const std::vector<double> prior(level.data.begin(), level.data.end());
+        const std::vector<double> fitted = solveNodeLeastSquares(*gram, acc, prior, kValues, o.tikhonov, &fitStats);
+        for (std::size_t q = 0; q < fitted.size(); ++q) level.data[q] = float(fitted[q]);
+    }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
     RayCount total;
@@ -207,6 +238,13 @@ Volume bakeShAntialiased(const Scene& scene, const Tracer& tracer, const GridSpe
     m["sampling"] = std::string("antialiased");
     m["domain"] = std::string(o.domain == DomainMode::Interior ? "interior" : "all");
     if (o.visibleSupport) m["support"] = std::string("visible (origin-to-node occlusion test)");
+    if (gram) {
+        m["fit"] = std::string("least-squares (Tikhonov towards eq. 6)");
+        m["fit_tikhonov"] = o.tikhonov;
+        m["fit_cg_iterations"] = int64_t(fitStats.maxIterations);
+    } else {
+        m["fit"] = std::string("projection (eq. 6)");
+    }
     m["rays_per_cell"] = int64_t(o.raysPerCell);
     m["seed"] = int64_t(o.seed);
     m["bounces"] = int64_t(o.transport.maxBounces);

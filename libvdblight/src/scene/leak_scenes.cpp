@@ -64,7 +64,10 @@ bool LeakScene::inDomain(const Vec3d& p) const {
 
 double LeakScene::distanceToSurface(const Vec3d& p) const {
     double d = std::numeric_limits<double>::max();
-    for (int a = 0; a < 3; ++a) d = std::min({d, p[a] - open.lo[a], open.hi[a] - p[a]});
+    for (int a = 0; a < 3; ++a) {
+        if (openSurfaces >> (2 * a) & 1) d = std::min(d, p[a] - open.lo[a]);
+        if (openSurfaces >> (2 * a + 1) & 1) d = std::min(d, open.hi[a] - p[a]);
+    }
     for (const Bounds& s : solids) d = std::min(d, distanceToBox(p, s));
     return d;
 }
@@ -92,6 +95,7 @@ LeakScene makeTownScene() {
     const uint32_t ground = material(l.scene, "ground", {0.5f, 0.5f, 0.45f});
     const uint32_t wall = material(l.scene, "block", {0.7f, 0.6f, 0.5f});
     l.open = box({0, 0, 0}, {8, 3, 8});
+    l.openSurfaces = 1u << 2;  // the ground; the other faces of `open` are air
     horizontalQuad(l.scene, 0.0f, -2.0f, 10.0f, -2.0f, 10.0f, /*up=*/true, ground);
     const double heights[9] = {1.2, 2.1, 0.8, 1.6, 2.6, 1.0, 0.7, 1.9, 1.4};
     for (int i = 0; i < 3; ++i)
