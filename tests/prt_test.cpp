@@ -217,6 +217,8 @@ PrtOptions smallOptions() {
     o.visCoeffs = 24;
     o.trainLights = 60;
     o.transferCoeffs = 32;
+    o.bounces = 1;  // the one-bounce references below; multi-bounce has its own tests
+    o.closureNormalise = false;  // as the disk references
     return o;
 }
 

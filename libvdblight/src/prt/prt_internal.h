@@ -9,6 +9,9 @@
 
 namespace vdblight::prt_detail {
 
+/// Shadow rays to a point light end just short of it (as radiance_estimator.cpp).
+constexpr float kShadowEnd = 1.0f - 1e-4f;
+
 inline int threadCount(int threads) { return threads > 0 ? threads : tbb::this_task_arena::max_concurrency(); }
 
 /// f(i) for i in [0, n) on `threads` threads; each i writes only its own outputs.
@@ -48,6 +51,8 @@ inline float unshadowedUnit(const Vec3f& p, const Vec3f& n, const Vec3f& l, floa
 }  // namespace vdblight::prt_detail
 
 namespace vdblight {
-/// Fills prt.volumeTransfer for prt.volumeGrid (volume_transfer.cpp).
-void bakeVolumeTransfer(PrtData& prt, const Tracer& tracer, int threads);
+/// Fills prt.transfer (and prt.volumeTransfer for prt.volumeGrid if `volume`) with
+/// `bounces` diffuse bounces from the light bases (multi_bounce.cpp).
+void bakeMultiBounceTransfer(PrtData& prt, const Tracer& tracer, int bounces, bool volume, bool normalise,
+                             int threads, Interrupter* interrupter);
 }  // namespace vdblight
