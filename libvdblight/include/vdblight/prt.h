@@ -115,6 +115,10 @@ struct PrtData {
     int visGrid = 0;             ///< g: depth buffers have g*g directions
     float depthCap = 0;          ///< depth stored for rays that leave the scene
     std::vector<PcaBasis> visBasis;     ///< per cluster, dim = g*g
+    /// Run-time copy of visBasis by direction (per cluster: [t * (count + 1)]: the mean, then
+    /// the count basis values of direction t), so a depth lookup reads one contiguous row.
+    /// Filled by prepareRelight (bakePrt and readPrt call it); empty: read visBasis.
+    std::vector<std::vector<float>> visByDirection;
     std::vector<float> visCoeffs;       ///< per sample, visCoeffStride values (zero padded)
     int visCoeffStride = 0;
     std::vector<PcaBasis> lightBasis;   ///< per cluster, dim = cluster size
@@ -154,6 +158,9 @@ bool insideSolid(const Tracer& tracer, const Vec3f& p);
 /// The same test from the PRT samples alone (no scene): at least 3/4 of the 8 samples nearest
 /// to `p` face away from it. Used by `prt relight` to warn without the scene.
 bool prtInsideSolid(const PrtData& prt, const Vec3f& p);
+
+/// Fills prt.visByDirection (the run-time layout of the visibility bases).
+void prepareRelight(PrtData& prt);
 
 /// Per-sample relit irradiance (RGB, W/m^2).
 struct PrtLighting {

@@ -176,6 +176,7 @@ PrtData bakePrt(const Scene& scene, const Tracer& tracer, const PrtOptions& o, I
     prt.closureNormalise = o.closureNormalise;
     bakeMultiBounceTransfer(prt, tracer, o.bounces, o.volumeResolution > 0, o.closureNormalise, o.threads, in);
     prt.secondsTransfer = now() - t3;
+    prepareRelight(prt);
     return prt;
 }
 

@@ -217,14 +217,11 @@ void bakeMultiBounceTransfer(PrtData& prt, const Tracer& tracer, int bounces, bo
             const Vec3f x(prt.volumeGrid.node(n0 + a));
             double covered = 0;
             for (std::size_t j = 0; j < n; ++j) {
-                const float omega = diskSolidAngle(x, s.position[j], s.normal[j], s.area[j]);
-                if (omega <= 0.0f) continue;
-                const Vec3f q = offsetRayOrigin(s.position[j], s.normal[j], x - s.position[j]);
-                if (tracer.occluded(Ray{x, q - x, 0.0f, 0.9999f})) continue;
-                sh::evalUnrolled(normalize(q - x), y);
+                float omega;
+                if (!senderShFromNode(s, tracer, x, j, y, omega)) continue;
                 covered += omega;
                 for (int m = 0; m < sh::kCoeffs; ++m)
-                    G(Eigen::Index(a * sh::kCoeffs + std::size_t(m)), Eigen::Index(j)) = omega * y[m];
+                    G(Eigen::Index(a * sh::kCoeffs + std::size_t(m)), Eigen::Index(j)) = y[m];
             }
             if (normalise && covered > 0) {
                 const float scale = std::min(kMaxClosureScale, float(4.0 * kPi * nodeClosure(tracer, x) / covered));

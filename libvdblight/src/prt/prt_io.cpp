@@ -456,6 +456,7 @@ PrtData readPrt(const std::string& path) {
             prt.volumeTransfer[std::size_t(xyz.x())][std::size_t(xyz.y()) * count + std::size_t(xyz.z())] = Rgb{v[0], v[1], v[2]};
         }
     }
+    prepareRelight(prt);
     return prt;
 }
 

@@ -1,5 +1,6 @@
 // Run time (Leonhardt & Bohn section 5): visibility -> direct light -> projection ->
 // transfer -> indirect, plus the uncompressed references it is tested against.
+#include <algorithm>
 #include <cmath>
 
 #include "prt_internal.h"
@@ -36,27 +37,57 @@ void addDirectPoint(const PrtData& prt, const PrtPointLight& pl, float* out) {
         const PcaBasis& basis = prt.visBasis[s.cluster[i]];
         const float* coeffs = prt.visCoeffs.data() + i * std::size_t(prt.visCoeffStride);
         float vis = 0;
-        for (int k = 0; k < 4; ++k) {
-            if (wt[k] <= 0.0f) continue;
-            if (dist <= pcaReconstructAt(basis, coeffs, idx[k])) vis += wt[k];
+        if (!prt.visByDirection.empty()) {
+            const std::size_t row = std::size_t(basis.count) + 1;
+            const float* byDir = prt.visByDirection[s.cluster[i]].data();
+            for (int k = 0; k < 4; ++k) {
+                if (wt[k] <= 0.0f) continue;
+                const float* r = byDir + std::size_t(idx[k]) * row;
+                float depth = r[0];
+                for (int c = 0; c < basis.count; ++c) depth += coeffs[c] * r[c + 1];
+                if (dist <= depth) vis += wt[k];
+            }
+        } else {
+            for (int k = 0; k < 4; ++k) {
+                if (wt[k] <= 0.0f) continue;
+                if (dist <= pcaReconstructAt(basis, coeffs, idx[k])) vis += wt[k];
+            }
         }
         out[i] += pl.weight * e * vis;
     }
 }
 
+}  // namespace
+
 /// The light-basis coefficients of every cluster for a direct unit irradiance (stride
 /// values per cluster, [0] = 1 for the mean vector).
-void projectClusters(const PrtData& prt, const std::vector<float>& direct, std::vector<float>& coeffs) {
+void projectLightBases(const PrtData& prt, const std::vector<float>& direct, std::vector<float>& coeffs) {
     const SurfaceSamples& s = prt.samples;
     const std::size_t stride = std::size_t(prt.transferStride);
     coeffs.assign(s.clusters() * stride, 0.0f);
     for (std::size_t c = 0; c < s.clusters(); ++c) {
-        coeffs[c * stride] = 1.0f;
+        const std::vector<float>& mean = prt.lightBasis[c].mean;
+        // The mean vector's row is zero with the default (uncentred) basis: skip it.
+        coeffs[c * stride] = std::any_of(mean.begin(), mean.end(), [](float v) { return v != 0.0f; }) ? 1.0f : 0.0f;
         pcaProject(prt.lightBasis[c], direct.data() + s.clusterBegin[c], coeffs.data() + c * stride + 1);
     }
 }
 
-}  // namespace
+
+void prepareRelight(PrtData& prt) {
+    prt.visByDirection.assign(prt.visBasis.size(), {});
+    for (std::size_t c = 0; c < prt.visBasis.size(); ++c) {
+        const PcaBasis& b = prt.visBasis[c];
+        const std::size_t row = std::size_t(b.count) + 1;
+        std::vector<float>& out = prt.visByDirection[c];
+        out.resize(std::size_t(b.dim) * row);
+        for (int t = 0; t < b.dim; ++t) {
+            out[std::size_t(t) * row] = b.mean[std::size_t(t)];
+            for (int k = 0; k < b.count; ++k)
+                out[std::size_t(t) * row + std::size_t(k) + 1] = b.vectors[std::size_t(k) * std::size_t(b.dim) + std::size_t(t)];
+        }
+    }
+}
 
 std::vector<PrtPointLight> lightPoints(const PrtLight& light) {
     Vec3f n{0, 0, 0}, t1{1, 0, 0}, t2{0, 0, 1};
@@ -93,7 +124,7 @@ std::vector<Rgb> prtTransfer(const PrtData& prt, const std::vector<float>& direc
     if (direct.size() != n) throw ValueError("direct lighting has the wrong number of samples");
     std::vector<Rgb> out(n, Rgb{0, 0, 0});
     std::vector<float> coeffs;
-    projectClusters(prt, direct, coeffs);
+    projectLightBases(prt, direct, coeffs);
     const std::size_t stride = std::size_t(prt.transferStride);
     for (std::size_t c = 0; c < s.clusters(); ++c) {
         const std::vector<Rgb>& t = prt.transfer[c];

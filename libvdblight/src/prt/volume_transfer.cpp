@@ -16,17 +16,6 @@ using namespace prt_detail;
 
 namespace {
 
-/// Adds to `acc` (9 x 3 doubles) the SH radiance sender j sends to node x per unit `weight`.
-inline bool senderToNode(const SurfaceSamples& s, const Tracer& tracer, const Vec3f& x, std::size_t j,
-                         float sh[sh::kCoeffs], float& omega) {
-    omega = diskSolidAngle(x, s.position[j], s.normal[j], s.area[j]);
-    if (omega <= 0.0f) return false;
-    const Vec3f q = offsetRayOrigin(s.position[j], s.normal[j], x - s.position[j]);
-    if (tracer.occluded(Ray{x, q - x, 0.0f, 0.9999f})) return false;
-    sh::evalUnrolled(normalize(q - x), sh);
-    return true;
-}
-
 }  // namespace
 
 std::vector<Rgb> prtVolumeTransfer(const PrtData& prt, const std::vector<float>& direct) {
@@ -35,16 +24,28 @@ std::vector<Rgb> prtVolumeTransfer(const PrtData& prt, const std::vector<float>&
     if (direct.size() != s.size()) throw ValueError("direct lighting has the wrong number of samples");
     const std::size_t count = prt.volumeGrid.nodeCount() * sh::kCoeffs;
     std::vector<Rgb> out(count, Rgb{0, 0, 0});
-    std::vector<float> coeffs(std::size_t(prt.transferStride));
-    for (std::size_t c = 0; c < s.clusters(); ++c) {
-        coeffs.assign(coeffs.size(), 0.0f);
-        coeffs[0] = 1.0f;
-        pcaProject(prt.lightBasis[c], direct.data() + s.clusterBegin[c], coeffs.data() + 1);
-        for (int k = 0; k < prt.transferStride; ++k) {
-            const float a = coeffs[std::size_t(k)];
-            if (a == 0.0f) continue;
-            const Rgb* row = prt.volumeTransfer[c].data() + std::size_t(k) * count;
-            for (std::size_t i = 0; i < count; ++i) out[i] += row[i] * a;
+    std::vector<float> coeffs;
+    projectLightBases(prt, direct, coeffs);
+    // The non-zero columns (cluster, k) of the transfer matrix and their coefficients.
+    std::vector<const float*> cols;
+    std::vector<float> a;
+    const std::size_t stride = std::size_t(prt.transferStride);
+    for (std::size_t c = 0; c < s.clusters(); ++c)
+        for (std::size_t k = 0; k < stride; ++k)
+            if (coeffs[c * stride + k] != 0.0f) {
+                cols.push_back(reinterpret_cast<const float*>(prt.volumeTransfer[c].data() + k * count));
+                a.push_back(coeffs[c * stride + k]);
+            }
+    // GEMV in row blocks that stay in L1 while every column streams through once.
+    float* o = reinterpret_cast<float*>(out.data());
+    const std::size_t floats = count * 3;
+    constexpr std::size_t kBlock = 2048;
+    for (std::size_t r0 = 0; r0 < floats; r0 += kBlock) {
+        const std::size_t r1 = std::min(floats, r0 + kBlock);
+        for (std::size_t j = 0; j < cols.size(); ++j) {
+            const float* col = cols[j];
+            const float w = a[j];
+            for (std::size_t r = r0; r < r1; ++r) o[r] += w * col[r];
         }
     }
     return out;
@@ -125,8 +126,8 @@ std::vector<Rgb> referenceVolume(const SurfaceSamples& s, const GridSpec& grid, 
         float y[sh::kCoeffs];
         for (std::size_t j = 0; j < s.size(); ++j) {
             float omega;
-            if (direct[j] == 0.0f || !senderToNode(s, tracer, x, j, y, omega)) continue;
-            const Rgbd w = Rgbd(s.albedo[j]) * (double(omega) * kInvPi * direct[j]);
+            if (direct[j] == 0.0f || !senderShFromNode(s, tracer, x, j, y, omega)) continue;
+            const Rgbd w = Rgbd(s.albedo[j]) * (kInvPi * direct[j]);
             for (int m = 0; m < sh::kCoeffs; ++m) {
                 acc[m][0] += w.x * y[m];
                 acc[m][1] += w.y * y[m];
@@ -150,8 +151,8 @@ std::vector<Rgb> referenceVolume(const SurfaceSamples& s, const GridSpec& grid, 
         for (std::size_t j = 0; j < s.size(); ++j) {
             const Rgb& e = senderIrradiance[j];
             float omega;
-            if ((e.x == 0.0f && e.y == 0.0f && e.z == 0.0f) || !senderToNode(s, tracer, x, j, y, omega)) continue;
-            const Rgbd w = Rgbd(s.albedo[j]) * (double(omega) * kInvPi);
+            if ((e.x == 0.0f && e.y == 0.0f && e.z == 0.0f) || !senderShFromNode(s, tracer, x, j, y, omega)) continue;
+            const Rgbd w = Rgbd(s.albedo[j]) * kInvPi;
             const Rgbd we{w.x * e.x, w.y * e.y, w.z * e.z};
             for (int m = 0; m < sh::kCoeffs; ++m) {
                 acc[m][0] += we.x * y[m];
