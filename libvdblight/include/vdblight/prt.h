@@ -132,6 +132,12 @@ struct PrtData {
     /// after 1..bounces diffuse reflections (the lights' direct light is added at relight).
     GridSpec volumeGrid;
     std::vector<std::vector<Rgb>> volumeTransfer;
+    /// Run-time copy of volumeTransfer as 16-bit integers, one scale per column (cluster s,
+    /// coefficient k: volumeTransferScale[s][k] * q = the value; error <= scale / 2): the
+    /// relight streams the whole matrix once per light, so half the bytes is about half the
+    /// time. Filled by prepareRelight; empty: volumeTransfer is read.
+    std::vector<std::vector<int16_t>> volumeTransferQ;
+    std::vector<std::vector<float>> volumeTransferScale;
     bool hasVolume() const { return !volumeTransfer.empty(); }
     Bounds bounds;
     std::string sceneName, sceneHash;

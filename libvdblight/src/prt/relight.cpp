@@ -75,6 +75,24 @@ void projectLightBases(const PrtData& prt, const std::vector<float>& direct, std
 
 
 void prepareRelight(PrtData& prt) {
+    prt.volumeTransferQ.assign(prt.volumeTransfer.size(), {});
+    prt.volumeTransferScale.assign(prt.volumeTransfer.size(), {});
+    const std::size_t stride = std::size_t(prt.transferStride);
+    for (std::size_t c = 0; c < prt.volumeTransfer.size(); ++c) {
+        const float* v = reinterpret_cast<const float*>(prt.volumeTransfer[c].data());
+        const std::size_t col = prt.volumeTransfer[c].size() * 3 / stride;
+        std::vector<int16_t>& q = prt.volumeTransferQ[c];
+        std::vector<float>& scale = prt.volumeTransferScale[c];
+        q.resize(col * stride);
+        scale.resize(stride);
+        for (std::size_t k = 0; k < stride; ++k) {
+            float m = 0;
+            for (std::size_t r = 0; r < col; ++r) m = std::max(m, std::abs(v[k * col + r]));
+            scale[k] = m > 0 ? m / 32767.0f : 0.0f;
+            const float inv = m > 0 ? 32767.0f / m : 0.0f;
+            for (std::size_t r = 0; r < col; ++r) q[k * col + r] = int16_t(std::lround(v[k * col + r] * inv));
+        }
+    }
     prt.visByDirection.assign(prt.visBasis.size(), {});
     for (std::size_t c = 0; c < prt.visBasis.size(); ++c) {
         const PcaBasis& b = prt.visBasis[c];

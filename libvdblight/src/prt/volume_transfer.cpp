@@ -27,39 +27,55 @@ std::vector<Rgb> prtVolumeTransfer(const PrtData& prt, const std::vector<float>&
     std::vector<float> coeffs;
     projectLightBases(prt, direct, coeffs);
     // The non-zero columns (cluster, k) of the transfer matrix and their coefficients.
+    const bool quantised = !prt.volumeTransferQ.empty();
     std::vector<const float*> cols;
+    std::vector<const int16_t*> qcols;
     std::vector<float> a;
     const std::size_t stride = std::size_t(prt.transferStride);
+    const std::size_t floats = count * 3;
     for (std::size_t c = 0; c < s.clusters(); ++c)
-        for (std::size_t k = 0; k < stride; ++k)
-            if (coeffs[c * stride + k] != 0.0f) {
+        for (std::size_t k = 0; k < stride; ++k) {
+            const float w = coeffs[c * stride + k];
+            if (w == 0.0f) continue;
+            if (quantised) {
+                if (prt.volumeTransferScale[c][k] == 0.0f) continue;
+                qcols.push_back(prt.volumeTransferQ[c].data() + k * floats);
+                a.push_back(w * prt.volumeTransferScale[c][k]);
+            } else {
                 cols.push_back(reinterpret_cast<const float*>(prt.volumeTransfer[c].data() + k * count));
-                a.push_back(coeffs[c * stride + k]);
+                a.push_back(w);
             }
+        }
     // GEMV in row blocks that stay in L1 while every column streams through once.
     float* o = reinterpret_cast<float*>(out.data());
-    const std::size_t floats = count * 3;
     constexpr std::size_t kBlock = 2048;
     for (std::size_t r0 = 0; r0 < floats; r0 += kBlock) {
         const std::size_t r1 = std::min(floats, r0 + kBlock);
-        for (std::size_t j = 0; j < cols.size(); ++j) {
-            const float* col = cols[j];
+        for (std::size_t j = 0; j < a.size(); ++j) {
             const float w = a[j];
-            for (std::size_t r = r0; r < r1; ++r) o[r] += w * col[r];
+            if (quantised) {
+                const int16_t* col = qcols[j];
+                for (std::size_t r = r0; r < r1; ++r) o[r] += w * float(col[r]);
+            } else {
+                const float* col = cols[j];
+                for (std::size_t r = r0; r < r1; ++r) o[r] += w * col[r];
+            }
         }
     }
     return out;
 }
 
-std::vector<Rgb> lightsAtNodes(const GridSpec& grid, const Tracer& tracer, const std::vector<PrtLight>& lights) {
-    std::vector<Rgb> out(grid.nodeCount() * sh::kCoeffs, Rgb{0, 0, 0});
+namespace {
+
+/// Adds the lights' direct SH radiance to out (9 Rgb per node).
+void addLightsAtNodes(const GridSpec& grid, const Tracer& tracer, const std::vector<PrtLight>& lights, Rgb* out) {
     std::vector<std::pair<PrtPointLight, Rgb>> points;
     for (const PrtLight& l : lights)
         for (const PrtPointLight& p : lightPoints(l)) points.push_back({p, l.intensity * p.weight});
     float y[sh::kCoeffs];
     for (std::size_t node = 0; node < grid.nodeCount(); ++node) {
         const Vec3f x(grid.node(node));
-        Rgb* o = out.data() + node * sh::kCoeffs;
+        Rgb* o = out + node * sh::kCoeffs;
         for (const auto& [p, intensity] : points) {
             const Vec3f toLight = p.position - x;
             const float d2 = dot(toLight, toLight);
@@ -77,30 +93,31 @@ std::vector<Rgb> lightsAtNodes(const GridSpec& grid, const Tracer& tracer, const
             for (int m = 0; m < sh::kCoeffs; ++m) o[m] += e * y[m];
         }
     }
+}
+
+}  // namespace
+
+std::vector<Rgb> lightsAtNodes(const GridSpec& grid, const Tracer& tracer, const std::vector<PrtLight>& lights) {
+    std::vector<Rgb> out(grid.nodeCount() * sh::kCoeffs, Rgb{0, 0, 0});
+    addLightsAtNodes(grid, tracer, lights, out.data());
     return out;
 }
 
 Volume relightVolume(const PrtData& prt, const std::vector<PrtLight>& lights, const Tracer* tracer) {
     if (!prt.hasVolume()) throw ValueError("this PRT file has no volume (bake with --volume-resolution)");
-    std::vector<Rgb> total(prt.volumeGrid.nodeCount() * sh::kCoeffs, Rgb{0, 0, 0});
-    for (const PrtLight& light : lights) {
-        const std::vector<Rgb> v = prtVolumeTransfer(prt, prtDirectLight(prt, light));
-        for (std::size_t i = 0; i < v.size(); ++i) total[i] += light.intensity * v[i];
-    }
-    if (tracer) {
-        const std::vector<Rgb> d = lightsAtNodes(prt.volumeGrid, *tracer, lights);
-        for (std::size_t i = 0; i < d.size(); ++i) total[i] += d[i];
-    }
+    const std::size_t count = prt.volumeGrid.nodeCount() * sh::kCoeffs;
     Volume vol;
     vol.basis = BasisDesc::sh2();
     VolumeLevel level;
     level.grid = prt.volumeGrid;
-    level.data.resize(total.size() * 3);
-    for (std::size_t i = 0; i < total.size(); ++i) {
-        level.data[i * 3 + 0] = total[i].x;
-        level.data[i * 3 + 1] = total[i].y;
-        level.data[i * 3 + 2] = total[i].z;
+    level.data.assign(count * 3, 0.0f);
+    static_assert(sizeof(Rgb) == 3 * sizeof(float), "Rgb is three packed floats");
+    Rgb* total = reinterpret_cast<Rgb*>(level.data.data());
+    for (const PrtLight& light : lights) {
+        const std::vector<Rgb> v = prtVolumeTransfer(prt, prtDirectLight(prt, light));
+        for (std::size_t i = 0; i < count; ++i) total[i] += light.intensity * v[i];
     }
+    if (tracer) addLightsAtNodes(prt.volumeGrid, *tracer, lights, total);
     vol.levels.push_back(std::move(level));
     vol.meta["method"] = std::string("prt_relight");
     const std::string bounces = std::to_string(prt.bounces) + (prt.bounces == 1 ? " bounce" : " bounces");
