@@ -68,6 +68,9 @@ int main(int argc, char** argv) {
     o.visCoeffs = quick ? 24 : 50;
     o.trainLights = quick ? 100 : 1000;
     o.transferCoeffs = 10;
+    // --transfer-coeffs N (after the mode flag, or alone): the basis size to compare.
+    for (int a = 1; a + 1 < argc; ++a)
+        if (std::strcmp(argv[a], "--transfer-coeffs") == 0) o.transferCoeffs = uint32_t(std::atoi(argv[a + 1]));
     o.volumeResolution = quick ? 6 : 16;
     std::printf("vdblight_bench_prt%s: default scene (%zu triangles), bake on all cores, relight on one thread\n",
                 quick ? " --quick" : "", scene.triangleCount());
@@ -207,6 +210,12 @@ int main(int argc, char** argv) {
                         prt.bounces, dt * 1e3, volSeconds * 1e3, dt / volSeconds,
                         err <= volError ? "" : " (error NOT reached)", prevSeconds * 1e3, prevSeconds / volSeconds,
                         prevError);
+            // The doubling overshoots: the gather's error falls as rays^-1/2 (its noise), so the
+            // budget of exactly the relight's error is rays * (err / relight error)^2 and its
+            // time scales with the rays.
+            const double exactRays = double(rays) * (err / volError) * (err / volError);
+            std::printf("  interpolated to exactly equal error: %.0f rays per node, %.3f ms: relight %.0fx faster\n",
+                        exactRays, dt * exactRays / rays * 1e3, dt * exactRays / rays / volSeconds);
             break;
         }
         prevSeconds = dt;
