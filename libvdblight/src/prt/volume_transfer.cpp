@@ -18,12 +18,12 @@ namespace {
 
 }  // namespace
 
-std::vector<Rgb> prtVolumeTransfer(const PrtData& prt, const std::vector<float>& direct) {
-    if (!prt.hasVolume()) throw ValueError("this PRT file has no volume (bake with --volume-resolution)");
+namespace {
+
+/// out (count Rgb) += scale * transfer(direct): the relight's GEMV.
+void addVolumeTransfer(const PrtData& prt, const std::vector<float>& direct, float scale, Rgb* out) {
     const SurfaceSamples& s = prt.samples;
-    if (direct.size() != s.size()) throw ValueError("direct lighting has the wrong number of samples");
     const std::size_t count = prt.volumeGrid.nodeCount() * sh::kCoeffs;
-    std::vector<Rgb> out(count, Rgb{0, 0, 0});
     std::vector<float> coeffs;
     projectLightBases(prt, direct, coeffs);
     // The non-zero columns (cluster, k) of the transfer matrix and their coefficients.
@@ -35,7 +35,7 @@ std::vector<Rgb> prtVolumeTransfer(const PrtData& prt, const std::vector<float>&
     const std::size_t floats = count * 3;
     for (std::size_t c = 0; c < s.clusters(); ++c)
         for (std::size_t k = 0; k < stride; ++k) {
-            const float w = coeffs[c * stride + k];
+            const float w = coeffs[c * stride + k] * scale;
             if (w == 0.0f) continue;
             if (quantised) {
                 if (prt.volumeTransferScale[c][k] == 0.0f) continue;
@@ -47,7 +47,7 @@ std::vector<Rgb> prtVolumeTransfer(const PrtData& prt, const std::vector<float>&
             }
         }
     // GEMV in row blocks that stay in L1 while every column streams through once.
-    float* o = reinterpret_cast<float*>(out.data());
+    float* o = reinterpret_cast<float*>(out);
     constexpr std::size_t kBlock = 2048;
     for (std::size_t r0 = 0; r0 < floats; r0 += kBlock) {
         const std::size_t r1 = std::min(floats, r0 + kBlock);
@@ -62,6 +62,15 @@ std::vector<Rgb> prtVolumeTransfer(const PrtData& prt, const std::vector<float>&
             }
         }
     }
+}
+
+}  // namespace
+
+std::vector<Rgb> prtVolumeTransfer(const PrtData& prt, const std::vector<float>& direct) {
+    if (!prt.hasVolume()) throw ValueError("this PRT file has no volume (bake with --volume-resolution)");
+    if (direct.size() != prt.samples.size()) throw ValueError("direct lighting has the wrong number of samples");
+    std::vector<Rgb> out(prt.volumeGrid.nodeCount() * sh::kCoeffs, Rgb{0, 0, 0});
+    addVolumeTransfer(prt, direct, 1.0f, out.data());
     return out;
 }
 
@@ -114,8 +123,14 @@ Volume relightVolume(const PrtData& prt, const std::vector<PrtLight>& lights, co
     static_assert(sizeof(Rgb) == 3 * sizeof(float), "Rgb is three packed floats");
     Rgb* total = reinterpret_cast<Rgb*>(level.data.data());
     for (const PrtLight& light : lights) {
-        const std::vector<Rgb> v = prtVolumeTransfer(prt, prtDirectLight(prt, light));
-        for (std::size_t i = 0; i < count; ++i) total[i] += light.intensity * v[i];
+        const std::vector<float> direct = prtDirectLight(prt, light);
+        const Rgb& I = light.intensity;
+        if (I.x == I.y && I.y == I.z) {
+            addVolumeTransfer(prt, direct, I.x, total);  // grey light: straight into the volume
+        } else {
+            const std::vector<Rgb> v = prtVolumeTransfer(prt, direct);
+            for (std::size_t i = 0; i < count; ++i) total[i] += I * v[i];
+        }
     }
     if (tracer) addLightsAtNodes(prt.volumeGrid, *tracer, lights, total);
     vol.levels.push_back(std::move(level));
