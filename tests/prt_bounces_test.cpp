@@ -2,13 +2,18 @@
 // furnace's geometric series and against the uncompressed multi-bounce reference, the lights'
 // direct radiance at volume nodes against the foundation's gather, and area lights.
 #include <gtest/gtest.h>
+#include <openvdb/io/File.h>
+#include <openvdb/openvdb.h>
 
 #include <cmath>
 #include <cstdio>
 
+#include "test_util.h"
 #include "vdblight/bake.h"
 #include "vdblight/errors.h"
 #include "vdblight/prt.h"
+#include "vdblight/prt_io.h"
+#include "vdblight/vdb_io.h"
 #include "vdblight/scene.h"
 #include "vdblight/scene_generators.h"
 #include "vdblight/sh.h"
@@ -205,6 +210,44 @@ TEST(PrtBounces, AreaLightAgainstShadowRays) {
     EXPECT_LT(indErr, 0.7);
     EXPECT_EQ(up, 0.0);
     EXPECT_EQ(lightPoints(area).size(), 16u);
+}
+
+TEST(PrtBounces, FormatVersionWrittenAndUnknownVersionsRefused) {
+    PrtOptions o = options(3);
+    o.volumeResolution = 0;
+    const PrtData prt = bakePrt(box().scene, box().tracer, o);
+    test::TempDir dir;
+    const std::string path = dir.file("p.vdb");
+    writePrt(prt, path);
+    const PrtData back = readPrt(path);
+    EXPECT_EQ(back.bounces, 3);
+    EXPECT_FALSE(back.closureNormalise);
+    openvdb::io::File in(path);
+    in.open();
+    openvdb::GridPtrVecPtr grids = in.getGrids();
+    openvdb::MetaMap::Ptr meta = in.getMetadata();
+    in.close();
+    ASSERT_TRUE(meta->getMetadata<openvdb::Int64Metadata>("vdblight:format_version"));
+    EXPECT_EQ(meta->getMetadata<openvdb::Int64Metadata>("vdblight:format_version")->value(), 2);
+    EXPECT_EQ(meta->getMetadata<openvdb::StringMetadata>("vdblight:kind")->value(), "prt");
+    meta->removeMeta("vdblight:format_version");
+    meta->insertMeta("vdblight:format_version", openvdb::Int64Metadata(99));
+    const std::string future = dir.file("future.vdb");
+    openvdb::io::File(future).write(*grids, *meta);
+    try {
+        readPrt(future);
+        ADD_FAILURE() << "a PRT file of version 99 was accepted";
+    } catch (const FormatError& e) {
+        EXPECT_NE(std::string(e.what()).find("PRT format version 99; this build reads PRT versions 1 to 2"),
+                  std::string::npos) << e.what();
+    }
+    // A volume reader names a PRT file as such.
+    try {
+        readVolume(path);
+        ADD_FAILURE() << "a PRT file was read as a volume";
+    } catch (const FormatError& e) {
+        EXPECT_NE(std::string(e.what()).find("is a PRT file"), std::string::npos) << e.what();
+    }
 }
 
 }  // namespace
