@@ -84,8 +84,24 @@ TEST(CliPrt, BakeRelightInfo) {
 
     // The relit volume is an ordinary SH volume: info and query read it.
     const std::string vol = dir.file("relit.vdb");
-    const CliRun rv = runCli("prt relight " + prt + " --light 0.28,0.4,0.28 -q -o " + dir.file("v.csv") + " --volume-out " + vol);
+    const std::string scene = std::string(kSource) + "/data/cornell_box.obj";
+    const CliRun rv = runCli("prt relight " + prt + " --light 0.28,0.4,0.28 -q -o " + dir.file("v.csv") + " --volume-out " +
+                             vol + " --scene " + scene);
     ASSERT_EQ(rv.status, 0) << rv.output;
+    // Without the scene the lights' direct light cannot be added: refused unless asked for.
+    expectCleanFailure(dir, "prt relight " + prt + " --light 0.28,0.4,0.28 -q -o " + dir.file("w.csv") +
+                                " --volume-out " + dir.file("w.vdb"), "--indirect-only");
+    const std::string ind = dir.file("indirect.vdb");
+    ASSERT_EQ(runCli("prt relight " + prt + " --light 0.28,0.4,0.28 -q -o " + dir.file("w.csv") + " --volume-out " +
+                     ind + " --indirect-only").status, 0);
+    // The complete volume is brighter than its indirect part (the light shines on the point).
+    auto irradiance = [&](const std::string& file) {
+        const CliRun r = runCli("query " + file + " --at 0.28,0.2,0.28 --normal 0,1,0");
+        EXPECT_EQ(r.status, 0) << r.output;
+        const std::string last = r.output.substr(r.output.rfind(',', r.output.size() - 2) + 1);
+        return std::stod(last);
+    };
+    EXPECT_GT(irradiance(vol), 2.0 * irradiance(ind));
     const CliRun vinfo = runCli("info " + vol);
     EXPECT_EQ(vinfo.status, 0) << vinfo.output;
     EXPECT_NE(vinfo.output.find("sh2"), std::string::npos) << vinfo.output;
@@ -95,7 +111,21 @@ TEST(CliPrt, BakeRelightInfo) {
 
     const CliRun outside = runCli("prt relight " + prt + " --light 5,5,5 -q -o " + dir.file("far.csv"));
     EXPECT_EQ(outside.status, 0);
-    EXPECT_NE(outside.output.find("outside the scene bounds"), std::string::npos) << outside.output;
+    EXPECT_NE(outside.output.find("light 1 at 5,5,5 is outside the scene bounds"), std::string::npos) << outside.output;
+    // Inside the short block, judged from the samples alone, and exactly with --scene.
+    const CliRun inside = runCli("prt relight " + prt + " --light 0.45,0.48,0.1 --light 0.185,0.08,0.17 -q -o " +
+                                 dir.file("in.csv"));
+    EXPECT_EQ(inside.status, 0);
+    EXPECT_NE(inside.output.find("light 2 at 0.185,0.08,0.17 is inside a solid"), std::string::npos) << inside.output;
+    EXPECT_EQ(inside.output.find("light 1"), std::string::npos) << inside.output;
+    const CliRun insideExact = runCli("prt relight " + prt + " --light 0.185,0.08,0.17 -q -o " + dir.file("in.csv") +
+                                      " --scene " + scene);
+    EXPECT_NE(insideExact.output.find("light 1 at 0.185,0.08,0.17 is inside a solid (lit as given)"), std::string::npos)
+        << insideExact.output;
+    const CliRun area = runCli("prt relight " + prt + " --area-light 0.28,0.5,0.28,0,-1,0,0.1,2,2,2 -q -o " +
+                               dir.file("area.csv") + " --reference " + scene);
+    EXPECT_EQ(area.status, 0) << area.output;
+    EXPECT_NE(area.output.find("reference: RMS relative error"), std::string::npos) << area.output;
 }
 
 TEST(CliPrt, BadInput) {
@@ -116,4 +146,7 @@ TEST(CliPrt, BadInput) {
     expectCleanFailure(dir, "prt relight " + prt + " --light 0.2,0.2,0.2 -o " + dir.file("x.csv") + " --volume-out " +
                                 dir.file("x.vdb"), "has no volume");
     expectCleanFailure(dir, "prt relight " + prt + " --light 0.2,0.2,0.2,-1,0,0", "negative");
+    expectCleanFailure(dir, "prt relight " + prt + " --area-light 0.2,0.2,0.2,0,0,0,0.1", "normal");
+    expectCleanFailure(dir, "prt relight " + prt + " --area-light 0.2,0.2,0.2,0,-1,0", "--area-light");
+    expectCleanFailure(dir, "prt bake -o " + dir.file("a.vdb") + " --bounces 0", "--bounces");
 }

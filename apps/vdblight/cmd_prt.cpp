@@ -2,6 +2,7 @@
 // (Leonhardt & Bohn). Options are parsed into structs; the work is in vdblight/prt.h.
 #include <chrono>
 #include <iostream>
+#include <memory>
 #include <sstream>
 
 #include "app_common.h"
@@ -29,6 +30,9 @@ struct PrtBakeCommand {
 struct PrtRelightCommand {
     std::string input;
     std::vector<std::string> lights;
+    std::vector<std::string> areaLights;
+    std::string scene;  ///< the baked scene: lights' direct light in the volume, inside-solid test
+    bool indirectOnly = false;
     float areaSize = 0;
     int areaSamples = 5;
     std::string output;
@@ -63,6 +67,43 @@ void runBake(PrtBakeCommand& c) {
               << "storage: " << formatBytes(double(info.bytesFloat32)) << " as dense 32-bit floats, "
               << formatBytes(double(info.bytesStored)) << " stored, file " << formatBytes(double(info.fileBytes))
               << " (" << c.output << ")\n";
+}
+
+std::vector<double> parseNumbers(const std::string& text, const std::string& what, const std::string& form) {
+    std::vector<double> v;
+    std::stringstream ss(text);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+        try {
+            std::size_t used = 0;
+            v.push_back(std::stod(item, &used));
+            if (used != item.size()) throw std::invalid_argument(item);
+        } catch (const std::exception&) {
+            throw ValueError(what + " '" + text + "': expected " + form + " numbers");
+        }
+    }
+    for (double x : v)
+        if (!std::isfinite(x)) throw ValueError(what + " '" + text + "': numbers must be finite");
+    return v;
+}
+
+/// --area-light x,y,z,nx,ny,nz,size[,r,g,b]: a square emitting on the side of the normal.
+PrtLight parseAreaLight(const std::string& text, int samples) {
+    const std::string form = "x,y,z,nx,ny,nz,size or x,y,z,nx,ny,nz,size,r,g,b";
+    const std::vector<double> v = parseNumbers(text, "--area-light", form);
+    if (v.size() != 7 && v.size() != 10) throw ValueError("--area-light '" + text + "': expected " + form);
+    PrtLight l;
+    l.position = Vec3f(Vec3d{v[0], v[1], v[2]});
+    l.normal = Vec3f(Vec3d{v[3], v[4], v[5]});
+    if (!(length(Vec3d{v[3], v[4], v[5]}) > 0)) throw ValueError("--area-light '" + text + "': the normal must not be zero");
+    if (!(v[6] > 0)) throw ValueError("--area-light '" + text + "': size must be positive");
+    l.size = float(v[6]);
+    if (v.size() == 10) {
+        if (v[7] < 0 || v[8] < 0 || v[9] < 0) throw ValueError("--area-light '" + text + "': intensity must not be negative");
+        l.intensity = Rgb(Vec3d{v[7], v[8], v[9]});
+    }
+    l.areaSamples = samples;
+    return l;
 }
 
 PrtLight parseLight(const std::string& text, float size, int samples) {
@@ -123,9 +164,12 @@ std::string formatLighting(const PrtData& prt, const PrtLighting& lit, bool ply)
 }
 
 void runRelight(const PrtRelightCommand& c) {
-    if (c.lights.empty()) throw ValueError("give at least one --light x,y,z[,r,g,b]");
+    if (c.lights.empty() && c.areaLights.empty()) {
+        throw ValueError("give at least one --light x,y,z[,r,g,b] or --area-light");
+    }
     std::vector<PrtLight> lights;
     for (const std::string& t : c.lights) lights.push_back(parseLight(t, c.areaSize, c.areaSamples));
+    for (const std::string& t : c.areaLights) lights.push_back(parseAreaLight(t, c.areaSamples));
     bool ply = c.format == "ply";
     if (c.format.empty()) ply = c.output.size() > 4 && c.output.substr(c.output.size() - 4) == ".ply";
     else if (c.format != "csv" && c.format != "ply") throw ValueError("--format must be csv or ply");
@@ -135,10 +179,29 @@ void runRelight(const PrtRelightCommand& c) {
     if (!c.volumeOutput.empty() && !prt.hasVolume()) {
         throw ValueError("'" + c.input + "' has no volume: bake it with --volume-resolution to use --volume-out");
     }
-    for (const PrtLight& l : lights) {
+    if (!c.volumeOutput.empty() && !c.indirectOnly && c.scene.empty()) {
+        throw ValueError("--volume-out needs --scene (the baked scene, for the lights' direct light at the nodes), "
+                         "or --indirect-only");
+    }
+    std::unique_ptr<Scene> scene;
+    std::unique_ptr<Tracer> tracer;
+    if (!c.scene.empty()) {
+        scene = std::make_unique<Scene>(loadScene(c.scene));
+        if (scene->contentHash() != prt.sceneHash) {
+            throw ValueError("--scene '" + c.scene + "' is not the scene '" + c.input + "' was baked from");
+        }
+        tracer = std::make_unique<Tracer>(*scene);
+    }
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+        const PrtLight& l = lights[i];
+        std::ostringstream name;
+        name << "light " << i + 1 << " at " << l.position.x << "," << l.position.y << "," << l.position.z;
         if (!prt.bounds.contains(Vec3d(l.position))) {
-            std::cerr << "vdblight: warning: light at " << l.position.x << "," << l.position.y << "," << l.position.z
+            std::cerr << "vdblight: warning: " << name.str()
                       << " is outside the scene bounds (lit as given; the basis was trained inside)\n";
+        } else if (tracer ? insideSolid(*tracer, l.position) : prtInsideSolid(prt, l.position)) {
+            std::cerr << "vdblight: warning: " << name.str() << " is inside a solid (lit as given"
+                      << (tracer ? "" : "; judged from the samples, give --scene for the exact test") << ")\n";
         }
     }
     const double t0 = seconds();
@@ -155,26 +218,20 @@ void runRelight(const PrtRelightCommand& c) {
             std::cerr << "vdblight: warning: --reference scene differs from the baked one\n";
         }
         const Tracer tracer(scene);
-        std::vector<Rgb> direct(prt.samples.size(), Rgb{0, 0, 0}), indirect = direct;
+        std::vector<Rgb> direct(prt.samples.size(), Rgb{0, 0, 0});
         for (const PrtLight& l : lights) {
-            if (insideSolid(tracer, l.position)) {
-                std::cerr << "vdblight: warning: light at " << l.position.x << "," << l.position.y << ","
-                          << l.position.z << " is inside a solid\n";
-            }
-            if (l.size > 0) throw ValueError("--reference supports point lights only");
-            const std::vector<float> d = exactDirectUnit(prt.samples, tracer, l.position, c.threads);
-            const std::vector<Rgb> e = referenceIndirect(prt.samples, tracer, d, c.threads);
-            for (std::size_t i = 0; i < d.size(); ++i) {
-                direct[i] += l.intensity * d[i];
-                indirect[i] += l.intensity * e[i];
-            }
+            const std::vector<float> d = exactDirectLight(prt.samples, tracer, l, c.threads);
+            for (std::size_t i = 0; i < d.size(); ++i) direct[i] += l.intensity * d[i];
         }
+        // Uncompressed bounces with the bake's form factors (closure-normalised as baked).
+        const std::vector<float> F = sampleFormFactors(prt.samples, tracer, c.threads, nullptr, prt.closureNormalise);
+        const std::vector<Rgb> indirect = bounceIndirect(prt.samples, F, direct, prt.bounces);
         std::cerr << "reference: RMS relative error direct " << rmsRelativeError(lit.direct, direct) << ", indirect "
                   << rmsRelativeError(lit.indirect, indirect) << "\n";
     }
     if (!c.volumeOutput.empty()) {
         const double v0 = seconds();
-        const Volume volume = relightVolume(prt, lights);
+        const Volume volume = relightVolume(prt, lights, c.indirectOnly ? nullptr : tracer.get());
         const double v1 = seconds();
         writeVolume(volume, c.volumeOutput);
         if (!c.quiet) {
@@ -198,6 +255,8 @@ void printPrtInfo(const std::string& path) {
               << " coefficients\n"
               << "  direct-light basis: " << prt.trainLights << " training lights -> " << prt.transferStride - 1
               << " vectors per cluster\n"
+              << "  transfer: " << prt.bounces << (prt.bounces == 1 ? " bounce" : " bounces")
+              << (prt.closureNormalise ? ", closure-normalised form factors" : ", raw disk form factors") << "\n"
               << "  relightable volume: "
               << (prt.hasVolume() ? std::to_string(prt.volumeGrid.nx) + " x " + std::to_string(prt.volumeGrid.ny) + " x " +
                                         std::to_string(prt.volumeGrid.nz) + " nodes"
@@ -231,6 +290,10 @@ void addPrtCommand(CLI::App& app) {
                      "Drop matrix entries below this fraction of their row's largest")->capture_default_str();
     bake->add_option("--volume-resolution", b->options.volumeResolution,
                      "Also make an SH volume with this many nodes along the longest axis relightable");
+    bake->add_option("--bounces", b->options.bounces, "Diffuse bounces in the transfer (1 = the paper's one)")
+        ->capture_default_str();
+    bake->add_flag("--raw-form-factors", [b](int64_t) { b->options.closureNormalise = false; },
+                   "Do not rescale form factors to the hemisphere that rays find covered");
     bake->add_flag("--paper-basis", b->options.paperBasis,
                    "Direct-light basis exactly as the paper's eq. 7 (centred, unnormalised examples)");
     bake->add_flag("--no-quantize", b->noQuantize, "Store 32-bit floats instead of 16-bit");
@@ -242,8 +305,15 @@ void addPrtCommand(CLI::App& app) {
     auto r = std::make_shared<PrtRelightCommand>();
     CLI::App* relight = prt->add_subcommand("relight", "Per-sample direct and indirect light for new light positions");
     relight->add_option("file", r->input, "PRT file from 'prt bake'")->required();
-    relight->add_option("--light", r->lights, "Point light x,y,z[,r,g,b] (intensity W/sr; repeatable)")->required();
-    relight->add_option("--area-size", r->areaSize, "Make every light a square of this side (XZ plane)");
+    relight->add_option("--light", r->lights, "Point light x,y,z[,r,g,b] (intensity W/sr; repeatable)");
+    relight->add_option("--area-light", r->areaLights,
+                        "Square area light x,y,z,nx,ny,nz,size[,r,g,b]: centre, emitting side, side length, "
+                        "intensity along the normal (repeatable)");
+    relight->add_option("--scene", r->scene,
+                        "The baked scene: adds the lights' direct light to --volume-out (shadow rays) and tests "
+                        "light positions exactly");
+    relight->add_flag("--indirect-only", r->indirectOnly, "--volume-out holds only the reflected light (no --scene needed)");
+    relight->add_option("--area-size", r->areaSize, "Make every --light an isotropic square of this side (XZ plane)");
     relight->add_option("--area-samples", r->areaSamples, "Points per side of an area light")
         ->check(CLI::Range(1, 64))->capture_default_str();
     relight->add_option("-o,--output", r->output, "Write CSV or PLY here instead of stdout");
@@ -251,7 +321,8 @@ void addPrtCommand(CLI::App& app) {
     relight->add_option("--reference", r->referenceScene,
                         "Scene to compute the exact direct and uncompressed one-bounce light from; prints the errors");
     relight->add_option("--volume-out", r->volumeOutput,
-                        "Write the relit SH volume (.vdb, one-bounce radiance; needs a bake with --volume-resolution)");
+                        "Write the relit SH volume (.vdb: the lights' direct + reflected radiance; needs a bake with "
+                        "--volume-resolution and --scene or --indirect-only)");
     relight->add_option("--threads", r->threads, "Worker threads for --reference (0 = all cores)");
     relight->add_flag("-q,--quiet", r->quiet, "No timing line");
     relight->callback([r] { runRelight(*r); });

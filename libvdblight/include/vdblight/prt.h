@@ -5,7 +5,8 @@
 // hemispherical depth buffers compressed by a per-cluster PCA (4.2); a per-cluster PCA basis
 // of example direct lighting from point lights placed through the scene (4.3.1); transfer
 // matrices from every sender cluster's basis vectors to every receiver sample (4.3.2, eq. 10)
-// with one diffuse bounce computed sample to sample with ray-traced visibility.
+// computed sample to sample with ray-traced visibility, for `bounces` diffuse bounces (the
+// paper has one; more by iterating the form-factor matrix on the basis, multi_bounce.cpp).
 // Relight (section 5): visibility -> direct light -> projection -> transfer -> indirect.
 //
 // Quantities: direct and indirect values are irradiance (W/m^2) at a sample on its front
@@ -42,6 +43,14 @@ struct PrtOptions {
     /// > 0: the nodes of a uniform SH volume with this many nodes along the longest axis
     /// (placeUniformGrid over the scene bounds) are receivers too (relightable volume).
     int volumeResolution = 0;
+    /// Diffuse bounces in the transfer (1 = the paper's single bounce). The default matches
+    /// the foundation bake's maxBounces, so a relit volume compares with a `bake`.
+    int bounces = 8;
+    /// Rescale every receiver's form factors (a sample's row of F, a node's row of the volume
+    /// gather) so that they sum to the part of its hemisphere (sphere) that rays find covered
+    /// by surfaces (sampleClosure / nodeClosure; scale capped at 4: corner samples need up to 4). Disks miss the near field
+    /// at edges; without this a closed box's 8-bounce furnace reads 0.957 instead of 0.996.
+    bool closureNormalise = true;
     uint64_t seed = 1;
     int threads = 0;               ///< 0: all cores
 };
@@ -85,13 +94,19 @@ Vec3f visibilityDirection(int g, int index);
 /// bilinear weights in the concentric square (paper figure 2). Returns how many (4).
 int visibilityNeighbours(int g, const Vec3f& localDir, int index[4], float weight[4]);
 
-/// One light for relighting: a point light, or a small square area light (`size` > 0): a
-/// square in the XZ plane of `areaSamples` x `areaSamples` isotropic points sharing `intensity`.
+/// One light for relighting: a point light (with a `normal`: a one-sided cosine emitter),
+/// or a small square area light (`size` > 0) of
+/// `areaSamples` x `areaSamples` points (cell centres) sharing `intensity`. With a `normal`
+/// the square is perpendicular to it and emits on that side only, as a Lambertian emitter
+/// (each point's intensity falls off with the cosine to the normal; `intensity` is the total
+/// along the normal); without one (zero) it lies in the XZ plane and its points are isotropic.
+/// Every point is lit through the trained basis (the lighting is projected once per light).
 struct PrtLight {
     Vec3f position;
     Rgb intensity{1, 1, 1};  ///< W/sr (area light: total intensity along its normal)
     float size = 0;
     int areaSamples = 5;
+    Vec3f normal{0, 0, 0};
 };
 
 /// The baked data (what a _prt.vdb holds).
@@ -100,23 +115,37 @@ struct PrtData {
     int visGrid = 0;             ///< g: depth buffers have g*g directions
     float depthCap = 0;          ///< depth stored for rays that leave the scene
     std::vector<PcaBasis> visBasis;     ///< per cluster, dim = g*g
+    /// Run-time copy of visBasis by direction (per cluster: [t * (count + 1)]: the mean, then
+    /// the count basis values of direction t), so a depth lookup reads one contiguous row.
+    /// Filled by prepareRelight (bakePrt and readPrt call it); empty: read visBasis.
+    std::vector<std::vector<float>> visByDirection;
     std::vector<float> visCoeffs;       ///< per sample, visCoeffStride values (zero padded)
     int visCoeffStride = 0;
     std::vector<PcaBasis> lightBasis;   ///< per cluster, dim = cluster size
     int transferStride = 0;             ///< transferCoeffs + 1 (row 0 = the mean)
     /// transfer[s][k * samples + r]: irradiance at receiver r per unit basis coefficient k of
-    /// sender cluster s (k = 0: the mean vector), RGB (sender albedo included).
+    /// sender cluster s (k = 0: the mean vector), RGB (sender albedo included), summed over
+    /// bounces 1..bounces.
     std::vector<std::vector<Rgb>> transfer;
     /// Relightable volume (empty volumeTransfer if none): volumeTransfer[s][(k * nodes + node)
-    /// * 9 + j] is SH coefficient j of the radiance arriving at the node per unit coefficient k.
+    /// * 9 + j] is SH coefficient j of the radiance arriving at the node per unit coefficient k
+    /// after 1..bounces diffuse reflections (the lights' direct light is added at relight).
     GridSpec volumeGrid;
     std::vector<std::vector<Rgb>> volumeTransfer;
+    /// Run-time copy of volumeTransfer as 16-bit integers, one scale per column (cluster s,
+    /// coefficient k: volumeTransferScale[s][k] * q = the value; error <= scale / 2): the
+    /// relight streams the whole matrix once per light, so half the bytes is about half the
+    /// time. Filled by prepareRelight; empty: volumeTransfer is read.
+    std::vector<std::vector<int16_t>> volumeTransferQ;
+    std::vector<std::vector<float>> volumeTransferScale;
     bool hasVolume() const { return !volumeTransfer.empty(); }
     Bounds bounds;
     std::string sceneName, sceneHash;
     uint64_t seed = 1;
     uint32_t trainLights = 0;
     bool paperBasis = false;
+    int bounces = 1;             ///< diffuse bounces in transfer / volumeTransfer
+    bool closureNormalise = false;  ///< form factors rescaled to the covered hemisphere
     double secondsSamples = 0, secondsVisibility = 0, secondsBasis = 0, secondsTransfer = 0;
 };
 
@@ -132,6 +161,13 @@ std::vector<Vec3f> trainingLightPositions(const Scene& scene, const Tracer& trac
 /// True if `p` looks inside a solid: most of six axis rays first hit a back face.
 bool insideSolid(const Tracer& tracer, const Vec3f& p);
 
+/// The same test from the PRT samples alone (no scene): at least 3/4 of the 8 samples nearest
+/// to `p` face away from it. Used by `prt relight` to warn without the scene.
+bool prtInsideSolid(const PrtData& prt, const Vec3f& p);
+
+/// Fills prt.visByDirection (the run-time layout of the visibility bases).
+void prepareRelight(PrtData& prt);
+
 /// Per-sample relit irradiance (RGB, W/m^2).
 struct PrtLighting {
     std::vector<Rgb> direct;
@@ -141,6 +177,12 @@ struct PrtLighting {
 /// Direct irradiance per unit intensity (scalar) from a point at `p` using the compressed
 /// visibility.
 std::vector<float> prtDirectUnit(const PrtData& prt, const Vec3f& p);
+
+/// Direct irradiance per unit intensity of a whole light (its lightPoints, cosine emitters
+/// weighted) with the compressed visibility; exactDirectLight: with shadow rays.
+std::vector<float> prtDirectLight(const PrtData& prt, const PrtLight& light);
+std::vector<float> exactDirectLight(const SurfaceSamples& s, const Tracer& tracer, const PrtLight& light,
+                                    int threads = 0);
 
 /// Section 5: direct from the compressed visibility, then projection onto each cluster's
 /// basis and the transfer matrices. Lights add linearly.
@@ -155,10 +197,26 @@ std::vector<Rgb> prtTransfer(const PrtData& prt, const std::vector<float>& direc
 std::vector<Rgb> prtVolumeTransfer(const PrtData& prt, const std::vector<float>& direct);
 
 /// Relights the volume: an `sh2` Volume (one dense level) holding the radiance that reaches
-/// each node after one diffuse bounce off the surfaces (the lights' own direct radiance is not
-/// included). `query` and `export` read it like any baked volume. Throws ValueError if the
-/// PRT data has no volume.
-Volume relightVolume(const PrtData& prt, const std::vector<PrtLight>& lights);
+/// each node after 1..prt.bounces diffuse reflections off the surfaces, plus, if `tracer`
+/// (of the baked scene) is given, the lights' own direct radiance (lightsAtNodes: exact
+/// shadow rays), so that it is a complete lighting volume like a `bake` with those lights.
+/// `query` and `export` read it like any baked volume. Throws ValueError if the PRT data has
+/// no volume.
+Volume relightVolume(const PrtData& prt, const std::vector<PrtLight>& lights, const Tracer* tracer = nullptr);
+
+/// The lights' direct SH radiance at the nodes of `grid` (9 per node, node-major): a point
+/// light of intensity I at distance d adds I / d^2 * Y(direction to the light) if a shadow ray
+/// from the node reaches it (as the foundation's gather, radiance_estimator.cpp); an area
+/// light adds its points (lightPoints) the same way.
+std::vector<Rgb> lightsAtNodes(const GridSpec& grid, const Tracer& tracer, const std::vector<PrtLight>& lights);
+
+/// The isotropic point lights a PrtLight stands for: itself, or its areaSamples^2 points.
+struct PrtPointLight {
+    Vec3f position;
+    Vec3f normal;     ///< emitting side (cosine emitter); zero: isotropic
+    float weight;     ///< share of the light's intensity (1 / points)
+};
+std::vector<PrtPointLight> lightPoints(const PrtLight& light);
 
 // --- References (uncompressed, for tests and error reports) ------------------------------
 
@@ -167,9 +225,30 @@ Volume relightVolume(const PrtData& prt, const std::vector<PrtLight>& lights);
 std::vector<float> exactDirectUnit(const SurfaceSamples& s, const Tracer& tracer, const Vec3f& p, int threads = 0);
 
 /// Uncompressed one-bounce indirect irradiance: every sample j reflects albedo_j / pi *
-/// direct_j towards every receiver through the form factor below, visibility by ray.
+/// direct_j towards every receiver through the form factor below, visibility by ray
+/// (pairVisible: one canonical ray per pair).
 std::vector<Rgb> referenceIndirect(const SurfaceSamples& s, const Tracer& tracer, const std::vector<float>& direct,
                                    int threads = 0);
+
+/// True if samples a and b see each other: one ray, from the lower index to the higher.
+bool pairVisible(const SurfaceSamples& s, const Tracer& tracer, std::size_t a, std::size_t b);
+
+/// The n x n form-factor matrix (row-major): F[r * n + j] = diskTransfer from sender j to
+/// receiver r if pairVisible, else 0. n^2 / 2 rays, n^2 floats. With `normalise`, each row is
+/// scaled to sum to pi * sampleClosure of its receiver (PrtOptions::closureNormalise).
+std::vector<float> sampleFormFactors(const SurfaceSamples& s, const Tracer& tracer, int threads = 0,
+                                     Interrupter* interrupter = nullptr, bool normalise = false);
+
+/// Cosine-weighted fraction of the hemisphere of (p, n) whose rays hit the scene (256 fixed
+/// equal-area directions); nodeClosure: uniform fraction of the sphere around x.
+float sampleClosure(const Tracer& tracer, const Vec3f& p, const Vec3f& n);
+float nodeClosure(const Tracer& tracer, const Vec3f& x);
+
+/// Uncompressed multi-bounce indirect irradiance E_1 + ... + E_bounces with E_1 = F A direct,
+/// E_b = F A E_(b-1), A = albedo / pi (double sums). If asked, `senderIrradiance` gets
+/// direct + E_1 + ... + E_(bounces-1): what the samples reflect towards volume nodes.
+std::vector<Rgb> bounceIndirect(const SurfaceSamples& s, const std::vector<float>& F, const std::vector<Rgb>& direct,
+                                int bounces, std::vector<Rgb>* senderIrradiance = nullptr);
 
 /// Irradiance at a receiver (p, n) from a sender disk of area `area` at (q, m) with unit
 /// radiance, without visibility: cos_r cos_s area / (d^2 + area / pi) (exact on axis).
@@ -188,6 +267,11 @@ inline float diskTransfer(const Vec3f& p, const Vec3f& n, const Vec3f& q, const 
 /// sample, visibility by ray: sender j adds albedo_j / pi * direct_j * Y(w) * solid angle.
 std::vector<Rgb> referenceVolume(const SurfaceSamples& s, const GridSpec& grid, const Tracer& tracer,
                                  const std::vector<float>& direct, int threads = 0);
+
+/// The same with an RGB sender irradiance (e.g. bounceIndirect's senderIrradiance, for the
+/// multi-bounce volume): sender j adds albedo_j / pi * irradiance_j * Y(w) * solid angle.
+std::vector<Rgb> referenceVolume(const SurfaceSamples& s, const GridSpec& grid, const Tracer& tracer,
+                                 const std::vector<Rgb>& senderIrradiance, int threads = 0);
 
 /// Solid angle of a sender disk of area `area` at (q, m) seen from p: cos_s * 2 pi (1 -
 /// d / sqrt(d^2 + area / pi)) (exact on axis, area cos / d^2 far away), 0 from behind.

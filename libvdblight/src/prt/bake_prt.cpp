@@ -36,6 +36,7 @@ void validate(const PrtOptions& o) {
         throw ValueError("--transfer-coeffs must be in 1..--train-lights");
     }
     if (o.threads < 0) throw ValueError("thread count must be positive (0 = all cores)");
+    if (o.bounces < 1 || o.bounces > 64) throw ValueError("--bounces must be in 1..64 (got " + std::to_string(o.bounces) + ")");
 }
 
 /// Refuses a bake whose transfer matrices or rays would not fit a machine (the estimate
@@ -43,7 +44,8 @@ void validate(const PrtOptions& o) {
 void checkBudget(double n, const PrtOptions& o) {
     const double k = std::max(1.0, std::round(n / o.clusterSize));
     const double matrixBytes = k * double(o.transferCoeffs + 1) * n * 12.0;
-    const double rays = n * n + n * double(o.visDirs) + n * double(o.trainLights);
+    const double formFactorBytes = n * n * 4.0;  // the sample-to-sample matrix during the bake
+    const double rays = n * n / 2 + n * double(o.visDirs) + n * double(o.trainLights);
     if (matrixBytes > 8e9) {
         throw ValueError("transfer matrices would take " + std::to_string(uint64_t(matrixBytes / 1e6)) +
                          " MB for " + std::to_string(uint64_t(n)) + " samples: use fewer samples or larger clusters");
@@ -51,6 +53,10 @@ void checkBudget(double n, const PrtOptions& o) {
     if (rays > 2e11) {
         throw ValueError("the bake would trace " + std::to_string(uint64_t(rays / 1e9)) +
                          " billion rays: use fewer samples or directions");
+    }
+    if (formFactorBytes > 8e9) {
+        throw ValueError("the form-factor matrix would take " + std::to_string(uint64_t(formFactorBytes / 1e6)) +
+                         " MB for " + std::to_string(uint64_t(n)) + " samples: use fewer samples");
     }
 }
 
@@ -125,54 +131,6 @@ void bakeLightBasis(PrtData& prt, const Scene& scene, const Tracer& tracer, cons
     }
 }
 
-/// 4.3.2: sender cluster s lights the scene with its mean and each basis vector (sender
-/// radiance albedo/pi * value); one bounce to every receiver by the disk form factor with
-/// ray-traced visibility. Each receiver's sums run in sender order: deterministic.
-void bakeTransfer(PrtData& prt, const Tracer& tracer, const PrtOptions& o, Interrupter* in) {
-    const SurfaceSamples& s = prt.samples;
-    const std::size_t n = s.size();
-    const int stride = int(o.transferCoeffs) + 1;
-    prt.transferStride = stride;
-    prt.transfer.assign(s.clusters(), std::vector<Rgb>(std::size_t(stride) * n, Rgb{0, 0, 0}));
-    if (in) in->start("transfer", n);
-    std::atomic<uint64_t> done{0};
-    std::atomic<bool> cancelled{false};
-    parallelFor(n, o.threads, [&](std::size_t r) {
-        if (cancelled.load(std::memory_order_relaxed)) return;
-        std::vector<double> acc(std::size_t(stride) * 3);
-        for (std::size_t c = 0; c < s.clusters(); ++c) {
-            const PcaBasis& basis = prt.lightBasis[c];
-            std::fill(acc.begin(), acc.end(), 0.0);
-            const uint32_t b = s.clusterBegin[c], e = s.clusterBegin[c + 1];
-            const std::size_t nc = e - b;
-            for (uint32_t j = b; j < e; ++j) {
-                if (j == r) continue;
-                const float f = diskTransfer(s.position[r], s.normal[r], s.position[j], s.normal[j], s.area[j]);
-                if (f <= 0.0f) continue;
-                if (!visibleBetween(tracer, s.position[r], s.normal[r], s.position[j], s.normal[j])) continue;
-                const Rgb w = s.albedo[j] * float(f * kInvPi);
-                const std::size_t lj = j - b;
-                for (int k = 0; k < stride; ++k) {
-                    const float v = k == 0 ? basis.mean[lj] : (k - 1 < basis.count ? basis.vectors[std::size_t(k - 1) * nc + lj] : 0.0f);
-                    acc[std::size_t(k) * 3 + 0] += double(w.x) * v;
-                    acc[std::size_t(k) * 3 + 1] += double(w.y) * v;
-                    acc[std::size_t(k) * 3 + 2] += double(w.z) * v;
-                }
-            }
-            for (int k = 0; k < stride; ++k) {
-                prt.transfer[c][std::size_t(k) * n + r] =
-                    Rgb{float(acc[std::size_t(k) * 3]), float(acc[std::size_t(k) * 3 + 1]), float(acc[std::size_t(k) * 3 + 2])};
-            }
-        }
-        if (in) {
-            in->progress(++done);
-            if (in->wasInterrupted()) cancelled = true;
-        }
-    });
-    if (in) in->end();
-    if (cancelled) throw Cancelled("PRT bake cancelled");
-}
-
 }  // namespace
 
 PrtData bakePrt(const Scene& scene, const Tracer& tracer, const PrtOptions& o, Interrupter* in) {
@@ -213,12 +171,12 @@ PrtData bakePrt(const Scene& scene, const Tracer& tracer, const PrtOptions& o, I
     bakeLightBasis(prt, scene, tracer, o, in);
     double t3 = now();
     prt.secondsBasis = t3 - t2;
-    bakeTransfer(prt, tracer, o, in);
-    if (o.volumeResolution > 0) {
-        checkCancel(in);
-        bakeVolumeTransfer(prt, tracer, o.threads);
-    }
+    prt.transferStride = int(o.transferCoeffs) + 1;
+    prt.bounces = o.bounces;
+    prt.closureNormalise = o.closureNormalise;
+    bakeMultiBounceTransfer(prt, tracer, o.bounces, o.volumeResolution > 0, o.closureNormalise, o.threads, in);
     prt.secondsTransfer = now() - t3;
+    prepareRelight(prt);
     return prt;
 }
 

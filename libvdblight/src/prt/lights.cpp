@@ -1,4 +1,5 @@
 // Example light positions for the direct-light basis (4.3.1) and the inside-a-solid test.
+#include <algorithm>
 #include <cmath>
 
 #include "prt_internal.h"
@@ -30,6 +31,19 @@ std::vector<Vec3f> trainingLightPositions(const Scene& scene, const Tracer& trac
     }
     if (out.empty()) throw SceneError("no example light position outside solids: is the scene closed inside out?");
     return out;
+}
+
+bool prtInsideSolid(const PrtData& prt, const Vec3f& p) {
+    const SurfaceSamples& s = prt.samples;
+    const std::size_t k = std::min<std::size_t>(8, s.size());
+    if (k == 0) return false;
+    std::vector<std::pair<float, std::size_t>> d(s.size());
+    for (std::size_t i = 0; i < s.size(); ++i) d[i] = {dot(s.position[i] - p, s.position[i] - p), i};
+    std::partial_sort(d.begin(), d.begin() + std::ptrdiff_t(k), d.end());
+    std::size_t behind = 0;
+    for (std::size_t a = 0; a < k; ++a)
+        if (dot(s.normal[d[a].second], p - s.position[d[a].second]) < 0.0f) ++behind;
+    return behind * 4 >= k * 3;
 }
 
 }  // namespace vdblight

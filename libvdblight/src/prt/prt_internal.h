@@ -5,9 +5,14 @@
 #include <tbb/task_arena.h>
 
 #include "vdblight/prt.h"
+#include "vdblight/sampling.h"
+#include "vdblight/sh.h"
 #include "vdblight/trace.h"
 
 namespace vdblight::prt_detail {
+
+/// Shadow rays to a point light end just short of it (as radiance_estimator.cpp).
+constexpr float kShadowEnd = 1.0f - 1e-4f;
 
 inline int threadCount(int threads) { return threads > 0 ? threads : tbb::this_task_arena::max_concurrency(); }
 
@@ -45,9 +50,53 @@ inline float unshadowedUnit(const Vec3f& p, const Vec3f& n, const Vec3f& l, floa
     return c > 0.0f ? c / d2 : 0.0f;
 }
 
+/// Sender j as seen from the volume node x: omega = its solid angle, sh[m] = the integral of
+/// Y_m over it (solid angle times Y of the direction), visibility by one ray to its centre.
+/// A sender closer than 4 disk radii is split into 4 x 4 equal-area sub-disks (concentric
+/// map) so that nodes near a surface see its true directions. False if it is hidden.
+inline bool senderShFromNode(const SurfaceSamples& s, const Tracer& tracer, const Vec3f& x, std::size_t j,
+                             float sh[sh::kCoeffs], float& omega) {
+    const Vec3f& p = s.position[j];
+    const Vec3f& m = s.normal[j];
+    omega = diskSolidAngle(x, p, m, s.area[j]);
+    if (omega <= 0.0f) return false;
+    const Vec3f q = offsetRayOrigin(p, m, x - p);
+    if (tracer.occluded(Ray{x, q - x, 0.0f, 0.9999f})) return false;
+    const float radius = std::sqrt(s.area[j] * float(kInvPi));
+    const Vec3f w = q - x;
+    if (dot(w, w) >= 16.0f * radius * radius) {
+        sh::evalUnrolled(normalize(w), sh);
+        for (int k = 0; k < sh::kCoeffs; ++k) sh[k] *= omega;
+        return true;
+    }
+    constexpr int kSub = 4;
+    Vec3f t1, t2;
+    orthonormalBasis(m, t1, t2);
+    float y[sh::kCoeffs];
+    for (int k = 0; k < sh::kCoeffs; ++k) sh[k] = 0.0f;
+    omega = 0.0f;
+    for (int a = 0; a < kSub * kSub; ++a) {
+        float dx, dy;
+        concentricSquareToDisk((float(a % kSub) + 0.5f) / kSub, (float(a / kSub) + 0.5f) / kSub, dx, dy);
+        const Vec3f c = q + (t1 * dx + t2 * dy) * radius;
+        const float o = diskSolidAngle(x, c, m, s.area[j] / float(kSub * kSub));
+        if (o <= 0.0f) continue;
+        sh::evalUnrolled(normalize(c - x), y);
+        for (int k = 0; k < sh::kCoeffs; ++k) sh[k] += o * y[k];
+        omega += o;
+    }
+    return omega > 0.0f;
+}
+
 }  // namespace vdblight::prt_detail
 
 namespace vdblight {
-/// Fills prt.volumeTransfer for prt.volumeGrid (volume_transfer.cpp).
-void bakeVolumeTransfer(PrtData& prt, const Tracer& tracer, int threads);
+/// The light-basis coefficients of every cluster for a direct unit irradiance (stride values
+/// per cluster, [0] = 1 for the mean vector, 0 if the mean is zero) (relight.cpp).
+void projectLightBases(const PrtData& prt, const std::vector<float>& direct, std::vector<float>& coeffs);
+
+/// Fills prt.transfer (and prt.volumeTransfer for prt.volumeGrid if `volume`) with
+/// `bounces` diffuse bounces from the light bases (multi_bounce.cpp).
+void bakeMultiBounceTransfer(PrtData& prt, const Tracer& tracer, int bounces, bool volume, bool normalise,
+                             int threads, Interrupter* interrupter);
 }  // namespace vdblight

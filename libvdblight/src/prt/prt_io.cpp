@@ -30,7 +30,8 @@ namespace vp = openvdb::points;
 using openvdb::Coord;
 
 const std::string kP = "vdblight:";
-constexpr int64_t kPrtFormatVersion = 1;
+/// 1: one bounce, no version key but prt_format_version; 2: `format_version` and `bounces`.
+constexpr int64_t kPrtFormatVersion = 2;
 constexpr float kHalfMax = 65504.0f;
 
 void initOpenVdb() {
@@ -212,8 +213,11 @@ void writePrt(const PrtData& prt, const std::string& path, const PrtWriteOptions
 
     openvdb::MetaMap m;
     m.insertMeta(kP + "kind", openvdb::StringMetadata("prt"));
+    m.insertMeta(kP + "format_version", openvdb::Int64Metadata(kPrtFormatVersion));
     m.insertMeta(kP + "prt_format_version", openvdb::Int64Metadata(kPrtFormatVersion));
-    m.insertMeta(kP + "method", openvdb::StringMetadata("Leonhardt & Bohn PRT, one diffuse bounce sample to sample"));
+    m.insertMeta(kP + "bounces", openvdb::Int64Metadata(prt.bounces));
+    m.insertMeta(kP + "form_factors", openvdb::StringMetadata(prt.closureNormalise ? "closure_normalised" : "disk"));
+    m.insertMeta(kP + "method", openvdb::StringMetadata("Leonhardt & Bohn PRT, diffuse bounces sample to sample"));
     m.insertMeta(kP + "scene", openvdb::StringMetadata(prt.sceneName));
     m.insertMeta(kP + "scene_hash", openvdb::StringMetadata(prt.sceneHash));
     m.insertMeta(kP + "seed", openvdb::Int64Metadata(int64_t(prt.seed)));
@@ -316,10 +320,16 @@ bool isPrtFile(const std::string& path) {
 PrtData readPrt(const std::string& path) {
     Opened o = openPrt(path, true);
     const openvdb::MetaMap& m = *o.meta;
-    if (meta<int64_t>(m, "prt_format_version", path) != kPrtFormatVersion) {
-        throw FormatError("'" + path + "' has an unsupported PRT format version");
+    const auto versionMeta = m.getMetadata<openvdb::Int64Metadata>(kP + "format_version");
+    const int64_t version = versionMeta ? versionMeta->value() : meta<int64_t>(m, "prt_format_version", path);
+    if (version < 1 || version > kPrtFormatVersion) {
+        throw FormatError("'" + path + "' has PRT format version " + std::to_string(version) +
+                          "; this build reads PRT versions 1 to " + std::to_string(kPrtFormatVersion));
     }
     PrtData prt;
+    prt.bounces = version >= 2 ? int(meta<int64_t>(m, "bounces", path)) : 1;
+    if (prt.bounces < 1) throw FormatError("'" + path + "' is not a valid PRT file: bounces < 1");
+    prt.closureNormalise = version >= 2 && meta<std::string>(m, "form_factors", path) == "closure_normalised";
     const std::size_t n = std::size_t(meta<int64_t>(m, "samples", path));
     const std::size_t k = std::size_t(meta<int64_t>(m, "clusters", path));
     prt.sceneName = meta<std::string>(m, "scene", path);
@@ -446,6 +456,7 @@ PrtData readPrt(const std::string& path) {
             prt.volumeTransfer[std::size_t(xyz.x())][std::size_t(xyz.y()) * count + std::size_t(xyz.z())] = Rgb{v[0], v[1], v[2]};
         }
     }
+    prepareRelight(prt);
     return prt;
 }
 

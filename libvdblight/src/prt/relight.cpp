@@ -1,5 +1,6 @@
 // Run time (Leonhardt & Bohn section 5): visibility -> direct light -> projection ->
 // transfer -> indirect, plus the uncompressed references it is tested against.
+#include <algorithm>
 #include <cmath>
 
 #include "prt_internal.h"
@@ -9,17 +10,26 @@ namespace vdblight {
 
 using namespace prt_detail;
 
-std::vector<float> prtDirectUnit(const PrtData& prt, const Vec3f& l) {
+namespace {
+
+/// Adds weight * emitter cosine * compressed direct unit irradiance of a point at l to out.
+void addDirectPoint(const PrtData& prt, const PrtPointLight& pl, float* out) {
     const SurfaceSamples& s = prt.samples;
-    std::vector<float> out(s.size(), 0.0f);
     const int g = prt.visGrid;
+    const Vec3f& l = pl.position;
+    const bool cosine = dot(pl.normal, pl.normal) > 0.0f;
     for (std::size_t i = 0; i < s.size(); ++i) {
         float dist = 0;
-        const float e = unshadowedUnit(s.position[i], s.normal[i], l, &dist);
+        float e = unshadowedUnit(s.position[i], s.normal[i], l, &dist);
         if (e <= 0.0f) continue;
+        const Vec3f w = (l - s.position[i]) / dist;
+        if (cosine) {
+            const float ce = -dot(pl.normal, w);
+            if (ce <= 0.0f) continue;
+            e *= ce;
+        }
         Vec3f t1, t2;
         orthonormalBasis(s.normal[i], t1, t2);
-        const Vec3f w = (l - s.position[i]) / dist;
         const Vec3f local{dot(w, t1), dot(w, t2), dot(w, s.normal[i])};
         int idx[4];
         float wt[4];
@@ -27,12 +37,102 @@ std::vector<float> prtDirectUnit(const PrtData& prt, const Vec3f& l) {
         const PcaBasis& basis = prt.visBasis[s.cluster[i]];
         const float* coeffs = prt.visCoeffs.data() + i * std::size_t(prt.visCoeffStride);
         float vis = 0;
-        for (int k = 0; k < 4; ++k) {
-            if (wt[k] <= 0.0f) continue;
-            if (dist <= pcaReconstructAt(basis, coeffs, idx[k])) vis += wt[k];
+        if (!prt.visByDirection.empty()) {
+            const std::size_t row = std::size_t(basis.count) + 1;
+            const float* byDir = prt.visByDirection[s.cluster[i]].data();
+            for (int k = 0; k < 4; ++k) {
+                if (wt[k] <= 0.0f) continue;
+                const float* r = byDir + std::size_t(idx[k]) * row;
+                float depth = r[0];
+                for (int c = 0; c < basis.count; ++c) depth += coeffs[c] * r[c + 1];
+                if (dist <= depth) vis += wt[k];
+            }
+        } else {
+            for (int k = 0; k < 4; ++k) {
+                if (wt[k] <= 0.0f) continue;
+                if (dist <= pcaReconstructAt(basis, coeffs, idx[k])) vis += wt[k];
+            }
         }
-        out[i] = e * vis;
+        out[i] += pl.weight * e * vis;
     }
+}
+
+}  // namespace
+
+/// The light-basis coefficients of every cluster for a direct unit irradiance (stride
+/// values per cluster, [0] = 1 for the mean vector).
+void projectLightBases(const PrtData& prt, const std::vector<float>& direct, std::vector<float>& coeffs) {
+    const SurfaceSamples& s = prt.samples;
+    const std::size_t stride = std::size_t(prt.transferStride);
+    coeffs.assign(s.clusters() * stride, 0.0f);
+    for (std::size_t c = 0; c < s.clusters(); ++c) {
+        const std::vector<float>& mean = prt.lightBasis[c].mean;
+        // The mean vector's row is zero with the default (uncentred) basis: skip it.
+        coeffs[c * stride] = std::any_of(mean.begin(), mean.end(), [](float v) { return v != 0.0f; }) ? 1.0f : 0.0f;
+        pcaProject(prt.lightBasis[c], direct.data() + s.clusterBegin[c], coeffs.data() + c * stride + 1);
+    }
+}
+
+
+void prepareRelight(PrtData& prt) {
+    prt.volumeTransferQ.assign(prt.volumeTransfer.size(), {});
+    prt.volumeTransferScale.assign(prt.volumeTransfer.size(), {});
+    const std::size_t stride = std::size_t(prt.transferStride);
+    for (std::size_t c = 0; c < prt.volumeTransfer.size(); ++c) {
+        const float* v = reinterpret_cast<const float*>(prt.volumeTransfer[c].data());
+        const std::size_t col = prt.volumeTransfer[c].size() * 3 / stride;
+        std::vector<int16_t>& q = prt.volumeTransferQ[c];
+        std::vector<float>& scale = prt.volumeTransferScale[c];
+        q.resize(col * stride);
+        scale.resize(stride);
+        for (std::size_t k = 0; k < stride; ++k) {
+            float m = 0;
+            for (std::size_t r = 0; r < col; ++r) m = std::max(m, std::abs(v[k * col + r]));
+            scale[k] = m > 0 ? m / 32767.0f : 0.0f;
+            const float inv = m > 0 ? 32767.0f / m : 0.0f;
+            for (std::size_t r = 0; r < col; ++r) q[k * col + r] = int16_t(std::lround(v[k * col + r] * inv));
+        }
+    }
+    prt.visByDirection.assign(prt.visBasis.size(), {});
+    for (std::size_t c = 0; c < prt.visBasis.size(); ++c) {
+        const PcaBasis& b = prt.visBasis[c];
+        const std::size_t row = std::size_t(b.count) + 1;
+        std::vector<float>& out = prt.visByDirection[c];
+        out.resize(std::size_t(b.dim) * row);
+        for (int t = 0; t < b.dim; ++t) {
+            out[std::size_t(t) * row] = b.mean[std::size_t(t)];
+            for (int k = 0; k < b.count; ++k)
+                out[std::size_t(t) * row + std::size_t(k) + 1] = b.vectors[std::size_t(k) * std::size_t(b.dim) + std::size_t(t)];
+        }
+    }
+}
+
+std::vector<PrtPointLight> lightPoints(const PrtLight& light) {
+    Vec3f n{0, 0, 0}, t1{1, 0, 0}, t2{0, 0, 1};
+    if (dot(light.normal, light.normal) > 0.0f) {
+        n = normalize(light.normal);
+        orthonormalBasis(n, t1, t2);
+    }
+    if (!(light.size > 0)) return {PrtPointLight{light.position, n, 1.0f}};
+    const int m = std::max(1, light.areaSamples);
+    std::vector<PrtPointLight> out;
+    for (int a = 0; a < m * m; ++a) {
+        const float u = light.size * ((float(a % m) + 0.5f) / float(m) - 0.5f);
+        const float v = light.size * ((float(a / m) + 0.5f) / float(m) - 0.5f);
+        out.push_back(PrtPointLight{light.position + t1 * u + t2 * v, n, 1.0f / float(m * m)});
+    }
+    return out;
+}
+
+std::vector<float> prtDirectUnit(const PrtData& prt, const Vec3f& l) {
+    std::vector<float> out(prt.samples.size(), 0.0f);
+    addDirectPoint(prt, PrtPointLight{l, Vec3f{0, 0, 0}, 1.0f}, out.data());
+    return out;
+}
+
+std::vector<float> prtDirectLight(const PrtData& prt, const PrtLight& light) {
+    std::vector<float> out(prt.samples.size(), 0.0f);
+    for (const PrtPointLight& p : lightPoints(light)) addDirectPoint(prt, p, out.data());
     return out;
 }
 
@@ -41,17 +141,15 @@ std::vector<Rgb> prtTransfer(const PrtData& prt, const std::vector<float>& direc
     const std::size_t n = s.size();
     if (direct.size() != n) throw ValueError("direct lighting has the wrong number of samples");
     std::vector<Rgb> out(n, Rgb{0, 0, 0});
-    std::vector<float> coeffs(std::size_t(prt.transferStride));
+    std::vector<float> coeffs;
+    projectLightBases(prt, direct, coeffs);
+    const std::size_t stride = std::size_t(prt.transferStride);
     for (std::size_t c = 0; c < s.clusters(); ++c) {
-        const PcaBasis& b = prt.lightBasis[c];
-        coeffs.assign(coeffs.size(), 0.0f);
-        coeffs[0] = 1.0f;  // the mean vector
-        pcaProject(b, direct.data() + s.clusterBegin[c], coeffs.data() + 1);
         const std::vector<Rgb>& t = prt.transfer[c];
-        for (int k = 0; k < prt.transferStride; ++k) {
-            const float a = coeffs[std::size_t(k)];
+        for (std::size_t k = 0; k < stride; ++k) {
+            const float a = coeffs[c * stride + k];
             if (a == 0.0f) continue;
-            const Rgb* row = t.data() + std::size_t(k) * n;
+            const Rgb* row = t.data() + k * n;
             for (std::size_t r = 0; r < n; ++r) out[r] += row[r] * a;
         }
     }
@@ -64,25 +162,34 @@ PrtLighting relightPrt(const PrtData& prt, const std::vector<PrtLight>& lights) 
     out.direct.assign(n, Rgb{0, 0, 0});
     out.indirect.assign(n, Rgb{0, 0, 0});
     for (const PrtLight& light : lights) {
-        // An area light is a grid of point lights sharing its intensity (each facing -Y
-        // with a cosine falloff would need per-sample orientation; kept isotropic).
-        const int m = light.size > 0 ? std::max(1, light.areaSamples) : 1;
-        std::vector<float> direct(n, 0.0f);
-        for (int a = 0; a < m * m; ++a) {
-            Vec3f p = light.position;
-            if (m > 1) {
-                p.x += light.size * ((float(a % m) + 0.5f) / float(m) - 0.5f);
-                p.z += light.size * ((float(a / m) + 0.5f) / float(m) - 0.5f);
-            }
-            const std::vector<float> d = prtDirectUnit(prt, p);
-            for (std::size_t i = 0; i < n; ++i) direct[i] += d[i] / float(m * m);
-        }
+        const std::vector<float> direct = prtDirectLight(prt, light);
         const std::vector<Rgb> ind = prtTransfer(prt, direct);
         for (std::size_t i = 0; i < n; ++i) {
             out.direct[i] += light.intensity * direct[i];
             out.indirect[i] += light.intensity * ind[i];
         }
     }
+    return out;
+}
+
+std::vector<float> exactDirectLight(const SurfaceSamples& s, const Tracer& tracer, const PrtLight& light, int threads) {
+    const std::vector<PrtPointLight> points = lightPoints(light);
+    std::vector<float> out(s.size(), 0.0f);
+    parallelFor(s.size(), threads, [&](std::size_t i) {
+        float acc = 0;
+        for (const PrtPointLight& pl : points) {
+            float dist = 0;
+            float e = unshadowedUnit(s.position[i], s.normal[i], pl.position, &dist);
+            if (e <= 0.0f) continue;
+            if (dot(pl.normal, pl.normal) > 0.0f) {
+                const float ce = -dot(pl.normal, (pl.position - s.position[i]) / dist);
+                if (ce <= 0.0f) continue;
+                e *= ce;
+            }
+            if (visibleToLight(tracer, s.position[i], s.normal[i], pl.position)) acc += pl.weight * e;
+        }
+        out[i] = acc;
+    });
     return out;
 }
 
@@ -104,7 +211,7 @@ std::vector<Rgb> referenceIndirect(const SurfaceSamples& s, const Tracer& tracer
         for (std::size_t j = 0; j < s.size(); ++j) {
             if (j == r || direct[j] == 0.0f) continue;
             const float f = diskTransfer(s.position[r], s.normal[r], s.position[j], s.normal[j], s.area[j]);
-            if (f <= 0.0f || !visibleBetween(tracer, s.position[r], s.normal[r], s.position[j], s.normal[j])) continue;
+            if (f <= 0.0f || !pairVisible(s, tracer, r, j)) continue;
             acc += Rgbd(s.albedo[j]) * (double(f) * kInvPi * direct[j]);
         }
         out[r] = Rgb(acc);

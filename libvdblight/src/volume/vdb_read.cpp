@@ -127,6 +127,9 @@ OpenedFile openVolumeFile(const std::string& path) {
     } catch (const std::exception& e) {
         formatError(path, std::string("is not a readable .vdb file (truncated or corrupt?): ") + e.what());
     }
+    if (auto kind = f.meta->getMetadata<openvdb::StringMetadata>(kPrefix + "kind"); kind && kind->value() == "prt") {
+        formatError(path, "is a PRT file, not a vdblight volume (make one with 'vdblight prt relight --volume-out')");
+    }
     openvdb::Metadata::Ptr version = (*f.meta)[kPrefix + "format_version"];
     MetaValue v;
     if (!version || !fromVdbMeta(*version, v) || std::holds_alternative<std::string>(v)) {
