@@ -1,4 +1,5 @@
 // vdblight query VOLUME: irradiance E(x, n) at one point or at the rows of a CSV file.
+#include <algorithm>
 #include <sstream>
 #include <iostream>
 
@@ -21,6 +22,7 @@ struct QueryCommand {
     std::string outside = "clamp";
     std::string interp = "trilinear";
     std::string view;  // moment volumes: view vector, mirrored about the normal (bins.h)
+    bool raw = false;  // keep negative irradiance (SH ringing) instead of clamping it to 0
 };
 
 void run(const QueryCommand& c) {
@@ -64,12 +66,16 @@ void run(const QueryCommand& c) {
     std::ostringstream out;
     out.precision(9);
     out << "x,y,z,nx,ny,nz,E_r,E_g,E_b\n";
-    std::size_t clamped = 0;
+    std::size_t clamped = 0, negative = 0;
     for (const ReferencePoint& p : points) {
         if (!query.inside(p.position)) ++clamped;
         const Vec3f n = normalize(p.normal);
         const Vec3f d = moment ? normalize(bins::reflectView(view, n)) : n;  // moment: the reflected view vector
-        const Rgb e = cubic ? cubic->irradiance(p.position, d) : query.irradiance(p.position, d);
+        Rgb e = cubic ? cubic->irradiance(p.position, d) : query.irradiance(p.position, d);
+        if (!c.raw && (e.x < 0 || e.y < 0 || e.z < 0)) {  // order-2 SH ringing (docs/methods.md)
+            ++negative;
+            e = Rgb(std::max(e.x, 0.0f), std::max(e.y, 0.0f), std::max(e.z, 0.0f));
+        }
         out << p.position.x << ',' << p.position.y << ',' << p.position.z << ',' << n.x << ',' << n.y << ',' << n.z
             << ',' << e.x << ',' << e.y << ',' << e.z << '\n';
     }
@@ -77,6 +83,9 @@ void run(const QueryCommand& c) {
     if (clamped > 0)
         std::cerr << "vdblight: warning: " << clamped << " of " << points.size()
                   << " points lie outside the volume's node box and were clamped to its boundary\n";
+    if (negative > 0)
+        std::cerr << "vdblight: warning: " << negative << " of " << points.size()
+                  << " points had negative irradiance (SH ringing), clamped to 0; --raw gives the raw value\n";
 }
 }  // namespace
 
@@ -96,6 +105,9 @@ void addQueryCommand(CLI::App& app) {
     cmd->add_option("--view", c->view,
                     "Moment volumes (bake --basis moment:N): unit vector from the surface towards the eye; the "
                     "lookup direction is its mirror about the normal (Greger et al. section 5.2)");
+    cmd->add_flag("--raw", c->raw,
+                  "Print the raw reconstructed irradiance, negative where order-2 SH rings (default: negative "
+                  "components clamped to 0)");
     cmd->callback([c] { run(*c); });
 }
 
