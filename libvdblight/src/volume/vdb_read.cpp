@@ -164,7 +164,14 @@ OpenedFile openVolumeFile(const std::string& path) {
     if (!version || !fromVdbMeta(*version, v) || std::holds_alternative<std::string>(v)) {
         formatError(path, "is not a vdblight volume (no vdblight:format_version metadata)");
     }
-    f.version = std::holds_alternative<double>(v) ? int64_t(std::get<double>(v)) : std::get<int64_t>(v);
+    if (const double* d = std::get_if<double>(&v)) {  // a double beyond int64 (or NaN) must not be cast
+        if (!(*d >= 1 && *d <= double(kFormatVersion)))
+            formatError(path, "has format version " + std::to_string(*d) + "; this build reads versions 1 to " +
+                                  std::to_string(kFormatVersion));
+        f.version = int64_t(*d);
+    } else {
+        f.version = std::get<int64_t>(v);
+    }
     if (f.version > kFormatVersion || f.version < 1) {
         formatError(path, "has format version " + std::to_string(f.version) + "; this build reads versions 1 to " +
                               std::to_string(kFormatVersion));
