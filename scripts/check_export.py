@@ -205,7 +205,7 @@ def query(cli, volume, points, normals, extra=()):
         np.savetxt(csv, np.column_stack([points, normals]), delimiter=",", fmt="%.9g",
                    header="x,y,z,nx,ny,nz", comments="")
         out = os.path.join(tmp, "e.csv")
-        subprocess.run([cli, "query", volume, "--points", csv, "-o", out] + list(extra), check=True,
+        subprocess.run([cli, "query", volume, "--raw", "--points", csv, "-o", out] + list(extra), check=True,
                        stderr=subprocess.DEVNULL)
         return np.loadtxt(out, delimiter=",", skiprows=1)[:, 6:9]
 

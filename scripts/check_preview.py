@@ -55,7 +55,7 @@ def main():
             csv = os.path.join(tmp, "p.csv")
             np.savetxt(csv, np.column_stack([world, np.tile(n, (len(world), 1))]), delimiter=",", fmt="%.9g",
                        header="x,y,z,nx,ny,nz", comments="")
-            subprocess.run([args.cli, "query", args.volume, "--points", csv, "-o", csv + ".out"], check=True)
+            subprocess.run([args.cli, "query", args.volume, "--raw", "--points", csv, "-o", csv + ".out"], check=True)
             want = np.loadtxt(csv + ".out", delimiter=",", skiprows=1, ndmin=2)[:, 6:9]
             # Relative to the grid's largest value: at dark nodes (inside objects) E is only the
             # float rounding of the query's interpolation.

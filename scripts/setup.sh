@@ -14,7 +14,9 @@ PACKAGES=(build-essential cmake pkg-config
           libopenvdb-dev libembree-dev libopenexr-dev libeigen3-dev libcli11-dev libtbb-dev
           libassimp-dev libboost-iostreams-dev libgtest-dev libbenchmark-dev
           python3-openvdb python3-imath python3-numpy blender zlib1g-dev
-          gnuplot-nox)  # gnuplot-nox: scripts/plot_error.sh (issue 8)
+          gnuplot-nox   # gnuplot-nox: scripts/plot_error.sh (issue 8)
+          clang-14 libclang-rt-14-dev)  # scripts/fuzz.sh: libFuzzer (libclang_rt.fuzzer-x86_64.a is in
+                                        # libclang-rt-14-dev, only a Recommends of clang-14)
 
 missing=()
 for p in "${PACKAGES[@]}"; do

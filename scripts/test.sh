@@ -10,3 +10,7 @@ ctest --output-on-failure -j "${JOBS:-$(nproc)}" --timeout 1200
 for bench in vdblight_bench vdblight_bench_photons vdblight_bench_antialiased vdblight_bench_layouts vdblight_bench_bins vdblight_bench_prt vdblight_bench_converge vdblight_bench_error; do
   "$ROOT/build/bin/$bench" --quick
 done
+# Sanitizers (issue 8): the whole suite again under ASan + UBSan (build-sanitize/, any report
+# fails), then every libFuzzer harness for FUZZ_SECONDS each (build-fuzz/, clang).
+"$ROOT/scripts/test_sanitize.sh" all
+"$ROOT/scripts/fuzz.sh" "${FUZZ_SECONDS:-30}"

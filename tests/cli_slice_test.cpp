@@ -1,5 +1,5 @@
 // `vdblight slice` end to end and the exports of every volume kind:
-// - an EXR slice holds exactly what `vdblight query` returns at the documented pixel centres;
+// - an EXR slice holds exactly what `vdblight query --raw` returns (the slice is not clamped at 0) at the documented pixel centres;
 // - a PNG slice decodes with an independent decoder (scripts/check_png.py) to the right size;
 // - bilevel / adaptive SH volumes and irradiance-vector volumes export, and the round-trip
 //   script (scripts/check_export.py) matches `query` from the manifest alone;
@@ -117,7 +117,7 @@ TEST_F(CliSlice, ExrPixelsEqualQueryAtThePixelCentres) {
                 csv << at << ',' << y << ',' << z << ",1,0.5,-0.25\n";
             }
         vdblight::test::writeTextFile(out.file("p.csv"), csv.str());
-        ASSERT_EQ(runCommand(kCli + " query " + vol + " --points " + out.file("p.csv") + " -o " + out.file("e.csv"), &log), 0)
+        ASSERT_EQ(runCommand(kCli + " query " + vol + " --raw --points " + out.file("p.csv") + " -o " + out.file("e.csv"), &log), 0)
             << log;
         std::ifstream in(out.file("e.csv"));
         std::string line;

@@ -1,4 +1,5 @@
 // vdblight query VOLUME: irradiance E(x, n) at one point or at the rows of a CSV file.
+#include <algorithm>
 #include <sstream>
 #include <iostream>
 
@@ -23,6 +24,7 @@ struct QueryCommand {
     std::string outside = "clamp";
     std::string interp = "trilinear";
     std::string view;  // moment volumes: view vector, mirrored about the normal (bins.h)
+    bool raw = false;  // keep negative irradiance (SH ringing) instead of clamping it to 0
 };
 
 void run(const QueryCommand& c) {
@@ -68,7 +70,7 @@ void run(const QueryCommand& c) {
     std::ostringstream out;
     out.precision(9);
     out << "x,y,z,nx,ny,nz,E_r,E_g,E_b\n";
-    std::size_t clamped = 0, culled = 0;
+    std::size_t clamped = 0, culled = 0, negative = 0;
     // Culled volumes flag points in solid cells. A volume far from the origin is wrapped in a
     // shifted lookup and is not checked here (its lookup still returns the documented 0).
     const auto* levels = dynamic_cast<const ShLevelsLookup*>(&query.lookup());
@@ -79,7 +81,11 @@ void run(const QueryCommand& c) {
         if (levels && levels->inCulledCell(p.position)) ++culled;
         const Vec3f n = normalize(p.normal);
         const Vec3f d = moment ? normalize(bins::reflectView(view, n)) : n;  // moment: the reflected view vector
-        const Rgb e = cubic ? cubic->irradiance(p.position, d) : query.irradianceWorld(world[i], d);
+        Rgb e = cubic ? cubic->irradiance(p.position, d) : query.irradianceWorld(world[i], d);
+        if (!c.raw && (e.x < 0 || e.y < 0 || e.z < 0)) {  // order-2 SH ringing (docs/methods.md)
+            ++negative;
+            e = Rgb(std::max(e.x, 0.0f), std::max(e.y, 0.0f), std::max(e.z, 0.0f));
+        }
         const Vec3d x = far ? world[i] : Vec3d(p.position);  // near the origin: printed as before
         out << x.x << ',' << x.y << ',' << x.z << ',' << n.x << ',' << n.y << ',' << n.z
             << ',' << e.x << ',' << e.y << ',' << e.z << '\n';
@@ -91,6 +97,9 @@ void run(const QueryCommand& c) {
     if (culled > 0)
         std::cerr << "vdblight: warning: " << culled << " of " << points.size()
                   << " points lie in cells inside closed solids whose nodes were culled; their irradiance is reported as 0\n";
+    if (negative > 0)
+        std::cerr << "vdblight: warning: " << negative << " of " << points.size()
+                  << " points had negative irradiance (SH ringing), clamped to 0; --raw gives the raw value\n";
 }
 }  // namespace
 
@@ -110,6 +119,9 @@ void addQueryCommand(CLI::App& app) {
     cmd->add_option("--view", c->view,
                     "Moment volumes (bake --basis moment:N): unit vector from the surface towards the eye; the "
                     "lookup direction is its mirror about the normal (Greger et al. section 5.2)");
+    cmd->add_flag("--raw", c->raw,
+                  "Print the raw reconstructed irradiance, negative where order-2 SH rings (default: negative "
+                  "components clamped to 0)");
     cmd->callback([c] { run(*c); });
 }
 

@@ -55,7 +55,7 @@ void checkReadable(const std::string& path) {
 class GridTableScanner : public openvdb::io::Archive {
 public:
     /// Byte offset just past the last grid (0 if the file has no grid offsets).
-    int64_t dataEnd(std::istream& is) {
+    int64_t dataEnd(std::istream& is, int64_t fileBytes) {
         readHeader(is);
         auto streamMeta = std::make_shared<openvdb::io::StreamMetadata>();  // as io::File::open does
         streamMeta->setSeekable(true);
@@ -63,6 +63,7 @@ public:
         setFormatVersion(is);
         setLibraryVersion(is);
         setDataCompression(is);
+        checkMetaMap(is, fileBytes);
         openvdb::MetaMap().readMeta(is);
         if (!is) throw std::runtime_error("cannot read the file metadata");
         if (!inputHasGridOffsets()) return 0;
@@ -76,13 +77,44 @@ public:
             int64_t offsets[3] = {0, 0, 0};  // grid, blocks, end
             is.read(reinterpret_cast<char*>(offsets), sizeof offsets);
             if (!is) throw std::runtime_error("grid table ends early");
+            if (offsets[0] < 0 || offsets[0] > fileBytes || offsets[2] < offsets[0])
+                throw std::runtime_error("grid table is corrupt");
             end = std::max(end, offsets[2]);
+            const std::streampos next = is.tellg();
+            is.seekg(offsets[0], std::ios_base::beg);  // the grid: compression flags, then its metadata
+            if (openvdb::io::getFormatVersion(is) >= openvdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION) is.ignore(4);
+            checkMetaMap(is, fileBytes);
+            is.seekg(next);
             is.seekg(offsets[2], std::ios_base::beg);
         }
         return end;
     }
 
 private:
+    /// Checks that every length in the metadata map at the stream's position (count, then per
+    /// entry name, type name and value, each length-prefixed) fits in the file, leaving the
+    /// stream where it was: OpenVDB allocates each length it reads before reading the bytes, so
+    /// a corrupt length would otherwise allocate gigabytes.
+    static void checkMetaMap(std::istream& is, int64_t fileBytes) {
+        const std::streampos start = is.tellg();
+        int32_t count = 0;
+        is.read(reinterpret_cast<char*>(&count), sizeof count);
+        if (!is || count < 0 || count > fileBytes) throw std::runtime_error("metadata is corrupt");
+        auto skip = [&](uint32_t size) {
+            if (!is || int64_t(size) > fileBytes - int64_t(is.tellg())) throw std::runtime_error("metadata is corrupt");
+            is.seekg(std::streamoff(size), std::ios_base::cur);
+        };
+        for (int32_t n = 0; n < count; ++n) {
+            for (int k = 0; k < 3; ++k) {  // name, type name, value
+                uint32_t size = 0;
+                is.read(reinterpret_cast<char*>(&size), sizeof size);
+                skip(size);
+            }
+        }
+        if (!is) throw std::runtime_error("metadata is corrupt");
+        is.seekg(start);
+    }
+
     static void skipString(std::istream& is) {
         uint32_t size = 0;
         is.read(reinterpret_cast<char*>(&size), sizeof size);
@@ -96,7 +128,7 @@ void checkNotTruncated(const std::string& path) {
     const auto bytes = int64_t(fs::file_size(path));
     int64_t end = 0;
     try {
-        end = GridTableScanner().dataEnd(is);
+        end = GridTableScanner().dataEnd(is, bytes);
     } catch (const std::exception& e) {
         formatError(path, std::string("is not a readable .vdb file (truncated or corrupt?): ") + e.what());
     }
@@ -135,7 +167,14 @@ OpenedFile openVolumeFile(const std::string& path) {
     if (!version || !fromVdbMeta(*version, v) || std::holds_alternative<std::string>(v)) {
         formatError(path, "is not a vdblight volume (no vdblight:format_version metadata)");
     }
-    f.version = std::holds_alternative<double>(v) ? int64_t(std::get<double>(v)) : std::get<int64_t>(v);
+    if (const double* d = std::get_if<double>(&v)) {  // a double beyond int64 (or NaN) must not be cast
+        if (!(*d >= 1 && *d <= double(kFormatVersion)))
+            formatError(path, "has format version " + std::to_string(*d) + "; this build reads versions 1 to " +
+                                  std::to_string(kFormatVersion));
+        f.version = int64_t(*d);
+    } else {
+        f.version = std::get<int64_t>(v);
+    }
     if (f.version > kFormatVersion || f.version < 1) {
         formatError(path, "has format version " + std::to_string(f.version) + "; this build reads versions 1 to " +
                               std::to_string(kFormatVersion));

@@ -1,0 +1,99 @@
+// vdblight query on a volume with SH ringing: negative irradiance is clamped to 0 by default
+// and printed as reconstructed with --raw (issue 8, docs/methods.md "SH ringing").
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "test_util.h"
+#include "vdblight/bake.h"
+#include "vdblight/query.h"
+#include "vdblight/scene.h"
+#include "vdblight/trace.h"
+#include "vdblight/vdb_io.h"
+
+using namespace vdblight;
+using vdblight::test::runCommand;
+using vdblight::test::TempDir;
+
+namespace {
+const std::string kCli = VDBLIGHT_CLI_PATH;
+
+/// E_r, E_g, E_b of the single data row of a query CSV file.
+Rgb readRow(const std::string& path) {
+    std::ifstream in(path);
+    std::string header, row;
+    std::getline(in, header);
+    std::getline(in, row);
+    std::istringstream rs(row);
+    double v[9] = {};
+    char comma;
+    for (double& x : v) rs >> x >> comma;
+    return Rgb(float(v[6]), float(v[7]), float(v[8]));
+}
+
+std::string triple(const Vec3f& v) {
+    std::ostringstream s;
+    s.precision(9);
+    s << v.x << ',' << v.y << ',' << v.z;
+    return s.str();
+}
+}  // namespace
+
+// The scene of Stress.ShRingingAndTheWindow: one point light, direct light only. Order-2 SH
+// of a single direction is most negative (-0.0396 of the peak) at cos = -8/15 to the light.
+TEST(CliQueryRaw, NegativeIrradianceIsClampedUnlessRaw) {
+    Scene s;
+    s.name = "one_point_light";
+    s.materials.resize(1);
+    s.materials[0].albedo = Rgb(0, 0, 0);
+    addTriangle(s, Vec3f(50, 50, 50), Vec3f(50.001f, 50, 50), Vec3f(50, 50.001f, 50), 0);
+    s.pointLights.push_back({Vec3f(0, 0, 2), Rgb(4, 4, 4)});
+    const Tracer tracer(s);
+    GridSpec g;
+    g.origin = Vec3d(-0.5, -0.5, -0.5);
+    g.spacing = 1;
+    g.nx = g.ny = g.nz = 2;
+    GatherOptions o;
+    o.raysPerNode = 16;
+    o.transport.maxBounces = 0;
+    const Volume volume = bakeShGather(s, tracer, g, o);
+    TempDir dir;
+    const std::string vdb = dir.file("ringing.vdb");
+    writeVolume(volume, vdb);
+
+    const Vec3f x(0.5f, 0.5f, 0.5f);  // a node
+    const Vec3f toLight = normalize(Vec3f(0, 0, 2) - x);
+    const Vec3f side = normalize(cross(toLight, Vec3f(1, 0, 0)));
+    const float c = -8.0f / 15.0f;
+    const Vec3f ringing = normalize(toLight * c + side * std::sqrt(1 - c * c));
+    const Rgb inProcess = IrradianceQuery(volume).irradiance(x, ringing);
+    const double peak = 4.0 / double(dot(Vec3f(0, 0, 2) - x, Vec3f(0, 0, 2) - x));
+    ASSERT_LT(inProcess.x / peak, -0.03);  // the volume rings here (theory: -0.0396)
+
+    const std::string query = kCli + " query " + vdb + " --at " + triple(x) + " --normal ";
+    std::string out;
+    ASSERT_EQ(runCommand(query + triple(ringing) + " -o " + dir.file("clamped.csv"), &out), 0) << out;
+    EXPECT_NE(out.find("negative irradiance"), std::string::npos) << out;  // says so on stderr
+    const Rgb clamped = readRow(dir.file("clamped.csv"));
+    EXPECT_EQ(clamped.x, 0.0f);
+    EXPECT_EQ(clamped.y, 0.0f);
+    EXPECT_EQ(clamped.z, 0.0f);
+
+    ASSERT_EQ(runCommand(query + triple(ringing) + " --raw -o " + dir.file("raw.csv"), &out), 0) << out;
+    EXPECT_EQ(out.find("negative irradiance"), std::string::npos) << out;
+    const Rgb raw = readRow(dir.file("raw.csv"));
+    EXPECT_NEAR(raw.x, inProcess.x, 1e-6 * peak);
+    EXPECT_NEAR(raw.z, inProcess.z, 1e-6 * peak);
+    EXPECT_LT(raw.x / peak, -0.03);
+
+    // Facing the light, the default and --raw print the same positive value.
+    ASSERT_EQ(runCommand(query + triple(toLight) + " -o " + dir.file("lit.csv"), &out), 0) << out;
+    ASSERT_EQ(runCommand(query + triple(toLight) + " --raw -o " + dir.file("lit_raw.csv"), &out), 0) << out;
+    const Rgb lit = readRow(dir.file("lit.csv")), litRaw = readRow(dir.file("lit_raw.csv"));
+    EXPECT_GT(lit.x, 0.5 * peak);
+    EXPECT_EQ(lit.x, litRaw.x);
+    EXPECT_NEAR(lit.x, IrradianceQuery(volume).irradiance(x, toLight).x, 1e-6 * peak);
+}

@@ -1,0 +1,36 @@
+// libFuzzer harness: .vdb reading. The input is written to a .vdb file and given to what
+// `vdblight info` and `query` do: inspectVolumeFile (the grid listing), readVolume (every
+// structural check of docs/format.md) and, for a volume that passes, IrradianceQuery at a few
+// points and normals (so that the reader's checks are enough for the lookups). Rejection must
+// be a typed vdblight error; any other exception, crash, leak or sanitizer report is a finding.
+#include <cstddef>
+#include <cstdint>
+
+#include "fuzz_util.h"
+#include "vdblight/errors.h"
+#include "vdblight/query.h"
+#include "vdblight/vdb_io.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
+    using namespace vdblight;
+    const std::string& path = fuzz::writeInput(data, size, ".vdb");
+    try {
+        (void)inspectVolumeFile(path);
+    } catch (const Error&) {
+    }
+    try {
+        const Volume volume = readVolume(path);
+        const IrradianceQuery query(volume);
+        const Bounds b = query.bounds();
+        const Vec3f normals[3] = {Vec3f(0, 1, 0), Vec3f(0.6f, -0.8f, 0), Vec3f(0, 0, -1)};
+        for (int k = 0; k < 5; ++k) {
+            const double t = k / 4.0;  // corners, centre and outside (clamped)
+            const Vec3d x = b.lo + (b.hi - b.lo) * (1.5 * t - 0.25);
+            for (const Vec3f& n : normals) {
+                (void)query.irradiance(Vec3f(x), n);
+            }
+        }
+    } catch (const Error&) {
+    }
+    return 0;
+}

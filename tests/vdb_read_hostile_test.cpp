@@ -1,0 +1,84 @@
+// The .vdb reader against hostile lengths found by tests/fuzz/fuzz_vdb: a metadata length
+// beyond the end of the file (file-level or in a grid's own metadata) is refused with
+// FormatError before OpenVDB allocates it (it would allocate the length it reads).
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "test_util.h"
+#include "vdblight/errors.h"
+#include "vdblight/vdb_io.h"
+#include "vdblight/volume.h"
+
+namespace vdblight {
+namespace {
+
+Volume smallVolume() {
+    Volume v;
+    v.basis = BasisDesc::sh2();
+    VolumeLevel level;
+    level.grid.origin = Vec3d(0, 0, 0);
+    level.grid.spacing = 0.5;
+    level.grid.nx = level.grid.ny = level.grid.nz = 2;
+    level.data.assign(level.grid.nodeCount() * std::size_t(v.basis.channelCount()) * 3, 0.25f);
+    v.levels.push_back(std::move(level));
+    return v;
+}
+
+std::string readBytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+/// Sets the value length of the metadata entry named `key` (the `occurrence`-th time the name
+/// appears) to `length`: the entry is [u32 len]name [u32 len]type [u32 len]value.
+std::string withValueLength(std::string bytes, const std::string& key, int occurrence, uint32_t length) {
+    std::string name(4, '\0');  // the length-prefixed name, so that a longer key never matches
+    const auto keyLength = uint32_t(key.size());
+    std::memcpy(name.data(), &keyLength, 4);
+    name += key;
+    std::size_t at = std::string::npos;
+    for (int k = 0; k <= occurrence; ++k) at = bytes.find(name, at == std::string::npos ? 0 : at + 1);
+    EXPECT_NE(at, std::string::npos) << key;
+    if (at == std::string::npos) return bytes;
+    std::size_t p = at + name.size();
+    uint32_t typeLength = 0;
+    std::memcpy(&typeLength, bytes.data() + p, 4);
+    p += 4 + typeLength;
+    std::memcpy(bytes.data() + p, &length, 4);
+    return bytes;
+}
+
+void expectRefused(const test::TempDir& dir, const std::string& bytes) {
+    const std::string path = dir.file("hostile.vdb");
+    test::writeTextFile(path, bytes);
+    try {
+        readVolume(path);
+        ADD_FAILURE() << "readVolume accepted a hostile metadata length";
+    } catch (const FormatError& e) {
+        EXPECT_NE(std::string(e.what()).find("metadata is corrupt"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(inspectVolumeFile(path), FormatError);
+}
+
+TEST(VdbReadHostile, MetadataLengthsBeyondTheFileAreRefusedBeforeAllocation) {
+    test::TempDir dir;
+    const std::string good = dir.file("good.vdb");
+    writeVolume(smallVolume(), good);
+    const std::string bytes = readBytes(good);
+    ASSERT_NO_THROW(readVolume(good));
+    // The lengths themselves were the only problem: one byte past the end is refused,
+    // the real length is accepted.
+    expectRefused(dir, withValueLength(bytes, "vdblight:format_version", 0, 0x7ffffff0u));
+    expectRefused(dir, withValueLength(bytes, "vdblight:format_version", 0, uint32_t(bytes.size())));
+    // A grid's own metadata (each channel grid carries vdblight:channel).
+    expectRefused(dir, withValueLength(bytes, "vdblight:channel", 0, 0xfffffff0u));
+    expectRefused(dir, withValueLength(bytes, "vdblight:channel", 3, 0x40000000u));
+}
+
+}  // namespace
+}  // namespace vdblight
