@@ -75,8 +75,14 @@ int main(int argc, char** argv) {
     std::printf("vdblight_bench_prt%s: default scene (%zu triangles), bake on all cores, relight on one thread\n",
                 quick ? " --quick" : "", scene.triangleCount());
 
+    // --prt FILE (profiling): relight FILE if it exists, else bake and also write it there.
+    std::string prtFile;
+    for (int a = 1; a + 1 < argc; ++a)
+        if (std::strcmp(argv[a], "--prt") == 0) prtFile = argv[a + 1];
     const double t0 = now();
-    const PrtData prt = bakePrt(scene, tracer, o);
+    const bool loaded = relightOnly && !prtFile.empty() && ::access(prtFile.c_str(), R_OK) == 0;
+    const PrtData prt = loaded ? readPrt(prtFile) : bakePrt(scene, tracer, o);
+    if (relightOnly && !prtFile.empty() && !loaded) writePrt(prt, prtFile);
     const double bakeSeconds = now() - t0;
     std::printf("bake: %zu samples, %zu clusters, %d dirs -> %d coeffs, %u lights -> %d vectors\n", prt.samples.size(),
                 prt.samples.clusters(), prt.visGrid * prt.visGrid, prt.visCoeffStride, prt.trainLights,

@@ -40,13 +40,24 @@ void addDirectPoint(const PrtData& prt, const PrtPointLight& pl, float* out) {
         if (!prt.visByDirection.empty()) {
             const std::size_t row = std::size_t(basis.count) + 1;
             const float* byDir = prt.visByDirection[s.cluster[i]].data();
-            for (int k = 0; k < 4; ++k) {
-                if (wt[k] <= 0.0f) continue;
-                const float* r = byDir + std::size_t(idx[k]) * row;
-                float depth = r[0];
-                for (int c = 0; c < basis.count; ++c) depth += coeffs[c] * r[c + 1];
-                if (dist <= depth) vis += wt[k];
+            // The four depth reconstructions as four independent chains in one loop (each in
+            // the same order as a loop of its own, so the same bits): one dependent chain of
+            // 4 * count adds was the cost.
+            const float* r0 = byDir + std::size_t(idx[0]) * row;
+            const float* r1 = byDir + std::size_t(idx[1]) * row;
+            const float* r2 = byDir + std::size_t(idx[2]) * row;
+            const float* r3 = byDir + std::size_t(idx[3]) * row;
+            float d0 = r0[0], d1 = r1[0], d2 = r2[0], d3 = r3[0];
+            for (int c = 0; c < basis.count; ++c) {
+                const float a = coeffs[c];
+                d0 += a * r0[c + 1];
+                d1 += a * r1[c + 1];
+                d2 += a * r2[c + 1];
+                d3 += a * r3[c + 1];
             }
+            const float depth[4] = {d0, d1, d2, d3};
+            for (int k = 0; k < 4; ++k)
+                if (wt[k] > 0.0f && dist <= depth[k]) vis += wt[k];
         } else {
             for (int k = 0; k < 4; ++k) {
                 if (wt[k] <= 0.0f) continue;
