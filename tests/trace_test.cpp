@@ -2,8 +2,13 @@
 // own index, so materials can be looked up.
 #include <gtest/gtest.h>
 
+#include <limits>
+#include <memory>
+#include <vector>
+
 #include "test_util.h"
 #include "vdblight/errors.h"
+#include "vdblight/sampling.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
 
@@ -50,4 +55,35 @@ TEST(Tracer, RefusesAnEmptyScene) {
     Scene empty;
     empty.name = "empty";
     EXPECT_THROW(Tracer{empty}, SceneError);
+}
+
+// The packet form (coherent 16-ray packets) answers exactly as one ray at a time: rays from a
+// grid of points inside the default scene to one light, with a count that is not a multiple
+// of 16, finite and infinite extents, and some rays ending short of the blockers.
+TEST(Tracer, PacketOcclusionEqualsSingleRays) {
+    const Scene s = loadScene(defaultScenePath());
+    const Tracer tracer(s);
+    const Bounds b = s.bounds();
+    const Vec3f lo(b.lo), size(b.size());
+    Rng rng(5, 0x7061636b);
+    const Vec3f light = lo + size * Vec3f(0.31f, 0.42f, 0.27f);
+    std::vector<Ray> rays;
+    for (int i = 0; i < 1000; ++i) {
+        const Vec3f x = lo + size * Vec3f(rng.uniform(), rng.uniform(), rng.uniform());
+        const float end = i % 3 == 0 ? 0.5f : i % 3 == 1 ? 0.9999f : std::numeric_limits<float>::infinity();
+        rays.push_back(Ray{x, i % 7 == 0 ? uniformSphere(rng.uniform(), rng.uniform()) : light - x, 0.0f, end});
+    }
+    for (std::size_t count : {std::size_t(0), std::size_t(1), std::size_t(16), std::size_t(17), rays.size()}) {
+        std::unique_ptr<bool[]> blocked(new bool[count + 1]);
+        tracer.occluded(rays.data(), count, blocked.get());
+        std::size_t hits = 0;
+        for (std::size_t i = 0; i < count; ++i) {
+            EXPECT_EQ(blocked[i], tracer.occluded(rays[i])) << "ray " << i << " of " << count;
+            hits += blocked[i];
+        }
+        if (count == rays.size()) {  // both answers occur, so the comparison means something
+            EXPECT_GT(hits, count / 10);
+            EXPECT_LT(hits, count - count / 10);
+        }
+    }
 }

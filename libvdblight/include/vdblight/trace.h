@@ -42,6 +42,9 @@ public:
     Hit intersect(const Ray& ray) const;
     /// True if anything blocks the ray within [tnear, tfar].
     bool occluded(const Ray& ray) const;
+    /// blocked[i] = occluded(rays[i]) for i < count, traced as coherent 16-ray packets
+    /// (rtcOccluded16): the same answers, less per-ray overhead for rays that share an end.
+    void occluded(const Ray* rays, std::size_t count, bool* blocked) const;
 
     /// Raw throughput probe for benchmarks: traces `count` random rays whose origins lie
     /// uniformly in `box` with uniformly random directions, with plain single-ray

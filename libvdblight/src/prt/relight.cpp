@@ -2,6 +2,9 @@
 // transfer -> indirect, plus the uncompressed references it is tested against.
 #include <algorithm>
 #include <cmath>
+#if defined(__SSE2__)
+#include <xmmintrin.h>
+#endif
 
 #include "prt_internal.h"
 #include "vdblight/errors.h"
@@ -11,6 +14,39 @@ namespace vdblight {
 using namespace prt_detail;
 
 namespace {
+
+/// depth[k] = r_k[0] + sum over c (in order) of coeffs[c] * r_k[c + 1], for the four rows:
+/// four independent chains, each with the same adds in the same order as a loop of its own
+/// (so the same bits; no FMA). With SSE the four chains are the lanes of one register.
+inline void reconstructFour(const float* r0, const float* r1, const float* r2, const float* r3, const float* coeffs,
+                            int count, float depth[4]) {
+#if defined(__SSE2__)
+    __m128 d = _mm_setr_ps(r0[0], r1[0], r2[0], r3[0]);
+    int c = 0;
+    for (; c + 4 <= count; c += 4) {
+        __m128 a0 = _mm_loadu_ps(r0 + c + 1), a1 = _mm_loadu_ps(r1 + c + 1);
+        __m128 a2 = _mm_loadu_ps(r2 + c + 1), a3 = _mm_loadu_ps(r3 + c + 1);
+        _MM_TRANSPOSE4_PS(a0, a1, a2, a3);  // a_j = (r0[c+1+j], r1[c+1+j], r2[c+1+j], r3[c+1+j])
+        d = _mm_add_ps(d, _mm_mul_ps(_mm_set1_ps(coeffs[c]), a0));
+        d = _mm_add_ps(d, _mm_mul_ps(_mm_set1_ps(coeffs[c + 1]), a1));
+        d = _mm_add_ps(d, _mm_mul_ps(_mm_set1_ps(coeffs[c + 2]), a2));
+        d = _mm_add_ps(d, _mm_mul_ps(_mm_set1_ps(coeffs[c + 3]), a3));
+    }
+    for (; c < count; ++c)
+        d = _mm_add_ps(d, _mm_mul_ps(_mm_set1_ps(coeffs[c]), _mm_setr_ps(r0[c + 1], r1[c + 1], r2[c + 1], r3[c + 1])));
+    _mm_storeu_ps(depth, d);
+#else
+    float d0 = r0[0], d1 = r1[0], d2 = r2[0], d3 = r3[0];
+    for (int c = 0; c < count; ++c) {
+        const float a = coeffs[c];
+        d0 += a * r0[c + 1];
+        d1 += a * r1[c + 1];
+        d2 += a * r2[c + 1];
+        d3 += a * r3[c + 1];
+    }
+    depth[0] = d0, depth[1] = d1, depth[2] = d2, depth[3] = d3;
+#endif
+}
 
 /// Adds weight * emitter cosine * compressed direct unit irradiance of a point at l to out.
 void addDirectPoint(const PrtData& prt, const PrtPointLight& pl, float* out) {
@@ -40,13 +76,17 @@ void addDirectPoint(const PrtData& prt, const PrtPointLight& pl, float* out) {
         if (!prt.visByDirection.empty()) {
             const std::size_t row = std::size_t(basis.count) + 1;
             const float* byDir = prt.visByDirection[s.cluster[i]].data();
-            for (int k = 0; k < 4; ++k) {
-                if (wt[k] <= 0.0f) continue;
-                const float* r = byDir + std::size_t(idx[k]) * row;
-                float depth = r[0];
-                for (int c = 0; c < basis.count; ++c) depth += coeffs[c] * r[c + 1];
-                if (dist <= depth) vis += wt[k];
-            }
+            // The four depth reconstructions as four independent chains in one loop (each in
+            // the same order as a loop of its own, so the same bits): one dependent chain of
+            // 4 * count adds was the cost.
+            const float* r0 = byDir + std::size_t(idx[0]) * row;
+            const float* r1 = byDir + std::size_t(idx[1]) * row;
+            const float* r2 = byDir + std::size_t(idx[2]) * row;
+            const float* r3 = byDir + std::size_t(idx[3]) * row;
+            float depth[4];
+            reconstructFour(r0, r1, r2, r3, coeffs, basis.count, depth);
+            for (int k = 0; k < 4; ++k)
+                if (wt[k] > 0.0f && dist <= depth[k]) vis += wt[k];
         } else {
             for (int k = 0; k < 4; ++k) {
                 if (wt[k] <= 0.0f) continue;

@@ -3,6 +3,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <cstring>
 #include <string>
 
@@ -109,6 +110,35 @@ bool Tracer::occluded(const Ray& r) const {
     RTCRay ray = toRtcRay(r);
     rtcOccluded1(impl_->scene, &context, &ray);
     return ray.tfar < 0.0f;  // Embree sets tfar to -inf on a hit
+}
+
+void Tracer::occluded(const Ray* rays, std::size_t count, bool* blocked) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    alignas(64) int valid[16];
+    alignas(64) RTCRay16 packet;
+    for (std::size_t b = 0; b < count; b += 16) {
+        const std::size_t n = std::min<std::size_t>(16, count - b);
+        for (std::size_t i = 0; i < 16; ++i) {
+            const Ray& r = rays[b + std::min(i, n - 1)];  // lanes past the end: inactive copies
+            valid[i] = i < n ? -1 : 0;
+            packet.org_x[i] = r.origin.x;
+            packet.org_y[i] = r.origin.y;
+            packet.org_z[i] = r.origin.z;
+            packet.dir_x[i] = r.direction.x;
+            packet.dir_y[i] = r.direction.y;
+            packet.dir_z[i] = r.direction.z;
+            packet.tnear[i] = r.tnear;
+            packet.tfar[i] = r.tfar;
+            packet.time[i] = 0.0f;
+            packet.mask[i] = 0xffffffffu;
+            packet.id[i] = unsigned(i);
+            packet.flags[i] = 0;
+        }
+        rtcOccluded16(valid, impl_->scene, &context, &packet);
+        for (std::size_t i = 0; i < n; ++i) blocked[b + i] = packet.tfar[i] < 0.0f;  // -inf on a hit
+    }
 }
 
 std::size_t Tracer::traceRandomRays(const Bounds& box, std::size_t count, uint64_t seed, bool occlusion) const {
