@@ -85,6 +85,7 @@ public:
             if (e.name == "vertex") vertex = &e;
         if (!vertex) fail("no 'vertex' element in the header");
         vertexCount_ = vertex->count;
+        if (vertexCount_ > std::numeric_limits<uint32_t>::max()) fail("more than 2^32 - 1 vertices");
         xyz_[0] = xyz_[1] = xyz_[2] = -1;
         for (std::size_t p = 0; p < vertex->properties.size(); ++p) {
             const Property& prop = vertex->properties[p];
@@ -213,31 +214,32 @@ private:
         if (isVertex) positions_.reserve(std::size_t(e.count));  // count checked above
         if (isFace && indexList >= 0) polygonSizes_.reserve(std::size_t(e.count));
 
+        cur_ = &e;
         for (uint64_t r = 0; r < e.count; ++r) {
+            record_ = r;
             double xyz[3] = {0, 0, 0};
             for (std::size_t p = 0; p < e.properties.size(); ++p) {
                 const Property& prop = e.properties[p];
-                const std::string what = "element '" + e.name + "' record " + std::to_string(r);
                 if (!prop.list) {
-                    const double v = readScalar(prop.type, what);
+                    const double v = readScalar(prop.type, nullptr);
                     if (isVertex)
                         for (int k = 0; k < 3; ++k)
                             if (xyz_[k] == int(p)) xyz[k] = v;
                     continue;
                 }
-                const int64_t n = readInteger(prop.countType, what + ": list length");
-                if (n < 0) fail(what + ": negative list length");
+                const int64_t n = readInteger(prop.countType, "list length");
+                if (n < 0) fail(where() + ": negative list length");
                 const std::size_t itemBytes = format_ == Format::Ascii ? 1 : sizeOf(prop.type);
                 if (uint64_t(n) > remaining() / itemBytes)
-                    fail(what + ": list length " + std::to_string(n) + " exceeds the bytes left in the file");
+                    fail(where() + ": list length " + std::to_string(n) + " exceeds the bytes left in the file");
                 if (int(p) != indexList) {
-                    for (int64_t i = 0; i < n; ++i) readScalar(prop.type, what);
+                    for (int64_t i = 0; i < n; ++i) readScalar(prop.type, nullptr);
                     continue;
                 }
                 for (int64_t i = 0; i < n; ++i) {
-                    const int64_t index = readInteger(prop.type, what + ": vertex index");
+                    const int64_t index = readInteger(prop.type, "vertex index");
                     if (index < 0 || uint64_t(index) >= vertexCount_)
-                        fail(what + ": vertex index " + std::to_string(index) + " out of range (" +
+                        fail(where() + ": vertex index " + std::to_string(index) + " out of range (" +
                              std::to_string(vertexCount_) + " vertices)");
                     corners_.push_back(uint32_t(index));
                 }
@@ -255,22 +257,32 @@ private:
         while (pos_ < data_.size() && std::isspace(static_cast<unsigned char>(data_[pos_]))) ++pos_;
     }
 
-    /// The next whitespace-separated ascii token; fails at the end of the file.
-    std::string token(const std::string& what) {
+    /// "element 'NAME' record R[: what]", for messages (built only on failure).
+    std::string where(const char* what = nullptr) const {
+        std::string s = "element '" + cur_->name + "' record " + std::to_string(record_);
+        if (what) s += std::string(": ") + what;
+        return s;
+    }
+
+    /// The next whitespace-separated ascii token, NUL-terminated in token_; fails at the end
+    /// of the file or on a token longer than 64 characters (no number is that long).
+    const char* token(const char* what) {
         skipSpace();
-        if (pos_ >= data_.size()) fail(what + ": file ends early");
-        const std::size_t begin = pos_;
-        while (pos_ < data_.size() && !std::isspace(static_cast<unsigned char>(data_[pos_])) && pos_ - begin < 64)
-            ++pos_;
-        if (pos_ < data_.size() && !std::isspace(static_cast<unsigned char>(data_[pos_])))
-            fail(what + ": number longer than 64 characters");
-        return data_.substr(begin, pos_ - begin);
+        if (pos_ >= data_.size()) fail(where(what) + ": file ends early");
+        std::size_t n = 0;
+        while (pos_ < data_.size() && !std::isspace(static_cast<unsigned char>(data_[pos_]))) {
+            if (n == sizeof(token_) - 1) fail(where(what) + ": token longer than 64 characters");
+            token_[n++] = data_[pos_++];
+        }
+        token_[n] = '\0';
+        tokenLength_ = n;
+        return token_;
     }
 
     /// Bytes of one binary scalar, in host order.
-    uint64_t rawBits(Type t, const std::string& what) {
+    uint64_t rawBits(Type t, const char* what) {
         const std::size_t n = sizeOf(t);
-        if (remaining() < n) fail(what + ": file ends early");
+        if (remaining() < n) fail(where(what) + ": file ends early");
         uint64_t v = 0;
         for (std::size_t k = 0; k < n; ++k) {
             const uint64_t byte = uint8_t(data_[pos_ + k]);
@@ -295,24 +307,23 @@ private:
         return 0;
     }
 
-    double readScalar(Type t, const std::string& what) {
+    double readScalar(Type t, const char* what) {
         if (format_ != Format::Ascii) return binaryValue(t, rawBits(t, what));
-        const std::string s = token(what);
+        const char* s = token(what);
         char* end = nullptr;
-        errno = 0;
-        const double v = std::strtod(s.c_str(), &end);
-        if (end != s.c_str() + s.size()) fail(what + ": '" + s.substr(0, 32) + "' is not a number");
+        const double v = std::strtod(s, &end);
+        if (end != s + tokenLength_) fail(where(what) + ": '" + std::string(s).substr(0, 32) + "' is not a number");
         return v;
     }
 
-    int64_t readInteger(Type t, const std::string& what) {
+    int64_t readInteger(Type t, const char* what) {
         if (format_ != Format::Ascii) return int64_t(binaryValue(t, rawBits(t, what)));  // exact: at most 32 bits
-        const std::string s = token(what);
+        const char* s = token(what);
         char* end = nullptr;
         errno = 0;
-        const long long v = std::strtoll(s.c_str(), &end, 10);
-        if (end != s.c_str() + s.size() || errno == ERANGE)
-            fail(what + ": '" + s.substr(0, 32) + "' is not an integer");
+        const long long v = std::strtoll(s, &end, 10);
+        if (end != s + tokenLength_ || errno == ERANGE)
+            fail(where(what) + ": '" + std::string(s).substr(0, 32) + "' is not an integer");
         return int64_t(v);
     }
 
@@ -363,6 +374,10 @@ private:
     std::vector<Vec3f> positions_;
     std::vector<uint32_t> corners_;
     std::vector<uint64_t> polygonSizes_;
+    const Element* cur_ = nullptr;  ///< the element being read, for messages
+    uint64_t record_ = 0;
+    char token_[65] = {};
+    std::size_t tokenLength_ = 0;
 };
 
 }  // namespace
