@@ -228,6 +228,7 @@ TEST(PlyReader, MalformedFilesAreSceneErrors) {
         {"not_a_number.ply", vertexHeader + "0 0 0\n1 zero 0\n0 1 0\n3 0 1 2\n", "'zero' is not a number"},
         {"not_an_integer.ply", vertexHeader + "0 0 0\n1 0 0\n0 1 0\n3 0 1.5 2\n", "'1.5' is not an integer"},
         {"nan.ply", vertexHeader + "0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n", "vertex 1 has a non-finite coordinate"},
+        {"beyond_float.ply", vertexHeader + "0 0 0\n1 0 0\n0 1e300 0\n3 0 1 2\n", "vertex 2 has a non-finite coordinate"},
         {"unknown_format.ply", "ply\nformat binary_middle_endian 1.0\nelement vertex 0\nend_header\n",
          "unknown format 'binary_middle_endian'"},
         {"format_version.ply", "ply\nformat ascii 2.0\nend_header\n", "unsupported format version '2.0'"},

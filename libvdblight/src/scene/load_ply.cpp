@@ -246,8 +246,10 @@ private:
                 polygonSizes_.push_back(uint64_t(n));
             }
             if (isVertex) {
+                for (double c : xyz)  // beyond float range would not even convert: refused too
+                    if (!(std::fabs(c) <= double(std::numeric_limits<float>::max())))
+                        fail("vertex " + std::to_string(r) + " has a non-finite coordinate");
                 const Vec3f v{float(xyz[0]), float(xyz[1]), float(xyz[2])};
-                if (!isFinite(v)) fail("vertex " + std::to_string(r) + " has a non-finite coordinate");
                 positions_.push_back(v);
             }
         }
