@@ -1,4 +1,4 @@
-// Loading glTF 2.0, OBJ+MTL and PLY through Assimp into a Scene.
+// Loading glTF 2.0 and OBJ+MTL through Assimp into a Scene (PLY: load_ply.cpp).
 //
 // Assimp's PreTransformVertices would bake node transforms into the meshes but drops the
 // lights, so the node hierarchy is walked here and every mesh instance and light is put
@@ -29,6 +29,7 @@
 #include "vdblight/errors.h"
 #include "vdblight/scene.h"
 #include "vdblight/scene_origin.h"
+#include "load_ply.h"
 
 namespace vdblight {
 
@@ -286,6 +287,7 @@ Scene loadScene(const std::string& path) {
     if (ext != ".gltf" && ext != ".glb" && ext != ".obj" && ext != ".ply")
         throw SceneError("scene file '" + path + "': unsupported scene format '" + ext +
                          "' (supported: .gltf .glb .obj .ply)");
+    if (ext == ".ply") return loadPlyScene(path);  // our own reader: Assimp's crashes on corrupt files
 
     Assimp::Importer importer;
     // No aiProcess_ValidateDataStructure: it rejects a mesh without faces (an OBJ of bare
@@ -300,13 +302,9 @@ Scene loadScene(const std::string& path) {
     try {
         const bool gltf = ext == ".gltf" || ext == ".glb";
         const std::vector<float> strengths = gltf ? gltfEmissiveStrengths(path, ext == ".glb") : std::vector<float>{};
-        if (ext == ".ply") {  // PLY has no materials: one default grey for everything
-            loader.materialOf.assign(ai->mNumMaterials, addMaterial(scene, Material{"default"}));
-        } else {
-            for (unsigned i = 0; i < ai->mNumMaterials; ++i) {
-                const float strength = i < strengths.size() ? strengths[i] : 1.0f;
-                loader.materialOf.push_back(addMaterial(scene, convertMaterial(*ai->mMaterials[i], strength)));
-            }
+        for (unsigned i = 0; i < ai->mNumMaterials; ++i) {
+            const float strength = i < strengths.size() ? strengths[i] : 1.0f;
+            loader.materialOf.push_back(addMaterial(scene, convertMaterial(*ai->mMaterials[i], strength)));
         }
         loader.addNode(*ai->mRootNode, aiMatrix4x4());
         for (unsigned i = 0; i < ai->mNumLights; ++i) loader.addLight(*ai->mLights[i]);
