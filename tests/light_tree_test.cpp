@@ -116,9 +116,13 @@ TEST(LightTree, ImportanceIsZeroOnlyWhereNothingArrives) {
         const Vec3d q(0.1 * rng.uniform(), 0.1 * rng.uniform() * 0, 0);  // a point of the emitter
         const Vec3d to = x - q;
         const bool reaches = to.z > 0;  // the front side sees it
-        if (reaches) EXPECT_GT(LightTree::importance(tri, x, nullptr), 0) << x.x << "," << x.y << "," << x.z;
+        if (reaches) {
+            EXPECT_GT(LightTree::importance(tri, x, nullptr), 0) << x.x << "," << x.y << "," << x.z;
+        }
         const Vec3d n = normalize(Vec3d(uniformSphere(rng.uniform(), rng.uniform())));
-        if (reaches && dot(n, -to) > 0) EXPECT_GT(LightTree::importance(tri, x, &n), 0);
+        if (reaches && dot(n, -to) > 0) {
+            EXPECT_GT(LightTree::importance(tri, x, &n), 0);
+        }
     }
     LightBounds spot;  // a spot at the origin pointing down, 0.5 rad outer cone
     spot.box.extend(Vec3d(0, 0, 0));
