@@ -78,6 +78,11 @@ TEST(VdbReadHostile, MetadataLengthsBeyondTheFileAreRefusedBeforeAllocation) {
     // A grid's own metadata (each channel grid carries vdblight:channel).
     expectRefused(dir, withValueLength(bytes, "vdblight:channel", 0, 0xfffffff0u));
     expectRefused(dir, withValueLength(bytes, "vdblight:channel", 3, 0x40000000u));
+    // A length that fits in the file but disagrees with a fixed-size type (format_version is
+    // an int64: OpenVDB reads 8 bytes whatever the length says) would put OpenVDB's parse out
+    // of step with the check, and its next length would come from inside a value (fuzz_vdb).
+    expectRefused(dir, withValueLength(bytes, "vdblight:format_version", 0, 4));
+    expectRefused(dir, withValueLength(bytes, "vdblight:format_version", 0, 12));
 }
 
 }  // namespace

@@ -105,14 +105,35 @@ private:
             is.seekg(std::streamoff(size), std::ios_base::cur);
         };
         for (int32_t n = 0; n < count; ++n) {
-            for (int k = 0; k < 3; ++k) {  // name, type name, value
-                uint32_t size = 0;
-                is.read(reinterpret_cast<char*>(&size), sizeof size);
-                skip(size);
-            }
+            uint32_t size = 0;
+            is.read(reinterpret_cast<char*>(&size), sizeof size);  // name
+            skip(size);
+            is.read(reinterpret_cast<char*>(&size), sizeof size);  // type name
+            if (!is || int64_t(size) > fileBytes - int64_t(is.tellg())) throw std::runtime_error("metadata is corrupt");
+            std::string typeName(size, '\0');
+            is.read(typeName.data(), std::streamsize(size));
+            is.read(reinterpret_cast<char*>(&size), sizeof size);  // value
+            // OpenVDB reads a fixed-size type as sizeof(value) bytes whatever length the file
+            // gives, so a length that disagrees would put its parse out of step with this check
+            // (and its next length would come from inside a value, found by fuzz_vdb): refuse it.
+            const uint32_t fixed = fixedMetadataSize(typeName);
+            if (is && fixed != 0 && size != fixed) throw std::runtime_error("metadata is corrupt");
+            skip(size);
         }
         if (!is) throw std::runtime_error("metadata is corrupt");
         is.seekg(start);
+    }
+
+    /// The byte size OpenVDB reads for a fixed-size metadata type, 0 for variable-size and
+    /// unknown types (those are read by the length the file gives).
+    static uint32_t fixedMetadataSize(const std::string& type) {
+        static const std::pair<const char*, uint32_t> kSizes[] = {
+            {"bool", 1},   {"int32", 4},  {"int64", 8},  {"float", 4},  {"double", 8}, {"vec2i", 8},
+            {"vec2s", 8},  {"vec2d", 16}, {"vec3i", 12}, {"vec3s", 12}, {"vec3d", 24}, {"vec4i", 16},
+            {"vec4s", 16}, {"vec4d", 32}, {"mat4s", 64}, {"mat4d", 128}};
+        for (const auto& [name, bytes] : kSizes)
+            if (type == name) return bytes;
+        return 0;
     }
 
     static void skipString(std::istream& is) {
