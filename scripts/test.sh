@@ -13,4 +13,4 @@ done
 # Sanitizers (issue 8): the whole suite again under ASan + UBSan (build-sanitize/, any report
 # fails), then every libFuzzer harness for FUZZ_SECONDS each (build-fuzz/, clang).
 "$ROOT/scripts/test_sanitize.sh" all
-"$ROOT/scripts/fuzz.sh" "${FUZZ_SECONDS:-30}"
+"$ROOT/scripts/fuzz.sh" "${FUZZ_SECONDS:-15}"
