@@ -132,7 +132,11 @@ TEST(CliPrt, BadInput) {
     test::TempDir dir;
     expectCleanFailure(dir, "prt bake -o " + dir.file("a.vdb") + " --samples 0", "--samples");
     expectCleanFailure(dir, "prt bake -o " + dir.file("a.vdb") + " --samples 1000000 --cluster-size 1000000",
+                       "per-cluster PCA would take");
+    expectCleanFailure(dir, "prt bake -o " + dir.file("a.vdb") + " --samples 1000000 --cluster-size 100000 --form-factors dense",
                        "billion rays");
+    expectCleanFailure(dir, "prt bake -o " + dir.file("a.vdb") + " --form-factors sometimes", "--form-factors");
+    expectCleanFailure(dir, "prt bake -o " + dir.file("a.vdb") + " --form-factor-rays 0", "--form-factor-rays");
     expectCleanFailure(dir, "prt bake -o " + dir.file("a.vdb") + " --vis-coeffs 0", "--vis-coeffs");
     expectCleanFailure(dir, "prt bake -o " + dir.file("nodir/a.vdb") + kSmall, "nodir");
     // An SH volume is not a PRT file, and a PRT file is not a volume.

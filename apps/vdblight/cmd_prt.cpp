@@ -23,6 +23,7 @@ struct PrtBakeCommand {
     std::string output;
     PrtOptions options;
     PrtWriteOptions write;
+    std::string formFactors = "auto";
     bool noQuantize = false;
     bool quiet = false;
 };
@@ -48,6 +49,10 @@ double seconds() {
 }
 
 void runBake(PrtBakeCommand& c) {
+    if (c.formFactors == "auto") c.options.formFactors = PrtOptions::FormFactors::Auto;
+    else if (c.formFactors == "dense") c.options.formFactors = PrtOptions::FormFactors::Dense;
+    else if (c.formFactors == "sampled") c.options.formFactors = PrtOptions::FormFactors::Sampled;
+    else throw ValueError("--form-factors must be auto, dense or sampled (got '" + c.formFactors + "')");
     checkOutputWritable(c.output);
     const Scene scene = loadScene(c.scene.empty() ? defaultScenePath() : c.scene);
     const Tracer tracer(scene);
@@ -256,7 +261,10 @@ void printPrtInfo(const std::string& path) {
               << "  direct-light basis: " << prt.trainLights << " training lights -> " << prt.transferStride - 1
               << " vectors per cluster\n"
               << "  transfer: " << prt.bounces << (prt.bounces == 1 ? " bounce" : " bounces")
-              << (prt.closureNormalise ? ", closure-normalised form factors" : ", raw disk form factors") << "\n"
+              << (prt.closureNormalise ? ", closure-normalised" : ", raw")
+              << (prt.formFactorRays ? " sampled form factors (" + std::to_string(prt.formFactorRays) + " rays per receiver)"
+                                     : std::string(" disk form factors between all sample pairs"))
+              << "\n"
               << "  relightable volume: "
               << (prt.hasVolume() ? std::to_string(prt.volumeGrid.nx) + " x " + std::to_string(prt.volumeGrid.ny) + " x " +
                                         std::to_string(prt.volumeGrid.nz) + " nodes"
@@ -294,6 +302,13 @@ void addPrtCommand(CLI::App& app) {
         ->capture_default_str();
     bake->add_flag("--raw-form-factors", [b](int64_t) { b->options.closureNormalise = false; },
                    "Do not rescale form factors to the hemisphere that rays find covered");
+    bake->add_option("--form-factors", b->formFactors,
+                     "dense: every sample pair (n^2 rays and floats); sampled: --form-factor-rays rays per "
+                     "receiver (scales to 45 k samples); auto: dense up to " +
+                         std::to_string(PrtOptions::kDenseFormFactorLimit) + " samples")
+        ->capture_default_str();
+    bake->add_option("--form-factor-rays", b->options.formFactorRays,
+                     "Rays per sample / node for sampled form factors")->capture_default_str();
     bake->add_flag("--paper-basis", b->options.paperBasis,
                    "Direct-light basis exactly as the paper's eq. 7 (centred, unnormalised examples)");
     bake->add_flag("--no-quantize", b->noQuantize, "Store 32-bit floats instead of 16-bit");

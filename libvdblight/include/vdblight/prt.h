@@ -51,6 +51,17 @@ struct PrtOptions {
     /// by surfaces (sampleClosure / nodeClosure; scale capped at 4: corner samples need up to 4). Disks miss the near field
     /// at edges; without this a closed box's 8-bounce furnace reads 0.957 instead of 0.996.
     bool closureNormalise = true;
+    /// Form factors (sample to sample, and node to sample for a volume):
+    ///  - Dense: every pair with one visibility ray and the disk formula: n^2 / 2 rays and
+    ///    n^2 floats during the bake (refused above 8 GB, i.e. about 44 k samples);
+    ///  - Sampled: formFactorRays stratified rays per receiver, each hit assigned to the
+    ///    sample standing for the hit point: n * formFactorRays rays and entries, so the
+    ///    paper's 45 k samples bake in minutes (Monte Carlo noise instead of the disk error);
+    ///  - Auto: Dense up to kDenseFormFactorLimit samples, Sampled above.
+    enum class FormFactors { Auto, Dense, Sampled };
+    static constexpr uint32_t kDenseFormFactorLimit = 8192;
+    FormFactors formFactors = FormFactors::Auto;
+    uint32_t formFactorRays = 256;  ///< rays per receiver for Sampled (rounded up to a square)
     uint64_t seed = 1;
     int threads = 0;               ///< 0: all cores
 };
@@ -146,6 +157,7 @@ struct PrtData {
     bool paperBasis = false;
     int bounces = 1;             ///< diffuse bounces in transfer / volumeTransfer
     bool closureNormalise = false;  ///< form factors rescaled to the covered hemisphere
+    uint32_t formFactorRays = 0;    ///< 0: dense pair form factors; else sampled with this many rays
     double secondsSamples = 0, secondsVisibility = 0, secondsBasis = 0, secondsTransfer = 0;
 };
 

@@ -36,16 +36,33 @@ void validate(const PrtOptions& o) {
         throw ValueError("--transfer-coeffs must be in 1..--train-lights");
     }
     if (o.threads < 0) throw ValueError("thread count must be positive (0 = all cores)");
+    if (o.formFactorRays == 0 || o.formFactorRays > 65536) throw ValueError("--form-factor-rays must be in 1..65536");
     if (o.bounces < 1 || o.bounces > 64) throw ValueError("--bounces must be in 1..64 (got " + std::to_string(o.bounces) + ")");
 }
 
 /// Refuses a bake whose transfer matrices or rays would not fit a machine (the estimate
 /// is in the message).
+/// Whether the bake uses sampled form factors for n samples.
+bool sampledFormFactors(double n, const PrtOptions& o) {
+    return o.formFactors == PrtOptions::FormFactors::Sampled ||
+           (o.formFactors == PrtOptions::FormFactors::Auto && n > PrtOptions::kDenseFormFactorLimit);
+}
+
 void checkBudget(double n, const PrtOptions& o) {
     const double k = std::max(1.0, std::round(n / o.clusterSize));
     const double matrixBytes = k * double(o.transferCoeffs + 1) * n * 12.0;
-    const double formFactorBytes = n * n * 4.0;  // the sample-to-sample matrix during the bake
-    const double rays = n * n / 2 + n * double(o.visDirs) + n * double(o.trainLights);
+    const bool sampled = sampledFormFactors(n, o);
+    // The sample-to-sample matrix during the bake: dense, or rays entries per row.
+    const double formFactorBytes = sampled ? n * double(o.formFactorRays) * 8.0 : n * n * 4.0;
+    const double rays = (sampled ? n * double(o.formFactorRays) : n * n / 2) + n * double(o.visDirs) +
+                        n * double(o.trainLights);
+    // Each cluster's PCA holds its samples x (directions or lights) in doubles, twice (SVD).
+    const double clusterSamples = std::min(n, 1.5 * double(o.clusterSize));
+    const double pcaBytes = clusterSamples * double(std::max(o.visDirs, o.trainLights)) * 16.0;
+    if (pcaBytes > 8e9) {
+        throw ValueError("the per-cluster PCA would take " + std::to_string(uint64_t(pcaBytes / 1e6)) + " MB for " +
+                         std::to_string(uint64_t(clusterSamples)) + " samples per cluster: use a smaller --cluster-size");
+    }
     if (matrixBytes > 8e9) {
         throw ValueError("transfer matrices would take " + std::to_string(uint64_t(matrixBytes / 1e6)) +
                          " MB for " + std::to_string(uint64_t(n)) + " samples: use fewer samples or larger clusters");
@@ -56,7 +73,7 @@ void checkBudget(double n, const PrtOptions& o) {
     }
     if (formFactorBytes > 8e9) {
         throw ValueError("the form-factor matrix would take " + std::to_string(uint64_t(formFactorBytes / 1e6)) +
-                         " MB for " + std::to_string(uint64_t(n)) + " samples: use fewer samples");
+                         " MB for " + std::to_string(uint64_t(n)) + " samples: use fewer samples or --form-factors sampled");
     }
 }
 
@@ -174,7 +191,9 @@ PrtData bakePrt(const Scene& scene, const Tracer& tracer, const PrtOptions& o, I
     prt.transferStride = int(o.transferCoeffs) + 1;
     prt.bounces = o.bounces;
     prt.closureNormalise = o.closureNormalise;
-    bakeMultiBounceTransfer(prt, tracer, o.bounces, o.volumeResolution > 0, o.closureNormalise, o.threads, in);
+    prt.formFactorRays = sampledFormFactors(double(prt.samples.size()), o) ? o.formFactorRays : 0;
+    bakeMultiBounceTransfer(prt, tracer, o.bounces, o.volumeResolution > 0, o.closureNormalise, prt.formFactorRays,
+                            o.seed, o.threads, in);
     prt.secondsTransfer = now() - t3;
     prepareRelight(prt);
     return prt;

@@ -44,6 +44,24 @@ void multiplyF(const std::vector<float>& F, std::size_t n, const MatF in[3], Mat
     });
 }
 
+/// out[c] = F * in[c] for a sparse F (width 1), in fixed row blocks: every output row is
+/// summed in column order, so the bits do not depend on the thread count.
+void multiplySparse(const SparseRows& F, const MatF in[3], MatF out[3], int threads) {
+    const std::size_t n = F.rows();
+    for (int c = 0; c < 3; ++c) out[c].resize(in[c].rows(), in[c].cols());
+    const std::size_t blocks = (n + kRowBlock - 1) / kRowBlock;
+    parallelFor(blocks * 3, threads, [&](std::size_t t) {
+        const int c = int(t % 3);
+        const std::size_t r0 = (t / 3) * kRowBlock, r1 = std::min(n, r0 + kRowBlock);
+        for (std::size_t r = r0; r < r1; ++r) {
+            auto row = out[c].row(Eigen::Index(r));
+            row.setZero();
+            for (std::size_t k = F.begin[r]; k < F.begin[r + 1]; ++k)
+                row.noalias() += F.weight[k] * in[c].row(Eigen::Index(F.column[k]));
+        }
+    });
+}
+
 /// Scales row j of each channel by albedo_j / pi.
 void applyAlbedo(const SurfaceSamples& s, MatF m[3]) {
     for (std::size_t j = 0; j < s.size(); ++j) {
@@ -154,14 +172,45 @@ std::vector<Rgb> bounceIndirect(const SurfaceSamples& s, const std::vector<float
     return out;
 }
 
+namespace {
+
+/// The volume part of bakeMultiBounceTransfer with sampled form factors: per node, the SH
+/// gather of the senders its rays found (sampledNodeGather) times their rows of Y.
+template <typename Store>
+void gatherSampledVolume(const PrtData& prt, const Tracer& tracer, const MatF Y[3], uint32_t rays, bool normalise,
+                         uint64_t seed, int threads, Interrupter* in, const Store& store) {
+    const std::size_t nodes = prt.volumeGrid.nodeCount();
+    std::vector<Vec3f> x(nodes);
+    for (std::size_t a = 0; a < nodes; ++a) x[a] = Vec3f(prt.volumeGrid.node(a));
+    if (in) in->start("volume gather", nodes);
+    const SparseRows G = sampledNodeGather(prt.samples, tracer, x, rays, normalise, seed, threads, in);
+    if (in) in->end();
+    parallelFor(nodes, threads, [&](std::size_t a) {
+        const std::size_t b = G.begin[a], e = G.begin[a + 1], found = e - b;
+        MatF g(sh::kCoeffs, Eigen::Index(found)), rows(Eigen::Index(found), Y[0].cols()), V[3];
+        for (std::size_t k = 0; k < found; ++k)
+            for (int m = 0; m < sh::kCoeffs; ++m) g(m, Eigen::Index(k)) = G.weight[(b + k) * sh::kCoeffs + std::size_t(m)];
+        for (int c = 0; c < 3; ++c) {
+            for (std::size_t k = 0; k < found; ++k) rows.row(Eigen::Index(k)) = Y[c].row(Eigen::Index(G.column[b + k]));
+            V[c].noalias() = g * rows;
+        }
+        store(a, 1, V);
+    });
+}
+
+}  // namespace
+
 void bakeMultiBounceTransfer(PrtData& prt, const Tracer& tracer, int bounces, bool volume, bool normalise,
-                             int threads, Interrupter* in) {
+                             uint32_t formFactorRays, uint64_t seed, int threads, Interrupter* in) {
     const SurfaceSamples& s = prt.samples;
     const std::size_t n = s.size(), clusters = s.clusters();
     const int stride = prt.transferStride;
     const std::size_t cols = clusters * std::size_t(stride);
+    const bool sampled = formFactorRays > 0;
     if (in) in->start("transfer", n);
-    const std::vector<float> F = sampleFormFactors(s, tracer, threads, in, normalise);
+    const std::vector<float> F = sampled ? std::vector<float>() : sampleFormFactors(s, tracer, threads, in, normalise);
+    const SparseRows Fs = sampled ? sampledSampleFormFactors(s, tracer, formFactorRays, normalise, seed, threads, in)
+                                  : SparseRows();
     if (in) in->end();
 
     // U: column (c, k) = basis vector k of cluster c (k = 0: the mean), zero outside cluster c.
@@ -183,7 +232,10 @@ void bakeMultiBounceTransfer(PrtData& prt, const Tracer& tracer, int bounces, bo
     for (int c = 0; c < 3; ++c) T[c] = MatF::Zero(U.rows(), U.cols());
     for (int b = 1; b <= bounces; ++b) {
         applyAlbedo(s, X);
-        multiplyF(F, n, X, E, threads);
+        if (sampled)
+            multiplySparse(Fs, X, E, threads);
+        else
+            multiplyF(F, n, X, E, threads);
         for (int c = 0; c < 3; ++c) {
             T[c] += E[c];
             if (b < bounces) Y[c] += E[c];
@@ -204,6 +256,23 @@ void bakeMultiBounceTransfer(PrtData& prt, const Tracer& tracer, int bounces, bo
     applyAlbedo(s, Y);
     const std::size_t nodes = prt.volumeGrid.nodeCount();
     prt.volumeTransfer.assign(clusters, std::vector<Rgb>(std::size_t(stride) * nodes * sh::kCoeffs, Rgb{0, 0, 0}));
+    // Rows a * 9 + m of V[c] (SH coefficient m of node n0 + a, all columns) into the transfer.
+    const auto store = [&](std::size_t n0, std::size_t count, const MatF V[3]) {
+        for (std::size_t a = 0; a < count; ++a)
+            for (std::size_t cl = 0; cl < clusters; ++cl)
+                for (int k = 0; k < stride; ++k) {
+                    const Eigen::Index col = Eigen::Index(cl * std::size_t(stride) + std::size_t(k));
+                    for (int m = 0; m < sh::kCoeffs; ++m) {
+                        const Eigen::Index row = Eigen::Index(a * sh::kCoeffs + std::size_t(m));
+                        prt.volumeTransfer[cl][(std::size_t(k) * nodes + n0 + a) * sh::kCoeffs + std::size_t(m)] =
+                            Rgb{V[0](row, col), V[1](row, col), V[2](row, col)};
+                    }
+                }
+    };
+    if (sampled) {
+        gatherSampledVolume(prt, tracer, Y, formFactorRays, normalise, seed, threads, in, store);
+        return;
+    }
     const std::size_t blocks = (nodes + kNodeBlock - 1) / kNodeBlock;
     if (in) in->start("volume transfer", blocks);
     std::atomic<uint64_t> done{0};
@@ -230,16 +299,7 @@ void bakeMultiBounceTransfer(PrtData& prt, const Tracer& tracer, int bounces, bo
         }
         MatF V[3];
         for (int c = 0; c < 3; ++c) V[c].noalias() = G * Y[c];
-        for (std::size_t a = 0; a < count; ++a)
-            for (std::size_t cl = 0; cl < clusters; ++cl)
-                for (int k = 0; k < stride; ++k) {
-                    const Eigen::Index col = Eigen::Index(cl * std::size_t(stride) + std::size_t(k));
-                    for (int m = 0; m < sh::kCoeffs; ++m) {
-                        const Eigen::Index row = Eigen::Index(a * sh::kCoeffs + std::size_t(m));
-                        prt.volumeTransfer[cl][(std::size_t(k) * nodes + n0 + a) * sh::kCoeffs + std::size_t(m)] =
-                            Rgb{V[0](row, col), V[1](row, col), V[2](row, col)};
-                    }
-                }
+        store(n0, count, V);
         if (in) {
             in->progress(++done);
             if (in->wasInterrupted()) cancelled = true;

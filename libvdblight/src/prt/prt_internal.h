@@ -88,6 +88,27 @@ inline bool senderShFromNode(const SurfaceSamples& s, const Tracer& tracer, cons
     return omega > 0.0f;
 }
 
+/// Rows of a sparse matrix: row r holds, for columns column[begin[r] .. begin[r+1]) in
+/// ascending order, `width` weights each (weight[k * width ...]).
+struct SparseRows {
+    int width = 1;
+    std::vector<std::size_t> begin{0};
+    std::vector<uint32_t> column;
+    std::vector<float> weight;
+    std::size_t rows() const { return begin.size() - 1; }
+};
+
+/// Sample-to-sample form factors from `rays` stratified cosine-distributed rays per sample
+/// (rounded up to a square), each hit assigned to the sample standing for the hit point
+/// (sampled_form_factors.cpp). Width 1: the irradiance at r per unit radiance leaving j.
+SparseRows sampledSampleFormFactors(const SurfaceSamples& s, const Tracer& tracer, uint32_t rays, bool normalise,
+                                    uint64_t seed, int threads, Interrupter* in);
+
+/// Node-to-sample SH gather from `rays` stratified uniform rays per node. Width 9: the SH
+/// order-2 projection, at node r, of unit radiance leaving sender j.
+SparseRows sampledNodeGather(const SurfaceSamples& s, const Tracer& tracer, const std::vector<Vec3f>& nodes,
+                             uint32_t rays, bool normalise, uint64_t seed, int threads, Interrupter* in);
+
 }  // namespace vdblight::prt_detail
 
 namespace vdblight {
@@ -97,6 +118,8 @@ void projectLightBases(const PrtData& prt, const std::vector<float>& direct, std
 
 /// Fills prt.transfer (and prt.volumeTransfer for prt.volumeGrid if `volume`) with
 /// `bounces` diffuse bounces from the light bases (multi_bounce.cpp).
+/// `formFactorRays` = 0: every sample pair with one visibility ray (sampleFormFactors);
+/// otherwise sampled form factors with that many rays per receiver (seeded by `seed`).
 void bakeMultiBounceTransfer(PrtData& prt, const Tracer& tracer, int bounces, bool volume, bool normalise,
-                             int threads, Interrupter* interrupter);
+                             uint32_t formFactorRays, uint64_t seed, int threads, Interrupter* interrupter);
 }  // namespace vdblight

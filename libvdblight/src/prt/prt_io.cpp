@@ -217,6 +217,7 @@ void writePrt(const PrtData& prt, const std::string& path, const PrtWriteOptions
     m.insertMeta(kP + "prt_format_version", openvdb::Int64Metadata(kPrtFormatVersion));
     m.insertMeta(kP + "bounces", openvdb::Int64Metadata(prt.bounces));
     m.insertMeta(kP + "form_factors", openvdb::StringMetadata(prt.closureNormalise ? "closure_normalised" : "disk"));
+    m.insertMeta(kP + "form_factor_rays", openvdb::Int64Metadata(int64_t(prt.formFactorRays)));
     m.insertMeta(kP + "method", openvdb::StringMetadata("Leonhardt & Bohn PRT, diffuse bounces sample to sample"));
     m.insertMeta(kP + "scene", openvdb::StringMetadata(prt.sceneName));
     m.insertMeta(kP + "scene_hash", openvdb::StringMetadata(prt.sceneHash));
@@ -330,6 +331,12 @@ PrtData readPrt(const std::string& path) {
     prt.bounces = version >= 2 ? int(meta<int64_t>(m, "bounces", path)) : 1;
     if (prt.bounces < 1) throw FormatError("'" + path + "' is not a valid PRT file: bounces < 1");
     prt.closureNormalise = version >= 2 && meta<std::string>(m, "form_factors", path) == "closure_normalised";
+    // Absent in files written before sampled form factors existed: dense pairs.
+    if (const auto rays = m.getMetadata<openvdb::Int64Metadata>(kP + "form_factor_rays")) {
+        if (rays->value() < 0 || rays->value() > 65536)
+            throw FormatError("'" + path + "' is not a valid PRT file: form_factor_rays out of range");
+        prt.formFactorRays = uint32_t(rays->value());
+    }
     const std::size_t n = std::size_t(meta<int64_t>(m, "samples", path));
     const std::size_t k = std::size_t(meta<int64_t>(m, "clusters", path));
     prt.sceneName = meta<std::string>(m, "scene", path);

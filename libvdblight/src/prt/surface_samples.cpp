@@ -12,6 +12,7 @@
 #include <limits>
 #include <unordered_map>
 
+#include "sample_grid.h"
 #include "vdblight/errors.h"
 #include "vdblight/prt.h"
 #include "vdblight/sampling.h"
@@ -26,10 +27,7 @@ struct Candidate {
     uint32_t tri;
 };
 
-uint64_t cellKey(int x, int y, int z) {
-    return (uint64_t(uint32_t(x) & 0x1fffffu) << 42) | (uint64_t(uint32_t(y) & 0x1fffffu) << 21) |
-           uint64_t(uint32_t(z) & 0x1fffffu);
-}
+using prt_detail::SampleGrid;
 
 }  // namespace
 
@@ -105,7 +103,7 @@ SurfaceSamples generateSurfaceSamples(const Scene& scene, double radius, uint32_
         for (int dz = -1; dz <= 1 && free; ++dz)
             for (int dy = -1; dy <= 1 && free; ++dy)
                 for (int dx = -1; dx <= 1 && free; ++dx) {
-                    const auto it = grid.find(cellKey(cx + dx, cy + dy, cz + dz));
+                    const auto it = grid.find(SampleGrid::cellKey(cx + dx, cy + dy, cz + dz));
                     if (it == grid.end()) continue;
                     for (uint32_t j : it->second) {
                         const Vec3f d = accepted[j].p - p;
@@ -116,11 +114,14 @@ SurfaceSamples generateSurfaceSamples(const Scene& scene, double radius, uint32_
                     }
                 }
         if (!free) continue;
-        grid[cellKey(cx, cy, cz)].push_back(uint32_t(accepted.size()));
+        grid[SampleGrid::cellKey(cx, cy, cz)].push_back(uint32_t(accepted.size()));
         accepted.push_back({p, n, uint32_t(t)});
     }
 
     // Area per sample: uniform points (by area) go to their nearest same-facing sample.
+    std::vector<Vec3f> pts(accepted.size()), nrm(accepted.size());
+    for (std::size_t i = 0; i < accepted.size(); ++i) pts[i] = accepted[i].p, nrm[i] = accepted[i].n;
+    const SampleGrid owners(pts, nrm, cell);
     std::vector<double> areaCount(accepted.size(), 0.0);
     const std::size_t areaPoints = 32 * accepted.size();
     double assigned = 0;
@@ -133,32 +134,12 @@ SurfaceSamples generateSurfaceSamples(const Scene& scene, double radius, uint32_
         uniformTriangle(rng.uniform(), rng.uniform(), b1, b2);
         const Vec3f a = scene.vertex(t, 0), b = scene.vertex(t, 1), c = scene.vertex(t, 2);
         const Vec3f p = a * (1.0f - b1 - b2) + b * b1 + c * b2;
-        const Vec3f n = normalize(cross(b - a, c - a));
-        const int cx = int(std::floor(p.x / cell)), cy = int(std::floor(p.y / cell)), cz = int(std::floor(p.z / cell));
-        float best = std::numeric_limits<float>::infinity();
-        uint32_t owner = 0;
-        for (int reach = 1; reach <= 2 && !std::isfinite(best); ++reach)
-            for (int dz = -reach; dz <= reach; ++dz)
-                for (int dy = -reach; dy <= reach; ++dy)
-                    for (int dx = -reach; dx <= reach; ++dx) {
-                        const auto it = grid.find(cellKey(cx + dx, cy + dy, cz + dz));
-                        if (it == grid.end()) continue;
-                        for (uint32_t j : it->second) {
-                            const Vec3f d = accepted[j].p - p;
-                            const float d2 = dot(d, d);
-                            if (dot(accepted[j].n, n) > 0.0f && (d2 < best || (d2 == best && j < owner))) {
-                                best = d2;
-                                owner = j;
-                            }
-                        }
-                    }
-        if (!std::isfinite(best)) continue;
+        const uint32_t owner = owners.nearestFacing(p, normalize(cross(b - a, c - a)));
+        if (owner == SampleGrid::kNone) continue;
         areaCount[owner] += 1.0;
         assigned += 1.0;
     }
 
-    std::vector<Vec3f> pts(accepted.size());
-    for (std::size_t i = 0; i < accepted.size(); ++i) pts[i] = accepted[i].p;
     std::vector<Vec3f> roots;
     const std::vector<uint32_t> owner = clusterSamples(pts, clusterSize, &roots);
     std::vector<uint32_t> order(accepted.size());
