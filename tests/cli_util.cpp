@@ -44,6 +44,15 @@ void expectCleanFailureWithOutput(const TempDir& dir, const std::string& args, c
     expectCleanFailure(dir, args + " -o " + dir.file("bad.vdb"), expectedText);
 }
 
+void expectRefusal(const std::string& args, const std::string& expectedText, const std::string& output,
+                   const std::string& label) {
+    const CliRun r = runCli(args);
+    EXPECT_NE(r.status, 0) << label;
+    EXPECT_EQ(countLines(r.output), 1) << label << ": " << r.output;
+    EXPECT_NE(r.output.find(expectedText), std::string::npos) << label << ": " << r.output;
+    EXPECT_FALSE(std::filesystem::exists(output)) << label;
+}
+
 double firstIrradiance(const std::string& csv) {
     std::istringstream lines(csv);
     std::string header, row;

@@ -30,6 +30,11 @@ void expectCleanFailure(const TempDir& dir, const std::string& args, const std::
 /// The same for a command that would write a volume: ARGS is given `-o DIR/bad.vdb`.
 void expectCleanFailureWithOutput(const TempDir& dir, const std::string& args, const std::string& expectedText);
 
+/// Expects `vdblight ARGS` to be refused: a non-zero exit, exactly one line of output
+/// containing `expectedText`, and no file `output`. Failures name `label`.
+void expectRefusal(const std::string& args, const std::string& expectedText, const std::string& output,
+                   const std::string& label);
+
 /// E_r (red irradiance) of the first data row of a `vdblight query` CSV.
 double firstIrradiance(const std::string& csv);
 
