@@ -44,6 +44,10 @@ void expectCleanFailureWithOutput(const TempDir& dir, const std::string& args, c
     expectCleanFailure(dir, args + " -o " + dir.file("bad.vdb"), expectedText);
 }
 
+void expectCleanFailuresWithOutput(const TempDir& dir, const std::vector<CleanFailure>& cases) {
+    for (const CleanFailure& c : cases) expectCleanFailureWithOutput(dir, c.args, c.expectedText);
+}
+
 void expectRefusal(const std::string& args, const std::string& expectedText, const std::string& output,
                    const std::string& label) {
     const CliRun r = runCli(args);
