@@ -10,7 +10,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <limits>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -23,6 +22,7 @@
 #include "vdblight/sampling.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
+#include "bench_args.h"
 
 using namespace vdblight;
 
@@ -271,16 +271,10 @@ void benchMoment(const Scene& scene, const Tracer& tracer, int threads, bool qui
 }  // namespace
 
 int main(int argc, char** argv) {
-    bool quick = false;
-    int threads = 0;
-    for (int i = 1; i < argc; ++i) {
-        if (!std::strcmp(argv[i], "--quick")) quick = true;
-        else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
-        else {
-            std::fprintf(stderr, "usage: vdblight_bench_bins [--quick] [--threads N]\n");
-            return 2;
-        }
-    }
+    bench::BenchArgs args("vdblight_bench_bins", {{"--threads", "N"}});
+    if (!args.parse(argc, argv)) return 2;
+    const bool quick = args.quick();
+    const int threads = args.integer("--threads", 0);
     std::printf("vdblight_bench_bins%s\n", quick ? " (quick smoke run, noisy figures)" : "");
     try {
         const Scene scene = loadScene(defaultScenePath());

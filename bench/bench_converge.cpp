@@ -22,7 +22,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <string>
 #include <vector>
 
@@ -31,6 +30,7 @@
 #include "vdblight/scene.h"
 #include "vdblight/scene_generators.h"
 #include "vdblight/trace.h"
+#include "bench_args.h"
 #include "bench_scenes.h"
 
 using namespace vdblight;
@@ -257,7 +257,9 @@ void partManyEmitters(bool quick) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+    bench::BenchArgs args("vdblight_bench_converge", {});
+    if (!args.parse(argc, argv)) return 2;
+    const bool quick = args.quick();
     std::printf("vdblight_bench_converge%s\n", quick ? " --quick (small workloads, noisy figures)" : "");
     partAdaptive(quick);
     partManyLights(quick);

@@ -25,7 +25,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -33,6 +32,7 @@
 
 #include <unistd.h>
 
+#include "bench_args.h"
 #include "bench_scenes.h"
 #include "vdblight/bake.h"
 #include "vdblight/bake_antialiased.h"
@@ -169,17 +169,10 @@ uint64_t bytesOnDisk(const Volume& v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    bool quick = false;
-    std::string csvPath, onlyScene;  // --scene NAME: only that scene of the suite
-    for (int i = 1; i < argc; ++i) {
-        if (std::strcmp(argv[i], "--quick") == 0) quick = true;
-        else if (std::strcmp(argv[i], "--csv") == 0 && i + 1 < argc) csvPath = argv[++i];
-        else if (std::strcmp(argv[i], "--scene") == 0 && i + 1 < argc) onlyScene = argv[++i];
-        else {
-            std::fprintf(stderr, "usage: vdblight_bench_error [--quick] [--csv FILE] [--scene NAME]\n");
-            return 1;
-        }
-    }
+    bench::BenchArgs args("vdblight_bench_error", {{"--csv", "FILE"}, {"--scene", "NAME"}});
+    if (!args.parse(argc, argv)) return 1;
+    const bool quick = args.quick();
+    const std::string csvPath = args.text("--csv"), onlyScene = args.text("--scene");  // --scene NAME: only that scene
     FILE* csv = csvPath.empty() ? stdout : std::fopen(csvPath.c_str(), "w");
     if (!csv) {
         std::fprintf(stderr, "vdblight_bench_error: cannot write %s\n", csvPath.c_str());

@@ -11,7 +11,6 @@
 
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <string>
 
 #include "vdblight/bake.h"
@@ -19,6 +18,7 @@
 #include "vdblight/scene.h"
 #include "vdblight/scene_generators.h"
 #include "vdblight/trace.h"
+#include "bench_args.h"
 
 using namespace vdblight;
 
@@ -134,16 +134,10 @@ void benchQuery(bool quick) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    bool quick = false;
-    int threads = tbb::this_task_arena::max_concurrency();
-    for (int i = 1; i < argc; ++i) {
-        if (!std::strcmp(argv[i], "--quick")) quick = true;
-        else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
-        else {
-            std::fprintf(stderr, "usage: vdblight_bench [--quick] [--threads N]\n");
-            return 2;
-        }
-    }
+    bench::BenchArgs args("vdblight_bench", {{"--threads", "N"}});
+    if (!args.parse(argc, argv)) return 2;
+    const bool quick = args.quick();
+    const int threads = args.integer("--threads", tbb::this_task_arena::max_concurrency());
     std::printf("vdblight_bench%s: %d threads\n", quick ? " (quick smoke run, noisy figures)" : "", threads);
     try {
         benchScene(loadScene(defaultScenePath()), threads, quick);

@@ -16,7 +16,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <ctime>
 #include <string>
 
@@ -33,6 +32,7 @@
 #include "vdblight/scene_generators.h"
 #include "vdblight/trace.h"
 #include "vdblight/vector_grid_lookup.h"
+#include "bench_args.h"
 
 using namespace vdblight;
 
@@ -251,18 +251,11 @@ void benchCompact(int threads, bool quick) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    bool quick = false;
-    int threads = 0;
-    std::string only;
-    for (int i = 1; i < argc; ++i) {
-        if (!std::strcmp(argv[i], "--quick")) quick = true;
-        else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
-        else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
-        else {
-            std::fprintf(stderr, "usage: vdblight_bench_photons [--quick] [--threads N] [--only throughput|error|compact]\n");
-            return 2;
-        }
-    }
+    bench::BenchArgs args("vdblight_bench_photons", {{"--threads", "N"}, {"--only", "throughput|error|compact"}});
+    if (!args.parse(argc, argv)) return 2;
+    const bool quick = args.quick();
+    int threads = args.integer("--threads", 0);
+    const std::string only = args.text("--only");
     if (threads <= 0) threads = tbb::this_task_arena::max_concurrency();
     std::printf("vdblight_bench_photons%s: %d threads\n", quick ? " (quick smoke run, noisy figures)" : "", threads);
     try {

@@ -76,6 +76,18 @@ GridSpec unitGrid(int n) {
     return g;
 }
 
+/// testSoup() placed on unitGrid(n) for SH order 2 (108 bytes a node); `refine` and `levels`
+/// default to LevelsPlacement's.
+LevelLayout placeTestSoup(int n, LayoutKind kind, int refine = LevelsPlacement{}.refine,
+                          int levels = LevelsPlacement{}.levels) {
+    const Soup s = testSoup();
+    LevelsPlacement p;
+    p.kind = kind;
+    p.refine = refine;
+    p.levels = levels;
+    return placeLevels(unitGrid(n), s.positions, s.indices, p, 108);
+}
+
 Volume layoutVolume(const LevelLayout& layout, uint32_t seed) {
     Volume v;
     v.basis = BasisDesc::sh2();
@@ -169,11 +181,7 @@ TEST(TriangleBox, BoundingBoxesOverlapButTriangleDoesNot) {
 
 TEST(Levels, RefinedCellsAreExactlyTheCellsThatContainGeometry) {
     const Soup s = testSoup();
-    LevelsPlacement p;
-    p.kind = LayoutKind::Adaptive;
-    p.refine = 3;
-    p.levels = 3;
-    const LevelLayout layout = placeLevels(unitGrid(6), s.positions, s.indices, p, 108);
+    const LevelLayout layout = placeTestSoup(6, LayoutKind::Adaptive, 3, 3);
     ASSERT_EQ(layout.levels.size(), 3u);
     EXPECT_EQ(layout.refine, 3);
     const double margin = 0.5 * layout.levels[0].grid.spacing;
@@ -252,12 +260,7 @@ TEST(Levels, RefusesBadParametersBeforeAllocating) {
 }
 
 TEST(Seams, LookupIsContinuousAcrossLevelBoundaries) {
-    const Soup s = testSoup();
-    LevelsPlacement p;
-    p.kind = LayoutKind::Adaptive;
-    p.refine = 3;
-    p.levels = 3;
-    const LevelLayout layout = placeLevels(unitGrid(6), s.positions, s.indices, p, 108);
+    const LevelLayout layout = placeTestSoup(6, LayoutKind::Adaptive, 3, 3);
     Volume v = layoutVolume(layout, 11);
     applySeamConstraints(v);
     int crossings = 0;
@@ -275,10 +278,7 @@ TEST(Seams, LookupIsContinuousAcrossLevelBoundaries) {
 }
 
 TEST(Seams, SeamNodesTouchAnUnrefinedCoarseCellAndOthersDoNot) {
-    const Soup s = testSoup();
-    LevelsPlacement p;
-    p.kind = LayoutKind::Bilevel;
-    const LevelLayout layout = placeLevels(unitGrid(6), s.positions, s.indices, p, 108);
+    const LevelLayout layout = placeTestSoup(6, LayoutKind::Bilevel);
     const std::vector<std::size_t> seams = seamNodes(layout.levels, 1, 3);
     const VolumeLevel& fine = layout.levels[1];
     EXPECT_GT(seams.size(), 0u);
@@ -292,12 +292,7 @@ TEST(Seams, SeamNodesTouchAnUnrefinedCoarseCellAndOthersDoNot) {
 }
 
 TEST(LevelsLookup, MatchesReferenceAndNeverReadsAnUnbakedNode) {
-    const Soup s = testSoup();
-    LevelsPlacement p;
-    p.kind = LayoutKind::Adaptive;
-    p.refine = 2;
-    p.levels = 4;
-    const LevelLayout layout = placeLevels(unitGrid(5), s.positions, s.indices, p, 108);
+    const LevelLayout layout = placeTestSoup(5, LayoutKind::Adaptive, 2, 4);
     ASSERT_EQ(layout.levels.size(), 4u);
     Volume v = layoutVolume(layout, 5);
     applySeamConstraints(v);
@@ -322,10 +317,7 @@ TEST(LevelsLookup, MatchesReferenceAndNeverReadsAnUnbakedNode) {
 }
 
 TEST(LevelsStructure, InconsistentStructuresAreRefusedWithTheProblemNamed) {
-    const Soup s = testSoup();
-    LevelsPlacement p;
-    p.kind = LayoutKind::Adaptive;
-    const LevelLayout layout = placeLevels(unitGrid(6), s.positions, s.indices, p, 108);
+    const LevelLayout layout = placeTestSoup(6, LayoutKind::Adaptive);
     const Volume good = layoutVolume(layout, 2);
     auto expectRefused = [](Volume v, const std::string& text) {
         try {
