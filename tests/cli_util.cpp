@@ -57,7 +57,7 @@ void expectRefusal(const std::string& args, const std::string& expectedText, con
     EXPECT_FALSE(std::filesystem::exists(output)) << label;
 }
 
-double firstIrradiance(const std::string& csv) {
+Rgbd firstIrradianceRgb(const std::string& csv) {
     std::istringstream lines(csv);
     std::string header, row;
     std::getline(lines, header);
@@ -66,7 +66,9 @@ double firstIrradiance(const std::string& csv) {
     double v[9] = {};
     char comma;
     for (double& x : v) rs >> x >> comma;
-    return v[6];
+    return Rgbd(v[6], v[7], v[8]);
 }
+
+double firstIrradiance(const std::string& csv) { return firstIrradianceRgb(csv).x; }
 
 }  // namespace vdblight::test

@@ -44,6 +44,9 @@ void expectCleanFailuresWithOutput(const TempDir& dir, const std::vector<CleanFa
 void expectRefusal(const std::string& args, const std::string& expectedText, const std::string& output,
                    const std::string& label);
 
+/// (E_r, E_g, E_b) of the first data row of a `vdblight query` CSV.
+Rgbd firstIrradianceRgb(const std::string& csv);
+
 /// E_r (red irradiance) of the first data row of a `vdblight query` CSV.
 double firstIrradiance(const std::string& csv);
 
