@@ -7,7 +7,7 @@
 #include <cmath>
 #include <random>
 
-#include "random_levels_volume.h"
+#include "random_volumes.h"
 #include "vdblight/bins.h"
 #include "vdblight/bins_lookup.h"
 #include "vdblight/errors.h"

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <random>
 
-#include "random_levels_volume.h"
+#include "random_volumes.h"
 #include "test_util.h"
 #include "vdblight/errors.h"
 #include "vdblight/export.h"

@@ -1,5 +1,5 @@
-// A small bilevel / adaptive volume with random node values, for tests of lookups and
-// exports on multi-level volumes against their reference lookups.
+// Volumes with random node values, for tests of lookups and exports against the reference
+// lookups: one uniform SH level, or a small bilevel / adaptive layout of any basis.
 #pragma once
 
 #include <cstdint>
@@ -7,9 +7,28 @@
 #include <vector>
 
 #include "vdblight/layout_levels.h"
+#include "vdblight/sampling.h"
 #include "vdblight/volume.h"
 
 namespace vdblight::test {
+
+/// One SH order-2 level of nx x ny x nz nodes `spacing` apart from (-0.5, 0.25, 1.0), every
+/// value drawn uniformly from [-0.5, 1.5) by Rng(seed).
+inline Volume randomShVolume(int nx, int ny, int nz, double spacing, uint64_t seed) {
+    Volume v;
+    v.basis = BasisDesc::sh2();
+    VolumeLevel level;
+    level.grid.origin = {-0.5, 0.25, 1.0};
+    level.grid.spacing = spacing;
+    level.grid.nx = nx;
+    level.grid.ny = ny;
+    level.grid.nz = nz;
+    Rng rng(seed);
+    level.data.resize(level.grid.nodeCount() * 27);
+    for (float& f : level.data) f = rng.uniform() * 2.0f - 0.5f;
+    v.levels.push_back(level);
+    return v;
+}
 
 /// Levels (refine 2) over a 5^3 lattice of spacing 0.225 from (0.05, 0.05, 0.05), refined
 /// around a triangle near the z = 0 face and one in the middle of the box. Every stored node
