@@ -23,30 +23,16 @@
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
 #include "bench_args.h"
+#include "bench_util.h"
 
 using namespace vdblight;
+using bench::freeSpace;
+using bench::now;
 
 namespace {
 
-double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
-
-/// Free space: rays along the six axis directions first hit front faces (or nothing).
-bool freeSpace(const Tracer& tracer, const Vec3f& x) {
-    const Vec3f dirs[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-    for (const Vec3f& d : dirs) {
-        Ray r;
-        r.origin = x;
-        r.direction = d;
-        const Hit h = tracer.intersect(r);
-        if (h.hit() && dot(h.geometricNormal, d) > 0) return false;
-    }
-    return true;
-}
-
 LevelLayout makeLayout(const Scene& scene, LayoutKind kind, int resolution, int refine, int levels) {
-    GridPlacement p;
-    p.resolution = resolution;
-    const GridSpec g0 = placeUniformGrid(scene.bounds(), p, 1);
+    const GridSpec g0 = bench::uniformGrid(scene.bounds(), resolution);
     if (kind == LayoutKind::Uniform) return uniformLayout(g0);
     LevelsPlacement lp;
     lp.kind = kind;

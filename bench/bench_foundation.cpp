@@ -19,12 +19,13 @@
 #include "vdblight/scene_generators.h"
 #include "vdblight/trace.h"
 #include "bench_args.h"
+#include "bench_scenes.h"
+#include "bench_util.h"
 
 using namespace vdblight;
+using bench::now;
 
 namespace {
-double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
-
 // Rays/s of `total` random rays split over `threads` workers; best of `repeats`.
 double rawRaysPerSecond(const Tracer& tracer, const Bounds& box, std::size_t total, int threads, bool occlusion,
                         int repeats) {
@@ -45,21 +46,6 @@ double rawRaysPerSecond(const Tracer& tracer, const Bounds& box, std::size_t tot
     return best;
 }
 
-Scene cornellWithSpheres(int subdivisions) {
-    // The default scene plus two finely tessellated spheres standing on the floor.
-    Scene s = loadScene(defaultScenePath());
-    s.name = "cornell_box+spheres";
-    Material white = s.materials[0];
-    for (const Material& m : s.materials)
-        if (m.name.find("white") != std::string::npos) white = m;
-    white.emission = {0, 0, 0};
-    s.materials.push_back(white);
-    const uint32_t id = uint32_t(s.materials.size() - 1);
-    appendIcosphere(s, {0.15f, 0.08f, 0.12f}, 0.07f, subdivisions, id);
-    appendIcosphere(s, {0.42f, 0.42f, 0.15f}, 0.06f, subdivisions, id);
-    return s;
-}
-
 void benchScene(const Scene& scene, int threads, bool quick) {
     const Tracer tracer(scene);
     Bounds box = scene.bounds();
@@ -69,9 +55,7 @@ void benchScene(const Scene& scene, int threads, bool quick) {
     box.hi -= inset;
 
     const std::size_t rawRays = quick ? 400'000 : 4'000'000;
-    GridPlacement placement;
-    placement.resolution = quick ? 8 : 16;
-    const GridSpec grid = placeUniformGrid(scene.bounds(), placement, 1);
+    const GridSpec grid = bench::uniformGrid(scene.bounds(), quick ? 8 : 16);
     GatherOptions options;
     options.raysPerNode = quick ? 64 : 512;
     options.threads = threads;
@@ -104,9 +88,7 @@ void benchScene(const Scene& scene, int threads, bool quick) {
 void benchQuery(bool quick) {
     const Scene scene = loadScene(defaultScenePath());
     const Tracer tracer(scene);
-    GridPlacement placement;
-    placement.resolution = 32;
-    const GridSpec grid = placeUniformGrid(scene.bounds(), placement, 1);
+    const GridSpec grid = bench::uniformGrid(scene.bounds(), 32);
     GatherOptions options;
     options.raysPerNode = 1;  // values do not matter for lookup speed
     const Volume volume = bakeShGather(scene, tracer, grid, options);
@@ -141,7 +123,7 @@ int main(int argc, char** argv) {
     std::printf("vdblight_bench%s: %d threads\n", quick ? " (quick smoke run, noisy figures)" : "", threads);
     try {
         benchScene(loadScene(defaultScenePath()), threads, quick);
-        benchScene(cornellWithSpheres(6), threads, quick);
+        benchScene(bench::cornellWithSpheres(6, 6), threads, quick);
         benchQuery(quick);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "vdblight_bench: error: %s\n", e.what());
