@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "default_scene.h"
 #include "prt_furnace.h"
 #include "test_util.h"
 #include "vdblight/bake.h"
@@ -86,14 +87,7 @@ PrtOptions options(int bounces) {
     return o;
 }
 
-struct Box {
-    Scene scene = loadScene(defaultScenePath());
-    Tracer tracer{scene};
-};
-Box& box() {
-    static Box b;
-    return b;
-}
+const test::DefaultScene& box() { return test::defaultScene(); }
 
 TEST(PrtBounces, CompressedTransferMatchesUncompressedReference) {
     // With the complete basis, a training light's multi-bounce indirect light at samples and

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "default_scene.h"
 #include "prt_furnace.h"
 #include "test_util.h"
 #include "vdblight/errors.h"
@@ -192,14 +193,7 @@ TEST(Transfer, WhiteFurnaceVolume) {
     }
 }
 
-struct Box {
-    Scene scene = loadScene(defaultScenePath());
-    Tracer tracer{scene};
-};
-Box& box() {
-    static Box b;
-    return b;
-}
+const test::DefaultScene& box() { return test::defaultScene(); }
 
 PrtOptions smallOptions() {
     PrtOptions o;
