@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "grids.h"
 #include "vdblight/bake.h"
 #include "vdblight/bake_adaptive.h"
 #include "vdblight/errors.h"
@@ -17,11 +18,7 @@
 using namespace vdblight;
 
 namespace {
-GridSpec smallGrid(const Scene& s, int resolution) {
-    GridPlacement p;
-    p.resolution = resolution;
-    return placeUniformGrid(s.bounds(), p, 1);
-}
+GridSpec smallGrid(const Scene& s, int resolution) { return test::gridIn(s.bounds(), resolution); }
 
 /// Error-targeted options: stop at relative error `target`, first round `minRays`, at most
 /// `maxRays` (the defaults of AdaptiveOptions otherwise).

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <random>
 
+#include "grids.h"
 #include "test_util.h"
 #include "vdblight/bake_bins.h"
 #include "vdblight/bins_lookup.h"
@@ -46,13 +47,7 @@ double binSolidAngleByBoundary(int R, int c, int m) {
     return std::abs(sum);
 }
 
-GridSpec smallGrid(int n, double spacing) {
-    GridSpec g;
-    g.origin = Vec3d(-0.5, -0.5, -0.5);
-    g.spacing = spacing;
-    g.nx = g.ny = g.nz = n;
-    return g;
-}
+GridSpec smallGrid(int n, double spacing) { return test::makeGrid({-0.5, -0.5, -0.5}, spacing, n, n, n); }
 
 BinsBakeOptions binsOptions(const std::string& basis, uint32_t samples, int threads = 0) {
     BinsBakeOptions o;

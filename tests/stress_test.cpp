@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iterator>
 
+#include "grids.h"
 #include "one_point_light.h"
 #include "test_util.h"
 #include "vdblight/bake.h"
@@ -24,6 +25,7 @@
 #include "vdblight/vdb_io.h"
 
 using namespace vdblight;
+using vdblight::test::gridIn;
 
 namespace {
 Scene transformed(const Scene& in, double scale, const Vec3d& offset) {
@@ -36,12 +38,6 @@ bool allFinite(const Volume& v) {
     for (float x : v.levels[0].data)
         if (!std::isfinite(x)) return false;
     return true;
-}
-
-GridSpec gridIn(const Bounds& b, int n) {
-    GridPlacement p;
-    p.resolution = n;
-    return placeUniformGrid(b, p, 1);
 }
 
 Volume bakeSmall(const Scene& s, const GridSpec& g, uint32_t rays = 64) {
