@@ -9,7 +9,7 @@
 #include <cstdio>
 
 #include "default_scene.h"
-#include "prt_furnace.h"
+#include "prt_fixtures.h"
 #include "test_util.h"
 #include "vdblight/bake.h"
 #include "vdblight/errors.h"
@@ -74,16 +74,10 @@ TEST(PrtBounces, WhiteFurnaceGeometricSeries) {
 }
 
 PrtOptions options(int bounces) {
-    PrtOptions o;
-    o.samples = 400;
-    o.clusterSize = 100;
-    o.visDirs = 256;
-    o.visCoeffs = 24;
-    o.trainLights = 60;
+    PrtOptions o = test::smallPrtOptions();  // without closure normalisation, as referenceVolume
     o.transferCoeffs = 60;  // complete basis of the training lights: compression is exact for them
     o.bounces = bounces;
     o.volumeResolution = 4;
-    o.closureNormalise = false;  // as referenceVolume
     return o;
 }
 

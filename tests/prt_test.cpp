@@ -6,7 +6,7 @@
 #include <cstdio>
 
 #include "default_scene.h"
-#include "prt_furnace.h"
+#include "prt_fixtures.h"
 #include "test_util.h"
 #include "vdblight/errors.h"
 #include "vdblight/office_scene.h"
@@ -196,15 +196,9 @@ TEST(Transfer, WhiteFurnaceVolume) {
 const test::DefaultScene& box() { return test::defaultScene(); }
 
 PrtOptions smallOptions() {
-    PrtOptions o;
-    o.samples = 400;
-    o.clusterSize = 100;
-    o.visDirs = 256;
-    o.visCoeffs = 24;
-    o.trainLights = 60;
+    PrtOptions o = test::smallPrtOptions();
     o.transferCoeffs = 32;
     o.bounces = 1;  // the one-bounce references below; multi-bounce has its own tests
-    o.closureNormalise = false;  // as the disk references
     return o;
 }
 

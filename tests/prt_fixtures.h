@@ -1,5 +1,6 @@
-// The PRT white furnace: a closed unit box whose faces look inwards with albedo 0.5. With
-// uniform direct irradiance E0 on the walls, bounce b brings 0.5^b E0 everywhere inside.
+// Fixtures of the PRT tests: small bake options, and the white furnace (a closed unit box
+// whose faces look inwards with albedo 0.5: with uniform direct irradiance E0 on the walls,
+// bounce b brings 0.5^b E0 everywhere inside).
 #pragma once
 
 #include <algorithm>
@@ -11,6 +12,20 @@
 #include "vdblight/scene_generators.h"
 
 namespace vdblight::test {
+
+/// A small PRT bake for tests (400 samples in clusters of 100, 256 visibility directions
+/// compressed to 24 coefficients, 60 training lights), without closure normalisation (as the
+/// disk references). The caller sets transferCoeffs and bounces.
+inline PrtOptions smallPrtOptions() {
+    PrtOptions o;
+    o.samples = 400;
+    o.clusterSize = 100;
+    o.visDirs = 256;
+    o.visCoeffs = 24;
+    o.trainLights = 60;
+    o.closureNormalise = false;
+    return o;
+}
 
 /// The box [0, 1]^3, faces inward, one material "grey" of albedo 0.5.
 inline Scene greyUnitBox() {
