@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <random>
 
+#include "refinement_box.h"
 #include "vdblight/errors.h"
 #include "vdblight/layout_levels.h"
 #include "vdblight/query_levels.h"
@@ -200,11 +201,7 @@ TEST(Levels, RefinedCellsAreExactlyTheCellsThatContainGeometry) {
                                                      layout.levels[l - up].grid.index(i / f, j / f, k / f));
                     }
                     Bounds box = boxOf(g.node(i, j, k), g.node(i + 1, j + 1, k + 1));
-                    const int idx[3] = {i, j, k}, dims[3] = {g.nx, g.ny, g.nz};
-                    for (int a = 0; a < 3; ++a) {
-                        if (idx[a] == 0) box.lo[a] -= margin;
-                        if (idx[a] == dims[a] - 2) box.hi[a] += margin;
-                    }
+                    test::extendOnNodeBoxBorder(box, g, i, j, k, margin);
                     bool geometry = false;
                     for (std::size_t t = 0; t < s.indices.size(); t += 3)
                         geometry = geometry || clipOverlap(Vec3d(s.positions[s.indices[t]]), Vec3d(s.positions[s.indices[t + 1]]),
