@@ -148,26 +148,14 @@ void benchError(const Scene& scene, const Tracer& tracer, int threads, bool quic
 }
 
 void benchQuery(const Scene& scene, const Tracer& tracer, bool quick) {
-    const std::size_t n = quick ? 200'000 : 2'000'000;
     for (LayoutKind kind : {LayoutKind::Uniform, LayoutKind::Adaptive}) {
         const LevelLayout layout = makeLayout(scene, kind, 8, 2, 3);
         const Volume v = bakeBins(scene, tracer, layout, binsOptions("bins:17", 1, 0));
-        std::vector<Vec3f> points(n), dirs(n);
-        Rng rng(123);
-        const Bounds b = v.levels[0].grid.nodeBounds();
-        for (std::size_t i = 0; i < n; ++i) {
-            points[i] = Vec3f(b.lo + b.size() * Vec3d(rng.uniform(), rng.uniform(), rng.uniform()));
-            dirs[i] = uniformSphere(rng.uniform(), rng.uniform());
-        }
+        const bench::LookupInputs in = bench::randomLookups(v.levels[0].grid.nodeBounds(), quick ? 200'000 : 2'000'000);
         for (bool blend : {false, true}) {
             const BinsLookup q(v, OutsidePolicy::Clamp, blend);
-            double best = 0;
             Rgb sink{0, 0, 0};
-            for (int r = 0; r < (quick ? 1 : 3); ++r) {
-                const double t0 = now();
-                for (std::size_t i = 0; i < n; ++i) sink += q.irradiance(points[i], dirs[i]);
-                best = std::max(best, double(n) / (now() - t0));
-            }
+            const double best = bench::lookupRate(q, in, quick ? 1 : 3, sink);
             std::printf("query bins:17 (%s, %zu levels, %llu nodes, %s, 1 thread): %.2f M lookups/s  [checksum %.3g]\n",
                         layoutName(kind), v.levels.size(), (unsigned long long)layout.totalNodes(),
                         blend ? "blended bins" : "nearest bin", best / 1e6, double(sink.x));

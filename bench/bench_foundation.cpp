@@ -95,21 +95,9 @@ void benchQuery(bool quick) {
     const IrradianceQuery query(volume);
 
     // Pre-generate inputs so that only lookups are timed.
-    const std::size_t n = quick ? 200'000 : 2'000'000;
-    std::vector<Vec3f> points(n), normals(n);
-    Rng rng(123);
-    const Bounds b = grid.nodeBounds();
-    for (std::size_t i = 0; i < n; ++i) {
-        points[i] = Vec3f(b.lo + b.size() * Vec3d(rng.uniform(), rng.uniform(), rng.uniform()));
-        normals[i] = uniformSphere(rng.uniform(), rng.uniform());
-    }
-    double best = 0;
+    const bench::LookupInputs in = bench::randomLookups(grid.nodeBounds(), quick ? 200'000 : 2'000'000);
     Rgb sink{0, 0, 0};
-    for (int r = 0; r < (quick ? 1 : 5); ++r) {
-        const double t0 = now();
-        for (std::size_t i = 0; i < n; ++i) sink += query.irradiance(points[i], normals[i]);
-        best = std::max(best, double(n) / (now() - t0));
-    }
+    const double best = bench::lookupRate(query, in, quick ? 1 : 5, sink);
     std::printf("query (32^3 nodes, 1 thread): %.2f M lookups/s per thread (target >= 5)  [checksum %.3g]\n",
                 best / 1e6, double(sink.x));
 }

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "grids.h"
 #include "test_util.h"
 #include "vdblight/bake_antialiased.h"
 #include "vdblight/errors.h"
@@ -20,16 +21,9 @@
 #include "vdblight/vdb_io.h"
 
 using namespace vdblight;
+using vdblight::test::makeGrid;
 
 namespace {
-GridSpec makeGrid(Vec3d origin, double spacing, int nx, int ny, int nz) {
-    GridSpec g;
-    g.origin = origin;
-    g.spacing = spacing;
-    g.nx = nx, g.ny = ny, g.nz = nz;
-    return g;
-}
-
 AntialiasedOptions aaOptions(uint32_t rays, DomainMode domain, int threads = 0) {
     AntialiasedOptions o;
     o.raysPerCell = rays;
