@@ -10,7 +10,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <limits>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -23,30 +22,17 @@
 #include "vdblight/sampling.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
+#include "bench_args.h"
+#include "bench_util.h"
 
 using namespace vdblight;
+using bench::freeSpace;
+using bench::now;
 
 namespace {
 
-double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
-
-/// Free space: rays along the six axis directions first hit front faces (or nothing).
-bool freeSpace(const Tracer& tracer, const Vec3f& x) {
-    const Vec3f dirs[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-    for (const Vec3f& d : dirs) {
-        Ray r;
-        r.origin = x;
-        r.direction = d;
-        const Hit h = tracer.intersect(r);
-        if (h.hit() && dot(h.geometricNormal, d) > 0) return false;
-    }
-    return true;
-}
-
 LevelLayout makeLayout(const Scene& scene, LayoutKind kind, int resolution, int refine, int levels) {
-    GridPlacement p;
-    p.resolution = resolution;
-    const GridSpec g0 = placeUniformGrid(scene.bounds(), p, 1);
+    const GridSpec g0 = bench::uniformGrid(scene.bounds(), resolution);
     if (kind == LayoutKind::Uniform) return uniformLayout(g0);
     LevelsPlacement lp;
     lp.kind = kind;
@@ -162,26 +148,14 @@ void benchError(const Scene& scene, const Tracer& tracer, int threads, bool quic
 }
 
 void benchQuery(const Scene& scene, const Tracer& tracer, bool quick) {
-    const std::size_t n = quick ? 200'000 : 2'000'000;
     for (LayoutKind kind : {LayoutKind::Uniform, LayoutKind::Adaptive}) {
         const LevelLayout layout = makeLayout(scene, kind, 8, 2, 3);
         const Volume v = bakeBins(scene, tracer, layout, binsOptions("bins:17", 1, 0));
-        std::vector<Vec3f> points(n), dirs(n);
-        Rng rng(123);
-        const Bounds b = v.levels[0].grid.nodeBounds();
-        for (std::size_t i = 0; i < n; ++i) {
-            points[i] = Vec3f(b.lo + b.size() * Vec3d(rng.uniform(), rng.uniform(), rng.uniform()));
-            dirs[i] = uniformSphere(rng.uniform(), rng.uniform());
-        }
+        const bench::LookupInputs in = bench::randomLookups(v.levels[0].grid.nodeBounds(), quick ? 200'000 : 2'000'000);
         for (bool blend : {false, true}) {
             const BinsLookup q(v, OutsidePolicy::Clamp, blend);
-            double best = 0;
             Rgb sink{0, 0, 0};
-            for (int r = 0; r < (quick ? 1 : 3); ++r) {
-                const double t0 = now();
-                for (std::size_t i = 0; i < n; ++i) sink += q.irradiance(points[i], dirs[i]);
-                best = std::max(best, double(n) / (now() - t0));
-            }
+            const double best = bench::lookupRate(q, in, quick ? 1 : 3, sink);
             std::printf("query bins:17 (%s, %zu levels, %llu nodes, %s, 1 thread): %.2f M lookups/s  [checksum %.3g]\n",
                         layoutName(kind), v.levels.size(), (unsigned long long)layout.totalNodes(),
                         blend ? "blended bins" : "nearest bin", best / 1e6, double(sink.x));
@@ -271,16 +245,10 @@ void benchMoment(const Scene& scene, const Tracer& tracer, int threads, bool qui
 }  // namespace
 
 int main(int argc, char** argv) {
-    bool quick = false;
-    int threads = 0;
-    for (int i = 1; i < argc; ++i) {
-        if (!std::strcmp(argv[i], "--quick")) quick = true;
-        else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
-        else {
-            std::fprintf(stderr, "usage: vdblight_bench_bins [--quick] [--threads N]\n");
-            return 2;
-        }
-    }
+    bench::BenchArgs args("vdblight_bench_bins", {{"--threads", "N"}});
+    if (!args.parse(argc, argv)) return 2;
+    const bool quick = args.quick();
+    const int threads = args.integer("--threads", 0);
     std::printf("vdblight_bench_bins%s\n", quick ? " (quick smoke run, noisy figures)" : "");
     try {
         const Scene scene = loadScene(defaultScenePath());

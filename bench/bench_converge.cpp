@@ -22,7 +22,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <string>
 #include <vector>
 
@@ -31,7 +30,9 @@
 #include "vdblight/scene.h"
 #include "vdblight/scene_generators.h"
 #include "vdblight/trace.h"
+#include "bench_args.h"
 #include "bench_scenes.h"
+#include "bench_util.h"
 
 using namespace vdblight;
 
@@ -77,12 +78,21 @@ Measured measure(const Volume& v, const std::vector<double>& truth) {
     return m;
 }
 
+/// One layer of nodes 1.5 above the 64 x 64 floor of the generated scenes (bench_scenes.h),
+/// between the blocks, none inside one.
+GridSpec betweenTheBlocks(bool quick) {
+    GridSpec g;
+    g.origin = Vec3d(4, 1.5, 4);
+    g.spacing = quick ? 16 : 8;
+    g.nx = g.nz = quick ? 4 : 8;
+    g.ny = 1;
+    return g;
+}
+
 void partAdaptive(bool quick) {
     const Scene s = loadScene(defaultScenePath());
     const Tracer tracer(s);
-    GridPlacement p;
-    p.resolution = quick ? 5 : 8;
-    const GridSpec g = placeUniformGrid(s.bounds(), p, 1);
+    const GridSpec g = bench::uniformGrid(s.bounds(), quick ? 5 : 8);
     const uint32_t budget = quick ? 512 : 2048;
     std::printf("\n== Error-targeted bake: default scene, %d x %d x %d nodes, fixed budget %u rays/node ==\n", g.nx, g.ny,
                 g.nz, budget);
@@ -150,11 +160,7 @@ void partManyLights(bool quick) {
     for (int lights : counts) {
         const Scene s = bench::manyLightsScene(lights);
         const Tracer tracer(s);
-        GridSpec g;
-        g.origin = Vec3d(4, 1.5, 4);  // nodes between the blocks, none inside one
-        g.spacing = quick ? 16 : 8;
-        g.nx = g.nz = quick ? 4 : 8;
-        g.ny = 1;
+        const GridSpec g = betweenTheBlocks(quick);
         TransportOptions t;
         t.maxBounces = 2;
         const std::vector<double> truth = convergedEbar(s, tracer, g, quick ? 8192 : 65536, t);
@@ -226,11 +232,7 @@ void partManyEmitters(bool quick) {
     for (int count : counts) {
         const Scene s = manyEmittersScene(count);
         const Tracer tracer(s);
-        GridSpec g;
-        g.origin = Vec3d(4, 1.5, 4);
-        g.spacing = quick ? 16 : 8;
-        g.nx = g.nz = quick ? 4 : 8;
-        g.ny = 1;
+        const GridSpec g = betweenTheBlocks(quick);
         TransportOptions t;
         t.maxBounces = 2;
         const std::vector<double> truth = convergedEbar(s, tracer, g, quick ? 8192 : 65536, t);
@@ -257,7 +259,9 @@ void partManyEmitters(bool quick) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+    bench::BenchArgs args("vdblight_bench_converge", {});
+    if (!args.parse(argc, argv)) return 2;
+    const bool quick = args.quick();
     std::printf("vdblight_bench_converge%s\n", quick ? " --quick (small workloads, noisy figures)" : "");
     partAdaptive(quick);
     partManyLights(quick);

@@ -25,7 +25,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -33,7 +32,9 @@
 
 #include <unistd.h>
 
+#include "bench_args.h"
 #include "bench_scenes.h"
+#include "bench_util.h"
 #include "vdblight/bake.h"
 #include "vdblight/bake_antialiased.h"
 #include "vdblight/bake_bins.h"
@@ -59,17 +60,11 @@ struct SuiteScene {
 std::vector<ReferencePoint> freeSpacePoints(const Scene& s, const Tracer& tracer, const Bounds& box, int count) {
     Rng rng(2024);
     std::vector<ReferencePoint> pts;
-    const Vec3f axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
     for (int tries = 0; int(pts.size()) < count && tries < 100 * count; ++tries) {
         const Vec3d t(0.05 + 0.9 * rng.uniform(), 0.05 + 0.9 * rng.uniform(), 0.05 + 0.9 * rng.uniform());
         const Vec3f p(box.lo + box.size() * t);
-        bool inside = false;
-        for (const Vec3f& d : axes) {
-            const Hit h = tracer.intersect(Ray{p, d});
-            if (h.hit() && dot(h.geometricNormal, d) > 0) inside = true;
-        }
         const Vec3f n = uniformSphere(rng.uniform(), rng.uniform());
-        if (!inside) pts.push_back({p, n});
+        if (bench::freeSpace(tracer, p)) pts.push_back({p, n});
     }
     (void)s;
     return pts;
@@ -169,17 +164,10 @@ uint64_t bytesOnDisk(const Volume& v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    bool quick = false;
-    std::string csvPath, onlyScene;  // --scene NAME: only that scene of the suite
-    for (int i = 1; i < argc; ++i) {
-        if (std::strcmp(argv[i], "--quick") == 0) quick = true;
-        else if (std::strcmp(argv[i], "--csv") == 0 && i + 1 < argc) csvPath = argv[++i];
-        else if (std::strcmp(argv[i], "--scene") == 0 && i + 1 < argc) onlyScene = argv[++i];
-        else {
-            std::fprintf(stderr, "usage: vdblight_bench_error [--quick] [--csv FILE] [--scene NAME]\n");
-            return 1;
-        }
-    }
+    bench::BenchArgs args("vdblight_bench_error", {{"--csv", "FILE"}, {"--scene", "NAME"}});
+    if (!args.parse(argc, argv)) return 1;
+    const bool quick = args.quick();
+    const std::string csvPath = args.text("--csv"), onlyScene = args.text("--scene");  // --scene NAME: only that scene
     FILE* csv = csvPath.empty() ? stdout : std::fopen(csvPath.c_str(), "w");
     if (!csv) {
         std::fprintf(stderr, "vdblight_bench_error: cannot write %s\n", csvPath.c_str());
@@ -209,9 +197,7 @@ int main(int argc, char** argv) {
     for (SuiteScene& ss : suite) {
         const Scene& s = ss.scene;
         const Tracer tracer(s);
-        GridPlacement placement;
-        placement.resolution = ss.resolution;
-        const GridSpec grid = placeUniformGrid(s.bounds(), placement, 1);
+        const GridSpec grid = bench::uniformGrid(s.bounds(), ss.resolution);
         const auto pts = freeSpacePoints(s, tracer, grid.nodeBounds(), points);
         double worstRelSe = 0;
         // Many lights: bounce vertices still sample one light, whose rare close lights make the
@@ -250,28 +236,22 @@ int main(int argc, char** argv) {
                 std::fprintf(stderr, "  antialiased on %s: %s\n", ss.name.c_str(), e.what());
             }
 
-            LevelsPlacement lp;
-            lp.kind = LayoutKind::Bilevel;
-            lp.refine = 2;
-            try {
-                const LevelLayout layout = placeLevels(grid, s.positions, s.indices, lp, 1);
-                LevelsBakeStats ls;
-                v = bakeShGatherLevels(s, tracer, layout, g, nullptr, &ls);
-                row("point_sh", "bilevel", v, ls.nodes, ls.seconds, budget, ls.rays.total(),
-                    uint64_t(std::llround(layout.denseEquivalentNodes())));
-            } catch (const Error& e) {
-                std::fprintf(stderr, "  bilevel on %s: %s\n", ss.name.c_str(), e.what());
-            }
-            lp.kind = LayoutKind::Adaptive;  // refine 2, 3 levels
-            lp.levels = 3;
-            try {
-                const LevelLayout layout = placeLevels(grid, s.positions, s.indices, lp, 1);
-                LevelsBakeStats ls;
-                v = bakeShGatherLevels(s, tracer, layout, g, nullptr, &ls);
-                row("point_sh", "adaptive", v, ls.nodes, ls.seconds, budget, ls.rays.total(),
-                    uint64_t(std::llround(layout.denseEquivalentNodes())));
-            } catch (const Error& e) {
-                std::fprintf(stderr, "  adaptive on %s: %s\n", ss.name.c_str(), e.what());
+            // Bilevel, and adaptive with 3 levels; refine 2.
+            for (const LayoutKind kind : {LayoutKind::Bilevel, LayoutKind::Adaptive}) {
+                const char* layoutName = kind == LayoutKind::Bilevel ? "bilevel" : "adaptive";
+                LevelsPlacement lp;
+                lp.kind = kind;
+                lp.refine = 2;
+                lp.levels = 3;
+                try {
+                    const LevelLayout layout = placeLevels(grid, s.positions, s.indices, lp, 1);
+                    LevelsBakeStats ls;
+                    v = bakeShGatherLevels(s, tracer, layout, g, nullptr, &ls);
+                    row("point_sh", layoutName, v, ls.nodes, ls.seconds, budget, ls.rays.total(),
+                        uint64_t(std::llround(layout.denseEquivalentNodes())));
+                } catch (const Error& e) {
+                    std::fprintf(stderr, "  %s on %s: %s\n", layoutName, ss.name.c_str(), e.what());
+                }
             }
 
             // Greger bins: 2 R^2 bins with one sample each, R chosen so that 2 R^2 ~ budget.

@@ -11,7 +11,6 @@
 
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <string>
 
 #include "vdblight/bake.h"
@@ -19,12 +18,14 @@
 #include "vdblight/scene.h"
 #include "vdblight/scene_generators.h"
 #include "vdblight/trace.h"
+#include "bench_args.h"
+#include "bench_scenes.h"
+#include "bench_util.h"
 
 using namespace vdblight;
+using bench::now;
 
 namespace {
-double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
-
 // Rays/s of `total` random rays split over `threads` workers; best of `repeats`.
 double rawRaysPerSecond(const Tracer& tracer, const Bounds& box, std::size_t total, int threads, bool occlusion,
                         int repeats) {
@@ -45,21 +46,6 @@ double rawRaysPerSecond(const Tracer& tracer, const Bounds& box, std::size_t tot
     return best;
 }
 
-Scene cornellWithSpheres(int subdivisions) {
-    // The default scene plus two finely tessellated spheres standing on the floor.
-    Scene s = loadScene(defaultScenePath());
-    s.name = "cornell_box+spheres";
-    Material white = s.materials[0];
-    for (const Material& m : s.materials)
-        if (m.name.find("white") != std::string::npos) white = m;
-    white.emission = {0, 0, 0};
-    s.materials.push_back(white);
-    const uint32_t id = uint32_t(s.materials.size() - 1);
-    appendIcosphere(s, {0.15f, 0.08f, 0.12f}, 0.07f, subdivisions, id);
-    appendIcosphere(s, {0.42f, 0.42f, 0.15f}, 0.06f, subdivisions, id);
-    return s;
-}
-
 void benchScene(const Scene& scene, int threads, bool quick) {
     const Tracer tracer(scene);
     Bounds box = scene.bounds();
@@ -69,9 +55,7 @@ void benchScene(const Scene& scene, int threads, bool quick) {
     box.hi -= inset;
 
     const std::size_t rawRays = quick ? 400'000 : 4'000'000;
-    GridPlacement placement;
-    placement.resolution = quick ? 8 : 16;
-    const GridSpec grid = placeUniformGrid(scene.bounds(), placement, 1);
+    const GridSpec grid = bench::uniformGrid(scene.bounds(), quick ? 8 : 16);
     GatherOptions options;
     options.raysPerNode = quick ? 64 : 512;
     options.threads = threads;
@@ -104,50 +88,30 @@ void benchScene(const Scene& scene, int threads, bool quick) {
 void benchQuery(bool quick) {
     const Scene scene = loadScene(defaultScenePath());
     const Tracer tracer(scene);
-    GridPlacement placement;
-    placement.resolution = 32;
-    const GridSpec grid = placeUniformGrid(scene.bounds(), placement, 1);
+    const GridSpec grid = bench::uniformGrid(scene.bounds(), 32);
     GatherOptions options;
     options.raysPerNode = 1;  // values do not matter for lookup speed
     const Volume volume = bakeShGather(scene, tracer, grid, options);
     const IrradianceQuery query(volume);
 
     // Pre-generate inputs so that only lookups are timed.
-    const std::size_t n = quick ? 200'000 : 2'000'000;
-    std::vector<Vec3f> points(n), normals(n);
-    Rng rng(123);
-    const Bounds b = grid.nodeBounds();
-    for (std::size_t i = 0; i < n; ++i) {
-        points[i] = Vec3f(b.lo + b.size() * Vec3d(rng.uniform(), rng.uniform(), rng.uniform()));
-        normals[i] = uniformSphere(rng.uniform(), rng.uniform());
-    }
-    double best = 0;
+    const bench::LookupInputs in = bench::randomLookups(grid.nodeBounds(), quick ? 200'000 : 2'000'000);
     Rgb sink{0, 0, 0};
-    for (int r = 0; r < (quick ? 1 : 5); ++r) {
-        const double t0 = now();
-        for (std::size_t i = 0; i < n; ++i) sink += query.irradiance(points[i], normals[i]);
-        best = std::max(best, double(n) / (now() - t0));
-    }
+    const double best = bench::lookupRate(query, in, quick ? 1 : 5, sink);
     std::printf("query (32^3 nodes, 1 thread): %.2f M lookups/s per thread (target >= 5)  [checksum %.3g]\n",
                 best / 1e6, double(sink.x));
 }
 }  // namespace
 
 int main(int argc, char** argv) {
-    bool quick = false;
-    int threads = tbb::this_task_arena::max_concurrency();
-    for (int i = 1; i < argc; ++i) {
-        if (!std::strcmp(argv[i], "--quick")) quick = true;
-        else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
-        else {
-            std::fprintf(stderr, "usage: vdblight_bench [--quick] [--threads N]\n");
-            return 2;
-        }
-    }
+    bench::BenchArgs args("vdblight_bench", {{"--threads", "N"}});
+    if (!args.parse(argc, argv)) return 2;
+    const bool quick = args.quick();
+    const int threads = args.integer("--threads", tbb::this_task_arena::max_concurrency());
     std::printf("vdblight_bench%s: %d threads\n", quick ? " (quick smoke run, noisy figures)" : "", threads);
     try {
         benchScene(loadScene(defaultScenePath()), threads, quick);
-        benchScene(cornellWithSpheres(6), threads, quick);
+        benchScene(bench::cornellWithSpheres(6, 6), threads, quick);
         benchQuery(quick);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "vdblight_bench: error: %s\n", e.what());

@@ -16,7 +16,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <ctime>
 #include <string>
 
@@ -33,11 +32,14 @@
 #include "vdblight/scene_generators.h"
 #include "vdblight/trace.h"
 #include "vdblight/vector_grid_lookup.h"
+#include "bench_args.h"
+#include "bench_scenes.h"
+#include "bench_util.h"
 
 using namespace vdblight;
+using bench::now;
 
 namespace {
-double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 /// CPU seconds used by the whole process (all threads): on a loaded machine wall time
 /// counts the time other processes held the cores, CPU time does not.
 double cpuNow() {
@@ -63,22 +65,8 @@ Rate rawRaysPerSecond(const Tracer& tracer, const Bounds& box, std::size_t total
     return {n / dt, n / dc};
 }
 
-Scene paperSizedScene() {
-    Scene s = loadScene(defaultScenePath());
-    s.name = "cornell_box+spheres";
-    Material white = s.materials[0];
-    for (const Material& m : s.materials)
-        if (m.name.find("white") != std::string::npos) white = m;
-    white.emission = {0, 0, 0};
-    s.materials.push_back(white);
-    const uint32_t id = uint32_t(s.materials.size() - 1);
-    appendIcosphere(s, {0.15f, 0.08f, 0.12f}, 0.07f, 5, id);  // 20 480 triangles
-    appendIcosphere(s, {0.42f, 0.42f, 0.15f}, 0.06f, 4, id);  // 5 120
-    return s;
-}
-
 void benchThroughput(int threads, bool quick) {
-    const Scene scene = paperSizedScene();
+    const Scene scene = bench::cornellWithSpheres(5, 4);  // 20 480 + 5 120 triangles
     const Tracer tracer(scene);
     const Bounds b = scene.bounds();
     GridSpec g;
@@ -153,9 +141,7 @@ double relativeRms(const ErrorSet& set, F&& lookup) {
 void benchErrorVsTime(int threads, bool quick) {
     const Scene scene = loadScene(defaultScenePath());
     const Tracer tracer(scene);
-    GridPlacement p;
-    p.resolution = quick ? 8 : 16;
-    const GridSpec g = placeUniformGrid(scene.bounds(), p, 1);
+    const GridSpec g = bench::uniformGrid(scene.bounds(), quick ? 8 : 16);
     const int points = quick ? 100 : 1000;
     const double t0 = now();
     const ErrorSet set = freeSpacePoints(scene, tracer, g.nodeBounds(), points, quick ? 2048 : 32768, threads);
@@ -203,9 +189,7 @@ void benchErrorVsTime(int threads, bool quick) {
 void benchCompact(int threads, bool quick) {
     const Scene scene = loadScene(defaultScenePath());
     const Tracer tracer(scene);
-    GridPlacement p;
-    p.resolution = 16;
-    const GridSpec g = placeUniformGrid(scene.bounds(), p, 1);
+    const GridSpec g = bench::uniformGrid(scene.bounds(), 16);
     const ErrorSet set = freeSpacePoints(scene, tracer, g.nodeBounds(), quick ? 100 : 1000, quick ? 2048 : 32768, threads);
     PhotonOptions po;
     po.photons = quick ? 200'000 : 4'000'000;
@@ -251,18 +235,11 @@ void benchCompact(int threads, bool quick) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    bool quick = false;
-    int threads = 0;
-    std::string only;
-    for (int i = 1; i < argc; ++i) {
-        if (!std::strcmp(argv[i], "--quick")) quick = true;
-        else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
-        else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
-        else {
-            std::fprintf(stderr, "usage: vdblight_bench_photons [--quick] [--threads N] [--only throughput|error|compact]\n");
-            return 2;
-        }
-    }
+    bench::BenchArgs args("vdblight_bench_photons", {{"--threads", "N"}, {"--only", "throughput|error|compact"}});
+    if (!args.parse(argc, argv)) return 2;
+    const bool quick = args.quick();
+    int threads = args.integer("--threads", 0);
+    const std::string only = args.text("--only");
     if (threads <= 0) threads = tbb::this_task_arena::max_concurrency();
     std::printf("vdblight_bench_photons%s: %d threads\n", quick ? " (quick smoke run, noisy figures)" : "", threads);
     try {

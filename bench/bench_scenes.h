@@ -1,4 +1,4 @@
-// Generated scenes shared by the issue-8 benchmarks (bench_converge, bench_error).
+// Generated scenes shared by the benchmarks.
 #pragma once
 
 #include <string>
@@ -8,6 +8,22 @@
 #include "vdblight/scene_generators.h"
 
 namespace vdblight::bench {
+
+/// The default scene (Cornell box) plus two geodesic spheres standing on the floor, of
+/// 20 * 4^subdivisions triangles each, in a copy of the white material without emission.
+inline Scene cornellWithSpheres(int subdivisionsLarge, int subdivisionsSmall) {
+    Scene s = loadScene(defaultScenePath());
+    s.name = "cornell_box+spheres";
+    Material white = s.materials[0];
+    for (const Material& m : s.materials)
+        if (m.name.find("white") != std::string::npos) white = m;
+    white.emission = {0, 0, 0};
+    s.materials.push_back(white);
+    const uint32_t id = uint32_t(s.materials.size() - 1);
+    appendIcosphere(s, {0.15f, 0.08f, 0.12f}, 0.07f, subdivisionsLarge, id);
+    appendIcosphere(s, {0.42f, 0.42f, 0.15f}, 0.06f, subdivisionsSmall, id);
+    return s;
+}
 
 /// A 64 x 64 floor with 16 closed blocks and `lights` point lights 0.5 to 4 units above it
 /// (total intensity independent of the count).

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "grids.h"
 #include "vdblight/bake.h"
 #include "vdblight/bake_adaptive.h"
 #include "vdblight/errors.h"
@@ -17,10 +18,16 @@
 using namespace vdblight;
 
 namespace {
-GridSpec smallGrid(const Scene& s, int resolution) {
-    GridPlacement p;
-    p.resolution = resolution;
-    return placeUniformGrid(s.bounds(), p, 1);
+GridSpec smallGrid(const Scene& s, int resolution) { return test::gridIn(s.bounds(), resolution); }
+
+/// Error-targeted options: stop at relative error `target`, first round `minRays`, at most
+/// `maxRays` (the defaults of AdaptiveOptions otherwise).
+AdaptiveOptions adaptiveOptions(double target, uint32_t minRays, uint32_t maxRays) {
+    AdaptiveOptions o;
+    o.targetError = target;
+    o.minRays = minRays;
+    o.maxRays = maxRays;
+    return o;
 }
 
 // Mean irradiance over all normals (luminance) from a node's nine RGB SH coefficients:
@@ -39,10 +46,7 @@ TEST(Adaptive, SameBitsForAnyThreadCount) {
     const Scene s = loadScene(defaultScenePath());
     const Tracer tracer(s);
     const GridSpec g = smallGrid(s, 4);
-    AdaptiveOptions o;
-    o.targetError = 0.03;
-    o.minRays = 16;
-    o.maxRays = 1024;
+    AdaptiveOptions o = adaptiveOptions(0.03, 16, 1024);
     o.threads = 1;
     AdaptiveStats a, b;
     const Volume one = bakeShGatherAdaptive(s, tracer, g, o, nullptr, &a);
@@ -61,10 +65,7 @@ TEST(Adaptive, NodeThatStopsAtNRaysEqualsFixedBakeWithNRays) {
     const Scene s = loadScene(defaultScenePath());
     const Tracer tracer(s);
     const GridSpec g = smallGrid(s, 3);
-    AdaptiveOptions o;
-    o.targetError = 0.03;
-    o.minRays = 16;
-    o.maxRays = 512;
+    const AdaptiveOptions o = adaptiveOptions(0.03, 16, 512);
     AdaptiveStats st;
     const Volume v = bakeShGatherAdaptive(s, tracer, g, o, nullptr, &st);
     const RadianceEstimator estimator(s, tracer, o.transport);
@@ -97,10 +98,7 @@ TEST(Adaptive, ConstantSkyStopsAtTheFirstRound) {
     box.hi = Vec3d(1, 1, 1);
     p.bounds = box;
     const GridSpec g = placeUniformGrid(box, p, 1);
-    AdaptiveOptions o;
-    o.targetError = 1e-3;
-    o.minRays = 16;
-    o.maxRays = 4096;
+    const AdaptiveOptions o = adaptiveOptions(1e-3, 16, 4096);
     AdaptiveStats st;
     const Volume v = bakeShGatherAdaptive(s, tracer, g, o, nullptr, &st);
     for (std::size_t n = 0; n < g.nodeCount(); ++n) {
@@ -136,9 +134,7 @@ TEST(Adaptive, EstimatedErrorIsHonest) {
     const Scene s = loadScene(defaultScenePath());
     const Tracer tracer(s);
     const GridSpec g = smallGrid(s, 4);
-    AdaptiveOptions o;
-    o.targetError = 0.03;
-    o.maxRays = 4096;  // first round: the default (64)
+    const AdaptiveOptions o = adaptiveOptions(0.03, AdaptiveOptions{}.minRays, 4096);
     AdaptiveStats st;
     const Volume v = bakeShGatherAdaptive(s, tracer, g, o, nullptr, &st);
     const RadianceEstimator estimator(s, tracer, o.transport);
@@ -171,17 +167,13 @@ TEST(Adaptive, HalfTheRaysOfTheFixedBakeAtEqualMaximumError) {
     const Scene s = loadScene(defaultScenePath());
     const Tracer tracer(s);
     const GridSpec g = smallGrid(s, 5);
-    AdaptiveOptions fixed;
-    fixed.targetError = 1e-9;  // never reached: every node takes maxRays
-    fixed.minRays = fixed.maxRays = 1024;
+    const AdaptiveOptions fixed = adaptiveOptions(1e-9, 1024, 1024);  // 1e-9 never reached: every node takes maxRays
     AdaptiveStats f;
     bakeShGatherAdaptive(s, tracer, g, fixed, nullptr, &f);
     EXPECT_EQ(f.samples, 1024u * g.nodeCount());
     const double emax = f.errorQuantile(1.0);
 
-    AdaptiveOptions o;
-    o.targetError = emax;
-    o.maxRays = 1024;
+    const AdaptiveOptions o = adaptiveOptions(emax, AdaptiveOptions{}.minRays, 1024);
     AdaptiveStats a;
     bakeShGatherAdaptive(s, tracer, g, o, nullptr, &a);
     const double ratio = double(a.samples) / double(f.samples);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "grids.h"
 #include "test_util.h"
 #include "vdblight/bake_antialiased.h"
 #include "vdblight/errors.h"
@@ -20,29 +21,9 @@
 #include "vdblight/vdb_io.h"
 
 using namespace vdblight;
+using vdblight::test::makeGrid;
 
 namespace {
-GridSpec makeGrid(Vec3d origin, double spacing, int nx, int ny, int nz) {
-    GridSpec g;
-    g.origin = origin;
-    g.spacing = spacing;
-    g.nx = nx, g.ny = ny, g.nz = nz;
-    return g;
-}
-
-/// A constant sky and one tiny, far, black triangle (a scene needs a triangle): no ray of
-/// the bake can hit it (solid angle ~1e-14 sr).
-Scene constantSky(const Rgb& L) {
-    Scene s;
-    s.name = "sky";
-    Material m;
-    m.albedo = {0, 0, 0};
-    addMaterial(s, m);
-    addTriangle(s, {1e4f, 0, 0}, {1e4f, 1e-3f, 0}, {1e4f, 0, 1e-3f}, 0);
-    s.sky.constant = L;
-    return s;
-}
-
 AntialiasedOptions aaOptions(uint32_t rays, DomainMode domain, int threads = 0) {
     AntialiasedOptions o;
     o.raysPerCell = rays;
@@ -90,23 +71,51 @@ Classification classifyAll(const LeakScene& l, const GridSpec& g, uint32_t rays,
     return c;
 }
 
-/// sqrt(sum (E - Eref)^2 / sum Eref^2) over the points, luminance.
-double relativeRms(const Volume& v, const std::vector<EvalPoint>& pts, const std::vector<ReferenceResult>& ref) {
-    const IrradianceQuery q(v);
-    double num = 0, den = 0;
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-        const double e = luminance(q.irradiance(pts[i].position, pts[i].normal));
-        const double r = luminance(Rgb(ref[i].irradiance));
-        num += (e - r) * (e - r);
-        den += r * r;
+/// 200 points within one cell of a surface of a leak scene (leakEvalPoints, seed 5) and their
+/// reference irradiance (2048 samples, `transport`: 3 bounces), to compare bakes near surfaces.
+struct NearSurfaceReference {
+    NearSurfaceReference(const LeakScene& l, const Tracer& tracer, const GridSpec& g)
+        : points(leakEvalPoints(l, g.nodeBounds(), g.spacing, 200, 5)) {
+        std::vector<ReferencePoint> rp;
+        for (const EvalPoint& p : points) rp.push_back({p.position, p.normal});
+        ReferenceOptions ro;
+        ro.samples = 2048;
+        ro.transport = transport;
+        irradiance = referenceIrradiance(l.scene, tracer, rp, ro);
     }
-    return std::sqrt(num / den);
-}
+    TransportOptions transport = [] {
+        TransportOptions t;
+        t.maxBounces = 3;
+        return t;
+    }();
+    std::vector<EvalPoint> points;
+    std::vector<ReferenceResult> irradiance;
+
+    /// sqrt(sum (E - Eref)^2 / sum Eref^2) over the points, luminance.
+    double relativeRms(const Volume& v) const {
+        const IrradianceQuery q(v);
+        double num = 0, den = 0;
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            const double e = luminance(q.irradiance(points[i].position, points[i].normal));
+            const double r = luminance(Rgb(irradiance[i].irradiance));
+            num += (e - r) * (e - r);
+            den += r * r;
+        }
+        return std::sqrt(num / den);
+    }
+
+    /// The interior anti-aliased pass with the rays of a 128-ray point gather, `transport`.
+    AntialiasedOptions interiorOptions(const GridSpec& g) const {
+        AntialiasedOptions ao = aaOptions(uint32_t(128 * g.nodeCount() / cellCount(g)), DomainMode::Interior);
+        ao.transport = transport;
+        return ao;
+    }
+};
 }  // namespace
 
 TEST(Antialiased, ConstantSkyGivesPiLForBothSamplings) {
     const Rgb L{1.0f, 0.5f, 2.0f};
-    const Scene s = constantSky(L);
+    const Scene s = test::makeConstantSky(L);
     const Tracer tracer(s);
     const GridSpec g = makeGrid({0, 0, 0}, 1.0, 3, 3, 3);
     // L_0 = 4 pi Y_0 L is exact for both samplings (every sample sees L; in eq. 6 the
@@ -312,22 +321,14 @@ TEST(Antialiased, TownInteriorHasLowerErrorThanPointSamplingNearSurfaces) {
     const LeakScene l = makeTownScene();
     const Tracer tracer(l.scene);
     const GridSpec g = makeGrid({0.2, 0.2, 0.2}, 0.4, 20, 7, 20);
-    const std::vector<EvalPoint> pts = leakEvalPoints(l, g.nodeBounds(), g.spacing, 200, 5);
-    std::vector<ReferencePoint> rp;
-    for (const EvalPoint& p : pts) rp.push_back({p.position, p.normal});
-    ReferenceOptions ro;
-    ro.samples = 2048;
-    ro.transport.maxBounces = 3;
-    const auto ref = referenceIrradiance(l.scene, tracer, rp, ro);
+    const NearSurfaceReference ref(l, tracer, g);
 
     GatherOptions po;
     po.raysPerNode = 128;
-    po.transport = ro.transport;
+    po.transport = ref.transport;
     const Volume point = bakeShGather(l.scene, tracer, g, po);
-    AntialiasedOptions ao = aaOptions(uint32_t(128 * g.nodeCount() / cellCount(g)), DomainMode::Interior);
-    ao.transport = ro.transport;
-    const Volume interior = bakeShAntialiased(l.scene, tracer, g, ao);
-    const double ePoint = relativeRms(point, pts, ref), eInterior = relativeRms(interior, pts, ref);
+    const Volume interior = bakeShAntialiased(l.scene, tracer, g, ref.interiorOptions(g));
+    const double ePoint = ref.relativeRms(point), eInterior = ref.relativeRms(interior);
     std::printf("  town, 200 points within one cell of a surface: relative RMS error point %.1f %%, "
                 "anti-aliased interior %.1f %%\n", 100 * ePoint, 100 * eInterior);
     EXPECT_LT(eInterior, 0.7 * ePoint);
@@ -364,19 +365,12 @@ TEST(Antialiased, LeastSquaresFitLowersTheThinWallErrorNearSurfaces) {
     const LeakScene l = makeThinWallScene();
     const Tracer tracer(l.scene);
     const GridSpec g = makeGrid({0.25, 0.1, 0.1}, 0.25, 15, 8, 8);
-    const std::vector<EvalPoint> pts = leakEvalPoints(l, g.nodeBounds(), g.spacing, 200, 5);
-    std::vector<ReferencePoint> rp;
-    for (const EvalPoint& p : pts) rp.push_back({p.position, p.normal});
-    ReferenceOptions ro;
-    ro.samples = 2048;
-    ro.transport.maxBounces = 3;
-    const auto ref = referenceIrradiance(l.scene, tracer, rp, ro);
-    AntialiasedOptions ao = aaOptions(uint32_t(128 * g.nodeCount() / cellCount(g)), DomainMode::Interior);
-    ao.transport = ro.transport;
+    const NearSurfaceReference ref(l, tracer, g);
+    AntialiasedOptions ao = ref.interiorOptions(g);
     const Volume projection = bakeShAntialiased(l.scene, tracer, g, ao);
     ao.fit = NodeFit::LeastSquares;
     const Volume fitted = bakeShAntialiased(l.scene, tracer, g, ao);
-    const double eProjection = relativeRms(projection, pts, ref), eFit = relativeRms(fitted, pts, ref);
+    const double eProjection = ref.relativeRms(projection), eFit = ref.relativeRms(fitted);
     std::printf("  thin wall, 200 points within one cell of a surface: relative RMS error eq. 6 %.1f %%, "
                 "least squares %.1f %%\n", 100 * eProjection, 100 * eFit);
     EXPECT_LT(eFit, 0.8 * eProjection);

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <random>
 
+#include "grids.h"
 #include "test_util.h"
 #include "vdblight/bake_bins.h"
 #include "vdblight/bins_lookup.h"
@@ -46,25 +47,7 @@ double binSolidAngleByBoundary(int R, int c, int m) {
     return std::abs(sum);
 }
 
-/// A constant sky and one tiny, far, black triangle (a scene needs a triangle).
-Scene constantSky(const Rgb& L) {
-    Scene s;
-    s.name = "sky";
-    Material m;
-    m.albedo = {0, 0, 0};
-    addMaterial(s, m);
-    addTriangle(s, {1e4f, 0, 0}, {1e4f, 1e-3f, 0}, {1e4f, 0, 1e-3f}, 0);
-    s.sky.constant = L;
-    return s;
-}
-
-GridSpec smallGrid(int n, double spacing) {
-    GridSpec g;
-    g.origin = Vec3d(-0.5, -0.5, -0.5);
-    g.spacing = spacing;
-    g.nx = g.ny = g.nz = n;
-    return g;
-}
+GridSpec smallGrid(int n, double spacing) { return test::makeGrid({-0.5, -0.5, -0.5}, spacing, n, n, n); }
 
 BinsBakeOptions binsOptions(const std::string& basis, uint32_t samples, int threads = 0) {
     BinsBakeOptions o;
@@ -146,7 +129,7 @@ TEST(BinsBasis, ParsesAndRefusesSpecs) {
 // every moment, because (n+1)/2 * integral over the hemisphere of cos^n = (n+1)/2 * 2 pi/(n+1) = pi.
 TEST(BinsBake, ConstantEnvironmentGivesPiLInEveryBinForEveryMoment) {
     const Rgb L{1.0f, 0.5f, 0.25f};
-    const Scene s = constantSky(L);
+    const Scene s = test::makeConstantSky(L);
     const Tracer tracer(s);
     const GridSpec g = smallGrid(2, 1.0);
     for (const char* basis : {"bins:4", "bins:17", "moment:1:8", "moment:2:8", "moment:8:8"}) {
@@ -162,7 +145,7 @@ TEST(BinsBake, ConstantEnvironmentGivesPiLInEveryBinForEveryMoment) {
 // A directional light exactly along a bin centre: all of its light is in that bin, and the
 // stored irradiance facing every bin centre w_j is E0 max(0, w . w_j) up to the bin's extent.
 TEST(BinsBake, DirectionalLightLandsInItsBinWithTheClosedFormIrradiance) {
-    Scene s = constantSky({0, 0, 0});
+    Scene s = test::makeConstantSky({0, 0, 0});
     const int R = 9;
     const int target = bins::channel(R, 0, 2, 6);
     const Vec3d w = bins::binCentre(R, target);  // towards the light
@@ -317,7 +300,7 @@ TEST(BinsLookup, BinBlendIsExactAtCentresAndContinuousAcrossTheEquator) {
 }
 
 TEST(BinsVolume, RoundTripsThroughAFileAndIsQueried) {
-    const Scene s = constantSky({1, 1, 1});
+    const Scene s = test::makeConstantSky({1, 1, 1});
     const Tracer tracer(s);
     const Volume v = bakeBins(s, tracer, uniformLayout(smallGrid(2, 1.0)), binsOptions("moment:4:3", 1));
     test::TempDir dir;

@@ -35,12 +35,14 @@ TEST(CliCull, CulledBakeInfoAndQuery) {
 
 TEST(CliCull, BadOptionsFailCleanly) {
     test::TempDir dir;
-    test::expectCleanFailureWithOutput(dir, "bake --cull-solids", "--cull-solids needs --layout bilevel or adaptive");
-    test::expectCleanFailureWithOutput(dir, "bake --layout bilevel --basis bins:4 --cull-solids", "--basis sh2");
-    test::expectCleanFailureWithOutput(dir, "bake --layout adaptive --refine-distance -0.1", "--refine-distance must be");
-    test::expectCleanFailureWithOutput(dir, "bake --layout adaptive --refine-distance nan", "--refine-distance");
-    test::expectCleanFailureWithOutput(dir, "bake --refine-distance 0.1", "--refine-distance needs --layout");
-    test::expectCleanFailureWithOutput(dir, "bake --layout adaptive --levels 3 --refine 8 --resolution 64 --refine-distance 5", "MiB");
+    test::expectCleanFailuresWithOutput(dir, {
+        {"bake --cull-solids", "--cull-solids needs --layout bilevel or adaptive"},
+        {"bake --layout bilevel --basis bins:4 --cull-solids", "--basis sh2"},
+        {"bake --layout adaptive --refine-distance -0.1", "--refine-distance must be"},
+        {"bake --layout adaptive --refine-distance nan", "--refine-distance"},
+        {"bake --refine-distance 0.1", "--refine-distance needs --layout"},
+        {"bake --layout adaptive --levels 3 --refine 8 --resolution 64 --refine-distance 5", "MiB"}
+    });
 }
 
 TEST(CliCull, RefineDistanceRefinesMore) {

@@ -36,13 +36,15 @@ TEST(CliLayouts, BilevelAndAdaptiveBakeInfoAndQuery) {
 
 TEST(CliLayouts, BadLayoutOptionsFailCleanly) {
     test::TempDir dir;
-    test::expectCleanFailureWithOutput(dir, "bake --layout bilevel --refine 1", "--refine must be at least 2");
-    test::expectCleanFailureWithOutput(dir, "bake --layout adaptive --refine 0", "--refine must be at least 2");
-    test::expectCleanFailureWithOutput(dir, "bake --layout adaptive --levels 0", "--levels must be at least 1");
-    test::expectCleanFailureWithOutput(dir, "bake --layout adaptive --levels 1000", "absurd");
-    test::expectCleanFailureWithOutput(dir, "bake --layout adaptive --levels 14 --refine 8", "index range");
-    test::expectCleanFailureWithOutput(dir, "bake --layout adaptive --levels 4 --refine 8 --resolution 20", "MiB");
-    test::expectCleanFailureWithOutput(dir, "bake --layout octree", "unknown layout 'octree'");
-    test::expectCleanFailureWithOutput(dir, "bake --refine 3", "--refine needs --layout");
-    test::expectCleanFailureWithOutput(dir, "bake --layout bilevel --levels 3", "--levels needs --layout adaptive");
+    test::expectCleanFailuresWithOutput(dir, {
+        {"bake --layout bilevel --refine 1", "--refine must be at least 2"},
+        {"bake --layout adaptive --refine 0", "--refine must be at least 2"},
+        {"bake --layout adaptive --levels 0", "--levels must be at least 1"},
+        {"bake --layout adaptive --levels 1000", "absurd"},
+        {"bake --layout adaptive --levels 14 --refine 8", "index range"},
+        {"bake --layout adaptive --levels 4 --refine 8 --resolution 20", "MiB"},
+        {"bake --layout octree", "unknown layout 'octree'"},
+        {"bake --refine 3", "--refine needs --layout"},
+        {"bake --layout bilevel --levels 3", "--levels needs --layout adaptive"}
+    });
 }

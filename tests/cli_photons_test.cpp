@@ -12,6 +12,23 @@ using namespace vdblight;
 using namespace vdblight::test;
 namespace fs = std::filesystem;
 
+namespace {
+// Under the ceiling light, facing up: lit; both interpolations answer.
+void expectLitWithBothInterpolations(const std::string& volume) {
+    for (const char* interp : {"trilinear", "tricubic"}) {
+        const CliRun q = runCli("query " + volume + " --at 0.28,0.45,0.2 --normal 0,1,0 --interp " + interp);
+        ASSERT_EQ(q.status, 0) << q.output;
+        const std::string row = q.output.substr(q.output.find('\n') + 1);
+        double vals[9];
+        ASSERT_EQ(std::sscanf(row.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &vals[0], &vals[1], &vals[2], &vals[3],
+                              &vals[4], &vals[5], &vals[6], &vals[7], &vals[8]),
+                  9)
+            << q.output;
+        EXPECT_GT(vals[6], 0.5) << interp;
+    }
+}
+}  // namespace
+
 TEST(CliPhotons, BakeInfoQueryOnTheDefaultScene) {
     test::TempDir dir;
     const std::string out = dir.file("photons.vdb");
@@ -28,19 +45,7 @@ TEST(CliPhotons, BakeInfoQueryOnTheDefaultScene) {
     const CliRun info = runCli("info " + out);
     EXPECT_EQ(info.status, 0) << info.output;
     EXPECT_NE(info.output.find("iv_ypos_r"), std::string::npos) << info.output;
-
-    // Under the ceiling light, facing up: lit; both interpolations answer.
-    for (const char* interp : {"trilinear", "tricubic"}) {
-        const CliRun q = runCli("query " + out + " --at 0.28,0.45,0.2 --normal 0,1,0 --interp " + interp);
-        ASSERT_EQ(q.status, 0) << q.output;
-        const std::string row = q.output.substr(q.output.find('\n') + 1);
-        double vals[9];
-        ASSERT_EQ(std::sscanf(row.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &vals[0], &vals[1], &vals[2], &vals[3],
-                              &vals[4], &vals[5], &vals[6], &vals[7], &vals[8]),
-                  9)
-            << q.output;
-        EXPECT_GT(vals[6], 0.5) << interp;
-    }
+    ASSERT_NO_FATAL_FAILURE(expectLitWithBothInterpolations(out));
 }
 
 TEST(CliPhotons, CompactBakeIsSmallerAndReadable) {
@@ -58,17 +63,7 @@ TEST(CliPhotons, CompactBakeIsSmallerAndReadable) {
     const CliRun info = runCli("info " + compact);
     EXPECT_EQ(info.status, 0) << info.output;
     EXPECT_NE(info.output.find("ivc_ypos_rgb"), std::string::npos) << info.output;
-    for (const char* interp : {"trilinear", "tricubic"}) {
-        const CliRun q = runCli("query " + compact + " --at 0.28,0.45,0.2 --normal 0,1,0 --interp " + interp);
-        ASSERT_EQ(q.status, 0) << q.output;
-        const std::string row = q.output.substr(q.output.find('\n') + 1);
-        double vals[9];
-        ASSERT_EQ(std::sscanf(row.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &vals[0], &vals[1], &vals[2], &vals[3],
-                              &vals[4], &vals[5], &vals[6], &vals[7], &vals[8]),
-                  9)
-            << q.output;
-        EXPECT_GT(vals[6], 0.5) << interp;
-    }
+    ASSERT_NO_FATAL_FAILURE(expectLitWithBothInterpolations(compact));
     expectCleanFailure(dir, "bake --compact --resolution 3 --rays 8 -o " + dir.file("sh.vdb"),
                        "--compact applies to --method photons only");
 }

@@ -4,9 +4,12 @@
 
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 
+#include "cli_util.h"
+#include "one_point_light.h"
 #include "test_util.h"
 #include "vdblight/bake.h"
 #include "vdblight/query.h"
@@ -24,14 +27,8 @@ const std::string kCli = VDBLIGHT_CLI_PATH;
 /// E_r, E_g, E_b of the single data row of a query CSV file.
 Rgb readRow(const std::string& path) {
     std::ifstream in(path);
-    std::string header, row;
-    std::getline(in, header);
-    std::getline(in, row);
-    std::istringstream rs(row);
-    double v[9] = {};
-    char comma;
-    for (double& x : v) rs >> x >> comma;
-    return Rgb(float(v[6]), float(v[7]), float(v[8]));
+    const Rgbd e = test::firstIrradianceRgb(std::string(std::istreambuf_iterator<char>(in), {}));
+    return Rgb(float(e.x), float(e.y), float(e.z));
 }
 
 std::string triple(const Vec3f& v) {
@@ -42,24 +39,11 @@ std::string triple(const Vec3f& v) {
 }
 }  // namespace
 
-// The scene of Stress.ShRingingAndTheWindow: one point light, direct light only. Order-2 SH
-// of a single direction is most negative (-0.0396 of the peak) at cos = -8/15 to the light.
+// The case of Stress.ShRingingAndTheWindow (one_point_light.h): one point light, direct light
+// only. Order-2 SH of a single direction is most negative (-0.0396 of the peak) at cos = -8/15
+// to the light.
 TEST(CliQueryRaw, NegativeIrradianceIsClampedUnlessRaw) {
-    Scene s;
-    s.name = "one_point_light";
-    s.materials.resize(1);
-    s.materials[0].albedo = Rgb(0, 0, 0);
-    addTriangle(s, Vec3f(50, 50, 50), Vec3f(50.001f, 50, 50), Vec3f(50, 50.001f, 50), 0);
-    s.pointLights.push_back({Vec3f(0, 0, 2), Rgb(4, 4, 4)});
-    const Tracer tracer(s);
-    GridSpec g;
-    g.origin = Vec3d(-0.5, -0.5, -0.5);
-    g.spacing = 1;
-    g.nx = g.ny = g.nz = 2;
-    GatherOptions o;
-    o.raysPerNode = 16;
-    o.transport.maxBounces = 0;
-    const Volume volume = bakeShGather(s, tracer, g, o);
+    const Volume volume = test::bakeOnePointLight();
     TempDir dir;
     const std::string vdb = dir.file("ringing.vdb");
     writeVolume(volume, vdb);

@@ -16,40 +16,22 @@
 #include <fstream>
 #include <sstream>
 
-#include "test_util.h"
+#include "cli_baked_suite.h"
+#include "export_readers.h"
 
 namespace fs = std::filesystem;
-using vdblight::test::runCommand;
-using vdblight::test::TempDir;
+using namespace vdblight::test;
 
 namespace {
-const std::string kCli = VDBLIGHT_CLI_PATH;
-const std::string kSource = VDBLIGHT_SOURCE_DIR;
-
-class CliSlice : public ::testing::Test {
-protected:
-    static void SetUpTestSuite() {
-        dir_ = new TempDir();
-        std::string out;
-        ASSERT_EQ(runCommand(kCli + " bake -q -o " + path("sh.vdb") + " --resolution 6 --rays 48 --bounces 2", &out), 0) << out;
-        ASSERT_EQ(runCommand(kCli + " bake -q -o " + path("bilevel.vdb") +
-                                 " --resolution 4 --rays 32 --bounces 2 --layout bilevel", &out), 0) << out;
-        ASSERT_EQ(runCommand(kCli + " bake -q -o " + path("adaptive.vdb") +
-                                 " --resolution 4 --rays 32 --bounces 2 --layout adaptive --levels 3 --refine 2", &out), 0)
-            << out;
-        ASSERT_EQ(runCommand(kCli + " bake -q -o " + path("vectors.vdb") +
-                                 " --method photons --photons 100000 --resolution 6", &out), 0) << out;
+class CliSlice : public BakedSuite<CliSlice> {
+public:
+    static std::vector<SuiteBake> bakes() {
+        return {{"sh.vdb", "--resolution 6 --rays 48 --bounces 2"},
+                {"bilevel.vdb", "--resolution 4 --rays 32 --bounces 2 --layout bilevel"},
+                {"adaptive.vdb", "--resolution 4 --rays 32 --bounces 2 --layout adaptive --levels 3 --refine 2"},
+                {"vectors.vdb", "--method photons --photons 100000 --resolution 6"}};
     }
-    static void TearDownTestSuite() {
-        delete dir_;
-        dir_ = nullptr;
-    }
-    static std::string path(const std::string& name) { return dir_->file(name); }
-    static TempDir* dir_;
 };
-TempDir* CliSlice::dir_ = nullptr;
-
-int lines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
 
 std::vector<double> parseNumbers(const std::string& line) {
     std::vector<double> v;
@@ -66,7 +48,7 @@ struct Box {
 // The volume's node box, as `vdblight info` prints it.
 Box nodeBox(const std::string& volume) {
     std::string out;
-    EXPECT_EQ(runCommand(kCli + " info " + volume, &out), 0) << out;
+    EXPECT_EQ(runCommand(cliPath() + " info " + volume, &out), 0) << out;
     Box b{};
     const auto at = out.find("node bounds (");  // level 0: "node bounds (x, y, z) - (x, y, z)"
     EXPECT_NE(at, std::string::npos) << out;
@@ -84,17 +66,17 @@ Box nodeBox(const std::string& volume) {
 TEST_F(CliSlice, ExrPixelsEqualQueryAtThePixelCentres) {
     for (const std::string kind : {"sh", "bilevel", "vectors"}) {
         TempDir out;
-        const std::string vol = path(kind + ".vdb");
+        const std::string vol = file(kind + ".vdb");
         const Box box = nodeBox(vol);
         const double at = 0.37 * box.lo[0] + 0.63 * box.hi[0];
         std::string log;
-        ASSERT_EQ(runCommand(kCli + " slice " + vol + " --axis x --at " + std::to_string(at) +
+        ASSERT_EQ(runCommand(cliPath() + " slice " + vol + " --axis x --at " + std::to_string(at) +
                                  " --normal 1,0.5,-0.25 --size 12 -o " + out.file("s.exr"), &log), 0) << log;
-        Imf::InputFile file(out.file("s.exr").c_str());
-        const auto* axisAttr = file.header().findTypedAttribute<Imf::StringAttribute>("vdblightAxis");
+        Imf::InputFile exr(out.file("s.exr").c_str());
+        const auto* axisAttr = exr.header().findTypedAttribute<Imf::StringAttribute>("vdblightAxis");
         ASSERT_NE(axisAttr, nullptr) << kind;
         EXPECT_EQ(axisAttr->value(), "x");
-        const Imath::Box2i dw = file.header().dataWindow();
+        const Imath::Box2i dw = exr.header().dataWindow();
         const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
         // --axis x: image (u, v) = (z, y), size 12 along the longer side.
         const double su = box.hi[2] - box.lo[2], sv = box.hi[1] - box.lo[1];
@@ -105,8 +87,8 @@ TEST_F(CliSlice, ExrPixelsEqualQueryAtThePixelCentres) {
         const char* names[3] = {"R", "G", "B"};
         for (int c = 0; c < 3; ++c)
             fb.insert(names[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(px.data() + c), 12, 12 * std::size_t(w)));
-        file.setFrameBuffer(fb);
-        file.readPixels(dw.min.y, dw.max.y);
+        exr.setFrameBuffer(fb);
+        exr.readPixels(dw.min.y, dw.max.y);
 
         std::ostringstream csv;
         csv.precision(17);
@@ -116,8 +98,8 @@ TEST_F(CliSlice, ExrPixelsEqualQueryAtThePixelCentres) {
                 const double z = box.lo[2] + (c + 0.5) * su / w, y = box.hi[1] - (r + 0.5) * sv / h;
                 csv << at << ',' << y << ',' << z << ",1,0.5,-0.25\n";
             }
-        vdblight::test::writeTextFile(out.file("p.csv"), csv.str());
-        ASSERT_EQ(runCommand(kCli + " query " + vol + " --raw --points " + out.file("p.csv") + " -o " + out.file("e.csv"), &log), 0)
+        writeTextFile(out.file("p.csv"), csv.str());
+        ASSERT_EQ(runCommand(cliPath() + " query " + vol + " --raw --points " + out.file("p.csv") + " -o " + out.file("e.csv"), &log), 0)
             << log;
         std::ifstream in(out.file("e.csv"));
         std::string line;
@@ -140,11 +122,11 @@ TEST_F(CliSlice, PngDecodesToTheRightSizeAndShowsTheRedWall) {
     TempDir out;
     std::string log;
     // Looking along -z at the box (u = x to the right): the red wall is at the large-x side.
-    const Box box = nodeBox(path("sh.vdb"));
+    const Box box = nodeBox(file("sh.vdb"));
     const double at = 0.5 * (box.lo[2] + box.hi[2]);
-    ASSERT_EQ(runCommand(kCli + " slice " + path("sh.vdb") + " --axis z --at " + std::to_string(at) +
+    ASSERT_EQ(runCommand(cliPath() + " slice " + file("sh.vdb") + " --axis z --at " + std::to_string(at) +
                              " --normal 0,1,0 --size 40 -o " + out.file("s.png"), &log), 0) << log;
-    ASSERT_EQ(runCommand("/usr/bin/python3 " + kSource + "/scripts/check_png.py " + out.file("s.png") + " --left-right", &log),
+    ASSERT_EQ(runCommand("/usr/bin/python3 " + sourceDir() + "/scripts/check_png.py " + out.file("s.png") + " --left-right", &log),
               0) << log;
     std::stringstream s(log);
     int w = 0, h = 0;
@@ -168,28 +150,23 @@ TEST_F(CliSlice, EveryVolumeKindExportsAndRoundTrips) {
     for (const auto& c : cases) {
         const std::string where = out.file(c.volume + c.layout + c.precision);
         std::string log;
-        ASSERT_EQ(runCommand(kCli + " export -q " + path(c.volume + ".vdb") + " -o " + where + " --format raw --layout " +
+        ASSERT_EQ(runCommand(cliPath() + " export -q " + file(c.volume + ".vdb") + " -o " + where + " --format raw --layout " +
                                  c.layout + " " + c.precision, &log), 0) << log;
-        EXPECT_EQ(runCommand("/usr/bin/python3 " + kSource + "/scripts/check_export.py --cli " + kCli + " --volume " +
-                                 path(c.volume + ".vdb") + " --export " + where + " --points 300", &log),
-                  0)
+        EXPECT_EQ(checkExport(file(c.volume + ".vdb"), where, &log), 0)
             << c.volume << " " << c.layout << " " << c.precision << ": " << log;
     }
     // compact: texel by texel the section 4.2 encoding of the (float, checked) vectors export.
     std::string log;
     for (const char* format : {"ktx2", "dds"}) {
         const std::string where = out.file(std::string("compact-") + format);
-        ASSERT_EQ(runCommand(kCli + " export -q " + path("vectors.vdb") + " -o " + where + " --format " + format +
+        ASSERT_EQ(runCommand(cliPath() + " export -q " + file("vectors.vdb") + " -o " + where + " --format " + format +
                                  " --layout compact", &log), 0) << log;
-        EXPECT_EQ(runCommand("/usr/bin/python3 " + kSource + "/scripts/check_export.py --cli " + kCli + " --volume " +
-                                 path("vectors.vdb") + " --export " + where + " --vectors-export " +
-                                 out.file("vectorsvectors--float") + " --points 300", &log),
-                  0)
+        EXPECT_EQ(checkExport(file("vectors.vdb"), where, &log, "--vectors-export " + out.file("vectorsvectors--float")), 0)
             << format << ": " << log;
         EXPECT_NE(log.find("compact encoding vs section 4.2"), std::string::npos) << log;
     }
-    if (fs::exists(kSource + "/scripts/ktx/node_modules/ktx-parse")) {
-        EXPECT_EQ(runCommand("node " + kSource + "/scripts/ktx/check_ktx2.mjs " + out.file("compact-ktx2"), &log), 0) << log;
+    if (fs::exists(ktxParseDir())) {
+        EXPECT_EQ(checkKtx2(out.file("compact-ktx2"), &log), 0) << log;
     }
 }
 
@@ -204,32 +181,26 @@ TEST_F(CliSlice, BadInputFailsWithOneLineAndWritesNothing) {
         {"--axis y --at 0.2 --size 0", "size"},
         {"--axis y --at 0.2 --exposure bright", "--exposure"},
     };
-    for (const auto& c : cases) {
-        std::string log;
-        const int status = runCommand(kCli + " slice " + path("sh.vdb") + " -o " + out.file("s.png") + " " + c.args, &log);
-        EXPECT_NE(status, 0) << c.args;
-        EXPECT_EQ(lines(log), 1) << c.args << ": " << log;
-        EXPECT_NE(log.find(c.expected), std::string::npos) << c.args << ": " << log;
-        EXPECT_FALSE(fs::exists(out.file("s.png"))) << c.args;
-    }
+    for (const auto& c : cases)
+        expectRefusal("slice " + file("sh.vdb") + " -o " + out.file("s.png") + " " + c.args, c.expected, out.file("s.png"), c.args);
     std::string log;
-    EXPECT_NE(runCommand(kCli + " slice " + path("sh.vdb") + " --at 0.2 -o " + out.file("s.jpg"), &log), 0);
-    EXPECT_EQ(lines(log), 1) << log;
+    EXPECT_NE(runCommand(cliPath() + " slice " + file("sh.vdb") + " --at 0.2 -o " + out.file("s.jpg"), &log), 0);
+    EXPECT_EQ(countLines(log), 1) << log;
     EXPECT_FALSE(fs::exists(out.file("s.jpg")));
     // A layout that does not fit the volume kind, both ways.
-    EXPECT_NE(runCommand(kCli + " export " + path("vectors.vdb") + " -o " + out.file("x") + " --layout sh2", &log), 0);
+    EXPECT_NE(runCommand(cliPath() + " export " + file("vectors.vdb") + " -o " + out.file("x") + " --layout sh2", &log), 0);
     EXPECT_NE(log.find("does not fit"), std::string::npos) << log;
-    EXPECT_NE(runCommand(kCli + " export " + path("sh.vdb") + " -o " + out.file("x") + " --layout compact", &log), 0);
+    EXPECT_NE(runCommand(cliPath() + " export " + file("sh.vdb") + " -o " + out.file("x") + " --layout compact", &log), 0);
     EXPECT_NE(log.find("does not fit"), std::string::npos) << log;
-    EXPECT_EQ(lines(log), 1) << log;
+    EXPECT_EQ(countLines(log), 1) << log;
     EXPECT_TRUE(fs::is_empty(out.path()));
     // vdb-preview: too many voxels, or a missing volume, leave no directory behind.
-    EXPECT_NE(runCommand(kCli + " export " + path("sh.vdb") + " -o " + out.file("p") +
+    EXPECT_NE(runCommand(cliPath() + " export " + file("sh.vdb") + " -o " + out.file("p") +
                              " --format vdb-preview --resolution 2000", &log), 0);
-    EXPECT_EQ(lines(log), 1) << log;
+    EXPECT_EQ(countLines(log), 1) << log;
     EXPECT_NE(log.find("lower --resolution"), std::string::npos) << log;
-    EXPECT_NE(runCommand(kCli + " export " + out.file("missing.vdb") + " -o " + out.file("p") + " --format vdb-preview", &log),
+    EXPECT_NE(runCommand(cliPath() + " export " + out.file("missing.vdb") + " -o " + out.file("p") + " --format vdb-preview", &log),
               0);
-    EXPECT_EQ(lines(log), 1) << log;
+    EXPECT_EQ(countLines(log), 1) << log;
     EXPECT_TRUE(fs::is_empty(out.path()));
 }

@@ -44,7 +44,20 @@ void expectCleanFailureWithOutput(const TempDir& dir, const std::string& args, c
     expectCleanFailure(dir, args + " -o " + dir.file("bad.vdb"), expectedText);
 }
 
-double firstIrradiance(const std::string& csv) {
+void expectCleanFailuresWithOutput(const TempDir& dir, const std::vector<CleanFailure>& cases) {
+    for (const CleanFailure& c : cases) expectCleanFailureWithOutput(dir, c.args, c.expectedText);
+}
+
+void expectRefusal(const std::string& args, const std::string& expectedText, const std::string& output,
+                   const std::string& label) {
+    const CliRun r = runCli(args);
+    EXPECT_NE(r.status, 0) << label;
+    EXPECT_EQ(countLines(r.output), 1) << label << ": " << r.output;
+    EXPECT_NE(r.output.find(expectedText), std::string::npos) << label << ": " << r.output;
+    EXPECT_FALSE(std::filesystem::exists(output)) << label;
+}
+
+Rgbd firstIrradianceRgb(const std::string& csv) {
     std::istringstream lines(csv);
     std::string header, row;
     std::getline(lines, header);
@@ -53,7 +66,9 @@ double firstIrradiance(const std::string& csv) {
     double v[9] = {};
     char comma;
     for (double& x : v) rs >> x >> comma;
-    return v[6];
+    return Rgbd(v[6], v[7], v[8]);
 }
+
+double firstIrradiance(const std::string& csv) { return firstIrradianceRgb(csv).x; }
 
 }  // namespace vdblight::test

@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "test_util.h"
 
@@ -29,6 +30,22 @@ void expectCleanFailure(const TempDir& dir, const std::string& args, const std::
 
 /// The same for a command that would write a volume: ARGS is given `-o DIR/bad.vdb`.
 void expectCleanFailureWithOutput(const TempDir& dir, const std::string& args, const std::string& expectedText);
+
+/// One command line that must fail cleanly and the text its one line of output must contain.
+struct CleanFailure {
+    std::string args, expectedText;
+};
+
+/// expectCleanFailureWithOutput for each case, in order.
+void expectCleanFailuresWithOutput(const TempDir& dir, const std::vector<CleanFailure>& cases);
+
+/// Expects `vdblight ARGS` to be refused: a non-zero exit, exactly one line of output
+/// containing `expectedText`, and no file `output`. Failures name `label`.
+void expectRefusal(const std::string& args, const std::string& expectedText, const std::string& output,
+                   const std::string& label);
+
+/// (E_r, E_g, E_b) of the first data row of a `vdblight query` CSV.
+Rgbd firstIrradianceRgb(const std::string& csv);
 
 /// E_r (red irradiance) of the first data row of a `vdblight query` CSV.
 double firstIrradiance(const std::string& csv);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "random_volumes.h"
 #include "vdblight/bins.h"
 #include "vdblight/bins_lookup.h"
 #include "vdblight/errors.h"
@@ -16,29 +17,7 @@ using namespace vdblight;
 
 namespace {
 Volume binsVolume(LayoutKind kind, int levels, const bins::BasisSpec& spec) {
-    std::vector<Vec3f> pos = {{0.0f, 0.0f, 0.02f}, {1.0f, 0.0f, 0.02f}, {1.0f, 0.97f, 0.02f},
-                              {0.3f, 0.2f, 0.5f},  {0.7f, 0.4f, 0.8f},  {0.4f, 0.8f, 0.6f}};
-    std::vector<uint32_t> idx = {0, 1, 2, 3, 4, 5};
-    GridSpec g0;
-    g0.origin = Vec3d(0.05, 0.05, 0.05);
-    g0.spacing = 0.9 / 4;
-    g0.nx = g0.ny = g0.nz = 5;
-    LevelsPlacement p;
-    p.kind = kind;
-    p.refine = 2;
-    p.levels = levels;
-    const std::size_t floats = std::size_t(spec.binCount()) * 3;
-    const LevelLayout layout = placeLevels(g0, pos, idx, p, floats * 4);
-    Volume v;
-    v.basis = bins::basis(spec);
-    v.levels = layout.levels;
-    std::mt19937 rng(5);
-    std::uniform_real_distribution<float> u(0.0f, 2.0f);
-    for (VolumeLevel& l : v.levels) {
-        l.data.resize(l.storedNodes() * floats);
-        for (float& f : l.data) f = u(rng);
-    }
-    return v;
+    return test::randomLevelsVolume(kind, levels, bins::basis(spec), 5, 0.0f, 2.0f);
 }
 }  // namespace
 

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <random>
 
+#include "random_volumes.h"
 #include "test_util.h"
 #include "vdblight/errors.h"
 #include "vdblight/export.h"
@@ -24,27 +25,7 @@ namespace fs = std::filesystem;
 
 namespace {
 Volume levelsVolume(LayoutKind kind, int levels) {
-    std::vector<Vec3f> pos = {{0.0f, 0.0f, 0.02f}, {1.0f, 0.0f, 0.02f}, {1.0f, 0.97f, 0.02f},
-                              {0.3f, 0.2f, 0.5f},  {0.7f, 0.4f, 0.8f},  {0.4f, 0.8f, 0.6f}};
-    std::vector<uint32_t> idx = {0, 1, 2, 3, 4, 5};
-    GridSpec g0;
-    g0.origin = Vec3d(0.05, 0.05, 0.05);
-    g0.spacing = 0.9 / 4;
-    g0.nx = g0.ny = g0.nz = 5;
-    LevelsPlacement p;
-    p.kind = kind;
-    p.refine = 2;
-    p.levels = levels;
-    const LevelLayout layout = placeLevels(g0, pos, idx, p, 108);
-    Volume v;
-    v.basis = BasisDesc::sh2();
-    v.levels = layout.levels;
-    std::mt19937 rng(11);
-    std::uniform_real_distribution<float> u(-0.5f, 1.5f);
-    for (VolumeLevel& l : v.levels) {
-        l.data.resize(l.storedNodes() * 27);
-        for (float& f : l.data) f = u(rng);
-    }
+    Volume v = test::randomLevelsVolume(kind, levels, BasisDesc::sh2(), 11, -0.5f, 1.5f);
     applySeamConstraints(v);  // as a bake leaves it: seam nodes continue the coarse side
     return v;
 }

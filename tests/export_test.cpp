@@ -15,6 +15,7 @@
 #include <fstream>
 #include <iterator>
 
+#include "random_volumes.h"
 #include "test_util.h"
 #include "vdblight/errors.h"
 #include "vdblight/export.h"
@@ -26,21 +27,7 @@ using namespace vdblight;
 namespace fs = std::filesystem;
 
 namespace {
-Volume makeVolume(int nx, int ny, int nz, uint64_t seed) {
-    Volume v;
-    v.basis = BasisDesc::sh2();
-    VolumeLevel level;
-    level.grid.origin = {-0.5, 0.25, 1.0};
-    level.grid.spacing = 0.3;
-    level.grid.nx = nx;
-    level.grid.ny = ny;
-    level.grid.nz = nz;
-    Rng rng(seed);
-    level.data.resize(level.grid.nodeCount() * 27);
-    for (float& f : level.data) f = rng.uniform() * 2.0f - 0.5f;
-    v.levels.push_back(level);
-    return v;
-}
+Volume makeVolume(int nx, int ny, int nz, uint64_t seed) { return test::randomShVolume(nx, ny, nz, 0.3, seed); }
 
 std::vector<uint8_t> readFile(const std::string& path) {
     std::ifstream in(path, std::ios::binary);

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <random>
 
+#include "refinement_box.h"
 #include "vdblight/errors.h"
 #include "vdblight/layout_levels.h"
 #include "vdblight/query_levels.h"
@@ -74,6 +75,18 @@ GridSpec unitGrid(int n) {
     g.spacing = 0.9 / (n - 1);
     g.nx = g.ny = g.nz = n;
     return g;
+}
+
+/// testSoup() placed on unitGrid(n) for SH order 2 (108 bytes a node); `refine` and `levels`
+/// default to LevelsPlacement's.
+LevelLayout placeTestSoup(int n, LayoutKind kind, int refine = LevelsPlacement{}.refine,
+                          int levels = LevelsPlacement{}.levels) {
+    const Soup s = testSoup();
+    LevelsPlacement p;
+    p.kind = kind;
+    p.refine = refine;
+    p.levels = levels;
+    return placeLevels(unitGrid(n), s.positions, s.indices, p, 108);
 }
 
 Volume layoutVolume(const LevelLayout& layout, uint32_t seed) {
@@ -169,11 +182,7 @@ TEST(TriangleBox, BoundingBoxesOverlapButTriangleDoesNot) {
 
 TEST(Levels, RefinedCellsAreExactlyTheCellsThatContainGeometry) {
     const Soup s = testSoup();
-    LevelsPlacement p;
-    p.kind = LayoutKind::Adaptive;
-    p.refine = 3;
-    p.levels = 3;
-    const LevelLayout layout = placeLevels(unitGrid(6), s.positions, s.indices, p, 108);
+    const LevelLayout layout = placeTestSoup(6, LayoutKind::Adaptive, 3, 3);
     ASSERT_EQ(layout.levels.size(), 3u);
     EXPECT_EQ(layout.refine, 3);
     const double margin = 0.5 * layout.levels[0].grid.spacing;
@@ -192,11 +201,7 @@ TEST(Levels, RefinedCellsAreExactlyTheCellsThatContainGeometry) {
                                                      layout.levels[l - up].grid.index(i / f, j / f, k / f));
                     }
                     Bounds box = boxOf(g.node(i, j, k), g.node(i + 1, j + 1, k + 1));
-                    const int idx[3] = {i, j, k}, dims[3] = {g.nx, g.ny, g.nz};
-                    for (int a = 0; a < 3; ++a) {
-                        if (idx[a] == 0) box.lo[a] -= margin;
-                        if (idx[a] == dims[a] - 2) box.hi[a] += margin;
-                    }
+                    test::extendOnNodeBoxBorder(box, g, i, j, k, margin);
                     bool geometry = false;
                     for (std::size_t t = 0; t < s.indices.size(); t += 3)
                         geometry = geometry || clipOverlap(Vec3d(s.positions[s.indices[t]]), Vec3d(s.positions[s.indices[t + 1]]),
@@ -252,12 +257,7 @@ TEST(Levels, RefusesBadParametersBeforeAllocating) {
 }
 
 TEST(Seams, LookupIsContinuousAcrossLevelBoundaries) {
-    const Soup s = testSoup();
-    LevelsPlacement p;
-    p.kind = LayoutKind::Adaptive;
-    p.refine = 3;
-    p.levels = 3;
-    const LevelLayout layout = placeLevels(unitGrid(6), s.positions, s.indices, p, 108);
+    const LevelLayout layout = placeTestSoup(6, LayoutKind::Adaptive, 3, 3);
     Volume v = layoutVolume(layout, 11);
     applySeamConstraints(v);
     int crossings = 0;
@@ -275,10 +275,7 @@ TEST(Seams, LookupIsContinuousAcrossLevelBoundaries) {
 }
 
 TEST(Seams, SeamNodesTouchAnUnrefinedCoarseCellAndOthersDoNot) {
-    const Soup s = testSoup();
-    LevelsPlacement p;
-    p.kind = LayoutKind::Bilevel;
-    const LevelLayout layout = placeLevels(unitGrid(6), s.positions, s.indices, p, 108);
+    const LevelLayout layout = placeTestSoup(6, LayoutKind::Bilevel);
     const std::vector<std::size_t> seams = seamNodes(layout.levels, 1, 3);
     const VolumeLevel& fine = layout.levels[1];
     EXPECT_GT(seams.size(), 0u);
@@ -292,12 +289,7 @@ TEST(Seams, SeamNodesTouchAnUnrefinedCoarseCellAndOthersDoNot) {
 }
 
 TEST(LevelsLookup, MatchesReferenceAndNeverReadsAnUnbakedNode) {
-    const Soup s = testSoup();
-    LevelsPlacement p;
-    p.kind = LayoutKind::Adaptive;
-    p.refine = 2;
-    p.levels = 4;
-    const LevelLayout layout = placeLevels(unitGrid(5), s.positions, s.indices, p, 108);
+    const LevelLayout layout = placeTestSoup(5, LayoutKind::Adaptive, 2, 4);
     ASSERT_EQ(layout.levels.size(), 4u);
     Volume v = layoutVolume(layout, 5);
     applySeamConstraints(v);
@@ -322,10 +314,7 @@ TEST(LevelsLookup, MatchesReferenceAndNeverReadsAnUnbakedNode) {
 }
 
 TEST(LevelsStructure, InconsistentStructuresAreRefusedWithTheProblemNamed) {
-    const Soup s = testSoup();
-    LevelsPlacement p;
-    p.kind = LayoutKind::Adaptive;
-    const LevelLayout layout = placeLevels(unitGrid(6), s.positions, s.indices, p, 108);
+    const LevelLayout layout = placeTestSoup(6, LayoutKind::Adaptive);
     const Volume good = layoutVolume(layout, 2);
     auto expectRefused = [](Volume v, const std::string& text) {
         try {

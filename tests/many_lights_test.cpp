@@ -53,6 +53,44 @@ std::vector<ReferencePoint> testPoints(const Scene& s, int n) {
     return pts;
 }
 
+/// withManyLights(count, seed), its tracer and `points` test points.
+struct ManyLights {
+    ManyLights(int count, uint64_t seed, int pointCount)
+        : scene(withManyLights(count, seed)), tracer(scene), points(testPoints(scene, pointCount)) {}
+    const Scene scene;
+    const Tracer tracer;
+    const std::vector<ReferencePoint> points;
+};
+
+/// Transport with `bounces` bounces, with every light summed exactly at every vertex
+/// (exactLightLimit above the count) or with the default exactLightLimit (sampled above it).
+TransportOptions transport(int bounces, bool exactLights) {
+    TransportOptions t;
+    t.maxBounces = bounces;
+    if (exactLights) t.exactLightLimit = 1u << 30;
+    return t;
+}
+
+/// How the reference treats the lights: every light exactly everywhere; one sampled light per
+/// bounce vertex but every light exactly at the point (the default); sampled at the point too.
+enum class Lights { Exact, SampledExactAtPoint, Sampled };
+
+/// referenceIrradiance at the test points, 8192 samples, `bounces` bounces. The sampled runs
+/// use seed 2, independent of the exact run, so that the z-scores mean what they say.
+std::vector<ReferenceResult> reference(const ManyLights& m, int bounces, Lights lights) {
+    ReferenceOptions o;
+    o.samples = 8192;
+    o.transport.maxBounces = bounces;
+    if (lights == Lights::Exact) {
+        o.transport.exactLightLimit = 1u << 30;
+        return referenceIrradiance(m.scene, m.tracer, m.points, o);
+    }
+    o.transport.exactLightLimit = 16;
+    o.punctualExactAtPoint = lights == Lights::SampledExactAtPoint;
+    o.seed = 2;
+    return referenceIrradiance(m.scene, m.tracer, m.points, o);
+}
+
 void expectAgree(const std::vector<ReferenceResult>& sampled, const std::vector<ReferenceResult>& exact,
                  const char* what) {
     int agree = 0;
@@ -77,12 +115,10 @@ TEST(ManyLights, SamplerExpectationIsTheExactSum) {
     // light: integrated here by the midpoint rule with 2^19 values of u (each light's
     // interval of u is as wide as its pmf, so only lights with pmf below 2^-19 -- negligible
     // contributions by construction of the importance -- can be missed; observed 1e-5).
-    const Scene s = withManyLights(1000, 14);
-    const Tracer tracer(s);
-    TransportOptions t;
-    const RadianceEstimator estimator(s, tracer, t);
+    const ManyLights m(1000, 14, 3);
+    const RadianceEstimator estimator(m.scene, m.tracer);
     ASSERT_TRUE(estimator.samplesPunctualLights());
-    for (const ReferencePoint& p : testPoints(s, 3)) {
+    for (const ReferencePoint& p : m.points) {
         const Vec3f n = normalize(p.normal);
         std::vector<LightSample> all;
         RayCount rays;
@@ -113,18 +149,9 @@ TEST(ManyLights, SamplerExpectationIsTheExactSum) {
 }
 
 TEST(ManyLights, ReferenceWithSamplerMatchesExactSumDirect) {
-    const Scene s = withManyLights(300, 11);
-    const Tracer tracer(s);
-    const auto pts = testPoints(s, 24);
-    ReferenceOptions o;
-    o.samples = 8192;
-    o.transport.maxBounces = 0;  // direct light only: the exact path stays cheap
-    o.transport.exactLightLimit = 1u << 30;
-    const auto exact = referenceIrradiance(s, tracer, pts, o);
-    o.transport.exactLightLimit = 16;
-    o.punctualExactAtPoint = false;  // the sampler at the point too (what this test checks)
-    o.seed = 2;  // independent of the exact run, so that the z-scores mean what they say
-    const auto sampled = referenceIrradiance(s, tracer, pts, o);
+    const ManyLights m(300, 11, 24);
+    const auto exact = reference(m, 0, Lights::Exact);  // direct light only: the exact path stays cheap
+    const auto sampled = reference(m, 0, Lights::Sampled);  // the sampler at the point too (what this test checks)
     expectAgree(sampled, exact, "300 point + 3 spot lights, direct");
     // The sampled estimate carries variance (the test compares two different estimators).
     double se = 0;
@@ -134,45 +161,27 @@ TEST(ManyLights, ReferenceWithSamplerMatchesExactSumDirect) {
 
 TEST(ManyLights, ReferenceWithSamplerMatchesExactSumWithBounces) {
     // Sampled lights at every path vertex (directAtSurface) as well as at the point.
-    const Scene s = withManyLights(60, 12);
-    const Tracer tracer(s);
-    const auto pts = testPoints(s, 8);
-    ReferenceOptions o;
-    o.samples = 8192;
-    o.transport.maxBounces = 3;
-    o.transport.exactLightLimit = 1u << 30;
-    const auto exact = referenceIrradiance(s, tracer, pts, o);
-    o.transport.exactLightLimit = 16;
-    o.punctualExactAtPoint = false;  // the sampler at the point too (what this test checks)
-    o.seed = 2;  // independent of the exact run, so that the z-scores mean what they say
-    const auto sampled = referenceIrradiance(s, tracer, pts, o);
+    const ManyLights m(60, 12, 8);
+    const auto exact = reference(m, 3, Lights::Exact);
+    const auto sampled = reference(m, 3, Lights::Sampled);  // the sampler at the point too (what this test checks)
     expectAgree(sampled, exact, "60 point + 3 spot lights, 3 bounces");
 }
 
 // The default reference with many lights evaluates them exactly at the point (bounce vertices
 // still sample one): it agrees with the exact path and is less noisy than sampling at the point.
 TEST(ManyLights, ReferenceExactAtThePointMatchesTheExactPath) {
-    const Scene s = withManyLights(60, 13);
-    const Tracer tracer(s);
-    const auto pts = testPoints(s, 8);
-    ReferenceOptions o;
-    o.samples = 8192;
-    o.transport.maxBounces = 3;
-    o.transport.exactLightLimit = 1u << 30;
-    const auto exact = referenceIrradiance(s, tracer, pts, o);
-    o.transport.exactLightLimit = 16;
-    o.seed = 2;
-    const auto atPoint = referenceIrradiance(s, tracer, pts, o);
+    const ManyLights m(60, 13, 8);
+    const auto exact = reference(m, 3, Lights::Exact);
+    const auto atPoint = reference(m, 3, Lights::SampledExactAtPoint);
     expectAgree(atPoint, exact, "60 point + 3 spot lights, 3 bounces, exact at the point");
-    o.punctualExactAtPoint = false;
-    const auto sampled = referenceIrradiance(s, tracer, pts, o);
+    const auto sampled = reference(m, 3, Lights::Sampled);
     double seAtPoint = 0, seSampled = 0;
-    for (std::size_t i = 0; i < pts.size(); ++i) {
+    for (std::size_t i = 0; i < m.points.size(); ++i) {
         seAtPoint += luminance(Rgb(atPoint[i].standardError)) / luminance(Rgb(atPoint[i].irradiance));
         seSampled += luminance(Rgb(sampled[i].standardError)) / luminance(Rgb(sampled[i].irradiance));
     }
     std::printf("  mean relative standard error: exact at the point %.4f, sampled at the point %.4f\n",
-                seAtPoint / pts.size(), seSampled / pts.size());
+                seAtPoint / m.points.size(), seSampled / m.points.size());
     EXPECT_LT(seAtPoint, seSampled);
 }
 
@@ -184,13 +193,10 @@ TEST(ManyLights, BakeWithSamplerMatchesExactProjectionWithBounces) {
     // sampled lights at the bounce (a few percent; unbiasedness is tested above), for a
     // fraction of the shadow rays. (At the node itself the 203 lights are fewer than the
     // rays, so both evaluate them exactly there.)
-    const Scene s = withManyLights(200, 13);
-    const Tracer tracer(s);
-    const auto pts = testPoints(s, 6);
-    TransportOptions exactT, sampledT;
-    exactT.maxBounces = sampledT.maxBounces = 1;
-    exactT.exactLightLimit = 1u << 30;
-    const RadianceEstimator exact(s, tracer, exactT), sampled(s, tracer, sampledT);
+    const ManyLights m(200, 13, 6);
+    const auto& pts = m.points;
+    const RadianceEstimator exact(m.scene, m.tracer, transport(1, true));
+    const RadianceEstimator sampled(m.scene, m.tracer, transport(1, false));
     ASSERT_FALSE(exact.samplesPunctualLights());
     ASSERT_TRUE(sampled.samplesPunctualLights());
     for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -208,13 +214,10 @@ TEST(ManyLights, BakeWithSamplerMatchesExactProjectionWithBounces) {
 TEST(ManyLights, BakeSamplesLightsAtTheNodeWhenTheyOutnumberRays) {
     // 1000 lights, 256 rays per node, direct light only: the node picks one light per ray.
     // The mean over 32 seeds against the exact projection, within 4 standard errors.
-    const Scene s = withManyLights(1000, 14);
-    const Tracer tracer(s);
-    const auto pts = testPoints(s, 3);
-    TransportOptions exactT, sampledT;
-    exactT.maxBounces = sampledT.maxBounces = 0;
-    exactT.exactLightLimit = 1u << 30;
-    const RadianceEstimator exact(s, tracer, exactT), sampled(s, tracer, sampledT);
+    const ManyLights m(1000, 14, 3);
+    const auto& pts = m.points;
+    const RadianceEstimator exact(m.scene, m.tracer, transport(0, true));
+    const RadianceEstimator sampled(m.scene, m.tracer, transport(0, false));
     for (std::size_t i = 0; i < pts.size(); ++i) {
         // Paired by seed: the sky, NEE and direction parts are the same in both and cancel.
         RayCount ca, cb;

@@ -7,6 +7,7 @@
 
 #include <cmath>
 
+#include "test_util.h"
 #include "vdblight/bake_antialiased.h"
 #include "vdblight/errors.h"
 #include "vdblight/node_least_squares.h"
@@ -178,14 +179,8 @@ TEST(NodeLeastSquares, BadInputIsRejected) {
 }
 
 TEST(NodeLeastSquares, ConstantSkyThroughTheBakeGivesPiLWithTheSameBitsForAnyThreadCount) {
-    Scene s;
-    s.name = "sky";
-    Material m;
-    m.albedo = {0, 0, 0};
-    addMaterial(s, m);
-    addTriangle(s, {1e4f, 0, 0}, {1e4f, 1e-3f, 0}, {1e4f, 0, 1e-3f}, 0);  // unreachable (a scene needs one)
     const Rgb L{1.0f, 0.5f, 2.0f};
-    s.sky.constant = L;
+    const Scene s = test::makeConstantSky(L);
     const Tracer tracer(s);
     GridSpec g = makeGrid(3, 3, 3);
     AntialiasedOptions o;

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <vector>
 
+#include "grids.h"
 #include "vdblight/irradiance_vectors.h"
 #include "vdblight/photons.h"
 #include "vdblight/reference.h"
@@ -36,13 +37,7 @@ Scene emptySpace() {
     return s;
 }
 
-GridSpec grid4() {
-    GridSpec g;
-    g.origin = {0, 0, 0};
-    g.spacing = 0.25;
-    g.nx = g.ny = g.nz = 4;
-    return g;
-}
+GridSpec grid4() { return test::makeGrid({0, 0, 0}, 0.25, 4, 4, 4); }
 
 Volume bake(const Scene& s, const GridSpec& g, uint64_t photons) {
     const Tracer tracer(s);

@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "grids.h"
 #include "test_util.h"
 #include "vdblight/errors.h"
 #include "vdblight/irradiance_vectors.h"
@@ -123,13 +124,7 @@ Scene floorCorner() {
     return s;
 }
 
-GridSpec smallGrid() {
-    GridSpec g;
-    g.origin = {0.1, 0.1, 0.1};
-    g.spacing = 0.3;
-    g.nx = g.ny = g.nz = 5;
-    return g;
-}
+GridSpec smallGrid() { return test::makeGrid({0.1, 0.1, 0.1}, 0.3, 5, 5, 5); }
 }  // namespace
 
 // One coloured light and a grey floor: every photon has the light's colour ratios, so the

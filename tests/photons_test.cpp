@@ -10,6 +10,7 @@
 #include <cstring>
 #include <vector>
 
+#include "grids.h"
 #include "test_util.h"
 #include "vdblight/errors.h"
 #include "vdblight/irradiance_vectors.h"
@@ -35,13 +36,7 @@ Scene emptySpace(const Vec3f& at) {
     return s;
 }
 
-GridSpec unitGrid(int n) {
-    GridSpec g;
-    g.origin = {0, 0, 0};
-    g.spacing = 1.0;
-    g.nx = g.ny = g.nz = n;
-    return g;
-}
+GridSpec unitGrid(int n) { return test::makeGrid({0, 0, 0}, 1.0, n, n, n); }
 
 Volume bakeIt(const Scene& s, const GridSpec& g, uint64_t photons, PhotonEstimator est, int threads = 0) {
     const Tracer tracer(s);

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "default_scene.h"
+#include "prt_fixtures.h"
 #include "test_util.h"
 #include "vdblight/bake.h"
 #include "vdblight/errors.h"
@@ -34,9 +36,7 @@ TEST(PrtBounces, WhiteFurnaceGeometricSeries) {
     // sum to 1 - 0.5^N. With closure normalisation every row of F sums to pi (the box is
     // closed), so every sample must read the series; the raw disk form factors miss the near
     // field at edges, a deficit that compounds with bounces (printed, bounded loosely).
-    Scene scene;
-    const uint32_t m = addMaterial(scene, Material{"grey", Rgb{0.5f, 0.5f, 0.5f}});
-    appendBox(scene, {0, 0, 0}, {1, 1, 1}, true, m);
+    const Scene scene = test::greyUnitBox();
     const Tracer tracer(scene);
     const SurfaceSamples s = generateSurfaceSamples(scene, 0, 1500, 2000, 3);
     const std::vector<float> raw = sampleFormFactors(s, tracer);
@@ -59,11 +59,7 @@ TEST(PrtBounces, WhiteFurnaceGeometricSeries) {
         std::size_t count = 0;
         for (std::size_t i = 0; i < e.size(); ++i) {
             worst = std::max(worst, std::abs(e[i].x - exact));
-            float edge = 1.0f;
-            for (int a = 0; a < 3; ++a)
-                if (std::abs(s.normal[i][a]) < 0.5f)
-                    edge = std::min(edge, std::min(s.position[i][a], 1.0f - s.position[i][a]));
-            if (edge < 0.25f) continue;
+            if (test::distanceToUnitBoxEdge(s, i) < 0.25f) continue;
             interior += er[i].x;
             ++count;
         }
@@ -78,27 +74,14 @@ TEST(PrtBounces, WhiteFurnaceGeometricSeries) {
 }
 
 PrtOptions options(int bounces) {
-    PrtOptions o;
-    o.samples = 400;
-    o.clusterSize = 100;
-    o.visDirs = 256;
-    o.visCoeffs = 24;
-    o.trainLights = 60;
+    PrtOptions o = test::smallPrtOptions();  // without closure normalisation, as referenceVolume
     o.transferCoeffs = 60;  // complete basis of the training lights: compression is exact for them
     o.bounces = bounces;
     o.volumeResolution = 4;
-    o.closureNormalise = false;  // as referenceVolume
     return o;
 }
 
-struct Box {
-    Scene scene = loadScene(defaultScenePath());
-    Tracer tracer{scene};
-};
-Box& box() {
-    static Box b;
-    return b;
-}
+const test::DefaultScene& box() { return test::defaultScene(); }
 
 TEST(PrtBounces, CompressedTransferMatchesUncompressedReference) {
     // With the complete basis, a training light's multi-bounce indirect light at samples and

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "default_scene.h"
+#include "prt_fixtures.h"
 #include "test_util.h"
 #include "vdblight/errors.h"
 #include "vdblight/office_scene.h"
@@ -150,9 +152,7 @@ TEST(Samples, UniformIndependentOfTessellation) {
 TEST(Transfer, WhiteFurnaceOneBounce) {
     // Inside a closed box every sample sees only other samples: with uniform direct
     // irradiance E0 the one-bounce irradiance is rho E0 (up to the disk approximation).
-    Scene scene;
-    const uint32_t m = addMaterial(scene, Material{"grey", Rgb{0.5f, 0.5f, 0.5f}});
-    appendBox(scene, {0, 0, 0}, {1, 1, 1}, true, m);
+    const Scene scene = test::greyUnitBox();
     const Tracer tracer(scene);
     const SurfaceSamples s = generateSurfaceSamples(scene, 0, 1500, 2000, 3);
     const std::vector<Rgb> e = referenceIndirect(s, tracer, std::vector<float>(s.size(), 1.0f));
@@ -162,12 +162,7 @@ TEST(Transfer, WhiteFurnaceOneBounce) {
     std::size_t count = 0;
     for (std::size_t i = 0; i < e.size(); ++i) {
         mean += e[i].x / e.size();
-        float edge = 1.0f;
-        for (int a = 0; a < 3; ++a) {
-            const float c = s.position[i][a];
-            if (std::abs(s.normal[i][a]) < 0.5f) edge = std::min(edge, std::min(c, 1.0f - c));
-        }
-        if (edge < 3.0f * float(s.radius)) continue;
+        if (test::distanceToUnitBoxEdge(s, i) < 3.0f * float(s.radius)) continue;
         interior += e[i].x;
         ++count;
     }
@@ -182,9 +177,7 @@ TEST(Transfer, WhiteFurnaceOneBounce) {
 TEST(Transfer, WhiteFurnaceVolume) {
     // Nodes inside a closed box with uniform direct irradiance 1 on albedo 0.5 walls: the
     // one-bounce radiance is 0.5 / pi from every direction, irradiance 0.5 for any normal.
-    Scene scene;
-    const uint32_t m = addMaterial(scene, Material{"grey", Rgb{0.5f, 0.5f, 0.5f}});
-    appendBox(scene, {0, 0, 0}, {1, 1, 1}, true, m);
+    const Scene scene = test::greyUnitBox();
     const Tracer tracer(scene);
     const SurfaceSamples s = generateSurfaceSamples(scene, 0, 3000, 4000, 3);
     GridSpec grid;
@@ -200,25 +193,12 @@ TEST(Transfer, WhiteFurnaceVolume) {
     }
 }
 
-struct Box {
-    Scene scene = loadScene(defaultScenePath());
-    Tracer tracer{scene};
-};
-Box& box() {
-    static Box b;
-    return b;
-}
+const test::DefaultScene& box() { return test::defaultScene(); }
 
 PrtOptions smallOptions() {
-    PrtOptions o;
-    o.samples = 400;
-    o.clusterSize = 100;
-    o.visDirs = 256;
-    o.visCoeffs = 24;
-    o.trainLights = 60;
+    PrtOptions o = test::smallPrtOptions();
     o.transferCoeffs = 32;
     o.bounces = 1;  // the one-bounce references below; multi-bounce has its own tests
-    o.closureNormalise = false;  // as the disk references
     return o;
 }
 

@@ -2,6 +2,7 @@
 // and linear fields exactly, and handles points outside the volume as documented.
 #include <gtest/gtest.h>
 
+#include "random_volumes.h"
 #include "vdblight/errors.h"
 #include "vdblight/query.h"
 #include "vdblight/sampling.h"
@@ -10,22 +11,6 @@
 using namespace vdblight;
 
 namespace {
-Volume makeVolume(int nx, int ny, int nz, double spacing, uint64_t seed) {
-    Volume v;
-    v.basis = BasisDesc::sh2();
-    VolumeLevel level;
-    level.grid.origin = {-0.5, 0.25, 1.0};
-    level.grid.spacing = spacing;
-    level.grid.nx = nx;
-    level.grid.ny = ny;
-    level.grid.nz = nz;
-    Rng rng(seed);
-    level.data.resize(level.grid.nodeCount() * 27);
-    for (float& f : level.data) f = rng.uniform() * 2.0f - 0.5f;
-    v.levels.push_back(level);
-    return v;
-}
-
 Vec3f randomPointIn(const GridSpec& g, Rng& rng) {
     const Bounds b = g.nodeBounds();
     return Vec3f(b.lo + b.size() * Vec3d(rng.uniform(), rng.uniform(), rng.uniform()));
@@ -33,7 +18,7 @@ Vec3f randomPointIn(const GridSpec& g, Rng& rng) {
 }  // namespace
 
 TEST(Query, MatchesTheReferenceLookup) {
-    const Volume v = makeVolume(7, 5, 6, 0.3, 1);
+    const Volume v = test::randomShVolume(7, 5, 6, 0.3, 1);
     const IrradianceQuery q(v);
     Rng rng(2);
     for (int t = 0; t < 5000; ++t) {
@@ -46,7 +31,7 @@ TEST(Query, MatchesTheReferenceLookup) {
 }
 
 TEST(Query, ReproducesNodeValuesExactly) {
-    const Volume v = makeVolume(4, 3, 5, 0.5, 3);
+    const Volume v = test::randomShVolume(4, 3, 5, 0.5, 3);
     const IrradianceQuery q(v);
     const GridSpec& g = v.levels[0].grid;
     const Vec3f n = normalize(Vec3f(0.3f, -0.4f, 0.8f));
@@ -64,7 +49,7 @@ TEST(Query, ReproducesNodeValuesExactly) {
 
 TEST(Query, TrilinearReproducesLinearFields) {
     // DC coefficient = a + b.x at every node: the query must return pi/(2 sqrt(pi)) (a + b.x).
-    Volume v = makeVolume(5, 6, 4, 0.25, 4);
+    Volume v = test::randomShVolume(5, 6, 4, 0.25, 4);
     const GridSpec& g = v.levels[0].grid;
     const Vec3d b{0.7, -1.1, 0.4};
     for (std::size_t node = 0; node < g.nodeCount(); ++node) {
@@ -83,7 +68,7 @@ TEST(Query, TrilinearReproducesLinearFields) {
 }
 
 TEST(Query, ClampsOrRefusesPointsOutside) {
-    const Volume v = makeVolume(3, 3, 3, 1.0, 6);
+    const Volume v = test::randomShVolume(3, 3, 3, 1.0, 6);
     const GridSpec& g = v.levels[0].grid;
     const IrradianceQuery clamp(v, OutsidePolicy::Clamp);
     const IrradianceQuery strict(v, OutsidePolicy::Throw);
@@ -103,7 +88,7 @@ TEST(Query, ClampsOrRefusesPointsOutside) {
 
 TEST(Query, WorksOnFlatGrids) {
     // A single node along an axis (a planar or line grid) is a valid volume.
-    const Volume v = makeVolume(1, 4, 1, 0.5, 7);
+    const Volume v = test::randomShVolume(1, 4, 1, 0.5, 7);
     const IrradianceQuery q(v);
     Rng rng(8);
     for (int t = 0; t < 200; ++t) {
@@ -115,13 +100,13 @@ TEST(Query, WorksOnFlatGrids) {
 }
 
 TEST(Query, RefusesUnknownBases) {
-    Volume v = makeVolume(2, 2, 2, 1.0, 9);
+    Volume v = test::randomShVolume(2, 2, 2, 1.0, 9);
     v.basis.kind = "nonsense";
     EXPECT_THROW(IrradianceQuery{v}, FormatError);
 }
 
 TEST(Query, PicksTheShUniformLookupThroughTheRegistry) {
-    const Volume v = makeVolume(3, 3, 3, 1.0, 10);
+    const Volume v = test::randomShVolume(3, 3, 3, 1.0, 10);
     const IrradianceQuery q(v);
     EXPECT_STREQ(q.kind(), "sh2-uniform");
     const ShUniformLookup direct(v, OutsidePolicy::Clamp);

@@ -9,6 +9,7 @@
 #include <iterator>
 #include <limits>
 
+#include "refinement_box.h"
 #include "test_util.h"
 #include "vdblight/errors.h"
 #include "vdblight/layout_levels.h"
@@ -57,12 +58,8 @@ std::vector<uint64_t> bruteRefined(const LevelLayout& layout, std::size_t l, dou
                     Bounds box;
                     box.lo = gg.node(ii, jj, kk);
                     box.hi = box.lo + Vec3d(gg.spacing, gg.spacing, gg.spacing);
-                    const int idx[3] = {ii, jj, kk}, dims[3] = {gg.nx, gg.ny, gg.nz};
-                    for (int a = 0; a < 3; ++a) {
-                        if (idx[a] == 0) box.lo[a] -= margin;
-                        if (idx[a] == dims[a] - 2) box.hi[a] += margin;
-                        box.lo[a] -= D, box.hi[a] += D;
-                    }
+                    test::extendOnNodeBoxBorder(box, gg, ii, jj, kk, margin);
+                    for (int a = 0; a < 3; ++a) box.lo[a] -= D, box.hi[a] += D;
                     return box;
                 };
                 const Bounds box = testBox(g, i, j, k);

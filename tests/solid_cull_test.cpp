@@ -10,6 +10,7 @@
 #include <map>
 #include <random>
 
+#include "refinement_box.h"
 #include "test_util.h"
 #include "vdblight/bake_levels.h"
 #include "vdblight/errors.h"
@@ -136,11 +137,7 @@ std::vector<std::vector<uint64_t>> bruteForceCulled(const TestScene& t, const Le
             Bounds box;
             box.lo = g.node(i, j, k);
             box.hi = box.lo + Vec3d(g.spacing, g.spacing, g.spacing);
-            const int idx[3] = {i, j, k}, dims[3] = {g.nx, g.ny, g.nz};
-            for (int a = 0; a < 3; ++a) {
-                if (idx[a] == 0) box.lo[a] -= margin;
-                if (idx[a] == dims[a] - 2) box.hi[a] += margin;
-            }
+            test::extendOnNodeBoxBorder(box, g, i, j, k, margin);
             for (std::size_t tri = 0; tri < s.triangleCount(); ++tri)
                 if (triangleOverlapsBox(Vec3d(s.vertex(tri, 0)), Vec3d(s.vertex(tri, 1)), Vec3d(s.vertex(tri, 2)), box))
                     return false;

@@ -9,6 +9,8 @@
 #include <fstream>
 #include <iterator>
 
+#include "grids.h"
+#include "one_point_light.h"
 #include "test_util.h"
 #include "vdblight/bake.h"
 #include "vdblight/errors.h"
@@ -23,6 +25,7 @@
 #include "vdblight/vdb_io.h"
 
 using namespace vdblight;
+using vdblight::test::gridIn;
 
 namespace {
 Scene transformed(const Scene& in, double scale, const Vec3d& offset) {
@@ -37,18 +40,27 @@ bool allFinite(const Volume& v) {
     return true;
 }
 
-GridSpec gridIn(const Bounds& b, int n) {
-    GridPlacement p;
-    p.resolution = n;
-    return placeUniformGrid(b, p, 1);
-}
-
 Volume bakeSmall(const Scene& s, const GridSpec& g, uint32_t rays = 64) {
     const Tracer tracer(s);
     GatherOptions o;
     o.raysPerNode = rays;
     o.transport.maxBounces = 3;
     return bakeShGather(s, tracer, g, o);
+}
+
+/// Expects every point's irradiance (luminance) in `got` to agree with `expected` within 4
+/// combined standard errors + 1 % (a fatal failure if one is not finite); `worstZ` is the
+/// largest |difference| / combined standard error. Failures name `what`.
+void expectSameIrradiance(const std::vector<ReferenceResult>& expected, const std::vector<ReferenceResult>& got,
+                          const std::string& what, double& worstZ) {
+    worstZ = 0;
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+        const double e = luminance(Rgb(expected[i].irradiance)), g = luminance(Rgb(got[i].irradiance));
+        const double se = std::hypot(luminance(Rgb(expected[i].standardError)), luminance(Rgb(got[i].standardError)));
+        ASSERT_TRUE(std::isfinite(g)) << what;
+        worstZ = std::max(worstZ, std::abs(g - e) / (se + 1e-12));
+        EXPECT_NEAR(g, e, 4 * se + 0.01 * e) << what << " point " << i;
+    }
 }
 }  // namespace
 
@@ -83,14 +95,9 @@ TEST(Stress, ScaleAndPositionInvariance) {
         for (ReferencePoint& p : moved) p.position = Vec3f(Vec3d(p.position) * c.scale + c.offset);
         o.seed = 7;  // independent noise
         const auto got = referenceIrradiance(s, tracer, moved, o);
+        const std::string what = "scale " + std::to_string(c.scale) + " offset " + std::to_string(c.offset.x);
         double worstZ = 0;
-        for (std::size_t i = 0; i < pts.size(); ++i) {
-            const double e = luminance(Rgb(expected[i].irradiance)), g = luminance(Rgb(got[i].irradiance));
-            const double se = std::hypot(luminance(Rgb(expected[i].standardError)), luminance(Rgb(got[i].standardError)));
-            ASSERT_TRUE(std::isfinite(g)) << "scale " << c.scale;
-            worstZ = std::max(worstZ, std::abs(g - e) / (se + 1e-12));
-            EXPECT_NEAR(g, e, 4 * se + 0.01 * e) << "scale " << c.scale << " offset " << c.offset.x << " point " << i;
-        }
+        ASSERT_NO_FATAL_FAILURE(expectSameIrradiance(expected, got, what, worstZ));
         // The bake at that scale stays finite and close to the bake at scale 1.
         const Volume v = bakeSmall(s, gridIn(s.bounds(), 3));
         EXPECT_TRUE(allFinite(v)) << "scale " << c.scale;
@@ -134,13 +141,7 @@ TEST(Stress, TranslatedFarFromTheOrigin) {
     o.seed = 7;  // independent noise
     const auto got = referenceIrradiance(s, tracer, moved, o);
     double worstZ = 0;
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-        const double e = luminance(Rgb(expected[i].irradiance)), g = luminance(Rgb(got[i].irradiance));
-        const double se = std::hypot(luminance(Rgb(expected[i].standardError)), luminance(Rgb(got[i].standardError)));
-        ASSERT_TRUE(std::isfinite(g));
-        worstZ = std::max(worstZ, std::abs(g - e) / (se + 1e-12));
-        EXPECT_NEAR(g, e, 4 * se + 0.01 * e) << "point " << i;
-    }
+    ASSERT_NO_FATAL_FAILURE(expectSameIrradiance(expected, got, "translated", worstZ));
     std::printf("  offset (1e5, 1e5, -1e5): worst |z| %.2f over %zu points\n", worstZ, pts.size());
 
     // Bake in the local frame, place in the world, write and read back: the .vdb's grid sits at
@@ -322,21 +323,7 @@ TEST(Stress, HalfPrecisionErrorIsBounded) {
 // behind the light (-0.040 of the peak in theory); the window removes that, at an error cost
 // against the exact clamped cosine that is printed.
 TEST(Stress, ShRingingAndTheWindow) {
-    Scene s;
-    s.name = "one_point_light";
-    s.materials.resize(1);
-    s.materials[0].albedo = Rgb(0, 0, 0);
-    addTriangle(s, Vec3f(50, 50, 50), Vec3f(50.001f, 50, 50), Vec3f(50, 50.001f, 50), 0);
-    s.pointLights.push_back({Vec3f(0, 0, 2), Rgb(4, 4, 4)});  // irradiance 1 at the origin
-    const Tracer tracer(s);
-    GridSpec g;
-    g.origin = Vec3d(-0.5, -0.5, -0.5);
-    g.spacing = 1;
-    g.nx = g.ny = g.nz = 2;
-    GatherOptions o;
-    o.raysPerNode = 16;
-    o.transport.maxBounces = 0;
-    Volume raw = bakeShGather(s, tracer, g, o);
+    const Volume raw = test::bakeOnePointLight();
     Volume windowed = raw;
     applyShWindow(windowed);
     EXPECT_THROW(applyShWindow(windowed), ValueError);

@@ -86,4 +86,15 @@ Scene makeFurnaceBox(const Vec3f& lo, const Vec3f& hi, const Rgb& emission, cons
     return scene;
 }
 
+Scene makeConstantSky(const Rgb& L) {
+    Scene s;
+    s.name = "sky";
+    Material m;
+    m.albedo = {0, 0, 0};
+    addMaterial(s, m);
+    addTriangle(s, {1e4f, 0, 0}, {1e4f, 1e-3f, 0}, {1e4f, 0, 1e-3f}, 0);
+    s.sky.constant = L;
+    return s;
+}
+
 }  // namespace vdblight::test

@@ -46,4 +46,8 @@ Scene makeEmissiveSphere(float radius, const Rgb& radiance, int subdivisions, fl
 /// `albedo` (white furnace: E = pi Le / (1 - rho) everywhere inside).
 Scene makeFurnaceBox(const Vec3f& lo, const Vec3f& hi, const Rgb& emission, const Rgb& albedo);
 
+/// A constant sky of radiance L and one tiny, far, black triangle (a scene needs a triangle):
+/// no ray of a bake near the origin can hit it (solid angle ~1e-14 sr), so E = pi L.
+Scene makeConstantSky(const Rgb& L);
+
 }  // namespace vdblight::test

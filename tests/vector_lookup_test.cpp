@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "grids.h"
 #include "test_util.h"
 #include "vdblight/irradiance_vectors.h"
 #include "vdblight/query.h"
@@ -15,13 +16,7 @@
 using namespace vdblight;
 
 namespace {
-GridSpec testGrid() {
-    GridSpec g;
-    g.origin = {1, 2, 3};
-    g.spacing = 0.5;
-    g.nx = 5, g.ny = 4, g.nz = 6;
-    return g;
-}
+GridSpec testGrid() { return test::makeGrid({1, 2, 3}, 0.5, 5, 4, 6); }
 
 // Each float f of a node: a_f + b_f . position (a linear field), or random values.
 Volume makeVolume(bool linear, uint64_t seed) {

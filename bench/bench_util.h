@@ -1,0 +1,69 @@
+// Small helpers the benchmark programs share: wall-clock time, the uniform grid of a given
+// resolution over a box, the free-space test for evaluation points, and lookup throughput.
+#pragma once
+
+#include <algorithm>
+#include <chrono>
+#include <cstddef>
+#include <vector>
+
+#include "vdblight/layout.h"
+#include "vdblight/sampling.h"
+#include "vdblight/trace.h"
+
+namespace vdblight::bench {
+
+/// Wall-clock seconds (steady clock).
+inline double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+
+/// placeUniformGrid over `box` with `resolution` nodes along its longest axis.
+inline GridSpec uniformGrid(const Bounds& box, int resolution) {
+    GridPlacement p;
+    p.resolution = resolution;
+    return placeUniformGrid(box, p, 1);
+}
+
+/// A point is in free space if rays along the six axis directions first hit front faces
+/// (or nothing): inside a closed solid some ray meets a back face first.
+inline bool freeSpace(const Tracer& tracer, const Vec3f& x) {
+    const Vec3f dirs[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    for (const Vec3f& d : dirs) {
+        Ray r;
+        r.origin = x;
+        r.direction = d;
+        const Hit h = tracer.intersect(r);
+        if (h.hit() && dot(h.geometricNormal, d) > 0) return false;
+    }
+    return true;
+}
+
+/// Inputs of a lookup-throughput run: random points in a box and random unit vectors.
+struct LookupInputs {
+    std::vector<Vec3f> points, normals;
+};
+
+/// `n` uniform points in `box` and directions on the sphere, from Rng(123).
+inline LookupInputs randomLookups(const Bounds& box, std::size_t n) {
+    LookupInputs in{std::vector<Vec3f>(n), std::vector<Vec3f>(n)};
+    Rng rng(123);
+    for (std::size_t i = 0; i < n; ++i) {
+        in.points[i] = Vec3f(box.lo + box.size() * Vec3d(rng.uniform(), rng.uniform(), rng.uniform()));
+        in.normals[i] = uniformSphere(rng.uniform(), rng.uniform());
+    }
+    return in;
+}
+
+/// The best of `repeats` runs of lookup.irradiance over the inputs on this thread, in lookups
+/// per second. Every result is added to `sink` (print it: the lookups must not be optimised away).
+template <class Lookup>
+double lookupRate(const Lookup& lookup, const LookupInputs& in, int repeats, Rgb& sink) {
+    double best = 0;
+    for (int r = 0; r < repeats; ++r) {
+        const double t0 = now();
+        for (std::size_t i = 0; i < in.points.size(); ++i) sink += lookup.irradiance(in.points[i], in.normals[i]);
+        best = std::max(best, double(in.points.size()) / (now() - t0));
+    }
+    return best;
+}
+
+}  // namespace vdblight::bench
