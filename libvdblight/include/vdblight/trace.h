@@ -42,9 +42,13 @@ public:
     Hit intersect(const Ray& ray) const;
     /// True if anything blocks the ray within [tnear, tfar].
     bool occluded(const Ray& ray) const;
-    /// blocked[i] = occluded(rays[i]) for i < count, traced as coherent 16-ray packets
+    /// blocked[i] = occluded(rays[i]) for i < count, traced as 16-ray packets
     /// (rtcOccluded16): the same answers, less per-ray overhead for rays that share an end.
     void occluded(const Ray* rays, std::size_t count, bool* blocked) const;
+
+    /// hits[i] = intersect(rays[i]) for i < count, traced as 16-ray packets (rtcIntersect16,
+    /// incoherent mode): the same hits bit for bit (trace_packet_test), less per-ray overhead.
+    void intersect(const Ray* rays, std::size_t count, Hit* hits) const;
 
     /// Raw throughput probe for benchmarks: traces `count` random rays whose origins lie
     /// uniformly in `box` with uniformly random directions, with plain single-ray
