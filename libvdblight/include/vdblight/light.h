@@ -209,6 +209,15 @@ private:
     std::vector<float> emitterArea_;
     std::vector<Vec3f> unitNormals_;   ///< per triangle, front-face orientation
     std::vector<int32_t> emitterOf_;   ///< per triangle, index into emitters_ or -1
+    /// Per emitter, what emissiveCandidate reads (the same values as from the scene).
+    struct EmitterData {
+        Vec3f a, ab, ac;  ///< vertex 0 and the edges to vertices 1 and 2
+        Vec3f normal;     ///< unit front normal
+        Rgb emission;
+        float area, pmf;
+        bool twoSided;
+    };
+    std::vector<EmitterData> emitterData_;
     std::shared_ptr<const PunctualLightSampler> punctualSampler_;  ///< !orientedLightTree
     std::shared_ptr<const LightTree> punctualTree_;   ///< orientedLightTree; both null: lights exact
     std::shared_ptr<const LightTree> emitterTree_;    ///< null: the global power CDF

@@ -119,12 +119,14 @@ public:
         const uint32_t n = last - first;
         const bool nee = estimator_.hasEmissiveTriangles();
         constexpr float kSpherePdf = float(1.0 / (4.0 * kPi));
+        const uint64_t dirScramble = mix64(hashCombine(stream_, kDirection));  // sobol02's, once
+        const uint64_t lightScramble = mix64(hashCombine(stream_, kLightPoint));
         Vec3f dirs[kBatch];
         Ray rays[kBatch];
         Hit hits[kBatch];
         for (uint32_t k = 0; k < n; ++k) {
             float u, v;
-            sobol02(first + k, hashCombine(stream_, kDirection), u, v);
+            sobol02Mixed(first + k, dirScramble, u, v);
             dirs[k] = uniformSphere(u, v);
             rays[k] = Ray{x_, dirs[k]};
         }
@@ -143,8 +145,8 @@ public:
             lightRay[k] = DeferredPaths::kNoShadowRay;
             if (!nee) continue;
             float u, v;
-            sobol02(first + k, hashCombine(stream_, kLightPoint), u, v);
-            double w = radicalInverse(3, first + k) + lightOffset_;
+            sobol02Mixed(first + k, lightScramble, u, v);
+            double w = radicalInverseOf<3>(first + k) + lightOffset_;
             w -= std::floor(w);
             Ray shadow;
             if (estimator_.emissiveCandidate(x_, u, v, float(w), lights[k], shadow)) {
@@ -176,7 +178,7 @@ public:
                 ebar += 0.25 * double(luminance(weight));
             }
             if (sampledLights_) {  // one punctual light per sample, traced at once
-                double w = radicalInverse(5, i) + punctualOffset_;
+                double w = radicalInverseOf<5>(i) + punctualOffset_;
                 w -= std::floor(w);
                 LightSample s;
                 if (estimator_.samplePunctualLight(x_, w, s, count)) {

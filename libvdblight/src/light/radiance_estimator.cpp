@@ -69,6 +69,13 @@ RadianceEstimator::RadianceEstimator(const Scene& scene, const Tracer& tracer, T
         emitterPmf_.push_back(float(power[e] / total));
     }
     if (!emitterCdf_.empty()) emitterCdf_.back() = 1.0f;
+    for (std::size_t e = 0; e < emitters_.size(); ++e) {
+        const uint32_t t = emitters_[e];
+        const Vec3f a = scene.vertex(t, 0), b = scene.vertex(t, 1), c = scene.vertex(t, 2);
+        const Material& m = scene.material(t);
+        emitterData_.push_back({a, b - a, c - a, unitNormals_[t], m.emission, emitterArea_[e], emitterPmf_[e],
+                                m.twoSidedEmission});
+    }
     if (options_.orientedLightTree && emitters_.size() > options_.emitterTreeMin) {
         // Only for emitters spread out relative to their size: one compact tessellated emitter
         // (a disk fan, a panel) is better served by the power CDF, whose stratified choice
@@ -164,31 +171,29 @@ bool RadianceEstimator::emissiveCandidate(const Vec3f& x, float u, float v, doub
         e = emitterTree_->sample(Vec3d(x), nullptr, w, choicePmf);
         if (!(choicePmf > 0)) return false;
     } else {
-        e = std::min<std::size_t>(
-            std::upper_bound(emitterCdf_.begin(), emitterCdf_.end(), float(w)) - emitterCdf_.begin(), emitters_.size() - 1);
+        e = std::min<std::size_t>(upperBoundIndex(emitterCdf_.data(), emitterCdf_.size(), float(w)),
+                                  emitters_.size() - 1);
         choicePmf = emitterPmf_[e];
     }
-    const uint32_t t = emitters_[e];
+    const EmitterData& d = emitterData_[e];  // the triangle's data, in one place
     float b1, b2;
     uniformTriangle(u, v, b1, b2);
-    const Vec3f a = scene_.vertex(t, 0), b = scene_.vertex(t, 1), c = scene_.vertex(t, 2);
-    const Vec3f q = a + (b - a) * b1 + (c - a) * b2;
+    const Vec3f q = d.a + d.ab * b1 + d.ac * b2;
     const Vec3f toLight = q - x;
     const float dist2 = dot(toLight, toLight);
     if (!(dist2 > 0)) return false;
     const float dist = std::sqrt(dist2);
     const Vec3f wi = toLight / dist;
-    const Material& m = scene_.material(t);
-    float cosLight = -dot(unitNormals_[t], wi);  // > 0 when x sees the front face
-    if (m.twoSidedEmission) cosLight = std::abs(cosLight);
+    float cosLight = -dot(d.normal, wi);  // > 0 when x sees the front face
+    if (d.twoSided) cosLight = std::abs(cosLight);
     if (cosLight <= 0) return false;
     if (facing && !(dot(*facing, wi) > 0.0f)) return false;  // behind the receiver: no shadow ray needed
     shadow = Ray{x, toLight, 0.0f, kShadowEnd};
     // pdf over solid angle = pmf / area * dist^2 / cosLight.
-    const float invPdf = emitterTree_ ? float(double(emitterArea_[e]) * cosLight / (choicePmf * dist2))
-                                      : emitterArea_[e] * cosLight / (emitterPmf_[e] * dist2);
+    const float invPdf = emitterTree_ ? float(double(d.area) * cosLight / (choicePmf * dist2))
+                                      : d.area * cosLight / (d.pmf * dist2);
     out.direction = wi;
-    out.weight = m.emission * invPdf;
+    out.weight = d.emission * invPdf;
     out.pdf = 1.0f / invPdf;
     return true;
 }
@@ -417,7 +422,8 @@ Rgb DeferredPaths::radiance(std::size_t i) const {
             radiance += t.value;
         } else {
             Rgb e{0, 0, 0};
-            if (t.shadow != kNoShadowRay && !blocked_[t.shadow]) e += t.value;
+            const bool lit = t.shadow != kNoShadowRay && !blocked_[t.shadow];
+            e += lit ? t.value : Rgb(0, 0, 0);  // 0 + 0 = 0: the bits of not adding; no branch
             radiance += t.throughput * e * float(kInvPi);
         }
     }
