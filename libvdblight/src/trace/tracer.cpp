@@ -53,7 +53,7 @@ struct Tracer::Impl {
     }
 };
 
-Tracer::Tracer(const Scene& s) : impl_(std::make_unique<Impl>()) {
+Tracer::Tracer(const Scene& s, TracerOptions options) : impl_(std::make_unique<Impl>()) {
     validateScene(s);
     impl_->device = rtcNewDevice(nullptr);
     if (!impl_->device) throw Error("cannot create the Embree device (rtcNewDevice failed)");
@@ -61,7 +61,7 @@ Tracer::Tracer(const Scene& s) : impl_(std::make_unique<Impl>()) {
 
     impl_->scene = rtcNewScene(impl_->device);
     rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
-    rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneFlags(impl_->scene, options.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
 
     RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
     // Embree reads vertices with 16-byte loads: the buffer it allocates is padded for that.
