@@ -75,8 +75,9 @@ uint64_t checksum(const Volume& v) {
 }  // namespace
 
 TEST(NodeBatch, EmissiveTrianglesOnlyMatchesOneByOne) {
-    // 100 rays: a full batch of 64 and a partial one.
     expectSameProjections(loadScene(defaultScenePath()), TransportOptions{}, 100, 40);
+    // More samples than one batch (1024): a full batch and a partial one.
+    expectSameProjections(loadScene(defaultScenePath()), TransportOptions{}, 1100, 3);
 }
 
 TEST(NodeBatch, BackFaceCountsMatchOneByOne) {

@@ -32,7 +32,7 @@ struct Hit {
 
 struct TracerOptions {
     /// Embree's robust (watertight) intersection mode. false = its faster default mode, which
-    /// may let a ray slip through an edge between triangles: other bits, ~12 % less bake CPU
+    /// may let a ray slip through an edge between triangles: other bits, ~14 % less bake CPU
     /// time on the paper configuration (vdblight_bench_bake_speed). An option, not the default.
     bool robust = true;
 };

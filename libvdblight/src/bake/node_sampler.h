@@ -121,9 +121,11 @@ public:
         constexpr float kSpherePdf = float(1.0 / (4.0 * kPi));
         const uint64_t dirScramble = mix64(hashCombine(stream_, kDirection));  // sobol02's, once
         const uint64_t lightScramble = mix64(hashCombine(stream_, kLightPoint));
-        Vec3f dirs[kBatch];
-        Ray rays[kBatch];
-        Hit hits[kBatch];
+        thread_local Scratch scratch;  // reused: no allocations per node
+        scratch.resize(n);
+        Vec3f* dirs = scratch.dirs.data();
+        Ray* rays = scratch.rays.data();
+        Hit* hits = scratch.hits.data();
         for (uint32_t k = 0; k < n; ++k) {
             float u, v;
             sobol02Mixed(first + k, dirScramble, u, v);
@@ -139,8 +141,8 @@ public:
         thread_local DeferredPaths paths_;  // reused: no allocations per node
         paths_.clear();
         // The node's own NEE samples (no random numbers from rng_: any order is the same).
-        LightSample lights[kBatch];
-        uint32_t lightRay[kBatch];
+        LightSample* lights = scratch.lights.data();
+        uint32_t* lightRay = scratch.lightRay.data();
         for (uint32_t k = 0; k < n; ++k) {
             lightRay[k] = DeferredPaths::kNoShadowRay;
             if (!nee) continue;
@@ -241,7 +243,24 @@ private:
         }
     }
 
-    static constexpr uint32_t kBatch = 64;  ///< samples per batch of addSamplesPacketed
+    /// Samples per batch of addSamplesPacketed: the paper configuration's 578 in one batch
+    /// (fewer part-filled packets: 1024 took 0.95x the CPU time of batches of 64).
+    static constexpr uint32_t kBatch = 1024;
+    struct Scratch {
+        std::vector<Vec3f> dirs;
+        std::vector<Ray> rays;
+        std::vector<Hit> hits;
+        std::vector<LightSample> lights;
+        std::vector<uint32_t> lightRay;
+        void resize(std::size_t n) {
+            if (dirs.size() >= n) return;
+            dirs.resize(n);
+            rays.resize(n);
+            hits.resize(n);
+            lights.resize(n);
+            lightRay.resize(n);
+        }
+    };
     const RadianceEstimator& estimator_;
     Vec3f x_;
     uint64_t stream_;
