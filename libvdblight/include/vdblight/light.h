@@ -22,6 +22,7 @@
 
 #include "vdblight/math.h"
 #include "vdblight/sampling.h"
+#include "vdblight/trace.h"
 
 namespace vdblight {
 
@@ -53,6 +54,11 @@ struct TransportOptions {
     /// mean size, choose the one to sample with the light tree at each point; others use the
     /// global power CDF (position-independent; better for one compact tessellated emitter).
     uint32_t emitterTreeMin = 16;
+    /// How rays are traced, not what is computed: true = a gather node's first hits and
+    /// all its shadow rays go to Embree in 16-ray packets (shadow rays deferred until a
+    /// batch of paths is done; DeferredPaths); false = one ray at a time as each is needed
+    /// (the reference path). Both give the same bits (node_batch_test).
+    bool packetRays = true;
 };
 
 /// Counts rays per calling context; summed deterministically by the caller.
@@ -80,6 +86,41 @@ inline float misWeight(float a, float b) {
     return std::isinf(a2) ? 1.0f : a2 / (a2 + b2);
 }
 
+/// Paths gathered with their direct-light (NEE) shadow rays deferred, so that many shadow
+/// rays can be traced together in packets: RadianceEstimator::gatherRadianceDeferred
+/// appends a path's terms and shadow rays, trace() answers every shadow ray, then
+/// radiance(i) adds path i's terms in the order gatherRadiance adds them (the same bits).
+/// Callers may add shadow rays of their own (addShadowRay, blocked).
+class DeferredPaths {
+public:
+    static constexpr uint32_t kNoShadowRay = 0xffffffffu;
+    void clear();
+    std::size_t pathCount() const { return pathEnd_.size(); }
+    std::size_t shadowRayCount() const { return rays_.size(); }
+    /// Appends a shadow ray (not counted: the caller counts it); returns its index.
+    uint32_t addShadowRay(const Ray& ray);
+    /// Traces every shadow ray added since clear() (Tracer::occluded in 16-ray packets).
+    void trace(const Tracer& tracer);
+    /// After trace(): whether shadow ray `index` is blocked.
+    bool blocked(uint32_t index) const { return blocked_[index]; }
+    /// After trace(): the radiance of the i-th gathered path.
+    Rgb radiance(std::size_t i) const;
+
+private:
+    friend class RadianceEstimator;
+    struct Term {
+        Rgb value;       ///< added as is (direct = false) or NEE weight (direct = true)
+        Rgb throughput;  ///< direct: radiance += throughput * (unblocked ? value : 0) / pi
+        uint32_t shadow; ///< direct: shadow ray index, kNoShadowRay if the sample gave nothing
+        bool direct;
+    };
+    std::vector<Term> terms_;
+    std::vector<uint32_t> pathEnd_;  ///< end of each path's terms
+    std::vector<Ray> rays_;
+    std::unique_ptr<bool[]> blocked_;
+    std::size_t blockedCapacity_ = 0;
+};
+
 class RadianceEstimator {
 public:
     RadianceEstimator(const Scene& scene, const Tracer& tracer, TransportOptions options = {});
@@ -92,6 +133,20 @@ public:
     /// anti-aliased pass classifies origins with the same hits; bake_antialiased.h).
     Rgb gatherRadiance(const Vec3f& origin, const Vec3f& dir, float dirPdf, Rng& rng, RayCount& rays,
                        const Hit* firstHit = nullptr) const;
+
+    /// gatherRadiance with the shadow rays of its NEE samples at surface vertices deferred:
+    /// traces the path's continuation rays now (counting every ray, shadow rays included),
+    /// appends the path to `out`; out.radiance() after out.trace() equals gatherRadiance's
+    /// result bit for bit (same random numbers, same arithmetic in the same order). The
+    /// first hit must be given. Punctual lights are evaluated at once (not deferred).
+    void gatherRadianceDeferred(const Vec3f& origin, const Vec3f& dir, float dirPdf, Rng& rng, RayCount& rays,
+                                const Hit& firstHit, DeferredPaths& out) const;
+
+    /// sampleEmissiveTriangles without its shadow ray: fills `out` and the shadow ray to
+    /// trace and returns true if the sample counts when that ray is not blocked; returns
+    /// false (no ray to trace) where sampleEmissiveTriangles returns false before tracing.
+    bool emissiveCandidate(const Vec3f& x, float u, float v, double w, LightSample& out, Ray& shadow,
+                           const Vec3f* facing = nullptr) const;
 
     /// One NEE sample of emissive triangles as seen from a point in free space, using the
     /// stratified pair (u, v) for the point on the light and `w` to choose the triangle.
@@ -133,9 +188,17 @@ public:
 
     bool hasEmissiveTriangles() const { return !emitters_.empty(); }
     const TransportOptions& options() const { return options_; }
+    const Tracer& tracer() const { return tracer_; }
 
 private:
     Rgb directAtSurface(const Vec3f& p, const Vec3f& n, Rng& rng, RayCount& rays) const;
+    /// The random numbers of one emitter sample at a surface vertex (directAtSurface).
+    void drawEmitterSample(Rng& rng, float& u, float& v, double& w) const;
+    /// The path walk shared by gatherRadiance (immediate NEE) and gatherRadianceDeferred.
+    struct DeferredSink;
+    template <typename Sink>
+    void walkPath(const Vec3f& origin, const Vec3f& dir, float dirPdf, Rng& rng, RayCount& rays,
+                  const Hit* firstHit, Sink& sink) const;
 
     const Scene& scene_;
     const Tracer& tracer_;
@@ -146,6 +209,15 @@ private:
     std::vector<float> emitterArea_;
     std::vector<Vec3f> unitNormals_;   ///< per triangle, front-face orientation
     std::vector<int32_t> emitterOf_;   ///< per triangle, index into emitters_ or -1
+    /// Per emitter, what emissiveCandidate reads (the same values as from the scene).
+    struct EmitterData {
+        Vec3f a, ab, ac;  ///< vertex 0 and the edges to vertices 1 and 2
+        Vec3f normal;     ///< unit front normal
+        Rgb emission;
+        float area, pmf;
+        bool twoSided;
+    };
+    std::vector<EmitterData> emitterData_;
     std::shared_ptr<const PunctualLightSampler> punctualSampler_;  ///< !orientedLightTree
     std::shared_ptr<const LightTree> punctualTree_;   ///< orientedLightTree; both null: lights exact
     std::shared_ptr<const LightTree> emitterTree_;    ///< null: the global power CDF

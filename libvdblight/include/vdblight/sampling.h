@@ -5,6 +5,7 @@
 // bake gives the same bits for any thread count and any scheduling.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "vdblight/math.h"
@@ -59,8 +60,7 @@ inline float vanDerCorput(uint32_t i, uint32_t scramble) {
 /// Second dimension of the Sobol (0,2)-sequence.
 inline float sobol2(uint32_t i, uint32_t scramble) {
     uint32_t r = scramble;
-    for (uint32_t v = 1u << 31; i; i >>= 1, v ^= v >> 1)
-        if (i & 1u) r ^= v;
+    for (uint32_t v = 1u << 31; i; i >>= 1, v ^= v >> 1) r ^= v & (0u - (i & 1u));  // no data-dependent branch
     return float(r >> 8) * (1.0f / 16777216.0f);
 }
 
@@ -71,9 +71,41 @@ inline void sobol02(uint32_t i, uint64_t scrambleSeed, float& u, float& v) {
     u = vanDerCorput(i, uint32_t(s));
     v = sobol2(i, uint32_t(s >> 32));
 }
+/// sobol02 with the scramble already mixed (mix64(scrambleSeed)), for loops over i.
+inline void sobol02Mixed(uint32_t i, uint64_t mixedScramble, float& u, float& v) {
+    u = vanDerCorput(i, uint32_t(mixedScramble));
+    v = sobol2(i, uint32_t(mixedScramble >> 32));
+}
+
+/// std::upper_bound(cdf, cdf + n, w) - cdf for n >= 1 (the same index, also for a NaN w),
+/// without a data-dependent branch: a random w mispredicts half of upper_bound's branches.
+inline std::size_t upperBoundIndex(const float* cdf, std::size_t n, float w) {
+    const float* first = cdf;
+    while (n > 1) {
+        const std::size_t half = n / 2;
+        first = !(w < first[half - 1]) ? first + half : first;
+        n -= half;
+    }
+    return std::size_t(first - cdf) + (!(w < first[0]) ? 1 : 0);
+}
 
 /// Radical inverse of i in a prime base (Halton), for higher dimensions.
 double radicalInverse(uint32_t base, uint64_t i);
+/// radicalInverse(Base, i) with the base known at compile time: the same arithmetic (so the
+/// same bits), without a 64-bit division by a variable per digit.
+template <uint32_t Base>
+inline double radicalInverseOf(uint64_t i) {
+    constexpr double invBase = 1.0 / Base;
+    double invBi = 1.0, result = 0.0;
+    while (i > 0) {
+        const uint64_t next = i / Base;
+        const uint64_t digit = i - next * Base;
+        invBi *= invBase;
+        result += double(digit) * invBi;
+        i = next;
+    }
+    return result < 1.0 ? result : 0x1.fffffffffffffp-1;
+}
 
 /// Uniform direction on the unit sphere from (u, v) in [0,1)^2 (area-preserving).
 Vec3f uniformSphere(float u, float v);

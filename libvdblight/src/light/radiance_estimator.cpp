@@ -1,6 +1,7 @@
 #include "vdblight/light.h"
 
 #include <algorithm>
+#include <type_traits>
 
 #include "light_tree.h"
 #include "punctual_sampler.h"
@@ -68,6 +69,13 @@ RadianceEstimator::RadianceEstimator(const Scene& scene, const Tracer& tracer, T
         emitterPmf_.push_back(float(power[e] / total));
     }
     if (!emitterCdf_.empty()) emitterCdf_.back() = 1.0f;
+    for (std::size_t e = 0; e < emitters_.size(); ++e) {
+        const uint32_t t = emitters_[e];
+        const Vec3f a = scene.vertex(t, 0), b = scene.vertex(t, 1), c = scene.vertex(t, 2);
+        const Material& m = scene.material(t);
+        emitterData_.push_back({a, b - a, c - a, unitNormals_[t], m.emission, emitterArea_[e], emitterPmf_[e],
+                                m.twoSidedEmission});
+    }
     if (options_.orientedLightTree && emitters_.size() > options_.emitterTreeMin) {
         // Only for emitters spread out relative to their size: one compact tessellated emitter
         // (a disk fan, a panel) is better served by the power CDF, whose stratified choice
@@ -154,8 +162,8 @@ bool RadianceEstimator::samplePunctualLight(const Vec3f& x, double u, LightSampl
     return true;
 }
 
-bool RadianceEstimator::sampleEmissiveTriangles(const Vec3f& x, float u, float v, double w, LightSample& out,
-                                                RayCount& rays, const Vec3f* facing) const {
+bool RadianceEstimator::emissiveCandidate(const Vec3f& x, float u, float v, double w, LightSample& out, Ray& shadow,
+                                          const Vec3f* facing) const {
     if (emitters_.empty()) return false;
     double choicePmf = 0;
     std::size_t e;
@@ -163,34 +171,41 @@ bool RadianceEstimator::sampleEmissiveTriangles(const Vec3f& x, float u, float v
         e = emitterTree_->sample(Vec3d(x), nullptr, w, choicePmf);
         if (!(choicePmf > 0)) return false;
     } else {
-        e = std::min<std::size_t>(
-            std::upper_bound(emitterCdf_.begin(), emitterCdf_.end(), float(w)) - emitterCdf_.begin(), emitters_.size() - 1);
+        e = std::min<std::size_t>(upperBoundIndex(emitterCdf_.data(), emitterCdf_.size(), float(w)),
+                                  emitters_.size() - 1);
         choicePmf = emitterPmf_[e];
     }
-    const uint32_t t = emitters_[e];
+    const EmitterData& d = emitterData_[e];  // the triangle's data, in one place
     float b1, b2;
     uniformTriangle(u, v, b1, b2);
-    const Vec3f a = scene_.vertex(t, 0), b = scene_.vertex(t, 1), c = scene_.vertex(t, 2);
-    const Vec3f q = a + (b - a) * b1 + (c - a) * b2;
+    const Vec3f q = d.a + d.ab * b1 + d.ac * b2;
     const Vec3f toLight = q - x;
     const float dist2 = dot(toLight, toLight);
     if (!(dist2 > 0)) return false;
     const float dist = std::sqrt(dist2);
     const Vec3f wi = toLight / dist;
-    const Material& m = scene_.material(t);
-    float cosLight = -dot(unitNormals_[t], wi);  // > 0 when x sees the front face
-    if (m.twoSidedEmission) cosLight = std::abs(cosLight);
+    float cosLight = -dot(d.normal, wi);  // > 0 when x sees the front face
+    if (d.twoSided) cosLight = std::abs(cosLight);
     if (cosLight <= 0) return false;
     if (facing && !(dot(*facing, wi) > 0.0f)) return false;  // behind the receiver: no shadow ray needed
-    Ray shadow{x, toLight, 0.0f, kShadowEnd};
+    shadow = Ray{x, toLight, 0.0f, kShadowEnd};
+    // pdf over solid angle = pmf / area * dist^2 / cosLight.
+    const float invPdf = emitterTree_ ? float(double(d.area) * cosLight / (choicePmf * dist2))
+                                      : d.area * cosLight / (d.pmf * dist2);
+    out.direction = wi;
+    out.weight = d.emission * invPdf;
+    out.pdf = 1.0f / invPdf;
+    return true;
+}
+
+bool RadianceEstimator::sampleEmissiveTriangles(const Vec3f& x, float u, float v, double w, LightSample& out,
+                                                RayCount& rays, const Vec3f* facing) const {
+    LightSample s;
+    Ray shadow;
+    if (!emissiveCandidate(x, u, v, w, s, shadow, facing)) return false;
     ++rays.occluded;
     if (tracer_.occluded(shadow)) return false;
-    // pdf over solid angle = pmf / area * dist^2 / cosLight.
-    const float invPdf = emitterTree_ ? float(double(emitterArea_[e]) * cosLight / (choicePmf * dist2))
-                                      : emitterArea_[e] * cosLight / (emitterPmf_[e] * dist2);
-    out.direction = wi;
-    out.weight = m.emission * invPdf;
-    out.pdf = 1.0f / invPdf;
+    out = s;
     return true;
 }
 
@@ -240,19 +255,25 @@ void RadianceEstimator::punctualLights(const Vec3f& x, std::vector<LightSample>&
     }
 }
 
+void RadianceEstimator::drawEmitterSample(Rng& rng, float& u, float& v, double& w) const {
+    u = rng.uniform();
+    v = rng.uniform();
+    if (emitterTree_) {  // 53 bits: a tree over thousands of triangles splits u many times
+        const double hi = double(rng.next() >> 5), lo = double(rng.next() >> 6);
+        w = (hi * 67108864.0 + lo) * (1.0 / 9007199254740992.0);
+    } else {
+        w = rng.uniform();
+    }
+}
+
 Rgb RadianceEstimator::directAtSurface(const Vec3f& p, const Vec3f& n, Rng& rng, RayCount& rays) const {
     // Irradiance from emitters at a surface point (one NEE sample + all punctual lights).
     Rgb e{0, 0, 0};
     LightSample s;
     if (!emitters_.empty()) {
-        const float u = rng.uniform(), v = rng.uniform();
+        float u, v;
         double w;
-        if (emitterTree_) {  // 53 bits: a tree over thousands of triangles splits u many times
-            const double hi = double(rng.next() >> 5), lo = double(rng.next() >> 6);
-            w = (hi * 67108864.0 + lo) * (1.0 / 9007199254740992.0);
-        } else {
-            w = rng.uniform();
-        }
+        drawEmitterSample(rng, u, v, w);
         // A light point behind the surface adds exactly 0 (cosine 0): skip its shadow ray.
         if (sampleEmissiveTriangles(p, u, v, w, s, rays, &n)) {
             const float cosine = std::max(0.0f, dot(n, s.direction));
@@ -275,9 +296,23 @@ Rgb RadianceEstimator::directAtSurface(const Vec3f& p, const Vec3f& n, Rng& rng,
     return e;
 }
 
-Rgb RadianceEstimator::gatherRadiance(const Vec3f& origin, const Vec3f& dir, float dirPdf, Rng& rng,
-                                      RayCount& rays, const Hit* firstHit) const {
+namespace {
+/// walkPath's sink for gatherRadiance: every term added at once, NEE traced at once.
+struct ImmediateSink {
     Rgb radiance{0, 0, 0};
+    void add(const Rgb& term) { radiance += term; }
+};
+}  // namespace
+
+/// walkPath's sink for gatherRadianceDeferred: terms recorded, NEE shadow rays deferred.
+struct RadianceEstimator::DeferredSink {
+    DeferredPaths& paths;
+    void add(const Rgb& term) { paths.terms_.push_back({term, Rgb(), DeferredPaths::kNoShadowRay, false}); }
+};
+
+template <typename Sink>
+void RadianceEstimator::walkPath(const Vec3f& origin, const Vec3f& dir, float dirPdf, Rng& rng, RayCount& rays,
+                                 const Hit* firstHit, Sink& sink) const {
     Rgb throughput{1, 1, 1};
     Ray ray{origin, dir};
     float pdf = dirPdf;  // pdf of the direction of the current ray
@@ -290,12 +325,12 @@ Rgb RadianceEstimator::gatherRadiance(const Vec3f& origin, const Vec3f& dir, flo
             hit = tracer_.intersect(ray);
         }
         if (!hit.hit()) {
-            radiance += throughput * scene_.sky.radiance(ray.direction);
+            sink.add(throughput * scene_.sky.radiance(ray.direction));
             break;
         }
         if (emitterOf_[hit.triangle] >= 0) {
             const float lightPdf = emitterPdf(hit.triangle, hit.t, ray.direction, &ray.origin);
-            radiance += throughput * emittedRadiance(hit.triangle, ray.direction) * misWeight(pdf, lightPdf);
+            sink.add(throughput * emittedRadiance(hit.triangle, ray.direction) * misWeight(pdf, lightPdf));
         }
         if (reflection > options_.maxBounces) break;
         const Material& m = scene_.material(hit.triangle);
@@ -306,7 +341,30 @@ Rgb RadianceEstimator::gatherRadiance(const Vec3f& origin, const Vec3f& dir, flo
         if (dot(n, ray.direction) > 0) n = -n;
         const Vec3f p = offsetRayOrigin(ray.origin + ray.direction * hit.t, n, n);
         // Lambertian BRDF albedo / pi; albedo is in the throughput already.
-        radiance += throughput * directAtSurface(p, n, rng, rays) * float(kInvPi);
+        if constexpr (std::is_same_v<Sink, ImmediateSink>) {
+            sink.add(throughput * directAtSurface(p, n, rng, rays) * float(kInvPi));
+        } else if (!scene_.pointLights.empty() || !scene_.spotLights.empty() ||
+                   !scene_.directionalLights.empty()) {
+            sink.paths.terms_.push_back(
+                {throughput * directAtSurface(p, n, rng, rays) * float(kInvPi), Rgb(), DeferredPaths::kNoShadowRay, false});
+        } else {
+            // directAtSurface's emitter sample, its shadow ray deferred (DeferredPaths::radiance).
+            DeferredPaths::Term term{Rgb(), throughput, DeferredPaths::kNoShadowRay, true};
+            if (!emitters_.empty()) {
+                float u, v;
+                double w;
+                drawEmitterSample(rng, u, v, w);
+                LightSample s;
+                Ray shadow;
+                if (emissiveCandidate(p, u, v, w, s, shadow, &n)) {
+                    const float cosine = std::max(0.0f, dot(n, s.direction));
+                    term.value = s.weight * (cosine * misWeight(s.pdf, cosine * float(kInvPi)));
+                    ++rays.occluded;
+                    term.shadow = sink.paths.addShadowRay(shadow);
+                }
+            }
+            sink.paths.terms_.push_back(term);
+        }
 
         if (reflection >= options_.rouletteStart) {
             const float q = std::min(0.95f, maxComponent(throughput));
@@ -318,6 +376,56 @@ Rgb RadianceEstimator::gatherRadiance(const Vec3f& origin, const Vec3f& dir, flo
         const Vec3f local = cosineHemisphere(rng.uniform(), rng.uniform());
         ray = Ray{p, t * local.x + b * local.y + n * local.z};
         pdf = local.z * float(kInvPi);
+    }
+}
+
+Rgb RadianceEstimator::gatherRadiance(const Vec3f& origin, const Vec3f& dir, float dirPdf, Rng& rng,
+                                      RayCount& rays, const Hit* firstHit) const {
+    ImmediateSink sink;
+    walkPath(origin, dir, dirPdf, rng, rays, firstHit, sink);
+    return sink.radiance;
+}
+
+void RadianceEstimator::gatherRadianceDeferred(const Vec3f& origin, const Vec3f& dir, float dirPdf, Rng& rng,
+                                               RayCount& rays, const Hit& firstHit, DeferredPaths& out) const {
+    DeferredSink sink{out};
+    walkPath(origin, dir, dirPdf, rng, rays, &firstHit, sink);
+    out.pathEnd_.push_back(uint32_t(out.terms_.size()));
+}
+
+void DeferredPaths::clear() {
+    terms_.clear();
+    pathEnd_.clear();
+    rays_.clear();
+}
+
+uint32_t DeferredPaths::addShadowRay(const Ray& ray) {
+    rays_.push_back(ray);
+    return uint32_t(rays_.size() - 1);
+}
+
+void DeferredPaths::trace(const Tracer& tracer) {
+    if (blockedCapacity_ < rays_.size()) {
+        blockedCapacity_ = std::max(rays_.size(), 2 * blockedCapacity_);
+        blocked_.reset(new bool[blockedCapacity_]);
+    }
+    tracer.occluded(rays_.data(), rays_.size(), blocked_.get());
+}
+
+Rgb DeferredPaths::radiance(std::size_t i) const {
+    // The terms in gatherRadiance's order and arithmetic: a direct term is
+    // throughput * directAtSurface(...) / pi with directAtSurface = 0 + (weight if unblocked).
+    Rgb radiance{0, 0, 0};
+    for (uint32_t k = i == 0 ? 0 : pathEnd_[i - 1]; k < pathEnd_[i]; ++k) {
+        const Term& t = terms_[k];
+        if (!t.direct) {
+            radiance += t.value;
+        } else {
+            Rgb e{0, 0, 0};
+            const bool lit = t.shadow != kNoShadowRay && !blocked_[t.shadow];
+            e += lit ? t.value : Rgb(0, 0, 0);  // 0 + 0 = 0: the bits of not adding; no branch
+            radiance += t.throughput * e * float(kInvPi);
+        }
     }
     return radiance;
 }
