@@ -570,7 +570,7 @@ void benchQuery(const Scene& scene, bool quick) {
 }  // namespace
 
 /// bins:R compared beside SH2 by default (its point floor: docs/methods.md, issue 4).
-constexpr int kDefaultBins = 8;
+constexpr int kDefaultBins = 17;
 
 int main(int argc, char** argv) {
     bool quick = false;
