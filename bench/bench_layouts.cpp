@@ -352,6 +352,13 @@ void benchSweep(const Probe& probe, const LayoutBenchOptions& lo, uint32_t rays,
                         (unsigned long long)configs[best].layout.totalNodes(), 100 * rms[best], rms[best] / rms[0],
                         ci.first, ci.second, rms[best] <= 0.70 * rms[0] ? "MET" : "NOT met", 100 * floor,
                         floor / rms[0]);
+            if (configs.size() > 2) {  // every refined layout, not only the best (the best of several is optimistic)
+                std::printf("      %-7s all vs uniform:", b.name.c_str());
+                for (std::size_t c = 1; c < configs.size(); ++c)
+                    std::printf("%s %s (%llu) %.2fx", c > 1 ? "," : "", configs[c].name,
+                                (unsigned long long)configs[c].layout.totalNodes(), rms[c] / rms[0]);
+                std::printf("\n");
+            }
         }
     }
 }
