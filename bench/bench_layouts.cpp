@@ -130,6 +130,7 @@ struct LayoutBenchOptions {
     bool decompose = true;  ///< also bake at 4x rays and project SH at the points (noise / interpolation split)
     int binsResolution = 0;  ///< R of the low-floor basis bins:R compared beside SH2 (0 = default, -1 = none)
     std::vector<int> sweep;  ///< first-level resolutions of the node-budget sweep (empty = no sweep)
+    bool sweepOnly = false;  ///< skip the tables at the --first-level budget (same points and reference)
 };
 
 /// A directional basis the layouts are compared in: SH order 2 (bakeShGatherLevels, read by
@@ -411,6 +412,11 @@ void benchLayouts(const Scene& scene, int threads, bool quick, const LayoutBench
     for (const ReferenceResult& r : ref) meanRef += luminance(Rgb(r.irradiance)) / ref.size();
     std::printf("%s: %zu triangles, %d free-space points, reference %u samples each (%.1f s), %u rays per node\n",
                 scene.name.c_str(), scene.triangleCount(), wanted, ro.samples, now() - t0, rays);
+    const Probe probe{scene, tracer, points, ref, meanRef};
+    if (lo.sweepOnly) {
+        benchSweep(probe, lo, rays, threads, smoke);
+        return;
+    }
 
     const ShLevelsLookup nearMask(
         [&] {
@@ -519,7 +525,6 @@ void benchLayouts(const Scene& scene, int threads, bool quick, const LayoutBench
                 rmsNear[best] <= 0.70 * rmsNear[0] ? "MET" : "NOT met", configs[best].name, rmsNear[best] / rmsNear[0],
                 (unsigned long long)configs[best].layout.totalNodes(), (unsigned long long)configs[0].layout.totalNodes());
 
-    const Probe probe{scene, tracer, points, ref, meanRef};
     if (lo.binsResolution > 0) {
         // The same layouts, node budgets, points, reference and error metric in a basis whose
         // directional floor is lower than SH2's (culled layouts are left out: BinsLookup
@@ -622,6 +627,7 @@ int main(int argc, char** argv) {
         else if (!std::strcmp(argv[i], "--first-level") && i + 1 < argc) lo.firstLevel = std::atoi(argv[++i]);
         else if (!std::strcmp(argv[i], "--rays") && i + 1 < argc) lo.rays = uint32_t(std::atoi(argv[++i]));
         else if (!std::strcmp(argv[i], "--no-decompose")) lo.decompose = false;
+        else if (!std::strcmp(argv[i], "--sweep-only")) lo.sweepOnly = true;
         else if (!std::strcmp(argv[i], "--bins") && i + 1 < argc) lo.binsResolution = std::atoi(argv[++i]), binsGiven = true;
         else if (!std::strcmp(argv[i], "--sweep") && i + 1 < argc) {
             for (const char* p = argv[++i]; *p;) {
@@ -637,7 +643,7 @@ int main(int argc, char** argv) {
         } else {
             std::fprintf(stderr, "usage: vdblight_bench_layouts [--quick] [--threads N] [--scene cornell|office] "
                                  "[--first-level R] [--rays N] [--no-decompose] [--bins R (0: no bins table)] "
-                                 "[--sweep R1,R2,...]\n");
+                                 "[--sweep R1,R2,... [--sweep-only]]\n");
             return 2;
         }
     }
