@@ -4,6 +4,12 @@
 // in refined cells, i.e. near geometry). Also the paper's configuration (7^3 first level,
 // 3^3 refinement, 578 directions per node) and lookups per second of a multi-level volume.
 //
+// Every layout is compared in two directional bases: SH order 2 and Greger bins (`--bins R`,
+// default 17 = the paper's 578 bins), whose directional floor is much lower, with the
+// floor of each basis measured by projecting it at the query points themselves. `--sweep
+// R1,R2,...` repeats the comparison over node budgets (first-level resolutions) and prints
+// the best refined / uniform ratio per budget and basis with a bootstrap range.
+//
 // `--quick` shrinks every workload for a CI smoke run; the figures are then noisy.
 #include <algorithm>
 #include <chrono>
@@ -128,7 +134,7 @@ struct LayoutBenchOptions {
     int firstLevel = 0;   ///< first-level resolution of the bilevel layout that sets the node budget (0 = default)
     uint32_t rays = 0;    ///< rays per node (0 = default)
     bool decompose = true;  ///< also bake at 4x rays and project SH at the points (noise / interpolation split)
-    int binsResolution = 0;  ///< R of the low-floor basis bins:R compared beside SH2 (0 = default, -1 = none)
+    int binsResolution = 0;  ///< R of the low-floor basis bins:R compared beside SH2 (0 = none; main sets the default)
     std::vector<int> sweep;  ///< first-level resolutions of the node-budget sweep (empty = no sweep)
     bool sweepOnly = false;  ///< skip the tables at the --first-level budget (same points and reference)
 };
