@@ -18,6 +18,7 @@
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
 #include "vdblight/node_least_squares.h"
+#include "vdblight/radical_inverse_fast.h"
 #include "vdblight/scene.h"
 #include "vdblight/sh.h"
 #include "vdblight/trace.h"
@@ -69,13 +70,15 @@ void bakeCell(const Scene& scene, const RadianceEstimator& estimator, const Trac
         double term[kValues] = {};
         const Rgb l = estimator.gatherRadiance(s.origin, s.direction, kSpherePdf, rng, count, &hits[i]);
         sh::evalUnrolled(s.direction, y);
+        const double lp[3] = {double(l[0]) / double(kSpherePdf), double(l[1]) / double(kSpherePdf),
+                              double(l[2]) / double(kSpherePdf)};
         for (int j = 0; j < sh::kCoeffs; ++j)
-            for (int ch = 0; ch < 3; ++ch) term[3 * j + ch] += double(l[ch]) * y[j] / double(kSpherePdf);
+            for (int ch = 0; ch < 3; ++ch) term[3 * j + ch] += lp[ch] * y[j];
         // ... one NEE sample of the emissive triangles ...
         if (nee) {
             // The point on the light: Halton bases 13, 17 (independent of the cell's bases 2..11).
             const double shift = toUnitDouble(hashCombine(stream, kLightPoint));
-            double u = radicalInverse(13, i) + shift, v = radicalInverse(17, i) + shift * 0.618034;
+            double u = radicalInverseFast<13>(i) + shift, v = radicalInverseFast<17>(i) + shift * 0.618034;
             u -= std::floor(u);
             v -= std::floor(v);
             LightSample ls;
@@ -92,7 +95,7 @@ void bakeCell(const Scene& scene, const RadianceEstimator& estimator, const Trac
         punctual.clear();
         estimator.punctualLights(s.origin, punctual, count, true);
         if (estimator.samplesPunctualLights()) {
-            double u = radicalInverse(19, i) + toUnitDouble(hashCombine(stream, kPunctualChoice));
+            double u = radicalInverseFast<19>(i) + toUnitDouble(hashCombine(stream, kPunctualChoice));
             u -= std::floor(u);
             LightSample ls;
             if (estimator.samplePunctualLight(s.origin, u, ls, count)) punctual.push_back(ls);
@@ -120,10 +123,13 @@ void bakeCell(const Scene& scene, const RadianceEstimator& estimator, const Trac
             out.norm[c] += w[c];
             for (int v = 0; v < kValues; ++v) out.coeff[c][v] += w[c] * term[v];
         }
-        if (o.fit == NodeFit::LeastSquares)
+        if (o.fit == NodeFit::LeastSquares)  // the upper triangle; mirrored below (same bits)
             for (int a = 0; a < 8; ++a)
-                for (int b = 0; b < 8; ++b) out.gram[a][b] += used[a] * used[b];
+                for (int b = a; b < 8; ++b) out.gram[a][b] += used[a] * used[b];
     }
+    if (o.fit == NodeFit::LeastSquares)
+        for (int a = 1; a < 8; ++a)
+            for (int b = 0; b < a; ++b) out.gram[a][b] = out.gram[b][a];
 }
 }  // namespace
 
@@ -139,6 +145,8 @@ Volume bakeShAntialiased(const Scene& scene, const Tracer& tracer, const GridSpe
 
     if (o.fit == NodeFit::LeastSquares && !(o.tikhonov >= 0 && std::isfinite(o.tikhonov)))
         throw ValueError("the Tikhonov weight must be finite and >= 0, got " + std::to_string(o.tikhonov));
+    if (o.fit == NodeFit::LeastSquares && !(o.fitTolerance > 0 && std::isfinite(o.fitTolerance)))
+        throw ValueError("the least-squares tolerance must be finite and > 0, got " + std::to_string(o.fitTolerance));
     std::vector<double> acc(nodes * kValues, 0.0), norm(nodes, 0.0), candidate(nodes, 0.0);
     std::optional<NodeGram> gram;
     if (o.fit == NodeFit::LeastSquares) gram.emplace(grid);
@@ -223,7 +231,7 @@ Volume bakeShAntialiased(const Scene& scene, const Tracer& tracer, const GridSpe
     if (gram) {
         // The least-squares fit, pulled towards the eq.-6 values (dilated where unsupported).
         const std::vector<double> prior(level.data.begin(), level.data.end());
-        const std::vector<double> fitted = solveNodeLeastSquares(*gram, acc, prior, kValues, o.tikhonov, &fitStats);
+        const std::vector<double> fitted = solveNodeLeastSquares(*gram, acc, prior, kValues, o.tikhonov, &fitStats, o.fitTolerance);
         for (std::size_t q = 0; q < fitted.size(); ++q) level.data[q] = float(fitted[q]);
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -242,6 +250,7 @@ Volume bakeShAntialiased(const Scene& scene, const Tracer& tracer, const GridSpe
         m["fit"] = std::string("least-squares (Tikhonov towards eq. 6)");
         m["fit_tikhonov"] = o.tikhonov;
         m["fit_cg_iterations"] = int64_t(fitStats.maxIterations);
+        m["fit_tolerance"] = o.fitTolerance;
     } else {
         m["fit"] = std::string("projection (eq. 6)");
     }
