@@ -190,7 +190,7 @@ void runCase(const Case& c, uint32_t raysPerNode, int points, uint32_t refSample
     if (decompose) std::printf(" %8s %9s %8s %8s", "4x rays", "no-noise", "noise", "spatial");
     std::printf("\n");
     double pointSeconds = 0, pointCpu = 0, pointRays = 0;
-    double relRms[8] = {};
+    double relRms[8] = {}, relRms4[8] = {};
     static const char* const kName[8] = {"point", "point + invalidation (0.25)", "antialiased/all", "antialiased/interior",
                                          "aa/interior, visible support", "aa/all, least-squares",
                                          "aa/interior, least-squares", "aa/interior, Algorithm 2 only"};
@@ -240,6 +240,7 @@ void runCase(const Case& c, uint32_t raysPerNode, int points, uint32_t refSample
             BakeStats st4;
             const std::vector<double> got4 = lookup(bake(m, 4, st4), pts);
             const double e4 = relRmsAgainst(got4, refLum, refLum), clean = noiseFree(e.normalisedRms, e4, 4);
+            relRms4[m] = e4;
             const double spatial = noiseFree(relRmsAgainst(got, sh16, refLum), relRmsAgainst(got4, sh16, refLum), 4);
             std::printf(" %7.1f%% %8.1f%% %7.1f%% %7.1f%%", 100 * e4, 100 * clean,
                         100 * std::sqrt(std::max(0.0, e.normalisedRms * e.normalisedRms - clean * clean)), 100 * spatial);
@@ -247,6 +248,11 @@ void runCase(const Case& c, uint32_t raysPerNode, int points, uint32_t refSample
         std::printf("\n");
     }
     if (decompose) {
+        const double lsqClean = noiseFree(relRms[6], relRms4[6], 4);
+        std::printf("  trilinear grid of this spacing: the least-squares fit without noise (the interpolated field closest "
+                    "to the samples over the domain, as far as tikhonov lets it) reaches %.1f%%, i.e. %.2fx point, "
+                    "%.2fx point+invalidation (targets 3x, 1.5x)\n",
+                    100 * lsqClean, relRms[0] / lsqClean, relRms[1] / lsqClean);
         std::printf("  ('4x rays': the same bake at 4x the rays; 'no-noise' extrapolates N and 4N rays assuming the Monte "
                     "Carlo part of the squared error falls as 1/N; 'noise' = sqrt(rel.RMS^2 - no-noise^2); 'spatial': "
                     "the no-noise error against the SH2 projection at each point (16x rays), i.e. what interpolation / "
