@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "test_util.h"
 #include "vdblight/bake_antialiased.h"
@@ -166,6 +167,29 @@ TEST(NodeLeastSquares, TikhonovPullsTowardsThePriorAndColumnsAreIndependent) {
     }
 }
 
+TEST(NodeLeastSquares, ALooserToleranceStopsEarlierWithinItsResidual) {
+    // The bake solves to a relative residual of 1e-6 (AntialiasedOptions::fitTolerance): fewer
+    // iterations than 1e-10, a residual within the tolerance, and values that differ from the
+    // tight solve by far less than the Monte Carlo noise they carry.
+    const GridSpec g = makeGrid(6, 5, 4);
+    const auto inDomain = [](const Vec3d& x) { return x.x + 0.35 * x.y - 0.2 * x.z < 1.6; };
+    const auto f = [](const Vec3d& x) { return 1.0 + x.x * x.x - x.y * x.z; };  // not trilinear
+    const Accumulated a = accumulate(g, 32, f, inDomain);
+    const std::vector<double> eq6 = projection(a);
+    LeastSquaresStats tight, loose;
+    const std::vector<double> exact = solveNodeLeastSquares(a.gram, a.rhs, eq6, 1, 0.05, &tight, 1e-10);
+    const std::vector<double> rough = solveNodeLeastSquares(a.gram, a.rhs, eq6, 1, 0.05, &loose, 1e-6);
+    std::printf("  CG iterations: %d to 1e-10, %d to 1e-6\n", tight.maxIterations, loose.maxIterations);
+    EXPECT_LE(tight.maxRelativeResidual, 1e-10);
+    EXPECT_LE(loose.maxRelativeResidual, 1e-6);
+    EXPECT_LT(loose.maxIterations, tight.maxIterations);
+    double scale = 0, worst = 0;
+    for (std::size_t n = 0; n < exact.size(); ++n)
+        scale = std::max(scale, std::abs(exact[n])), worst = std::max(worst, std::abs(rough[n] - exact[n]));
+    EXPECT_LT(worst, 1e-4 * scale);
+    EXPECT_GT(worst, 0.0);  // it did stop earlier
+}
+
 TEST(NodeLeastSquares, BadInputIsRejected) {
     const GridSpec g = makeGrid(3, 3, 3);
     const NodeGram gram(g);
@@ -176,6 +200,8 @@ TEST(NodeLeastSquares, BadInputIsRejected) {
     std::vector<double> nan = ok;
     nan[4] = std::nan("");
     EXPECT_THROW(solveNodeLeastSquares(gram, nan, ok, 1, 0.0), ValueError);
+    for (double tolerance : {0.0, -1e-6, std::nan(""), std::numeric_limits<double>::infinity()})
+        EXPECT_THROW(solveNodeLeastSquares(gram, ok, ok, 1, 0.0, nullptr, tolerance), ValueError);
 }
 
 TEST(NodeLeastSquares, ConstantSkyThroughTheBakeGivesPiLWithTheSameBitsForAnyThreadCount) {
@@ -203,5 +229,8 @@ TEST(NodeLeastSquares, ConstantSkyThroughTheBakeGivesPiLWithTheSameBitsForAnyThr
     }
     EXPECT_EQ(metaString(one.meta, "fit", ""), "least-squares (Tikhonov towards eq. 6)");
     o.tikhonov = -1;
+    EXPECT_THROW(bakeShAntialiased(s, tracer, g, o), ValueError);
+    o.tikhonov = 0.05;
+    o.fitTolerance = 0;
     EXPECT_THROW(bakeShAntialiased(s, tracer, g, o), ValueError);
 }

@@ -78,6 +78,10 @@ struct AntialiasedOptions {
     /// NodeFit::LeastSquares only: weight of the pull towards the eq.-6 values, relative to
     /// the Gram row sum of a node with full support (node_least_squares.h).
     double tikhonov = 0.05;
+    /// NodeFit::LeastSquares only: the CG stops at this relative residual per SH coefficient
+    /// and channel (solveNodeLeastSquares). The node values carry Monte Carlo noise of a few
+    /// per cent; 1e-6 moves them by far less (docs/methods.md) at a third of 1e-10's iterations.
+    double fitTolerance = 1e-6;
     TransportOptions transport;
 };
 

@@ -44,7 +44,8 @@ private:
     GridSpec grid_;
     std::vector<double> entries_;
     friend std::vector<double> solveNodeLeastSquares(const NodeGram&, const std::vector<double>&,
-                                                     const std::vector<double>&, int, double, struct LeastSquaresStats*);
+                                                     const std::vector<double>&, int, double, struct LeastSquaresStats*,
+                                                     double);
 };
 
 struct LeastSquaresStats {
@@ -55,9 +56,10 @@ struct LeastSquaresStats {
 /// Solves (G + lambda I) c = rhs + lambda prior, lambda = tikhonov * max_n rowSum(n), for
 /// `values` columns stored node-major (rhs[n * values + v]); returns c in the same layout.
 /// With tikhonov == 0 a node whose row of G is zero keeps its prior. Throws ValueError for
-/// sizes that do not match the grid, tikhonov < 0 or a non-finite input.
+/// sizes that do not match the grid, tikhonov < 0, tolerance <= 0 or a non-finite input.
+/// Each column's CG stops when its residual |A c - b| / |b| is at most `tolerance`.
 std::vector<double> solveNodeLeastSquares(const NodeGram& gram, const std::vector<double>& rhs,
                                           const std::vector<double>& prior, int values, double tikhonov,
-                                          LeastSquaresStats* stats = nullptr);
+                                          LeastSquaresStats* stats = nullptr, double tolerance = 1e-10);
 
 }  // namespace vdblight

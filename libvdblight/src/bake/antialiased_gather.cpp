@@ -18,6 +18,7 @@
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
 #include "vdblight/node_least_squares.h"
+#include "vdblight/radical_inverse_fast.h"
 #include "vdblight/scene.h"
 #include "vdblight/sh.h"
 #include "vdblight/trace.h"
@@ -53,6 +54,25 @@ void bakeCell(const Scene& scene, const RadianceEstimator& estimator, const Trac
     constexpr float kSpherePdf = float(1.0 / (4.0 * kPi));
     out = CellPartial{};
     float y[sh::kCoeffs];
+    // Per-sample products are summed in float, 4 lanes at a time, over blocks of kBlock
+    // accepted samples, and each block's sums are added to the cell's double sums: a third of
+    // the instructions of summing every product in double (docs/methods.md), with the float
+    // rounding bounded by a block's length (kBlock ulps at most) instead of the cell's.
+    constexpr int kBlock = 64, kPadded = 28;  // 27 values padded to whole SSE vectors
+    alignas(16) float blockCoeff[8][kPadded] = {};
+    alignas(16) float blockGram[8][8] = {};
+    int inBlock = 0;
+    const bool lsq = o.fit == NodeFit::LeastSquares;
+    const auto flush = [&] {
+        for (int c = 0; c < 8; ++c)
+            for (int v = 0; v < kValues; ++v) out.coeff[c][v] += double(blockCoeff[c][v]);
+        if (lsq)
+            for (int a = 0; a < 8; ++a)
+                for (int b = 0; b < 8; ++b) out.gram[a][b] += double(blockGram[a][b]);
+        std::fill(&blockCoeff[0][0], &blockCoeff[0][0] + 8 * kPadded, 0.0f);
+        std::fill(&blockGram[0][0], &blockGram[0][0] + 64, 0.0f);
+        inBlock = 0;
+    };
     for (uint32_t i = 0; i < uint32_t(samples.size()); ++i) {
         const CellSample& s = samples[i];
         double w[8];
@@ -66,16 +86,17 @@ void bakeCell(const Scene& scene, const RadianceEstimator& estimator, const Trac
         if (!s.accepted) continue;
         ++out.accepted;
         // Incident radiance along this ray (first hit reused from the classification) ...
-        double term[kValues] = {};
+        alignas(16) float term[kPadded] = {};
         const Rgb l = estimator.gatherRadiance(s.origin, s.direction, kSpherePdf, rng, count, &hits[i]);
         sh::evalUnrolled(s.direction, y);
+        const float lp[3] = {l[0] / kSpherePdf, l[1] / kSpherePdf, l[2] / kSpherePdf};
         for (int j = 0; j < sh::kCoeffs; ++j)
-            for (int ch = 0; ch < 3; ++ch) term[3 * j + ch] += double(l[ch]) * y[j] / double(kSpherePdf);
+            for (int ch = 0; ch < 3; ++ch) term[3 * j + ch] += lp[ch] * y[j];
         // ... one NEE sample of the emissive triangles ...
         if (nee) {
             // The point on the light: Halton bases 13, 17 (independent of the cell's bases 2..11).
             const double shift = toUnitDouble(hashCombine(stream, kLightPoint));
-            double u = radicalInverse(13, i) + shift, v = radicalInverse(17, i) + shift * 0.618034;
+            double u = radicalInverseFast<13>(i) + shift, v = radicalInverseFast<17>(i) + shift * 0.618034;
             u -= std::floor(u);
             v -= std::floor(v);
             LightSample ls;
@@ -84,7 +105,7 @@ void bakeCell(const Scene& scene, const RadianceEstimator& estimator, const Trac
                 sh::evalUnrolled(ls.direction, y);
                 const Rgb weight = ls.weight * misWeight(ls.pdf, kSpherePdf);
                 for (int j = 0; j < sh::kCoeffs; ++j)
-                    for (int ch = 0; ch < 3; ++ch) term[3 * j + ch] += double(weight[ch]) * y[j];
+                    for (int ch = 0; ch < 3; ++ch) term[3 * j + ch] += weight[ch] * y[j];
             }
         }
         // ... and the punctual lights at this origin: exactly, or with many point/spot lights
@@ -92,7 +113,7 @@ void bakeCell(const Scene& scene, const RadianceEstimator& estimator, const Trac
         punctual.clear();
         estimator.punctualLights(s.origin, punctual, count, true);
         if (estimator.samplesPunctualLights()) {
-            double u = radicalInverse(19, i) + toUnitDouble(hashCombine(stream, kPunctualChoice));
+            double u = radicalInverseFast<19>(i) + toUnitDouble(hashCombine(stream, kPunctualChoice));
             u -= std::floor(u);
             LightSample ls;
             if (estimator.samplePunctualLight(s.origin, u, ls, count)) punctual.push_back(ls);
@@ -100,11 +121,11 @@ void bakeCell(const Scene& scene, const RadianceEstimator& estimator, const Trac
         for (const LightSample& p : punctual) {
             sh::evalUnrolled(p.direction, y);
             for (int j = 0; j < sh::kCoeffs; ++j)
-                for (int ch = 0; ch < 3; ++ch) term[3 * j + ch] += double(p.weight[ch]) * y[j];
+                for (int ch = 0; ch < 3; ++ch) term[3 * j + ch] += p.weight[ch] * y[j];
         }
-        double used[8];  // the basis weights this origin contributes with
+        alignas(16) float used[8];  // the basis weights this origin contributes with
         for (int c = 0; c < 8; ++c) {
-            used[c] = 0.0;
+            used[c] = 0.0f;
             if (w[c] == 0.0) continue;
             if (o.visibleSupport) {
                 const Vec3d node(lo.x + (c & 1) * grid.spacing, lo.y + (c >> 1 & 1) * grid.spacing,
@@ -116,14 +137,16 @@ void bakeCell(const Scene& scene, const RadianceEstimator& estimator, const Trac
                 ++count.occluded;
                 if (tracer.occluded(ray)) continue;
             }
-            used[c] = w[c];
+            used[c] = float(w[c]);
             out.norm[c] += w[c];
-            for (int v = 0; v < kValues; ++v) out.coeff[c][v] += w[c] * term[v];
+            for (int v = 0; v < kPadded; ++v) blockCoeff[c][v] += used[c] * term[v];
         }
-        if (o.fit == NodeFit::LeastSquares)
+        if (lsq)
             for (int a = 0; a < 8; ++a)
-                for (int b = 0; b < 8; ++b) out.gram[a][b] += used[a] * used[b];
+                for (int b = 0; b < 8; ++b) blockGram[a][b] += used[a] * used[b];
+        if (++inBlock == kBlock) flush();
     }
+    if (inBlock > 0) flush();
 }
 }  // namespace
 
@@ -139,6 +162,8 @@ Volume bakeShAntialiased(const Scene& scene, const Tracer& tracer, const GridSpe
 
     if (o.fit == NodeFit::LeastSquares && !(o.tikhonov >= 0 && std::isfinite(o.tikhonov)))
         throw ValueError("the Tikhonov weight must be finite and >= 0, got " + std::to_string(o.tikhonov));
+    if (o.fit == NodeFit::LeastSquares && !(o.fitTolerance > 0 && std::isfinite(o.fitTolerance)))
+        throw ValueError("the least-squares tolerance must be finite and > 0, got " + std::to_string(o.fitTolerance));
     std::vector<double> acc(nodes * kValues, 0.0), norm(nodes, 0.0), candidate(nodes, 0.0);
     std::optional<NodeGram> gram;
     if (o.fit == NodeFit::LeastSquares) gram.emplace(grid);
@@ -223,7 +248,7 @@ Volume bakeShAntialiased(const Scene& scene, const Tracer& tracer, const GridSpe
     if (gram) {
         // The least-squares fit, pulled towards the eq.-6 values (dilated where unsupported).
         const std::vector<double> prior(level.data.begin(), level.data.end());
-        const std::vector<double> fitted = solveNodeLeastSquares(*gram, acc, prior, kValues, o.tikhonov, &fitStats);
+        const std::vector<double> fitted = solveNodeLeastSquares(*gram, acc, prior, kValues, o.tikhonov, &fitStats, o.fitTolerance);
         for (std::size_t q = 0; q < fitted.size(); ++q) level.data[q] = float(fitted[q]);
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -242,6 +267,7 @@ Volume bakeShAntialiased(const Scene& scene, const Tracer& tracer, const GridSpe
         m["fit"] = std::string("least-squares (Tikhonov towards eq. 6)");
         m["fit_tikhonov"] = o.tikhonov;
         m["fit_cg_iterations"] = int64_t(fitStats.maxIterations);
+        m["fit_tolerance"] = o.fitTolerance;
     } else {
         m["fit"] = std::string("projection (eq. 6)");
     }

@@ -5,6 +5,7 @@
 
 #include "vdblight/bake_antialiased.h"
 #include "vdblight/errors.h"
+#include "vdblight/radical_inverse_fast.h"
 #include "vdblight/scene.h"
 #include "vdblight/sampling.h"
 #include "vdblight/trace.h"
@@ -22,8 +23,11 @@ enum CellDimension : uint64_t {
 /// the position), Cranley-Patterson rotated by the cell's shifts. A scrambled Sobol (0,2)
 /// direction paired with Halton positions correlates (the trilinearly weighted SH sums of a
 /// constant sky then converge more slowly than with random samples); all-Halton does not.
-double haltonShifted(uint32_t base, uint32_t i, double shift) {
-    const double u = radicalInverse(base, i) + shift;
+/// (Table radical inverses, radical_inverse_fast.h: the five digit-by-digit inverses per
+/// candidate were 8 % of the bake's instructions.)
+template <uint32_t Base>
+double haltonShifted(uint32_t i, double shift) {
+    const double u = radicalInverseFast<Base>(i) + shift;
     return u - std::floor(u);
 }
 
@@ -74,7 +78,6 @@ std::vector<CellSample> classifyCell(const Scene& scene, const Tracer& tracer, c
     const double shift[3] = {toUnitDouble(hashCombine(stream, kShiftX)), toUnitDouble(hashCombine(stream, kShiftY)),
                              toUnitDouble(hashCombine(stream, kShiftZ))};
     const double shiftU = toUnitDouble(hashCombine(stream, kShiftU)), shiftV = toUnitDouble(hashCombine(stream, kShiftV));
-    const uint32_t bases[3] = {5, 7, 11};
 
     std::vector<CellSample> samples(rays);
     if (hits) hits->assign(rays, Hit{});
@@ -89,9 +92,11 @@ std::vector<CellSample> classifyCell(const Scene& scene, const Tracer& tracer, c
     for (uint32_t i = 0; i < rays; ++i) {
         CellSample& s = samples[i];
         Vec3d p;
-        for (int a = 0; a < 3; ++a) p[a] = lo[a] + extent[a] * haltonShifted(bases[a], i, shift[a]);
+        p[0] = lo[0] + extent[0] * haltonShifted<5>(i, shift[0]);
+        p[1] = lo[1] + extent[1] * haltonShifted<7>(i, shift[1]);
+        p[2] = lo[2] + extent[2] * haltonShifted<11>(i, shift[2]);
         s.origin = Vec3f(p);
-        s.direction = uniformSphere(float(haltonShifted(2, i, shiftU)), float(haltonShifted(3, i, shiftV)));
+        s.direction = uniformSphere(float(haltonShifted<2>(i, shiftU)), float(haltonShifted<3>(i, shiftV)));
         if (domain == DomainMode::All) {
             s.accepted = true;
             if (hits) {
@@ -173,7 +178,7 @@ std::vector<CellSample> classifyCell(const Scene& scene, const Tracer& tracer, c
             const uint32_t index = i * fallback.trianglePoints + p;
             const uint32_t tri = backFaceTriangles[index % backFaceTriangles.size()];
             float b1, b2;
-            uniformTriangle(float(haltonShifted(2, index, triU)), float(haltonShifted(3, index, triV)), b1, b2);
+            uniformTriangle(float(haltonShifted<2>(index, triU)), float(haltonShifted<3>(index, triV)), b1, b2);
             const Vec3f target = scene.vertex(tri, 0) * (1 - b1 - b2) + scene.vertex(tri, 1) * b1 + scene.vertex(tri, 2) * b2;
             test(i, target - samples[i].origin);
         }
@@ -181,7 +186,7 @@ std::vector<CellSample> classifyCell(const Scene& scene, const Tracer& tracer, c
     for (uint32_t i = 0; i < rays; ++i)
         for (uint32_t p = 0; p < fallback.probes && samples[i].accepted && suspect[i]; ++p) {
             const uint32_t index = i * fallback.probes + p;
-            test(i, uniformSphere(float(haltonShifted(2, index, probeU)), float(haltonShifted(3, index, probeV))));
+            test(i, uniformSphere(float(haltonShifted<2>(index, probeU)), float(haltonShifted<3>(index, probeV))));
         }
     return samples;
 }

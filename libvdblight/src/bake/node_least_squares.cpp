@@ -33,17 +33,21 @@ double NodeGram::rowSum(std::size_t n) const {
 
 namespace {
 /// Y = (G + lambda I) X for all `values` columns at once (node-major, like the inputs); per
-/// column the sums run in the same order as for a single column.
-void multiply(const GridSpec& g, const std::vector<double>& entries, double lambda, int values,
-              const std::vector<double>& x, std::vector<double>& y) {
-    const std::size_t V = std::size_t(values);
+/// column the sums run in the same order as for a single column (and for any V: the bits of
+/// a column do not depend on how many columns are solved with it). V > 0 is the column count
+/// known at compile time (the bake's 27: the inner loops then vectorise), 0 reads `values`.
+template <int VC>
+void multiplyT(const GridSpec& g, const std::vector<double>& entries, double lambda, int values,
+               const std::vector<double>& x, std::vector<double>& y) {
+    const std::size_t V = VC > 0 ? std::size_t(VC) : std::size_t(values);
     for (int k = 0; k < g.nz; ++k)
         for (int j = 0; j < g.ny; ++j)
             for (int i = 0; i < g.nx; ++i) {
                 const std::size_t n = g.index(i, j, k);
                 const double* row = &entries[n * 27];
-                double* out = &y[n * V];
-                for (std::size_t v = 0; v < V; ++v) out[v] = lambda * x[n * V + v];
+                double* __restrict out = &y[n * V];
+                const double* self = &x[n * V];
+                for (std::size_t v = 0; v < V; ++v) out[v] = lambda * self[v];
                 for (int dk = -1; dk <= 1; ++dk) {
                     if (k + dk < 0 || k + dk >= g.nz) continue;
                     for (int dj = -1; dj <= 1; ++dj) {
@@ -52,12 +56,18 @@ void multiply(const GridSpec& g, const std::vector<double>& entries, double lamb
                             if (i + di < 0 || i + di >= g.nx) continue;
                             const double a = row[(di + 1) + 3 * (dj + 1) + 9 * (dk + 1)];
                             if (a == 0.0) continue;
-                            const double* in = &x[g.index(i + di, j + dj, k + dk) * V];
+                            const double* __restrict in = &x[g.index(i + di, j + dj, k + dk) * V];
                             for (std::size_t v = 0; v < V; ++v) out[v] += a * in[v];
                         }
                     }
                 }
             }
+}
+
+void multiply(const GridSpec& g, const std::vector<double>& entries, double lambda, int values,
+              const std::vector<double>& x, std::vector<double>& y) {
+    if (values == 27) multiplyT<27>(g, entries, lambda, values, x, y);
+    else multiplyT<0>(g, entries, lambda, values, x, y);
 }
 
 /// Per column v: out[v] = sum over nodes of a[n, v] * b[n, v], in node order.
@@ -70,7 +80,7 @@ void columnDots(const std::vector<double>& a, const std::vector<double>& b, std:
 
 std::vector<double> solveNodeLeastSquares(const NodeGram& gram, const std::vector<double>& rhs,
                                           const std::vector<double>& prior, int values, double tikhonov,
-                                          LeastSquaresStats* stats) {
+                                          LeastSquaresStats* stats, double tolerance) {
     const GridSpec& g = gram.grid();
     const std::size_t nodes = g.nodeCount();
     if (values <= 0) throw ValueError("the least-squares fit needs at least one value per node");
@@ -80,6 +90,8 @@ std::vector<double> solveNodeLeastSquares(const NodeGram& gram, const std::vecto
                          std::to_string(values) + " values");
     if (!(tikhonov >= 0) || !std::isfinite(tikhonov))
         throw ValueError("the Tikhonov weight must be finite and >= 0, got " + std::to_string(tikhonov));
+    if (!(tolerance > 0) || !std::isfinite(tolerance))
+        throw ValueError("the least-squares tolerance must be finite and > 0, got " + std::to_string(tolerance));
     for (std::size_t q = 0; q < rhs.size(); ++q)
         if (!std::isfinite(rhs[q]) || !std::isfinite(prior[q]))
             throw ValueError("least-squares fit: non-finite input at node " + std::to_string(q / std::size_t(values)));
@@ -94,7 +106,11 @@ std::vector<double> solveNodeLeastSquares(const NodeGram& gram, const std::vecto
     // Nodes outside the solve (no support, no regularisation) keep their prior; their
     // couplings (zero: a node without support has a zero row and column) move nothing.
     std::vector<uint8_t> free(nodes);
-    for (std::size_t n = 0; n < nodes; ++n) free[n] = diagonal[n] + lambda > 0.0;
+    std::vector<double> inverse(nodes, 0.0);  // Jacobi preconditioner: 1 / diagonal of G + lambda I
+    for (std::size_t n = 0; n < nodes; ++n) {
+        free[n] = diagonal[n] + lambda > 0.0;
+        if (free[n]) inverse[n] = 1.0 / (diagonal[n] + lambda);
+    }
 
     // Jacobi-preconditioned CG, the `values` columns in lockstep (each with its own scalars;
     // a converged column stops changing). Starts from the prior: CG solves for the correction.
@@ -111,7 +127,7 @@ std::vector<double> solveNodeLeastSquares(const NodeGram& gram, const std::vecto
         for (std::size_t v = 0; v < V; ++v) {
             const std::size_t q = n * V + v;
             r[q] = free[n] ? b[q] - ap[q] : 0.0;
-            z[q] = free[n] ? r[q] / (diagonal[n] + lambda) : 0.0;
+            z[q] = free[n] ? r[q] * inverse[n] : 0.0;
             p[q] = z[q];
         }
     columnDots(r, z, V, rz);
@@ -119,7 +135,7 @@ std::vector<double> solveNodeLeastSquares(const NodeGram& gram, const std::vecto
     for (std::size_t v = 0; v < V; ++v) {
         bNorm[v] = std::sqrt(bNorm[v]);
         residual[v] = bNorm[v] > 0 ? std::sqrt(rr[v]) / bNorm[v] : 0.0;
-        active[v] = residual[v] > 1e-10;
+        active[v] = residual[v] > tolerance;
     }
     const int maxIterations = int(std::min<std::size_t>(10 * nodes + 100, 100000));
     for (int it = 0; it < maxIterations && std::count(active.begin(), active.end(), 1) > 0; ++it) {
@@ -137,7 +153,7 @@ std::vector<double> solveNodeLeastSquares(const NodeGram& gram, const std::vecto
                 const double alpha = rz[v] / pap[v];
                 x[q] += alpha * p[q];
                 r[q] -= alpha * ap[q];
-                z[q] = free[n] ? r[q] / (diagonal[n] + lambda) : 0.0;
+                z[q] = free[n] ? r[q] * inverse[n] : 0.0;
             }
         columnDots(r, z, V, rzNext);
         columnDots(r, r, V, rr);
@@ -149,7 +165,7 @@ std::vector<double> solveNodeLeastSquares(const NodeGram& gram, const std::vecto
             rz[v] = rzNext[v];
             ++iterations[v];
             residual[v] = std::sqrt(rr[v]) / bNorm[v];
-            active[v] = residual[v] > 1e-10;
+            active[v] = residual[v] > tolerance;
         }
     }
     LeastSquaresStats st;
