@@ -1,6 +1,9 @@
 // vdblight prt bake|relight|info: precomputed radiance transfer for moving point lights
 // (Leonhardt & Bohn). Options are parsed into structs; the work is in vdblight/prt.h.
+#include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <initializer_list>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -69,7 +72,10 @@ void runBake(PrtBakeCommand& c) {
               << " (" << c.output << ")\n";
 }
 
-std::vector<double> parseNumbers(const std::string& text, const std::string& what, const std::string& form) {
+/// The comma-separated numbers of `option` '`text`': one of `counts` of them, all finite.
+std::vector<double> parseNumbers(const std::string& text, const std::string& option, const std::string& form,
+                                 std::initializer_list<std::size_t> counts) {
+    const std::string what = option + " '" + text + "': ";
     std::vector<double> v;
     std::stringstream ss(text);
     std::string item;
@@ -79,55 +85,46 @@ std::vector<double> parseNumbers(const std::string& text, const std::string& wha
             v.push_back(std::stod(item, &used));
             if (used != item.size()) throw std::invalid_argument(item);
         } catch (const std::exception&) {
-            throw ValueError(what + " '" + text + "': expected " + form + " numbers");
+            throw ValueError(what + "expected " + form + " numbers");
         }
     }
+    if (std::find(counts.begin(), counts.end(), v.size()) == counts.end()) throw ValueError(what + "expected " + form);
     for (double x : v)
-        if (!std::isfinite(x)) throw ValueError(what + " '" + text + "': numbers must be finite");
+        if (!std::isfinite(x)) throw ValueError(what + "numbers must be finite");
     return v;
+}
+
+/// The optional r,g,b at v[first..first+2] (W/sr, not negative) into l.intensity.
+void parseIntensity(const std::vector<double>& v, std::size_t first, const std::string& option,
+                    const std::string& text, PrtLight& l) {
+    if (v.size() < first + 3) return;
+    if (v[first] < 0 || v[first + 1] < 0 || v[first + 2] < 0) {
+        throw ValueError(option + " '" + text + "': intensity must not be negative");
+    }
+    l.intensity = Rgb(Vec3d{v[first], v[first + 1], v[first + 2]});
 }
 
 /// --area-light x,y,z,nx,ny,nz,size[,r,g,b]: a square emitting on the side of the normal.
 PrtLight parseAreaLight(const std::string& text, int samples) {
-    const std::string form = "x,y,z,nx,ny,nz,size or x,y,z,nx,ny,nz,size,r,g,b";
-    const std::vector<double> v = parseNumbers(text, "--area-light", form);
-    if (v.size() != 7 && v.size() != 10) throw ValueError("--area-light '" + text + "': expected " + form);
+    const std::vector<double> v =
+        parseNumbers(text, "--area-light", "x,y,z,nx,ny,nz,size or x,y,z,nx,ny,nz,size,r,g,b", {7, 10});
     PrtLight l;
     l.position = Vec3f(Vec3d{v[0], v[1], v[2]});
     l.normal = Vec3f(Vec3d{v[3], v[4], v[5]});
     if (!(length(Vec3d{v[3], v[4], v[5]}) > 0)) throw ValueError("--area-light '" + text + "': the normal must not be zero");
     if (!(v[6] > 0)) throw ValueError("--area-light '" + text + "': size must be positive");
     l.size = float(v[6]);
-    if (v.size() == 10) {
-        if (v[7] < 0 || v[8] < 0 || v[9] < 0) throw ValueError("--area-light '" + text + "': intensity must not be negative");
-        l.intensity = Rgb(Vec3d{v[7], v[8], v[9]});
-    }
+    parseIntensity(v, 7, "--area-light", text, l);
     l.areaSamples = samples;
     return l;
 }
 
+/// --light x,y,z[,r,g,b]: a point light, or an isotropic square of side `size` if > 0.
 PrtLight parseLight(const std::string& text, float size, int samples) {
-    std::vector<double> v;
-    std::stringstream ss(text);
-    std::string item;
-    while (std::getline(ss, item, ',')) {
-        try {
-            std::size_t used = 0;
-            v.push_back(std::stod(item, &used));
-            if (used != item.size()) throw std::invalid_argument(item);
-        } catch (const std::exception&) {
-            throw ValueError("--light '" + text + "': expected x,y,z or x,y,z,r,g,b numbers");
-        }
-    }
-    if (v.size() != 3 && v.size() != 6) throw ValueError("--light '" + text + "': expected x,y,z or x,y,z,r,g,b");
-    for (double x : v)
-        if (!std::isfinite(x)) throw ValueError("--light '" + text + "': numbers must be finite");
+    const std::vector<double> v = parseNumbers(text, "--light", "x,y,z or x,y,z,r,g,b", {3, 6});
     PrtLight l;
     l.position = Vec3f(Vec3d{v[0], v[1], v[2]});
-    if (v.size() == 6) {
-        if (v[3] < 0 || v[4] < 0 || v[5] < 0) throw ValueError("--light '" + text + "': intensity must not be negative");
-        l.intensity = Rgb(Vec3d{v[3], v[4], v[5]});
-    }
+    parseIntensity(v, 3, "--light", text, l);
     l.size = size;
     l.areaSamples = samples;
     return l;
