@@ -32,6 +32,7 @@ void validate(const PrtOptions& o) {
     if (o.visDirs < 4 || o.visDirs > 65536) throw ValueError("--vis-dirs must be in 4..65536");
     if (o.visCoeffs == 0 || o.visCoeffs > o.visDirs) throw ValueError("--vis-coeffs must be in 1..--vis-dirs");
     if (o.trainLights == 0 || o.trainLights > 100000) throw ValueError("--train-lights must be in 1..100000");
+    if (!(o.orientedTraining >= 0 && o.orientedTraining <= 16)) throw ValueError("--oriented-training must be in 0..16");
     if (o.transferCoeffs == 0 || o.transferCoeffs > o.trainLights) {
         throw ValueError("--transfer-coeffs must be in 1..--train-lights");
     }
@@ -45,7 +46,7 @@ void checkBudget(double n, const PrtOptions& o) {
     const double k = std::max(1.0, std::round(n / o.clusterSize));
     const double matrixBytes = k * double(o.transferCoeffs + 1) * n * 12.0;
     const double formFactorBytes = n * n * 4.0;  // the sample-to-sample matrix during the bake
-    const double rays = n * n / 2 + n * double(o.visDirs) + n * double(o.trainLights);
+    const double rays = n * n / 2 + n * double(o.visDirs) + n * double(o.trainLights) * (1.0 + o.orientedTraining);
     if (matrixBytes > 8e9) {
         throw ValueError("transfer matrices would take " + std::to_string(uint64_t(matrixBytes / 1e6)) +
                          " MB for " + std::to_string(uint64_t(n)) + " samples: use fewer samples or larger clusters");
@@ -99,14 +100,18 @@ void bakeVisibility(PrtData& prt, const Tracer& tracer, const PrtOptions& o, Int
 /// 4.3.1: per cluster, PCA of the direct lighting of the example lights.
 void bakeLightBasis(PrtData& prt, const Scene& scene, const Tracer& tracer, const PrtOptions& o, Interrupter* in) {
     const SurfaceSamples& s = prt.samples;
-    const std::vector<Vec3f> lights = trainingLightPositions(scene, tracer, o.trainLights);
-    prt.trainLights = uint32_t(lights.size());
+    // The paper's basis (eq. 7) is of isotropic point lights only.
+    const float oriented = o.paperBasis ? 0.0f : o.orientedTraining;
+    const std::vector<PrtPointLight> lights = trainingLights(scene, tracer, o.trainLights, oriented);
+    prt.trainLights = uint32_t(std::min<std::size_t>(o.trainLights, lights.size()));
+    prt.orientedTraining = oriented;
     const std::size_t n = s.size(), l = lights.size();
     std::vector<float> direct(l * n);  // row = one light
     if (in) in->start("direct-light basis", l);
     for (std::size_t k = 0; k < l; ++k) {
         checkCancel(in);
-        const std::vector<float> row = exactDirectUnit(s, tracer, lights[k], o.threads);
+        const std::vector<float> row =
+            exactDirectLight(s, tracer, PrtLight{lights[k].position, Rgb{1, 1, 1}, 0.0f, 1, lights[k].normal}, o.threads);
         std::copy(row.begin(), row.end(), direct.begin() + std::ptrdiff_t(k * n));
         if (in) in->progress(k + 1);
     }
@@ -123,7 +128,9 @@ void bakeLightBasis(PrtData& prt, const Scene& scene, const Tracer& tracer, cons
                 float* row = rows.data() + k * std::size_t(nc);
                 double norm2 = 0;
                 for (int j = 0; j < nc; ++j) norm2 += double(row[j]) * row[j];
-                const double scale = norm2 > 0 ? 1.0 / std::sqrt(norm2) : 0.0;
+                // One-sided examples (after the trainLights isotropic ones) weigh kOrientedWeight.
+                const double w = k >= o.trainLights ? kOrientedWeight : 1.0;
+                const double scale = norm2 > 0 ? w / std::sqrt(norm2) : 0.0;
                 for (int j = 0; j < nc; ++j) row[j] = float(row[j] * scale);
             }
         }
@@ -141,6 +148,7 @@ PrtData bakePrt(const Scene& scene, const Tracer& tracer, const PrtOptions& o, I
     prt.seed = o.seed;
     prt.paperBasis = o.paperBasis;
     prt.bounds = scene.bounds();
+    prt.origin = scene.origin;
     prt.depthCap = float(length(prt.bounds.size()) * 1.01 + 1e-3);
     if (o.volumeResolution < 0 || o.volumeResolution > 256) throw ValueError("--volume-resolution must be in 0..256");
     if (o.volumeResolution > 0) {

@@ -12,6 +12,7 @@
 
 #include "prt_internal.h"
 #include "vdblight/errors.h"
+#include "vdblight/scene_origin.h"
 #include "vdblight/sh.h"
 
 namespace vdblight {
@@ -208,6 +209,7 @@ Volume relightVolume(const PrtData& prt, const std::vector<PrtLight>& lights, co
     }
     if (tracer) addLightsAtNodes(prt.volumeGrid, *tracer, lights, total);
     vol.levels.push_back(std::move(level));
+    placeVolumeInWorld(vol, prt.origin);  // relit in the scene's local frame (scene_origin.h)
     vol.meta["method"] = std::string("prt_relight");
     const std::string bounces = std::to_string(prt.bounces) + (prt.bounces == 1 ? " bounce" : " bounces");
     vol.meta["content"] = tracer ? std::string("direct radiance of the lights (shadow rays) + indirect radiance of ") +
