@@ -165,8 +165,8 @@ int main(int argc, char** argv) {
             {Vec3f{0.28f, 0.40f, 0.28f}, Rgb{1, 1, 1}, 0.1f, 4, Vec3f{0, -1, 0}},
             {Vec3f{0.12f, 0.50f, 0.40f}, Rgb{1, 1, 1}, 0.1f, 4, Vec3f{0, -1, 0}},
             {Vec3f{0.05f, 0.30f, 0.30f}, Rgb{1, 1, 1}, 0.1f, 4, Vec3f{1, 0, 0}},
-            {Vec3f{0.40f, 0.30f, 0.45f}, Rgb{1, 1, 1}, 0.1f, 4, Vec3f{-0.5f, -0.5f, -0.7f}},
-            {Vec3f{0.45f, 0.05f, 0.40f}, Rgb{1, 1, 1}, 0.1f, 4, Vec3f{0, 1, 0.3f}},
+            {Vec3f{0.45f, 0.40f, 0.12f}, Rgb{1, 1, 1}, 0.1f, 4, Vec3f{-0.5f, -0.5f, 0.7f}},
+            {Vec3f{0.08f, 0.06f, 0.50f}, Rgb{1, 1, 1}, 0.1f, 4, Vec3f{0.3f, 1, -0.3f}},
         };
         auto grey = [](const std::vector<float>& d) {
             std::vector<Rgb> out(d.size());
