@@ -150,6 +150,8 @@ TEST(CliPrt, BadInput) {
     expectCleanFailure(dir, "prt relight " + prt + " --area-light 0.2,0.2,0.2,0,0,0,0.1", "normal");
     expectCleanFailure(dir, "prt relight " + prt + " --area-light 0.2,0.2,0.2,0,-1,0", "--area-light");
     expectCleanFailure(dir, "prt bake -o " + dir.file("a.vdb") + " --bounces 0", "--bounces");
+    expectCleanFailure(dir, "prt bake -o " + dir.file("a.vdb") + " --oriented-training -1", "--oriented-training");
+    expectCleanFailure(dir, "prt bake -o " + dir.file("a.vdb") + " --oriented-training 17", "--oriented-training");
 }
 
 namespace {
