@@ -272,11 +272,13 @@ void printPrtInfo(const std::string& path) {
               << prt.samples.radius << ")\n"
               << "  visibility: " << prt.visGrid * prt.visGrid << " directions -> " << prt.visCoeffStride
               << " coefficients\n"
-              << "  direct-light basis: " << prt.trainLights << " training lights -> " << prt.transferStride - 1
+              << "  direct-light basis: " << prt.trainLights << " training lights -> "
+              << prt.transferStride - 1 - prt.orientedCoeffs
               << " vectors per cluster"
-              << (prt.orientedTraining > 0
-                      ? " (+ " + formatNumber(prt.orientedTraining) + " one-sided per point light)"
-                      : std::string())
+              << (prt.orientedTraining > 0 ? " (+ " + formatNumber(prt.orientedTraining) +
+                                                 " one-sided per point light -> " + std::to_string(prt.orientedCoeffs) +
+                                                 " vectors)"
+                                           : std::string())
               << "\n"
               << "  scene origin: " << std::setprecision(15) << prt.origin.x << ", " << prt.origin.y << ", "
               << prt.origin.z << std::setprecision(6) << "\n"
@@ -322,6 +324,8 @@ void addPrtCommand(CLI::App& app) {
     bake->add_option("--oriented-training", b->options.orientedTraining,
                      "One-sided example lights per point light in the direct-light basis (0: point lights only)")
         ->capture_default_str();
+    bake->add_option("--oriented-coeffs", b->options.orientedCoeffs,
+                     "Basis vectors per cluster added from the one-sided example lights")->capture_default_str();
     bake->add_flag("--paper-basis", b->options.paperBasis,
                    "Direct-light basis exactly as the paper's eq. 7 (centred, unnormalised examples)");
     bake->add_flag("--no-quantize", b->noQuantize, "Store 32-bit floats instead of 16-bit");

@@ -52,10 +52,12 @@ struct PrtOptions {
     /// at edges; without this a closed box's 8-bounce furnace reads 0.957 instead of 0.996.
     bool closureNormalise = true;
     /// One-sided example lights per isotropic one (trainingLights): cosine emitters facing
-    /// away from their nearest surface, weighted kOrientedWeight in the PCA, so that the basis
-    /// also spans the half-space cut-off of one-sided (area) lights. 0: point lights only (as
-    /// the paper); ignored with paperBasis.
+    /// away from their nearest surface. Their residuals after projection onto the point
+    /// lights' basis give `orientedCoeffs` more basis vectors per cluster, so that the basis
+    /// also spans the half-space cut-off of one-sided (area) lights while point lights project
+    /// as before. 0: point lights only (as the paper); ignored with paperBasis.
     float orientedTraining = 1.0f;
+    uint32_t orientedCoeffs = 2;   ///< vectors appended from the one-sided examples (0..256)
     uint64_t seed = 1;
     int threads = 0;               ///< 0: all cores
 };
@@ -127,7 +129,7 @@ struct PrtData {
     std::vector<float> visCoeffs;       ///< per sample, visCoeffStride values (zero padded)
     int visCoeffStride = 0;
     std::vector<PcaBasis> lightBasis;   ///< per cluster, dim = cluster size
-    int transferStride = 0;             ///< transferCoeffs + 1 (row 0 = the mean)
+    int transferStride = 0;             ///< transferCoeffs + orientedCoeffs + 1 (row 0 = the mean)
     /// transfer[s][k * samples + r]: irradiance at receiver r per unit basis coefficient k of
     /// sender cluster s (k = 0: the mean vector), RGB (sender albedo included), summed over
     /// bounces 1..bounces.
@@ -152,6 +154,7 @@ struct PrtData {
     uint64_t seed = 1;
     uint32_t trainLights = 0;
     float orientedTraining = 0.0f;  ///< PrtOptions::orientedTraining of the bake
+    int orientedCoeffs = 0;         ///< of the transferStride - 1 vectors, the last ones from one-sided examples
     bool paperBasis = false;
     int bounces = 1;             ///< diffuse bounces in transfer / volumeTransfer
     bool closureNormalise = false;  ///< form factors rescaled to the covered hemisphere
@@ -240,10 +243,6 @@ std::vector<PrtPointLight> lightPoints(const PrtLight& light);
 std::vector<PrtPointLight> trainingLights(const Scene& scene, const Tracer& tracer, uint32_t count,
                                           float orientedFraction);
 
-/// Weight of a one-sided example in the basis PCA (after unit normalisation; an isotropic
-/// one weighs 1). Measured (docs/methods.md): 1 lowers one-sided error most but, at 10 basis
-/// vectors, raises point-light error by 15 %; 0.5 keeps point lights as they were.
-constexpr double kOrientedWeight = 0.5;
 
 // --- References (uncompressed, for tests and error reports) ------------------------------
 

@@ -33,6 +33,7 @@ void validate(const PrtOptions& o) {
     if (o.visCoeffs == 0 || o.visCoeffs > o.visDirs) throw ValueError("--vis-coeffs must be in 1..--vis-dirs");
     if (o.trainLights == 0 || o.trainLights > 100000) throw ValueError("--train-lights must be in 1..100000");
     if (!(o.orientedTraining >= 0 && o.orientedTraining <= 16)) throw ValueError("--oriented-training must be in 0..16");
+    if (o.orientedCoeffs > 256) throw ValueError("--oriented-coeffs must be in 0..256");
     if (o.transferCoeffs == 0 || o.transferCoeffs > o.trainLights) {
         throw ValueError("--transfer-coeffs must be in 1..--train-lights");
     }
@@ -44,7 +45,7 @@ void validate(const PrtOptions& o) {
 /// is in the message).
 void checkBudget(double n, const PrtOptions& o) {
     const double k = std::max(1.0, std::round(n / o.clusterSize));
-    const double matrixBytes = k * double(o.transferCoeffs + 1) * n * 12.0;
+    const double matrixBytes = k * double(o.transferCoeffs + o.orientedCoeffs + 1) * n * 12.0;
     const double formFactorBytes = n * n * 4.0;  // the sample-to-sample matrix during the bake
     const double rays = n * n / 2 + n * double(o.visDirs) + n * double(o.trainLights) * (1.0 + o.orientedTraining);
     if (matrixBytes > 8e9) {
@@ -105,6 +106,7 @@ void bakeLightBasis(PrtData& prt, const Scene& scene, const Tracer& tracer, cons
     const std::vector<PrtPointLight> lights = trainingLights(scene, tracer, o.trainLights, oriented);
     prt.trainLights = uint32_t(std::min<std::size_t>(o.trainLights, lights.size()));
     prt.orientedTraining = oriented;
+    prt.orientedCoeffs = lights.size() > prt.trainLights ? int(o.orientedCoeffs) : 0;
     const std::size_t n = s.size(), l = lights.size();
     std::vector<float> direct(l * n);  // row = one light
     if (in) in->start("direct-light basis", l);
@@ -119,22 +121,56 @@ void bakeLightBasis(PrtData& prt, const Scene& scene, const Tracer& tracer, cons
     for (std::size_t c = 0; c < s.clusters(); ++c) {
         const uint32_t b = s.clusterBegin[c], e = s.clusterBegin[c + 1];
         const int nc = int(e - b);
-        std::vector<float> rows(l * std::size_t(nc));
-        for (std::size_t k = 0; k < l; ++k)
+        // Rows 0 .. iso - 1: the point lights; the one-sided examples follow.
+        const std::size_t iso = prt.trainLights, oriented = l - iso;
+        std::vector<float> rows(iso * std::size_t(nc));
+        for (std::size_t k = 0; k < iso; ++k)
             std::copy(direct.begin() + std::ptrdiff_t(k * n + b), direct.begin() + std::ptrdiff_t(k * n + e),
                       rows.begin() + std::ptrdiff_t(k * std::size_t(nc)));
         if (!o.paperBasis) {
-            for (std::size_t k = 0; k < l; ++k) {
+            for (std::size_t k = 0; k < iso; ++k) {
                 float* row = rows.data() + k * std::size_t(nc);
                 double norm2 = 0;
                 for (int j = 0; j < nc; ++j) norm2 += double(row[j]) * row[j];
-                // One-sided examples (after the trainLights isotropic ones) weigh kOrientedWeight.
-                const double w = k >= o.trainLights ? kOrientedWeight : 1.0;
-                const double scale = norm2 > 0 ? w / std::sqrt(norm2) : 0.0;
+                const double scale = norm2 > 0 ? 1.0 / std::sqrt(norm2) : 0.0;
                 for (int j = 0; j < nc; ++j) row[j] = float(row[j] * scale);
             }
         }
-        prt.lightBasis[c] = fitPca(rows, int(l), nc, int(o.transferCoeffs), o.paperBasis);
+        // The point lights' basis (the paper's), then the one-sided examples' residuals
+        // after projecting them onto it, whose PCA adds up to orientedCoeffs more vectors
+        // (orthogonal to the first: point lights project as before, or better).
+        std::vector<float> residual(oriented * std::size_t(nc));
+        for (std::size_t k = 0; k < oriented; ++k)
+            std::copy(direct.begin() + std::ptrdiff_t((iso + k) * n + b), direct.begin() + std::ptrdiff_t((iso + k) * n + e),
+                      residual.begin() + std::ptrdiff_t(k * std::size_t(nc)));
+        PcaBasis basis = fitPca(rows, int(iso), nc, int(o.transferCoeffs), o.paperBasis);
+        if (oriented > 0 && o.orientedCoeffs > 0) {
+            for (std::size_t k = 0; k < oriented; ++k) {
+                float* x = residual.data() + k * std::size_t(nc);
+                double norm2 = 0;
+                for (int j = 0; j < nc; ++j) norm2 += double(x[j]) * x[j];
+                const double scale = norm2 > 0 ? 1.0 / std::sqrt(norm2) : 0.0;
+                for (int j = 0; j < nc; ++j) x[j] = float(x[j] * scale);
+                for (int v = 0; v < basis.count; ++v) {  // minus its projection (Gram-Schmidt order)
+                    const float* bv = basis.vectors.data() + std::size_t(v) * std::size_t(nc);
+                    double d = 0;
+                    for (int j = 0; j < nc; ++j) d += double(x[j]) * bv[j];
+                    for (int j = 0; j < nc; ++j) x[j] = float(x[j] - d * bv[j]);
+                }
+            }
+            const PcaBasis extra = fitPca(residual, int(oriented), nc, int(o.orientedCoeffs), false);
+            // Only directions the residuals really have (mean square along it > 1e-6 of a unit
+            // example), and never more vectors than the cluster has samples: where the point
+            // lights' basis already spans everything, the residuals are rounding noise.
+            for (int k = 0; k < extra.count && basis.count < nc; ++k) {
+                const double sv = extra.singularValues[std::size_t(k)];
+                if (!(sv * sv > 1e-6 * double(oriented))) break;
+                basis.vectors.insert(basis.vectors.end(), extra.vectors.begin() + std::ptrdiff_t(k) * nc,
+                                     extra.vectors.begin() + std::ptrdiff_t(k + 1) * nc);
+                ++basis.count;
+            }
+        }
+        prt.lightBasis[c] = std::move(basis);
     }
 }
 
@@ -179,7 +215,7 @@ PrtData bakePrt(const Scene& scene, const Tracer& tracer, const PrtOptions& o, I
     bakeLightBasis(prt, scene, tracer, o, in);
     double t3 = now();
     prt.secondsBasis = t3 - t2;
-    prt.transferStride = int(o.transferCoeffs) + 1;
+    prt.transferStride = int(o.transferCoeffs) + prt.orientedCoeffs + 1;
     prt.bounces = o.bounces;
     prt.closureNormalise = o.closureNormalise;
     bakeMultiBounceTransfer(prt, tracer, o.bounces, o.volumeResolution > 0, o.closureNormalise, o.threads, in);
