@@ -149,9 +149,9 @@ int main(int argc, char** argv) {
                     seconds * 1e3, prt.samples.size(), prt.bounces, error);
     }
 
-    // One-sided (cosine) area lights against point lights, with the default basis (one-sided
-    // examples, PrtOptions::orientedTraining) and a basis of point lights only (the paper's
-    // examples). The second bake differs only in its basis and transfer (same samples and F),
+    // One-sided (cosine) area lights against point lights, with the default basis (point-light
+    // vectors + vectors from one-sided examples, PrtOptions::orientedTraining / orientedCoeffs)
+    // and a basis of point lights only (the paper's examples). The second bake differs only in its basis and transfer (same samples and F),
     // so it skips the volume and uses a cheap visibility; both are fed the exact direct light
     // (shadow rays), so the errors are those of projection + transfer alone.
     {
@@ -189,10 +189,11 @@ int main(int argc, char** argv) {
             }
         }
         std::printf("one-sided area lights (5 squares of 10 cm, %d bounces, exact direct light in): indirect RMS relative "
-                    "error %.4f with one-sided examples in the basis (%.1f per point light) vs %.4f with point lights "
-                    "only (%.2fx); held-out point lights %.4f vs %.4f (%.2fx); the same squares isotropic %.4f vs %.4f; "
+                    "error %.4f with one-sided examples in the basis (%d + %d vectors) vs %.4f with point lights "
+                    "only (%d vectors; %.2fx); held-out point lights %.4f vs %.4f (%.2fx); the same squares isotropic %.4f vs %.4f; "
                     "one-sided through the compressed visibility %.4f\n",
-                    prt.bounces, err[0][0], double(prt.orientedTraining), err[1][0], err[0][0] / err[1][0], err[0][2],
+                    prt.bounces, err[0][0], prt.transferStride - 1 - prt.orientedCoeffs, prt.orientedCoeffs, err[1][0],
+                    points.transferStride - 1, err[0][0] / err[1][0], err[0][2],
                     err[1][2], err[0][2] / err[1][2], err[0][1], err[1][1], compressed);
     }
 
