@@ -55,7 +55,8 @@ struct PrtOptions {
     /// away from their nearest surface. Their residuals after projection onto the point
     /// lights' basis give `orientedCoeffs` more basis vectors per cluster, so that the basis
     /// also spans the half-space cut-off of one-sided (area) lights while point lights project
-    /// as before. 0: point lights only (as the paper); ignored with paperBasis.
+    /// as before. 0 (or orientedCoeffs 0): point lights only (as the paper); ignored with
+    /// paperBasis.
     float orientedTraining = 1.0f;
     uint32_t orientedCoeffs = 2;   ///< vectors appended from the one-sided examples (0..256)
     uint64_t seed = 1;
@@ -242,7 +243,6 @@ std::vector<PrtPointLight> lightPoints(const PrtLight& light);
 /// ceiling), or along the Halton (bases 7, 11) sphere direction if no axis ray hits.
 std::vector<PrtPointLight> trainingLights(const Scene& scene, const Tracer& tracer, uint32_t count,
                                           float orientedFraction);
-
 
 // --- References (uncompressed, for tests and error reports) ------------------------------
 

@@ -102,7 +102,7 @@ void bakeVisibility(PrtData& prt, const Tracer& tracer, const PrtOptions& o, Int
 void bakeLightBasis(PrtData& prt, const Scene& scene, const Tracer& tracer, const PrtOptions& o, Interrupter* in) {
     const SurfaceSamples& s = prt.samples;
     // The paper's basis (eq. 7) is of isotropic point lights only.
-    const float oriented = o.paperBasis ? 0.0f : o.orientedTraining;
+    const float oriented = o.paperBasis || o.orientedCoeffs == 0 ? 0.0f : o.orientedTraining;
     const std::vector<PrtPointLight> lights = trainingLights(scene, tracer, o.trainLights, oriented);
     prt.trainLights = uint32_t(std::min<std::size_t>(o.trainLights, lights.size()));
     prt.orientedTraining = oriented;
@@ -122,7 +122,7 @@ void bakeLightBasis(PrtData& prt, const Scene& scene, const Tracer& tracer, cons
         const uint32_t b = s.clusterBegin[c], e = s.clusterBegin[c + 1];
         const int nc = int(e - b);
         // Rows 0 .. iso - 1: the point lights; the one-sided examples follow.
-        const std::size_t iso = prt.trainLights, oriented = l - iso;
+        const std::size_t iso = prt.trainLights, oneSided = l - iso;
         std::vector<float> rows(iso * std::size_t(nc));
         for (std::size_t k = 0; k < iso; ++k)
             std::copy(direct.begin() + std::ptrdiff_t(k * n + b), direct.begin() + std::ptrdiff_t(k * n + e),
@@ -139,13 +139,13 @@ void bakeLightBasis(PrtData& prt, const Scene& scene, const Tracer& tracer, cons
         // The point lights' basis (the paper's), then the one-sided examples' residuals
         // after projecting them onto it, whose PCA adds up to orientedCoeffs more vectors
         // (orthogonal to the first: point lights project as before, or better).
-        std::vector<float> residual(oriented * std::size_t(nc));
-        for (std::size_t k = 0; k < oriented; ++k)
+        std::vector<float> residual(oneSided * std::size_t(nc));
+        for (std::size_t k = 0; k < oneSided; ++k)
             std::copy(direct.begin() + std::ptrdiff_t((iso + k) * n + b), direct.begin() + std::ptrdiff_t((iso + k) * n + e),
                       residual.begin() + std::ptrdiff_t(k * std::size_t(nc)));
         PcaBasis basis = fitPca(rows, int(iso), nc, int(o.transferCoeffs), o.paperBasis);
-        if (oriented > 0 && o.orientedCoeffs > 0) {
-            for (std::size_t k = 0; k < oriented; ++k) {
+        if (oneSided > 0) {
+            for (std::size_t k = 0; k < oneSided; ++k) {
                 float* x = residual.data() + k * std::size_t(nc);
                 double norm2 = 0;
                 for (int j = 0; j < nc; ++j) norm2 += double(x[j]) * x[j];
@@ -158,13 +158,13 @@ void bakeLightBasis(PrtData& prt, const Scene& scene, const Tracer& tracer, cons
                     for (int j = 0; j < nc; ++j) x[j] = float(x[j] - d * bv[j]);
                 }
             }
-            const PcaBasis extra = fitPca(residual, int(oriented), nc, int(o.orientedCoeffs), false);
+            const PcaBasis extra = fitPca(residual, int(oneSided), nc, int(o.orientedCoeffs), false);
             // Only directions the residuals really have (mean square along it > 1e-6 of a unit
             // example), and never more vectors than the cluster has samples: where the point
             // lights' basis already spans everything, the residuals are rounding noise.
             for (int k = 0; k < extra.count && basis.count < nc; ++k) {
                 const double sv = extra.singularValues[std::size_t(k)];
-                if (!(sv * sv > 1e-6 * double(oriented))) break;
+                if (!(sv * sv > 1e-6 * double(oneSided))) break;
                 basis.vectors.insert(basis.vectors.end(), extra.vectors.begin() + std::ptrdiff_t(k) * nc,
                                      extra.vectors.begin() + std::ptrdiff_t(k + 1) * nc);
                 ++basis.count;
