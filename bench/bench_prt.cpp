@@ -10,13 +10,16 @@
 //     baked bounces), one thread, against a converged re-bake: the foundation's SH gather
 //     (bakeShGather, maxBounces = the PRT's bounces) of the scene with only that point light,
 //     at many rays per node on all cores. Then the same gather on one thread with rays per
-//     node doubled until its error against that reference is at most the relight's: times,
-//     errors and the ratio. The relight is timed again between the re-bakes of each doubling
-//     step, so that on a loaded machine both times see the same load. Both volumes carry the same exact direct light, so equal error
-//     on the complete volume is equal error on its indirect part (also printed).
+//     node doubled until its error against that reference is at most the relight's, and
+//     bisected down to the smallest count found with that error (equal error). Finally the
+//     relight and that re-bake are timed in alternating pairs, so that on a loaded machine
+//     both see the same load: medians, the ratio of medians and the range of per-pair
+//     ratios. Both volumes carry the same exact direct light, so equal error on the complete
+//     volume is equal error on its indirect part (also printed).
 // `--relight-only [--prt FILE]` times only the relight phases (for profiling); with --prt it
 // relights FILE if it exists, else bakes and writes it there.
 // `--quick` shrinks the workload for a CI smoke run.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -24,6 +27,7 @@
 #include <memory>
 #include <unistd.h>
 #include <string>
+#include <vector>
 
 #include "vdblight/bake.h"
 #include "vdblight/prt.h"
@@ -127,8 +131,8 @@ int main(int argc, char** argv) {
     }
 
     // Samples: relight vs the uncompressed iteration with the bake's form factors.
+    const std::vector<float> F = sampleFormFactors(prt.samples, tracer, 0, nullptr, prt.closureNormalise);
     {
-        const std::vector<float> F = sampleFormFactors(prt.samples, tracer, 0, nullptr, prt.closureNormalise);
         double seconds = 0, error = 0;
         for (const Vec3f& l : lights) {
             PrtLighting lit;
@@ -143,6 +147,54 @@ int main(int argc, char** argv) {
         std::printf("relight at samples: %.3f ms per light position (one thread, %zu samples, %d bounces), indirect RMS "
                     "relative error %.4f vs the uncompressed iteration\n",
                     seconds * 1e3, prt.samples.size(), prt.bounces, error);
+    }
+
+    // One-sided (cosine) area lights against point lights, with the default basis (point-light
+    // vectors + vectors from one-sided examples, PrtOptions::orientedTraining / orientedCoeffs)
+    // and a basis of point lights only (the paper's examples). The second bake differs only in its basis and transfer (same samples and F),
+    // so it skips the volume and uses a cheap visibility; both are fed the exact direct light
+    // (shadow rays), so the errors are those of projection + transfer alone.
+    {
+        PrtOptions po = o;
+        po.orientedTraining = 0;
+        po.volumeResolution = 0;
+        po.visDirs = 16;
+        po.visCoeffs = 4;
+        const PrtData points = bakePrt(scene, tracer, po);
+        const PrtLight oneSided[5] = {
+            {Vec3f{0.28f, 0.40f, 0.28f}, Rgb{1, 1, 1}, 0.1f, 4, Vec3f{0, -1, 0}},
+            {Vec3f{0.12f, 0.50f, 0.40f}, Rgb{1, 1, 1}, 0.1f, 4, Vec3f{0, -1, 0}},
+            {Vec3f{0.05f, 0.30f, 0.30f}, Rgb{1, 1, 1}, 0.1f, 4, Vec3f{1, 0, 0}},
+            {Vec3f{0.45f, 0.40f, 0.12f}, Rgb{1, 1, 1}, 0.1f, 4, Vec3f{-0.5f, -0.5f, 0.7f}},
+            {Vec3f{0.08f, 0.06f, 0.50f}, Rgb{1, 1, 1}, 0.1f, 4, Vec3f{0.3f, 1, -0.3f}},
+        };
+        auto grey = [](const std::vector<float>& d) {
+            std::vector<Rgb> out(d.size());
+            for (std::size_t i = 0; i < d.size(); ++i) out[i] = Rgb{d[i], d[i], d[i]};
+            return out;
+        };
+        double err[2][3] = {};  // [basis][one-sided, its isotropic square, point]
+        double compressed = 0;  // default basis, one-sided, through the compressed visibility
+        for (int i = 0; i < 5; ++i) {
+            PrtLight iso = oneSided[i];
+            iso.normal = Vec3f{0, 0, 0};
+            const std::vector<float> d[3] = {exactDirectLight(prt.samples, tracer, oneSided[i]),
+                                             exactDirectLight(prt.samples, tracer, iso),
+                                             exactDirectUnit(prt.samples, tracer, lights[i])};
+            for (int k = 0; k < 3; ++k) {
+                const std::vector<Rgb> ref = bounceIndirect(prt.samples, F, grey(d[k]), prt.bounces);
+                err[0][k] += rmsRelativeError(prtTransfer(prt, d[k]), ref) / 5;
+                err[1][k] += rmsRelativeError(prtTransfer(points, d[k]), ref) / 5;
+                if (k == 0) compressed += rmsRelativeError(prtTransfer(prt, prtDirectLight(prt, oneSided[i])), ref) / 5;
+            }
+        }
+        std::printf("one-sided area lights (5 squares of 10 cm, %d bounces, exact direct light in): indirect RMS relative "
+                    "error %.4f with one-sided examples in the basis (%d + %d vectors) vs %.4f with point lights "
+                    "only (%d vectors; %.2fx); held-out point lights %.4f vs %.4f (%.2fx); the same squares isotropic %.4f vs %.4f; "
+                    "one-sided through the compressed visibility %.4f\n",
+                    prt.bounces, err[0][0], prt.transferStride - 1 - prt.orientedCoeffs, prt.orientedCoeffs, err[1][0],
+                    points.transferStride - 1, err[0][0] / err[1][0], err[0][2],
+                    err[1][2], err[0][2] / err[1][2], err[0][1], err[1][1], compressed);
     }
 
     // The complete relit volume (one thread) and the converged gather reference (all cores).
@@ -193,49 +245,80 @@ int main(int argc, char** argv) {
                 prt.volumeGrid.nx, prt.volumeGrid.ny, prt.volumeGrid.nz, nodes, prt.bounces, volSeconds * 1e3,
                 directSeconds * 1e3, volError, volIndirectError);
 
-    // Re-baking the same volume at equal error: the gather on one thread, rays doubled.
-    const uint32_t maxRays = quick ? 64 : 4096;
-    double prevSeconds = 0, prevError = 0;
-    for (uint32_t rays = quick ? 4 : 16;; rays *= 2) {
-        double err = 0, indErr = 0, dt = 0, relightDt = 0;
+    // Re-baking the same volume at equal error: the gather on one thread. Rays per node are
+    // doubled until its error is at most the relight's, then bisected between the last two
+    // counts for the smallest count found whose error is at most the relight's.
+    auto rebake = [&](uint32_t rays, double* error, double* indirect) {
+        double err = 0, indErr = 0;
         for (int i = 0; i < 5; ++i) {
-            // The relight again, timed between the re-bakes so that both see the same load.
-            const double tr = now();
-            for (int k = 0; k < reps; ++k) relightVolume(prt, {PrtLight{lights[i]}}, &tracer);
-            relightDt += (now() - tr) / reps / 5;
             GatherOptions g;
             g.raysPerNode = rays;
             g.threads = 1;
             g.seed = 7;
             g.transport.maxBounces = prt.bounces;
-            const double t = now();
             const Volume v = bakeShGather(lit[std::size_t(i)], *litTracers[std::size_t(i)], prt.volumeGrid, g);
-            dt += (now() - t) / 5;
+            if (!error) continue;
             const std::vector<Rgb> got = volumeRgb(v);
             err += rmsRelativeError(got, refs[std::size_t(i)]) / 5;
             indErr += indirectError(got, i) / 5;
         }
+        if (error) *error = err, *indirect = indErr;
+    };
+    const uint32_t maxRays = quick ? 64 : 4096;
+    uint32_t lo = 0, hi = quick ? 4 : 16;
+    double hiError = 0, hiIndirect = 0;
+    for (;; lo = hi, hi *= 2) {
+        const double t = now();
+        rebake(hi, &hiError, &hiIndirect);
         std::printf("  SH gather re-bake, %u rays per node: %.3f ms per light, RMS relative error %.4f (indirect part "
-                    "%.4f)\n", rays, dt * 1e3, err, indErr);
-        if (err <= volError || rays >= maxRays) {
-            std::printf("volume re-bake (SH gather, %d bounces) at equal error: %.3f ms vs relight %.3f ms: relight %.0fx "
-                        "faster%s (the budget before: %.3f ms, %.0fx, error %.4f)\n",
-                        prt.bounces, dt * 1e3, volSeconds * 1e3, dt / volSeconds,
-                        err <= volError ? "" : " (error NOT reached)", prevSeconds * 1e3, prevSeconds / volSeconds,
-                        prevError);
-            // The doubling overshoots: the gather's error falls as rays^-1/2 (its noise), so the
-            // budget of exactly the relight's error is rays * (err / relight error)^2 and its
-            // time scales with the rays.
-            const double exactRays = double(rays) * (err / volError) * (err / volError);
-            std::printf("  interpolated to exactly equal error: %.0f rays per node, %.3f ms: relight %.0fx faster\n",
-                        exactRays, dt * exactRays / rays * 1e3, dt * exactRays / rays / volSeconds);
-            std::printf("  with the relight timed between these re-bakes (same load): %.3f ms: relight %.0fx faster at "
-                        "the doubling step, %.0fx at exactly equal error\n",
-                        relightDt * 1e3, dt / relightDt, dt * exactRays / rays / relightDt);
-            break;
-        }
-        prevSeconds = dt;
-        prevError = err;
+                    "%.4f)\n", hi, (now() - t) / 5 * 1e3, hiError, hiIndirect);
+        if (hiError <= volError || hi >= maxRays) break;
     }
+    const bool reached = hiError <= volError;
+    while (reached && hi - lo > 1) {
+        const uint32_t mid = lo + (hi - lo) / 2;
+        double e = 0, ie = 0;
+        rebake(mid, &e, &ie);
+        std::printf("  bisect: %u rays per node, error %.4f (indirect %.4f)\n", mid, e, ie);
+        if (e <= volError) hi = mid, hiError = e, hiIndirect = ie;
+        else lo = mid;
+    }
+    // Relight and re-bake timed in alternating pairs (which goes first alternates too), so a
+    // change of load hits both: medians of each, the ratio of the medians and the range of the
+    // per-pair ratios.
+    const int pairs = quick ? 3 : 9;
+    std::vector<double> relightMs, rebakeMs, ratio;
+    for (int p = 0; p < pairs; ++p) {
+        double tr = 0, tb = 0;
+        for (int half = 0; half < 2; ++half) {
+            if ((half == 0) == (p % 2 == 0)) {
+                const double t = now();
+                for (int i = 0; i < 5; ++i)
+                    for (int k = 0; k < reps; ++k) relightVolume(prt, {PrtLight{lights[i]}}, &tracer);
+                tr = (now() - t) / reps / 5 * 1e3;
+            } else {
+                const double t = now();
+                rebake(hi, nullptr, nullptr);
+                tb = (now() - t) / 5 * 1e3;
+            }
+        }
+        relightMs.push_back(tr);
+        rebakeMs.push_back(tb);
+        ratio.push_back(tb / tr);
+    }
+    auto median = [](std::vector<double> v) {
+        std::sort(v.begin(), v.end());
+        const std::size_t n = v.size();
+        return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+    };
+    const double mr = median(relightMs), mb = median(rebakeMs);
+    std::printf("volume re-bake (SH gather, %d bounces, one thread) at equal error: %u rays per node, error %.4f "
+                "(indirect %.4f) vs the relight's %.4f (indirect %.4f)%s\n",
+                prt.bounces, hi, hiError, hiIndirect, volError, volIndirectError,
+                reached ? "" : " (error NOT reached)");
+    std::printf("  %d interleaved pairs: relight median %.3f ms, re-bake median %.3f ms per light: relight %.0fx faster "
+                "(ratio of medians; per-pair ratios %.0fx to %.0fx)\n",
+                pairs, mr, mb, mb / mr, *std::min_element(ratio.begin(), ratio.end()),
+                *std::max_element(ratio.begin(), ratio.end()));
     return 0;
 }

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "test_util.h"
+#include "vdblight/math.h"
 
 namespace fs = std::filesystem;
 using namespace vdblight;
@@ -153,4 +154,109 @@ TEST(CliPrt, BadInput) {
     expectCleanFailure(dir, "prt relight " + prt + " --area-light 0.2,0.2,0.2,0,0,0,0.1", "normal");
     expectCleanFailure(dir, "prt relight " + prt + " --area-light 0.2,0.2,0.2,0,-1,0", "--area-light");
     expectCleanFailure(dir, "prt bake -o " + dir.file("a.vdb") + " --bounces 0", "--bounces");
+    expectCleanFailure(dir, "prt bake -o " + dir.file("a.vdb") + " --oriented-training -1", "--oriented-training");
+    expectCleanFailure(dir, "prt bake -o " + dir.file("a.vdb") + " --oriented-training 17", "--oriented-training");
+}
+
+namespace {
+/// The bundled Cornell box (OBJ + MTL) with every vertex scaled by `scale` and moved by `offset`.
+std::string writeMovedCornell(const test::TempDir& dir, const std::string& name, double scale, const double offset[3]) {
+    std::ifstream in(kSource + "/data/cornell_box.obj");
+    std::ostringstream out;
+    out.precision(17);
+    std::string line;
+    while (std::getline(in, line)) {
+        if (line.rfind("v ", 0) == 0) {
+            std::istringstream v(line.substr(2));
+            double x, y, z;
+            v >> x >> y >> z;
+            out << "v " << x * scale + offset[0] << ' ' << y * scale + offset[1] << ' ' << z * scale + offset[2] << '\n';
+        } else {
+            out << line << '\n';
+        }
+    }
+    test::writeTextFile(dir.file(name + ".obj"), out.str());
+    std::ifstream mtl(kSource + "/data/cornell_box.mtl");
+    std::ostringstream m;
+    m << mtl.rdbuf();
+    test::writeTextFile(dir.file("cornell_box.mtl"), m.str());
+    return dir.file(name + ".obj");
+}
+
+/// The first irradiance value (E_r) of the first data row of a `vdblight query` CSV.
+double firstIrradianceOf(const std::string& csv) {
+    std::istringstream lines(csv);
+    std::string header, row;
+    std::getline(lines, header);
+    std::getline(lines, row);
+    const std::size_t at = header.find("E_r");
+    if (at == std::string::npos) return -1;
+    const long column = std::count(header.begin(), header.begin() + std::ptrdiff_t(at), ',');
+    std::istringstream cells(row);
+    std::string cell;
+    for (long c = 0; std::getline(cells, cell, ','); ++c)
+        if (c == column) return std::stod(cell);
+    return -1;
+}
+
+/// Mean x, y, z of the sample rows of a `prt relight` CSV.
+Vec3d meanPosition(const std::string& path) {
+    std::ifstream in(path);
+    std::string line;
+    std::getline(in, line);
+    Vec3d sum(0, 0, 0);
+    int n = 0;
+    while (std::getline(in, line)) {
+        std::istringstream row(line);
+        double v[3];
+        char comma;
+        row >> v[0] >> comma >> v[1] >> comma >> v[2];
+        sum += Vec3d(v[0], v[1], v[2]);
+        ++n;
+    }
+    return n ? sum / double(n) : sum;
+}
+}  // namespace
+
+TEST(CliPrt, FarSceneRelightsIntoTheWorld) {
+    // The same box near the origin and 1e6 away (scale 1000: a 550-unit box; float keeps 1e6
+    // to 1/16, 1e-4 of the box). The relit volume and samples are placed in the world, and the
+    // light is given in world coordinates: the far scene reads what the near one reads.
+    const test::TempDir dir;
+    const double zero[3] = {0, 0, 0}, far[3] = {1e6, -1e6, 1e6};
+    const std::string nearObj = writeMovedCornell(dir, "near", 1000, zero);
+    const std::string farObj = writeMovedCornell(dir, "far", 1000, far);
+    const std::string bake = " --samples 300 --cluster-size 150 --vis-dirs 64 --vis-coeffs 8 --train-lights 40 "
+                             "--bounces 2 --volume-resolution 4 -q";
+    ASSERT_EQ(runCli("prt bake " + nearObj + " -o " + dir.file("near_prt.vdb") + bake).status, 0);
+    const CliRun farBake = runCli("prt bake " + farObj + " -o " + dir.file("far_prt.vdb") + bake);
+    ASSERT_EQ(farBake.status, 0) << farBake.output;
+    const CliRun info = runCli("prt info " + dir.file("far_prt.vdb"));
+    EXPECT_NE(info.output.find("scene origin: 1000"), std::string::npos) << info.output;
+
+    auto world = [&](double x, double y, double z, const double* o) {
+        std::ostringstream w;
+        w.precision(17);
+        w << x + o[0] << ',' << y + o[1] << ',' << z + o[2];
+        return w.str();
+    };
+    for (const double* o : {zero, far}) {
+        const std::string name = o == zero ? "near" : "far";
+        const CliRun r = runCli("prt relight " + dir.file(name + "_prt.vdb") + " --light " + world(278, 400, 280, o) +
+                                ",1e5,1e5,1e5 --scene " + dir.file(name + ".obj") + " --volume-out " +
+                                dir.file(name + "_lit.vdb") + " -o " + dir.file(name + ".csv") + " -q");
+        ASSERT_EQ(r.status, 0) << r.output;
+        EXPECT_EQ(r.output.find("outside the scene bounds"), std::string::npos) << r.output;
+    }
+    const Vec3d mn = meanPosition(dir.file("near.csv")), mf = meanPosition(dir.file("far.csv"));
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(mf[a] - mn[a], far[a], 1.0) << a;  // samples in world coordinates
+    const double points[3][3] = {{278, 100, 280}, {150, 300, 200}, {400, 450, 400}};
+    for (const auto& p : points) {
+        const double en = firstIrradianceOf(
+            runCli("query " + dir.file("near_lit.vdb") + " --at " + world(p[0], p[1], p[2], zero) + " --normal 0,1,0").output);
+        const double ef = firstIrradianceOf(
+            runCli("query " + dir.file("far_lit.vdb") + " --at " + world(p[0], p[1], p[2], far) + " --normal 0,1,0").output);
+        EXPECT_GT(en, 0) << p[0];
+        EXPECT_NEAR(ef, en, 0.03 * en) << p[0];
+    }
 }

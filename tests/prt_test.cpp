@@ -208,6 +208,7 @@ const Vec3f kHeldOut[5] = {{0.28f, 0.40f, 0.28f}, {0.12f, 0.30f, 0.45f}, {0.45f,
 TEST(Prt, TrainingLightIsExactWithAllCoefficients) {
     PrtOptions o = smallOptions();
     o.transferCoeffs = o.trainLights;  // complete basis of the training data
+    o.orientedTraining = 0;            // (the isotropic training lights only)
     const PrtData prt = bakePrt(box().scene, box().tracer, o);
     const Vec3f light = trainingLightPositions(box().scene, box().tracer, o.trainLights)[7];
     const std::vector<float> direct = exactDirectUnit(prt.samples, box().tracer, light);
@@ -310,6 +311,7 @@ TEST(Prt, RelightableVolumeAgainstReference) {
     PrtOptions o = smallOptions();
     o.volumeResolution = 4;
     o.transferCoeffs = o.trainLights;
+    o.orientedTraining = 0;  // complete basis of the isotropic training lights
     const PrtData full = bakePrt(box().scene, box().tracer, o);
     ASSERT_TRUE(full.hasVolume());
     const std::size_t nodes = full.volumeGrid.nodeCount();

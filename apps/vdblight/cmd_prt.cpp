@@ -1,6 +1,10 @@
 // vdblight prt bake|relight|info: precomputed radiance transfer for moving point lights
 // (Leonhardt & Bohn). Options are parsed into structs; the work is in vdblight/prt.h.
+#include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <initializer_list>
+#include <iomanip>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -74,7 +78,10 @@ void runBake(PrtBakeCommand& c) {
               << " (" << c.output << ")\n";
 }
 
-std::vector<double> parseNumbers(const std::string& text, const std::string& what, const std::string& form) {
+/// The comma-separated numbers of `option` '`text`': one of `counts` of them, all finite.
+std::vector<double> parseNumbers(const std::string& text, const std::string& option, const std::string& form,
+                                 std::initializer_list<std::size_t> counts) {
+    const std::string what = option + " '" + text + "': ";
     std::vector<double> v;
     std::stringstream ss(text);
     std::string item;
@@ -84,58 +91,56 @@ std::vector<double> parseNumbers(const std::string& text, const std::string& wha
             v.push_back(std::stod(item, &used));
             if (used != item.size()) throw std::invalid_argument(item);
         } catch (const std::exception&) {
-            throw ValueError(what + " '" + text + "': expected " + form + " numbers");
+            throw ValueError(what + "expected " + form + " numbers");
         }
     }
+    if (std::find(counts.begin(), counts.end(), v.size()) == counts.end()) throw ValueError(what + "expected " + form);
     for (double x : v)
-        if (!std::isfinite(x)) throw ValueError(what + " '" + text + "': numbers must be finite");
+        if (!std::isfinite(x)) throw ValueError(what + "numbers must be finite");
     return v;
 }
 
+/// The optional r,g,b at v[first..first+2] (W/sr, not negative) into l.intensity.
+void parseIntensity(const std::vector<double>& v, std::size_t first, const std::string& option,
+                    const std::string& text, PrtLight& l) {
+    if (v.size() < first + 3) return;
+    if (v[first] < 0 || v[first + 1] < 0 || v[first + 2] < 0) {
+        throw ValueError(option + " '" + text + "': intensity must not be negative");
+    }
+    l.intensity = Rgb(Vec3d{v[first], v[first + 1], v[first + 2]});
+}
+
+/// A parsed light: its position as given (world, double) is moved into the PRT file's local
+/// frame once the file is read (prtLocal).
+struct ParsedLight {
+    PrtLight light;
+    Vec3d world;
+};
+
 /// --area-light x,y,z,nx,ny,nz,size[,r,g,b]: a square emitting on the side of the normal.
-PrtLight parseAreaLight(const std::string& text, int samples) {
-    const std::string form = "x,y,z,nx,ny,nz,size or x,y,z,nx,ny,nz,size,r,g,b";
-    const std::vector<double> v = parseNumbers(text, "--area-light", form);
-    if (v.size() != 7 && v.size() != 10) throw ValueError("--area-light '" + text + "': expected " + form);
+ParsedLight parseAreaLight(const std::string& text, int samples) {
+    const std::vector<double> v =
+        parseNumbers(text, "--area-light", "x,y,z,nx,ny,nz,size or x,y,z,nx,ny,nz,size,r,g,b", {7, 10});
     PrtLight l;
     l.position = Vec3f(Vec3d{v[0], v[1], v[2]});
     l.normal = Vec3f(Vec3d{v[3], v[4], v[5]});
     if (!(length(Vec3d{v[3], v[4], v[5]}) > 0)) throw ValueError("--area-light '" + text + "': the normal must not be zero");
     if (!(v[6] > 0)) throw ValueError("--area-light '" + text + "': size must be positive");
     l.size = float(v[6]);
-    if (v.size() == 10) {
-        if (v[7] < 0 || v[8] < 0 || v[9] < 0) throw ValueError("--area-light '" + text + "': intensity must not be negative");
-        l.intensity = Rgb(Vec3d{v[7], v[8], v[9]});
-    }
+    parseIntensity(v, 7, "--area-light", text, l);
     l.areaSamples = samples;
-    return l;
+    return {l, Vec3d{v[0], v[1], v[2]}};
 }
 
-PrtLight parseLight(const std::string& text, float size, int samples) {
-    std::vector<double> v;
-    std::stringstream ss(text);
-    std::string item;
-    while (std::getline(ss, item, ',')) {
-        try {
-            std::size_t used = 0;
-            v.push_back(std::stod(item, &used));
-            if (used != item.size()) throw std::invalid_argument(item);
-        } catch (const std::exception&) {
-            throw ValueError("--light '" + text + "': expected x,y,z or x,y,z,r,g,b numbers");
-        }
-    }
-    if (v.size() != 3 && v.size() != 6) throw ValueError("--light '" + text + "': expected x,y,z or x,y,z,r,g,b");
-    for (double x : v)
-        if (!std::isfinite(x)) throw ValueError("--light '" + text + "': numbers must be finite");
+/// --light x,y,z[,r,g,b]: a point light, or an isotropic square of side `size` if > 0.
+ParsedLight parseLight(const std::string& text, float size, int samples) {
+    const std::vector<double> v = parseNumbers(text, "--light", "x,y,z or x,y,z,r,g,b", {3, 6});
     PrtLight l;
     l.position = Vec3f(Vec3d{v[0], v[1], v[2]});
-    if (v.size() == 6) {
-        if (v[3] < 0 || v[4] < 0 || v[5] < 0) throw ValueError("--light '" + text + "': intensity must not be negative");
-        l.intensity = Rgb(Vec3d{v[3], v[4], v[5]});
-    }
+    parseIntensity(v, 3, "--light", text, l);
     l.size = size;
     l.areaSamples = samples;
-    return l;
+    return {l, Vec3d{v[0], v[1], v[2]}};
 }
 
 std::string formatLighting(const PrtData& prt, const PrtLighting& lit, bool ply) {
@@ -155,13 +160,15 @@ std::string formatLighting(const PrtData& prt, const PrtLighting& lit, bool ply)
                "radiance_g,radiance_b\n";
     }
     const char sep = ply ? ' ' : ',';
+    // Far from the origin, positions need their double digits (near it, 7 as the values).
+    const int positionDigits = prt.origin == Vec3d(0, 0, 0) ? 7 : 15;
     for (std::size_t i = 0; i < s.size(); ++i) {
-        const Vec3f& p = s.position[i];
+        const Vec3d p = prt.origin + Vec3d(s.position[i]);  // world position
         const Vec3f& n = s.normal[i];
         const Rgb& d = lit.direct[i];
         const Rgb& e = lit.indirect[i];
         const Rgb l = s.albedo[i] * (d + e) * float(kInvPi);
-        out << p.x << sep << p.y << sep << p.z << sep << n.x << sep << n.y << sep << n.z << sep << s.cluster[i];
+        out << std::setprecision(positionDigits) << p.x << sep << p.y << sep << p.z << std::setprecision(7) << sep << n.x << sep << n.y << sep << n.z << sep << s.cluster[i];
         for (const Rgb& v : {d, e, l}) out << sep << v.x << sep << v.y << sep << v.z;
         out << '\n';
     }
@@ -172,15 +179,20 @@ void runRelight(const PrtRelightCommand& c) {
     if (c.lights.empty() && c.areaLights.empty()) {
         throw ValueError("give at least one --light x,y,z[,r,g,b] or --area-light");
     }
-    std::vector<PrtLight> lights;
-    for (const std::string& t : c.lights) lights.push_back(parseLight(t, c.areaSize, c.areaSamples));
-    for (const std::string& t : c.areaLights) lights.push_back(parseAreaLight(t, c.areaSamples));
+    std::vector<ParsedLight> parsed;
+    for (const std::string& t : c.lights) parsed.push_back(parseLight(t, c.areaSize, c.areaSamples));
+    for (const std::string& t : c.areaLights) parsed.push_back(parseAreaLight(t, c.areaSamples));
     bool ply = c.format == "ply";
     if (c.format.empty()) ply = c.output.size() > 4 && c.output.substr(c.output.size() - 4) == ".ply";
     else if (c.format != "csv" && c.format != "ply") throw ValueError("--format must be csv or ply");
     if (!c.output.empty()) checkOutputWritable(c.output);
     if (!c.volumeOutput.empty()) checkOutputWritable(c.volumeOutput);
     const PrtData prt = readPrt(c.input);
+    std::vector<PrtLight> lights;  // in the file's local frame (the scene's, scene_origin.h)
+    for (ParsedLight& p : parsed) {
+        p.light.position = prtLocal(prt, p.world);
+        lights.push_back(p.light);
+    }
     if (!c.volumeOutput.empty() && !prt.hasVolume()) {
         throw ValueError("'" + c.input + "' has no volume: bake it with --volume-resolution to use --volume-out");
     }
@@ -200,7 +212,8 @@ void runRelight(const PrtRelightCommand& c) {
     for (std::size_t i = 0; i < lights.size(); ++i) {
         const PrtLight& l = lights[i];
         std::ostringstream name;
-        name << "light " << i + 1 << " at " << l.position.x << "," << l.position.y << "," << l.position.z;
+        name.precision(10);
+        name << "light " << i + 1 << " at " << parsed[i].world.x << "," << parsed[i].world.y << "," << parsed[i].world.z;
         if (!prt.bounds.contains(Vec3d(l.position))) {
             std::cerr << "vdblight: warning: " << name.str()
                       << " is outside the scene bounds (lit as given; the basis was trained inside)\n";
@@ -249,6 +262,12 @@ void runRelight(const PrtRelightCommand& c) {
 
 }  // namespace
 
+static std::string formatNumber(double v) {
+    std::ostringstream out;
+    out << v;
+    return out.str();
+}
+
 void printPrtInfo(const std::string& path) {
     const PrtData prt = readPrt(path);
     const PrtFileInfo info = inspectPrt(path);
@@ -258,8 +277,16 @@ void printPrtInfo(const std::string& path) {
               << prt.samples.radius << ")\n"
               << "  visibility: " << prt.visGrid * prt.visGrid << " directions -> " << prt.visCoeffStride
               << " coefficients\n"
-              << "  direct-light basis: " << prt.trainLights << " training lights -> " << prt.transferStride - 1
-              << " vectors per cluster\n"
+              << "  direct-light basis: " << prt.trainLights << " training lights -> "
+              << prt.transferStride - 1 - prt.orientedCoeffs
+              << " vectors per cluster"
+              << (prt.orientedTraining > 0 ? " (+ " + formatNumber(prt.orientedTraining) +
+                                                 " one-sided per point light -> " + std::to_string(prt.orientedCoeffs) +
+                                                 " vectors)"
+                                           : std::string())
+              << "\n"
+              << "  scene origin: " << std::setprecision(15) << prt.origin.x << ", " << prt.origin.y << ", "
+              << prt.origin.z << std::setprecision(6) << "\n"
               << "  transfer: " << prt.bounces << (prt.bounces == 1 ? " bounce" : " bounces")
               << (prt.closureNormalise ? ", closure-normalised" : ", raw")
               << (prt.formFactorRays ? " sampled form factors (" + std::to_string(prt.formFactorRays) + " rays per receiver)"
@@ -309,6 +336,11 @@ void addPrtCommand(CLI::App& app) {
         ->capture_default_str();
     bake->add_option("--form-factor-rays", b->options.formFactorRays,
                      "Rays per sample / node for sampled form factors")->capture_default_str();
+    bake->add_option("--oriented-training", b->options.orientedTraining,
+                     "One-sided example lights per point light in the direct-light basis (0: point lights only)")
+        ->capture_default_str();
+    bake->add_option("--oriented-coeffs", b->options.orientedCoeffs,
+                     "Basis vectors per cluster added from the one-sided example lights")->capture_default_str();
     bake->add_flag("--paper-basis", b->options.paperBasis,
                    "Direct-light basis exactly as the paper's eq. 7 (centred, unnormalised examples)");
     bake->add_flag("--no-quantize", b->noQuantize, "Store 32-bit floats instead of 16-bit");

@@ -62,6 +62,14 @@ struct PrtOptions {
     static constexpr uint32_t kDenseFormFactorLimit = 8192;
     FormFactors formFactors = FormFactors::Auto;
     uint32_t formFactorRays = 256;  ///< rays per receiver for Sampled (rounded up to a square)
+    /// One-sided example lights per isotropic one (trainingLights): cosine emitters facing
+    /// away from their nearest surface. Their residuals after projection onto the point
+    /// lights' basis give `orientedCoeffs` more basis vectors per cluster, so that the basis
+    /// also spans the half-space cut-off of one-sided (area) lights while point lights project
+    /// as before. 0 (or orientedCoeffs 0): point lights only (as the paper); ignored with
+    /// paperBasis.
+    float orientedTraining = 1.0f;
+    uint32_t orientedCoeffs = 2;   ///< vectors appended from the one-sided examples (0..256)
     uint64_t seed = 1;
     int threads = 0;               ///< 0: all cores
 };
@@ -133,7 +141,7 @@ struct PrtData {
     std::vector<float> visCoeffs;       ///< per sample, visCoeffStride values (zero padded)
     int visCoeffStride = 0;
     std::vector<PcaBasis> lightBasis;   ///< per cluster, dim = cluster size
-    int transferStride = 0;             ///< transferCoeffs + 1 (row 0 = the mean)
+    int transferStride = 0;             ///< transferCoeffs + orientedCoeffs + 1 (row 0 = the mean)
     /// transfer[s][k * samples + r]: irradiance at receiver r per unit basis coefficient k of
     /// sender cluster s (k = 0: the mean vector), RGB (sender albedo included), summed over
     /// bounces 1..bounces.
@@ -150,10 +158,15 @@ struct PrtData {
     std::vector<std::vector<int16_t>> volumeTransferQ;
     std::vector<std::vector<float>> volumeTransferScale;
     bool hasVolume() const { return !volumeTransfer.empty(); }
-    Bounds bounds;
+    Bounds bounds;               ///< of the scene, in its local frame
+    /// World position of the scene's local frame (Scene::origin): samples, bounds, volume
+    /// nodes and PrtLight positions are local (float); prtLocal converts a world point.
+    Vec3d origin{0, 0, 0};
     std::string sceneName, sceneHash;
     uint64_t seed = 1;
     uint32_t trainLights = 0;
+    float orientedTraining = 0.0f;  ///< PrtOptions::orientedTraining of the bake
+    int orientedCoeffs = 0;         ///< of the transferStride - 1 vectors, the last ones from one-sided examples
     bool paperBasis = false;
     int bounces = 1;             ///< diffuse bounces in transfer / volumeTransfer
     bool closureNormalise = false;  ///< form factors rescaled to the covered hemisphere
@@ -208,12 +221,17 @@ std::vector<Rgb> prtTransfer(const PrtData& prt, const std::vector<float>& direc
 /// samples into the volume's nodes, for a given per-sample direct unit irradiance.
 std::vector<Rgb> prtVolumeTransfer(const PrtData& prt, const std::vector<float>& direct);
 
+/// A world point (double) in the PRT data's local frame, e.g. a light position given by a
+/// user for a scene far from the origin (scene_origin.h).
+inline Vec3f prtLocal(const PrtData& prt, const Vec3d& world) { return Vec3f(world - prt.origin); }
+
 /// Relights the volume: an `sh2` Volume (one dense level) holding the radiance that reaches
 /// each node after 1..prt.bounces diffuse reflections off the surfaces, plus, if `tracer`
 /// (of the baked scene) is given, the lights' own direct radiance (lightsAtNodes: exact
 /// shadow rays), so that it is a complete lighting volume like a `bake` with those lights.
-/// `query` and `export` read it like any baked volume. Throws ValueError if the PRT data has
-/// no volume.
+/// `query` and `export` read it like any baked volume. It is placed in the world: its grid
+/// origin is prt.volumeGrid's plus prt.origin (placeVolumeInWorld). Throws ValueError if the
+/// PRT data has no volume.
 Volume relightVolume(const PrtData& prt, const std::vector<PrtLight>& lights, const Tracer* tracer = nullptr);
 
 /// The lights' direct SH radiance at the nodes of `grid` (9 per node, node-major): a point
@@ -229,6 +247,14 @@ struct PrtPointLight {
     float weight;     ///< share of the light's intensity (1 / points)
 };
 std::vector<PrtPointLight> lightPoints(const PrtLight& light);
+
+/// The example lights of the direct-light basis: trainingLightPositions(count + extra) with
+/// extra = round(count * orientedFraction); the first `count` are isotropic points (the
+/// paper's), the rest one-sided cosine emitters (unit intensity along the normal) facing away
+/// from the nearest surface hit by the six axis rays from the position (a lamp on a wall or a
+/// ceiling), or along the Halton (bases 7, 11) sphere direction if no axis ray hits.
+std::vector<PrtPointLight> trainingLights(const Scene& scene, const Tracer& tracer, uint32_t count,
+                                          float orientedFraction);
 
 // --- References (uncompressed, for tests and error reports) ------------------------------
 

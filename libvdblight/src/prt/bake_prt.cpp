@@ -32,6 +32,8 @@ void validate(const PrtOptions& o) {
     if (o.visDirs < 4 || o.visDirs > 65536) throw ValueError("--vis-dirs must be in 4..65536");
     if (o.visCoeffs == 0 || o.visCoeffs > o.visDirs) throw ValueError("--vis-coeffs must be in 1..--vis-dirs");
     if (o.trainLights == 0 || o.trainLights > 100000) throw ValueError("--train-lights must be in 1..100000");
+    if (!(o.orientedTraining >= 0 && o.orientedTraining <= 16)) throw ValueError("--oriented-training must be in 0..16");
+    if (o.orientedCoeffs > 256) throw ValueError("--oriented-coeffs must be in 0..256");
     if (o.transferCoeffs == 0 || o.transferCoeffs > o.trainLights) {
         throw ValueError("--transfer-coeffs must be in 1..--train-lights");
     }
@@ -40,25 +42,26 @@ void validate(const PrtOptions& o) {
     if (o.bounces < 1 || o.bounces > 64) throw ValueError("--bounces must be in 1..64 (got " + std::to_string(o.bounces) + ")");
 }
 
-/// Refuses a bake whose transfer matrices or rays would not fit a machine (the estimate
-/// is in the message).
 /// Whether the bake uses sampled form factors for n samples.
 bool sampledFormFactors(double n, const PrtOptions& o) {
     return o.formFactors == PrtOptions::FormFactors::Sampled ||
            (o.formFactors == PrtOptions::FormFactors::Auto && n > PrtOptions::kDenseFormFactorLimit);
 }
 
+/// Refuses a bake whose transfer matrices, PCA or rays would not fit a machine (the
+/// estimate is in the message).
+
 void checkBudget(double n, const PrtOptions& o) {
     const double k = std::max(1.0, std::round(n / o.clusterSize));
-    const double matrixBytes = k * double(o.transferCoeffs + 1) * n * 12.0;
+    const double matrixBytes = k * double(o.transferCoeffs + o.orientedCoeffs + 1) * n * 12.0;
     const bool sampled = sampledFormFactors(n, o);
     // The sample-to-sample matrix during the bake: dense, or rays entries per row.
     const double formFactorBytes = sampled ? n * double(o.formFactorRays) * 8.0 : n * n * 4.0;
     const double rays = (sampled ? n * double(o.formFactorRays) : n * n / 2) + n * double(o.visDirs) +
-                        n * double(o.trainLights);
+                        n * double(o.trainLights) * (1.0 + o.orientedTraining);
     // Each cluster's PCA holds its samples x (directions or lights) in doubles, twice (SVD).
     const double clusterSamples = std::min(n, 1.5 * double(o.clusterSize));
-    const double pcaBytes = clusterSamples * double(std::max(o.visDirs, o.trainLights)) * 16.0;
+    const double pcaBytes = clusterSamples * std::max(double(o.visDirs), o.trainLights * (1.0 + o.orientedTraining)) * 16.0;
     if (pcaBytes > 8e9) {
         throw ValueError("the per-cluster PCA would take " + std::to_string(uint64_t(pcaBytes / 1e6)) + " MB for " +
                          std::to_string(uint64_t(clusterSamples)) + " samples per cluster: use a smaller --cluster-size");
@@ -116,14 +119,19 @@ void bakeVisibility(PrtData& prt, const Tracer& tracer, const PrtOptions& o, Int
 /// 4.3.1: per cluster, PCA of the direct lighting of the example lights.
 void bakeLightBasis(PrtData& prt, const Scene& scene, const Tracer& tracer, const PrtOptions& o, Interrupter* in) {
     const SurfaceSamples& s = prt.samples;
-    const std::vector<Vec3f> lights = trainingLightPositions(scene, tracer, o.trainLights);
-    prt.trainLights = uint32_t(lights.size());
+    // The paper's basis (eq. 7) is of isotropic point lights only.
+    const float oriented = o.paperBasis || o.orientedCoeffs == 0 ? 0.0f : o.orientedTraining;
+    const std::vector<PrtPointLight> lights = trainingLights(scene, tracer, o.trainLights, oriented);
+    prt.trainLights = uint32_t(std::min<std::size_t>(o.trainLights, lights.size()));
+    prt.orientedTraining = oriented;
+    prt.orientedCoeffs = lights.size() > prt.trainLights ? int(o.orientedCoeffs) : 0;
     const std::size_t n = s.size(), l = lights.size();
     std::vector<float> direct(l * n);  // row = one light
     if (in) in->start("direct-light basis", l);
     for (std::size_t k = 0; k < l; ++k) {
         checkCancel(in);
-        const std::vector<float> row = exactDirectUnit(s, tracer, lights[k], o.threads);
+        const std::vector<float> row =
+            exactDirectLight(s, tracer, PrtLight{lights[k].position, Rgb{1, 1, 1}, 0.0f, 1, lights[k].normal}, o.threads);
         std::copy(row.begin(), row.end(), direct.begin() + std::ptrdiff_t(k * n));
         if (in) in->progress(k + 1);
     }
@@ -131,12 +139,14 @@ void bakeLightBasis(PrtData& prt, const Scene& scene, const Tracer& tracer, cons
     for (std::size_t c = 0; c < s.clusters(); ++c) {
         const uint32_t b = s.clusterBegin[c], e = s.clusterBegin[c + 1];
         const int nc = int(e - b);
-        std::vector<float> rows(l * std::size_t(nc));
-        for (std::size_t k = 0; k < l; ++k)
+        // Rows 0 .. iso - 1: the point lights; the one-sided examples follow.
+        const std::size_t iso = prt.trainLights, oneSided = l - iso;
+        std::vector<float> rows(iso * std::size_t(nc));
+        for (std::size_t k = 0; k < iso; ++k)
             std::copy(direct.begin() + std::ptrdiff_t(k * n + b), direct.begin() + std::ptrdiff_t(k * n + e),
                       rows.begin() + std::ptrdiff_t(k * std::size_t(nc)));
         if (!o.paperBasis) {
-            for (std::size_t k = 0; k < l; ++k) {
+            for (std::size_t k = 0; k < iso; ++k) {
                 float* row = rows.data() + k * std::size_t(nc);
                 double norm2 = 0;
                 for (int j = 0; j < nc; ++j) norm2 += double(row[j]) * row[j];
@@ -144,7 +154,41 @@ void bakeLightBasis(PrtData& prt, const Scene& scene, const Tracer& tracer, cons
                 for (int j = 0; j < nc; ++j) row[j] = float(row[j] * scale);
             }
         }
-        prt.lightBasis[c] = fitPca(rows, int(l), nc, int(o.transferCoeffs), o.paperBasis);
+        // The point lights' basis (the paper's), then the one-sided examples' residuals
+        // after projecting them onto it, whose PCA adds up to orientedCoeffs more vectors
+        // (orthogonal to the first: point lights project as before, or better).
+        std::vector<float> residual(oneSided * std::size_t(nc));
+        for (std::size_t k = 0; k < oneSided; ++k)
+            std::copy(direct.begin() + std::ptrdiff_t((iso + k) * n + b), direct.begin() + std::ptrdiff_t((iso + k) * n + e),
+                      residual.begin() + std::ptrdiff_t(k * std::size_t(nc)));
+        PcaBasis basis = fitPca(rows, int(iso), nc, int(o.transferCoeffs), o.paperBasis);
+        if (oneSided > 0) {
+            for (std::size_t k = 0; k < oneSided; ++k) {
+                float* x = residual.data() + k * std::size_t(nc);
+                double norm2 = 0;
+                for (int j = 0; j < nc; ++j) norm2 += double(x[j]) * x[j];
+                const double scale = norm2 > 0 ? 1.0 / std::sqrt(norm2) : 0.0;
+                for (int j = 0; j < nc; ++j) x[j] = float(x[j] * scale);
+                for (int v = 0; v < basis.count; ++v) {  // minus its projection (Gram-Schmidt order)
+                    const float* bv = basis.vectors.data() + std::size_t(v) * std::size_t(nc);
+                    double d = 0;
+                    for (int j = 0; j < nc; ++j) d += double(x[j]) * bv[j];
+                    for (int j = 0; j < nc; ++j) x[j] = float(x[j] - d * bv[j]);
+                }
+            }
+            const PcaBasis extra = fitPca(residual, int(oneSided), nc, int(o.orientedCoeffs), false);
+            // Only directions the residuals really have (mean square along it > 1e-6 of a unit
+            // example), and never more vectors than the cluster has samples: where the point
+            // lights' basis already spans everything, the residuals are rounding noise.
+            for (int k = 0; k < extra.count && basis.count < nc; ++k) {
+                const double sv = extra.singularValues[std::size_t(k)];
+                if (!(sv * sv > 1e-6 * double(oneSided))) break;
+                basis.vectors.insert(basis.vectors.end(), extra.vectors.begin() + std::ptrdiff_t(k) * nc,
+                                     extra.vectors.begin() + std::ptrdiff_t(k + 1) * nc);
+                ++basis.count;
+            }
+        }
+        prt.lightBasis[c] = std::move(basis);
     }
 }
 
@@ -158,6 +202,7 @@ PrtData bakePrt(const Scene& scene, const Tracer& tracer, const PrtOptions& o, I
     prt.seed = o.seed;
     prt.paperBasis = o.paperBasis;
     prt.bounds = scene.bounds();
+    prt.origin = scene.origin;
     prt.depthCap = float(length(prt.bounds.size()) * 1.01 + 1e-3);
     if (o.volumeResolution < 0 || o.volumeResolution > 256) throw ValueError("--volume-resolution must be in 0..256");
     if (o.volumeResolution > 0) {
@@ -188,7 +233,7 @@ PrtData bakePrt(const Scene& scene, const Tracer& tracer, const PrtOptions& o, I
     bakeLightBasis(prt, scene, tracer, o, in);
     double t3 = now();
     prt.secondsBasis = t3 - t2;
-    prt.transferStride = int(o.transferCoeffs) + 1;
+    prt.transferStride = int(o.transferCoeffs) + prt.orientedCoeffs + 1;
     prt.bounces = o.bounces;
     prt.closureNormalise = o.closureNormalise;
     prt.formFactorRays = sampledFormFactors(double(prt.samples.size()), o) ? o.formFactorRays : 0;

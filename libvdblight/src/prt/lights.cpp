@@ -1,6 +1,7 @@
 // Example light positions for the direct-light basis (4.3.1) and the inside-a-solid test.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "prt_internal.h"
 #include "vdblight/errors.h"
@@ -30,6 +31,30 @@ std::vector<Vec3f> trainingLightPositions(const Scene& scene, const Tracer& trac
         if (!insideSolid(tracer, p)) out.push_back(p);
     }
     if (out.empty()) throw SceneError("no example light position outside solids: is the scene closed inside out?");
+    return out;
+}
+
+std::vector<PrtPointLight> trainingLights(const Scene& scene, const Tracer& tracer, uint32_t count,
+                                          float orientedFraction) {
+    const double f = std::clamp(double(orientedFraction), 0.0, 16.0);
+    const uint32_t extra = uint32_t(std::lround(double(count) * f));
+    const std::vector<Vec3f> positions = trainingLightPositions(scene, tracer, count + extra);
+    static const Vec3f axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    std::vector<PrtPointLight> out;
+    for (std::size_t k = 0; k < positions.size(); ++k) {
+        Vec3f n{0, 0, 0};
+        if (k >= count) {
+            // Facing away from the nearest surface along the six axes (a lamp mounted on it),
+            // else (nothing hit) a Halton-random direction.
+            n = uniformSphere(float(radicalInverse(7, k + 1)), float(radicalInverse(11, k + 1)));
+            float nearest = std::numeric_limits<float>::infinity();
+            for (const Vec3f& d : axes) {
+                const Hit h = tracer.intersect(Ray{positions[k], d});
+                if (h.hit() && h.t < nearest) nearest = h.t, n = d * -1.0f;
+            }
+        }
+        out.push_back(PrtPointLight{positions[k], n, 1.0f});
+    }
     return out;
 }
 

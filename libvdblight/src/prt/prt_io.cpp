@@ -108,6 +108,9 @@ vp::PointDataGrid::Ptr buildPoints(const PrtData& prt, bool quantize) {
     const auto xform = openvdb::math::Transform::createLinearTransform(voxel);
     auto index = openvdb::tools::createPointIndexGrid<openvdb::tools::PointIndexGrid>(posW, *xform);
     auto grid = vp::createPointDataGrid<vp::NullCodec, vp::PointDataGrid>(*index, posW, *xform);
+    // Index space holds the local positions; the transform places them in the world (for
+    // Houdini / Blender), the reader subtracts the origin again.
+    if (prt.origin != Vec3d(0, 0, 0)) grid->transform().postTranslate(openvdb::Vec3d(prt.origin.x, prt.origin.y, prt.origin.z));
     auto& tree = grid->tree();
     using PIT = openvdb::tools::PointIndexTree;
     vp::appendAttribute<openvdb::Vec3f>(tree, "N");
@@ -232,6 +235,9 @@ void writePrt(const PrtData& prt, const std::string& path, const PrtWriteOptions
     m.insertMeta(kP + "train_lights", openvdb::Int64Metadata(prt.trainLights));
     m.insertMeta(kP + "transfer_coeffs", openvdb::Int64Metadata(prt.transferStride - 1));
     m.insertMeta(kP + "light_basis", openvdb::StringMetadata(prt.paperBasis ? "centred" : "normalised_uncentred"));
+    m.insertMeta(kP + "oriented_training", openvdb::FloatMetadata(prt.orientedTraining));
+    m.insertMeta(kP + "oriented_coeffs", openvdb::Int64Metadata(prt.orientedCoeffs));
+    m.insertMeta(kP + "scene_origin", openvdb::Vec3DMetadata(openvdb::Vec3d(prt.origin.x, prt.origin.y, prt.origin.z)));
     m.insertMeta(kP + "quantized", openvdb::BoolMetadata(options.quantize));
     m.insertMeta(kP + "sparse_threshold", openvdb::FloatMetadata(thr));
     m.insertMeta(kP + "values", openvdb::Int64Metadata(int64_t(n.values)));
@@ -347,7 +353,19 @@ PrtData readPrt(const std::string& path) {
     prt.depthCap = meta<float>(m, "depth_cap", path);
     prt.trainLights = uint32_t(meta<int64_t>(m, "train_lights", path));
     prt.paperBasis = meta<std::string>(m, "light_basis", path) == "centred";
+    // Optional (files before them: point-light basis, scene at the world origin).
+    if (auto f = m.getMetadata<openvdb::FloatMetadata>(kP + "oriented_training")) prt.orientedTraining = f->value();
+    if (auto v = m.getMetadata<openvdb::Int64Metadata>(kP + "oriented_coeffs")) prt.orientedCoeffs = int(v->value());
+    if (auto o = m.getMetadata<openvdb::Vec3DMetadata>(kP + "scene_origin")) {
+        prt.origin = {o->value()[0], o->value()[1], o->value()[2]};
+        if (!std::isfinite(prt.origin.x) || !std::isfinite(prt.origin.y) || !std::isfinite(prt.origin.z)) {
+            throw FormatError("'" + path + "' is not a valid PRT file: non-finite scene origin");
+        }
+    }
     prt.transferStride = int(meta<int64_t>(m, "transfer_coeffs", path)) + 1;
+    if (prt.orientedCoeffs < 0 || prt.orientedCoeffs >= prt.transferStride) {
+        throw FormatError("'" + path + "' is not a valid PRT file: oriented_coeffs out of range");
+    }
     const openvdb::Vec3d lo = meta<openvdb::Vec3d>(m, "bounds_lo", path), hi = meta<openvdb::Vec3d>(m, "bounds_hi", path);
     prt.bounds.lo = {lo[0], lo[1], lo[2]};
     prt.bounds.hi = {hi[0], hi[1], hi[2]};
@@ -392,7 +410,8 @@ PrtData readPrt(const std::string& path) {
                     throw FormatError("bad sample id or cluster");
                 }
                 seen[std::size_t(i)] = 1;
-                const openvdb::Vec3d w = xf.indexToWorld(hp.get(*idx) + idx.getCoord().asVec3d());
+                const openvdb::Vec3d w =
+                    xf.indexToWorld(hp.get(*idx) + idx.getCoord().asVec3d()) - openvdb::Vec3d(prt.origin.x, prt.origin.y, prt.origin.z);
                 const openvdb::Vec3f nn = hn.get(*idx), aa = ha.get(*idx);
                 s.position[std::size_t(i)] = {float(w[0]), float(w[1]), float(w[2])};
                 s.normal[std::size_t(i)] = {nn[0], nn[1], nn[2]};
@@ -426,7 +445,9 @@ PrtData readPrt(const std::string& path) {
     for (std::size_t c = 0; c < k; ++c) {
         const int nc = int(s.clusterBegin[c + 1] - s.clusterBegin[c]);
         getBasis(*visBasis, int(c), d, std::min({prt.visCoeffStride, nc, d}), prt.visBasis[c]);
-        getBasis(*lightBasis, int(c), nc, std::min({prt.transferStride - 1, int(prt.trainLights), nc}), prt.lightBasis[c]);
+        // The point lights' vectors (at most train_lights of them), then the one-sided ones.
+        getBasis(*lightBasis, int(c), nc,
+                 std::min({prt.transferStride - 1, int(prt.trainLights) + prt.orientedCoeffs, nc}), prt.lightBasis[c]);
     }
     prt.transfer.assign(k, std::vector<Rgb>(std::size_t(prt.transferStride) * n, Rgb{0, 0, 0}));
     for (auto it = transfer->cbeginValueOn(); it; ++it) {

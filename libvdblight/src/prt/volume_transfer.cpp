@@ -12,6 +12,7 @@
 
 #include "prt_internal.h"
 #include "vdblight/errors.h"
+#include "vdblight/scene_origin.h"
 #include "vdblight/sh.h"
 
 namespace vdblight {
@@ -208,6 +209,7 @@ Volume relightVolume(const PrtData& prt, const std::vector<PrtLight>& lights, co
     }
     if (tracer) addLightsAtNodes(prt.volumeGrid, *tracer, lights, total);
     vol.levels.push_back(std::move(level));
+    placeVolumeInWorld(vol, prt.origin);  // relit in the scene's local frame (scene_origin.h)
     vol.meta["method"] = std::string("prt_relight");
     const std::string bounces = std::to_string(prt.bounces) + (prt.bounces == 1 ? " bounce" : " bounces");
     vol.meta["content"] = tracer ? std::string("direct radiance of the lights (shadow rays) + indirect radiance of ") +
@@ -222,18 +224,23 @@ Volume relightVolume(const PrtData& prt, const std::vector<PrtLight>& lights, co
     return vol;
 }
 
-std::vector<Rgb> referenceVolume(const SurfaceSamples& s, const GridSpec& grid, const Tracer& tracer,
-                                 const std::vector<float>& direct, int threads) {
-    if (direct.size() != s.size()) throw ValueError("direct lighting has the wrong number of samples");
+namespace {
+
+/// The uncompressed gather at the nodes: sender j adds weight(j) * Y(w) * solid angle, where
+/// weight(j, we) sets the sender's outgoing RGB radiance (double) and returns false for a
+/// dark sender (skipped before its ray).
+template <typename Weight>
+std::vector<Rgb> gatherSenders(const SurfaceSamples& s, const GridSpec& grid, const Tracer& tracer, int threads,
+                               Weight&& weight) {
     std::vector<Rgb> out(grid.nodeCount() * sh::kCoeffs, Rgb{0, 0, 0});
     parallelFor(grid.nodeCount(), threads, [&](std::size_t node) {
         const Vec3f x(grid.node(node));
         double acc[sh::kCoeffs][3] = {};
         float y[sh::kCoeffs];
         for (std::size_t j = 0; j < s.size(); ++j) {
+            Rgbd w;
             float omega;
-            if (direct[j] == 0.0f || !senderShFromNode(s, tracer, x, j, y, omega)) continue;
-            const Rgbd w = Rgbd(s.albedo[j]) * (kInvPi * direct[j]);
+            if (!weight(j, w) || !senderShFromNode(s, tracer, x, j, y, omega)) continue;
             for (int m = 0; m < sh::kCoeffs; ++m) {
                 acc[m][0] += w.x * y[m];
                 acc[m][1] += w.y * y[m];
@@ -246,30 +253,28 @@ std::vector<Rgb> referenceVolume(const SurfaceSamples& s, const GridSpec& grid, 
     return out;
 }
 
+}  // namespace
+
+std::vector<Rgb> referenceVolume(const SurfaceSamples& s, const GridSpec& grid, const Tracer& tracer,
+                                 const std::vector<float>& direct, int threads) {
+    if (direct.size() != s.size()) throw ValueError("direct lighting has the wrong number of samples");
+    return gatherSenders(s, grid, tracer, threads, [&](std::size_t j, Rgbd& w) {
+        if (direct[j] == 0.0f) return false;
+        w = Rgbd(s.albedo[j]) * (kInvPi * direct[j]);
+        return true;
+    });
+}
+
 std::vector<Rgb> referenceVolume(const SurfaceSamples& s, const GridSpec& grid, const Tracer& tracer,
                                  const std::vector<Rgb>& senderIrradiance, int threads) {
     if (senderIrradiance.size() != s.size()) throw ValueError("sender irradiance has the wrong number of samples");
-    std::vector<Rgb> out(grid.nodeCount() * sh::kCoeffs, Rgb{0, 0, 0});
-    parallelFor(grid.nodeCount(), threads, [&](std::size_t node) {
-        const Vec3f x(grid.node(node));
-        double acc[sh::kCoeffs][3] = {};
-        float y[sh::kCoeffs];
-        for (std::size_t j = 0; j < s.size(); ++j) {
-            const Rgb& e = senderIrradiance[j];
-            float omega;
-            if ((e.x == 0.0f && e.y == 0.0f && e.z == 0.0f) || !senderShFromNode(s, tracer, x, j, y, omega)) continue;
-            const Rgbd w = Rgbd(s.albedo[j]) * kInvPi;
-            const Rgbd we{w.x * e.x, w.y * e.y, w.z * e.z};
-            for (int m = 0; m < sh::kCoeffs; ++m) {
-                acc[m][0] += we.x * y[m];
-                acc[m][1] += we.y * y[m];
-                acc[m][2] += we.z * y[m];
-            }
-        }
-        for (int m = 0; m < sh::kCoeffs; ++m)
-            out[node * sh::kCoeffs + std::size_t(m)] = Rgb{float(acc[m][0]), float(acc[m][1]), float(acc[m][2])};
+    return gatherSenders(s, grid, tracer, threads, [&](std::size_t j, Rgbd& w) {
+        const Rgb& e = senderIrradiance[j];
+        if (e.x == 0.0f && e.y == 0.0f && e.z == 0.0f) return false;
+        const Rgbd a = Rgbd(s.albedo[j]) * kInvPi;
+        w = Rgbd{a.x * e.x, a.y * e.y, a.z * e.z};
+        return true;
     });
-    return out;
 }
 
 }  // namespace vdblight
