@@ -24,6 +24,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "bench_util.h"
 #include "vdblight/bake.h"
 #include "vdblight/bake_bins.h"
 #include "vdblight/bake_levels.h"
@@ -44,21 +45,8 @@ using namespace vdblight;
 
 namespace {
 
-double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
-
-/// A point is in free space if rays along the six axis directions first hit front faces
-/// (or nothing): inside a closed solid some ray meets a back face first.
-bool freeSpace(const Tracer& tracer, const Vec3f& x) {
-    const Vec3f dirs[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-    for (const Vec3f& d : dirs) {
-        Ray r;
-        r.origin = x;
-        r.direction = d;
-        const Hit h = tracer.intersect(r);
-        if (h.hit() && dot(h.geometricNormal, d) > 0) return false;
-    }
-    return true;
-}
+using bench::freeSpace;
+using bench::now;
 
 struct Config {
     const char* name;
