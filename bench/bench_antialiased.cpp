@@ -40,6 +40,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "bench_args.h"
 #include "vdblight/bake_antialiased.h"
 #include "vdblight/leak_scenes.h"
 #include "vdblight/query.h"
@@ -302,27 +303,16 @@ void costOnly(const Case& c, uint32_t raysPerNode, int threads) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    bool quick = false, fine = false, cost = false, decompose = true;
-    uint32_t raysOverride = 0;
-    int threads = 0;
-    std::string writeDir, only;
-    double tikhonov = AntialiasedOptions{}.tikhonov;
-    for (int a = 1; a < argc; ++a) {
-        if (std::strcmp(argv[a], "--quick") == 0) quick = true;
-        else if (std::strcmp(argv[a], "--fine") == 0) fine = true;
-        else if (std::strcmp(argv[a], "--write-volumes") == 0 && a + 1 < argc) writeDir = argv[++a];
-        else if (std::strcmp(argv[a], "--scene") == 0 && a + 1 < argc) only = argv[++a];
-        else if (std::strcmp(argv[a], "--tikhonov") == 0 && a + 1 < argc) tikhonov = std::atof(argv[++a]);
-        else if (std::strcmp(argv[a], "--cost-only") == 0) cost = true;
-        else if (std::strcmp(argv[a], "--no-decompose") == 0) decompose = false;
-        else if (std::strcmp(argv[a], "--rays") == 0 && a + 1 < argc) raysOverride = uint32_t(std::atoi(argv[++a]));
-        else if (std::strcmp(argv[a], "--threads") == 0 && a + 1 < argc) threads = std::atoi(argv[++a]);
-        else {
-            std::fprintf(stderr, "usage: vdblight_bench_antialiased [--quick] [--fine] [--write-volumes DIR] "
-                                 "[--scene NAME] [--tikhonov T] [--rays N] [--threads N] [--cost-only] [--no-decompose]\n");
-            return 2;
-        }
-    }
+    bench::BenchArgs args("vdblight_bench_antialiased",
+                          {{"--fine", ""}, {"--write-volumes", "DIR"}, {"--scene", "NAME"}, {"--tikhonov", "T"},
+                           {"--rays", "N"}, {"--threads", "N"}, {"--cost-only", ""}, {"--no-decompose", ""}});
+    if (!args.parse(argc, argv)) return 2;
+    const bool quick = args.quick(), fine = args.given("--fine"), cost = args.given("--cost-only");
+    const bool decompose = !args.given("--no-decompose");
+    const uint32_t raysOverride = uint32_t(args.integer("--rays", 0));
+    const int threads = args.integer("--threads", 0);
+    const std::string writeDir = args.text("--write-volumes"), only = args.text("--scene");
+    const double tikhonov = args.real("--tikhonov", AntialiasedOptions{}.tikhonov);
     const uint32_t rays = raysOverride ? raysOverride : quick ? 64 : 512;
     const int points = quick ? 200 : 1000;
     const uint32_t refSamples = quick ? 1024 : 16384;

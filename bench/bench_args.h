@@ -55,6 +55,11 @@ public:
         return given(name) ? std::atoi(text(name).c_str()) : fallback;
     }
 
+    /// The option's value read by std::atof, or `fallback` if it was not given.
+    double real(const std::string& name, double fallback) const {
+        return given(name) ? std::atof(text(name).c_str()) : fallback;
+    }
+
 private:
     const BenchOption* find(const std::string& name) const {
         for (const BenchOption& o : options_)
