@@ -85,5 +85,29 @@ TEST(VdbReadHostile, MetadataLengthsBeyondTheFileAreRefusedBeforeAllocation) {
     expectRefused(dir, withValueLength(bytes, "vdblight:format_version", 0, 12));
 }
 
+TEST(VdbReadHostile, FilesWithoutGridOffsetsAreRefusedBeforeOpenVdbParsesThem) {
+    // Without grid offsets OpenVDB reads grid descriptors with unchecked lengths (fuzz_vdb
+    // found a name length of gigabytes), so such files are refused up front. Byte 20 of the
+    // header (after magic, file version and library version) is the grid-offsets flag.
+    test::TempDir dir;
+    const std::string good = dir.file("good.vdb");
+    writeVolume(smallVolume(), good);
+    std::string bytes = readBytes(good);
+    ASSERT_EQ(bytes[20], 1);
+    EXPECT_NO_THROW(readVolume(good));
+    bytes[20] = 0;
+    const std::string path = dir.file("stream.vdb");
+    test::writeTextFile(path, bytes);
+    for (int call = 0; call < 2; ++call) {
+        try {
+            if (call == 0) readVolume(path);
+            else inspectVolumeFile(path);
+            ADD_FAILURE() << "a file without grid offsets was accepted";
+        } catch (const FormatError& e) {
+            EXPECT_NE(std::string(e.what()).find("no grid offsets"), std::string::npos) << e.what();
+        }
+    }
+}
+
 }  // namespace
 }  // namespace vdblight

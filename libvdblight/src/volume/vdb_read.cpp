@@ -66,7 +66,11 @@ public:
         checkMetaMap(is, fileBytes);
         openvdb::MetaMap().readMeta(is);
         if (!is) throw std::runtime_error("cannot read the file metadata");
-        if (!inputHasGridOffsets()) return 0;
+        // Without grid offsets (an io::Stream file) OpenVDB reads each grid's descriptor and
+        // data in one pass, lengths unchecked (fuzz_vdb: a name length of gigabytes); vdblight
+        // and io::File (Houdini, Blender, pyopenvdb) always write the offsets.
+        if (!inputHasGridOffsets())
+            throw std::runtime_error("it has no grid offsets (written as a stream?), which this reader needs");
         const int32_t count = readGridCount(is);
         if (!is || count < 0) throw std::runtime_error("cannot read the grid count");
         int64_t end = 0;
