@@ -273,7 +273,8 @@ bool pairVisible(const SurfaceSamples& s, const Tracer& tracer, std::size_t a, s
 
 /// The n x n form-factor matrix (row-major): F[r * n + j] = diskTransfer from sender j to
 /// receiver r if pairVisible, else 0. n^2 / 2 rays, n^2 floats. With `normalise`, each row is
-/// scaled to sum to pi * sampleClosure of its receiver (PrtOptions::closureNormalise).
+/// scaled to sum to pi * sampleClosure of its receiver (PrtOptions::closureNormalise). Throws
+/// ValueError if the matrix would take more than 8 GB (about 44 k samples).
 std::vector<float> sampleFormFactors(const SurfaceSamples& s, const Tracer& tracer, int threads = 0,
                                      Interrupter* interrupter = nullptr, bool normalise = false);
 

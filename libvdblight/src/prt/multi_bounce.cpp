@@ -110,6 +110,11 @@ float nodeClosure(const Tracer& tracer, const Vec3f& x) {
 std::vector<float> sampleFormFactors(const SurfaceSamples& s, const Tracer& tracer, int threads,
                                      Interrupter* interrupter, bool normalise) {
     const std::size_t n = s.size();
+    if (double(n) * double(n) * 4.0 > 8e9) {  // as the bake's budget (bake_prt.cpp)
+        throw ValueError("the sample-pair form-factor matrix would take " +
+                         std::to_string(uint64_t(double(n) * double(n) * 4.0 / 1e6)) + " MB for " + std::to_string(n) +
+                         " samples");
+    }
     std::vector<float> F(n * n, 0.0f);
     std::atomic<uint64_t> done{0};
     std::atomic<bool> cancelled{false};
