@@ -10,6 +10,9 @@
 // where G[(node, m)][j] = solid angle of sender j from the node * Y_m(direction), with
 // visibility. Products are float GEMMs (Eigen) over fixed row blocks, so the result does
 // not depend on the thread count.
+// With sampled form factors (formFactorRays > 0, sampled_form_factors.cpp) F and G are
+// sparse rows estimated by rays from each receiver; the same iteration runs with
+// sparse x dense products, so the paper's 45 k samples need n * rays entries, not n^2.
 #include <Eigen/Dense>
 #include <atomic>
 #include <cmath>
