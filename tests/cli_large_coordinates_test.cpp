@@ -13,34 +13,6 @@
 using namespace vdblight;
 using namespace vdblight::test;
 
-namespace {
-const std::string kSource = VDBLIGHT_SOURCE_DIR;
-
-/// Copies the bundled Cornell box (OBJ + MTL) with every vertex scaled by `scale` and moved by `offset`.
-std::string writeMovedCornell(const TempDir& dir, const std::string& name, double scale, const double offset[3]) {
-    std::ifstream in(kSource + "/data/cornell_box.obj");
-    std::ostringstream out;
-    out.precision(17);
-    std::string line;
-    while (std::getline(in, line)) {
-        if (line.rfind("v ", 0) == 0) {
-            std::istringstream v(line.substr(2));
-            double x, y, z;
-            v >> x >> y >> z;
-            out << "v " << x * scale + offset[0] << ' ' << y * scale + offset[1] << ' ' << z * scale + offset[2] << '\n';
-        } else {
-            out << line << '\n';
-        }
-    }
-    writeTextFile(dir.file(name + ".obj"), out.str());
-    std::ifstream mtl(kSource + "/data/cornell_box.mtl");
-    std::ostringstream m;
-    m << mtl.rdbuf();
-    writeTextFile(dir.file("cornell_box.mtl"), m.str());
-    return dir.file(name + ".obj");
-}
-}  // namespace
-
 TEST(CliLargeCoordinates, FarSceneBakesIntoAWorldPlacedVolume) {
     const TempDir dir;
     const double zero[3] = {0, 0, 0}, far[3] = {1e5, 1e5, -1e5};

@@ -159,29 +159,6 @@ TEST(CliPrt, BadInput) {
 }
 
 namespace {
-/// The bundled Cornell box (OBJ + MTL) with every vertex scaled by `scale` and moved by `offset`.
-std::string writeMovedCornell(const test::TempDir& dir, const std::string& name, double scale, const double offset[3]) {
-    std::ifstream in(kSource + "/data/cornell_box.obj");
-    std::ostringstream out;
-    out.precision(17);
-    std::string line;
-    while (std::getline(in, line)) {
-        if (line.rfind("v ", 0) == 0) {
-            std::istringstream v(line.substr(2));
-            double x, y, z;
-            v >> x >> y >> z;
-            out << "v " << x * scale + offset[0] << ' ' << y * scale + offset[1] << ' ' << z * scale + offset[2] << '\n';
-        } else {
-            out << line << '\n';
-        }
-    }
-    test::writeTextFile(dir.file(name + ".obj"), out.str());
-    std::ifstream mtl(kSource + "/data/cornell_box.mtl");
-    std::ostringstream m;
-    m << mtl.rdbuf();
-    test::writeTextFile(dir.file("cornell_box.mtl"), m.str());
-    return dir.file(name + ".obj");
-}
 
 /// The first irradiance value (E_r) of the first data row of a `vdblight query` CSV.
 double firstIrradianceOf(const std::string& csv) {
@@ -224,8 +201,8 @@ TEST(CliPrt, FarSceneRelightsIntoTheWorld) {
     // light is given in world coordinates: the far scene reads what the near one reads.
     const test::TempDir dir;
     const double zero[3] = {0, 0, 0}, far[3] = {1e6, -1e6, 1e6};
-    const std::string nearObj = writeMovedCornell(dir, "near", 1000, zero);
-    const std::string farObj = writeMovedCornell(dir, "far", 1000, far);
+    const std::string nearObj = test::writeMovedCornell(dir, "near", 1000, zero);
+    const std::string farObj = test::writeMovedCornell(dir, "far", 1000, far);
     const std::string bake = " --samples 300 --cluster-size 150 --vis-dirs 64 --vis-coeffs 8 --train-lights 40 "
                              "--bounces 2 --volume-resolution 4 -q";
     ASSERT_EQ(runCli("prt bake " + nearObj + " -o " + dir.file("near_prt.vdb") + bake).status, 0);

@@ -1,5 +1,9 @@
 #include "test_util.h"
 
+#include "vdblight/scene.h"
+
+#include <sstream>
+
 #include "vdblight/scene_generators.h"
 
 #include <array>
@@ -95,6 +99,30 @@ Scene makeConstantSky(const Rgb& L) {
     addTriangle(s, {1e4f, 0, 0}, {1e4f, 1e-3f, 0}, {1e4f, 0, 1e-3f}, 0);
     s.sky.constant = L;
     return s;
+}
+
+std::string writeMovedCornell(const TempDir& dir, const std::string& name, double scale, const double offset[3]) {
+    const std::string obj = defaultScenePath();
+    std::ifstream in(obj);
+    std::ostringstream out;
+    out.precision(17);
+    std::string line;
+    while (std::getline(in, line)) {
+        if (line.rfind("v ", 0) == 0) {
+            std::istringstream v(line.substr(2));
+            double x, y, z;
+            v >> x >> y >> z;
+            out << "v " << x * scale + offset[0] << ' ' << y * scale + offset[1] << ' ' << z * scale + offset[2] << '\n';
+        } else {
+            out << line << '\n';
+        }
+    }
+    writeTextFile(dir.file(name + ".obj"), out.str());
+    std::ifstream mtl(obj.substr(0, obj.size() - 4) + ".mtl");
+    std::ostringstream m;
+    m << mtl.rdbuf();
+    writeTextFile(dir.file("cornell_box.mtl"), m.str());
+    return dir.file(name + ".obj");
 }
 
 }  // namespace vdblight::test

@@ -50,4 +50,8 @@ Scene makeFurnaceBox(const Vec3f& lo, const Vec3f& hi, const Rgb& emission, cons
 /// no ray of a bake near the origin can hit it (solid angle ~1e-14 sr), so E = pi L.
 Scene makeConstantSky(const Rgb& L);
 
+/// Copies the bundled Cornell box (OBJ + MTL) into `dir` as NAME.obj with every vertex scaled
+/// by `scale` and moved by `offset`; returns the OBJ's path.
+std::string writeMovedCornell(const TempDir& dir, const std::string& name, double scale, const double offset[3]);
+
 }  // namespace vdblight::test
