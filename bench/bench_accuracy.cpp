@@ -11,7 +11,9 @@
 // point-set hash, samples, bounces and seed. Its relative standard error is printed.
 // Error of a method at a point: (E - E_ref) / E_ref (luminance; E_ref guarded below by 1 % of
 // the scene's mean). Per configuration: RMS, p95 and max of |error|, signed bias (mean
-// error), bake seconds (--threads, 2 by default), nodes and file bytes per node.
+// error), bake seconds (wall, --threads, 2 by default) and the process's CPU seconds during
+// the bake (on a shared machine the wall time includes waiting for a core), nodes and file
+// bytes per node.
 // Decomposition per scene (as issue 5 did it, docs/methods.md "Where the error comes from"):
 //  - floor: the representation at each point itself (a node exactly there, projected with
 //    many rays: no interpolation, little noise), for SH order 2 and for the six irradiance
@@ -40,6 +42,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include "accuracy_scenes.h"
@@ -75,7 +78,7 @@ struct Settings {
     int refBounces = 256;
     uint32_t floorRays = 8192;     ///< rays of the floor projection at each point
     uint32_t spatialRays = 2048;   ///< rays per node of the nearly noise-free SH bake
-    uint64_t spatialPhotons = 8'000'000;
+    uint64_t spatialPhotons = 4'000'000;
     fs::path cache;
     /// Workload scaling of --quick: resolutions halved, rays / photons divided by 16.
     int res(int full) const { return quick ? std::max(4, full / 2) : full; }
@@ -249,12 +252,12 @@ std::vector<Config> configurations() {
                  [](const Ctx& c) { return antialiased(c, c.settings.res(16), c.settings.rays(256), NodeFit::Projection); }});
     v.push_back({"antialiased_lsq", "--sampling antialiased --fit least-squares, 16 nodes, 256 rays/cell",
                  [](const Ctx& c) { return antialiased(c, c.settings.res(16), c.settings.rays(256), NodeFit::LeastSquares); }});
-    v.push_back({"adaptive", "--layout adaptive --levels 3 --refine 2, 16 nodes, 256 rays",
-                 [](const Ctx& c) { return adaptiveLayout(c, c.settings.res(16), c.settings.rays(256), 3, 2); }});
-    v.push_back({"target_0.03", "--target-error 0.03 --max-rays 4096, 16 nodes",
-                 [](const Ctx& c) { return targetError(c, c.settings.res(16), 0.03, c.settings.rays(4096)); }});
-    v.push_back({"photons", "--method photons --photons 8000000, 16 nodes",
-                 [](const Ctx& c) { return photons(c, c.settings.res(16), c.settings.photons(8'000'000)); }, true});
+    v.push_back({"adaptive", "--layout adaptive --levels 3 --refine 2, 16 nodes, 128 rays",
+                 [](const Ctx& c) { return adaptiveLayout(c, c.settings.res(16), c.settings.rays(128), 3, 2); }});
+    v.push_back({"target_0.03", "--target-error 0.03 --max-rays 2048, 16 nodes",
+                 [](const Ctx& c) { return targetError(c, c.settings.res(16), 0.03, c.settings.rays(2048)); }});
+    v.push_back({"photons", "--method photons --photons 4000000, 16 nodes",
+                 [](const Ctx& c) { return photons(c, c.settings.res(16), c.settings.photons(4'000'000)); }, true});
     v.push_back({"bins_11", "--basis bins:11 (242 bins, 1 ray each), 16 nodes",
                  [](const Ctx& c) { return binsBake(c, c.settings.res(16), c.settings.quick ? 3 : 11); }});
     return v;
@@ -443,13 +446,18 @@ AtPoint projectAtPoint(const RadianceEstimator& est, const Vec3f& x, const Vec3f
 
 struct Floor {
     std::vector<double> sh, iv, e;  ///< luminance at each point's normal
+    /// The six vectors with the blend's weights n_a^2 divided by sum |n_a|^3: exact under
+    /// uniform light instead of for light along the normal (not what the lookup does; it
+    /// shows how much of the irradiance-vector floor is the blend's normalisation).
+    std::vector<double> ivUniform;
 };
 
 Floor floorAt(const Scene& s, const Tracer& tracer, const Points& p, uint32_t rays, int refBounces) {
     TransportOptions t;
     t.maxBounces = refBounces;
     const RadianceEstimator est(s, tracer, t);
-    Floor f{std::vector<double>(p.x.size()), std::vector<double>(p.x.size()), std::vector<double>(p.x.size())};
+    const std::vector<double> zeros(p.x.size());
+    Floor f{zeros, zeros, zeros, zeros};
     tbb::parallel_for(std::size_t(0), p.x.size(), [&](std::size_t i) {
         const AtPoint a = projectAtPoint(est, p.x[i], normalize(p.n[i]), rays, hashCombine(777, i));
         Rgb c[sh::kCoeffs];
@@ -457,7 +465,9 @@ Floor floorAt(const Scene& s, const Tracer& tracer, const Points& p, uint32_t ra
         f.sh[i] = luminance(sh::irradiance(c, normalize(p.n[i])));
         float v[iv::kFloatsPerNode];
         for (int k = 0; k < iv::kFloatsPerNode; ++k) v[k] = float(a.iv[k]);
-        f.iv[i] = luminance(iv::irradiance(v, normalize(p.n[i])));
+        const Vec3f n = normalize(p.n[i]);
+        f.iv[i] = luminance(iv::irradiance(v, n));
+        f.ivUniform[i] = f.iv[i] / (std::pow(std::abs(n.x), 3.0) + std::pow(std::abs(n.y), 3.0) + std::pow(std::abs(n.z), 3.0));
         f.e[i] = luminance(Rgb(a.e));
     });
     return f;
@@ -473,7 +483,7 @@ struct Row {
     Row(std::string s, std::string c, Errors err = {}) : scene(std::move(s)), config(std::move(c)), e(err) {}
     std::string scene, config;
     Errors e;
-    double seconds = 0, bytesPerNode = 0, noise = -1;
+    double seconds = 0, cpu = 0, bytesPerNode = 0, noise = -1;
     uint64_t nodes = 0;
     std::string note;
 };
@@ -481,15 +491,15 @@ struct Row {
 void printRow(const Row& r) {
     char noise[32] = "";
     if (r.noise >= 0) std::snprintf(noise, sizeof noise, "%6.1f %%", 100 * r.noise);
-    std::printf("  %-18s %7.1f %% %7.1f %% %8.1f %% %+7.1f %% %8.2f s %8llu %7.0f B %8s  %s\n", r.config.c_str(), 100 * r.e.rms,
-                100 * r.e.p95, 100 * r.e.max, 100 * r.e.bias, r.seconds, (unsigned long long)r.nodes, r.bytesPerNode, noise,
-                r.note.c_str());
+    std::printf("  %-18s %7.1f %% %7.1f %% %8.1f %% %+7.1f %% %8.2f s %7.2f s %8llu %7.0f B %8s  %s\n", r.config.c_str(),
+                100 * r.e.rms, 100 * r.e.p95, 100 * r.e.max, 100 * r.e.bias, r.seconds, r.cpu, (unsigned long long)r.nodes,
+                r.bytesPerNode, noise, r.note.c_str());
 }
 
 void writeCsvRow(FILE* csv, const Row& r) {
     if (!csv) return;
-    std::fprintf(csv, "%s,%s,%.5f,%.5f,%.5f,%.5f,%.3f,%llu,%.1f,%s,%s\n", r.scene.c_str(), r.config.c_str(), r.e.rms, r.e.p95,
-                 r.e.max, r.e.bias, r.seconds, (unsigned long long)r.nodes, r.bytesPerNode,
+    std::fprintf(csv, "%s,%s,%.5f,%.5f,%.5f,%.5f,%.3f,%.3f,%llu,%.1f,%s,%s\n", r.scene.c_str(), r.config.c_str(), r.e.rms,
+                 r.e.p95, r.e.max, r.e.bias, r.seconds, r.cpu, (unsigned long long)r.nodes, r.bytesPerNode,
                  r.noise >= 0 ? std::to_string(r.noise).c_str() : "", r.note.c_str());
     std::fflush(csv);
 }
@@ -504,6 +514,14 @@ void printWorst(const std::vector<double>& rel, const std::vector<double>& got, 
         std::printf("    worst %d: x (%.3f, %.3f, %.3f) n (%.2f, %.2f, %.2f): E %.4g, E_ref %.4g +- %.2g, error %+.1f %%\n", k,
                     p.x[i].x, p.x[i].y, p.x[i].z, p.n[i].x, p.n[i].y, p.n[i].z, got[i], t.e[i], t.se[i], 100 * rel[i]);
     }
+}
+
+/// CPU seconds of this process (all threads): on a shared machine wall time includes waiting
+/// for a core, CPU time does not.
+double cpuSeconds() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
 fs::path defaultCache(const char* argv0) {
@@ -527,6 +545,7 @@ int main(int argc, char** argv) {
                                                       {"--guard", "F"},
                                                       {"--no-decompose", ""}});
     if (!args.parse(argc, argv)) return 1;
+    std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress visible when redirected to a file
     Settings st;
     st.quick = args.quick();
     st.threads = args.integer("--threads", 2);
@@ -534,7 +553,7 @@ int main(int argc, char** argv) {
     st.refSamples = uint32_t(args.integer("--ref-samples", st.quick ? 2048 : 65536));
     st.floorRays = st.quick ? 512 : 8192;
     st.spatialRays = st.quick ? 128 : 2048;
-    st.spatialPhotons = st.quick ? 1'000'000 : 8'000'000;
+    st.spatialPhotons = st.quick ? 1'000'000 : 4'000'000;
     st.cache = args.given("--cache") ? fs::path(args.text("--cache")) : defaultCache(argv[0]);
     const std::string onlyScene = args.text("--scene"), onlyConfig = args.text("--config");
     const bool decompose = !args.given("--no-decompose");
@@ -543,7 +562,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "vdblight_bench_accuracy: cannot write %s\n", args.text("--csv").c_str());
         return 1;
     }
-    if (csv) std::fprintf(csv, "scene,config,rms,p95,max,bias,bake_seconds,nodes,bytes_per_node,noise_rms,note\n");
+    if (csv) std::fprintf(csv, "scene,config,rms,p95,max,bias,bake_seconds,cpu_seconds,nodes,bytes_per_node,noise_rms,note\n");
     // Reference, floor and spatial runs use this many threads too (the bakes take --threads).
     tbb::global_control threadLimit(tbb::global_control::max_allowed_parallelism, std::size_t(std::max(1, st.threads)));
 
@@ -569,13 +588,15 @@ int main(int argc, char** argv) {
             Row r{as.name, "reference_se", e};
             writeCsvRow(csv, r);
         }
-        std::printf("  %-18s %9s %9s %10s %9s %10s %8s %9s %8s\n", "config", "RMS", "p95", "max", "bias", "bake", "nodes",
-                    "B/node", "noise");
+        std::printf("  %-18s %9s %9s %10s %9s %10s %9s %8s %9s %8s\n", "config", "RMS", "p95", "max", "bias", "bake", "CPU",
+                    "nodes", "B/node", "noise");
         for (const Config& c : configs) {
             if (!onlyConfig.empty() && c.name != onlyConfig) continue;
             Row r{as.name, c.name};
             try {
+                const double cpu0 = cpuSeconds();
                 const Baked b = c.bake(Ctx{s, tracer, st, 1});
+                r.cpu = cpuSeconds() - cpu0;
                 const std::vector<double> got = values(b.irradiance, pts);
                 const std::vector<double> rel = relative(got, truth.e, truth);
                 r.e = summarise(rel);
@@ -611,6 +632,7 @@ int main(int argc, char** argv) {
         const Errors shQ = summarise(relative(quarter.sh, truth.e, truth)), shF = summarise(relative(full.sh, truth.e, truth));
         const Errors ivQ = summarise(relative(quarter.iv, truth.e, truth)), ivF = summarise(relative(full.iv, truth.e, truth));
         const Errors eF = summarise(relative(full.e, truth.e, truth));
+        const Errors ivU = summarise(relative(full.ivUniform, truth.e, truth));
         std::printf("  decomposition (floor: a node at each point, %u rays; noise-free: extrapolated from %u and %u rays; %.1f s)\n",
                     st.floorRays, st.floorRays / 4, st.floorRays, bench::now() - t0);
         std::printf("    cosine-weighted E at the point from the same samples (no representation): RMS %.1f %%, bias %+.1f %%\n",
@@ -619,6 +641,9 @@ int main(int argc, char** argv) {
                     100 * shF.rms, 100 * noiseFree(shQ.rms, shF.rms), 100 * shF.p95, 100 * shF.max, 100 * shF.bias);
         std::printf("    irradiance-vector floor:   RMS %.1f %% (noise-free %.1f %%), p95 %.1f %%, max %.1f %%, bias %+.1f %%\n",
                     100 * ivF.rms, 100 * noiseFree(ivQ.rms, ivF.rms), 100 * ivF.p95, 100 * ivF.max, 100 * ivF.bias);
+        std::printf("    irradiance vectors, blend normalised for uniform light (not the lookup's): RMS %.1f %%, p95 %.1f %%, "
+                    "bias %+.1f %%\n", 100 * ivU.rms, 100 * ivU.p95, 100 * ivU.bias);
+        writeCsvRow(csv, Row{as.name, "floor_iv_uniform_blend", ivU});
         Row fr{as.name, "floor_sh2", shF};
         fr.note = "noise-free " + std::to_string(noiseFree(shQ.rms, shF.rms));
         writeCsvRow(csv, fr);

@@ -47,14 +47,14 @@ echo "wrote $out/accuracy_rms.png"
 
 plots=()
 for s in $scenes; do
-  awk -F, -v s="$s" '$1 == s && $7 > 0 && $2 !~ /^spatial_/ {print $7, 100 * $3, $2}' "$csv" > "$tmp/time_$s.dat"
+  awk -F, -v s="$s" '$1 == s && $8 > 0 && $2 !~ /^spatial_/ {print $8 / 2, 100 * $3, $2}' "$csv" > "$tmp/time_$s.dat"
   plots+=("'$tmp/time_$s.dat' using 1:2 with points pt 7 ps 1.2 title '$s', '' using 1:2:3 with labels offset 0.6,0.5 left font ',8' notitle")
 done
 {
   echo "set terminal pngcairo size 1000,620 noenhanced"
   echo "set output '$out/accuracy_time.png'"
   echo "set logscale xy"
-  echo "set xlabel 'bake seconds (2 threads)'"
+  echo "set xlabel 'bake CPU seconds / 2 (the time on 2 dedicated cores)'"
   echo "set ylabel 'RMS relative irradiance error (%)'"
   echo "set title 'error against bake time, every configuration and scene'"
   echo "set key bottom left box opaque"
