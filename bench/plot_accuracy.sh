@@ -12,7 +12,7 @@ tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 scenes=$(tail -n +2 "$csv" | cut -d, -f1 | awk '!seen[$0]++')
 # Rows worth a bar: every configuration, then the floors (not the reference's own error).
-configs=$(tail -n +2 "$csv" | cut -d, -f2 | awk '!seen[$0]++' | grep -v -e '^reference_se$' -e '^spatial_' -e '^floor_exact')
+configs=$(tail -n +2 "$csv" | cut -d, -f2 | awk '!seen[$0]++' | grep -v -e '^reference_se$' -e '^spatial_' -e '^floor_exact' -e '^iv_nodes' -e '^photons_vs')
 {
   printf 'config'; for s in $scenes; do printf ' %s' "$s"; done; printf '\n'
   for c in $configs; do
