@@ -23,6 +23,8 @@
 //  - noise: configurations marked so are baked again with seed 2; the per-bake noise is
 //    RMS((E1 - E2) / sqrt 2 / E_ref);
 //  - bias: the mean signed error (every row).
+// Regions (accuracy_scenes.h: the two rooms' lit and unlit room, the office's band around
+// the luminaires) are reported on their own as well (CSV scene "SCENE:REGION").
 // A new method or mode is one entry in configurations(): a name and a function that bakes
 // (or otherwise builds) something that answers E(x, n).
 // Output: tables on stdout, a CSV (--csv FILE; docs/accuracy.csv for the full run), which
@@ -614,12 +616,13 @@ int main(int argc, char** argv) {
         for (const Config& c : configs) {
             if (!onlyConfig.empty() && c.name != onlyConfig) continue;
             Row r{as.name, c.name};
+            std::vector<double> rel, noiseRel;  // per point: error, and (E1 - E2) / sqrt 2 / E_ref
             try {
                 const double cpu0 = cpuSeconds();
                 const Baked b = c.bake(Ctx{s, tracer, st, 1});
                 r.cpu = cpuSeconds() - cpu0;
                 const std::vector<double> got = values(b.irradiance, pts);
-                const std::vector<double> rel = relative(got, truth.e, truth);
+                rel = relative(got, truth.e, truth);
                 r.e = summarise(rel);
                 printWorst(rel, got, truth, pts, args.integer("--worst", 0));
                 r.seconds = b.seconds;
@@ -632,6 +635,7 @@ int main(int argc, char** argv) {
                     double s2 = 0;
                     for (std::size_t i = 0; i < got.size(); ++i) {
                         const double d = (got[i] - got2[i]) / std::sqrt(2.0) / truth.denominator(i);
+                        noiseRel.push_back(d);
                         s2 += d * d;
                     }
                     r.noise = std::sqrt(s2 / double(got.size()));
@@ -643,6 +647,24 @@ int main(int argc, char** argv) {
             printRow(r);
             writeCsvRow(csv, r);
             summary.push_back(r);
+            for (const bench::AccuracyRegion& region : as.regions) {
+                std::vector<double> part;
+                double n2 = 0;
+                for (std::size_t i = 0; i < pts.x.size(); ++i)
+                    if (region.contains(pts.x[i])) {
+                        part.push_back(rel[i]);
+                        if (!noiseRel.empty()) n2 += noiseRel[i] * noiseRel[i];
+                    }
+                if (part.empty()) continue;
+                Row rr{as.name + ":" + region.name, c.name, summarise(part)};
+                rr.note = std::to_string(part.size()) + " points";
+                if (!noiseRel.empty()) rr.noise = std::sqrt(n2 / double(part.size()));
+                char noise[32] = "";
+                if (rr.noise >= 0) std::snprintf(noise, sizeof noise, ", noise %.1f %%", 100 * rr.noise);
+                std::printf("    %-16s %7.1f %% %7.1f %% %8.1f %% %+7.1f %%  (%zu points%s)\n", region.name.c_str(), 100 * rr.e.rms,
+                            100 * rr.e.p95, 100 * rr.e.max, 100 * rr.e.bias, part.size(), noise);
+                writeCsvRow(csv, rr);
+            }
         }
         if (!decompose) continue;
 
