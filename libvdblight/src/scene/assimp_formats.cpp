@@ -1,0 +1,210 @@
+// See assimp_formats.h. The facts about Assimp 5.2.5 this relies on were checked against files
+// written by Blender 3.4 (tests/scene_formats_test.cpp):
+//  - FBX: coordinates are left in the file's unit and axes; GlobalSettings (UpAxis, UpAxisSign,
+//    FrontAxis, FrontAxisSign, CoordAxis, CoordAxisSign, UnitScaleFactor in centimetres) is in
+//    the scene metadata. Light colour is Color x Intensity / 100; spot angles are full angles.
+//  - COLLADA: Assimp multiplies the root node's transform by <unit meter> and, unless
+//    AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, by the Z-up (or X-up) to Y-up rotation.
+#include "assimp_formats.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <assimp/config.h>
+#include <assimp/importerdesc.h>
+
+#include "file_frame.h"
+
+namespace vdblight {
+
+namespace {
+
+aiMatrix4x4 toAi(const FileFrame& f) {
+    aiMatrix4x4 m;
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) m[r][c] = ai_real(f.m[r][c]);
+    return m;
+}
+
+std::string fileHead(const std::string& path, std::size_t n) {
+    std::ifstream in(path, std::ios::binary);
+    std::string head(n, '\0');
+    in.read(&head[0], std::streamsize(n));
+    head.resize(std::size_t(in.gcount()));
+    return head;
+}
+
+std::string formatName(const Assimp::Importer& importer, const std::string& path, const std::string& ext,
+                       const aiScene& ai) {
+    if (ext == ".fbx") return fileHead(path, 18) == "Kaydara FBX Binary" ? "FBX (binary)" : "FBX (ascii)";
+    if (ext == ".stl")
+        return std::string(ai.mRootNode->mName.C_Str()) == "<STL_BINARY>" ? "STL (binary)" : "STL (ascii)";
+    if (ext == ".gltf") return "glTF 2.0";
+    if (ext == ".glb") return "glTF 2.0 (binary)";
+    if (ext == ".obj") return "OBJ";
+    if (ext == ".dae") return "COLLADA";
+    if (ext == ".3ds") return "3DS";
+    if (ext == ".off") return "OFF";
+    if (ext == ".x") return "DirectX .x";
+    const aiImporterDesc* desc = importer.GetImporterInfo(importer.GetImporterIndex(ext.c_str()));
+    return desc ? desc->mName : ext.substr(1);
+}
+
+std::string number(double v) {
+    std::ostringstream s;
+    s.precision(6);
+    s << v;
+    return s.str();
+}
+
+const char* axisName(int axis) { return axis == 0 ? "X" : axis == 1 ? "Y" : "Z"; }
+
+/// FBX GlobalSettings -> the rotation into +Y up, +Z front, +X coord (FBX's axis system:
+/// the "front" axis is the one facing the viewer, our +Z), and the unit.
+AssimpFormat fbxFrame(const aiScene& ai, const SceneLoadOptions& options, std::vector<std::string>& warnings) {
+    AssimpFormat f;
+    int32_t axis[3] = {0, 1, 2}, sign[3] = {1, 1, 1};  // coord (our X), up (our Y), front (our Z)
+    double unitCm = 1.0;
+    const aiMetadata* meta = ai.mMetaData;
+    bool axesFound = false;
+    if (meta) {
+        axesFound = meta->Get("CoordAxis", axis[0]) && meta->Get("UpAxis", axis[1]) && meta->Get("FrontAxis", axis[2]);
+        meta->Get("CoordAxisSign", sign[0]);
+        meta->Get("UpAxisSign", sign[1]);
+        meta->Get("FrontAxisSign", sign[2]);
+        if (!meta->Get("UnitScaleFactor", unitCm)) {
+            float f32 = 1.0f;
+            if (meta->Get("UnitScaleFactor", f32)) unitCm = f32;
+        }
+    }
+    bool axesValid = axesFound;
+    for (int k = 0; k < 3; ++k) axesValid = axesValid && axis[k] >= 0 && axis[k] <= 2 && (sign[k] == 1 || sign[k] == -1);
+    axesValid = axesValid && axis[0] != axis[1] && axis[1] != axis[2] && axis[0] != axis[2];
+    if (axesFound && !axesValid) warnings.push_back("FBX GlobalSettings has an invalid axis system; read as Y up");
+    if (!axesValid) { axis[0] = 0; axis[1] = 1; axis[2] = 2; sign[0] = sign[1] = sign[2] = 1; }
+    if (!(std::isfinite(unitCm) && unitCm > 0)) {
+        warnings.push_back("FBX UnitScaleFactor is not a positive number; read as 1 (centimetres)");
+        unitCm = 1.0;
+    }
+
+    f.metresPerUnit = options.scale > 0 ? options.scale : unitCm / 100.0;
+    f.units = options.scale > 0 ? describeUnit(f.metresPerUnit) + " (--scale)"
+                                : describeUnit(f.metresPerUnit) + " (FBX UnitScaleFactor " +
+                                      number(unitCm) + " cm)";
+    FileFrame frame;
+    if (options.up != UpAxis::FromFile) {
+        frame = makeFileFrame(f.metresPerUnit, options.up == UpAxis::Z);
+        f.up = std::string(options.up == UpAxis::Z ? "Z" : "Y") + " (--up)";
+    } else {
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c) frame.m[r][c] = c == axis[r] ? sign[r] * f.metresPerUnit : 0.0;
+        f.up = std::string(sign[1] < 0 ? "-" : "") + axisName(axis[1]) + (axesFound ? " (FBX UpAxis)" : " (default)");
+    }
+    f.root = toAi(frame);
+    return f;
+}
+
+/// COLLADA: Assimp has put <unit meter> (and the up rotation, unless --up) into the root node.
+AssimpFormat colladaFrame(const aiScene& ai, const SceneLoadOptions& options) {
+    AssimpFormat f;
+    f.colladaSpot = true;
+    const aiMatrix4x4& r = ai.mRootNode->mTransformation;
+    const double det = aiMatrix3x3(r).Determinant();
+    const double fileScale = std::isfinite(det) && det != 0 ? std::cbrt(std::fabs(det)) : 1.0;
+    double rescale = 1.0;
+    if (options.scale > 0) {
+        rescale = options.scale / fileScale;
+        f.metresPerUnit = options.scale;
+        f.units = describeUnit(f.metresPerUnit) + " (--scale)";
+    } else {
+        f.metresPerUnit = fileScale;
+        f.units = describeUnit(f.metresPerUnit) + " (COLLADA <unit meter>)";
+    }
+    if (options.up != UpAxis::FromFile) {
+        f.root = toAi(makeFileFrame(rescale, options.up == UpAxis::Z));
+        f.up = std::string(options.up == UpAxis::Z ? "Z" : "Y") + " (--up)";
+    } else {
+        f.root = toAi(makeFileFrame(rescale, false));
+        // Our Y is the file axis whose column is non-zero in the root's Y row.
+        int fileUp = 1;
+        for (int c = 0; c < 3; ++c)
+            if (std::fabs(r[1][c]) > std::fabs(r[1][fileUp])) fileUp = c;
+        f.up = std::string(axisName(fileUp)) + " (COLLADA <up_axis>)";
+    }
+    return f;
+}
+
+}  // namespace
+
+std::vector<std::string> assimpExtensions() {
+    Assimp::Importer importer;
+    std::string list;  // "*.3d;*.3ds;..."
+    importer.GetExtensionList(list);
+    std::vector<std::string> out;
+    std::stringstream ss(list);
+    for (std::string item; std::getline(ss, item, ';');) {
+        const auto dot = item.find('.');
+        if (dot == std::string::npos) continue;
+        std::string ext = item.substr(dot);
+        for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+        out.push_back(ext);
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
+
+void configureImporter(Assimp::Importer& importer, const std::string& ext, const SceneLoadOptions& options) {
+    if (ext == ".dae" && options.up != UpAxis::FromFile)
+        importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
+    // Degenerate faces (repeated corners) become points and lines, which are then dropped;
+    // vdblight's own area test (addIndexedTriangle) catches the slivers.
+    importer.SetPropertyBool(AI_CONFIG_PP_FD_REMOVE, true);
+}
+
+AssimpFormat describeAssimpFormat(const Assimp::Importer& importer, const std::string& path, const std::string& ext,
+                                  const aiScene& ai, const SceneLoadOptions& options,
+                                  std::vector<std::string>& warnings) {
+    AssimpFormat f;
+    if (ext == ".fbx") f = fbxFrame(ai, options, warnings);
+    else if (ext == ".dae") f = colladaFrame(ai, options);
+    else {
+        f.metresPerUnit = options.scale > 0 ? options.scale : 1.0;
+        f.root = toAi(makeFileFrame(f.metresPerUnit, options.up == UpAxis::Z));
+        const bool gltf = ext == ".gltf" || ext == ".glb";
+        f.units = describeUnit(f.metresPerUnit) + (options.scale > 0 ? " (--scale)" : gltf ? " (glTF)" : " (as stored)");
+        f.up = options.up == UpAxis::Z ? "Z (--up)" : options.up == UpAxis::Y ? "Y (--up)" : gltf ? "Y (glTF)" : "Y (as stored)";
+        if (gltf) f.lights = LightConvention::Gltf;
+    }
+    f.name = formatName(importer, path, ext, ai);
+    f.noMaterials = ext == ".stl" || ext == ".off";
+    return f;
+}
+
+bool checkObjMaterialLibraries(const std::string& path, std::vector<std::string>& warnings) {
+    namespace fs = std::filesystem;
+    std::ifstream in(path, std::ios::binary);
+    std::string line;
+    std::size_t libraries = 0, missing = 0;
+    for (std::size_t n = 0; n < (1u << 22) && std::getline(in, line); ++n) {
+        std::size_t i = line.find_first_not_of(" \t");
+        if (i == std::string::npos || line.compare(i, 7, "mtllib ") != 0) continue;
+        std::string name = line.substr(i + 7);
+        while (!name.empty() && std::isspace(static_cast<unsigned char>(name.back()))) name.pop_back();
+        name.erase(0, name.find_first_not_of(" \t"));
+        if (name.empty()) continue;
+        ++libraries;
+        std::error_code ec;
+        const fs::path lib = fs::path(path).parent_path() / name;
+        if (fs::is_regular_file(lib, ec)) continue;
+        ++missing;
+        warnings.push_back("OBJ material library '" + lib.string() + "' not found: its materials get the default albedo 0.8");
+    }
+    return libraries > 0 && missing == libraries;
+}
+
+}  // namespace vdblight
