@@ -415,3 +415,33 @@ TEST(SceneFormats, BadScaleIsRefused) {
     o.scale = std::nan("");
     EXPECT_THROW(loadScene(defaultScenePath(), o), ValueError);
 }
+
+TEST(SceneFormats, PlyUnknownHeaderLinesWarnUnlessTheyCouldDeclareData) {
+    TempDir dir;
+    // Blender 2.47's exporter wrote its signature without "comment"; scanner software writes
+    // similar free text. The layout (elements and properties) is untouched by such a line.
+    const std::string body = "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                             "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                             "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    writeTextFile(dir.file("old_blender.ply"),
+                  "ply\nformat ascii 1.0\nCreated by Blender3D 247 - www.blender.org, source file: 'room.blend'\n"
+                  "Scanner serial 0042 calibrated 2009\n" + body);
+    SceneLoadReport r;
+    const Scene s = loadScene(dir.file("old_blender.ply"), {}, &r);
+    EXPECT_EQ(s.triangleCount(), 1u);
+    ASSERT_EQ(r.warnings.size(), 1u);
+    EXPECT_NE(r.warnings[0].find("skipped 2 header line(s)"), std::string::npos) << r.warnings[0];
+    EXPECT_NE(r.warnings[0].find("line 3 'Created by Blender3D 247"), std::string::npos) << r.warnings[0];
+
+    // A misspelt property would change how every record is read: still an error.
+    writeTextFile(dir.file("misspelt.ply"), "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                                            "property float y\nproperty float z\nprop float w\nend_header\n"
+                                            "0 0 0 0\n1 0 0 0\n0 1 0 0\n");
+    try {
+        loadScene(dir.file("misspelt.ply"));
+        FAIL() << "read a PLY whose header may declare an unknown property";
+    } catch (const SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find("unknown keyword 'prop' in what may declare a property or element"),
+                  std::string::npos) << e.what();
+    }
+}

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cmath>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -18,17 +19,7 @@ namespace vdblight::app {
 namespace fs = std::filesystem;
 
 void addSceneOptions(CLI::App& cmd, SceneOptions& o) {
-    cmd.add_option("scene", o.path,
-                   "Scene file: glTF (.gltf .glb), OBJ, PLY, FBX (binary, ascii), COLLADA (.dae), 3DS, STL, OFF, .x "
-                   "or any other format Assimp reads (docs/scene.md); the summary names the format and the "
-                   "meshes/instances read. Default: the bundled Cornell box");
-    cmd.add_option("--scale", o.scale,
-                   "Metres per file unit, overriding the file's unit (FBX UnitScaleFactor, COLLADA <unit>); "
-                   "default: the file's unit, or 1 where the format has none")
-        ->check(CLI::PositiveNumber);
-    cmd.add_option("--up", o.up, "The file's up axis, y or z, overriding its metadata (FBX, COLLADA); default: "
-                                 "the metadata, or y where the format has none. Scenes are +Y up")
-        ->check(CLI::IsMember({"y", "z"}));
+    addSceneFileOptions(cmd, o);
     cmd.add_option("--sky", o.sky, "Constant sky radiance r,g,b in W/(m^2 sr) where rays escape (default 0,0,0)");
     cmd.add_option("--sky-map", o.skyMap, "Equirectangular EXR sky (radiance), +Y up; overrides --sky");
     cmd.add_option("--bounces", o.bounces, "Maximum diffuse reflections per light path (0 = direct light only)")
@@ -37,9 +28,30 @@ void addSceneOptions(CLI::App& cmd, SceneOptions& o) {
     cmd.add_flag("--allow-dark", o.allowDark, "Bake even if the scene has no light (the result is black)");
 }
 
+void addSceneFileOptions(CLI::App& cmd, SceneOptions& o) {
+    cmd.add_option("scene", o.path,
+                   "Scene file: glTF (.gltf .glb), OBJ, PLY, FBX (binary, ascii), COLLADA (.dae), 3DS, STL, OFF, .x "
+                   "or any other format Assimp reads (docs/scene.md); the summary names the format and the "
+                   "meshes/instances read. Default: the bundled Cornell box");
+    cmd.add_option("--scale", o.scale,
+                   "Metres per file unit, overriding the file's unit (FBX UnitScaleFactor, COLLADA <unit>); "
+                   "default: the file's unit, or 1 where the format has none")
+;
+    cmd.add_option("--up", o.up, "The file's up axis, y or z, overriding its metadata (FBX, COLLADA); default: "
+                                 "the metadata, or y where the format has none. Scenes are +Y up");
+}
+
 Scene loadSceneFromOptions(const SceneOptions& o, bool quiet, SceneLoadReport* report) {
     SceneLoadOptions load;
-    load.scale = o.scale;
+    if (!o.scale.empty()) {  // checked here, so that a bad value is one line like every other error
+        std::size_t used = 0;
+        double s = 0;
+        try { s = std::stod(o.scale, &used); } catch (const std::exception&) { used = 0; }
+        if (used != o.scale.size() || !(std::isfinite(s) && s > 0))
+            throw ValueError("--scale must be a positive number of metres per file unit, got '" + o.scale + "'");
+        load.scale = s;
+    }
+    if (!o.up.empty() && o.up != "y" && o.up != "z") throw ValueError("--up must be y or z, got '" + o.up + "'");
     load.up = o.up == "z" ? UpAxis::Z : o.up == "y" ? UpAxis::Y : UpAxis::FromFile;
     SceneLoadReport local;
     SceneLoadReport& read = report ? *report : local;

@@ -24,11 +24,13 @@ struct SceneOptions {
     std::string skyMap;            ///< equirectangular EXR
     bool allowDark = false;
     int bounces = 8;
-    double scale = 0;              ///< --scale: metres per file unit (0: the file's unit)
+    std::string scale;             ///< --scale: metres per file unit (empty: the file's unit)
     std::string up;                ///< --up: y | z (empty: the file's metadata)
 };
 
 void addSceneOptions(CLI::App& cmd, SceneOptions& o);
+/// The scene positional argument, --scale and --up alone (for commands without lighting options).
+void addSceneFileOptions(CLI::App& cmd, SceneOptions& o);
 /// Loads the scene (--scale, --up), prints its warnings unless quiet, applies sky options,
 /// refuses a scene without light unless allowed. `report`, if given, says how it was read.
 Scene loadSceneFromOptions(const SceneOptions& o, bool quiet, SceneLoadReport* report = nullptr);

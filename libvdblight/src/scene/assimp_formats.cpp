@@ -147,7 +147,7 @@ std::vector<std::string> assimpExtensions() {
     std::vector<std::string> out;
     std::stringstream ss(list);
     for (std::string item; std::getline(ss, item, ';');) {
-        const auto dot = item.find('.');
+        const auto dot = item.rfind('.');  // "*.mesh.xml" -> ".xml", as lowerExtension sees it
         if (dot == std::string::npos) continue;
         std::string ext = item.substr(dot);
         for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
@@ -161,9 +161,6 @@ std::vector<std::string> assimpExtensions() {
 void configureImporter(Assimp::Importer& importer, const std::string& ext, const SceneLoadOptions& options) {
     if (ext == ".dae" && options.up != UpAxis::FromFile)
         importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
-    // Degenerate faces (repeated corners) become points and lines, which are then dropped;
-    // vdblight's own area test (addIndexedTriangle) catches the slivers.
-    importer.SetPropertyBool(AI_CONFIG_PP_FD_REMOVE, true);
 }
 
 AssimpFormat describeAssimpFormat(const Assimp::Importer& importer, const std::string& path, const std::string& ext,

@@ -314,8 +314,9 @@ Scene loadAssimpScene(const std::string& path, const std::string& ext, const Sce
     // No aiProcess_ValidateDataStructure: it rejects a mesh without faces (an OBJ of bare
     // vertices), which should rather end in "no triangles"; the walk checks indices itself.
     // Node transforms and instancing are applied by the walk below (Loader::addNode).
-    const aiScene* ai = importer.ReadFile(
-        path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_FindDegenerates);
+    // Degenerate triangles are dropped by addIndexedTriangle, which counts them (Assimp's
+    // aiProcess_FindDegenerates would drop them silently).
+    const aiScene* ai = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
     if (!ai || !ai->mRootNode)
         throw SceneError("cannot load scene file '" + path + "': " + oneLine(importer.GetErrorString()));
 
