@@ -77,7 +77,7 @@ Scene loadSceneFromOptions(const SceneOptions& o, bool quiet, SceneLoadReport* r
 std::string describeSceneSource(const SceneLoadReport& s) {
     std::ostringstream out;
     out << s.format << ": " << s.meshes << (s.meshes == 1 ? " mesh" : " meshes") << " in " << s.meshInstances
-        << (s.meshInstances == 1 ? " instance" : " instances") << ", " << s.units << ", " << s.up << " up";
+        << (s.meshInstances == 1 ? " instance" : " instances") << ", " << s.units << ", up axis " << s.up;
     if (s.defaultAlbedoOnly) out << ", no materials: default albedo 0.8";
     return out.str();
 }
