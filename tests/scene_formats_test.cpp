@@ -445,3 +445,26 @@ TEST(SceneFormats, PlyUnknownHeaderLinesWarnUnlessTheyCouldDeclareData) {
                   std::string::npos) << e.what();
     }
 }
+
+TEST(SceneFormats, ObjVariantsAssimpMisreads) {
+    // Assimp 5.2.5 alone skips indented lines and drops vertex lines with numbers like ".5"
+    // (the face then reads as "vertex index out of range"): both are real-world OBJ variants.
+    TempDir dir;
+    writeTextFile(dir.file("variants.obj"),
+                  "# indented, tabs, leading-dot numbers, CRLF\r\n"
+                  "  v 0 0 0\r\n\tv\t-.5 0 +.25\r\nv .5 .75 -.125\r\n"
+                  "\tvn 0 0 1\r\n  f 1//1 2//1 3//1\r\n");
+    const Scene s = loadScene(dir.file("variants.obj"));
+    ASSERT_EQ(s.triangleCount(), 1u);
+    const Bounds b = s.worldBounds();
+    expectVec(b.lo, {-0.5, 0, -0.125}, 1e-7, "obj variants lo");
+    expectVec(b.hi, {0.5, 0.75, 0.25}, 1e-7, "obj variants hi");
+    // Only vertex data is touched: a material named ".5" keeps its name and colour.
+    writeTextFile(dir.file("dot.mtl"), "newmtl .5\nKd 0.5 0.25 0.125\n");
+    writeTextFile(dir.file("dot.obj"), "mtllib dot.mtl\n v 0 0 0\nv 1 0 0\nv 0 .5 0\nusemtl .5\nf 1 2 3\n");
+    const Scene d = loadScene(dir.file("dot.obj"));
+    ASSERT_EQ(d.triangleCount(), 1u);
+    EXPECT_EQ(d.material(0).name, ".5");
+    expectVec(Vec3d(d.material(0).albedo), {0.5, 0.25, 0.125}, 1e-6, "material '.5'");
+    expectVec(d.worldBounds().hi, {1, 0.5, 0}, 1e-7, "dot.obj");
+}

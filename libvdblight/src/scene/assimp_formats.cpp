@@ -10,10 +10,14 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
+#include <assimp/DefaultIOSystem.h>
+#include <assimp/MemoryIOWrapper.h>
 #include <assimp/config.h>
 #include <assimp/importerdesc.h>
 
@@ -138,7 +142,60 @@ AssimpFormat colladaFrame(const aiScene& ai, const SceneLoadOptions& options) {
     return f;
 }
 
+/// Serves the fixed OBJ text for the OBJ's own path, and every other file from disk.
+class FixedObjIOSystem : public Assimp::DefaultIOSystem {
+public:
+    FixedObjIOSystem(std::string path, std::string text) : path_(std::move(path)), text_(std::move(text)) {}
+    Assimp::IOStream* Open(const char* file, const char* mode) override {
+        if (file && path_ == file)
+            return new Assimp::MemoryIOStream(reinterpret_cast<const uint8_t*>(text_.data()), text_.size());
+        return DefaultIOSystem::Open(file, mode);
+    }
+
+private:
+    std::string path_, text_;
+};
+
+bool isSpace(char c) { return c == ' ' || c == '\t'; }
+
 }  // namespace
+
+std::string fixObjTextForAssimp(const std::string& text) {
+    std::string out;
+    bool changed = false;
+    std::size_t begin = 0;
+    while (begin < text.size()) {
+        std::size_t end = text.find('\n', begin);
+        end = end == std::string::npos ? text.size() : end + 1;
+        std::size_t i = begin;
+        while (i < end && isSpace(text[i])) ++i;
+        changed = changed || i != begin;
+        const bool vertexData = text[i] == 'v' && i + 1 < end && (isSpace(text[i + 1]) ||
+                                (i + 2 < end && std::strchr("tnp", text[i + 1]) && isSpace(text[i + 2])));
+        if (!vertexData) {
+            out.append(text, i, end - i);
+        } else {
+            for (std::size_t k = i; k < end; ++k) {  // "0" before a number's leading "."
+                const bool tokenStart = k == i || isSpace(text[k - 1]);
+                const bool signedDot = (text[k] == '-' || text[k] == '+') && k + 1 < end && text[k + 1] == '.';
+                if (tokenStart && (text[k] == '.' || signedDot)) {
+                    changed = true;
+                    if (signedDot) out += text[k++];
+                    out += '0';
+                }
+                out += text[k];
+            }
+        }
+        begin = end;
+    }
+    return changed ? out : std::string();
+}
+
+void useFixedObjText(Assimp::Importer& importer, const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::string fixed = fixObjTextForAssimp(std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()));
+    if (!fixed.empty()) importer.SetIOHandler(new FixedObjIOSystem(path, std::move(fixed)));
+}
 
 std::vector<std::string> assimpExtensions() {
     Assimp::Importer importer;

@@ -44,6 +44,16 @@ AssimpFormat describeAssimpFormat(const Assimp::Importer& importer, const std::s
                                   const aiScene& ai, const SceneLoadOptions& options,
                                   std::vector<std::string>& warnings);
 
+/// Assimp 5.2.5's OBJ parser skips a line that starts with white space and drops a vertex line
+/// with a number written without its leading zero (".5", "-.5"); the error then shows up as
+/// "vertex index out of range" or as missing faces. Returns the text with both fixed (leading
+/// white space removed, "0" inserted), or "" if no line needs it.
+std::string fixObjTextForAssimp(const std::string& text);
+
+/// OBJ: if fixObjTextForAssimp changes the file, has `importer` read the fixed text in its
+/// place (other files, such as the .mtl, are read from disk as usual).
+void useFixedObjText(Assimp::Importer& importer, const std::string& path);
+
 /// OBJ: warns about a `mtllib` that does not exist (Assimp then silently uses its defaults).
 /// True if the file names material libraries and none of them exists.
 bool checkObjMaterialLibraries(const std::string& path, std::vector<std::string>& warnings);

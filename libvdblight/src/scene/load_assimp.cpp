@@ -311,6 +311,7 @@ Scene loadAssimpScene(const std::string& path, const std::string& ext, const Sce
     checkLoadOptions(options);
     Assimp::Importer importer;
     configureImporter(importer, ext, options);
+    if (ext == ".obj") useFixedObjText(importer, path);  // indented lines, numbers like ".5"
     // No aiProcess_ValidateDataStructure: it rejects a mesh without faces (an OBJ of bare
     // vertices), which should rather end in "no triangles"; the walk checks indices itself.
     // Node transforms and instancing are applied by the walk below (Loader::addNode).
