@@ -50,6 +50,7 @@ bpy.ops.export_mesh.stl(filepath=out + "/scene_ascii.stl", ascii=True)
 bpy.ops.export_mesh.stl(filepath=out + "/scene_bin.stl", ascii=False)
 bpy.ops.export_mesh.ply(filepath=out + "/scene.ply")
 bpy.ops.wm.obj_export(filepath=out + "/scene.obj")
+bpy.ops.export_scene.gltf(filepath=out + "/scene.glb", export_lights=True, convert_lighting_mode='COMPAT')
 )PY";
 }  // namespace
 

@@ -19,7 +19,8 @@ namespace vdblight::test {
 bool haveBlender();
 
 /// Builds the scene and writes scene.fbx, scene.dae, scene_ascii.stl, scene_bin.stl,
-/// scene.ply and scene.obj (+ .mtl) into `dir`; `fbxScaleUnits` exports the FBX with
+/// scene.ply, scene.obj (+ .mtl) and scene.glb (lights in the exporter's "standard" W/sr
+/// mode, COMPAT) into `dir`; `fbxScaleUnits` exports the FBX with
 /// apply_scale_options = FBX_SCALE_UNITS (coordinates in Blender units, the unit in
 /// UnitScaleFactor) instead of Blender's default (coordinates in centimetres). Returns
 /// Blender's output if it fails, "" on success.

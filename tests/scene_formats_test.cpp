@@ -129,6 +129,15 @@ TEST_F(BlenderFormats, FbxUnitScaleFactor100) {
     expectReferenceLights(s, 22.5, "fbx (UnitScaleFactor 100)");
 }
 
+// Blender's own glTF exporter (its "standard" mode: W / 4 pi for point and spot lights, W/m^2
+// for suns) and the FBX and COLLADA readings agree light for light.
+TEST_F(BlenderFormats, LightsAgreeWithBlendersGltfExport) {
+    SceneLoadOptions o;
+    o.scale = 0.01;  // Blender's glTF exporter writes Blender units (here centimetres)
+    const Scene gltf = loadScene(cm("scene.glb"), o);
+    expectReferenceLights(gltf, 22.5, "glb");
+}
+
 TEST_F(BlenderFormats, Collada) {
     SceneLoadReport r;
     const Scene s = loadScene(cm("scene.dae"), {}, &r);
