@@ -137,6 +137,12 @@ TEST(CliFormats, BadPathsAreOneLine) {
     expectCleanFailureWithOutput(dir, "bake '" + latin1 + "' --sky 1,1,1 --scale 0",
                                  "--scale must be a positive number of metres per file unit, got '0'");
     expectCleanFailureWithOutput(dir, "bake '" + latin1 + "' --sky 1,1,1 --up x", "--up must be y or z, got 'x'");
+    // Every command that loads a scene has them.
+    expectCleanFailureWithOutput(dir, "prt bake '" + latin1 + "' --scale -2", "--scale must be a positive number");
+    expectCleanFailure(dir, "check-scene '" + latin1 + "' --up w", "--up must be y or z, got 'w'");
+    writeTextFile(dir.file("points.csv"), "0.2,0.2,0.5,0,0,-1\n");
+    expectCleanFailure(dir, "reference '" + latin1 + "' --sky 1,1,1 --scale abc --points '" + dir.file("points.csv") + "'",
+                       "--scale must be a positive number of metres per file unit, got 'abc'");
 }
 
 // Files that refer to other files that are missing still bake, with one warning line on stderr.

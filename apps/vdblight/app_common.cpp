@@ -33,6 +33,10 @@ void addSceneFileOptions(CLI::App& cmd, SceneOptions& o) {
                    "Scene file: glTF (.gltf .glb), OBJ, PLY, FBX (binary, ascii), COLLADA (.dae), 3DS, STL, OFF, .x "
                    "or any other format Assimp reads (docs/scene.md); the summary names the format and the "
                    "meshes/instances read. Default: the bundled Cornell box");
+    addSceneFrameOptions(cmd, o);
+}
+
+void addSceneFrameOptions(CLI::App& cmd, SceneOptions& o) {
     cmd.add_option("--scale", o.scale,
                    "Metres per file unit, overriding the file's unit (FBX UnitScaleFactor, COLLADA <unit>); "
                    "default: the file's unit, or 1 where the format has none")
@@ -41,23 +45,29 @@ void addSceneFileOptions(CLI::App& cmd, SceneOptions& o) {
                                  "the metadata, or y where the format has none. Scenes are +Y up");
 }
 
-Scene loadSceneFromOptions(const SceneOptions& o, bool quiet, SceneLoadReport* report) {
+Scene loadSceneFile(const std::string& path, const SceneOptions& frame, bool quiet, SceneLoadReport* report) {
     SceneLoadOptions load;
-    if (!o.scale.empty()) {  // checked here, so that a bad value is one line like every other error
+    if (!frame.scale.empty()) {  // checked here, so that a bad value is one line like every other error
         std::size_t used = 0;
         double s = 0;
-        try { s = std::stod(o.scale, &used); } catch (const std::exception&) { used = 0; }
-        if (used != o.scale.size() || !(std::isfinite(s) && s > 0))
-            throw ValueError("--scale must be a positive number of metres per file unit, got '" + o.scale + "'");
+        try { s = std::stod(frame.scale, &used); } catch (const std::exception&) { used = 0; }
+        if (used != frame.scale.size() || !(std::isfinite(s) && s > 0))
+            throw ValueError("--scale must be a positive number of metres per file unit, got '" + frame.scale + "'");
         load.scale = s;
     }
-    if (!o.up.empty() && o.up != "y" && o.up != "z") throw ValueError("--up must be y or z, got '" + o.up + "'");
-    load.up = o.up == "z" ? UpAxis::Z : o.up == "y" ? UpAxis::Y : UpAxis::FromFile;
+    if (!frame.up.empty() && frame.up != "y" && frame.up != "z")
+        throw ValueError("--up must be y or z, got '" + frame.up + "'");
+    load.up = frame.up == "z" ? UpAxis::Z : frame.up == "y" ? UpAxis::Y : UpAxis::FromFile;
     SceneLoadReport local;
     SceneLoadReport& read = report ? *report : local;
-    Scene scene = loadScene(o.path.empty() ? defaultScenePath() : o.path, load, &read);
+    Scene scene = loadScene(path, load, &read);
     if (!quiet)
         for (const std::string& w : read.warnings) std::cerr << "vdblight: warning: " << w << "\n";
+    return scene;
+}
+
+Scene loadSceneFromOptions(const SceneOptions& o, bool quiet, SceneLoadReport* report) {
+    Scene scene = loadSceneFile(o.path.empty() ? defaultScenePath() : o.path, o, quiet, report);
     if (!o.sky.empty()) {
         const Vec3d c = parseTriple(o.sky, "--sky");
         if (c.x < 0 || c.y < 0 || c.z < 0) throw ValueError("--sky radiance must not be negative");

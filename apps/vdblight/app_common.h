@@ -31,6 +31,10 @@ struct SceneOptions {
 void addSceneOptions(CLI::App& cmd, SceneOptions& o);
 /// The scene positional argument, --scale and --up alone (for commands without lighting options).
 void addSceneFileOptions(CLI::App& cmd, SceneOptions& o);
+/// --scale and --up alone (for commands that take scene files as options).
+void addSceneFrameOptions(CLI::App& cmd, SceneOptions& o);
+/// Loads `path` with the --scale / --up of `frame` and prints its warnings unless quiet.
+Scene loadSceneFile(const std::string& path, const SceneOptions& frame, bool quiet, SceneLoadReport* report = nullptr);
 /// Loads the scene (--scale, --up), prints its warnings unless quiet, applies sky options,
 /// refuses a scene without light unless allowed. `report`, if given, says how it was read.
 Scene loadSceneFromOptions(const SceneOptions& o, bool quiet, SceneLoadReport* report = nullptr);
