@@ -360,10 +360,10 @@ TEST(SceneFormats, OffXAnd3ds) {
     EXPECT_TRUE(r.defaultAlbedoOnly);
     expectVec(s.worldBounds().hi, {1, 1, 1}, 1e-6, "off");
 
-    // DirectX .x (text): one quad, with a material whose diffuse colour is (0.1, 0.2, 0.3).
+    // DirectX .x (text): one quad at z = 1, with a material whose diffuse colour is (0.1, 0.2, 0.3).
     writeTextFile(dir.file("quad.x"),
                   "xof 0303txt 0032\n"
-                  "Mesh Quad {\n 4;\n 0.0;0.0;0.0;,\n 2.0;0.0;0.0;,\n 2.0;1.0;0.0;,\n 0.0;1.0;0.0;;\n"
+                  "Mesh Quad {\n 4;\n 0.0;0.0;1.0;,\n 2.0;0.0;1.0;,\n 2.0;1.0;1.0;,\n 0.0;1.0;1.0;;\n"
                   " 1;\n 4;0,1,2,3;;\n"
                   " MeshMaterialList {\n  1;\n  1;\n  0;;\n"
                   "  Material Paint {\n   0.1;0.2;0.3;1.0;;\n   10.0;\n   0.0;0.0;0.0;;\n   0.0;0.0;0.0;;\n  }\n }\n}\n");
@@ -374,6 +374,7 @@ TEST(SceneFormats, OffXAnd3ds) {
     const Bounds bx = s.worldBounds();
     EXPECT_NEAR(bx.hi.x - bx.lo.x, 2.0, 1e-6);
     EXPECT_NEAR(bx.hi.y - bx.lo.y, 1.0, 1e-6);
+    EXPECT_NEAR(bx.lo.z, -1.0, 1e-6) << "DirectX is left-handed: Assimp negates z";
 
     // 3DS: Assimp turns 3ds Max's Z up into Y up.
     {
