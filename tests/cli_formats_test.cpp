@@ -156,12 +156,13 @@ TEST(CliFormats, MissingReferencedFilesWarn) {
                             "' not found: its materials get the default albedo 0.8"),
               std::string::npos) << r.output;
     EXPECT_NE(r.output.find("no materials: default albedo 0.8"), std::string::npos) << r.output;
-    // A texture that does not exist: textures are not read, the diffuse colour is used.
+    // A texture that does not exist: the diffuse colour is used.
     writeTextFile(dir.file("tex.obj"), "mtllib tex.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl Wood\nf 1 2 3\n");
     writeTextFile(dir.file("tex.mtl"), "newmtl Wood\nKd 0.5 0.3 0.1\nmap_Kd missing_wood.png\n");
     r = runCli("bake '" + dir.file("tex.obj") + "' --sky 1,1,1 --resolution 4 --rays 16 -o '" + dir.file("b.vdb") + "'");
     EXPECT_EQ(r.status, 0) << r.output;
-    EXPECT_NE(r.output.find("vdblight: warning: 1 material(s) with a diffuse texture: textures are not read"),
+    EXPECT_NE(r.output.find("vdblight: warning: 1 diffuse texture(s) not read (first: file '" +
+                            dir.file("missing_wood.png") + "' not found): their materials' diffuse colour is the albedo"),
               std::string::npos) << r.output;
 }
 

@@ -22,6 +22,7 @@
 #include <assimp/importerdesc.h>
 
 #include "file_frame.h"
+#include "texture_mean.h"
 
 namespace vdblight {
 
@@ -159,6 +160,46 @@ private:
 bool isSpace(char c) { return c == ' ' || c == '\t'; }
 
 }  // namespace
+
+DiffuseTexture diffuseTexture(const aiScene& ai, const aiMaterial& am, const std::string& scenePath) {
+    namespace fs = std::filesystem;
+    DiffuseTexture t;
+    aiString name;
+    if (am.GetTexture(aiTextureType_BASE_COLOR, 0, &name) != AI_SUCCESS &&
+        am.GetTexture(aiTextureType_DIFFUSE, 0, &name) != AI_SUCCESS)
+        return t;
+    t.present = true;
+    t.name = name.C_Str();
+    if (const aiTexture* embedded = ai.GetEmbeddedTexture(name.C_Str())) {
+        if (embedded->mHeight != 0) {  // uncompressed BGRA8888 texels
+            const std::size_t n = std::size_t(embedded->mWidth) * embedded->mHeight;
+            double sum[3] = {0, 0, 0};
+            auto lin = [](uint8_t v) { const double c = v / 255.0; return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); };
+            for (std::size_t i = 0; i < n; ++i) {
+                sum[0] += lin(embedded->pcData[i].r); sum[1] += lin(embedded->pcData[i].g); sum[2] += lin(embedded->pcData[i].b);
+            }
+            t.mean = Rgb(float(sum[0] / double(n)), float(sum[1] / double(n)), float(sum[2] / double(n)));
+            t.read = n > 0;
+            if (!t.read) t.why = "an empty embedded texture";
+            return t;
+        }
+        t.read = pngMeanLinear(reinterpret_cast<const uint8_t*>(embedded->pcData), embedded->mWidth, t.mean, t.why);
+        if (!t.read) t.why = "embedded: " + t.why + " (only PNG is read)";
+        return t;
+    }
+    std::string relative = t.name;
+    std::replace(relative.begin(), relative.end(), '\\', '/');
+    const fs::path file = fs::path(relative).is_absolute() ? fs::path(relative) : fs::path(scenePath).parent_path() / relative;
+    std::error_code ec;
+    const auto size = fs::file_size(file, ec);
+    if (ec || !fs::is_regular_file(file, ec)) { t.why = "file '" + file.string() + "' not found"; return t; }
+    if (size > (std::uintmax_t(256) << 20)) { t.why = "file '" + file.string() + "' over 256 MiB"; return t; }
+    std::ifstream in(file, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    t.read = pngMeanLinear(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), t.mean, t.why);
+    if (!t.read) t.why = "'" + file.string() + "': " + t.why + " (only PNG is read)";
+    return t;
+}
 
 std::string fixObjTextForAssimp(const std::string& text) {
     std::string out;

@@ -44,6 +44,16 @@ AssimpFormat describeAssimpFormat(const Assimp::Importer& importer, const std::s
                                   const aiScene& ai, const SceneLoadOptions& options,
                                   std::vector<std::string>& warnings);
 
+/// Whether a material has a diffuse (or glTF base-colour) texture, and if so its mean linear
+/// colour: `read` true and `mean` set for a PNG (embedded, or a file beside the scene file),
+/// else `read` false and `why` says why. Files over 256 MiB are not read.
+struct DiffuseTexture {
+    bool present = false, read = false;
+    Rgb mean{0, 0, 0};
+    std::string name, why;
+};
+DiffuseTexture diffuseTexture(const aiScene& ai, const aiMaterial& am, const std::string& scenePath);
+
 /// Assimp 5.2.5's OBJ parser skips a line that starts with white space and drops a vertex line
 /// with a number written without its leading zero (".5", "-.5"); the error then shows up as
 /// "vertex index out of range" or as missing faces. Returns the text with both fixed (leading

@@ -331,19 +331,24 @@ Scene loadAssimpScene(const std::string& path, const std::string& ext, const Sce
     try {
         const bool gltf = ext == ".gltf" || ext == ".glb";
         const std::vector<float> strengths = gltf ? gltfEmissiveStrengths(path, ext == ".glb") : std::vector<float>{};
-        std::size_t textured = 0;
+        std::size_t unread = 0;
+        std::string firstUnread;
         for (unsigned i = 0; i < ai->mNumMaterials; ++i) {
             const aiMaterial& am = *ai->mMaterials[i];
             const float strength = i < strengths.size() ? strengths[i] : 1.0f;
             Material m = format.noMaterials ? Material{} : convertMaterial(am, strength);
             if (format.noMaterials) m.name = AI_DEFAULT_MATERIAL_NAME;
             loader.defaultMaterial.push_back(m.name == AI_DEFAULT_MATERIAL_NAME);
-            if (am.GetTextureCount(aiTextureType_DIFFUSE) + am.GetTextureCount(aiTextureType_BASE_COLOR) > 0) ++textured;
+            const DiffuseTexture texture = format.noMaterials ? DiffuseTexture{} : diffuseTexture(*ai, am, path);
+            // glTF multiplies baseColorFactor by the texture; OBJ, FBX and COLLADA
+            // renderers let the texture replace the diffuse colour.
+            if (texture.read) m.albedo = gltf ? m.albedo * texture.mean : texture.mean;
+            if (texture.present && !texture.read && unread++ == 0) firstUnread = texture.why;
             loader.materialOf.push_back(addMaterial(scene, m));
         }
-        if (textured > 0)
-            warnings.push_back(std::to_string(textured) + " material(s) with a diffuse texture: textures are not read, "
-                               "their diffuse colour is the albedo");
+        if (unread > 0)
+            warnings.push_back(std::to_string(unread) + " diffuse texture(s) not read (first: " + firstUnread +
+                               "): their materials' diffuse colour is the albedo");
         loader.addNode(*ai->mRootNode, format.root);
         for (unsigned i = 0; i < ai->mNumLights; ++i) loader.addLight(*ai->mLights[i]);
         report.meshes = loader.meshesUsed.size();
