@@ -40,9 +40,10 @@ struct SceneLoadReport {
 /// through vdblight's own reader (docs/scene.md, "PLY"). Converts to metres and +Y up as the
 /// file says or `options` override; applies node transforms (instancing included),
 /// triangulates, joins identical vertices, drops degenerate faces (counted in
-/// Scene::stats). A diffuse texture's mean colour is the albedo where the texture is a PNG. A scene far from the world origin is recentred (recenterScene). Problems
-/// that do not stop the load (an unknown PLY header line, a missing OBJ material library,
-/// unread textures) are in `report->warnings`. Throws SceneError / IoError / ValueError
+/// Scene::stats). A diffuse texture's mean colour is the albedo where the texture is a PNG.
+/// A scene far from the world origin is recentred (recenterScene). Problems that do not stop
+/// the load (an unknown PLY header line, a missing OBJ material library, unread textures)
+/// are in `report->warnings`. Throws SceneError / IoError / ValueError
 /// (a bad option) with a one-line message.
 Scene loadScene(const std::string& path, const SceneLoadOptions& options, SceneLoadReport* report = nullptr);
 
