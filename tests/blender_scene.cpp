@@ -31,7 +31,13 @@ panel = bpy.context.object; panel.name = "Panel"
 panel.data.materials.append(mat("Glow", (0.5, 0.5, 0.5), (1.0, 0.5, 0.25), 3.0))
 bpy.ops.mesh.primitive_cube_add(size=0.1 * u, location=(0.6 * u, 0.2 * u, 0.55 * u))
 small = bpy.context.object; small.name = "SmallA"
-small.data.materials.append(mat("Red", (0.7, 0.1, 0.1)))
+red = mat("Red", (0.7, 0.1, 0.1))
+img = bpy.data.images.new("checker", 2, 2)  # texels 0 or 1: the same in sRGB and linear
+img.pixels = [1, 0, 0, 1,  1, 0, 0, 1,  0, 0, 1, 1,  1, 1, 1, 1]
+img.filepath_raw = out + "/checker.png"; img.file_format = 'PNG'; img.save()
+tex = red.node_tree.nodes.new("ShaderNodeTexImage"); tex.image = img
+red.node_tree.links.new(tex.outputs["Color"], red.node_tree.nodes["Principled BSDF"].inputs["Base Color"])
+small.data.materials.append(red)
 inst = small.copy(); inst.name = "SmallB"; inst.location = (-0.6 * u, 0.2 * u, 0.55 * u)
 sc.collection.objects.link(inst)
 def light(kind, name, loc, energy, rot):

@@ -5,6 +5,7 @@
 //   Box     2 x 1 x 0.5 m, base on z = 0, material "Blue" (0.2, 0.4, 0.6)
 //   Panel   0.4 x 0.4 m plane at z = 0.9, material "Glow": emission (1, 0.5, 0.25), strength 3
 //   SmallA, SmallB  0.1 m cubes sharing one mesh, at (+-0.6, 0.2, 0.55), material "Red"
+//           whose base colour is the 2 x 2 PNG checker.png (mean (0.75, 0.25, 0.5))
 //   Bulb    point light 1000 W at (0.5, 0, 1.5), colour (1, 0.9, 0.8)
 //   Sun     sun 3 W/m^2, rotated 30 deg about X, colour (1, 0.9, 0.8)
 //   Spot    spot 500 W at (0, -0.8, 1.5), rotated 20 deg about X, size 60 deg, blend 0.25

@@ -72,6 +72,13 @@ void expectReferenceLights(const Scene& s, double innerSpotDegrees, const std::s
     EXPECT_NEAR(sp.innerConeAngle, innerSpotDegrees * kPiD / 180, 1e-4) << label;
 }
 
+/// "Red" takes its colour from a texture: its albedo is the texture's mean.
+void expectTexturedRed(const Scene& s, const std::string& label) {
+    const Material* red = findMaterial(s, "Red");
+    ASSERT_NE(red, nullptr) << label;
+    expectVec(Vec3d(red->albedo), {0.75, 0.25, 0.5}, 1e-6, label + " texture mean");
+}
+
 /// Exports the Blender scene once per (unit, FBX scale option) for the whole suite.
 class BlenderFormats : public ::testing::Test {
 protected:
@@ -121,6 +128,7 @@ TEST_F(BlenderFormats, FbxInCentimetres) {
     ASSERT_NE(blue, nullptr);
     expectVec(Vec3d(blue->albedo), {0.2, 0.4, 0.6}, 1e-5, "DiffuseColor");
     expectReferenceLights(s, 22.5, "fbx (cm)");  // inner = 60 deg x (1 - blend 0.25) / 2
+    expectTexturedRed(s, "fbx");
 }
 
 TEST_F(BlenderFormats, FbxUnitScaleFactor100) {
@@ -138,6 +146,7 @@ TEST_F(BlenderFormats, LightsAgreeWithBlendersGltfExport) {
     o.scale = 0.01;  // Blender's glTF exporter writes Blender units (here centimetres)
     const Scene gltf = loadScene(cm("scene.glb"), o);
     expectReferenceLights(gltf, 22.5, "glb");
+    expectTexturedRed(gltf, "glb (embedded PNG, base colour factor 1)");
 }
 
 TEST_F(BlenderFormats, Collada) {
@@ -154,6 +163,7 @@ TEST_F(BlenderFormats, Collada) {
     // Blender's COLLADA exporter writes the emission colour without its strength.
     expectVec(Vec3d(glow->emission), {1.0, 0.5, 0.25}, 1e-5, "<emission>");
     expectReferenceLights(s, 30.0, "dae");  // COLLADA has one falloff angle: a hard cone
+    expectTexturedRed(s, "dae");
 }
 
 TEST_F(BlenderFormats, ColladaOverrides) {
@@ -200,6 +210,7 @@ TEST_F(BlenderFormats, PlyAndObjFromBlender) {
     const Material* glow = findMaterial(obj, "Glow");
     ASSERT_NE(glow, nullptr);
     expectVec(Vec3d(glow->emission), {3.0, 1.5, 0.75}, 1e-5, "OBJ Ke");
+    expectTexturedRed(obj, "obj");
 }
 
 // ---------------------------------------------------------------------------------------
