@@ -11,6 +11,8 @@ for bench in vdblight_bench vdblight_bench_photons vdblight_bench_antialiased vd
   "$ROOT/build/bin/$bench" --quick
 done
 # Sanitizers (issue 8): the whole suite again under ASan + UBSan (build-sanitize/, any report
-# fails), then every libFuzzer harness for FUZZ_SECONDS each (build-fuzz/, clang).
+# fails), then every libFuzzer harness (build-fuzz/, clang): each seed and regression input
+# replayed, then FUZZ_RUNS inputs from a fixed seed, so the verdict is the same on every run
+# (docs/fuzzing.md; exploratory, time-based fuzzing is scripts/fuzz_explore.sh).
 "$ROOT/scripts/test_sanitize.sh" all
-"$ROOT/scripts/fuzz.sh" "${FUZZ_SECONDS:-15}"
+"$ROOT/scripts/fuzz.sh" "${FUZZ_RUNS:-2000}"
