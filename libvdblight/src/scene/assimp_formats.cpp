@@ -193,7 +193,7 @@ DiffuseTexture diffuseTexture(const aiScene& ai, const aiMaterial& am, const std
     std::error_code ec;
     const auto size = fs::file_size(file, ec);
     if (ec || !fs::is_regular_file(file, ec)) { t.why = "file '" + file.string() + "' not found"; return t; }
-    if (size > (std::uintmax_t(256) << 20)) { t.why = "file '" + file.string() + "' over 256 MiB"; return t; }
+    if (size > (std::uintmax_t(64) << 20)) { t.why = "file '" + file.string() + "' over 64 MiB"; return t; }  // within the 256 MB loader bound
     std::ifstream in(file, std::ios::binary);
     const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     t.read = pngMeanLinear(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), t.mean, t.why);

@@ -46,7 +46,8 @@ AssimpFormat describeAssimpFormat(const Assimp::Importer& importer, const std::s
 
 /// Whether a material has a diffuse (or glTF base-colour) texture, and if so its mean linear
 /// colour: `read` true and `mean` set for a PNG (embedded, or a file beside the scene file),
-/// else `read` false and `why` says why. Files over 256 MiB are not read.
+/// else `read` false and `why` says why. Files over 64 MiB are not read (they are read whole; the
+/// loader memory bound of docs/scene.md has a 256 MB floor).
 struct DiffuseTexture {
     bool present = false, read = false;
     Rgb mean{0, 0, 0};
