@@ -7,7 +7,7 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT/build"
 ctest --output-on-failure -j "${JOBS:-$(nproc)}" --timeout 1200
 # Quick smoke runs of every benchmark (the figures are noisy; full runs: drop --quick).
-for bench in vdblight_bench vdblight_bench_photons vdblight_bench_antialiased vdblight_bench_layouts vdblight_bench_bins vdblight_bench_prt vdblight_bench_converge vdblight_bench_error vdblight_bench_bake_speed vdblight_bench_prt_scale; do
+for bench in vdblight_bench vdblight_bench_photons vdblight_bench_antialiased vdblight_bench_layouts vdblight_bench_bins vdblight_bench_prt vdblight_bench_converge vdblight_bench_error vdblight_bench_bake_speed vdblight_bench_prt_scale vdblight_bench_accuracy; do
   "$ROOT/build/bin/$bench" --quick
 done
 # Sanitizers (issue 8): the whole suite again under ASan + UBSan (build-sanitize/, any report
