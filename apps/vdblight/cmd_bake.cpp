@@ -103,7 +103,8 @@ void run(const BakeCommand& c) {
         throw ValueError("--method must be gather or photons, got '" + c.method + "'");
     if (c.method == "photons") return runPhotons(c);
     checkOutputWritable(c.output);
-    Scene scene = loadSceneFromOptions(c.scene, c.quiet);
+    SceneLoadReport read;
+    Scene scene = loadSceneFromOptions(c.scene, c.quiet, &read);
 
     GridPlacement placement;
     placement.spacing = c.spacing;
@@ -180,6 +181,7 @@ void run(const BakeCommand& c) {
         std::cout << "Baked " << stats.nodes << " nodes (" << (volume.levels.size() > 1 ? "level 0: " : "") << grid.nx << " x " << grid.ny << " x " << grid.nz
                   << ", spacing " << grid.spacing << ") of scene '" << scene.name << "' ("
                   << scene.triangleCount() << " triangles";
+        std::cout << "; " << describeSceneSource(read);
         if (scene.stats.degenerateTrianglesSkipped)
             std::cout << ", " << scene.stats.degenerateTrianglesSkipped << " degenerate skipped";
         std::cout << ") with " << (c.targetError > 0 ? std::string("error-targeted")
@@ -209,7 +211,8 @@ void runPhotons(const BakeCommand& c) {
     options.transport = transportFromOptions(c.scene);
     checkPhotonCount(options.photons);  // before loading anything
     checkOutputWritable(c.output);
-    Scene scene = loadSceneFromOptions(c.scene, c.quiet);
+    SceneLoadReport read;
+    Scene scene = loadSceneFromOptions(c.scene, c.quiet, &read);
     GridPlacement placement;
     placement.spacing = c.spacing;
     placement.resolution = (c.spacing > 0 || c.resolution > 0) ? c.resolution : 16;
@@ -232,7 +235,7 @@ void runPhotons(const BakeCommand& c) {
     if (!c.quiet) {
         std::cout << "Baked " << grid.nodeCount() << " nodes (" << grid.nx << " x " << grid.ny << " x " << grid.nz
                   << ", spacing " << grid.spacing << ") of scene '" << scene.name << "' (" << scene.triangleCount()
-                  << " triangles) with " << formatCount(double(stats.photons)) << " photons: "
+                  << " triangles; " << describeSceneSource(read) << ") with " << formatCount(double(stats.photons)) << " photons: "
                   << formatCount(double(stats.segments)) << " segments, " << formatCount(double(stats.crossings))
                   << " face crossings, " << formatCount(double(stats.rays.total())) << " rays in "
                   << formatSeconds(stats.seconds) << " ("
