@@ -22,7 +22,7 @@ struct SceneOptions {
     std::string sky;               ///< "r,g,b" constant sky radiance
     std::string skyMap;            ///< equirectangular EXR
     bool allowDark = false;
-    int bounces = 8;
+    int bounces = kSafetyBounces;  ///< a safety cap: Russian roulette ends paths (light.h)
 };
 
 void addSceneOptions(CLI::App& cmd, SceneOptions& o);
