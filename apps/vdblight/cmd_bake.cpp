@@ -60,18 +60,23 @@ struct BakeCommand {
 
 void runPhotons(const BakeCommand& c);
 
-/// What --quality means for the point gather (docs/methods.md, issue 15): `preview` is the
-/// fixed budget of 256 rays per node (sub-second bakes to iterate on a scene); `default` and
-/// `high` sample each node until the relative standard error of its irradiance is below
-/// the target (bake_adaptive.h), so rays go where the noise is (rooms lit through a door).
+/// What --quality means for the point gather (docs/methods.md, issue 15). `preview`: the
+/// fixed 256 rays per node of full paths (sub-second bakes to iterate on a scene).
+/// `default`: 256 rays of full paths, then one probe-to-probe pass of 256 rays that ends
+/// paths at their first hit with the first pass's reflected light (GatherOptions::probePasses):
+/// about twice preview's rays, and much less noise where light comes through openings.
+/// `high`: every node sampled to a relative standard error of 3 % (64..2048 rays,
+/// bake_adaptive.h), two probe passes. Explicit --rays, --target-error, --probe-passes,
+/// --min-rays and --max-rays override the preset's.
 struct QualityPreset {
     double targetError;  ///< 0: fixed budget (--rays)
     uint32_t minRays, maxRays;
+    int probePasses;
 };
 QualityPreset qualityPreset(const std::string& quality) {
-    if (quality == "preview") return {0.0, 0, 0};
-    if (quality == "default") return {0.02, 64, 8192};
-    if (quality == "high") return {0.01, 128, 32768};
+    if (quality == "preview") return {0.0, 0, 0, 0};
+    if (quality == "default") return {0.0, 0, 0, 1};
+    if (quality == "high") return {0.03, 64, 2048, 2};
     throw ValueError("--quality must be preview, default or high, got '" + quality + "'");
 }
 
@@ -104,6 +109,7 @@ Volume bakeSelected(const BakeCommand& c, const Scene& scene, const Tracer& trac
         a.seed = options.seed;
         a.threads = options.threads;
         a.transport = options.transport;
+        a.probePasses = options.probePasses;
         AdaptiveStats as;
         Volume v = bakeShGatherAdaptive(scene, tracer, grid, a, progress, &as);
         *stats = as;
@@ -220,7 +226,11 @@ void run(const BakeCommand& c) {
             std::cout << ", " << scene.stats.degenerateTrianglesSkipped << " degenerate skipped";
         std::cout << ") with " << (c.targetError > 0 ? std::string("error-targeted")
                                    : binned ? metaString(volume.meta, "rays_per_node") : std::to_string(c.rays))
-                  << " rays per node and "
+                  << " rays per node"
+                  << (c.probePasses > 0 ? " (+ " + std::to_string(c.probePasses) + " probe-to-probe pass" +
+                                              (c.probePasses > 1 ? "es" : "") + ")"
+                                        : std::string())
+                  << " and "
                   << (c.scene.bounces >= kSafetyBounces ? std::string("all bounces (Russian roulette)")
                                                         : "up to " + std::to_string(c.scene.bounces) + " bounces")
                   << ": "
@@ -295,15 +305,15 @@ void addBakeCommand(CLI::App& app) {
     cmd->add_option("--bounds", c->bounds,
                     "Node box x0,y0,z0,x1,y1,z1 (default: scene bounds inset by half a spacing)");
     auto* rays = cmd->add_option("--rays", c->rays,
-                                 "Ray directions per node: a fixed budget (default: 256 with --quality preview and "
-                                 "for passes without an error target; --quality default/high sample to an error "
-                                 "target instead)")
+                                 "Ray directions per node and pass: a fixed budget (default 256; --quality high "
+                                 "samples to an error target instead)")
                      ->check(CLI::Range(1u, 1u << 30));
     cmd->add_option("--quality", c->quality,
-                    "preview: 256 rays per node (fast, noisy where light is hard to reach); default: each node "
-                    "sampled until the relative standard error of its irradiance is 2 % (64..8192 rays); high: 1 % "
-                    "(128..32768 rays). Error targets apply to --method gather, --sampling point, --layout "
-                    "uniform, --basis sh2; other passes take the fixed --rays")
+                    "preview: 256 rays per node of full paths (fast, noisy where light is hard to reach); "
+                    "default: 256 rays + one probe-to-probe pass of 256 (about 2x preview's time, much less noise "
+                    "where light comes through openings); high: each node sampled to a relative standard error of "
+                    "3 % (64..2048 rays) + two probe passes. Presets apply to --method gather, --sampling point, "
+                    "--layout uniform, --basis sh2; other passes take the fixed --rays")
         ->capture_default_str();
     cmd->add_option("--seed", c->seed, "Random seed (same seed, same bits, any thread count)")->capture_default_str();
     cmd->add_option("--threads", c->threads, "Worker threads (0 = all cores)")->capture_default_str()->check(CLI::Range(0, 4096));
@@ -334,11 +344,9 @@ void addBakeCommand(CLI::App& app) {
                     "point gather: sample each node in doubling rounds until the relative standard error of its "
                     "mean irradiance is below this (e.g. 0.02), up to --max-rays");
     auto* maxRays = cmd->add_option("--max-rays", c->maxRays,
-                                    "error-targeted bakes: most rays a node may take (default: 8192 with --quality "
-                                    "default, 32768 with high)");
+                                    "error-targeted bakes: most rays a node may take (default 2048)");
     auto* minRays = cmd->add_option("--min-rays", c->minRays,
-                                    "error-targeted bakes: rays of the first round (default: 64 with --quality "
-                                    "default, 128 with high)");
+                                    "error-targeted bakes: rays of the first round (default 64)");
     cmd->add_flag("--sh-window", c->shWindow,
                   "gather: window the SH bands (1, 0.584, 0.135) so that irradiance is never negative (blurs; "
                   "docs/methods.md)");
@@ -355,10 +363,11 @@ void addBakeCommand(CLI::App& app) {
                   "bilevel/adaptive with sh2: leave out nodes whose every cell lies inside a closed solid "
                   "(docs/format.md, Levels); queries there return 0");
     auto* probe = cmd->add_option("--probe-passes", c->probePasses,
-                    "point gather with a fixed --rays: after a first pass of full paths, this many passes that end "
+                    "point gather: after a first pass of full paths, this many passes that end "
                     "each gathered path at its first hit with the previous pass's reflected light (probe-to-probe "
-                    "bounces, DDGI-style; less noise where light comes through openings, some bias; docs/methods.md)")
-        ->check(CLI::Range(0, 8));
+                    "bounces, DDGI-style; less noise where light comes through openings, some bias; docs/methods.md). "
+                    "Default: 0 with --quality preview, 1 with default, 2 with high")
+        ->check(CLI::Range(0, 8));  // default: the --quality preset's
     cmd->add_flag("-q,--quiet", c->quiet, "No progress bar and no summary");
     cmd->callback([c, spacing, resolution, invalidate, refine, levelsOpt, target, maxRays, minRays, refineDistance, rays, probe] {
         if (target->count() > 0 && !(c->targetError > 0 && c->targetError <= 1))
@@ -366,25 +375,24 @@ void addBakeCommand(CLI::App& app) {
         const QualityPreset preset = qualityPreset(c->quality);
         if (target->count() > 0 && rays->count() > 0)
             throw ValueError("--target-error and --rays exclude each other (an error target or a fixed budget)");
-        if (target->count() > 0 && c->quality == "preview")
-            throw ValueError("--target-error and --quality preview exclude each other (preview is a fixed budget)");
-        // The quality's error target applies where the error-targeted gather exists and no
-        // fixed budget was asked for; elsewhere the fixed --rays (default 256).
+        // The quality's error target and probe passes apply where the point gather on a
+        // uniform SH grid runs; other passes take the fixed --rays (default 256).
         const bool targetable = c->method == "gather" && c->sampling == "point" && invalidate->count() == 0 &&
                                 parseLayoutKind(c->layout) == LayoutKind::Uniform &&
                                 bins::parseBasisSpec(c->basis).kind == bins::BasisSpec::Kind::Sh2;
         if (target->count() == 0 && rays->count() == 0 && preset.targetError > 0 && targetable)
             c->targetError = preset.targetError;
         if (c->targetError > 0) {
-            const QualityPreset caps = preset.targetError > 0 ? preset : qualityPreset("default");
+            const QualityPreset caps = qualityPreset("high");
             if (minRays->count() == 0) c->minRays = caps.minRays;
             if (maxRays->count() == 0) c->maxRays = std::max(caps.maxRays, c->minRays);
         }
+        if (probe->count() == 0 && targetable) c->probePasses = preset.probePasses;
         if (c->shWindow && (c->method != "gather" || bins::parseBasisSpec(c->basis).kind != bins::BasisSpec::Kind::Sh2))
             throw ValueError("--sh-window applies to --method gather with --basis sh2 only");
-        if (probe->count() > 0 && c->probePasses > 0 && (c->targetError > 0 || !targetable))
-            throw ValueError("--probe-passes needs a fixed budget (--rays or --quality preview) with --method "
-                             "gather, --sampling point, --layout uniform and --basis sh2");
+        if (probe->count() > 0 && c->probePasses > 0 && !targetable)
+            throw ValueError("--probe-passes works with --method gather, --sampling point, --layout uniform and "
+                             "--basis sh2 only");
         if (c->targetError > 0 && (c->minRays < 2 || c->maxRays < c->minRays))
             throw ValueError("--min-rays must be at least 2 and --max-rays at least --min-rays, got " +
                              std::to_string(c->minRays) + " and " + std::to_string(c->maxRays));
