@@ -12,6 +12,7 @@
 
 #include "test_util.h"
 #include "vdblight/bake.h"
+#include "vdblight/bake_adaptive.h"
 #include "vdblight/leak_scenes.h"
 #include "vdblight/query.h"
 #include "vdblight/reference.h"
@@ -202,6 +203,21 @@ TEST(Transport, ProbePassesAreDeterministic) {
     GatherOptions plain;
     plain.raysPerNode = 32;
     EXPECT_NE(bakeShGather(s, tracer, g, plain).levels[0].data, first);  // the passes change something
+
+    // The error-targeted gather with probe passes (--quality high).
+    std::vector<float> adaptiveFirst;
+    for (int threads : {1, 2}) {
+        AdaptiveOptions a;
+        a.targetError = 0.05;
+        a.minRays = 16;
+        a.maxRays = 128;
+        a.threads = threads;
+        a.probePasses = 1;
+        const Volume v = bakeShGatherAdaptive(s, tracer, g, a);
+        if (adaptiveFirst.empty()) adaptiveFirst = v.levels[0].data;
+        EXPECT_EQ(v.levels[0].data, adaptiveFirst) << threads << " threads";
+        EXPECT_EQ(std::get<int64_t>(v.meta.at("probe_passes")), 1);
+    }
 }
 
 // The per-node noise the bake reports (BakeStats::estimatedError, from the sample variance)
