@@ -231,9 +231,10 @@ std::vector<Config> configurations() {
     // What `vdblight bake SCENE -o OUT` does with no other option (cmd_bake.cpp): a uniform
     // grid of 16 nodes on the longest axis, point gather with the library's GatherOptions
     // defaults. Keep this in step with the command's defaults.
-    v.push_back({"default", "vdblight bake SCENE -o OUT (16 nodes, GatherOptions defaults)",
+    v.push_back({"default", "vdblight bake SCENE -o OUT (16 nodes, 256 rays + 1 probe pass: --quality default)",
                  [](const Ctx& c) {
                      GatherOptions g;
+                     g.probePasses = 1;  // --quality default (cmd_bake.cpp qualityPreset)
                      g.seed = c.seed;
                      g.threads = c.settings.threads;
                      if (c.settings.quick) g.raysPerNode = c.settings.rays(g.raysPerNode);
@@ -250,6 +251,21 @@ std::vector<Config> configurations() {
                      rays == 1024});
     v.push_back({"point_32_256", "point gather, 32 nodes, 256 rays",
                  [](const Ctx& c) { return pointGather(c, c.settings.res(32), c.settings.rays(256)); }});
+    v.push_back({"preview", "--quality preview: 16 nodes, 256 rays of full paths, no probe pass",
+                 [](const Ctx& c) { return pointGather(c, c.settings.res(16), c.settings.rays(256)); }});
+    v.push_back({"probe_32_128", "--resolution 32 --rays 128 --probe-passes 1 (issue 15)",
+                 [](const Ctx& c) {
+                     GatherOptions g;
+                     g.raysPerNode = c.settings.rays(128);
+                     g.probePasses = 1;
+                     g.seed = c.seed;
+                     g.threads = c.settings.threads;
+                     const double t0 = bench::now();
+                     Volume vol = bakeShGather(c.scene, c.tracer, gridFor(c.scene, c.settings.res(32)), g);
+                     const double t = bench::now() - t0;
+                     const uint64_t nodes = vol.levels[0].grid.nodeCount();
+                     return fromVolume(std::move(vol), t, nodes);
+                 }});
     v.push_back({"antialiased", "--sampling antialiased (interior), 16 nodes, 256 rays/cell",
                  [](const Ctx& c) { return antialiased(c, c.settings.res(16), c.settings.rays(256), NodeFit::Projection); }});
     v.push_back({"antialiased_lsq", "--sampling antialiased --fit least-squares, 16 nodes, 256 rays/cell",

@@ -22,8 +22,11 @@ void addSceneOptions(CLI::App& cmd, SceneOptions& o) {
     addSceneFileOptions(cmd, o);
     cmd.add_option("--sky", o.sky, "Constant sky radiance r,g,b in W/(m^2 sr) where rays escape (default 0,0,0)");
     cmd.add_option("--sky-map", o.skyMap, "Equirectangular EXR sky (radiance), +Y up; overrides --sky");
-    cmd.add_option("--bounces", o.bounces, "Maximum diffuse reflections per light path (0 = direct light only)")
-        ->check(CLI::Range(0, 1000))
+    cmd.add_option("--bounces", o.bounces,
+                   "Cap on diffuse reflections per light path (0 = direct light only). Russian roulette ends "
+                   "paths without bias; the default cap is a safety that no path reaches, a smaller one drops "
+                   "the light of later bounces")
+        ->check(CLI::Range(0, 1 << 20))
         ->capture_default_str();
     cmd.add_flag("--allow-dark", o.allowDark, "Bake even if the scene has no light (the result is black)");
 }

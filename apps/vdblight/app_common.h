@@ -23,7 +23,7 @@ struct SceneOptions {
     std::string sky;               ///< "r,g,b" constant sky radiance
     std::string skyMap;            ///< equirectangular EXR
     bool allowDark = false;
-    int bounces = 8;
+    int bounces = kSafetyBounces;  ///< a safety cap: Russian roulette ends paths (light.h)
     std::string scale;             ///< --scale: metres per file unit (empty: the file's unit)
     std::string up;                ///< --up: y | z (empty: the file's metadata)
 };

@@ -51,12 +51,52 @@ struct BakeCommand {
     double refineDistance = 0.0;
     bool shWindow = false;
     double targetError = 0;  // > 0: error-targeted point gather (bake_adaptive.h)
-    uint32_t maxRays = 4096;
-    uint32_t minRays = 64;
+    uint32_t maxRays = 0;    // 0: the --quality preset's
+    uint32_t minRays = 0;    // 0: the --quality preset's
+    std::string quality = "default";  // preview | default | high (qualityPreset)
+    int probePasses = 0;              // GatherOptions::probePasses
     std::string basis = "sh2";  // sh2 | bins:R | moment:n[:R] (bins.h)
 };
 
 void runPhotons(const BakeCommand& c);
+
+/// What --quality means for the point gather (docs/methods.md, issue 15). `preview`: the
+/// fixed 256 rays per node of full paths (sub-second bakes to iterate on a scene).
+/// `default`: 256 rays of full paths, then one probe-to-probe pass of 256 rays that ends
+/// paths at their first hit with the first pass's reflected light (GatherOptions::probePasses):
+/// about twice preview's rays, and much less noise where light comes through openings.
+/// `high`: every node sampled to a relative standard error of 3 % (64..2048 rays,
+/// bake_adaptive.h), two probe passes. Explicit --rays, --target-error, --probe-passes,
+/// --min-rays and --max-rays override the preset's.
+struct QualityPreset {
+    double targetError;  ///< 0: fixed budget (--rays)
+    uint32_t minRays, maxRays;
+    int probePasses;
+};
+QualityPreset qualityPreset(const std::string& quality) {
+    if (quality == "preview") return {0.0, 0, 0, 0};
+    if (quality == "default") return {0.0, 0, 0, 1};
+    if (quality == "high") return {0.03, 64, 2048, 2};
+    throw ValueError("--quality must be preview, default or high, got '" + quality + "'");
+}
+
+/// The bake's own noise estimate, honestly labelled: per node the relative standard error of
+/// its mean irradiance from the sample variance; what it does not measure is said.
+void printNoiseSummary(const BakeStats& stats, const Volume& volume, const GridSpec& grid) {
+    auto percent = [](double e) { return std::to_string(int(std::lround(e * 1000.0)) / 10) + "." +
+                                         std::to_string(int(std::lround(e * 1000.0)) % 10) + " %"; };
+    const std::vector<float>& err = stats.estimatedError;
+    std::size_t worst = 0;
+    for (std::size_t n = 1; n < err.size(); ++n)
+        if (err[n] > err[worst]) worst = n;
+    std::cout << "Noise per node (relative standard error of its irradiance, from the sample variance): p50 "
+              << percent(stats.errorQuantile(0.5)) << ", p95 " << percent(stats.errorQuantile(0.95)) << ", max "
+              << percent(err[worst]) << " at node " << worst % grid.nx << "," << (worst / grid.nx) % grid.ny << ","
+              << worst / (std::size_t(grid.nx) * grid.ny);
+    if (volume.meta.count("nodes_at_max_rays"))
+        std::cout << "; " << metaString(volume.meta, "nodes_at_max_rays") << " nodes stopped at the ray cap above the target";
+    std::cout << ". Not included: SH truncation, interpolation between nodes.\n";
+}
 
 /// Runs the pass the sampling options select.
 Volume bakeSelected(const BakeCommand& c, const Scene& scene, const Tracer& tracer, const GridSpec& grid,
@@ -69,6 +109,7 @@ Volume bakeSelected(const BakeCommand& c, const Scene& scene, const Tracer& trac
         a.seed = options.seed;
         a.threads = options.threads;
         a.transport = options.transport;
+        a.probePasses = options.probePasses;
         AdaptiveStats as;
         Volume v = bakeShGatherAdaptive(scene, tracer, grid, a, progress, &as);
         *stats = as;
@@ -127,6 +168,7 @@ void run(const BakeCommand& c) {
     options.seed = c.seed;
     options.threads = c.threads;
     options.transport = transportFromOptions(c.scene);
+    options.probePasses = c.probePasses;
 
     ProgressBar progress(c.quiet);
     LevelsBakeStats stats;
@@ -186,7 +228,14 @@ void run(const BakeCommand& c) {
             std::cout << ", " << scene.stats.degenerateTrianglesSkipped << " degenerate skipped";
         std::cout << ") with " << (c.targetError > 0 ? std::string("error-targeted")
                                    : binned ? metaString(volume.meta, "rays_per_node") : std::to_string(c.rays))
-                  << " rays per node and up to " << c.scene.bounces << " bounces: "
+                  << " rays per node"
+                  << (c.probePasses > 0 ? " (+ " + std::to_string(c.probePasses) + " probe-to-probe pass" +
+                                              (c.probePasses > 1 ? "es" : "") + ")"
+                                        : std::string())
+                  << " and "
+                  << (c.scene.bounces >= kSafetyBounces ? std::string("all bounces (Russian roulette)")
+                                                        : "up to " + std::to_string(c.scene.bounces) + " bounces")
+                  << ": "
                   << formatCount(double(stats.rays.total())) << " rays (" << formatCount(double(stats.rays.intersect))
                   << " closest-hit, " << formatCount(double(stats.rays.occluded)) << " shadow) in "
                   << formatSeconds(stats.seconds) << ", " << formatCount(stats.raysPerSecond()) << " rays/s on "
@@ -200,6 +249,7 @@ void run(const BakeCommand& c) {
         else
         std::cout << ". Wrote " << c.output << " (SH order 2 radiance, 9 Vec3f grids"
                   << (volume.levels[0].validity.empty() ? "" : " + validity") << ").\n";
+        if (!stats.estimatedError.empty()) printNoiseSummary(stats, volume, grid);
     }
 }
 // --method photons: an irradiance-vector volume filled by photon tracing.
@@ -257,7 +307,17 @@ void addBakeCommand(CLI::App& app) {
         cmd->add_option("--resolution", c->resolution, "Nodes along the longest axis (default 16)")->excludes(spacing);
     cmd->add_option("--bounds", c->bounds,
                     "Node box x0,y0,z0,x1,y1,z1 (default: scene bounds inset by half a spacing)");
-    cmd->add_option("--rays", c->rays, "Ray directions per node")->capture_default_str()->check(CLI::Range(1u, 1u << 30));
+    auto* rays = cmd->add_option("--rays", c->rays,
+                                 "Ray directions per node and pass: a fixed budget (default 256; --quality high "
+                                 "samples to an error target instead)")
+                     ->check(CLI::Range(1u, 1u << 30));
+    cmd->add_option("--quality", c->quality,
+                    "preview: 256 rays per node of full paths (fast, noisy where light is hard to reach); "
+                    "default: 256 rays + one probe-to-probe pass of 256 (about 2x preview's time, much less noise "
+                    "where light comes through openings); high: each node sampled to a relative standard error of "
+                    "3 % (64..2048 rays) + two probe passes. Presets apply to --method gather, --sampling point, "
+                    "--layout uniform, --basis sh2; other passes take the fixed --rays")
+        ->capture_default_str();
     cmd->add_option("--seed", c->seed, "Random seed (same seed, same bits, any thread count)")->capture_default_str();
     cmd->add_option("--threads", c->threads, "Worker threads (0 = all cores)")->capture_default_str()->check(CLI::Range(0, 4096));
     cmd->add_flag("--half", c->half, "Store the grids as 16-bit floats");
@@ -286,8 +346,10 @@ void addBakeCommand(CLI::App& app) {
     auto* target = cmd->add_option("--target-error", c->targetError,
                     "point gather: sample each node in doubling rounds until the relative standard error of its "
                     "mean irradiance is below this (e.g. 0.02), up to --max-rays");
-    auto* maxRays = cmd->add_option("--max-rays", c->maxRays, "--target-error: most rays a node may take")->capture_default_str();
-    auto* minRays = cmd->add_option("--min-rays", c->minRays, "--target-error: rays of the first round")->capture_default_str();
+    auto* maxRays = cmd->add_option("--max-rays", c->maxRays,
+                                    "error-targeted bakes: most rays a node may take (default 2048)");
+    auto* minRays = cmd->add_option("--min-rays", c->minRays,
+                                    "error-targeted bakes: rays of the first round (default 64)");
     cmd->add_flag("--sh-window", c->shWindow,
                   "gather: window the SH bands (1, 0.584, 0.135) so that irradiance is never negative (blurs; "
                   "docs/methods.md)");
@@ -303,17 +365,43 @@ void addBakeCommand(CLI::App& app) {
     cmd->add_flag("--cull-solids", c->cullSolids,
                   "bilevel/adaptive with sh2: leave out nodes whose every cell lies inside a closed solid "
                   "(docs/format.md, Levels); queries there return 0");
+    auto* probe = cmd->add_option("--probe-passes", c->probePasses,
+                    "point gather: after a first pass of full paths, this many passes that end "
+                    "each gathered path at its first hit with the previous pass's reflected light (probe-to-probe "
+                    "bounces, DDGI-style; less noise where light comes through openings, some bias; docs/methods.md). "
+                    "Default: 0 with --quality preview, 1 with default, 2 with high")
+        ->check(CLI::Range(0, 8));  // default: the --quality preset's
     cmd->add_flag("-q,--quiet", c->quiet, "No progress bar and no summary");
-    cmd->callback([c, spacing, resolution, invalidate, refine, levelsOpt, target, maxRays, minRays, refineDistance] {
+    cmd->callback([c, spacing, resolution, invalidate, refine, levelsOpt, target, maxRays, minRays, refineDistance, rays, probe] {
         if (target->count() > 0 && !(c->targetError > 0 && c->targetError <= 1))
             throw ValueError("--target-error must be in (0, 1], got " + std::to_string(c->targetError));
+        const QualityPreset preset = qualityPreset(c->quality);
+        if (target->count() > 0 && rays->count() > 0)
+            throw ValueError("--target-error and --rays exclude each other (an error target or a fixed budget)");
+        // The quality's error target and probe passes apply where the point gather on a
+        // uniform SH grid runs; other passes take the fixed --rays (default 256).
+        const bool targetable = c->method == "gather" && c->sampling == "point" && invalidate->count() == 0 &&
+                                parseLayoutKind(c->layout) == LayoutKind::Uniform &&
+                                bins::parseBasisSpec(c->basis).kind == bins::BasisSpec::Kind::Sh2;
+        if (target->count() == 0 && rays->count() == 0 && preset.targetError > 0 && targetable)
+            c->targetError = preset.targetError;
+        if (c->targetError > 0) {
+            const QualityPreset caps = qualityPreset("high");
+            if (minRays->count() == 0) c->minRays = caps.minRays;
+            if (maxRays->count() == 0) c->maxRays = std::max(caps.maxRays, c->minRays);
+        }
+        if (probe->count() == 0 && targetable) c->probePasses = preset.probePasses;
         if (c->shWindow && (c->method != "gather" || bins::parseBasisSpec(c->basis).kind != bins::BasisSpec::Kind::Sh2))
             throw ValueError("--sh-window applies to --method gather with --basis sh2 only");
-        if (target->count() > 0 && (c->minRays < 2 || c->maxRays < c->minRays))
+        if (probe->count() > 0 && c->probePasses > 0 && !targetable)
+            throw ValueError("--probe-passes works with --method gather, --sampling point, --layout uniform and "
+                             "--basis sh2 only");
+        if (c->targetError > 0 && (c->minRays < 2 || c->maxRays < c->minRays))
             throw ValueError("--min-rays must be at least 2 and --max-rays at least --min-rays, got " +
                              std::to_string(c->minRays) + " and " + std::to_string(c->maxRays));
-        if (target->count() == 0 && (maxRays->count() > 0 || minRays->count() > 0))
-            throw ValueError("--max-rays and --min-rays need --target-error");
+        if (c->targetError == 0 && (maxRays->count() > 0 || minRays->count() > 0))
+            throw ValueError("--max-rays and --min-rays need an error-targeted bake (--target-error, or --quality "
+                             "default/high without --rays)");
         if (target->count() > 0 && (c->method != "gather" || c->sampling != "point" || invalidate->count() > 0 ||
                                     parseLayoutKind(c->layout) != LayoutKind::Uniform ||
                                     bins::parseBasisSpec(c->basis).kind != bins::BasisSpec::Kind::Sh2))

@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "vdblight/layout.h"
 #include "vdblight/light.h"
@@ -29,6 +30,12 @@ struct GatherOptions {
     uint64_t seed = 1;
     int threads = 0;  ///< 0 = all hardware threads
     TransportOptions transport;
+    /// Probe-to-probe bounces (issue 15; bake/surface_cache.h): after a first pass of full
+    /// path tracing, this many more passes (raysPerNode each, own seeds) end every gathered
+    /// path at its first surface hit with the previous pass's reflected light interpolated
+    /// there. 0 = plain path tracing. Trades the variance of long paths (light through a door)
+    /// for the bias of the volume's representation at surfaces (docs/methods.md).
+    int probePasses = 0;
 };
 
 struct BakeStats {
@@ -36,6 +43,12 @@ struct BakeStats {
     RayCount rays;
     double seconds = 0;
     double raysPerSecond() const { return seconds > 0 ? double(rays.total()) / seconds : 0.0; }
+    /// Per node (passes that estimate it: the point gathers of bake.h and bake_adaptive.h),
+    /// the relative standard error of its mean irradiance over normals, from the sample
+    /// variance of its samples (node_sampler.h); empty for other passes.
+    std::vector<float> estimatedError;
+    /// q-quantile (0..1) of estimatedError (nearest rank); 0 if there is none.
+    double errorQuantile(double q) const;
 };
 
 /// Bakes an SH order-2 radiance volume on `grid`. Fills volume.meta with every bake

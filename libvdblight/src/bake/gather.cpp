@@ -1,7 +1,9 @@
 // The point-gather pass: SH order-2 radiance at every node of a uniform grid.
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <memory>
 #include <vector>
 
 #include "parallel_nodes.h"
@@ -12,6 +14,7 @@
 #include "vdblight/sh.h"
 #include "vdblight/trace.h"
 #include "node_sampler.h"
+#include "surface_cache.h"
 
 namespace vdblight {
 
@@ -37,18 +40,45 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     level.grid = grid;
     level.data.assign(nodes * sh::kCoeffs * 3, 0.0f);
 
-    const RadianceEstimator estimator(scene, tracer, options.transport);
-    const bake_detail::ParallelRun run =
-        bake_detail::forEachItemInParallel(nodes, options.threads, interrupter, [&](std::size_t n, RayCount& count) {
-            Rgbd coeffs[sh::kCoeffs];
-            projectIncidentRadiance(estimator, Vec3f(grid.node(n)), options.raysPerNode, options.seed, n, coeffs, count);
-            float* dst = level.data.data() + n * sh::kCoeffs * 3;
-            for (int j = 0; j < sh::kCoeffs; ++j) {
-                dst[3 * j + 0] = float(coeffs[j].x);
-                dst[3 * j + 1] = float(coeffs[j].y);
-                dst[3 * j + 2] = float(coeffs[j].z);
-            }
-        });
+    std::vector<float> error(nodes, 0.0f);
+    std::vector<Rgb> reflected;  // per node, nine coefficients: the next pass's cache
+    if (options.probePasses > 0) reflected.assign(nodes * sh::kCoeffs, Rgb(0, 0, 0));
+    RadianceEstimator estimator(scene, tracer, options.transport);
+    std::unique_ptr<bake_detail::VolumeSurfaceCache> cache;
+    bake_detail::ParallelRun run;
+    // Pass 0 traces full paths; pass k > 0 ends them at their first hit with pass k - 1's
+    // reflected light (probe-to-probe bounces, surface_cache.h), with its own seed.
+    for (int pass = 0; pass <= options.probePasses; ++pass) {
+        const uint64_t seed = pass == 0 ? options.seed : hashCombine(options.seed, uint64_t(pass));
+        const bool keepReflected = pass < options.probePasses;
+        const bake_detail::ParallelRun passRun =
+            bake_detail::forEachItemInParallel(nodes, options.threads, interrupter, [&](std::size_t n, RayCount& count) {
+                Rgbd coeffs[sh::kCoeffs];
+                // projectIncidentRadiance's sampling, keeping the sampler for its error estimate.
+                detail::NodeSampler sampler(estimator, Vec3f(grid.node(n)), seed, n, options.raysPerNode);
+                sampler.addSamples(0, options.raysPerNode, count);
+                sampler.coefficients(coeffs, count);
+                error[n] = float(std::min(sampler.relativeStandardError(count), 1e30));
+                float* dst = level.data.data() + n * sh::kCoeffs * 3;
+                for (int j = 0; j < sh::kCoeffs; ++j) {
+                    dst[3 * j + 0] = float(coeffs[j].x);
+                    dst[3 * j + 1] = float(coeffs[j].y);
+                    dst[3 * j + 2] = float(coeffs[j].z);
+                }
+                if (keepReflected) {
+                    sampler.reflectedCoefficients(coeffs);
+                    for (int j = 0; j < sh::kCoeffs; ++j) reflected[n * sh::kCoeffs + j] = Rgb(coeffs[j]);
+                }
+            });
+        run.rays += passRun.rays;
+        run.seconds += passRun.seconds;
+        run.threads = passRun.threads;
+        if (keepReflected) {
+            estimator.setSurfaceCache(nullptr);
+            cache = std::make_unique<bake_detail::VolumeSurfaceCache>(tracer, grid, reflected);
+            estimator.setSurfaceCache(cache.get());
+        }
+    }
 
     Metadata& m = volume.meta;
     bake_detail::addCommonBakeMetadata(m, scene, options.transport, options.seed, nodes, run);
@@ -56,11 +86,20 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     m["sampling"] = std::string("point");
     m["rays_per_node"] = int64_t(options.raysPerNode);
     m["direction_sampling"] = std::string("scrambled Sobol (0,2) uniform sphere + NEE on emissive triangles; punctual lights exact");
+    bake_detail::addErrorSummary(m, error, grid);
+    if (options.probePasses > 0) {
+        m["probe_passes"] = int64_t(options.probePasses);
+        m["probe_bounces"] = std::string(
+            "passes after the first end gathered paths at their first hit with the previous pass's reflected light "
+            "(trilinear over the visible nodes in front of the surface; DDGI-style); error_estimate excludes the "
+            "previous passes' noise");
+    }
 
     if (stats) {
         stats->nodes = nodes;
         stats->rays = run.rays;
         stats->seconds = run.seconds;
+        stats->estimatedError = std::move(error);
     }
     return volume;
 }

@@ -74,5 +74,10 @@ std::vector<std::pair<int, std::size_t>> nodesToBake(const Volume& volume, uint6
 void addCommonBakeMetadata(Metadata& m, const Scene& scene, const TransportOptions& transport, uint64_t seed,
                            uint64_t nodes, const ParallelRun& run);
 
+/// The per-node error summary of the point gathers (BakeStats::estimatedError, one value
+/// per node of `grid`): error_estimate (what it is), estimated_error_p50 / _p95 / _max and
+/// estimated_error_worst_nodes ("i,j,k:error;..." for the five worst nodes).
+void addErrorSummary(Metadata& m, const std::vector<float>& estimatedError, const GridSpec& grid);
+
 }  // namespace bake_detail
 }  // namespace vdblight
