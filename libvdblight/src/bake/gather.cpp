@@ -17,10 +17,13 @@ namespace vdblight {
 
 void projectIncidentRadiance(const RadianceEstimator& estimator, const Vec3f& x, uint32_t rays, uint64_t seed,
                              uint64_t streamIndex, Rgbd out[9], RayCount& count, const Tracer* tracer,
-                             uint32_t* backFaceHits) {
+                             uint32_t* backFaceHits, float* depthOut, double spacing) {
     detail::NodeSampler sampler(estimator, x, seed, streamIndex, rays);
+    depth::Accumulator depth;
+    if (depthOut) sampler.recordDepth(&depth, spacing);
     sampler.addSamples(0, rays, count, tracer, backFaceHits);
     sampler.coefficients(out, count);
+    if (depthOut) depth.finish(depthOut);
 }
 
 Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& grid, const GatherOptions& options,
@@ -36,12 +39,16 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     VolumeLevel& level = volume.levels[0];
     level.grid = grid;
     level.data.assign(nodes * sh::kCoeffs * 3, 0.0f);
+    if (options.depthMoments) level.depth.assign(nodes * depth::kFloatsPerNode, 0.0f);
 
     const RadianceEstimator estimator(scene, tracer, options.transport);
     const bake_detail::ParallelRun run =
         bake_detail::forEachItemInParallel(nodes, options.threads, interrupter, [&](std::size_t n, RayCount& count) {
             Rgbd coeffs[sh::kCoeffs];
-            projectIncidentRadiance(estimator, Vec3f(grid.node(n)), options.raysPerNode, options.seed, n, coeffs, count);
+            projectIncidentRadiance(estimator, Vec3f(grid.node(n)), options.raysPerNode, options.seed, n, coeffs, count,
+                                    nullptr, nullptr,
+                                    options.depthMoments ? level.depth.data() + n * depth::kFloatsPerNode : nullptr,
+                                    grid.spacing);
             float* dst = level.data.data() + n * sh::kCoeffs * 3;
             for (int j = 0; j < sh::kCoeffs; ++j) {
                 dst[3 * j + 0] = float(coeffs[j].x);
@@ -56,6 +63,7 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     m["sampling"] = std::string("point");
     m["rays_per_node"] = int64_t(options.raysPerNode);
     m["direction_sampling"] = std::string("scrambled Sobol (0,2) uniform sphere + NEE on emissive triangles; punctual lights exact");
+    if (options.depthMoments) bake_detail::addDepthMetadata(m, options.raysPerNode);
 
     if (stats) {
         stats->nodes = nodes;

@@ -74,5 +74,11 @@ std::vector<std::pair<int, std::size_t>> nodesToBake(const Volume& volume, uint6
 void addCommonBakeMetadata(Metadata& m, const Scene& scene, const TransportOptions& transport, uint64_t seed,
                            uint64_t nodes, const ParallelRun& run);
 
+/// The metadata of a volume with depth moments (depth_moments.h) from `rays` rays per node.
+inline void addDepthMetadata(Metadata& m, uint32_t rays) {
+    m["depth_moments"] = std::string("axial depth per cube face, mean and sigma, 8-bit (depth_moments.h)");
+    m["depth_rays_per_node"] = int64_t(rays);
+}
+
 }  // namespace bake_detail
 }  // namespace vdblight
