@@ -151,7 +151,8 @@ std::vector<double> lookups(const IrradianceQuery& q, const std::vector<Referenc
 }  // namespace
 
 int main(int argc, char** argv) {
-    bench::BenchArgs args("vdblight_bench_walls", {{"--rays", "N"}, {"--resolution", "N"}});
+    bench::BenchArgs args("vdblight_bench_walls",
+                          {{"--rays", "N"}, {"--resolution", "N"}, {"--scene", "NAME"}, {"--variant", "NAME"}});
     if (!args.parse(argc, argv)) return 1;
     const bool quick = args.quick();
     const uint32_t rays = args.text("--rays").empty() ? (quick ? 128u : 1024u) : uint32_t(std::stoul(args.text("--rays")));
@@ -166,6 +167,11 @@ int main(int argc, char** argv) {
     std::vector<Named> scenes;
     scenes.push_back({"thin_wall_door", makeThinWallScene().scene});
     scenes.push_back({"two_rooms", twoRooms()});
+    const std::string onlyScene = args.text("--scene"), onlyVariant = args.text("--variant");
+    if (!onlyScene.empty())
+        scenes.erase(std::remove_if(scenes.begin(), scenes.end(), [&](const Named& n) { return n.name != onlyScene; }),
+                     scenes.end());
+    const auto wanted = [&](const char* variant) { return onlyVariant.empty() || onlyVariant == variant; };
     std::printf("scene,points,variant,weights,nodes,bake_s,depth_s,err_rms,err_p95,err_max,bias,floor_rms,rms_over_floor\n");
     for (const Named& sc : scenes) {
         const Scene& s = sc.scene;
@@ -209,12 +215,12 @@ int main(int argc, char** argv) {
             }
             std::fflush(stdout);
         };
-        {
+        if (wanted("point_uniform")) {
             BakeStats st;
             Volume v = bakeShGather(s, tracer, grid, g, nullptr, &st);
             report("point_uniform", v, st.nodes, st.seconds);
         }
-        {
+        if (wanted("point_bilevel2")) {
             LevelsPlacement lp;
             lp.kind = LayoutKind::Bilevel;
             lp.refine = 2;
@@ -223,7 +229,7 @@ int main(int argc, char** argv) {
             Volume v = bakeShGatherLevels(s, tracer, layout, g, nullptr, &ls);
             report("point_bilevel2", v, ls.nodes, ls.seconds);
         }
-        {
+        if (wanted("antialiased_interior")) {
             AntialiasedOptions a;
             a.raysPerCell = rays;
             a.transport.maxBounces = kBounces;
