@@ -66,7 +66,6 @@ TEST(CliDepth, BadDepthOptionsFailCleanly) {
     test::expectCleanFailuresWithOutput(dir, {
         {"bake --depth-rays 64", "--depth-rays needs --depth-moments"},
         {"bake --depth-moments --method photons", "--depth-moments works with --method gather"},
-        {"bake --depth-moments --basis bins:2", "--depth-moments works with --method gather"},
     });
     const std::string plain = dir.file("plain.vdb");
     ASSERT_EQ(runCli("bake -o " + plain + " --resolution 3 --rays 8 --bounces 1 -q").status, 0);

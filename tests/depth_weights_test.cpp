@@ -9,6 +9,7 @@
 
 #include "test_util.h"
 #include "vdblight/bake.h"
+#include "vdblight/bake_bins.h"
 #include "vdblight/bake_depth.h"
 #include "vdblight/bake_levels.h"
 #include "vdblight/depth_moments.h"
@@ -129,6 +130,23 @@ TEST_F(ThinWall, BilevelVolumeDoesNotLeakWithWeights) {
     ASSERT_GT(w.litMean, 0.1);
     EXPECT_LT(w.darkMax, 1e-3 * w.litMean) << "dark mean " << w.darkMean;
     EXPECT_GT(p.darkMean, 0.05 * p.litMean);
+}
+
+TEST_F(ThinWall, BinsVolumeDoesNotLeakWithWeights) {
+    BinsBakeOptions o;
+    o.basis.kind = bins::BasisSpec::Kind::Bins;
+    o.basis.resolution = 4;
+    o.samplesPerBin = 3;
+    o.transport.maxBounces = 2;
+    Volume v = bakeBins(*scene_, *tracer_, uniformLayout(thinWallGrid()), o);
+    bakeDepthMoments(*tracer_, v, DepthOptions());
+    const IrradianceQuery weighted(v), plain(v, OutsidePolicy::Clamp, false);
+    ASSERT_STREQ(weighted.kind(), "bins");
+    ASSERT_TRUE(weighted.depthWeighted());
+    const SideMeans w = measureSides(weighted), p = measureSides(plain);
+    ASSERT_GT(w.litMean, 0.1);
+    EXPECT_LT(w.darkMax, 1e-3 * w.litMean) << "dark mean " << w.darkMean;
+    EXPECT_GT(p.darkMean, 0.1 * p.litMean);
 }
 
 TEST_F(ThinWall, DepthMomentsOfANodeFacingTheWall) {

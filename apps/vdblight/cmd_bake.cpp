@@ -327,8 +327,8 @@ void addBakeCommand(CLI::App& app) {
     cmd->add_flag("-q,--quiet", c->quiet, "No progress bar and no summary");
     cmd->callback([c, spacing, resolution, invalidate, refine, levelsOpt, target, maxRays, minRays, refineDistance, depthRays] {
         if (depthRays->count() > 0 && !c->depthMoments) throw ValueError("--depth-rays needs --depth-moments");
-        if (c->depthMoments && (c->method != "gather" || bins::parseBasisSpec(c->basis).kind != bins::BasisSpec::Kind::Sh2))
-            throw ValueError("--depth-moments works with --method gather and --basis sh2 only (the other lookups do not weight by depth yet)");
+        if (c->depthMoments && c->method != "gather")
+            throw ValueError("--depth-moments works with --method gather only (the irradiance-vector lookup does not weight by depth yet)");
         if (target->count() > 0 && !(c->targetError > 0 && c->targetError <= 1))
             throw ValueError("--target-error must be in (0, 1], got " + std::to_string(c->targetError));
         if (c->shWindow && (c->method != "gather" || bins::parseBasisSpec(c->basis).kind != bins::BasisSpec::Kind::Sh2))
