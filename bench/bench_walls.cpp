@@ -219,6 +219,13 @@ int main(int argc, char** argv) {
             BakeStats st;
             Volume v = bakeShGather(s, tracer, grid, g, nullptr, &st);
             report("point_uniform", v, st.nodes, st.seconds);
+            // Lookup throughput on one thread, weights off and on (the best of 3 runs).
+            const bench::LookupInputs in = bench::randomLookups(grid.nodeBounds(), quick ? 200'000 : 1'000'000);
+            Rgb sink{0, 0, 0};
+            const double off = bench::lookupRate(IrradianceQuery(v, OutsidePolicy::Clamp, false), in, 3, sink);
+            const double on = bench::lookupRate(IrradianceQuery(v, OutsidePolicy::Clamp, true), in, 3, sink);
+            std::fprintf(stderr, "  %s: lookups per second on one thread: %.2f M plain, %.2f M depth-weighted (%.2fx) [%g]\n",
+                         sc.name.c_str(), off * 1e-6, on * 1e-6, off / on, double(sink.x));
         }
         if (wanted("point_bilevel2")) {
             LevelsPlacement lp;
