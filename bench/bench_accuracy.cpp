@@ -150,9 +150,12 @@ GatherOptions gatherOptions(const Ctx& c, uint32_t rays) {
 
 /// `bounces` > 0 overrides the transport's bounce cap (the decomposition's bakes match the
 /// ground truth's, so that they measure representation and interpolation only).
-Baked pointGather(const Ctx& c, int resolution, uint32_t rays, int bounces = 0) {
+/// `depth`: also depth moments from the gather's own rays, and lookups weighted by them
+/// (visibility-aware interpolation, depth_moments.h).
+Baked pointGather(const Ctx& c, int resolution, uint32_t rays, int bounces = 0, bool depth = false) {
     GatherOptions g = gatherOptions(c, rays);
     if (bounces > 0) g.transport.maxBounces = bounces;
+    g.depthMoments = depth;
     const double t0 = bench::now();
     Volume v = bakeShGather(c.scene, c.tracer, gridFor(c.scene, resolution), g);
     const double t = bench::now() - t0;
@@ -173,7 +176,7 @@ Baked antialiased(const Ctx& c, int resolution, uint32_t rays, NodeFit fit) {
     return fromVolume(std::move(v), t, nodes);
 }
 
-Baked adaptiveLayout(const Ctx& c, int resolution, uint32_t rays, int levels, int refine) {
+Baked adaptiveLayout(const Ctx& c, int resolution, uint32_t rays, int levels, int refine, bool depth = false) {
     LevelsPlacement lp;
     lp.kind = LayoutKind::Adaptive;
     lp.levels = levels;
@@ -181,7 +184,9 @@ Baked adaptiveLayout(const Ctx& c, int resolution, uint32_t rays, int levels, in
     const double t0 = bench::now();
     const LevelLayout layout = placeLevels(gridFor(c.scene, resolution), c.scene.positions, c.scene.indices, lp, 1);
     LevelsBakeStats st;
-    Volume v = bakeShGatherLevels(c.scene, c.tracer, layout, gatherOptions(c, rays), nullptr, &st);
+    GatherOptions g = gatherOptions(c, rays);
+    g.depthMoments = depth;
+    Volume v = bakeShGatherLevels(c.scene, c.tracer, layout, g, nullptr, &st);
     return fromVolume(std::move(v), bench::now() - t0, st.nodes);
 }
 
@@ -249,6 +254,8 @@ std::vector<Config> configurations() {
         v.push_back({"point_16_" + std::to_string(rays), "point gather, 16 nodes, " + std::to_string(rays) + " rays",
                      [rays](const Ctx& c) { return pointGather(c, c.settings.res(16), c.settings.rays(rays)); },
                      rays == 1024});
+    v.push_back({"point_16_1024_depth", "point gather, 16 nodes, 1024 rays, --depth-moments (weighted lookup)",
+                 [](const Ctx& c) { return pointGather(c, c.settings.res(16), c.settings.rays(1024), 0, true); }});
     v.push_back({"point_32_256", "point gather, 32 nodes, 256 rays",
                  [](const Ctx& c) { return pointGather(c, c.settings.res(32), c.settings.rays(256)); }});
     v.push_back({"preview", "--quality preview: 16 nodes, 256 rays of full paths, no probe pass",
@@ -272,6 +279,8 @@ std::vector<Config> configurations() {
                  [](const Ctx& c) { return antialiased(c, c.settings.res(16), c.settings.rays(256), NodeFit::LeastSquares); }});
     v.push_back({"adaptive", "--layout adaptive --levels 3 --refine 2, 16 nodes, 128 rays",
                  [](const Ctx& c) { return adaptiveLayout(c, c.settings.res(16), c.settings.rays(128), 3, 2); }});
+    v.push_back({"adaptive_depth", "--layout adaptive --levels 3 --refine 2 --depth-moments, 16 nodes, 128 rays",
+                 [](const Ctx& c) { return adaptiveLayout(c, c.settings.res(16), c.settings.rays(128), 3, 2, true); }});
     v.push_back({"target_0.03", "--target-error 0.03 --max-rays 2048, 16 nodes",
                  [](const Ctx& c) { return targetError(c, c.settings.res(16), 0.03, c.settings.rays(2048)); }});
     v.push_back({"photons", "--method photons --photons 4000000, 16 nodes",

@@ -8,6 +8,7 @@
 #include "vdblight/bake.h"
 #include "vdblight/bake_adaptive.h"
 #include "vdblight/bake_antialiased.h"
+#include "vdblight/bake_depth.h"
 #include "vdblight/bake_bins.h"
 #include "vdblight/bins.h"
 #include "vdblight/bake_levels.h"
@@ -56,6 +57,8 @@ struct BakeCommand {
     std::string quality = "default";  // preview | default | high (qualityPreset)
     int probePasses = 0;              // GatherOptions::probePasses
     std::string basis = "sh2";  // sh2 | bins:R | moment:n[:R] (bins.h)
+    bool depthMoments = false;  // per-node depth moments for visibility-weighted lookups (bake_depth.h)
+    uint32_t depthRays = 0;     // 0: as many as --rays (then the gather's own first rays)
 };
 
 void runPhotons(const BakeCommand& c);
@@ -169,6 +172,8 @@ void run(const BakeCommand& c) {
     options.threads = c.threads;
     options.transport = transportFromOptions(c.scene);
     options.probePasses = c.probePasses;
+    // The point gather records depth moments from its own first rays (no extra rays).
+    options.depthMoments = c.depthMoments && (c.depthRays == 0 || c.depthRays == c.rays);
 
     ProgressBar progress(c.quiet);
     LevelsBakeStats stats;
@@ -211,6 +216,14 @@ void run(const BakeCommand& c) {
     }
     if (c.refineDistance > 0) volume.meta["refine_distance"] = c.refineDistance;
     if (c.shWindow) applyShWindow(volume);
+    DepthStats depthStats;
+    if (c.depthMoments && !volume.hasDepth()) {  // passes without the gather's hook (bake_depth.h)
+        DepthOptions depthOptions;
+        depthOptions.raysPerNode = c.depthRays > 0 ? c.depthRays : c.rays;
+        depthOptions.seed = c.seed;
+        depthOptions.threads = c.threads;
+        bakeDepthMoments(tracer, volume, depthOptions, nullptr, &depthStats);
+    }
     placeVolumeInWorld(volume, scene.origin);  // baked in the scene's local frame (scene_origin.h)
     volume.meta["scene_file"] = c.scene.path.empty() ? std::string("(bundled default) ") + defaultScenePath() : c.scene.path;
     volume.meta["sky"] = c.scene.skyMap.empty() ? (c.scene.sky.empty() ? std::string("0,0,0") : c.scene.sky)
@@ -218,6 +231,11 @@ void run(const BakeCommand& c) {
     WriteOptions write;
     write.halfFloat = c.half;
     writeVolume(volume, c.output, write);
+    if (c.depthMoments && !c.quiet)
+        std::cout << "Depth moments: " << (depthStats.rays ? formatCount(double(depthStats.rays)) + " first-hit rays in " +
+                                                                 formatSeconds(depthStats.seconds)
+                                                           : std::string("from the gather's own first hits"))
+                  << " (" << depth::kBytesPerNode << " B per node at 8 bits).\n";
 
     if (!c.quiet) {
         std::cout << "Baked " << stats.nodes << " nodes (" << (volume.levels.size() > 1 ? "level 0: " : "") << grid.nx << " x " << grid.ny << " x " << grid.nz
@@ -371,8 +389,17 @@ void addBakeCommand(CLI::App& app) {
                     "bounces, DDGI-style; less noise where light comes through openings, some bias; docs/methods.md). "
                     "Default: 0 with --quality preview, 1 with default, 2 with high")
         ->check(CLI::Range(0, 8));  // default: the --quality preset's
+    cmd->add_flag("--depth-moments", c->depthMoments,
+                  "gather with sh2: also store per-node depth moments, so that lookups do not interpolate across "
+                  "walls (docs/methods.md, visibility-aware interpolation)");
+    auto* depthRays = cmd->add_option("--depth-rays", c->depthRays,
+                                      "--depth-moments: first-hit rays per node (default: as many as --rays)")
+                          ->check(CLI::Range(1u, 1u << 20));
     cmd->add_flag("-q,--quiet", c->quiet, "No progress bar and no summary");
-    cmd->callback([c, spacing, resolution, invalidate, refine, levelsOpt, target, maxRays, minRays, refineDistance, rays, probe] {
+    cmd->callback([c, spacing, resolution, invalidate, refine, levelsOpt, target, maxRays, minRays, refineDistance, rays, probe, depthRays] {
+        if (depthRays->count() > 0 && !c->depthMoments) throw ValueError("--depth-rays needs --depth-moments");
+        if (c->depthMoments && c->method != "gather")
+            throw ValueError("--depth-moments works with --method gather only (the irradiance-vector lookup does not weight by depth yet)");
         if (target->count() > 0 && !(c->targetError > 0 && c->targetError <= 1))
             throw ValueError("--target-error must be in (0, 1], got " + std::to_string(c->targetError));
         const QualityPreset preset = qualityPreset(c->quality);

@@ -25,6 +25,7 @@ struct QueryCommand {
     std::string interp = "trilinear";
     std::string view;  // moment volumes: view vector, mirrored about the normal (bins.h)
     bool raw = false;  // keep negative irradiance (SH ringing) instead of clamping it to 0
+    bool noDepthWeights = false;  // plain trilinear even if the volume has depth moments
 };
 
 void run(const QueryCommand& c) {
@@ -53,7 +54,9 @@ void run(const QueryCommand& c) {
 
     const Volume volume = readVolume(c.volume);
     const OutsidePolicy policy = c.outside == "error" ? OutsidePolicy::Throw : OutsidePolicy::Clamp;
-    const IrradianceQuery query(volume, policy);
+    if (c.noDepthWeights && !volume.hasDepth())
+        throw ValueError("--no-depth-weights: '" + c.volume + "' has no depth moments (bake --depth-moments)");
+    const IrradianceQuery query(volume, policy, !c.noDepthWeights);
     const bool moment = volume.basis.kind.rfind("moment:", 0) == 0;
     if (moment && c.view.empty())
         throw ValueError("a moment volume ('" + volume.basis.kind + "') needs --view vx,vy,vz (towards the eye)");
@@ -119,6 +122,8 @@ void addQueryCommand(CLI::App& app) {
     cmd->add_option("--view", c->view,
                     "Moment volumes (bake --basis moment:N): unit vector from the surface towards the eye; the "
                     "lookup direction is its mirror about the normal (Greger et al. section 5.2)");
+    cmd->add_flag("--no-depth-weights", c->noDepthWeights,
+                  "Plain trilinear interpolation for a volume with depth moments (for comparison)");
     cmd->add_flag("--raw", c->raw,
                   "Print the raw reconstructed irradiance, negative where order-2 SH rings (default: negative "
                   "components clamped to 0)");

@@ -36,6 +36,9 @@ struct GatherOptions {
     /// there. 0 = plain path tracing. Trades the variance of long paths (light through a door)
     /// for the bias of the volume's representation at surfaces (docs/methods.md).
     int probePasses = 0;
+    /// Also record per-node depth moments from the gather's own first hits (depth_moments.h,
+    /// VolumeLevel::depth), for lookups that do not interpolate across walls. No extra rays.
+    bool depthMoments = false;
 };
 
 struct BakeStats {
@@ -61,8 +64,11 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
 /// with the sampling of bakeShGather for stream `streamIndex`. Exposed for tests.
 /// If `tracer` and `backFaceHits` are given, the first hit of every gathered ray is traced
 /// here (same hits, same result) and the rays whose first hit is a back-face are counted.
+/// If `depthOut` is given, it receives the node's depth::kFloatsPerNode depth moments from
+/// the same first hits, in units of `spacing` (the node's level spacing).
 void projectIncidentRadiance(const RadianceEstimator& estimator, const Vec3f& x, uint32_t rays,
                              uint64_t seed, uint64_t streamIndex, Rgbd out[9], RayCount& count,
-                             const Tracer* tracer = nullptr, uint32_t* backFaceHits = nullptr);
+                             const Tracer* tracer = nullptr, uint32_t* backFaceHits = nullptr,
+                             float* depthOut = nullptr, double spacing = 1.0);
 
 }  // namespace vdblight

@@ -20,10 +20,13 @@ namespace vdblight {
 
 void projectIncidentRadiance(const RadianceEstimator& estimator, const Vec3f& x, uint32_t rays, uint64_t seed,
                              uint64_t streamIndex, Rgbd out[9], RayCount& count, const Tracer* tracer,
-                             uint32_t* backFaceHits) {
+                             uint32_t* backFaceHits, float* depthOut, double spacing) {
     detail::NodeSampler sampler(estimator, x, seed, streamIndex, rays);
+    depth::Accumulator depth;
+    if (depthOut) sampler.recordDepth(&depth, spacing);
     sampler.addSamples(0, rays, count, tracer, backFaceHits);
     sampler.coefficients(out, count);
+    if (depthOut) depth.finish(depthOut);
 }
 
 Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& grid, const GatherOptions& options,
@@ -39,6 +42,7 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     VolumeLevel& level = volume.levels[0];
     level.grid = grid;
     level.data.assign(nodes * sh::kCoeffs * 3, 0.0f);
+    if (options.depthMoments) level.depth.assign(nodes * depth::kFloatsPerNode, 0.0f);
 
     std::vector<float> error(nodes, 0.0f);
     std::vector<Rgb> reflected;  // per node, nine coefficients: the next pass's cache
@@ -56,8 +60,13 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
                 Rgbd coeffs[sh::kCoeffs];
                 // projectIncidentRadiance's sampling, keeping the sampler for its error estimate.
                 detail::NodeSampler sampler(estimator, Vec3f(grid.node(n)), seed, n, options.raysPerNode);
+                // Depth moments come from the first pass's own first hits (no extra rays).
+                depth::Accumulator depthAcc;
+                const bool recordDepth = options.depthMoments && pass == 0;
+                if (recordDepth) sampler.recordDepth(&depthAcc, grid.spacing);
                 sampler.addSamples(0, options.raysPerNode, count);
                 sampler.coefficients(coeffs, count);
+                if (recordDepth) depthAcc.finish(level.depth.data() + n * depth::kFloatsPerNode);
                 error[n] = float(std::min(sampler.relativeStandardError(count), 1e30));
                 float* dst = level.data.data() + n * sh::kCoeffs * 3;
                 for (int j = 0; j < sh::kCoeffs; ++j) {
@@ -94,6 +103,7 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
             "(trilinear over the visible nodes in front of the surface; DDGI-style); error_estimate excludes the "
             "previous passes' noise");
     }
+    if (options.depthMoments) bake_detail::addDepthMetadata(m, options.raysPerNode);
 
     if (stats) {
         stats->nodes = nodes;

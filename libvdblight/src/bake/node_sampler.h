@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "vdblight/bake.h"
+#include "vdblight/depth_moments.h"
 #include "vdblight/light.h"
 #include "vdblight/sampling.h"
 #include "vdblight/sh.h"
@@ -37,6 +38,13 @@ public:
           sampledLights_(estimator.samplesPunctualLights() && estimator.pointAndSpotLightCount() > plannedRays),
           lightOffset_(toUnitDouble(hashCombine(stream_, kLightChoice))),
           punctualOffset_(toUnitDouble(hashCombine(stream_, kPunctual))) {}
+
+    /// Also record every sample's first hit in `acc` (depth_moments.h; `spacing`: the node's
+    /// level spacing). The rays are the ones traced anyway: no extra rays, the same bits.
+    void recordDepth(depth::Accumulator* acc, double spacing) {
+        depth_ = acc;
+        depthSpacing_ = spacing;
+    }
 
     /// Adds samples [first, last) (sample numbers of the node's stratified sequence; rounds
     /// must be consecutive starting at 0). Optional first-hit tracing as in bake.h.
@@ -65,10 +73,11 @@ public:
             sobol02(i, hashCombine(stream_, kDirection), u, v);
             const Vec3f dir = uniformSphere(u, v);
             Rgb l, emitted;
-            if (tracer && backFaceHits) {
+            if ((tracer && backFaceHits) || depth_) {
                 ++count.intersect;
-                const Hit hit = tracer->intersect(Ray{x_, dir});
-                if (hit.hit() && dot(hit.geometricNormal, dir) > 0.0f) ++*backFaceHits;
+                const Hit hit = (tracer ? *tracer : estimator_.tracer()).intersect(Ray{x_, dir});
+                if (backFaceHits && hit.hit() && dot(hit.geometricNormal, dir) > 0.0f) ++*backFaceHits;
+                if (depth_) depth_->add(dir, hit.hit() ? hit.t : std::numeric_limits<float>::infinity(), depthSpacing_);
                 l = estimator_.gatherRadiance(x_, dir, kSpherePdf, rng_, count, &hit, &emitted);
             } else {
                 l = estimator_.gatherRadiance(x_, dir, kSpherePdf, rng_, count, nullptr, &emitted);
@@ -133,6 +142,9 @@ public:
         if (backFaceHits)
             for (uint32_t k = 0; k < n; ++k)
                 if (hits[k].hit() && dot(hits[k].geometricNormal, dirs[k]) > 0.0f) ++*backFaceHits;
+        if (depth_)
+            for (uint32_t k = 0; k < n; ++k)
+                depth_->add(dirs[k], hits[k].hit() ? hits[k].t : std::numeric_limits<float>::infinity(), depthSpacing_);
 
         thread_local DeferredPaths paths_;  // reused: no allocations per node
         paths_.clear();
@@ -297,6 +309,8 @@ private:
     double exactEbar_ = 0;
     bool exactDone_ = false;
     uint32_t samples_ = 0;
+    depth::Accumulator* depth_ = nullptr;
+    double depthSpacing_ = 1.0;
 };
 
 }  // namespace vdblight::detail

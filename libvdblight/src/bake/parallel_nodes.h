@@ -78,6 +78,11 @@ void addCommonBakeMetadata(Metadata& m, const Scene& scene, const TransportOptio
 /// per node of `grid`): error_estimate (what it is), estimated_error_p50 / _p95 / _max and
 /// estimated_error_worst_nodes ("i,j,k:error;..." for the five worst nodes).
 void addErrorSummary(Metadata& m, const std::vector<float>& estimatedError, const GridSpec& grid);
+/// The metadata of a volume with depth moments (depth_moments.h) from `rays` rays per node.
+inline void addDepthMetadata(Metadata& m, uint32_t rays) {
+    m["depth_moments"] = std::string("axial depth per cube face, mean and sigma, 8-bit (depth_moments.h)");
+    m["depth_rays_per_node"] = int64_t(rays);
+}
 
 }  // namespace bake_detail
 }  // namespace vdblight

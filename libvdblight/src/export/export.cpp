@@ -155,7 +155,7 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
     const TextureLattice& lattice = summary.lattice;
     checkFormatLimits(o.format, lattice);
 
-    const std::vector<TextureDesc> descs = layoutTextures(o.layout, binResolution);
+    std::vector<TextureDesc> descs = layoutTextures(o.layout, binResolution);
     const double bytesPerTexel = double(descs.size()) * 16.0 + (o.halfFloat ? 16.0 : 32.0);
     const double needed = double(lattice.texelCount()) * bytesPerTexel;
     if (needed > double(o.maxBytes))
@@ -164,8 +164,19 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
                          "); lower --resolution");
     checkOutputDirectory(outDir);
 
-    const std::vector<std::vector<float>> textures = sampleLayout(query, lattice, o.layout, binResolution);
+    std::vector<std::vector<float>> textures = sampleLayout(query, lattice, o.layout, binResolution);
     if (o.halfFloat) checkHalfRange(textures, descs);
+    // Depth moments (depth_moments.h) go along as three more textures when the texels are the
+    // nodes; values k/255 in [0, 1] are exact in half floats to 2^-11.
+    int depthExport = 0;
+    if (volume.hasDepth()) {
+        std::vector<std::vector<float>> depth = depthTextures(volume, lattice);
+        depthExport = depth.empty() ? -1 : 1;
+        if (!depth.empty()) {
+            for (TextureDesc& d : depthTextureDescs()) descs.push_back(std::move(d));
+            for (std::vector<float>& t : depth) textures.push_back(std::move(t));
+        }
+    }
 
     StagedFiles staged(outDir);
     staged.createDirectory();
@@ -177,6 +188,7 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
     manifest.binResolution = binResolution;
     manifest.momentOrder = binsVolume ? binSpec.order : 0;
     manifest.textures = descs;
+    manifest.depth = depthExport;
     for (std::size_t t = 0; t < descs.size(); ++t) {
         TextureImage image;
         image.rgba = textures[t].data();

@@ -79,7 +79,18 @@ struct ManifestInput {
     std::vector<TextureDesc> textures;
     std::vector<std::string> fileNames;  ///< file name of each texture, in order
     std::vector<uint64_t> dataOffsets;   ///< byte offset of the texels in each file
+    /// Depth moments (depth_moments.h): 0 = the volume has none; 1 = exported as the last
+    /// three textures depth_x, depth_y, depth_z; -1 = the volume has them but the lattice is
+    /// not its nodes (multi-level volume or --resolution), so they were not exported.
+    int depth = 0;
 };
+
+/// The three depth textures: per texel point (a node) and axis a, RGBA = (mean of the +a
+/// face, mean of the -a face, sigma of +a, sigma of -a), in cells. Empty if the lattice is
+/// not exactly the nodes of a single-level volume with depth moments.
+std::vector<std::vector<float>> depthTextures(const Volume& volume, const TextureLattice& lattice);
+/// Their descriptions, in the order depthTextures returns them.
+std::vector<TextureDesc> depthTextureDescs();
 std::string manifestJson(const ManifestInput& in);
 
 }  // namespace vdblight::exporter

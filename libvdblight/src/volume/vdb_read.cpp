@@ -17,6 +17,7 @@
 #include <openvdb/openvdb.h>
 #include <openvdb/io/File.h>
 #include <tbb/parallel_for.h>
+#include "vdblight/depth_moments.h"
 #include "vdblight/errors.h"
 #include "vdb_conventions.h"
 
@@ -377,6 +378,35 @@ void readValidity(OpenedFile& f, const std::string& name, VolumeLevel& out, cons
     }
 }
 
+/// Reads the optional depth-moment grids of a level (depth_moments.h): all four or an error,
+/// with exactly the channel grids' active voxels; values in [0, 1] are checked by validate.
+void readDepth(OpenedFile& f, VolumeLevel& out, int level, const std::string& path) {
+    VolumeLevel tmp;
+    tmp.grid = out.grid;
+    tmp.activeNodes = out.activeNodes;
+    tmp.data.assign(out.storedNodes() * depth::kFloatsPerNode, 0.0f);
+    for (int c = 0; c < depth::kChannels; ++c) {
+        const std::string name = gridNameFor(depth::channelName(c), level);
+        if (!f.file->hasGrid(name)) formatError(path, "has depth moments without grid '" + name + "'");
+        openvdb::GridBase::Ptr base;
+        try {
+            base = f.file->readGrid(name);
+        } catch (const std::exception& e) {
+            formatError(path, "grid '" + name + "' cannot be read (truncated or corrupt?): " + e.what());
+        }
+        if (out.sparse()) {
+            Vec3SGrid::Ptr grid = checkSparseChannelGrid(base, out.grid, nullptr, path);
+            if (uint64_t(grid->activeVoxelCount()) != out.activeNodes.size() ||
+                activeLinear(*grid, out.grid) != out.activeNodes)
+                formatError(path, "grid '" + name + "' has other active voxels than the level's channel grids");
+            copySparseChannel(*grid, tmp, c, depth::kChannels);
+        } else {
+            copyChannel(*checkChannelGrid(base, out.grid, path), tmp, c, depth::kChannels);
+        }
+    }
+    out.depth = std::move(tmp.data);
+}
+
 VolumeLevel readLevel(OpenedFile& f, const BasisDesc& basis, int level, const std::string& path, bool multiLevel) {
     VolumeLevel out;
     out.grid = readLevelSpec(*f.meta, level, path);
@@ -417,6 +447,7 @@ VolumeLevel readLevel(OpenedFile& f, const BasisDesc& basis, int level, const st
     }
     const std::string validityName = gridNameFor(kValidityName, level);
     if (level == 0 && f.file->hasGrid(validityName)) readValidity(f, validityName, out, path);
+    if (f.file->hasGrid(gridNameFor(depth::channelName(0), level))) readDepth(f, out, level, path);
     return out;
 }
 

@@ -21,6 +21,7 @@
 #include <openvdb/openvdb.h>
 #include <openvdb/io/File.h>
 #include <tbb/parallel_for.h>
+#include "vdblight/depth_moments.h"
 #include "vdblight/errors.h"
 #include "vdb_conventions.h"
 
@@ -183,6 +184,10 @@ void checkWritable(const Volume& volume, const WriteOptions& options) {
                 throw ValueError("grid name '" + gridNameFor(c, int(l)) + "' would appear twice");
     for (const std::string& c : volume.basis.channelNames)
         if (c == kValidityName) throw ValueError("channel name '" + kValidityName + "' is reserved for the validity grid");
+    for (std::size_t l = 0; l < volume.levels.size(); ++l)
+        for (int c = 0; volume.levels[l].hasDepth() && c < depth::kChannels; ++c)
+            if (!names.insert(gridNameFor(depth::channelName(c), int(l))).second)
+                throw ValueError("grid name '" + gridNameFor(depth::channelName(c), int(l)) + "' would appear twice");
     for (const VolumeLevel& level : volume.levels)
         if (level.sparse() && !level.validity.empty())
             throw ValueError("validity is stored for dense levels only");
@@ -221,6 +226,26 @@ openvdb::GridCPtrVec buildGrids(const Volume& volume, const WriteOptions& option
             grid->setSaveFloatAsHalf(options.halfFloat);
             tagGrid(*grid, volume, int(l), -1);
             grids.push_back(grid);
+        }
+        if (level.hasDepth()) {
+            // Depth moments (depth_moments.h): four more Vec3S grids with the channel grids'
+            // active voxels, built by the same code from a level whose data is the depth.
+            VolumeLevel depthLevel;
+            depthLevel.grid = level.grid;
+            depthLevel.activeNodes = level.activeNodes;
+            depthLevel.data = level.depth;
+            for (int c = 0; c < depth::kChannels; ++c) {
+                Vec3SGrid::Ptr grid = level.sparse() ? buildSparseChannelGrid(depthLevel, c, depth::kChannels)
+                                                     : buildChannelGrid(depthLevel, c, depth::kChannels, origins);
+                grid->setName(gridNameFor(depth::channelName(c), int(l)));
+                grid->setTransform(levelTransform(level.grid));
+                grid->setGridClass(openvdb::GRID_UNKNOWN);
+                grid->setVectorType(openvdb::VEC_INVARIANT);
+                grid->setSaveFloatAsHalf(options.halfFloat);
+                tagGrid(*grid, volume, int(l), -1);
+                grid->insertMeta(kPrefix + "depth_channel", openvdb::StringMetadata(depth::channelName(c)));
+                grids.push_back(grid);
+            }
         }
         if (volume.levels.size() > 1 && l + 1 < volume.levels.size()) grids.push_back(buildMaskGrid(volume, int(l)));
     }
