@@ -16,6 +16,7 @@
 
 #include "vdblight/layout.h"
 #include "vdblight/light.h"
+#include "vdblight/tiles.h"
 #include "vdblight/volume.h"
 
 namespace vdblight {
@@ -29,6 +30,8 @@ struct GatherOptions {
     uint64_t seed = 1;
     int threads = 0;  ///< 0 = all hardware threads
     TransportOptions transport;
+    /// Bake only these nodes (one tile of a bake, tiles.h); the others stay 0. Null = all.
+    const NodeMask* only = nullptr;
 };
 
 struct BakeStats {

@@ -37,9 +37,16 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     level.grid = grid;
     level.data.assign(nodes * sh::kCoeffs * 3, 0.0f);
 
+    std::vector<std::size_t> selected;  // a tile's nodes (tiles.h); empty = all
+    if (options.only) {
+        if (options.only->size() != 1 || (*options.only)[0].size() != nodes) throw ValueError("the node mask does not match the grid");
+        for (std::size_t n = 0; n < nodes; ++n)
+            if ((*options.only)[0][n]) selected.push_back(n);
+    }
     const RadianceEstimator estimator(scene, tracer, options.transport);
-    const bake_detail::ParallelRun run =
-        bake_detail::forEachItemInParallel(nodes, options.threads, interrupter, [&](std::size_t n, RayCount& count) {
+    const bake_detail::ParallelRun run = bake_detail::forEachItemInParallel(
+        options.only ? selected.size() : nodes, options.threads, interrupter, [&](std::size_t item, RayCount& count) {
+            const std::size_t n = options.only ? selected[item] : item;
             Rgbd coeffs[sh::kCoeffs];
             projectIncidentRadiance(estimator, Vec3f(grid.node(n)), options.raysPerNode, options.seed, n, coeffs, count);
             float* dst = level.data.data() + n * sh::kCoeffs * 3;
