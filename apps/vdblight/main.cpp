@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
     vdblight::app::addCheckSceneCommand(app);
     vdblight::app::addPrtCommand(app);
     vdblight::app::addMergeCommand(app);
+    vdblight::app::addSlurmCommand(app);
     vdblight::app::installInterruptHandler();
 
     try {
