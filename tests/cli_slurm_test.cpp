@@ -48,7 +48,7 @@ TEST(CliSlurm, ScriptsRunByHandGiveTheSingleBake) {
     std::filesystem::remove(world);
     ASSERT_EQ(test::runCommand("sh " + d + "/merge.sbatch"), 0);
     EXPECT_TRUE(fileBytes(world) == fileBytes(whole));
-    const test::CliRun status = runCli("slurm -o " + world + " --status");
+    const test::CliRun status = runCli("slurm --status " + world);
     EXPECT_NE(status.output.find("3 of 3 tiles on disk"), std::string::npos) << status.output;
 }
 

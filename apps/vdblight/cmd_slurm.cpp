@@ -102,13 +102,16 @@ void addSlurmCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand(
         "slurm", "Bake as a Slurm job array of tiles plus a merge job after them (options after -o/--tiles go to bake)");
     cmd->add_option("scene", c->scene, "Scene file (required first: the bake options follow)");
-    cmd->add_option("-o,--output", c->output, "The merged .vdb; scripts and tiles go to OUTPUT.tiles/")->required();
+    cmd->add_option("-o,--output", c->output, "The merged .vdb; scripts and tiles go to OUTPUT.tiles/ (required)");
     cmd->add_option("--tiles", c->tiles, "Number of tiles (array tasks)");
     cmd->add_option("--sbatch", c->sbatch, "Extra sbatch options for every job, e.g. \"--partition=bake --cpus-per-task=8\"");
     cmd->add_flag("--submit", c->submit, "Submit the jobs with sbatch and print their ids");
-    cmd->add_flag("--status", c->status, "Report tiles on disk and the jobs' states (squeue / sacct)");
+    cmd->add_flag("--status", c->status,
+                  "Report tiles on disk and the jobs' states (squeue / sacct): vdblight slurm --status WORLD.vdb");
     cmd->allow_extras();
     cmd->callback([c, cmd] {
+        if (c->status && c->output.empty()) c->output = c->scene;  // slurm --status WORLD.vdb
+        if (c->output.empty()) throw ValueError("slurm needs -o WORLD.vdb");
         const fs::path output = fs::absolute(c->output);
         const fs::path dir = output.string() + ".tiles";
         if (c->status) {
