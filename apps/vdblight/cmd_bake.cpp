@@ -1,5 +1,7 @@
 // vdblight bake [SCENE] -o OUT.vdb: a uniform SH order-2 irradiance volume.
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <thread>
 
@@ -21,6 +23,7 @@
 #include "vdblight/sh.h"
 #include "vdblight/scene_origin.h"
 #include "vdblight/sh_window.h"
+#include "vdblight/tiles.h"
 #include "vdblight/trace.h"
 #include "vdblight/vdb_io.h"
 
@@ -59,7 +62,43 @@ struct BakeCommand {
     std::string basis = "sh2";  // sh2 | bins:R | moment:n[:R] (bins.h)
     bool depthMoments = false;  // per-node depth moments for visibility-weighted lookups (bake_depth.h)
     uint32_t depthRays = 0;     // 0: as many as --rays (then the gather's own first rays)
+    bool reproducible = true;   // leave run-specific metadata out of the file (vdb_io.h)
+    int tiles = 0;              // > 0: bake only tile `tile` of this many (tiles.h)
+    int tile = -1;
+    std::string parameters;     // every option that changes the result, for the tile hash
 };
+
+/// Why a bake with these options cannot be split into tiles, or "" if it can.
+std::string untileable(const BakeCommand& c) {
+    if (c.method == "photons") return "--method photons cannot be tiled yet (its photons cross every tile)";
+    if (c.sampling == "antialiased")
+        return "--sampling antialiased cannot be tiled (cells share nodes across tile borders, dilation crosses them)";
+    if (c.invalidateBackface >= 0) return "--invalidate-backface cannot be tiled (its dilation crosses tile borders)";
+    if (c.targetError > 0) return "--target-error cannot be tiled yet (its error statistics are not merged)";
+    if (c.shWindow) return "--sh-window cannot be tiled yet (the window would have to follow the seams at merge)";
+    if (c.probePasses > 0)
+        return "probe-to-probe passes cannot be tiled yet (each pass reads every node of the pass before): "
+               "add --probe-passes 0 or --quality preview";
+    return "";
+}
+
+/// The canonical text of the options that change a bake's result: each as given on the
+/// command line, so that every tile of one bake must be started with the same options.
+std::string bakeParameters(const CLI::App& cmd) {
+    static const char* const kIgnored[] = {"--output", "--tile", "--threads", "--quiet", "--help", "--reproducible"};
+    std::vector<std::string> lines;
+    for (const CLI::Option* opt : cmd.get_options()) {
+        const std::string name = opt->get_name();
+        if (std::find(std::begin(kIgnored), std::end(kIgnored), name) != std::end(kIgnored)) continue;
+        std::string line = name + "=";
+        for (const std::string& r : opt->results()) line += r + ";";
+        lines.push_back(line);
+    }
+    std::sort(lines.begin(), lines.end());
+    std::string text;
+    for (const std::string& l : lines) text += l + "\n";
+    return text;
+}
 
 void runPhotons(const BakeCommand& c);
 
@@ -149,6 +188,33 @@ void run(const BakeCommand& c) {
     checkOutputWritable(c.output);
     SceneLoadReport read;
     Scene scene = loadSceneFromOptions(c.scene, c.quiet, &read);
+    TileId tileId;
+    NodeMask tileMask;
+    if (c.tiles > 0) {
+        tileId.index = c.tile, tileId.count = c.tiles;
+        tileId.paramsHash = tileParamsHash(scene.contentHash(), c.parameters);
+        TileId onDisk;
+        bool done = false;
+        std::error_code ec;
+        try {  // an unreadable or foreign file there is simply baked over
+            done = std::filesystem::exists(c.output, ec) && readTileId(c.output, onDisk) && onDisk.index == tileId.index &&
+                   onDisk.count == tileId.count && onDisk.paramsHash == tileId.paramsHash &&
+                   fileContentHash(c.output).uuidFromContent;  // and not damaged since
+        } catch (const Error&) {
+        }
+        if (done) {
+            if (!c.quiet)
+                std::cout << "Tile " << c.tile << " of " << c.tiles << " is already baked with the same scene and parameters ("
+                          << c.output << "): skipped.\n";
+            return;
+        }
+    }
+    // The tile's nodes once the layout is known (every level of it).
+    auto selectTile = [&](const std::vector<VolumeLevel>& levels) -> const NodeMask* {
+        if (c.tiles <= 0) return nullptr;
+        tileMask = tileNodeMask(levels, c.tiles, c.tile);
+        return &tileMask;
+    };
 
     GridPlacement placement;
     placement.spacing = c.spacing;
@@ -193,14 +259,19 @@ void run(const BakeCommand& c) {
         const LevelLayout layout = levels.kind == LayoutKind::Uniform
                                        ? uniformLayout(grid)
                                        : placeLevels(grid, scene.positions, scene.indices, levels, 2 * channels * 3 * sizeof(float));
+        bo.only = selectTile(layout.levels);
         volume = bakeBins(scene, tracer, layout, bo, &progress, &stats);
     } else if (levels.kind == LayoutKind::Uniform) {
+        VolumeLevel shape;
+        shape.grid = grid;
+        options.only = selectTile({shape});
         volume = bakeSelected(c, scene, tracer, grid, options, &progress, &stats);
     } else {
         levels.keepFinestGeometry = c.cullSolids;
         LevelLayout layout = placeLevels(grid, scene.positions, scene.indices, levels, 2 * sh::kCoeffs * 3 * sizeof(float));
         SolidCullStats cull;
         if (c.cullSolids) cullSolidNodes(layout, tracer, SolidCullOptions(), &cull);
+        options.only = selectTile(layout.levels);
         volume = bakeShGatherLevels(scene, tracer, layout, options, &progress, &stats);
         if (c.cullSolids && !c.quiet)
             std::cout << "Solid culling: " << cull.nodesCulled << " of " << cull.nodesBefore
@@ -230,6 +301,17 @@ void run(const BakeCommand& c) {
                                                 : "map:" + c.scene.skyMap;
     WriteOptions write;
     write.halfFloat = c.half;
+    write.reproducible = c.reproducible;
+    if (c.tiles > 0) {
+        writeTile(volume, tileMask, tileId, c.output, write);
+        uint64_t mine = 0;
+        for (const auto& l : tileMask) mine += uint64_t(std::count(l.begin(), l.end(), uint8_t(1)));
+        if (!c.quiet)
+            std::cout << "Baked tile " << c.tile << " of " << c.tiles << ": " << mine << " of " << stats.nodes
+                      << " nodes, " << formatCount(double(stats.rays.total())) << " rays in " << formatSeconds(stats.seconds)
+                      << ". Wrote " << c.output << " (merge the tiles with 'vdblight merge').\n";
+        return;
+    }
     writeVolume(volume, c.output, write);
     if (c.depthMoments && !c.quiet)
         std::cout << "Depth moments: " << (depthStats.rays ? formatCount(double(depthStats.rays)) + " first-hit rays in " +
@@ -298,6 +380,7 @@ void runPhotons(const BakeCommand& c) {
                                                 : "map:" + c.scene.skyMap;
     WriteOptions write;
     write.halfFloat = c.half || c.compact;
+    write.reproducible = c.reproducible;
     if (c.compact) volume = iv::compact(volume);
     writeVolume(volume, c.output, write);
     if (!c.quiet) {
@@ -395,8 +478,18 @@ void addBakeCommand(CLI::App& app) {
     auto* depthRays = cmd->add_option("--depth-rays", c->depthRays,
                                       "--depth-moments: first-hit rays per node (default: as many as --rays)")
                           ->check(CLI::Range(1u, 1u << 20));
+    cmd->add_flag("--reproducible,!--no-reproducible", c->reproducible,
+                  "Same inputs, parameters and seed give the same file bytes on any machine and thread count: "
+                  "the wall-clock time and thread count are printed, not stored (default); --no-reproducible "
+                  "stores them as vdblight:bake_seconds and vdblight:threads");
     cmd->add_flag("-q,--quiet", c->quiet, "No progress bar and no summary");
-    cmd->callback([c, spacing, resolution, invalidate, refine, levelsOpt, target, maxRays, minRays, refineDistance, rays, probe, depthRays] {
+    auto* tilesOpt = cmd->add_option("--tiles", c->tiles,
+                    "Split the bake into this many tiles (bricks of 8^3 nodes of every level, balanced by cost) and "
+                    "bake only --tile I of them; 'vdblight merge' puts the tile files together (docs/scaling.md). "
+                    "A tile file that exists with the same scene and parameters is skipped (resumable)");
+    auto* tileOpt = cmd->add_option("--tile", c->tile, "With --tiles N: the tile to bake, 0 .. N-1");
+    cmd->callback([c, cmd, spacing, resolution, invalidate, refine, levelsOpt, target, maxRays, minRays, refineDistance,
+                   rays, probe, depthRays, tilesOpt, tileOpt] {
         if (depthRays->count() > 0 && !c->depthMoments) throw ValueError("--depth-rays needs --depth-moments");
         if (c->depthMoments && c->method != "gather")
             throw ValueError("--depth-moments works with --method gather only (the irradiance-vector lookup does not weight by depth yet)");
@@ -418,6 +511,16 @@ void addBakeCommand(CLI::App& app) {
             if (maxRays->count() == 0) c->maxRays = std::max(caps.maxRays, c->minRays);
         }
         if (probe->count() == 0 && targetable) c->probePasses = preset.probePasses;
+        // After the --quality preset, which may add an error target or probe passes.
+        if ((tilesOpt->count() > 0) != (tileOpt->count() > 0)) throw ValueError("--tiles and --tile go together");
+        if (tilesOpt->count() > 0) {
+            if (c->tiles < 1) throw ValueError("--tiles must be at least 1, got " + std::to_string(c->tiles));
+            if (c->tile < 0 || c->tile >= c->tiles)
+                throw ValueError("--tile must be between 0 and " + std::to_string(c->tiles - 1) + ", got " + std::to_string(c->tile));
+            const std::string why = untileable(*c);
+            if (!why.empty()) throw ValueError(why);
+            c->parameters = bakeParameters(*cmd);
+        }
         if (c->shWindow && (c->method != "gather" || bins::parseBasisSpec(c->basis).kind != bins::BasisSpec::Kind::Sh2))
             throw ValueError("--sh-window applies to --method gather with --basis sh2 only");
         if (probe->count() > 0 && c->probePasses > 0 && !targetable)

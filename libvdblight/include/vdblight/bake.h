@@ -17,6 +17,7 @@
 
 #include "vdblight/layout.h"
 #include "vdblight/light.h"
+#include "vdblight/tiles.h"
 #include "vdblight/volume.h"
 
 namespace vdblight {
@@ -39,6 +40,8 @@ struct GatherOptions {
     /// Also record per-node depth moments from the gather's own first hits (depth_moments.h,
     /// VolumeLevel::depth), for lookups that do not interpolate across walls. No extra rays.
     bool depthMoments = false;
+    /// Bake only these nodes (one tile of a bake, tiles.h); the others stay 0. Null = all.
+    const NodeMask* only = nullptr;
 };
 
 struct BakeStats {

@@ -44,6 +44,14 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     level.data.assign(nodes * sh::kCoeffs * 3, 0.0f);
     if (options.depthMoments) level.depth.assign(nodes * depth::kFloatsPerNode, 0.0f);
 
+    std::vector<std::size_t> selected;  // a tile's nodes (tiles.h); empty = all
+    if (options.only) {
+        if (options.only->size() != 1 || (*options.only)[0].size() != nodes) throw ValueError("the node mask does not match the grid");
+        if (options.probePasses > 0)  // a probe pass reads every node of the pass before
+            throw ValueError("a tile cannot be baked with probe-to-probe passes (use --probe-passes 0 or --quality preview)");
+        for (std::size_t n = 0; n < nodes; ++n)
+            if ((*options.only)[0][n]) selected.push_back(n);
+    }
     std::vector<float> error(nodes, 0.0f);
     std::vector<Rgb> reflected;  // per node, nine coefficients: the next pass's cache
     if (options.probePasses > 0) reflected.assign(nodes * sh::kCoeffs, Rgb(0, 0, 0));
@@ -56,7 +64,9 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
         const uint64_t seed = pass == 0 ? options.seed : hashCombine(options.seed, uint64_t(pass));
         const bool keepReflected = pass < options.probePasses;
         const bake_detail::ParallelRun passRun =
-            bake_detail::forEachItemInParallel(nodes, options.threads, interrupter, [&](std::size_t n, RayCount& count) {
+            bake_detail::forEachItemInParallel(options.only ? selected.size() : nodes, options.threads, interrupter,
+                                               [&](std::size_t item, RayCount& count) {
+                const std::size_t n = options.only ? selected[item] : item;
                 Rgbd coeffs[sh::kCoeffs];
                 // projectIncidentRadiance's sampling, keeping the sampler for its error estimate.
                 detail::NodeSampler sampler(estimator, Vec3f(grid.node(n)), seed, n, options.raysPerNode);

@@ -13,7 +13,8 @@
 namespace vdblight {
 namespace bake_detail {
 
-std::vector<std::pair<int, std::size_t>> nodesToBake(const Volume& volume, uint64_t& seams) {
+std::vector<std::pair<int, std::size_t>> nodesToBake(const Volume& volume, uint64_t& seams, const NodeMask* only) {
+    if (only && only->size() != volume.levels.size()) throw ValueError("the node mask does not match the levels");
     std::vector<std::pair<int, std::size_t>> work;
     const int K = volume.refineFactor();
     for (std::size_t l = 0; l < volume.levels.size(); ++l) {
@@ -22,7 +23,7 @@ std::vector<std::pair<int, std::size_t>> nodesToBake(const Volume& volume, uint6
         if (l > 0)
             for (std::size_t n : seamNodes(volume.levels, int(l), K)) skip[n] = 1, ++seams;
         for (std::size_t n = 0; n < stored; ++n)
-            if (!skip[n]) work.emplace_back(int(l), n);
+            if (!skip[n] && (!only || (*only)[l].at(n))) work.emplace_back(int(l), n);
     }
     return work;
 }

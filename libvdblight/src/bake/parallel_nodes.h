@@ -19,6 +19,7 @@
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
 #include "vdblight/light.h"
+#include "vdblight/tiles.h"
 #include "vdblight/volume.h"
 
 namespace vdblight {
@@ -67,8 +68,10 @@ ParallelRun forEachItemInParallel(std::size_t count, int threads, Interrupter* i
 }
 
 /// (level, position in the level's data) of every node a multi-level bake must sample, in a
-/// fixed order: seam nodes (set afterwards from the coarser level) are left out and counted.
-std::vector<std::pair<int, std::size_t>> nodesToBake(const Volume& volume, uint64_t& seams);
+/// fixed order: seam nodes (set afterwards from the coarser level) are left out and counted;
+/// with `only` (a tile, tiles.h), so are the nodes outside it (not counted).
+std::vector<std::pair<int, std::size_t>> nodesToBake(const Volume& volume, uint64_t& seams,
+                                                     const NodeMask* only = nullptr);
 
 /// The metadata every gather-style pass writes: scene identity, transport, seed, counts, time.
 void addCommonBakeMetadata(Metadata& m, const Scene& scene, const TransportOptions& transport, uint64_t seed,
