@@ -76,6 +76,10 @@ std::string untileable(const BakeCommand& c) {
     if (c.invalidateBackface >= 0) return "--invalidate-backface cannot be tiled (its dilation crosses tile borders)";
     if (c.targetError > 0) return "--target-error cannot be tiled yet (its error statistics are not merged)";
     if (c.shWindow) return "--sh-window cannot be tiled yet (the window would have to follow the seams at merge)";
+    if (c.method == "gather" && c.sampling == "point" && parseLayoutKind(c.layout) == LayoutKind::Uniform &&
+        bins::parseBasisSpec(c.basis).kind == bins::BasisSpec::Kind::Sh2)
+        return "the uniform SH point gather cannot be tiled yet (its per-node error summary, "
+               "vdblight:estimated_error_*, is not merged): tile --layout bilevel or adaptive";
     if (c.probePasses > 0)
         return "probe-to-probe passes cannot be tiled yet (each pass reads every node of the pass before): "
                "add --probe-passes 0 or --quality preview";

@@ -1,5 +1,6 @@
 // libFuzzer harness: scene loading (loadScene, Assimp) from a file with the extension
-// VDBLIGHT_FUZZ_EXTENSION (.obj, .ply, .gltf or .glb: one executable each). A loader must
+// VDBLIGHT_FUZZ_EXTENSION (.obj, .ply, .gltf, .glb, .fbx, .dae, .stl, .off, .x or .3ds: one
+// executable each). A loader must
 // either return a valid scene or throw one of vdblight's typed errors; any other exception,
 // crash, leak or sanitizer report is a finding. scripts/fuzz.sh builds and runs it
 // (docs/methods.md, "Sanitizers and fuzzing").

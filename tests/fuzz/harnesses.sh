@@ -1,5 +1,6 @@
 # Shared by scripts/fuzz.sh, fuzz_explore.sh and fuzz_build.sh: the harnesses and the limits.
-HARNESSES=(fuzz_scene_obj fuzz_scene_ply fuzz_scene_gltf fuzz_scene_glb fuzz_vdb)
+HARNESSES=(fuzz_scene_obj fuzz_scene_ply fuzz_scene_gltf fuzz_scene_glb fuzz_scene_fbx fuzz_scene_dae fuzz_scene_stl
+           fuzz_scene_off fuzz_scene_x fuzz_scene_3ds fuzz_vdb)
 # A single allocation above this fails the input (deterministic, unlike an RSS limit, which
 # libFuzzer samples once a second). Scene loaders promise max(256 MB, 64 x file size)
 # (docs/scene.md, "Memory bound"); fuzz inputs are a few KB, so 256 MB is that bound.
