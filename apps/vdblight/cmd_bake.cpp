@@ -9,6 +9,7 @@
 #include "vdblight/bake_adaptive.h"
 #include "vdblight/bake_antialiased.h"
 #include "vdblight/bake_bins.h"
+#include "vdblight/bake_direct.h"
 #include "vdblight/bins.h"
 #include "vdblight/bake_levels.h"
 #include "vdblight/layout_levels.h"
@@ -54,7 +55,30 @@ struct BakeCommand {
     uint32_t maxRays = 4096;
     uint32_t minRays = 64;
     std::string basis = "sh2";  // sh2 | bins:R | moment:n[:R] (bins.h)
+    std::string direct = "baked";  // baked | runtime | occlusion (bake_direct.h)
+    int directLights = 4;          // --direct occlusion: lights with a visibility channel
 };
+
+/// --direct: parsed and checked against the other options before anything is loaded.
+DirectOptions directFromOptions(const BakeCommand& c) {
+    DirectOptions d;
+    d.mode = parseDirectMode(c.direct);
+    d.maxLights = c.directLights;
+    d.seed = c.seed;
+    d.threads = c.threads;
+    if (d.mode == DirectMode::Baked) return d;
+    if (c.directLights < 1 || c.directLights > 16)
+        throw ValueError("--direct-lights must be between 1 and 16, got " + std::to_string(c.directLights));
+    const char* other = c.method != "gather" ? "--method photons"
+                        : c.sampling != "point" ? "--sampling antialiased"
+                        : c.layout != "uniform" ? "--layout bilevel/adaptive"
+                        : c.basis != "sh2"      ? "--basis bins/moment"
+                        : c.shWindow            ? "--sh-window"
+                                                : nullptr;
+    if (other)
+        throw ValueError(std::string("--direct ") + c.direct + " is implemented for the uniform SH point gather only, not with " + other);
+    return d;
+}
 
 void runPhotons(const BakeCommand& c);
 
@@ -101,6 +125,7 @@ Volume bakeSelected(const BakeCommand& c, const Scene& scene, const Tracer& trac
 void run(const BakeCommand& c) {
     if (c.method != "gather" && c.method != "photons")
         throw ValueError("--method must be gather or photons, got '" + c.method + "'");
+    const DirectOptions direct = directFromOptions(c);
     if (c.method == "photons") return runPhotons(c);
     checkOutputWritable(c.output);
     Scene scene = loadSceneFromOptions(c.scene, c.quiet);
@@ -126,6 +151,8 @@ void run(const BakeCommand& c) {
     options.seed = c.seed;
     options.threads = c.threads;
     options.transport = transportFromOptions(c.scene);
+    const DirectPlan plan = planDirectLight(scene, tracer, grid, direct);  // baked: an empty plan
+    options.transport.skipAtReceiver = plan.filter;
 
     ProgressBar progress(c.quiet);
     LevelsBakeStats stats;
@@ -165,6 +192,18 @@ void run(const BakeCommand& c) {
                       << 100.0 * (1.0 - double(layout.totalNodes()) / layout.denseEquivalentNodes()) << " % saved"
                       << (c.cullSolids ? ", " + std::to_string(layout.culledNodes) + " of them culled inside solids" : "")
                       << ").\n";
+    }
+    if (direct.mode != DirectMode::Baked) {
+        bakeLightVisibility(scene, tracer, plan, direct, volume, &progress);
+        if (!c.quiet) {
+            std::cout << "Direct light (" << c.direct << "): " << plan.lights.size() << " of " << plan.sceneLightCount
+                      << " lights kept out of the SH";
+            if (direct.mode == DirectMode::Occlusion) {
+                std::cout << ", with visibility channels; measured share of the direct light:";
+                for (double share : plan.contribution) std::cout << ' ' << int(100.0 * share + 0.5) << " %";
+            }
+            std::cout << ".\n";
+        }
     }
     if (c.refineDistance > 0) volume.meta["refine_distance"] = c.refineDistance;
     if (c.shWindow) applyShWindow(volume);
@@ -300,6 +339,13 @@ void addBakeCommand(CLI::App& app) {
     cmd->add_flag("--cull-solids", c->cullSolids,
                   "bilevel/adaptive with sh2: leave out nodes whose every cell lies inside a closed solid "
                   "(docs/format.md, Levels); queries there return 0");
+    cmd->add_option("--direct", c->direct,
+                    "Direct light: baked (in the SH), runtime (SH holds indirect light; the file lists the lights for "
+                    "the run time to add) or occlusion (plus per-node visibility of the --direct-lights most important "
+                    "lights, added exactly at lookup)")
+        ->capture_default_str();
+    cmd->add_option("--direct-lights", c->directLights, "--direct occlusion: lights with a visibility channel (1..16)")
+        ->capture_default_str();
     cmd->add_flag("-q,--quiet", c->quiet, "No progress bar and no summary");
     cmd->callback([c, spacing, resolution, invalidate, refine, levelsOpt, target, maxRays, minRays, refineDistance] {
         if (target->count() > 0 && !(c->targetError > 0 && c->targetError <= 1))

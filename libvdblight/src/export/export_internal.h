@@ -79,7 +79,17 @@ struct ManifestInput {
     std::vector<TextureDesc> textures;
     std::vector<std::string> fileNames;  ///< file name of each texture, in order
     std::vector<uint64_t> dataOffsets;   ///< byte offset of the texels in each file
+    /// The volume's direct-light mode and lights (bake --direct); in occlusion mode light i's
+    /// visibility is component i % 4 of texture visibilityTextures[i / 4].
+    const DirectLightSet* direct = nullptr;
+    std::vector<std::string> visibilityTextures;
 };
+
+/// Occlusion volumes: the textures holding the lights' visibility, four lights per RGBA texture
+/// (light_visibility_<first>_<last>), and their texels sampled through the query's lookup.
+std::vector<TextureDesc> visibilityTextures(const DirectLightSet& direct);
+std::vector<std::vector<float>> sampleVisibility(const IrradianceQuery& query, const TextureLattice& lattice,
+                                                 std::size_t lights);
 std::string manifestJson(const ManifestInput& in);
 
 }  // namespace vdblight::exporter
