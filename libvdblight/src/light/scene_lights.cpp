@@ -183,18 +183,20 @@ double lightVisibility(const Scene& scene, const Tracer& tracer, const SceneLigh
         ++rays.occluded;
         return tracer.occluded(Ray{x, toLight, 0.0f, kShadowEnd}) ? 0.0 : 1.0;
     }
-    // Polygon or mesh: stratified points over its area (triangle by area, then uniform in it).
+    // Polygon or mesh: stratified points over its area. One 2-D Sobol point per sample: u picks
+    // the triangle by area and is then rescaled to [0, 1) inside it, so the points stay
+    // stratified over the whole light (choosing the triangle with another sequence leaves
+    // each triangle's subset of points uneven: 0.46 for a half-blocked quad at 256 samples).
     double seen = 0, total = 0;
     const uint64_t scramble = hashCombine(stream, 0x5eed);
-    const double offset = toUnitDouble(hashCombine(stream, 0xc401ce));
     for (uint32_t i = 0; i < samples; ++i) {
         float u, v;
         sobol02(i, scramble, u, v);
-        double w = radicalInverse(3, i) + offset;
-        w -= std::floor(w);
         const std::size_t k = std::min<std::size_t>(
-            std::upper_bound(sl.triangleCdf.begin(), sl.triangleCdf.end(), w) - sl.triangleCdf.begin(),
+            std::upper_bound(sl.triangleCdf.begin(), sl.triangleCdf.end(), double(u)) - sl.triangleCdf.begin(),
             sl.triangles.size() - 1);
+        const double lo = k ? sl.triangleCdf[k - 1] : 0.0, hi = sl.triangleCdf[k];
+        u = hi > lo ? float(std::min(0.99999994, (double(u) - lo) / (hi - lo))) : 0.5f;
         const uint32_t t = sl.triangles[k];
         float b1, b2;
         uniformTriangle(u, v, b1, b2);
