@@ -10,6 +10,7 @@
 #include "vdblight/bake_antialiased.h"
 #include "vdblight/bake_bins.h"
 #include "vdblight/bake_direct.h"
+#include "vdblight/scene_lights.h"
 #include "vdblight/bins.h"
 #include "vdblight/bake_levels.h"
 #include "vdblight/layout_levels.h"
@@ -55,14 +56,17 @@ struct BakeCommand {
     uint32_t maxRays = 4096;
     uint32_t minRays = 64;
     std::string basis = "sh2";  // sh2 | bins:R | moment:n[:R] (bins.h)
-    std::string direct = "baked";  // baked | runtime | occlusion (bake_direct.h)
+    std::string direct;            // baked | runtime | occlusion (bake_direct.h); empty: the default
     int directLights = 4;          // --direct occlusion: lights with a visibility channel
 };
 
 /// --direct: parsed and checked against the other options before anything is loaded.
 DirectOptions directFromOptions(const BakeCommand& c) {
     DirectOptions d;
-    d.mode = parseDirectMode(c.direct);
+    // The default is occlusion where it applies (docs/methods.md, "Direct light out of the SH"):
+    // the uniform SH point gather of a scene with lights; elsewhere baked.
+    const bool automatic = c.direct.empty();
+    d.mode = automatic ? DirectMode::Occlusion : parseDirectMode(c.direct);
     d.maxLights = c.directLights;
     d.seed = c.seed;
     d.threads = c.threads;
@@ -75,6 +79,10 @@ DirectOptions directFromOptions(const BakeCommand& c) {
                         : c.basis != "sh2"      ? "--basis bins/moment"
                         : c.shWindow            ? "--sh-window"
                                                 : nullptr;
+    if (other && automatic) {
+        d.mode = DirectMode::Baked;
+        return d;
+    }
     if (other)
         throw ValueError(std::string("--direct ") + c.direct + " is implemented for the uniform SH point gather only, not with " + other);
     return d;
@@ -125,7 +133,7 @@ Volume bakeSelected(const BakeCommand& c, const Scene& scene, const Tracer& trac
 void run(const BakeCommand& c) {
     if (c.method != "gather" && c.method != "photons")
         throw ValueError("--method must be gather or photons, got '" + c.method + "'");
-    const DirectOptions direct = directFromOptions(c);
+    DirectOptions direct = directFromOptions(c);
     if (c.method == "photons") return runPhotons(c);
     checkOutputWritable(c.output);
     Scene scene = loadSceneFromOptions(c.scene, c.quiet);
@@ -151,6 +159,8 @@ void run(const BakeCommand& c) {
     options.seed = c.seed;
     options.threads = c.threads;
     options.transport = transportFromOptions(c.scene);
+    if (c.direct.empty() && direct.mode == DirectMode::Occlusion && sceneLights(scene).empty())
+        direct.mode = DirectMode::Baked;  // the default in a scene lit by the sky only
     const DirectPlan plan = planDirectLight(scene, tracer, grid, direct);  // baked: an empty plan
     options.transport.skipAtReceiver = plan.filter;
 
@@ -196,7 +206,7 @@ void run(const BakeCommand& c) {
     if (direct.mode != DirectMode::Baked) {
         bakeLightVisibility(scene, tracer, plan, direct, volume, &progress);
         if (!c.quiet) {
-            std::cout << "Direct light (" << c.direct << "): " << plan.lights.size() << " of " << plan.sceneLightCount
+            std::cout << "Direct light (" << directModeName(direct.mode) << "): " << plan.lights.size() << " of " << plan.sceneLightCount
                       << " lights kept out of the SH";
             if (direct.mode == DirectMode::Occlusion) {
                 std::cout << ", with visibility channels; measured share of the direct light:";
@@ -342,8 +352,8 @@ void addBakeCommand(CLI::App& app) {
     cmd->add_option("--direct", c->direct,
                     "Direct light: baked (in the SH), runtime (SH holds indirect light; the file lists the lights for "
                     "the run time to add) or occlusion (plus per-node visibility of the --direct-lights most important "
-                    "lights, added exactly at lookup)")
-        ->capture_default_str();
+                    "lights, added exactly at lookup). Default: occlusion for the uniform SH point gather of a scene "
+                    "with lights, baked otherwise");
     cmd->add_option("--direct-lights", c->directLights, "--direct occlusion: lights with a visibility channel (1..16)")
         ->capture_default_str();
     cmd->add_flag("-q,--quiet", c->quiet, "No progress bar and no summary");

@@ -90,7 +90,10 @@ void bakeLightVisibility(const Scene& scene, const Tracer& tracer, const DirectP
         });
     volume.meta["direct_visibility_samples"] = int64_t(o.visibilitySamples);
     volume.meta["direct_visibility_rays"] = int64_t(run.rays.total());
-    volume.meta["direct_visibility_seconds"] = run.seconds;
+    // The wall time goes into the bake's own (the one metadata entry that may differ between
+    // runs with the same seed, besides the thread count).
+    if (auto it = volume.meta.find("bake_seconds"); it != volume.meta.end() && std::holds_alternative<double>(it->second))
+        it->second = std::get<double>(it->second) + run.seconds;
 }
 
 }  // namespace vdblight
