@@ -7,10 +7,12 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT/build"
 ctest --output-on-failure -j "${JOBS:-$(nproc)}" --timeout 1200
 # Quick smoke runs of every benchmark (the figures are noisy; full runs: drop --quick).
-for bench in vdblight_bench vdblight_bench_photons vdblight_bench_antialiased vdblight_bench_layouts vdblight_bench_bins vdblight_bench_prt vdblight_bench_converge vdblight_bench_error vdblight_bench_bake_speed vdblight_bench_prt_scale; do
+for bench in vdblight_bench vdblight_bench_photons vdblight_bench_antialiased vdblight_bench_layouts vdblight_bench_bins vdblight_bench_prt vdblight_bench_converge vdblight_bench_error vdblight_bench_bake_speed vdblight_bench_prt_scale vdblight_bench_accuracy; do
   "$ROOT/build/bin/$bench" --quick
 done
 # Sanitizers (issue 8): the whole suite again under ASan + UBSan (build-sanitize/, any report
-# fails), then every libFuzzer harness for FUZZ_SECONDS each (build-fuzz/, clang).
+# fails), then every libFuzzer harness (build-fuzz/, clang): each seed and regression input
+# replayed, then FUZZ_RUNS inputs from a fixed seed, so the verdict is the same on every run
+# (docs/fuzzing.md; exploratory, time-based fuzzing is scripts/fuzz_explore.sh).
 "$ROOT/scripts/test_sanitize.sh" all
-"$ROOT/scripts/fuzz.sh" "${FUZZ_SECONDS:-15}"
+"$ROOT/scripts/fuzz.sh" "${FUZZ_RUNS:-2000}"

@@ -3,7 +3,8 @@
 exact-frame suppressions in lsan.supp cover (the run then passes), a known library finding
 listed in known_crashes.txt, or a new finding. Exit status 1 if any is new (scripts/fuzz.sh).
 
-    triage.py HARNESS_BINARY ARTIFACT_DIR_PREFIX
+    triage.py HARNESS_BINARY ARTIFACT_DIR_PREFIX   # every file whose path starts with the prefix
+    triage.py HARNESS_BINARY --inputs DIR          # every file in DIR (the seed/regression replay)
 """
 import os
 import re
@@ -38,9 +39,13 @@ def first_frame(report):
 
 
 def main():
-    binary, prefix = sys.argv[1], sys.argv[2]
+    binary = sys.argv[1]
     harness = os.path.basename(binary)
-    directory, stem = os.path.split(prefix)
+    replay = sys.argv[2] == "--inputs"
+    if replay:
+        directory, stem = sys.argv[3], ""
+    else:
+        directory, stem = os.path.split(sys.argv[2])
     artifacts = sorted(f for f in os.listdir(directory) if f.startswith(stem)) if os.path.isdir(directory) else []
     env = dict(os.environ)
     # Full stacks, so that the suppressions and signatures see the library frames.
@@ -53,10 +58,11 @@ def main():
         path = os.path.join(directory, name)
         # A timeout's stack is printed from the alarm handler; with slow unwinding it is lost.
         run_env = dict(env, ASAN_OPTIONS=os.environ.get("ASAN_OPTIONS", "")) if "timeout-" in name else env
-        run = subprocess.run([binary, "-rss_limit_mb=2048", "-timeout=25", path], env=run_env, stdout=subprocess.PIPE,
+        run = subprocess.run([binary, "-rss_limit_mb=2048", "-malloc_limit_mb=" + os.environ.get("MALLOC_LIMIT_MB", "2048"),
+                              "-timeout=25", path], env=run_env, stdout=subprocess.PIPE,
                              stderr=subprocess.STDOUT, text=True, errors="replace")
         if run.returncode == 0:
-            kind = "suppressed library leak (lsan.supp)"
+            kind = "ran clean" if replay else "suppressed library leak (lsan.supp)"
         else:
             frame = first_frame(run.stdout)
             kind = next(("known: %s in %s" % (r.pattern, frame) for r, fr in signatures

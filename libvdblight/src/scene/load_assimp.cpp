@@ -29,94 +29,16 @@
 #include "vdblight/errors.h"
 #include "vdblight/scene.h"
 #include "vdblight/scene_origin.h"
+#include "declared_sizes.h"
+#include "json.h"
 #include "load_ply.h"
 
 namespace vdblight {
 
 namespace {
 
-// ---------------------------------------------------------------------------------------
-// A small JSON reader, just enough to find KHR_materials_emissive_strength.
-
-struct Json {
-    enum Type { Null, Bool, Number, String, Array, Object } type = Null;
-    double number = 0;
-    std::string string;
-    std::vector<Json> items;
-    std::vector<std::pair<std::string, Json>> members;
-
-    const Json* get(const std::string& key) const {
-        for (const auto& m : members) if (m.first == key) return &m.second;
-        return nullptr;
-    }
-};
-
-/// Recursive descent over a complete document; throws std::runtime_error on bad syntax.
-class JsonParser {
-public:
-    explicit JsonParser(const std::string& text) : s_(text) {}
-    Json parse() { Json v = value(0); ws(); if (i_ != s_.size()) fail(); return v; }
-
-private:
-    [[noreturn]] void fail() const { throw std::runtime_error("bad JSON"); }
-    void ws() { while (i_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[i_]))) ++i_; }
-    bool eat(char c) { ws(); if (i_ < s_.size() && s_[i_] == c) { ++i_; return true; } return false; }
-    void expect(char c) { if (!eat(c)) fail(); }
-
-    Json value(int depth) {
-        if (depth > 256) fail();
-        ws();
-        if (i_ >= s_.size()) fail();
-        Json v;
-        const char c = s_[i_];
-        if (c == '{') {
-            ++i_; v.type = Json::Object;
-            if (eat('}')) return v;
-            do {
-                ws(); std::string key = str(); expect(':');
-                v.members.emplace_back(std::move(key), value(depth + 1));
-            } while (eat(','));
-            expect('}');
-        } else if (c == '[') {
-            ++i_; v.type = Json::Array;
-            if (eat(']')) return v;
-            do v.items.push_back(value(depth + 1)); while (eat(','));
-            expect(']');
-        } else if (c == '"') {
-            v.type = Json::String; v.string = str();
-        } else if (s_.compare(i_, 4, "true") == 0 || s_.compare(i_, 5, "false") == 0) {
-            v.type = Json::Bool; v.number = (c == 't'); i_ += (c == 't') ? 4 : 5;
-        } else if (s_.compare(i_, 4, "null") == 0) {
-            i_ += 4;
-        } else {
-            const char* begin = s_.c_str() + i_;
-            char* end = nullptr;
-            v.type = Json::Number; v.number = std::strtod(begin, &end);
-            if (end == begin) fail();
-            i_ += std::size_t(end - begin);
-        }
-        return v;
-    }
-
-    /// Escapes are kept only as far as keys need them; \uXXXX becomes '?'.
-    std::string str() {
-        if (i_ >= s_.size() || s_[i_] != '"') fail();
-        std::string out;
-        for (++i_; i_ < s_.size() && s_[i_] != '"'; ++i_) {
-            if (s_[i_] != '\\') { out += s_[i_]; continue; }
-            if (++i_ >= s_.size()) fail();
-            const char e = s_[i_];
-            if (e == 'u') { i_ += 4; out += '?'; }
-            else out += (e == 'n') ? '\n' : (e == 't') ? '\t' : (e == 'r') ? '\r' : (e == 'b') ? '\b' : (e == 'f') ? '\f' : e;
-        }
-        if (i_ >= s_.size()) fail();
-        ++i_;
-        return out;
-    }
-
-    const std::string& s_;
-    std::size_t i_ = 0;
-};
+using json::Json;
+using json::JsonParser;
 
 /// The JSON text of a .gltf, or the first (JSON) chunk of a .glb; empty if unreadable.
 std::string gltfJsonText(const std::string& path, bool binary) {
@@ -211,9 +133,16 @@ struct Loader {
     Scene& scene;
     std::vector<uint32_t> materialOf;                       ///< aiScene material -> ours
     std::multimap<std::string, aiMatrix4x4> nodeTransforms;  ///< world transform by node name
+    std::uint64_t memoryBound = 0;                           ///< sceneMemoryBound of the file
 
     void addMesh(const aiMesh& mesh, const aiMatrix4x4& world) {
         if (!(mesh.mPrimitiveTypes & aiPrimitiveType_TRIANGLE) || !mesh.mVertices) return;  // points, lines
+        // Instancing multiplies meshes: the flattened scene must stay within the bound too.
+        const double bytes = 12.0 * double(scene.positions.size() + mesh.mNumVertices) +
+                             16.0 * double(scene.materialIds.size() + mesh.mNumFaces);
+        if (bytes > double(memoryBound))
+            throw SceneError("scene file '" + path + "': its instanced meshes would need more memory than the loader's bound of " +
+                             std::to_string(memoryBound >> 20) + " MB (docs/scene.md)");
         const auto base = uint32_t(scene.positions.size());
         for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
             const Vec3f p = toVec(world * mesh.mVertices[v]);
@@ -284,6 +213,7 @@ struct Loader {
 Scene loadScene(const std::string& path) {
     checkReadable(path);
     const std::string ext = lowerExtension(path);
+    checkDeclaredSizes(path, ext);  // the memory bound: declared sizes checked before any reader trusts them
     if (ext != ".gltf" && ext != ".glb" && ext != ".obj" && ext != ".ply")
         throw SceneError("scene file '" + path + "': unsupported scene format '" + ext +
                          "' (supported: .gltf .glb .obj .ply)");
@@ -298,7 +228,7 @@ Scene loadScene(const std::string& path) {
 
     Scene scene;
     scene.name = std::filesystem::path(path).stem().string();
-    Loader loader{path, *ai, scene, {}, {}};
+    Loader loader{path, *ai, scene, {}, {}, sceneMemoryBound(std::filesystem::file_size(path))};
     try {
         const bool gltf = ext == ".gltf" || ext == ".glb";
         const std::vector<float> strengths = gltf ? gltfEmissiveStrengths(path, ext == ".glb") : std::vector<float>{};

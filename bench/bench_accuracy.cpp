@@ -1,0 +1,740 @@
+// vdblight_bench_accuracy: every method and mode against converged ground truth (issue 15).
+//
+// Scenes (accuracy_scenes.h): an office with hanging luminaires, the Cornell box, two rooms
+// joined by a door in a wall thinner than the node spacing (one lit), an outdoor scene with
+// sun and sky. Points: 200 per scene, uniformly random in the scene's box, kept if in free
+// space (no axis ray from them meets a back face first: not inside a solid) and at least 1 %
+// of the box diagonal from any surface (not in crevices), each with a uniformly random unit
+// normal; deterministic (fixed seed).
+// Ground truth: `reference` (reference.h) with 256 bounces and --ref-samples samples per
+// point, luminance; cached in the build directory (or --cache DIR) by scene content hash,
+// point-set hash, samples, bounces and seed. Its relative standard error is printed.
+// Error of a method at a point: (E - E_ref) / E_ref (luminance; E_ref guarded below by 1 % of
+// the scene's mean). Per configuration: RMS, p95 and max of |error|, signed bias (mean
+// error), bake seconds (wall, --threads, 2 by default) and the process's CPU seconds during
+// the bake (on a shared machine the wall time includes waiting for a core), nodes and file
+// bytes per node.
+// Decomposition per scene (as issue 5 did it, docs/methods.md "Where the error comes from"):
+//  - floor: the representation at each point itself (a node exactly there, projected with
+//    many rays: no interpolation, little noise), for SH order 2 and for the six irradiance
+//    vectors of the photon volumes; noise extrapolated out from N/4 and N rays (1/N law);
+//  - spatial: a nearly noise-free uniform bake (many rays / photons) against the floor's
+//    values at the points, i.e. what interpolation between nodes adds;
+//  - noise: configurations marked so are baked again with seed 2; the per-bake noise is
+//    RMS((E1 - E2) / sqrt 2 / E_ref);
+//  - bias: the mean signed error (every row).
+// A new method or mode is one entry in configurations(): a name and a function that bakes
+// (or otherwise builds) something that answers E(x, n).
+// Output: tables on stdout, a CSV (--csv FILE; docs/accuracy.csv for the full run), which
+// bench/plot_accuracy.sh turns into docs/images/accuracy_*.png.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include "accuracy_scenes.h"
+#include "bench_args.h"
+#include "bench_util.h"
+#include "vdblight/bake.h"
+#include "vdblight/bake_adaptive.h"
+#include "vdblight/bake_antialiased.h"
+#include "vdblight/bake_bins.h"
+#include "vdblight/bake_levels.h"
+#include "vdblight/irradiance_vectors.h"
+#include "vdblight/layout_levels.h"
+#include "vdblight/photons.h"
+#include "vdblight/query.h"
+#include "vdblight/reference.h"
+#include "vdblight/sh.h"
+#include "vdblight/trace.h"
+#include "vdblight/vdb_io.h"
+
+using namespace vdblight;
+namespace fs = std::filesystem;
+
+namespace {
+
+// ---------------------------------------------------------------------------------------
+// Settings and the things a configuration bakes.
+
+struct Settings {
+    bool quick = false;
+    int threads = 2;
+    int points = 200;
+    uint32_t refSamples = 65536;
+    int refBounces = 256;
+    uint32_t floorRays = 8192;     ///< rays of the floor projection at each point
+    uint32_t spatialRays = 1024;   ///< rays per node of the nearly noise-free SH bake
+    uint64_t spatialPhotons = 4'000'000;
+    fs::path cache;
+    /// Workload scaling of --quick: resolutions halved, rays / photons divided by 16.
+    int res(int full) const { return quick ? std::max(4, full / 2) : full; }
+    uint32_t rays(uint32_t full) const { return quick ? std::max<uint32_t>(8, full / 16) : full; }
+    uint64_t photons(uint64_t full) const { return quick ? std::max<uint64_t>(50'000, full / 32) : full; }
+};
+
+/// What a configuration produces: something that answers E(x, n), with its cost.
+struct Baked {
+    std::function<Rgb(const Vec3f&, const Vec3f&)> irradiance;
+    double seconds = 0;
+    uint64_t nodes = 0;
+    uint64_t bytes = 0;  ///< the .vdb on disk
+    std::string note;
+};
+
+struct Ctx {
+    const Scene& scene;
+    const Tracer& tracer;
+    const Settings& settings;
+    uint64_t seed;
+};
+
+/// One named method/mode. `bake` must use ctx.seed and ctx.settings.threads.
+struct Config {
+    std::string name;
+    std::string what;
+    std::function<Baked(const Ctx&)> bake;
+    bool noise = false;  ///< also bake with seed 2 for the noise column
+};
+
+uint64_t bytesOnDisk(const Volume& v) {
+    const fs::path tmp = fs::temp_directory_path() / ("vdblight_bench_accuracy_" + std::to_string(::getpid()) + ".vdb");
+    writeVolume(v, tmp.string());
+    const uint64_t size = fs::file_size(tmp);
+    fs::remove(tmp);
+    return size;
+}
+
+/// A Baked answering through IrradianceQuery (the library's run-time lookup, outside policy
+/// Clamp: the default every application gets).
+Baked fromVolume(Volume v, double seconds, uint64_t nodes) {
+    Baked b;
+    b.seconds = seconds;
+    b.nodes = nodes;
+    b.bytes = bytesOnDisk(v);
+    auto volume = std::make_shared<Volume>(std::move(v));
+    auto query = std::make_shared<IrradianceQuery>(*volume);
+    b.irradiance = [volume, query](const Vec3f& x, const Vec3f& n) { return query->irradiance(x, n); };
+    return b;
+}
+
+/// The uniform grid of `vdblight bake`: `resolution` nodes on the longest axis of the scene box.
+GridSpec gridFor(const Scene& s, int resolution) {
+    GridPlacement p;
+    p.resolution = resolution;
+    return placeUniformGrid(s.bounds(), p, 1);
+}
+
+GatherOptions gatherOptions(const Ctx& c, uint32_t rays) {
+    GatherOptions g;
+    g.raysPerNode = rays;
+    g.seed = c.seed;
+    g.threads = c.settings.threads;
+    return g;
+}
+
+/// `bounces` > 0 overrides the transport's bounce cap (the decomposition's bakes match the
+/// ground truth's, so that they measure representation and interpolation only).
+Baked pointGather(const Ctx& c, int resolution, uint32_t rays, int bounces = 0) {
+    GatherOptions g = gatherOptions(c, rays);
+    if (bounces > 0) g.transport.maxBounces = bounces;
+    const double t0 = bench::now();
+    Volume v = bakeShGather(c.scene, c.tracer, gridFor(c.scene, resolution), g);
+    const double t = bench::now() - t0;
+    const uint64_t nodes = v.levels[0].grid.nodeCount();
+    return fromVolume(std::move(v), t, nodes);
+}
+
+Baked antialiased(const Ctx& c, int resolution, uint32_t rays, NodeFit fit) {
+    AntialiasedOptions a;
+    a.raysPerCell = rays;
+    a.seed = c.seed;
+    a.threads = c.settings.threads;
+    a.fit = fit;
+    const double t0 = bench::now();
+    Volume v = bakeShAntialiased(c.scene, c.tracer, gridFor(c.scene, resolution), a);
+    const double t = bench::now() - t0;
+    const uint64_t nodes = v.levels[0].grid.nodeCount();
+    return fromVolume(std::move(v), t, nodes);
+}
+
+Baked adaptiveLayout(const Ctx& c, int resolution, uint32_t rays, int levels, int refine) {
+    LevelsPlacement lp;
+    lp.kind = LayoutKind::Adaptive;
+    lp.levels = levels;
+    lp.refine = refine;
+    const double t0 = bench::now();
+    const LevelLayout layout = placeLevels(gridFor(c.scene, resolution), c.scene.positions, c.scene.indices, lp, 1);
+    LevelsBakeStats st;
+    Volume v = bakeShGatherLevels(c.scene, c.tracer, layout, gatherOptions(c, rays), nullptr, &st);
+    return fromVolume(std::move(v), bench::now() - t0, st.nodes);
+}
+
+Baked targetError(const Ctx& c, int resolution, double target, uint32_t maxRays) {
+    AdaptiveOptions a;
+    a.targetError = target;
+    a.maxRays = maxRays;
+    a.minRays = std::min<uint32_t>(a.minRays, maxRays);
+    a.seed = c.seed;
+    a.threads = c.settings.threads;
+    const double t0 = bench::now();
+    AdaptiveStats st;
+    Volume v = bakeShGatherAdaptive(c.scene, c.tracer, gridFor(c.scene, resolution), a, nullptr, &st);
+    Baked b = fromVolume(std::move(v), bench::now() - t0, st.nodes);
+    b.note = std::to_string(st.samples / std::max<uint64_t>(1, st.nodes)) + " rays/node";
+    return b;
+}
+
+Baked photons(const Ctx& c, int resolution, uint64_t count, int bounces = 0) {
+    PhotonOptions p;
+    if (bounces > 0) p.transport.maxBounces = bounces;
+    p.photons = count;
+    p.seed = c.seed;
+    p.threads = c.settings.threads;
+    const GridSpec grid = gridFor(c.scene, resolution);
+    const double t0 = bench::now();
+    Volume v = bakePhotons(c.scene, c.tracer, grid, p);
+    return fromVolume(std::move(v), bench::now() - t0, grid.nodeCount());
+}
+
+Baked binsBake(const Ctx& c, int resolution, int binResolution) {
+    BinsBakeOptions bo;
+    bo.basis.kind = bins::BasisSpec::Kind::Bins;
+    bo.basis.resolution = binResolution;
+    bo.seed = c.seed;
+    bo.threads = c.settings.threads;
+    const double t0 = bench::now();
+    LevelsBakeStats st;
+    Volume v = bakeBins(c.scene, c.tracer, uniformLayout(gridFor(c.scene, resolution)), bo, nullptr, &st);
+    return fromVolume(std::move(v), bench::now() - t0, st.nodes);
+}
+
+/// The table of methods and modes. Resolutions and budgets are the full run's; --quick
+/// scales them down (Settings::res / rays / photons).
+std::vector<Config> configurations() {
+    std::vector<Config> v;
+    // What `vdblight bake SCENE -o OUT` does with no other option (cmd_bake.cpp): a uniform
+    // grid of 16 nodes on the longest axis, point gather with the library's GatherOptions
+    // defaults. Keep this in step with the command's defaults.
+    v.push_back({"default", "vdblight bake SCENE -o OUT (16 nodes, GatherOptions defaults)",
+                 [](const Ctx& c) {
+                     GatherOptions g;
+                     g.seed = c.seed;
+                     g.threads = c.settings.threads;
+                     if (c.settings.quick) g.raysPerNode = c.settings.rays(g.raysPerNode);
+                     const double t0 = bench::now();
+                     Volume vol = bakeShGather(c.scene, c.tracer, gridFor(c.scene, c.settings.res(16)), g);
+                     const double t = bench::now() - t0;
+                     const uint64_t nodes = vol.levels[0].grid.nodeCount();
+                     return fromVolume(std::move(vol), t, nodes);
+                 },
+                 true});
+    for (const uint32_t rays : {64u, 1024u})
+        v.push_back({"point_16_" + std::to_string(rays), "point gather, 16 nodes, " + std::to_string(rays) + " rays",
+                     [rays](const Ctx& c) { return pointGather(c, c.settings.res(16), c.settings.rays(rays)); },
+                     rays == 1024});
+    v.push_back({"point_32_256", "point gather, 32 nodes, 256 rays",
+                 [](const Ctx& c) { return pointGather(c, c.settings.res(32), c.settings.rays(256)); }});
+    v.push_back({"antialiased", "--sampling antialiased (interior), 16 nodes, 256 rays/cell",
+                 [](const Ctx& c) { return antialiased(c, c.settings.res(16), c.settings.rays(256), NodeFit::Projection); }});
+    v.push_back({"antialiased_lsq", "--sampling antialiased --fit least-squares, 16 nodes, 256 rays/cell",
+                 [](const Ctx& c) { return antialiased(c, c.settings.res(16), c.settings.rays(256), NodeFit::LeastSquares); }});
+    v.push_back({"adaptive", "--layout adaptive --levels 3 --refine 2, 16 nodes, 128 rays",
+                 [](const Ctx& c) { return adaptiveLayout(c, c.settings.res(16), c.settings.rays(128), 3, 2); }});
+    v.push_back({"target_0.03", "--target-error 0.03 --max-rays 2048, 16 nodes",
+                 [](const Ctx& c) { return targetError(c, c.settings.res(16), 0.03, c.settings.rays(2048)); }});
+    v.push_back({"photons", "--method photons --photons 4000000, 16 nodes",
+                 [](const Ctx& c) { return photons(c, c.settings.res(16), c.settings.photons(4'000'000)); }, true});
+    v.push_back({"bins_11", "--basis bins:11 (242 bins, 1 ray each), 16 nodes",
+                 [](const Ctx& c) { return binsBake(c, c.settings.res(16), c.settings.quick ? 3 : 11); }});
+    return v;
+}
+
+// ---------------------------------------------------------------------------------------
+// Points, ground truth and errors.
+
+struct Points {
+    std::vector<Vec3f> x, n;
+};
+
+/// True if no surface lies within `clearance` of x along 26 directions (axes, face and body
+/// diagonals): the point is not in a crevice (under a book, between a board and the floor),
+/// where a relative error measures nothing any volume could hold.
+bool clearOfSurfaces(const Tracer& tracer, const Vec3f& x, float clearance) {
+    for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dz = -1; dz <= 1; ++dz) {
+                if (!dx && !dy && !dz) continue;
+                const Hit h = tracer.intersect(Ray{x, normalize(Vec3f(float(dx), float(dy), float(dz))), 0.0f, clearance});
+                if (h.hit()) return false;
+            }
+    return true;
+}
+
+/// `count` free-space points uniformly in the scene box (inset by 0.1 % of its size), at least
+/// 1 % of the box diagonal from every surface (clearOfSurfaces), with uniformly random unit
+/// normals, from a fixed seed.
+Points freeSpacePoints(const Scene& s, const Tracer& tracer, int count) {
+    Rng rng(2026, 15);
+    const Bounds box = s.bounds();
+    const float clearance = float(0.01 * length(box.size()));
+    Points p;
+    for (int tries = 0; int(p.x.size()) < count && tries < 1000 * count; ++tries) {
+        const Vec3d t(0.001 + 0.998 * rng.uniform(), 0.001 + 0.998 * rng.uniform(), 0.001 + 0.998 * rng.uniform());
+        const Vec3f x(box.lo + box.size() * t);
+        const Vec3f n = uniformSphere(rng.uniform(), rng.uniform());
+        if (!bench::freeSpace(tracer, x) || !clearOfSurfaces(tracer, x, clearance)) continue;
+        p.x.push_back(x);
+        p.n.push_back(n);
+    }
+    return p;
+}
+
+std::string pointsHash(const Points& p) {
+    uint64_t h = 0x15ull;
+    for (std::size_t i = 0; i < p.x.size(); ++i)
+        for (int k = 0; k < 3; ++k) {
+            const float fx = p.x[i][k], fn = p.n[i][k];
+            uint32_t a, b;
+            std::memcpy(&a, &fx, 4);
+            std::memcpy(&b, &fn, 4);
+            h = hashCombine(hashCombine(h, a), b);
+        }
+    char buf[17];
+    std::snprintf(buf, sizeof buf, "%016llx", (unsigned long long)h);
+    return buf;
+}
+
+struct Truth {
+    std::vector<double> e, se;  ///< luminance of E_ref and of its standard error
+    double mean = 0;
+    double guard = 0.01;  ///< the smallest denominator, as a fraction of `mean`
+    double denominator(std::size_t i) const { return std::max(e[i], guard * mean); }
+};
+
+Truth groundTruth(const Scene& s, const Tracer& tracer, const Points& p, const Settings& st, uint32_t samples) {
+    fs::create_directories(st.cache);
+    const fs::path file = st.cache / (s.contentHash() + "_" + pointsHash(p) + "_" + std::to_string(samples) + "s_" +
+                                      std::to_string(st.refBounces) + "b_seed1.txt");
+    Truth t;
+    if (std::ifstream in{file}) {
+        double a, b;
+        while (in >> a >> b) t.e.push_back(a), t.se.push_back(b);
+    }
+    if (t.e.size() != p.x.size()) {
+        std::vector<ReferencePoint> rp;
+        for (std::size_t i = 0; i < p.x.size(); ++i) rp.push_back({p.x[i], p.n[i]});
+        ReferenceOptions o;
+        o.samples = samples;
+        o.transport.maxBounces = st.refBounces;
+        const double t0 = bench::now();
+        const auto r = referenceIrradiance(s, tracer, rp, o);
+        t.e.clear(), t.se.clear();
+        for (const auto& x : r) t.e.push_back(luminance(Rgb(x.irradiance))), t.se.push_back(luminance(Rgb(x.standardError)));
+        const fs::path tmp = file.string() + ".tmp";
+        {
+            std::ofstream out(tmp);
+            out.precision(17);
+            for (std::size_t i = 0; i < t.e.size(); ++i) out << t.e[i] << ' ' << t.se[i] << '\n';
+        }
+        fs::rename(tmp, file);
+        std::printf("  ground truth: %zu points x %u samples, %d bounces, computed in %.1f s, cached in %s\n", p.x.size(),
+                    samples, st.refBounces, bench::now() - t0, file.c_str());
+    } else {
+        std::printf("  ground truth: read from %s\n", file.c_str());
+    }
+    for (double e : t.e) t.mean += e / double(t.e.size());
+    return t;
+}
+
+struct Errors {
+    double rms = 0, p95 = 0, max = 0, bias = 0;
+};
+
+/// Statistics of per-point relative errors (signed).
+Errors summarise(const std::vector<double>& rel) {
+    Errors e;
+    std::vector<double> a;
+    for (double r : rel) {
+        const double x = std::isfinite(r) ? r : 1e30;
+        a.push_back(std::abs(x));
+        e.rms += x * x;
+        e.bias += x;
+    }
+    std::sort(a.begin(), a.end());
+    e.rms = std::sqrt(e.rms / double(a.size()));
+    e.bias /= double(a.size());
+    e.p95 = a[std::size_t(std::ceil(0.95 * double(a.size()))) - 1];
+    e.max = a.back();
+    return e;
+}
+
+std::vector<double> values(const std::function<Rgb(const Vec3f&, const Vec3f&)>& f, const Points& p) {
+    std::vector<double> v(p.x.size());
+    for (std::size_t i = 0; i < p.x.size(); ++i) v[i] = luminance(f(p.x[i], p.n[i]));
+    return v;
+}
+
+std::vector<double> relative(const std::vector<double>& got, const std::vector<double>& want, const Truth& t) {
+    std::vector<double> r(got.size());
+    for (std::size_t i = 0; i < got.size(); ++i) r[i] = (got[i] - want[i]) / t.denominator(i);
+    return r;
+}
+
+// ---------------------------------------------------------------------------------------
+// The floor: the representations at the points themselves.
+
+/// Incident radiance at a point projected, from the same samples, into SH order 2, the six
+/// irradiance vectors (irradiance_vectors.h) and the cosine-weighted irradiance for the point's
+/// normal (a check on the projection: that one has no representation error). Sampling as the
+/// point gather's (bake.h): stratified uniform directions with gathered radiance, one NEE
+/// sample of the emissive triangles per direction (MIS), punctual lights exactly.
+struct AtPoint {
+    Rgbd sh[sh::kCoeffs] = {};
+    double iv[iv::kFloatsPerNode] = {};
+    Rgbd e{0, 0, 0};
+};
+
+AtPoint projectAtPoint(const RadianceEstimator& est, const Vec3f& x, const Vec3f& n, uint32_t rays, uint64_t stream) {
+    AtPoint a;
+    auto add = [&](const Vec3f& d, const Rgbd& w) {
+        float y[sh::kCoeffs];
+        sh::evalUnrolled(d, y);
+        for (int j = 0; j < sh::kCoeffs; ++j) a.sh[j] += w * double(y[j]);
+        for (int axis = 0; axis < 3; ++axis) {
+            const int dir = iv::direction(axis, d[axis] < 0.0f);
+            for (int c = 0; c < 3; ++c)
+                for (int k = 0; k < 3; ++k) a.iv[iv::channel(dir, c) * 3 + k] += w[c] * double(d[k]);
+        }
+        a.e += w * double(std::max(0.0f, dot(d, n)));
+    };
+    Rng rng(stream, 4);
+    RayCount count;
+    constexpr float kSpherePdf = float(1.0 / (4.0 * kPi));
+    const double lightOffset = toUnitDouble(hashCombine(stream, 3));
+    for (uint32_t i = 0; i < rays; ++i) {
+        float u, v;
+        sobol02(i, hashCombine(stream, 1), u, v);
+        const Vec3f d = uniformSphere(u, v);
+        add(d, Rgbd(est.gatherRadiance(x, d, kSpherePdf, rng, count)) * (4.0 * kPi / rays));
+        if (!est.hasEmissiveTriangles()) continue;
+        sobol02(i, hashCombine(stream, 2), u, v);
+        double w = radicalInverse(3, i) + lightOffset;
+        w -= std::floor(w);
+        LightSample s;
+        if (est.sampleEmissiveTriangles(x, u, v, w, s, count))
+            add(s.direction, Rgbd(s.weight * misWeight(s.pdf, kSpherePdf)) / double(rays));
+    }
+    std::vector<LightSample> punctual;
+    est.punctualLights(x, punctual, count);
+    for (const LightSample& s : punctual) add(s.direction, Rgbd(s.weight));
+    return a;
+}
+
+struct Floor {
+    std::vector<double> sh, iv, e;  ///< luminance at each point's normal
+    /// The six vectors with the blend's weights n_a^2 divided by sum |n_a|^3: exact under
+    /// uniform light instead of for light along the normal (not what the lookup does; it
+    /// shows how much of the irradiance-vector floor is the blend's normalisation).
+    std::vector<double> ivUniform;
+};
+
+Floor floorAt(const Scene& s, const Tracer& tracer, const Points& p, uint32_t rays, int refBounces) {
+    TransportOptions t;
+    t.maxBounces = refBounces;
+    const RadianceEstimator est(s, tracer, t);
+    const std::vector<double> zeros(p.x.size());
+    Floor f{zeros, zeros, zeros, zeros};
+    tbb::parallel_for(std::size_t(0), p.x.size(), [&](std::size_t i) {
+        const AtPoint a = projectAtPoint(est, p.x[i], normalize(p.n[i]), rays, hashCombine(777, i));
+        Rgb c[sh::kCoeffs];
+        for (int j = 0; j < sh::kCoeffs; ++j) c[j] = Rgb(a.sh[j]);
+        f.sh[i] = luminance(sh::irradiance(c, normalize(p.n[i])));
+        float v[iv::kFloatsPerNode];
+        for (int k = 0; k < iv::kFloatsPerNode; ++k) v[k] = float(a.iv[k]);
+        const Vec3f n = normalize(p.n[i]);
+        f.iv[i] = luminance(iv::irradiance(v, n));
+        f.ivUniform[i] = f.iv[i] / (std::pow(std::abs(n.x), 3.0) + std::pow(std::abs(n.y), 3.0) + std::pow(std::abs(n.z), 3.0));
+        f.e[i] = luminance(Rgb(a.e));
+    });
+    return f;
+}
+
+/// An irradiance-vector volume on the uniform grid of `resolution` whose nodes hold the six
+/// vectors projected at the node itself (projectAtPoint, `rays` rays, `bounces`), not the photon
+/// pass's face-averaged flux: it separates what trilinear interpolation of the six vectors
+/// costs from what the photon estimator adds (issue 15, item 5).
+Volume ivPointVolume(const Scene& s, const Tracer& tracer, int resolution, uint32_t rays, int bounces) {
+    TransportOptions t;
+    t.maxBounces = bounces;
+    const RadianceEstimator est(s, tracer, t);
+    Volume v;
+    v.basis = iv::basis();
+    v.levels.resize(1);
+    VolumeLevel& level = v.levels[0];
+    level.grid = gridFor(s, resolution);
+    level.data.assign(level.grid.nodeCount() * iv::kFloatsPerNode, 0.0f);
+    tbb::parallel_for(std::size_t(0), level.grid.nodeCount(), [&](std::size_t n) {
+        const AtPoint a = projectAtPoint(est, Vec3f(level.grid.node(n)), {0, 1, 0}, rays, hashCombine(991, n));
+        for (int k = 0; k < iv::kFloatsPerNode; ++k) level.data[n * iv::kFloatsPerNode + k] = float(a.iv[k]);
+    });
+    return v;
+}
+
+/// RMS with the Monte Carlo noise extrapolated out of two estimates at N/4 and N samples
+/// (squared noise falls as 1/N): sqrt((4 e_N^2 - e_{N/4}^2) / 3), 0 if negative.
+double noiseFree(double eQuarter, double eFull) { return std::sqrt(std::max(0.0, (4 * eFull * eFull - eQuarter * eQuarter) / 3)); }
+
+// ---------------------------------------------------------------------------------------
+
+struct Row {
+    Row(std::string s, std::string c, Errors err = {}) : scene(std::move(s)), config(std::move(c)), e(err) {}
+    std::string scene, config;
+    Errors e;
+    double seconds = 0, cpu = 0, bytesPerNode = 0, noise = -1;
+    uint64_t nodes = 0;
+    std::string note;
+};
+
+void printRow(const Row& r) {
+    char noise[32] = "";
+    if (r.noise >= 0) std::snprintf(noise, sizeof noise, "%6.1f %%", 100 * r.noise);
+    std::printf("  %-18s %7.1f %% %7.1f %% %8.1f %% %+7.1f %% %8.2f s %7.2f s %8llu %7.0f B %8s  %s\n", r.config.c_str(),
+                100 * r.e.rms, 100 * r.e.p95, 100 * r.e.max, 100 * r.e.bias, r.seconds, r.cpu, (unsigned long long)r.nodes,
+                r.bytesPerNode, noise, r.note.c_str());
+}
+
+void writeCsvRow(FILE* csv, const Row& r) {
+    if (!csv) return;
+    std::fprintf(csv, "%s,%s,%.5f,%.5f,%.5f,%.5f,%.3f,%.3f,%llu,%.1f,%s,%s\n", r.scene.c_str(), r.config.c_str(), r.e.rms,
+                 r.e.p95, r.e.max, r.e.bias, r.seconds, r.cpu, (unsigned long long)r.nodes, r.bytesPerNode,
+                 r.noise >= 0 ? std::to_string(r.noise).c_str() : "", r.note.c_str());
+    std::fflush(csv);
+}
+
+/// The `count` points with the largest |error| (--worst N: where a method fails).
+void printWorst(const std::vector<double>& rel, const std::vector<double>& got, const Truth& t, const Points& p, int count) {
+    std::vector<std::size_t> order(rel.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return std::abs(rel[a]) > std::abs(rel[b]); });
+    for (int k = 0; k < count && k < int(order.size()); ++k) {
+        const std::size_t i = order[std::size_t(k)];
+        std::printf("    worst %d: x (%.3f, %.3f, %.3f) n (%.2f, %.2f, %.2f): E %.4g, E_ref %.4g +- %.2g, error %+.1f %%\n", k,
+                    p.x[i].x, p.x[i].y, p.x[i].z, p.n[i].x, p.n[i].y, p.n[i].z, got[i], t.e[i], t.se[i], 100 * rel[i]);
+    }
+}
+
+/// CPU seconds of this process (all threads): on a shared machine wall time includes waiting
+/// for a core, CPU time does not.
+double cpuSeconds() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+fs::path defaultCache(const char* argv0) {
+    std::error_code ec;
+    fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    if (ec) exe = fs::absolute(argv0);
+    return exe.parent_path().parent_path() / "accuracy_cache";  // build/bin/.. = the build directory
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    bench::BenchArgs args("vdblight_bench_accuracy", {{"--csv", "FILE"},
+                                                      {"--scene", "NAME"},
+                                                      {"--config", "NAME"},
+                                                      {"--threads", "N"},
+                                                      {"--points", "N"},
+                                                      {"--ref-samples", "N"},
+                                                      {"--cache", "DIR"},
+                                                      {"--worst", "N"},
+                                                      {"--guard", "F"},
+                                                      {"--no-decompose", ""}});
+    if (!args.parse(argc, argv)) return 1;
+    std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress visible when redirected to a file
+    Settings st;
+    st.quick = args.quick();
+    st.threads = args.integer("--threads", 2);
+    st.points = args.integer("--points", st.quick ? 60 : 200);
+    st.refSamples = uint32_t(args.integer("--ref-samples", st.quick ? 2048 : 65536));
+    st.floorRays = st.quick ? 512 : 8192;
+    st.spatialRays = st.quick ? 128 : 1024;
+    st.spatialPhotons = st.quick ? 1'000'000 : 4'000'000;
+    st.cache = args.given("--cache") ? fs::path(args.text("--cache")) : defaultCache(argv[0]);
+    const std::string onlyScene = args.text("--scene"), onlyConfig = args.text("--config");
+    const bool decompose = !args.given("--no-decompose");
+    FILE* csv = nullptr;
+    if (args.given("--csv") && !(csv = std::fopen(args.text("--csv").c_str(), "w"))) {
+        std::fprintf(stderr, "vdblight_bench_accuracy: cannot write %s\n", args.text("--csv").c_str());
+        return 1;
+    }
+    if (csv) std::fprintf(csv, "scene,config,rms,p95,max,bias,bake_seconds,cpu_seconds,nodes,bytes_per_node,noise_rms,note\n");
+    // Reference, floor and spatial runs use this many threads too (the bakes take --threads).
+    tbb::global_control threadLimit(tbb::global_control::max_allowed_parallelism, std::size_t(std::max(1, st.threads)));
+
+    const std::vector<Config> configs = configurations();
+    std::printf("vdblight_bench_accuracy%s: %d points per scene, ground truth %u samples x %d bounces, %d threads\n",
+                st.quick ? " --quick (small workloads)" : "", st.points, st.refSamples, st.refBounces, st.threads);
+    std::vector<Row> summary;
+    for (bench::AccuracyScene& as : bench::accuracyScenes()) {
+        if (!onlyScene.empty() && as.name != onlyScene) continue;
+        const Scene& s = as.scene;
+        const Tracer tracer(s);
+        const Points pts = freeSpacePoints(s, tracer, st.points);
+        std::printf("\n%s: %zu triangles, box %.2f x %.2f x %.2f, %zu free-space points\n", as.name.c_str(),
+                    s.triangleCount(), s.bounds().size().x, s.bounds().size().y, s.bounds().size().z, pts.x.size());
+        Truth truth = groundTruth(s, tracer, pts, st, st.refSamples * uint32_t(as.referenceScale));
+        truth.guard = args.real("--guard", truth.guard);
+        {
+            std::vector<double> rse(truth.e.size());
+            for (std::size_t i = 0; i < rse.size(); ++i) rse[i] = truth.se[i] / truth.denominator(i);
+            const Errors e = summarise(rse);
+            std::printf("  ground truth relative standard error: RMS %.2f %%, p95 %.2f %%, max %.2f %% (mean E %.4g)\n",
+                        100 * e.rms, 100 * e.p95, 100 * e.max, truth.mean);
+            Row r{as.name, "reference_se", e};
+            writeCsvRow(csv, r);
+        }
+        std::printf("  %-18s %9s %9s %10s %9s %10s %9s %8s %9s %8s\n", "config", "RMS", "p95", "max", "bias", "bake", "CPU",
+                    "nodes", "B/node", "noise");
+        for (const Config& c : configs) {
+            if (!onlyConfig.empty() && c.name != onlyConfig) continue;
+            Row r{as.name, c.name};
+            try {
+                const double cpu0 = cpuSeconds();
+                const Baked b = c.bake(Ctx{s, tracer, st, 1});
+                r.cpu = cpuSeconds() - cpu0;
+                const std::vector<double> got = values(b.irradiance, pts);
+                const std::vector<double> rel = relative(got, truth.e, truth);
+                r.e = summarise(rel);
+                printWorst(rel, got, truth, pts, args.integer("--worst", 0));
+                r.seconds = b.seconds;
+                r.nodes = b.nodes;
+                r.bytesPerNode = b.nodes ? double(b.bytes) / double(b.nodes) : 0;
+                r.note = b.note;
+                if (c.noise) {
+                    const Baked b2 = c.bake(Ctx{s, tracer, st, 2});
+                    const std::vector<double> got2 = values(b2.irradiance, pts);
+                    double s2 = 0;
+                    for (std::size_t i = 0; i < got.size(); ++i) {
+                        const double d = (got[i] - got2[i]) / std::sqrt(2.0) / truth.denominator(i);
+                        s2 += d * d;
+                    }
+                    r.noise = std::sqrt(s2 / double(got.size()));
+                }
+            } catch (const Error& e) {
+                std::printf("  %-18s failed: %s\n", c.name.c_str(), e.what());
+                continue;
+            }
+            printRow(r);
+            writeCsvRow(csv, r);
+            summary.push_back(r);
+        }
+        if (!decompose) continue;
+
+        // The decomposition.
+        const double t0 = bench::now();
+        const Floor quarter = floorAt(s, tracer, pts, st.floorRays / 4, st.refBounces);
+        const Floor full = floorAt(s, tracer, pts, st.floorRays, st.refBounces);
+        const Errors shQ = summarise(relative(quarter.sh, truth.e, truth)), shF = summarise(relative(full.sh, truth.e, truth));
+        const Errors ivQ = summarise(relative(quarter.iv, truth.e, truth)), ivF = summarise(relative(full.iv, truth.e, truth));
+        const Errors eF = summarise(relative(full.e, truth.e, truth));
+        const Errors ivU = summarise(relative(full.ivUniform, truth.e, truth));
+        std::printf("  decomposition (floor: a node at each point, %u rays; noise-free: extrapolated from %u and %u rays; %.1f s)\n",
+                    st.floorRays, st.floorRays / 4, st.floorRays, bench::now() - t0);
+        std::printf("    cosine-weighted E at the point from the same samples (no representation): RMS %.1f %%, bias %+.1f %%\n",
+                    100 * eF.rms, 100 * eF.bias);
+        std::printf("    SH order-2 floor:          RMS %.1f %% (noise-free %.1f %%), p95 %.1f %%, max %.1f %%, bias %+.1f %%\n",
+                    100 * shF.rms, 100 * noiseFree(shQ.rms, shF.rms), 100 * shF.p95, 100 * shF.max, 100 * shF.bias);
+        std::printf("    irradiance-vector floor:   RMS %.1f %% (noise-free %.1f %%), p95 %.1f %%, max %.1f %%, bias %+.1f %%\n",
+                    100 * ivF.rms, 100 * noiseFree(ivQ.rms, ivF.rms), 100 * ivF.p95, 100 * ivF.max, 100 * ivF.bias);
+        std::printf("    irradiance vectors, blend normalised for uniform light (not the lookup's): RMS %.1f %%, p95 %.1f %%, "
+                    "bias %+.1f %%\n", 100 * ivU.rms, 100 * ivU.p95, 100 * ivU.bias);
+        writeCsvRow(csv, Row{as.name, "floor_iv_uniform_blend", ivU});
+        Row fr{as.name, "floor_sh2", shF};
+        fr.note = "noise-free " + std::to_string(noiseFree(shQ.rms, shF.rms));
+        writeCsvRow(csv, fr);
+        Row fi{as.name, "floor_iv", ivF};
+        fi.note = "noise-free " + std::to_string(noiseFree(ivQ.rms, ivF.rms));
+        writeCsvRow(csv, fi);
+        Row fe{as.name, "floor_exact_at_point", eF};
+        writeCsvRow(csv, fe);
+
+        // Spatial: bakes at the default resolution with the ground truth's bounces against the
+        // floors at the points, at N/4 and N rays (photons) with the noise extrapolated out.
+        const Ctx ctx{s, tracer, st, 1};
+        auto spatial = [&](const std::function<Baked(uint64_t)>& bake, uint64_t budget, const std::vector<double>& floorValues,
+                           const char* label) {
+            const Baked lo = bake(budget / 4), hi = bake(budget);
+            const std::vector<double> loGot = values(lo.irradiance, pts), hiGot = values(hi.irradiance, pts);
+            const Errors loE = summarise(relative(loGot, floorValues, truth)), hiE = summarise(relative(hiGot, floorValues, truth));
+            const Errors total = summarise(relative(hiGot, truth.e, truth));
+            std::printf("    spatial, %s (%llu and %llu, %.1f s): against the floor RMS %.1f %% (noise-free %.1f %%), bias %+.1f %%; "
+                        "against the truth RMS %.1f %%, bias %+.1f %%\n",
+                        label, (unsigned long long)(budget / 4), (unsigned long long)budget, hi.seconds, 100 * hiE.rms,
+                        100 * noiseFree(loE.rms, hiE.rms), 100 * hiE.bias, 100 * total.rms, 100 * total.bias);
+            Row r{as.name, std::string("spatial_") + label, hiE};
+            r.seconds = hi.seconds;
+            r.note = "noise-free " + std::to_string(noiseFree(loE.rms, hiE.rms));
+            writeCsvRow(csv, r);
+        };
+        spatial([&](uint64_t rays) { return pointGather(ctx, st.res(16), uint32_t(rays), st.refBounces); }, st.spatialRays,
+                full.sh, "sh2");
+        spatial([&](uint64_t n) { return photons(ctx, st.res(16), n, st.refBounces); }, st.spatialPhotons, full.iv, "iv");
+        // The same six vectors projected at the nodes (no photon estimator): interpolation only,
+        // and the photon volume against it: what the face-averaged flux estimator adds.
+        {
+            const double t1 = bench::now();
+            const Baked pointIv = fromVolume(ivPointVolume(s, tracer, st.res(16), st.spatialRays / 4, st.refBounces), 0, 0);
+            const std::vector<double> pGot = values(pointIv.irradiance, pts);
+            const Errors vsFloor = summarise(relative(pGot, full.iv, truth));
+            const Baked ph = photons(ctx, st.res(16), st.spatialPhotons, st.refBounces);
+            const Errors phVsPoint = summarise(relative(values(ph.irradiance, pts), pGot, truth));
+            std::printf("    irradiance vectors projected at the nodes (%u rays, %.1f s): against the floor RMS %.1f %%, bias %+.1f %%; "
+                        "the photon volume against them: RMS %.1f %%, bias %+.1f %%\n",
+                        st.spatialRays / 4, bench::now() - t1, 100 * vsFloor.rms, 100 * vsFloor.bias, 100 * phVsPoint.rms,
+                        100 * phVsPoint.bias);
+            writeCsvRow(csv, Row{as.name, "iv_nodes_vs_floor", vsFloor});
+            writeCsvRow(csv, Row{as.name, "photons_vs_iv_nodes", phVsPoint});
+        }
+    }
+
+    std::printf("\nSummary: RMS relative error (bias) per configuration and scene\n  %-18s", "config");
+    std::vector<std::string> scenes;
+    for (const Row& r : summary)
+        if (std::find(scenes.begin(), scenes.end(), r.scene) == scenes.end()) scenes.push_back(r.scene);
+    for (const std::string& s : scenes) std::printf(" %20s", s.c_str());
+    std::printf("\n");
+    for (const Config& c : configs) {
+        bool any = false;
+        for (const Row& r : summary) any |= r.config == c.name;
+        if (!any) continue;
+        std::printf("  %-18s", c.name.c_str());
+        for (const std::string& s : scenes) {
+            const auto it = std::find_if(summary.begin(), summary.end(), [&](const Row& r) { return r.scene == s && r.config == c.name; });
+            if (it == summary.end()) std::printf(" %20s", "-");
+            else {
+                char cell[40];
+                std::snprintf(cell, sizeof cell, "%.1f %% (%+.1f %%)", 100 * it->e.rms, 100 * it->e.bias);
+                std::printf(" %20s", cell);
+            }
+        }
+        std::printf("\n");
+    }
+    if (csv) std::fclose(csv);
+    return 0;
+}

@@ -1,0 +1,12 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer harnesses of tests/fuzz with clang 14 in build-fuzz/ (FUZZ_BUILD_DIR).
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+BUILD="${FUZZ_BUILD_DIR:-$ROOT/build-fuzz}"
+JOBS="${JOBS:-$(nproc)}"
+source "$ROOT/tests/fuzz/harnesses.sh"
+CC_BIN="${FUZZ_CC:-clang-14}" CXX_BIN="${FUZZ_CXX:-clang++-14}"
+command -v "$CXX_BIN" >/dev/null || { echo "fuzz: $CXX_BIN not found (scripts/setup.sh installs clang-14 and libclang-rt-14-dev)"; exit 1; }
+cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" -DCMAKE_C_COMPILER="$CC_BIN" \
+      -DCMAKE_CXX_COMPILER="$CXX_BIN" -DVDBLIGHT_FUZZ=ON -DVDBLIGHT_BUILD_TESTS=OFF -DVDBLIGHT_BUILD_BENCH=OFF >/dev/null
+cmake --build "$BUILD" -j "$JOBS" --target "${HARNESSES[@]}"
