@@ -21,12 +21,22 @@
 
 namespace vdblight::bench {
 
+/// A named part of a scene's box whose points the benchmark also reports on their own.
+struct AccuracyRegion {
+    std::string name;
+    Vec3f lo, hi;
+    bool contains(const Vec3f& p) const {
+        return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z && p.z <= hi.z;
+    }
+};
+
 struct AccuracyScene {
     std::string name;
     Scene scene;
     /// Ground-truth samples relative to the benchmark's setting: the unlit room of two_rooms
     /// is lit only through the door and needs 4x the samples for the same standard error.
     int referenceScale = 1;
+    std::vector<AccuracyRegion> regions;
 };
 
 namespace accuracy_detail {
@@ -171,10 +181,12 @@ inline Scene accuracyCornell() {
 /// The suite in a fixed order: office, cornell, two_rooms, outdoor.
 inline std::vector<AccuracyScene> accuracyScenes() {
     std::vector<AccuracyScene> v;
-    v.push_back({"office", accuracyOffice()});
-    v.push_back({"cornell", accuracyCornell()});
-    v.push_back({"two_rooms", accuracyTwoRooms(), 4});
-    v.push_back({"outdoor", accuracyOutdoor()});
+    // The band of the office from 0.5 m below the luminaires up (where SH2 cannot hold them).
+    v.push_back({"office", accuracyOffice(), 1, {{"luminaire_band", {0, 1.84f, 0}, {6, 3, 5}}}});
+    v.push_back({"cornell", accuracyCornell(), 1, {}});
+    v.push_back({"two_rooms", accuracyTwoRooms(), 4,
+                 {{"lit_room", {0, 0, 0}, {3.96f, 2.6f, 4}}, {"unlit_room", {4.04f, 0, 0}, {8, 2.6f, 4}}}});
+    v.push_back({"outdoor", accuracyOutdoor(), 1, {}});
     return v;
 }
 

@@ -23,6 +23,8 @@
 //  - noise: configurations marked so are baked again with seed 2; the per-bake noise is
 //    RMS((E1 - E2) / sqrt 2 / E_ref);
 //  - bias: the mean signed error (every row).
+// Regions (accuracy_scenes.h: the two rooms' lit and unlit room, the office's band around
+// the luminaires) are reported on their own as well (CSV scene "SCENE:REGION").
 // A new method or mode is one entry in configurations(): a name and a function that bakes
 // (or otherwise builds) something that answers E(x, n).
 // Output: tables on stdout, a CSV (--csv FILE; docs/accuracy.csv for the full run), which
@@ -150,9 +152,12 @@ GatherOptions gatherOptions(const Ctx& c, uint32_t rays) {
 
 /// `bounces` > 0 overrides the transport's bounce cap (the decomposition's bakes match the
 /// ground truth's, so that they measure representation and interpolation only).
-Baked pointGather(const Ctx& c, int resolution, uint32_t rays, int bounces = 0) {
+/// `depth`: also depth moments from the gather's own rays, and lookups weighted by them
+/// (visibility-aware interpolation, depth_moments.h).
+Baked pointGather(const Ctx& c, int resolution, uint32_t rays, int bounces = 0, bool depth = false) {
     GatherOptions g = gatherOptions(c, rays);
     if (bounces > 0) g.transport.maxBounces = bounces;
+    g.depthMoments = depth;
     const double t0 = bench::now();
     Volume v = bakeShGather(c.scene, c.tracer, gridFor(c.scene, resolution), g);
     const double t = bench::now() - t0;
@@ -173,7 +178,7 @@ Baked antialiased(const Ctx& c, int resolution, uint32_t rays, NodeFit fit) {
     return fromVolume(std::move(v), t, nodes);
 }
 
-Baked adaptiveLayout(const Ctx& c, int resolution, uint32_t rays, int levels, int refine) {
+Baked adaptiveLayout(const Ctx& c, int resolution, uint32_t rays, int levels, int refine, bool depth = false) {
     LevelsPlacement lp;
     lp.kind = LayoutKind::Adaptive;
     lp.levels = levels;
@@ -181,7 +186,9 @@ Baked adaptiveLayout(const Ctx& c, int resolution, uint32_t rays, int levels, in
     const double t0 = bench::now();
     const LevelLayout layout = placeLevels(gridFor(c.scene, resolution), c.scene.positions, c.scene.indices, lp, 1);
     LevelsBakeStats st;
-    Volume v = bakeShGatherLevels(c.scene, c.tracer, layout, gatherOptions(c, rays), nullptr, &st);
+    GatherOptions g = gatherOptions(c, rays);
+    g.depthMoments = depth;
+    Volume v = bakeShGatherLevels(c.scene, c.tracer, layout, g, nullptr, &st);
     return fromVolume(std::move(v), bench::now() - t0, st.nodes);
 }
 
@@ -228,7 +235,7 @@ Baked binsBake(const Ctx& c, int resolution, int binResolution) {
 /// direct light with shadow rays at each lookup (what `vdblight query --scene` does, 256 rays
 /// per polygon light); occlusion volumes answer through IrradianceQuery (exact direct x baked
 /// visibility). Occlusion in a scene without lights falls back to baked, as the command does.
-Baked directGather(const Ctx& c, int resolution, uint32_t rays, DirectMode mode) {
+Baked directGather(const Ctx& c, int resolution, uint32_t rays, DirectMode mode, int probePasses = 0) {
     DirectOptions d;
     d.mode = mode;
     d.seed = c.seed;
@@ -239,6 +246,7 @@ Baked directGather(const Ctx& c, int resolution, uint32_t rays, DirectMode mode)
     const DirectPlan plan = planDirectLight(c.scene, c.tracer, grid, d);
     GatherOptions g = gatherOptions(c, rays);
     g.transport.skipAtReceiver = plan.filter;
+    g.probePasses = probePasses;
     Volume v = bakeShGather(c.scene, c.tracer, grid, g);
     bakeLightVisibility(c.scene, c.tracer, plan, d, v);
     const double t = bench::now() - t0;
@@ -270,12 +278,14 @@ std::vector<Config> configurations() {
     // grid of 16 nodes on the longest axis, point gather with the library's GatherOptions
     // defaults. Keep this in step with the command's defaults.
     // Since issue 15 item 3 the command's default is --direct occlusion (baked in a scene
-    // without lights): the direct_* rows below compare the three modes at these settings.
-    v.push_back({"default", "vdblight bake SCENE -o OUT (16 nodes, GatherOptions defaults, --direct occlusion)",
+    // without lights), with --quality default's probe pass; the direct_* rows below compare
+    // the three modes without it.
+    v.push_back({"default", "vdblight bake SCENE -o OUT (16 nodes, 256 rays + 1 probe pass: --quality default, "
+                            "--direct occlusion)",
                  [](const Ctx& c) {
                      const uint32_t rays = GatherOptions().raysPerNode;
                      return directGather(c, c.settings.res(16), c.settings.quick ? c.settings.rays(rays) : rays,
-                                         DirectMode::Occlusion);
+                                         DirectMode::Occlusion, 1);  // --quality default (cmd_bake.cpp qualityPreset)
                  },
                  true});
     for (const auto& [mode, name] : {std::pair{DirectMode::Baked, "baked"}, std::pair{DirectMode::Runtime, "runtime"},
@@ -286,14 +296,33 @@ std::vector<Config> configurations() {
         v.push_back({"point_16_" + std::to_string(rays), "point gather, 16 nodes, " + std::to_string(rays) + " rays",
                      [rays](const Ctx& c) { return pointGather(c, c.settings.res(16), c.settings.rays(rays)); },
                      rays == 1024});
+    v.push_back({"point_16_1024_depth", "point gather, 16 nodes, 1024 rays, --depth-moments (weighted lookup)",
+                 [](const Ctx& c) { return pointGather(c, c.settings.res(16), c.settings.rays(1024), 0, true); }});
     v.push_back({"point_32_256", "point gather, 32 nodes, 256 rays",
                  [](const Ctx& c) { return pointGather(c, c.settings.res(32), c.settings.rays(256)); }});
+    v.push_back({"preview", "--quality preview: 16 nodes, 256 rays of full paths, no probe pass",
+                 [](const Ctx& c) { return pointGather(c, c.settings.res(16), c.settings.rays(256)); }});
+    v.push_back({"probe_32_128", "--resolution 32 --rays 128 --probe-passes 1 (issue 15)",
+                 [](const Ctx& c) {
+                     GatherOptions g;
+                     g.raysPerNode = c.settings.rays(128);
+                     g.probePasses = 1;
+                     g.seed = c.seed;
+                     g.threads = c.settings.threads;
+                     const double t0 = bench::now();
+                     Volume vol = bakeShGather(c.scene, c.tracer, gridFor(c.scene, c.settings.res(32)), g);
+                     const double t = bench::now() - t0;
+                     const uint64_t nodes = vol.levels[0].grid.nodeCount();
+                     return fromVolume(std::move(vol), t, nodes);
+                 }});
     v.push_back({"antialiased", "--sampling antialiased (interior), 16 nodes, 256 rays/cell",
                  [](const Ctx& c) { return antialiased(c, c.settings.res(16), c.settings.rays(256), NodeFit::Projection); }});
     v.push_back({"antialiased_lsq", "--sampling antialiased --fit least-squares, 16 nodes, 256 rays/cell",
                  [](const Ctx& c) { return antialiased(c, c.settings.res(16), c.settings.rays(256), NodeFit::LeastSquares); }});
     v.push_back({"adaptive", "--layout adaptive --levels 3 --refine 2, 16 nodes, 128 rays",
                  [](const Ctx& c) { return adaptiveLayout(c, c.settings.res(16), c.settings.rays(128), 3, 2); }});
+    v.push_back({"adaptive_depth", "--layout adaptive --levels 3 --refine 2 --depth-moments, 16 nodes, 128 rays",
+                 [](const Ctx& c) { return adaptiveLayout(c, c.settings.res(16), c.settings.rays(128), 3, 2, true); }});
     v.push_back({"target_0.03", "--target-error 0.03 --max-rays 2048, 16 nodes",
                  [](const Ctx& c) { return targetError(c, c.settings.res(16), 0.03, c.settings.rays(2048)); }});
     v.push_back({"photons", "--method photons --photons 4000000, 16 nodes",
@@ -654,12 +683,13 @@ int main(int argc, char** argv) {
         for (const Config& c : configs) {
             if (!onlyConfig.empty() && c.name.rfind(onlyConfig, 0) != 0) continue;  // a prefix: --config direct_
             Row r{as.name, c.name};
+            std::vector<double> rel, noiseRel;  // per point: error, and (E1 - E2) / sqrt 2 / E_ref
             try {
                 const double cpu0 = cpuSeconds();
                 const Baked b = c.bake(Ctx{s, tracer, st, 1});
                 r.cpu = cpuSeconds() - cpu0;
                 const std::vector<double> got = values(b.irradiance, pts);
-                const std::vector<double> rel = relative(got, truth.e, truth);
+                rel = relative(got, truth.e, truth);
                 r.e = summarise(rel);
                 printWorst(rel, got, truth, pts, args.integer("--worst", 0));
                 r.seconds = b.seconds;
@@ -672,6 +702,7 @@ int main(int argc, char** argv) {
                     double s2 = 0;
                     for (std::size_t i = 0; i < got.size(); ++i) {
                         const double d = (got[i] - got2[i]) / std::sqrt(2.0) / truth.denominator(i);
+                        noiseRel.push_back(d);
                         s2 += d * d;
                     }
                     r.noise = std::sqrt(s2 / double(got.size()));
@@ -683,6 +714,24 @@ int main(int argc, char** argv) {
             printRow(r);
             writeCsvRow(csv, r);
             summary.push_back(r);
+            for (const bench::AccuracyRegion& region : as.regions) {
+                std::vector<double> part;
+                double n2 = 0;
+                for (std::size_t i = 0; i < pts.x.size(); ++i)
+                    if (region.contains(pts.x[i])) {
+                        part.push_back(rel[i]);
+                        if (!noiseRel.empty()) n2 += noiseRel[i] * noiseRel[i];
+                    }
+                if (part.empty()) continue;
+                Row rr{as.name + ":" + region.name, c.name, summarise(part)};
+                rr.note = std::to_string(part.size()) + " points";
+                if (!noiseRel.empty()) rr.noise = std::sqrt(n2 / double(part.size()));
+                char noise[32] = "";
+                if (rr.noise >= 0) std::snprintf(noise, sizeof noise, ", noise %.1f %%", 100 * rr.noise);
+                std::printf("    %-16s %7.1f %% %7.1f %% %8.1f %% %+7.1f %%  (%zu points%s)\n", region.name.c_str(), 100 * rr.e.rms,
+                            100 * rr.e.p95, 100 * rr.e.max, 100 * rr.e.bias, part.size(), noise);
+                writeCsvRow(csv, rr);
+            }
         }
         if (!decompose) continue;
 

@@ -95,6 +95,7 @@ int main(int argc, char** argv) {
                 options.raysPerNode = rays;
                 options.threads = threads;
                 options.transport.packetRays = packet == 1;
+                options.transport.maxBounces = 8;  // the paper configuration's figures (issue 4), not the default cap
                 LevelsBakeStats stats;
                 const double cpu0 = cpuSeconds();
                 const Volume v = bakeShGatherLevels(scene, tracer, layout, options, nullptr, &stats);
@@ -124,6 +125,7 @@ int main(int argc, char** argv) {
         GatherOptions options;
         options.raysPerNode = rays;
         options.threads = threads;
+        options.transport.maxBounces = 8;
         double fastWall = 1e30, fastCpu = 1e30;
         Volume fastVolume, robustVolume = bakeShGatherLevels(scene, tracer, layout, options);
         for (int r = 0; r < repeat; ++r) {

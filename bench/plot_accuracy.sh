@@ -10,7 +10,7 @@ command -v gnuplot >/dev/null || { echo "plot_accuracy.sh: gnuplot is not instal
 mkdir -p "$out"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
-scenes=$(tail -n +2 "$csv" | cut -d, -f1 | awk '!seen[$0]++')
+scenes=$(tail -n +2 "$csv" | cut -d, -f1 | grep -v : | awk '!seen[$0]++')
 # Rows worth a bar: every configuration, then the floors (not the reference's own error).
 configs=$(tail -n +2 "$csv" | cut -d, -f2 | awk '!seen[$0]++' | grep -v -e '^reference_se$' -e '^spatial_' -e '^floor_exact' -e '^iv_nodes' -e '^photons_vs')
 {

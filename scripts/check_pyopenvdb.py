@@ -1,12 +1,14 @@
 #!/usr/bin/env python3
 """Checks a vdblight .vdb with pyopenvdb (an independent reader of the file format).
 
-Usage: /usr/bin/python3 scripts/check_pyopenvdb.py FILE.vdb [--expect r,g,b]
+Usage: /usr/bin/python3 scripts/check_pyopenvdb.py FILE.vdb [--expect r,g,b] [--depth]
 
 Checks that the file metadata has vdblight:format_version and vdblight:basis == "sh2",
 that the nine SH grids exist as Vec3 float grids in the order of vdblight:channels, that
 their voxel (0, 0, 0) is active and sits at the level-0 origin with the level-0 spacing,
 and that sh_l0m0 at voxel (0, 0, 0) is finite (and equals --expect within 1e-5 relative).
+With --depth, also that the four depth-moment grids (docs/format.md) are vec3s grids with
+voxel (0, 0, 0) active and every component in [0, 1].
 Exit status 0 on success; otherwise 1 with a one-line message on stderr.
 (On Debian, pyopenvdb is in /usr/bin/python3's dist-packages, not in other interpreters.)
 """
@@ -34,7 +36,23 @@ def close(value, expected, rel=1e-5):
     return abs(value - expected) <= rel * max(abs(expected), 1e-30)
 
 
-def check_with_pyopenvdb(path, expect=None):
+DEPTH_GRIDS = ["depth_mean_pos", "depth_mean_neg", "depth_sigma_pos", "depth_sigma_neg"]
+
+
+def check_depth(vdb, path, types):
+    for name in DEPTH_GRIDS:
+        if types.get(name) != "vec3s":
+            raise CheckError("depth grid %s is missing or not vec3s (grids: %s)" % (name, ", ".join(sorted(types))))
+        grid = vdb.read(path, name)
+        value, active = grid.getConstAccessor().probeValue((0, 0, 0))
+        if not active:
+            raise CheckError("voxel (0,0,0) of %s is not active" % name)
+        lo, hi = grid.evalMinMax()
+        if min(lo) < 0.0 or max(hi) > 1.0:
+            raise CheckError("%s has values outside [0, 1]: %s .. %s" % (name, lo, hi))
+
+
+def check_with_pyopenvdb(path, expect=None, depth=False):
     """Runs every check; returns a short summary or raises CheckError."""
     import pyopenvdb as vdb
 
@@ -76,16 +94,20 @@ def check_with_pyopenvdb(path, expect=None):
         raise CheckError("voxel size %s differs from vdblight:level0_spacing %r" % (grid.transform.voxelSize(), spacing))
     if expect is not None and not all(close(v, e) for v, e in zip(value, expect)):
         raise CheckError("sh_l0m0 at voxel (0,0,0) is %s, expected %s" % (value, expect))
-    return "format_version %d, 9 vec3s SH grids, sh_l0m0(0,0,0) = (%.6g, %.6g, %.6g)" % ((version,) + tuple(value))
+    if depth:
+        check_depth(vdb, path, types)
+    return "format_version %d, 9 vec3s SH grids%s, sh_l0m0(0,0,0) = (%.6g, %.6g, %.6g)" % (
+        (version, " + 4 depth grids" if depth else "") + tuple(value))
 
 
 def main(argv):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("file")
     parser.add_argument("--expect", type=parse_rgb, help="expected sh_l0m0 at voxel (0,0,0) as r,g,b")
+    parser.add_argument("--depth", action="store_true", help="also check the depth-moment grids")
     args = parser.parse_args(argv)
     try:
-        summary = check_with_pyopenvdb(args.file, args.expect)
+        summary = check_with_pyopenvdb(args.file, args.expect, args.depth)
     except ImportError as e:
         print("check_pyopenvdb: FAIL: cannot import pyopenvdb (%s); use /usr/bin/python3" % e, file=sys.stderr)
         return 1

@@ -4,9 +4,9 @@
 # (-fsanitize=fuzzer,address,undefined; only the modules they need) in build-fuzz/, then for
 # each harness
 #   1. replays every seed and saved regression input of tests/fuzz/corpus/<harness>/ once;
-#   2. fuzzes from those seeds with a fixed seed (-seed=1) for a fixed number of inputs
-#      (RUNS, default 2000; FUZZ_RUNS), never for a wall-clock budget, from a fresh copy of
-#      the corpus, so that what it tries depends only on the commit.
+#   2. fuzzes from those seeds with fixed seeds (-seed=1, then 2, ... after each documented
+#      library finding) for a fixed number of inputs (RUNS, default 2000; FUZZ_RUNS), never
+#      for a wall-clock budget, from a fresh corpus, so what it tries depends only on the commit.
 # Every input that fails (crash, sanitizer report, leak, timeout, an allocation over the
 # malloc limit) is re-run by tests/fuzz/triage.py: it passes only as a documented library
 # signature (tests/fuzz/known_crashes.txt, lsan.supp); anything else fails the stage.
@@ -29,23 +29,32 @@ run_one() {
   local h="$1" seeds="$ROOT/tests/fuzz/corpus/$1" work="$BUILD/corpus/$1" status=0
   # 1. Replay: each seed and regression input on its own, through the same triage.
   python3 "$ROOT/tests/fuzz/triage.py" "$BUILD/tests/fuzz/$h" --inputs "$seeds" || status=1
-  # 2. Fixed-seed, fixed-count fuzzing (non-fork mode: it stops at the first failing input,
-  #    which is then triaged; with the same seed it is the same input on every machine).
+  # 2. Fixed-seed, fixed-count fuzzing. Non-fork mode stops at the first failing input; a
+  #    documented library finding is triaged and the run resumes from the corpus it has
+  #    grown, with the next seed, for the runs that are left (at most MAX_RESUMES times).
+  #    Each segment depends only on its seed and corpus, so the whole sequence is the same
+  #    on every machine.
   mkdir -p "$work"
-  "$BUILD/tests/fuzz/$h" -seed=1 -runs="$RUNS" -timeout=10 -rss_limit_mb="$RSS_LIMIT_MB" \
-      -malloc_limit_mb="$MALLOC_LIMIT_MB" -artifact_prefix="$BUILD/artifacts/$h-" "$work" "$seeds" \
-      >"$BUILD/logs/$h.log" 2>&1 || true
-  local done_line
-  done_line="$(grep -E '^#[0-9]+[[:space:]]+DONE' "$BUILD/logs/$h.log" | tail -1 || true)"
-  if [ -n "$done_line" ]; then
-    echo "fuzz: $h: $RUNS inputs from seed 1: $(echo "$done_line" | grep -oE 'cov: [0-9]+ ft: [0-9]+ corp: [0-9]+' || true)"
-  else
-    echo "fuzz: $h: stopped at a failing input (triaged below)"
-  fi
-  python3 "$ROOT/tests/fuzz/triage.py" "$BUILD/tests/fuzz/$h" "$BUILD/artifacts/$h-" || status=1
+  local done_runs=0 seed=1 log="$BUILD/logs/$h.log"
+  : >"$log"
+  while ((done_runs < RUNS && seed <= MAX_RESUMES)); do
+    local artifacts="$BUILD/artifacts/$h-seed$seed-"
+    LSAN_OPTIONS="suppressions=$ROOT/tests/fuzz/lsan.supp" \
+    "$BUILD/tests/fuzz/$h" -seed="$seed" -runs="$((RUNS - done_runs))" -timeout=10 -rss_limit_mb="$RSS_LIMIT_MB" \
+        -malloc_limit_mb="$MALLOC_LIMIT_MB" -artifact_prefix="$artifacts" "$work" "$seeds" >"$log.$seed" 2>&1 || true
+    cat "$log.$seed" >>"$log"
+    local last
+    last="$(grep -oE '^#[0-9]+' "$log.$seed" | tail -1 | tr -d '#')"
+    done_runs=$((done_runs + ${last:-0}))
+    python3 "$ROOT/tests/fuzz/triage.py" "$BUILD/tests/fuzz/$h" "$artifacts" || { status=1; break; }
+    grep -qE '^#[0-9]+[[:space:]]+DONE' "$log.$seed" && break
+    seed=$((seed + 1))
+  done
+  echo "fuzz: $h: $done_runs inputs from seeds 1..$seed: $(grep -oE 'cov: [0-9]+ ft: [0-9]+ corp: [0-9]+' "$log" | tail -1)"
   return $status
 }
 export -f run_one
-export BUILD ROOT RUNS RSS_LIMIT_MB MALLOC_LIMIT_MB
+MAX_RESUMES="${FUZZ_MAX_RESUMES:-20}"
+export BUILD ROOT RUNS RSS_LIMIT_MB MALLOC_LIMIT_MB MAX_RESUMES
 printf '%s\n' "${HARNESSES[@]}" | xargs -P "$JOBS" -I{} bash -c 'run_one {}'
-echo "fuzz: every harness replayed its seeds and ran $RUNS inputs from seed 1 with no new finding"
+echo "fuzz: every harness replayed its seeds and regression inputs and ran $RUNS inputs from fixed seeds with no new finding"

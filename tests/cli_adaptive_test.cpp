@@ -36,7 +36,9 @@ TEST(CliAdaptive, BakesToTheTargetAndReportsIt) {
 TEST(CliAdaptive, RefusesBadOptions) {
     test::TempDir dir;
     const std::string out = dir.file("bad.vdb");
-    for (const std::string args : {"--target-error 0", "--target-error 2", "--max-rays 100",
+    for (const std::string args : {"--target-error 0", "--target-error 2", "--rays 64 --max-rays 100",
+                                   "--quality preview --min-rays 16", "--quality best", "--target-error 0.1 --rays 64",
+                                   "--rays 16 --probe-passes 1 --sampling antialiased",
                                    "--target-error 0.1 --min-rays 1", "--target-error 0.1 --min-rays 128 --max-rays 64",
                                    "--target-error 0.1 --sampling antialiased", "--target-error 0.1 --layout bilevel",
                                    "--target-error 0.1 --method photons"}) {
@@ -47,6 +49,37 @@ TEST(CliAdaptive, RefusesBadOptions) {
         EXPECT_EQ(countLines(text), 1) << args << "\n" << text;
         EXPECT_FALSE(fs::exists(out)) << args;
     }
+}
+
+// Issue 15: the default bake adds one probe-to-probe pass, --quality preview is the fixed
+// 256 rays of full paths, high is error-targeted with two probe passes; every point gather
+// prints and stores its per-node noise; the default transport has no bounce cap in effect.
+TEST(CliQuality, PresetsAndNoiseSummary) {
+    test::TempDir dir;
+    const std::string out = dir.file("q.vdb");
+    std::string text;
+    ASSERT_EQ(0, test::runCommand(kCli + " bake --resolution 3 -o " + out, &text)) << text;
+    EXPECT_NE(text.find("with 256 rays per node (+ 1 probe-to-probe pass) and all bounces (Russian roulette)"),
+              std::string::npos) << text;
+    EXPECT_NE(text.find("Noise per node"), std::string::npos) << text;
+    ASSERT_EQ(0, test::runCommand(kCli + " info " + out, &text)) << text;
+    EXPECT_NE(text.find("probe_passes = 1"), std::string::npos) << text;
+    EXPECT_NE(text.find("estimated_error_worst_nodes"), std::string::npos) << text;
+    EXPECT_NE(text.find("bounces = 1024"), std::string::npos) << text;
+
+    ASSERT_EQ(0, test::runCommand(kCli + " bake --resolution 3 --quality preview -o " + out, &text)) << text;
+    EXPECT_NE(text.find("with 256 rays per node and all bounces"), std::string::npos) << text;
+    EXPECT_NE(text.find("Noise per node"), std::string::npos) << text;
+    ASSERT_EQ(0, test::runCommand(kCli + " info " + out, &text)) << text;
+    EXPECT_NE(text.find("rays_per_node = 256"), std::string::npos) << text;
+    EXPECT_NE(text.find("estimated_error_p95"), std::string::npos) << text;
+    EXPECT_EQ(text.find("probe_passes"), std::string::npos) << text;
+
+    ASSERT_EQ(0, test::runCommand(kCli + " bake --resolution 2 --quality high --max-rays 256 -o " + out, &text)) << text;
+    EXPECT_NE(text.find("Error-targeted: relative standard error"), std::string::npos) << text;
+    ASSERT_EQ(0, test::runCommand(kCli + " info " + out, &text)) << text;
+    EXPECT_NE(text.find("target_error = 0.03"), std::string::npos) << text;
+    EXPECT_NE(text.find("probe_passes = 2"), std::string::npos) << text;
 }
 
 TEST(CliShWindow, RecordsTheWindowAndRefusesPhotons) {

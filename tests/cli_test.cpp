@@ -71,7 +71,12 @@ TEST(Cli, BakeQueryInfoReferenceOnTheDefaultScene) {
     test::writeTextFile(pts, "x,y,z,nx,ny,nz\n0.28,0.27,0.28,0,1,0\n0.1,0.3,0.3,1,0,0\n# comment\n0.4,0.2,0.1,0,0,-1\n");
     const CliRun q = runCli("query " + out + " --points " + pts);
     ASSERT_EQ(q.status, 0) << q.output;
-    EXPECT_EQ(countLines(q.output), 4);
+    // Rows only: a warning line (SH ringing clamped at a dim point) may come on stderr, which
+    // runCli merges; since issue 15's default probe pass the third point rings slightly.
+    std::istringstream qLines(q.output);
+    int rows = 0;
+    for (std::string l; std::getline(qLines, l);) rows += l.rfind("vdblight:", 0) != 0;
+    EXPECT_EQ(rows, 4) << q.output;
     const CliRun ref = runCli("reference --points " + pts + " --samples 2048 -q -o " + dir.file("ref.csv"));
     ASSERT_EQ(ref.status, 0) << ref.output;
     std::ifstream refFile(dir.file("ref.csv"));
@@ -97,14 +102,10 @@ TEST(Cli, SameSeedSameBitsForOneAndTwoThreads) {
     ASSERT_EQ(va.levels.size(), vb.levels.size());
     ASSERT_EQ(va.levels[0].data.size(), vb.levels[0].data.size());
     EXPECT_EQ(0, std::memcmp(va.levels[0].data.data(), vb.levels[0].data.data(), va.levels[0].data.size() * sizeof(float)));
-    // Every metadata entry matches except the wall-clock time and the thread count.
-    Metadata ma = va.meta, mb = vb.meta;
-    for (const char* k : {"bake_seconds", "threads"}) {
-        ASSERT_TRUE(ma.count(k)) << k;
-        ma.erase(k);
-        mb.erase(k);
-    }
-    EXPECT_TRUE(ma == mb);
+    // Reproducible files (the default) leave out the wall-clock time and the thread count, so
+    // every metadata entry matches (byte-identical files: cli_reproducible_test).
+    for (const char* k : {"bake_seconds", "threads"}) EXPECT_EQ(va.meta.count(k), 0u) << k;
+    EXPECT_TRUE(va.meta == vb.meta);
 }
 
 TEST(Cli, BadInputGivesOneLineAndNoFile) {

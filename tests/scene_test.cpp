@@ -321,7 +321,7 @@ TEST(LoadErrors, UnsupportedExtensionIsSceneError) {
     TempDir dir;
     writeTextFile(dir.file("scene.xyz"), "whatever\n");
     expectThrowWith<SceneError>([&] { loadScene(dir.file("scene.xyz")); },
-                                "unsupported scene format '.xyz' (supported: .gltf .glb .obj .ply)");
+                                "unsupported scene format '.xyz' (supported: .3d .3ds");
 }
 
 TEST(LoadErrors, GarbageContentThrowsWithoutCrashing) {

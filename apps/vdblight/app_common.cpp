@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cmath>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -18,17 +19,58 @@ namespace vdblight::app {
 namespace fs = std::filesystem;
 
 void addSceneOptions(CLI::App& cmd, SceneOptions& o) {
-    cmd.add_option("scene", o.path, "Scene file (.gltf .glb .obj .ply); default: the bundled Cornell box");
+    addSceneFileOptions(cmd, o);
     cmd.add_option("--sky", o.sky, "Constant sky radiance r,g,b in W/(m^2 sr) where rays escape (default 0,0,0)");
     cmd.add_option("--sky-map", o.skyMap, "Equirectangular EXR sky (radiance), +Y up; overrides --sky");
-    cmd.add_option("--bounces", o.bounces, "Maximum diffuse reflections per light path (0 = direct light only)")
-        ->check(CLI::Range(0, 1000))
+    cmd.add_option("--bounces", o.bounces,
+                   "Cap on diffuse reflections per light path (0 = direct light only). Russian roulette ends "
+                   "paths without bias; the default cap is a safety that no path reaches, a smaller one drops "
+                   "the light of later bounces")
+        ->check(CLI::Range(0, 1 << 20))
         ->capture_default_str();
     cmd.add_flag("--allow-dark", o.allowDark, "Bake even if the scene has no light (the result is black)");
 }
 
-Scene loadSceneFromOptions(const SceneOptions& o, bool quiet) {
-    Scene scene = loadScene(o.path.empty() ? defaultScenePath() : o.path);
+void addSceneFileOptions(CLI::App& cmd, SceneOptions& o) {
+    cmd.add_option("scene", o.path,
+                   "Scene file: glTF (.gltf .glb), OBJ, PLY, FBX (binary, ascii), COLLADA (.dae), 3DS, STL, OFF, .x "
+                   "or any other format Assimp reads (docs/scene.md); the summary names the format and the "
+                   "meshes/instances read. Default: the bundled Cornell box");
+    addSceneFrameOptions(cmd, o);
+}
+
+void addSceneFrameOptions(CLI::App& cmd, SceneOptions& o) {
+    cmd.add_option("--scale", o.scale,
+                   "Metres per file unit, overriding the file's unit (FBX UnitScaleFactor, COLLADA <unit>); "
+                   "default: the file's unit, or 1 where the format has none")
+;
+    cmd.add_option("--up", o.up, "The file's up axis, y or z, overriding its metadata (FBX, COLLADA); default: "
+                                 "the metadata, or y where the format has none. Scenes are +Y up");
+}
+
+Scene loadSceneFile(const std::string& path, const SceneOptions& frame, bool quiet, SceneLoadReport* report) {
+    SceneLoadOptions load;
+    if (!frame.scale.empty()) {  // checked here, so that a bad value is one line like every other error
+        std::size_t used = 0;
+        double s = 0;
+        try { s = std::stod(frame.scale, &used); } catch (const std::exception&) { used = 0; }
+        if (used != frame.scale.size() || !(std::isfinite(s) && s > 0))
+            throw ValueError("--scale must be a positive number of metres per file unit, got '" + frame.scale + "'");
+        load.scale = s;
+    }
+    if (!frame.up.empty() && frame.up != "y" && frame.up != "z")
+        throw ValueError("--up must be y or z, got '" + frame.up + "'");
+    load.up = frame.up == "z" ? UpAxis::Z : frame.up == "y" ? UpAxis::Y : UpAxis::FromFile;
+    SceneLoadReport local;
+    SceneLoadReport& read = report ? *report : local;
+    Scene scene = loadScene(path, load, &read);
+    if (!quiet)
+        for (const std::string& w : read.warnings) std::cerr << "vdblight: warning: " << w << "\n";
+    return scene;
+}
+
+Scene loadSceneFromOptions(const SceneOptions& o, bool quiet, SceneLoadReport* report) {
+    Scene scene = loadSceneFile(o.path.empty() ? defaultScenePath() : o.path, o, quiet, report);
     if (!o.sky.empty()) {
         const Vec3d c = parseTriple(o.sky, "--sky");
         if (c.x < 0 || c.y < 0 || c.z < 0) throw ValueError("--sky radiance must not be negative");
@@ -43,6 +85,14 @@ Scene loadSceneFromOptions(const SceneOptions& o, bool quiet) {
         std::cerr << "vdblight: warning: skipped " << scene.stats.degenerateTrianglesSkipped
                   << " degenerate triangles\n";
     return scene;
+}
+
+std::string describeSceneSource(const SceneLoadReport& s) {
+    std::ostringstream out;
+    out << s.format << ": " << s.meshes << (s.meshes == 1 ? " mesh" : " meshes") << " in " << s.meshInstances
+        << (s.meshInstances == 1 ? " instance" : " instances") << ", " << s.units << ", up axis " << s.up;
+    if (s.defaultAlbedoOnly) out << ", no materials: default albedo 0.8";
+    return out.str();
 }
 
 TransportOptions transportFromOptions(const SceneOptions& o) {

@@ -13,6 +13,7 @@
 #include "vdblight/math.h"
 #include "vdblight/reference.h"
 #include "vdblight/scene.h"
+#include "vdblight/scene_load.h"
 
 namespace vdblight::app {
 
@@ -22,13 +23,25 @@ struct SceneOptions {
     std::string sky;               ///< "r,g,b" constant sky radiance
     std::string skyMap;            ///< equirectangular EXR
     bool allowDark = false;
-    int bounces = 8;
+    int bounces = kSafetyBounces;  ///< a safety cap: Russian roulette ends paths (light.h)
+    std::string scale;             ///< --scale: metres per file unit (empty: the file's unit)
+    std::string up;                ///< --up: y | z (empty: the file's metadata)
 };
 
 void addSceneOptions(CLI::App& cmd, SceneOptions& o);
-/// Loads the scene, applies sky options, refuses a scene without light unless allowed.
-Scene loadSceneFromOptions(const SceneOptions& o, bool quiet);
+/// The scene positional argument, --scale and --up alone (for commands without lighting options).
+void addSceneFileOptions(CLI::App& cmd, SceneOptions& o);
+/// --scale and --up alone (for commands that take scene files as options).
+void addSceneFrameOptions(CLI::App& cmd, SceneOptions& o);
+/// Loads `path` with the --scale / --up of `frame` and prints its warnings unless quiet.
+Scene loadSceneFile(const std::string& path, const SceneOptions& frame, bool quiet, SceneLoadReport* report = nullptr);
+/// Loads the scene (--scale, --up), prints its warnings unless quiet, applies sky options,
+/// refuses a scene without light unless allowed. `report`, if given, says how it was read.
+Scene loadSceneFromOptions(const SceneOptions& o, bool quiet, SceneLoadReport* report = nullptr);
 TransportOptions transportFromOptions(const SceneOptions& o);
+/// How the scene file was read, for summaries: "FBX (binary): 3 meshes in 4 instances,
+/// 1 unit = 0.01 m (FBX UnitScaleFactor 1 cm), Y up (FBX UpAxis)".
+std::string describeSceneSource(const SceneLoadReport& report);
 
 /// "x,y,z" -> three numbers (ValueError naming `what` otherwise).
 Vec3d parseTriple(const std::string& text, const char* what);

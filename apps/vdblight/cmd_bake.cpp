@@ -1,5 +1,7 @@
 // vdblight bake [SCENE] -o OUT.vdb: a uniform SH order-2 irradiance volume.
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <thread>
 
@@ -8,6 +10,7 @@
 #include "vdblight/bake.h"
 #include "vdblight/bake_adaptive.h"
 #include "vdblight/bake_antialiased.h"
+#include "vdblight/bake_depth.h"
 #include "vdblight/bake_bins.h"
 #include "vdblight/bake_direct.h"
 #include "vdblight/scene_lights.h"
@@ -22,6 +25,7 @@
 #include "vdblight/sh.h"
 #include "vdblight/scene_origin.h"
 #include "vdblight/sh_window.h"
+#include "vdblight/tiles.h"
 #include "vdblight/trace.h"
 #include "vdblight/vdb_io.h"
 
@@ -53,11 +57,19 @@ struct BakeCommand {
     double refineDistance = 0.0;
     bool shWindow = false;
     double targetError = 0;  // > 0: error-targeted point gather (bake_adaptive.h)
-    uint32_t maxRays = 4096;
-    uint32_t minRays = 64;
+    uint32_t maxRays = 0;    // 0: the --quality preset's
+    uint32_t minRays = 0;    // 0: the --quality preset's
+    std::string quality = "default";  // preview | default | high (qualityPreset)
+    int probePasses = 0;              // GatherOptions::probePasses
     std::string basis = "sh2";  // sh2 | bins:R | moment:n[:R] (bins.h)
     std::string direct;            // baked | runtime | occlusion (bake_direct.h); empty: the default
     int directLights = 4;          // --direct occlusion: lights with a visibility channel
+    bool depthMoments = false;  // per-node depth moments for visibility-weighted lookups (bake_depth.h)
+    uint32_t depthRays = 0;     // 0: as many as --rays (then the gather's own first rays)
+    bool reproducible = true;   // leave run-specific metadata out of the file (vdb_io.h)
+    int tiles = 0;              // > 0: bake only tile `tile` of this many (tiles.h)
+    int tile = -1;
+    std::string parameters;     // every option that changes the result, for the tile hash
 };
 
 /// --direct: parsed and checked against the other options before anything is loaded.
@@ -88,7 +100,82 @@ DirectOptions directFromOptions(const BakeCommand& c) {
     return d;
 }
 
+/// Why a bake with these options cannot be split into tiles, or "" if it can.
+std::string untileable(const BakeCommand& c) {
+    if (c.method == "photons") return "--method photons cannot be tiled yet (its photons cross every tile)";
+    if (c.sampling == "antialiased")
+        return "--sampling antialiased cannot be tiled (cells share nodes across tile borders, dilation crosses them)";
+    if (c.invalidateBackface >= 0) return "--invalidate-backface cannot be tiled (its dilation crosses tile borders)";
+    if (c.targetError > 0) return "--target-error cannot be tiled yet (its error statistics are not merged)";
+    if (c.shWindow) return "--sh-window cannot be tiled yet (the window would have to follow the seams at merge)";
+    if (c.probePasses > 0)
+        return "probe-to-probe passes cannot be tiled yet (each pass reads every node of the pass before): "
+               "add --probe-passes 0 or --quality preview";
+    // The visibility pass bakes every node and tile files do not carry the light list or the
+    // visibility grids, so a merged file would lose them: only direct light in the SH tiles.
+    if (directFromOptions(c).mode != DirectMode::Baked)
+        return std::string("--direct ") + (c.direct.empty() ? "occlusion (the default here)" : c.direct) +
+               " cannot be tiled yet (tile files do not carry the light list and visibility channels): add --direct baked";
+    return "";
+}
+
+/// The canonical text of the options that change a bake's result: each as given on the
+/// command line, so that every tile of one bake must be started with the same options.
+std::string bakeParameters(const CLI::App& cmd) {
+    static const char* const kIgnored[] = {"--output", "--tile", "--threads", "--quiet", "--help", "--reproducible"};
+    std::vector<std::string> lines;
+    for (const CLI::Option* opt : cmd.get_options()) {
+        const std::string name = opt->get_name();
+        if (std::find(std::begin(kIgnored), std::end(kIgnored), name) != std::end(kIgnored)) continue;
+        std::string line = name + "=";
+        for (const std::string& r : opt->results()) line += r + ";";
+        lines.push_back(line);
+    }
+    std::sort(lines.begin(), lines.end());
+    std::string text;
+    for (const std::string& l : lines) text += l + "\n";
+    return text;
+}
+
 void runPhotons(const BakeCommand& c);
+
+/// What --quality means for the point gather (docs/methods.md, issue 15). `preview`: the
+/// fixed 256 rays per node of full paths (sub-second bakes to iterate on a scene).
+/// `default`: 256 rays of full paths, then one probe-to-probe pass of 256 rays that ends
+/// paths at their first hit with the first pass's reflected light (GatherOptions::probePasses):
+/// about twice preview's rays, and much less noise where light comes through openings.
+/// `high`: every node sampled to a relative standard error of 3 % (64..2048 rays,
+/// bake_adaptive.h), two probe passes. Explicit --rays, --target-error, --probe-passes,
+/// --min-rays and --max-rays override the preset's.
+struct QualityPreset {
+    double targetError;  ///< 0: fixed budget (--rays)
+    uint32_t minRays, maxRays;
+    int probePasses;
+};
+QualityPreset qualityPreset(const std::string& quality) {
+    if (quality == "preview") return {0.0, 0, 0, 0};
+    if (quality == "default") return {0.0, 0, 0, 1};
+    if (quality == "high") return {0.03, 64, 2048, 2};
+    throw ValueError("--quality must be preview, default or high, got '" + quality + "'");
+}
+
+/// The bake's own noise estimate, honestly labelled: per node the relative standard error of
+/// its mean irradiance from the sample variance; what it does not measure is said.
+void printNoiseSummary(const BakeStats& stats, const Volume& volume, const GridSpec& grid) {
+    auto percent = [](double e) { return std::to_string(int(std::lround(e * 1000.0)) / 10) + "." +
+                                         std::to_string(int(std::lround(e * 1000.0)) % 10) + " %"; };
+    const std::vector<float>& err = stats.estimatedError;
+    std::size_t worst = 0;
+    for (std::size_t n = 1; n < err.size(); ++n)
+        if (err[n] > err[worst]) worst = n;
+    std::cout << "Noise per node (relative standard error of its irradiance, from the sample variance): p50 "
+              << percent(stats.errorQuantile(0.5)) << ", p95 " << percent(stats.errorQuantile(0.95)) << ", max "
+              << percent(err[worst]) << " at node " << worst % grid.nx << "," << (worst / grid.nx) % grid.ny << ","
+              << worst / (std::size_t(grid.nx) * grid.ny);
+    if (volume.meta.count("nodes_at_max_rays"))
+        std::cout << "; " << metaString(volume.meta, "nodes_at_max_rays") << " nodes stopped at the ray cap above the target";
+    std::cout << ". Not included: SH truncation, interpolation between nodes.\n";
+}
 
 /// Runs the pass the sampling options select.
 Volume bakeSelected(const BakeCommand& c, const Scene& scene, const Tracer& tracer, const GridSpec& grid,
@@ -101,6 +188,7 @@ Volume bakeSelected(const BakeCommand& c, const Scene& scene, const Tracer& trac
         a.seed = options.seed;
         a.threads = options.threads;
         a.transport = options.transport;
+        a.probePasses = options.probePasses;
         AdaptiveStats as;
         Volume v = bakeShGatherAdaptive(scene, tracer, grid, a, progress, &as);
         *stats = as;
@@ -136,7 +224,35 @@ void run(const BakeCommand& c) {
     DirectOptions direct = directFromOptions(c);
     if (c.method == "photons") return runPhotons(c);
     checkOutputWritable(c.output);
-    Scene scene = loadSceneFromOptions(c.scene, c.quiet);
+    SceneLoadReport read;
+    Scene scene = loadSceneFromOptions(c.scene, c.quiet, &read);
+    TileId tileId;
+    NodeMask tileMask;
+    if (c.tiles > 0) {
+        tileId.index = c.tile, tileId.count = c.tiles;
+        tileId.paramsHash = tileParamsHash(scene.contentHash(), c.parameters);
+        TileId onDisk;
+        bool done = false;
+        std::error_code ec;
+        try {  // an unreadable or foreign file there is simply baked over
+            done = std::filesystem::exists(c.output, ec) && readTileId(c.output, onDisk) && onDisk.index == tileId.index &&
+                   onDisk.count == tileId.count && onDisk.paramsHash == tileId.paramsHash &&
+                   fileContentHash(c.output).uuidFromContent;  // and not damaged since
+        } catch (const Error&) {
+        }
+        if (done) {
+            if (!c.quiet)
+                std::cout << "Tile " << c.tile << " of " << c.tiles << " is already baked with the same scene and parameters ("
+                          << c.output << "): skipped.\n";
+            return;
+        }
+    }
+    // The tile's nodes once the layout is known (every level of it).
+    auto selectTile = [&](const std::vector<VolumeLevel>& levels) -> const NodeMask* {
+        if (c.tiles <= 0) return nullptr;
+        tileMask = tileNodeMask(levels, c.tiles, c.tile);
+        return &tileMask;
+    };
 
     GridPlacement placement;
     placement.spacing = c.spacing;
@@ -163,6 +279,9 @@ void run(const BakeCommand& c) {
         direct.mode = DirectMode::Baked;  // the default in a scene lit by the sky only
     const DirectPlan plan = planDirectLight(scene, tracer, grid, direct);  // baked: an empty plan
     options.transport.skipAtReceiver = plan.filter;
+    options.probePasses = c.probePasses;
+    // The point gather records depth moments from its own first rays (no extra rays).
+    options.depthMoments = c.depthMoments && (c.depthRays == 0 || c.depthRays == c.rays);
 
     ProgressBar progress(c.quiet);
     LevelsBakeStats stats;
@@ -182,14 +301,19 @@ void run(const BakeCommand& c) {
         const LevelLayout layout = levels.kind == LayoutKind::Uniform
                                        ? uniformLayout(grid)
                                        : placeLevels(grid, scene.positions, scene.indices, levels, 2 * channels * 3 * sizeof(float));
+        bo.only = selectTile(layout.levels);
         volume = bakeBins(scene, tracer, layout, bo, &progress, &stats);
     } else if (levels.kind == LayoutKind::Uniform) {
+        VolumeLevel shape;
+        shape.grid = grid;
+        options.only = selectTile({shape});
         volume = bakeSelected(c, scene, tracer, grid, options, &progress, &stats);
     } else {
         levels.keepFinestGeometry = c.cullSolids;
         LevelLayout layout = placeLevels(grid, scene.positions, scene.indices, levels, 2 * sh::kCoeffs * 3 * sizeof(float));
         SolidCullStats cull;
         if (c.cullSolids) cullSolidNodes(layout, tracer, SolidCullOptions(), &cull);
+        options.only = selectTile(layout.levels);
         volume = bakeShGatherLevels(scene, tracer, layout, options, &progress, &stats);
         if (c.cullSolids && !c.quiet)
             std::cout << "Solid culling: " << cull.nodesCulled << " of " << cull.nodesBefore
@@ -217,23 +341,55 @@ void run(const BakeCommand& c) {
     }
     if (c.refineDistance > 0) volume.meta["refine_distance"] = c.refineDistance;
     if (c.shWindow) applyShWindow(volume);
+    DepthStats depthStats;
+    if (c.depthMoments && !volume.hasDepth()) {  // passes without the gather's hook (bake_depth.h)
+        DepthOptions depthOptions;
+        depthOptions.raysPerNode = c.depthRays > 0 ? c.depthRays : c.rays;
+        depthOptions.seed = c.seed;
+        depthOptions.threads = c.threads;
+        bakeDepthMoments(tracer, volume, depthOptions, nullptr, &depthStats);
+    }
     placeVolumeInWorld(volume, scene.origin);  // baked in the scene's local frame (scene_origin.h)
     volume.meta["scene_file"] = c.scene.path.empty() ? std::string("(bundled default) ") + defaultScenePath() : c.scene.path;
     volume.meta["sky"] = c.scene.skyMap.empty() ? (c.scene.sky.empty() ? std::string("0,0,0") : c.scene.sky)
                                                 : "map:" + c.scene.skyMap;
     WriteOptions write;
     write.halfFloat = c.half;
+    write.reproducible = c.reproducible;
+    if (c.tiles > 0) {
+        writeTile(volume, tileMask, tileId, c.output, write);
+        uint64_t mine = 0;
+        for (const auto& l : tileMask) mine += uint64_t(std::count(l.begin(), l.end(), uint8_t(1)));
+        if (!c.quiet)
+            std::cout << "Baked tile " << c.tile << " of " << c.tiles << ": " << mine << " of " << stats.nodes
+                      << " nodes, " << formatCount(double(stats.rays.total())) << " rays in " << formatSeconds(stats.seconds)
+                      << ". Wrote " << c.output << " (merge the tiles with 'vdblight merge').\n";
+        return;
+    }
     writeVolume(volume, c.output, write);
+    if (c.depthMoments && !c.quiet)
+        std::cout << "Depth moments: " << (depthStats.rays ? formatCount(double(depthStats.rays)) + " first-hit rays in " +
+                                                                 formatSeconds(depthStats.seconds)
+                                                           : std::string("from the gather's own first hits"))
+                  << " (" << depth::kBytesPerNode << " B per node at 8 bits).\n";
 
     if (!c.quiet) {
         std::cout << "Baked " << stats.nodes << " nodes (" << (volume.levels.size() > 1 ? "level 0: " : "") << grid.nx << " x " << grid.ny << " x " << grid.nz
                   << ", spacing " << grid.spacing << ") of scene '" << scene.name << "' ("
                   << scene.triangleCount() << " triangles";
+        std::cout << "; " << describeSceneSource(read);
         if (scene.stats.degenerateTrianglesSkipped)
             std::cout << ", " << scene.stats.degenerateTrianglesSkipped << " degenerate skipped";
         std::cout << ") with " << (c.targetError > 0 ? std::string("error-targeted")
                                    : binned ? metaString(volume.meta, "rays_per_node") : std::to_string(c.rays))
-                  << " rays per node and up to " << c.scene.bounces << " bounces: "
+                  << " rays per node"
+                  << (c.probePasses > 0 ? " (+ " + std::to_string(c.probePasses) + " probe-to-probe pass" +
+                                              (c.probePasses > 1 ? "es" : "") + ")"
+                                        : std::string())
+                  << " and "
+                  << (c.scene.bounces >= kSafetyBounces ? std::string("all bounces (Russian roulette)")
+                                                        : "up to " + std::to_string(c.scene.bounces) + " bounces")
+                  << ": "
                   << formatCount(double(stats.rays.total())) << " rays (" << formatCount(double(stats.rays.intersect))
                   << " closest-hit, " << formatCount(double(stats.rays.occluded)) << " shadow) in "
                   << formatSeconds(stats.seconds) << ", " << formatCount(stats.raysPerSecond()) << " rays/s on "
@@ -247,6 +403,7 @@ void run(const BakeCommand& c) {
         else
         std::cout << ". Wrote " << c.output << " (SH order 2 radiance, 9 Vec3f grids"
                   << (volume.levels[0].validity.empty() ? "" : " + validity") << ").\n";
+        if (!stats.estimatedError.empty()) printNoiseSummary(stats, volume, grid);
     }
 }
 // --method photons: an irradiance-vector volume filled by photon tracing.
@@ -258,7 +415,8 @@ void runPhotons(const BakeCommand& c) {
     options.transport = transportFromOptions(c.scene);
     checkPhotonCount(options.photons);  // before loading anything
     checkOutputWritable(c.output);
-    Scene scene = loadSceneFromOptions(c.scene, c.quiet);
+    SceneLoadReport read;
+    Scene scene = loadSceneFromOptions(c.scene, c.quiet, &read);
     GridPlacement placement;
     placement.spacing = c.spacing;
     placement.resolution = (c.spacing > 0 || c.resolution > 0) ? c.resolution : 16;
@@ -276,12 +434,13 @@ void runPhotons(const BakeCommand& c) {
                                                 : "map:" + c.scene.skyMap;
     WriteOptions write;
     write.halfFloat = c.half || c.compact;
+    write.reproducible = c.reproducible;
     if (c.compact) volume = iv::compact(volume);
     writeVolume(volume, c.output, write);
     if (!c.quiet) {
         std::cout << "Baked " << grid.nodeCount() << " nodes (" << grid.nx << " x " << grid.ny << " x " << grid.nz
                   << ", spacing " << grid.spacing << ") of scene '" << scene.name << "' (" << scene.triangleCount()
-                  << " triangles) with " << formatCount(double(stats.photons)) << " photons: "
+                  << " triangles; " << describeSceneSource(read) << ") with " << formatCount(double(stats.photons)) << " photons: "
                   << formatCount(double(stats.segments)) << " segments, " << formatCount(double(stats.crossings))
                   << " face crossings, " << formatCount(double(stats.rays.total())) << " rays in "
                   << formatSeconds(stats.seconds) << " ("
@@ -303,7 +462,17 @@ void addBakeCommand(CLI::App& app) {
         cmd->add_option("--resolution", c->resolution, "Nodes along the longest axis (default 16)")->excludes(spacing);
     cmd->add_option("--bounds", c->bounds,
                     "Node box x0,y0,z0,x1,y1,z1 (default: scene bounds inset by half a spacing)");
-    cmd->add_option("--rays", c->rays, "Ray directions per node")->capture_default_str()->check(CLI::Range(1u, 1u << 30));
+    auto* rays = cmd->add_option("--rays", c->rays,
+                                 "Ray directions per node and pass: a fixed budget (default 256; --quality high "
+                                 "samples to an error target instead)")
+                     ->check(CLI::Range(1u, 1u << 30));
+    cmd->add_option("--quality", c->quality,
+                    "preview: 256 rays per node of full paths (fast, noisy where light is hard to reach); "
+                    "default: 256 rays + one probe-to-probe pass of 256 (about 2x preview's time, much less noise "
+                    "where light comes through openings); high: each node sampled to a relative standard error of "
+                    "3 % (64..2048 rays) + two probe passes. Presets apply to --method gather, --sampling point, "
+                    "--layout uniform, --basis sh2; other passes take the fixed --rays")
+        ->capture_default_str();
     cmd->add_option("--seed", c->seed, "Random seed (same seed, same bits, any thread count)")->capture_default_str();
     cmd->add_option("--threads", c->threads, "Worker threads (0 = all cores)")->capture_default_str()->check(CLI::Range(0, 4096));
     cmd->add_flag("--half", c->half, "Store the grids as 16-bit floats");
@@ -332,8 +501,10 @@ void addBakeCommand(CLI::App& app) {
     auto* target = cmd->add_option("--target-error", c->targetError,
                     "point gather: sample each node in doubling rounds until the relative standard error of its "
                     "mean irradiance is below this (e.g. 0.02), up to --max-rays");
-    auto* maxRays = cmd->add_option("--max-rays", c->maxRays, "--target-error: most rays a node may take")->capture_default_str();
-    auto* minRays = cmd->add_option("--min-rays", c->minRays, "--target-error: rays of the first round")->capture_default_str();
+    auto* maxRays = cmd->add_option("--max-rays", c->maxRays,
+                                    "error-targeted bakes: most rays a node may take (default 2048)");
+    auto* minRays = cmd->add_option("--min-rays", c->minRays,
+                                    "error-targeted bakes: rays of the first round (default 64)");
     cmd->add_flag("--sh-window", c->shWindow,
                   "gather: window the SH bands (1, 0.584, 0.135) so that irradiance is never negative (blurs; "
                   "docs/methods.md)");
@@ -356,17 +527,72 @@ void addBakeCommand(CLI::App& app) {
                     "with lights, baked otherwise");
     cmd->add_option("--direct-lights", c->directLights, "--direct occlusion: lights with a visibility channel (1..16)")
         ->capture_default_str();
+    auto* probe = cmd->add_option("--probe-passes", c->probePasses,
+                    "point gather: after a first pass of full paths, this many passes that end "
+                    "each gathered path at its first hit with the previous pass's reflected light (probe-to-probe "
+                    "bounces, DDGI-style; less noise where light comes through openings, some bias; docs/methods.md). "
+                    "Default: 0 with --quality preview, 1 with default, 2 with high")
+        ->check(CLI::Range(0, 8));  // default: the --quality preset's
+    cmd->add_flag("--depth-moments", c->depthMoments,
+                  "gather with sh2: also store per-node depth moments, so that lookups do not interpolate across "
+                  "walls (docs/methods.md, visibility-aware interpolation)");
+    auto* depthRays = cmd->add_option("--depth-rays", c->depthRays,
+                                      "--depth-moments: first-hit rays per node (default: as many as --rays)")
+                          ->check(CLI::Range(1u, 1u << 20));
+    cmd->add_flag("--reproducible,!--no-reproducible", c->reproducible,
+                  "Same inputs, parameters and seed give the same file bytes on any machine and thread count: "
+                  "the wall-clock time and thread count are printed, not stored (default); --no-reproducible "
+                  "stores them as vdblight:bake_seconds and vdblight:threads");
     cmd->add_flag("-q,--quiet", c->quiet, "No progress bar and no summary");
-    cmd->callback([c, spacing, resolution, invalidate, refine, levelsOpt, target, maxRays, minRays, refineDistance] {
+    auto* tilesOpt = cmd->add_option("--tiles", c->tiles,
+                    "Split the bake into this many tiles (bricks of 8^3 nodes of every level, balanced by cost) and "
+                    "bake only --tile I of them; 'vdblight merge' puts the tile files together (docs/scaling.md). "
+                    "A tile file that exists with the same scene and parameters is skipped (resumable)");
+    auto* tileOpt = cmd->add_option("--tile", c->tile, "With --tiles N: the tile to bake, 0 .. N-1");
+    cmd->callback([c, cmd, spacing, resolution, invalidate, refine, levelsOpt, target, maxRays, minRays, refineDistance,
+                   rays, probe, depthRays, tilesOpt, tileOpt] {
+        if (depthRays->count() > 0 && !c->depthMoments) throw ValueError("--depth-rays needs --depth-moments");
+        if (c->depthMoments && c->method != "gather")
+            throw ValueError("--depth-moments works with --method gather only (the irradiance-vector lookup does not weight by depth yet)");
         if (target->count() > 0 && !(c->targetError > 0 && c->targetError <= 1))
             throw ValueError("--target-error must be in (0, 1], got " + std::to_string(c->targetError));
+        const QualityPreset preset = qualityPreset(c->quality);
+        if (target->count() > 0 && rays->count() > 0)
+            throw ValueError("--target-error and --rays exclude each other (an error target or a fixed budget)");
+        // The quality's error target and probe passes apply where the point gather on a
+        // uniform SH grid runs; other passes take the fixed --rays (default 256).
+        const bool targetable = c->method == "gather" && c->sampling == "point" && invalidate->count() == 0 &&
+                                parseLayoutKind(c->layout) == LayoutKind::Uniform &&
+                                bins::parseBasisSpec(c->basis).kind == bins::BasisSpec::Kind::Sh2;
+        if (target->count() == 0 && rays->count() == 0 && preset.targetError > 0 && targetable)
+            c->targetError = preset.targetError;
+        if (c->targetError > 0) {
+            const QualityPreset caps = qualityPreset("high");
+            if (minRays->count() == 0) c->minRays = caps.minRays;
+            if (maxRays->count() == 0) c->maxRays = std::max(caps.maxRays, c->minRays);
+        }
+        if (probe->count() == 0 && targetable) c->probePasses = preset.probePasses;
+        // After the --quality preset, which may add an error target or probe passes.
+        if ((tilesOpt->count() > 0) != (tileOpt->count() > 0)) throw ValueError("--tiles and --tile go together");
+        if (tilesOpt->count() > 0) {
+            if (c->tiles < 1) throw ValueError("--tiles must be at least 1, got " + std::to_string(c->tiles));
+            if (c->tile < 0 || c->tile >= c->tiles)
+                throw ValueError("--tile must be between 0 and " + std::to_string(c->tiles - 1) + ", got " + std::to_string(c->tile));
+            const std::string why = untileable(*c);
+            if (!why.empty()) throw ValueError(why);
+            c->parameters = bakeParameters(*cmd);
+        }
         if (c->shWindow && (c->method != "gather" || bins::parseBasisSpec(c->basis).kind != bins::BasisSpec::Kind::Sh2))
             throw ValueError("--sh-window applies to --method gather with --basis sh2 only");
-        if (target->count() > 0 && (c->minRays < 2 || c->maxRays < c->minRays))
+        if (probe->count() > 0 && c->probePasses > 0 && !targetable)
+            throw ValueError("--probe-passes works with --method gather, --sampling point, --layout uniform and "
+                             "--basis sh2 only");
+        if (c->targetError > 0 && (c->minRays < 2 || c->maxRays < c->minRays))
             throw ValueError("--min-rays must be at least 2 and --max-rays at least --min-rays, got " +
                              std::to_string(c->minRays) + " and " + std::to_string(c->maxRays));
-        if (target->count() == 0 && (maxRays->count() > 0 || minRays->count() > 0))
-            throw ValueError("--max-rays and --min-rays need --target-error");
+        if (c->targetError == 0 && (maxRays->count() > 0 || minRays->count() > 0))
+            throw ValueError("--max-rays and --min-rays need an error-targeted bake (--target-error, or --quality "
+                             "default/high without --rays)");
         if (target->count() > 0 && (c->method != "gather" || c->sampling != "point" || invalidate->count() > 0 ||
                                     parseLayoutKind(c->layout) != LayoutKind::Uniform ||
                                     bins::parseBasisSpec(c->basis).kind != bins::BasisSpec::Kind::Sh2))

@@ -11,15 +11,14 @@ namespace vdblight::app {
 
 namespace {
 struct CheckSceneCommand {
-    std::string scene;
+    SceneOptions scene;  // path, --scale, --up
     SceneCheckOptions options;
     int limit = 50;
     bool quiet = false;
 };
 
 void run(const CheckSceneCommand& c) {
-    SceneOptions so;
-    so.path = c.scene;
+    SceneOptions so = c.scene;
     so.allowDark = true;  // lighting does not matter here
     const Scene scene = loadSceneFromOptions(so, c.quiet);
     const Tracer tracer(scene);
@@ -59,7 +58,7 @@ void addCheckSceneCommand(CLI::App& app) {
     auto c = std::make_shared<CheckSceneCommand>();
     CLI::App* cmd = app.add_subcommand(
         "check-scene", "List faces whose back side is seen from open space (reversed normals, K&L section 7)");
-    cmd->add_option("scene", c->scene, "Scene file (.gltf .glb .obj .ply); default: the bundled Cornell box");
+    addSceneFileOptions(*cmd, c->scene);
     cmd->add_option("--resolution", c->options.resolution, "Probe points along the longest side of the bounds")
         ->check(CLI::Range(1, 1024))
         ->capture_default_str();

@@ -6,6 +6,7 @@
 #include "commands.h"
 #include "vdblight/errors.h"
 #include "vdblight/prt_io.h"
+#include "vdblight/tiles.h"
 #include "vdblight/vdb_io.h"
 
 namespace vdblight::app {
@@ -60,6 +61,8 @@ const char* describeChannels(const std::string& kind) {
 
 void printHuman(const Volume& v, const FileInfo& f) {
     std::cout << f.path << ": " << formatBytes(double(f.fileBytes)) << " on disk\n"
+              << "  content hash: sha256 " << f.hash.sha256 << " (header UUID " << f.hash.headerUuid
+              << (f.hash.uuidFromContent ? ", derived from it" : ", random: not written by this version") << ")\n"
               << "  basis: " << v.basis.kind << " (" << v.basis.channelCount() << describeChannels(v.basis.kind) << ")\n";
     // bake --direct (docs/format.md, "Direct light").
     std::cout << "  direct light: " << directModeName(v.direct.mode);
@@ -93,6 +96,8 @@ void printHuman(const Volume& v, const FileInfo& f) {
 void printJson(const Volume& v, const FileInfo& f) {
     std::ostringstream o;
     o << "{\n  \"path\": " << jsonString(f.path) << ",\n  \"file_bytes\": " << f.fileBytes
+      << ",\n  \"content_sha256\": " << jsonString(f.hash.sha256) << ",\n  \"header_uuid\": " << jsonString(f.hash.headerUuid)
+      << ",\n  \"uuid_from_content\": " << (f.hash.uuidFromContent ? "true" : "false")
       << ",\n  \"basis\": " << jsonString(v.basis.kind) << ",\n  \"levels\": [";
     for (std::size_t l = 0; l < v.levels.size(); ++l) {
         const GridSpec& g = v.levels[l].grid;
@@ -117,6 +122,23 @@ void printJson(const Volume& v, const FileInfo& f) {
     o << "\n  }\n}\n";
     std::cout << o.str();
 }
+/// A tile of a bake (bake --tiles): its identity, grids and content hash.
+void printTile(const std::string& path, const TileId& id, bool json) {
+    const FileInfo f = inspectVolumeFile(path);
+    if (json) {
+        std::cout << "{\n  \"path\": " << jsonString(path) << ",\n  \"file_bytes\": " << f.fileBytes
+                  << ",\n  \"content_sha256\": " << jsonString(f.hash.sha256) << ",\n  \"tile_index\": " << id.index
+                  << ",\n  \"tile_count\": " << id.count << ",\n  \"tile_params_hash\": " << jsonString(id.paramsHash)
+                  << "\n}\n";
+        return;
+    }
+    std::cout << path << ": tile " << id.index << " of " << id.count << " of a bake (merge with 'vdblight merge'), "
+              << formatBytes(double(f.fileBytes)) << " on disk\n"
+              << "  parameter hash: " << id.paramsHash << "\n"
+              << "  content hash: sha256 " << f.hash.sha256 << "\n  grids:\n";
+    for (const GridInfo& g : f.grids)
+        std::cout << "    " << g.name << "  " << g.valueType << "  " << g.activeVoxels << " active voxels\n";
+}
 }  // namespace
 
 void addInfoCommand(CLI::App& app) {
@@ -132,6 +154,8 @@ void addInfoCommand(CLI::App& app) {
         } catch (const Error&) {
         }  // readVolume below reports unreadable files as before
         if (prt) return printPrtInfo(*path);
+        TileId tile;
+        if (readTileId(*path, tile)) return printTile(*path, tile, *json);
         const Volume volume = readVolume(*path);
         const FileInfo info = inspectVolumeFile(*path);
         if (*json) printJson(volume, info);

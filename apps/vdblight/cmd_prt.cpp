@@ -23,7 +23,7 @@ namespace vdblight::app {
 namespace {
 
 struct PrtBakeCommand {
-    std::string scene;
+    SceneOptions scene;  // path, --scale, --up
     std::string output;
     PrtOptions options;
     PrtWriteOptions write;
@@ -43,6 +43,7 @@ struct PrtRelightCommand {
     std::string output;
     std::string format;  ///< csv | ply (default from the extension)
     std::string referenceScene;
+    SceneOptions frame;  ///< --scale, --up for --scene and --reference
     std::string volumeOutput;
     int threads = 0;
     bool quiet = false;
@@ -58,7 +59,7 @@ void runBake(PrtBakeCommand& c) {
     else if (c.formFactors == "sampled") c.options.formFactors = PrtOptions::FormFactors::Sampled;
     else throw ValueError("--form-factors must be auto, dense or sampled (got '" + c.formFactors + "')");
     checkOutputWritable(c.output);
-    const Scene scene = loadScene(c.scene.empty() ? defaultScenePath() : c.scene);
+    const Scene scene = loadSceneFile(c.scene.path.empty() ? defaultScenePath() : c.scene.path, c.scene, c.quiet);
     const Tracer tracer(scene);
     c.write.quantize = !c.noQuantize;
     ProgressBar progress(c.quiet);
@@ -203,7 +204,7 @@ void runRelight(const PrtRelightCommand& c) {
     std::unique_ptr<Scene> scene;
     std::unique_ptr<Tracer> tracer;
     if (!c.scene.empty()) {
-        scene = std::make_unique<Scene>(loadScene(c.scene));
+        scene = std::make_unique<Scene>(loadSceneFile(c.scene, c.frame, c.quiet));
         if (scene->contentHash() != prt.sceneHash) {
             throw ValueError("--scene '" + c.scene + "' is not the scene '" + c.input + "' was baked from");
         }
@@ -231,7 +232,7 @@ void runRelight(const PrtRelightCommand& c) {
     }
     if (!c.referenceScene.empty()) {
         // Ground truth: exact direct light by shadow rays, uncompressed one-bounce transfer.
-        const Scene scene = loadScene(c.referenceScene);
+        const Scene scene = loadSceneFile(c.referenceScene, c.frame, c.quiet);
         if (scene.contentHash() != prt.sceneHash) {
             std::cerr << "vdblight: warning: --reference scene differs from the baked one\n";
         }
@@ -311,7 +312,7 @@ void addPrtCommand(CLI::App& app) {
 
     auto b = std::make_shared<PrtBakeCommand>();
     CLI::App* bake = prt->add_subcommand("bake", "Samples, compressed visibility, direct-light basis and transfer");
-    bake->add_option("scene", b->scene, "Scene file; default: the bundled Cornell box");
+    addSceneFileOptions(*bake, b->scene);
     bake->add_option("-o,--output", b->output, "PRT file to write (.vdb)")->required();
     bake->add_option("--samples", b->options.samples, "Target number of surface samples")->capture_default_str();
     bake->add_option("--sample-radius", b->options.sampleRadius, "Poisson-disk radius (overrides --samples)");
@@ -359,6 +360,7 @@ void addPrtCommand(CLI::App& app) {
     relight->add_option("--scene", r->scene,
                         "The baked scene: adds the lights' direct light to --volume-out (shadow rays) and tests "
                         "light positions exactly");
+    addSceneFrameOptions(*relight, r->frame);  // load --scene and --reference as the bake did
     relight->add_flag("--indirect-only", r->indirectOnly, "--volume-out holds only the reflected light (no --scene needed)");
     relight->add_option("--area-size", r->areaSize, "Make every --light an isotropic square of this side (XZ plane)");
     relight->add_option("--area-samples", r->areaSamples, "Points per side of an area light")

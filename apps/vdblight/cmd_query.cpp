@@ -31,6 +31,7 @@ struct QueryCommand {
     std::string scene;        // --direct runtime volumes: the scene whose lights are added with shadows
     bool indirectOnly = false;  // --direct runtime volumes: the stored indirect light only
     uint32_t shadowRays = 256;  // per polygon light and point, with --scene
+    bool noDepthWeights = false;  // plain trilinear even if the volume has depth moments
 };
 
 /// A `--direct runtime` volume's direct light, added at query time with shadow rays
@@ -86,7 +87,9 @@ void run(const QueryCommand& c) {
 
     const Volume volume = readVolume(c.volume);
     const OutsidePolicy policy = c.outside == "error" ? OutsidePolicy::Throw : OutsidePolicy::Clamp;
-    const IrradianceQuery query(volume, policy);
+    if (c.noDepthWeights && !volume.hasDepth())
+        throw ValueError("--no-depth-weights: '" + c.volume + "' has no depth moments (bake --depth-moments)");
+    const IrradianceQuery query(volume, policy, !c.noDepthWeights);
     const bool moment = volume.basis.kind.rfind("moment:", 0) == 0;
     if (moment && c.view.empty())
         throw ValueError("a moment volume ('" + volume.basis.kind + "') needs --view vx,vy,vz (towards the eye)");
@@ -159,6 +162,8 @@ void addQueryCommand(CLI::App& app) {
     cmd->add_option("--view", c->view,
                     "Moment volumes (bake --basis moment:N): unit vector from the surface towards the eye; the "
                     "lookup direction is its mirror about the normal (Greger et al. section 5.2)");
+    cmd->add_flag("--no-depth-weights", c->noDepthWeights,
+                  "Plain trilinear interpolation for a volume with depth moments (for comparison)");
     cmd->add_flag("--raw", c->raw,
                   "Print the raw reconstructed irradiance, negative where order-2 SH rings (default: negative "
                   "components clamped to 0)");

@@ -13,6 +13,8 @@ void addExportCommand(CLI::App& app);
 void addSliceCommand(CLI::App& app);
 void addCheckSceneCommand(CLI::App& app);
 void addPrtCommand(CLI::App& app);
+void addMergeCommand(CLI::App& app);
+void addSlurmCommand(CLI::App& app);
 /// What `prt info` prints (also used by `info` when given a PRT file).
 void printPrtInfo(const std::string& path);
 

@@ -18,6 +18,8 @@ int main(int argc, char** argv) {
     vdblight::app::addSliceCommand(app);
     vdblight::app::addCheckSceneCommand(app);
     vdblight::app::addPrtCommand(app);
+    vdblight::app::addMergeCommand(app);
+    vdblight::app::addSlurmCommand(app);
     vdblight::app::installInterruptHandler();
 
     try {

@@ -13,9 +13,11 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "vdblight/layout.h"
 #include "vdblight/light.h"
+#include "vdblight/tiles.h"
 #include "vdblight/volume.h"
 
 namespace vdblight {
@@ -29,6 +31,17 @@ struct GatherOptions {
     uint64_t seed = 1;
     int threads = 0;  ///< 0 = all hardware threads
     TransportOptions transport;
+    /// Probe-to-probe bounces (issue 15; bake/surface_cache.h): after a first pass of full
+    /// path tracing, this many more passes (raysPerNode each, own seeds) end every gathered
+    /// path at its first surface hit with the previous pass's reflected light interpolated
+    /// there. 0 = plain path tracing. Trades the variance of long paths (light through a door)
+    /// for the bias of the volume's representation at surfaces (docs/methods.md).
+    int probePasses = 0;
+    /// Also record per-node depth moments from the gather's own first hits (depth_moments.h,
+    /// VolumeLevel::depth), for lookups that do not interpolate across walls. No extra rays.
+    bool depthMoments = false;
+    /// Bake only these nodes (one tile of a bake, tiles.h); the others stay 0. Null = all.
+    const NodeMask* only = nullptr;
 };
 
 struct BakeStats {
@@ -36,6 +49,12 @@ struct BakeStats {
     RayCount rays;
     double seconds = 0;
     double raysPerSecond() const { return seconds > 0 ? double(rays.total()) / seconds : 0.0; }
+    /// Per node (passes that estimate it: the point gathers of bake.h and bake_adaptive.h),
+    /// the relative standard error of its mean irradiance over normals, from the sample
+    /// variance of its samples (node_sampler.h); empty for other passes.
+    std::vector<float> estimatedError;
+    /// q-quantile (0..1) of estimatedError (nearest rank); 0 if there is none.
+    double errorQuantile(double q) const;
 };
 
 /// Bakes an SH order-2 radiance volume on `grid`. Fills volume.meta with every bake
@@ -48,8 +67,11 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
 /// with the sampling of bakeShGather for stream `streamIndex`. Exposed for tests.
 /// If `tracer` and `backFaceHits` are given, the first hit of every gathered ray is traced
 /// here (same hits, same result) and the rays whose first hit is a back-face are counted.
+/// If `depthOut` is given, it receives the node's depth::kFloatsPerNode depth moments from
+/// the same first hits, in units of `spacing` (the node's level spacing).
 void projectIncidentRadiance(const RadianceEstimator& estimator, const Vec3f& x, uint32_t rays,
                              uint64_t seed, uint64_t streamIndex, Rgbd out[9], RayCount& count,
-                             const Tracer* tracer = nullptr, uint32_t* backFaceHits = nullptr);
+                             const Tracer* tracer = nullptr, uint32_t* backFaceHits = nullptr,
+                             float* depthOut = nullptr, double spacing = 1.0);
 
 }  // namespace vdblight

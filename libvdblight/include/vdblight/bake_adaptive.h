@@ -39,15 +39,16 @@ struct AdaptiveOptions {
     uint64_t seed = 1;
     int threads = 0;
     TransportOptions transport;
+    /// Probe-to-probe bounces as GatherOptions::probePasses (bake.h); every pass samples to
+    /// the target. The per-node error then excludes the earlier passes' noise.
+    int probePasses = 0;
 };
 
 struct AdaptiveStats : BakeStats {
     std::vector<uint32_t> raysPerNode;    ///< gathered rays (samples) per node
-    std::vector<float> estimatedError;    ///< achieved relative standard error per node
     uint64_t samples = 0;                 ///< sum of raysPerNode
     uint64_t nodesAtMax = 0;              ///< nodes that stopped at maxRays without meeting the rule
-    /// q-quantile (0..1) of estimatedError (nearest rank).
-    double errorQuantile(double q) const;
+    // estimatedError (BakeStats): the achieved relative standard error per node.
 };
 
 /// Bakes an SH order-2 radiance volume on `grid`, node by node to the target error.

@@ -22,6 +22,8 @@ struct BinsBakeOptions {
     uint64_t seed = 1;
     int threads = 0;  ///< 0 = all hardware threads
     TransportOptions transport;
+    /// Bake only these nodes (one tile of a bake, tiles.h); the others stay 0. Null = all.
+    const NodeMask* only = nullptr;
 };
 
 /// A one-level layout of the uniform grid `grid` (for bakeBins on a uniform volume).

@@ -35,12 +35,16 @@ public:
     void binValues(const Vec3d& x, float* out) const override;
 
     static bool accepts(const Volume& volume);
+    /// Depth moments (depth_moments.h), as for the SH lookups: on when the volume has them.
+    void setDepthWeights(bool on) override { depthWeights_ = on && hasDepth_; }
+    bool depthWeighted() const override { return depthWeights_; }
 
 private:
     struct Level {
         std::vector<int32_t> child;   ///< per cell (level 0) or per brick cell: brick of the next level, -1
         std::vector<uint32_t> nodes;  ///< finer levels: per brick, (K+1)^3 node positions in `data`
         std::vector<float> data;      ///< node-major, channels * 3 floats per node
+        std::vector<float> depth;     ///< the same nodes' depth moments, or empty
     };
     /// Up to four (channel, weight) pairs for direction d.
     int binWeights(const Vec3f& d, int channels[4], float weights[4]) const;
@@ -59,6 +63,7 @@ private:
     float invSpacing_ = 1;
     std::size_t floatsPerNode_ = 0;
     std::vector<Level> levels_;
+    bool hasDepth_ = false, depthWeights_ = false;
 };
 
 /// The simple lookup BinsLookup is tested against: the bin of d by bins::binOf (no blending

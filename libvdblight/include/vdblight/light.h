@@ -32,6 +32,16 @@ struct Hit;
 class PunctualLightSampler;
 class LightTree;
 
+/// The default TransportOptions::maxBounces: a safety cap, not a truncation (issue 15).
+/// Russian roulette ends paths without bias; its survival probability is at most
+/// kRouletteMaxSurvival per reflection, so a path reaches 1024 reflections with probability
+/// below 0.95^1021 ~ 2e-23: the cap only guards against a scene with albedo >= 1 everywhere.
+constexpr int kSafetyBounces = 1024;
+/// Largest survival probability of Russian roulette: bounds the mean path length to about
+/// rouletteStart + 20 reflections even in a closed room of albedo 0.99 (the survivors'
+/// weight then grows by 0.99 / 0.95 per reflection, which is unbiased).
+constexpr float kRouletteMaxSurvival = 0.95f;
+
 /// Lights whose direct light at the receiver a bake leaves out (`bake --direct runtime |
 /// occlusion`, direct_light.h): light that reaches the gather point straight from these
 /// emitters (emissive triangles hit by the first ray or sampled by the node's NEE, punctual
@@ -47,8 +57,14 @@ struct ReceiverDirectFilter {
 struct TransportOptions {
     /// Maximum number of diffuse reflections on a path from a light to the receiver:
     /// 0 = direct light only (emitters and sky seen directly), 1 = plus light reflected once...
-    int maxBounces = 8;
-    /// Bounce from which Russian roulette may end a path (unbiased: survivors are reweighted).
+    /// The default is a safety cap that no path reaches in practice (kSafetyBounces): Russian
+    /// roulette decides where paths end, so no energy is lost. A small value truncates the
+    /// series (biased dark by the missing bounces) and is for studies of single bounces.
+    int maxBounces = kSafetyBounces;
+    /// Reflection from which Russian roulette may end a path (unbiased: survivors are
+    /// reweighted by 1 / survival). Survival = min(kRouletteMaxSurvival, largest component of
+    /// the path throughput), the throughput carrying earlier reweighting, so it follows the
+    /// albedo of the surfaces hit.
     int rouletteStart = 3;
     /// Scenes with at most this many point + spot lights evaluate every one of them exactly
     /// (one shadow ray each) at every vertex. Above it, each vertex picks ONE of them with
@@ -123,6 +139,8 @@ public:
     bool blocked(uint32_t index) const { return blocked_[index]; }
     /// After trace(): the radiance of the i-th gathered path.
     Rgb radiance(std::size_t i) const;
+    /// The i-th path's directly hit emission (gatherRadiance's firstEmission).
+    const Rgb& firstEmission(std::size_t i) const { return firstEmission_[i]; }
 
 private:
     friend class RadianceEstimator;
@@ -134,9 +152,28 @@ private:
     };
     std::vector<Term> terms_;
     std::vector<uint32_t> pathEnd_;  ///< end of each path's terms
+    std::vector<Rgb> firstEmission_; ///< per path
     std::vector<Ray> rays_;
     std::unique_ptr<bool[]> blocked_;
     std::size_t blockedCapacity_ = 0;
+};
+
+/// Irradiance at a surface point from reflected light and the sky only: everything that
+/// the estimator does not sample there itself by next-event estimation (emissive triangles
+/// and punctual lights). With one set (RadianceEstimator::setSurfaceCache), a gathered path
+/// ends at its first surface hit: there it takes NEE as usual, traces one cosine-distributed
+/// ray only for the emitters' other MIS share (its emission, MIS-weighted), and adds
+/// albedo / pi x the cache's irradiance for everything else, instead of continuing --
+/// "probe-to-probe bounces" as in DDGI, the cache being an earlier pass's volume
+/// (bake/surface_cache.h). Biased by how well the cache represents the light at the hit
+/// point; it removes the variance of the rest of the path.
+class SurfaceIrradianceCache {
+public:
+    virtual ~SurfaceIrradianceCache() = default;
+    /// Irradiance of reflected light and sky at p (a point offset off a surface along its
+    /// unit normal n, on the side rays arrive from). False if the cache has nothing valid
+    /// there: the path then continues as without a cache (unbiased fallback).
+    virtual bool irradiance(const Vec3f& p, const Vec3f& n, Rgb& out, RayCount& rays) const = 0;
 };
 
 class RadianceEstimator {
@@ -149,8 +186,11 @@ public:
     /// If `firstHit` is given, it is the caller's result of tracing Ray{origin, dir} (already
     /// counted by the caller), which is used instead of tracing that ray again (the
     /// anti-aliased pass classifies origins with the same hits; bake_antialiased.h).
+    /// If `firstEmission` is given, it receives the part of the result that is the directly
+    /// hit emitter's MIS-weighted emission (0 if the ray does not hit an emitter): the rest is
+    /// reflected light and sky, what a SurfaceIrradianceCache holds.
     Rgb gatherRadiance(const Vec3f& origin, const Vec3f& dir, float dirPdf, Rng& rng, RayCount& rays,
-                       const Hit* firstHit = nullptr) const;
+                       const Hit* firstHit = nullptr, Rgb* firstEmission = nullptr) const;
 
     /// gatherRadiance with the shadow rays of its NEE samples at surface vertices deferred:
     /// traces the path's continuation rays now (counting every ray, shadow rays included),
@@ -204,6 +244,11 @@ public:
     /// Emitted radiance of triangle `tri` towards -dir (0 from a one-sided emitter's back).
     Rgb emittedRadiance(uint32_t tri, const Vec3f& dir) const;
 
+    /// Ends gathered paths at their first surface hit with `cache` (SurfaceIrradianceCache);
+    /// nullptr (the default) restores full path tracing. The cache must outlive its use.
+    void setSurfaceCache(const SurfaceIrradianceCache* cache) { cache_ = cache; }
+    const SurfaceIrradianceCache* surfaceCache() const { return cache_; }
+
     bool hasEmissiveTriangles() const { return !emitters_.empty(); }
     /// True if the bake leaves this sample at the receiver out (TransportOptions::skipAtReceiver).
     bool skipsAtReceiver(const LightSample& s) const {
@@ -226,6 +271,7 @@ private:
     const Scene& scene_;
     const Tracer& tracer_;
     TransportOptions options_;
+    const SurfaceIrradianceCache* cache_ = nullptr;
     std::vector<uint32_t> emitters_;   ///< emissive triangle ids
     std::vector<float> emitterCdf_;    ///< cumulative power, normalised to 1
     std::vector<float> emitterPmf_;    ///< per emitter, probability of choosing it

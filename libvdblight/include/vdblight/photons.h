@@ -45,8 +45,10 @@ struct PhotonOptions {
     uint64_t seed = 1;
     int threads = 0;               ///< 0 = all hardware threads
     PhotonEstimator estimator = PhotonEstimator::Flux;
-    /// maxBounces = diffuse reflections a photon may make; Russian roulette by albedo from
-    /// the first reflection (survival probability = the largest albedo component).
+    /// maxBounces = diffuse reflections a photon may make (by default a safety cap that
+    /// roulette makes unreachable, light.h); Russian roulette by albedo from the first
+    /// reflection (survival probability = the largest albedo component, at most
+    /// kRouletteMaxSurvival).
     TransportOptions transport;
 };
 

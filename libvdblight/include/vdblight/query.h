@@ -63,6 +63,12 @@ public:
         (void)out;
         throw FormatError("this volume kind stores no directional bins");
     }
+    /// Visibility-weighted interpolation (depth_moments.h): kinds that support it weight the
+    /// corners by the volume's depth moments when it has them, unless switched off here
+    /// (for comparison). Default: no depth weighting, nothing to switch.
+    virtual void setDepthWeights(bool on) { (void)on; }
+    /// True if lookups are weighted by depth moments.
+    virtual bool depthWeighted() const { return false; }
 };
 
 /// A registry entry: `accepts` says whether a volume is of this kind, `create` builds it.
@@ -78,6 +84,9 @@ class IrradianceQuery {
 public:
     /// Throws FormatError if no registered lookup accepts the volume (naming its basis).
     explicit IrradianceQuery(const Volume& volume, OutsidePolicy outside = OutsidePolicy::Clamp);
+    /// `depthWeights` false: plain trilinear interpolation even if the volume carries depth
+    /// moments (depth_moments.h); true (the other constructor): weighted where supported.
+    IrradianceQuery(const Volume& volume, OutsidePolicy outside, bool depthWeights);
 
     /// Irradiance (W/m^2, RGB) at x for the unit normal n.
     Rgb irradiance(const Vec3f& x, const Vec3f& n) const { return lookup_->irradiance(x, n); }
@@ -90,6 +99,8 @@ public:
     const Bounds& bounds() const { return bounds_; }
     /// Name of the lookup kind in use (e.g. "sh2-uniform").
     const char* kind() const { return kind_; }
+    /// True if lookups weight the corners by the volume's depth moments.
+    bool depthWeighted() const { return lookup_->depthWeighted(); }
     /// The lookup behind this query (for per-basis hooks such as shRadiance).
     const VolumeLookup& lookup() const { return *lookup_; }
 
@@ -108,6 +119,8 @@ public:
     /// Nine interpolated radiance coefficients at x (RGB each).
     void radianceCoefficients(const Vec3f& x, Rgb out[9]) const;
     void shRadiance(const Vec3d& x, Rgb out[9]) const override;
+    void setDepthWeights(bool on) override { depthWeights_ = on && !depth_.empty(); }
+    bool depthWeighted() const override { return depthWeights_; }
 
     static bool accepts(const Volume& volume);
 
@@ -119,10 +132,18 @@ private:
     Vec3f origin_;
     float invSpacing_;
     std::vector<float> coeffs_;  ///< per node 27 floats: channel-major [c][rgb], A_l folded in
+    std::vector<float> depth_;   ///< per node depth::kFloatsPerNode floats, or empty
+    bool depthWeights_ = false;
 };
 
 /// The simple, obviously correct lookup used to test ShUniformLookup: reads the volume's
 /// own arrays, interpolates in double and convolves with the generic SH code.
 Rgbd referenceLookup(const Volume& volume, const Vec3d& x, const Vec3d& n);
+
+/// The simple lookup the depth-weighted SH lookups (uniform and levels) are tested against:
+/// finds the finest cell at x through the volume's own lists (like referenceLevelsLookup),
+/// computes each corner's visibility in double from the formula of depth_moments.h written
+/// out again here, weights, renormalises and convolves with the generic SH code.
+Rgbd referenceDepthWeightedLookup(const Volume& volume, const Vec3d& x, const Vec3d& n);
 
 }  // namespace vdblight

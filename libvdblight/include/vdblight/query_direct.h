@@ -28,6 +28,10 @@ public:
     void shRadiance(const Vec3d& x, Rgb out[9]) const override { base_->shRadiance(x, out); }
     void irradianceVectors(const Vec3d& x, float out[54]) const override { base_->irradianceVectors(x, out); }
     void binValues(const Vec3d& x, float* out) const override { base_->binValues(x, out); }
+    // The indirect part's interpolation may be depth-weighted (depth_moments.h); the
+    // visibility channels stay trilinear.
+    void setDepthWeights(bool on) override { base_->setDepthWeights(on); }
+    bool depthWeighted() const override { return base_->depthWeighted(); }
 
     /// Visibility of every listed light at x (trilinear between nodes, x clamped to the box).
     void visibility(const Vec3d& x, float* out) const;

@@ -29,6 +29,8 @@ public:
     /// (inactive) corner; such a cell lies inside closed geometry, and irradiance() and
     /// shRadiance() return 0 there instead of reading the missing nodes.
     bool inCulledCell(const Vec3f& x) const;
+    void setDepthWeights(bool on) override { depthWeights_ = on && hasDepth_; }
+    bool depthWeighted() const override { return depthWeights_; }
 
     static bool accepts(const Volume& volume);
 
@@ -37,6 +39,7 @@ private:
     struct Level {
         std::vector<int32_t> child;  ///< per cell (level 0) or per brick cell: brick index in the next level, -1 (leaf) or kCulled
         std::vector<float> nodes;    ///< level 0: dense node-major; finer: per brick (K+1)^3 nodes
+        std::vector<float> depth;    ///< the same nodes' depth moments (depth::kFloatsPerNode each), or empty
     };
     template <typename Visit>
     void descend(const Vec3f& x, Visit visit) const;
@@ -47,6 +50,7 @@ private:
     Vec3f origin_;
     float invSpacing_ = 1;
     std::vector<Level> levels_;
+    bool hasDepth_ = false, depthWeights_ = false;
 };
 
 /// The simple lookup ShLevelsLookup is tested against: descends through the volume's own

@@ -132,8 +132,8 @@ uint32_t addMaterial(Scene& scene, Material m);
 /// valid indices and material ids. Throws SceneError naming the problem.
 void validateScene(const Scene& scene);
 
-/// Loads a scene: glTF 2.0 (.gltf/.glb) and Wavefront OBJ+MTL through Assimp, PLY (ascii,
-/// binary little/big-endian) through vdblight's own reader (docs/scene.md, "PLY").
+/// Loads a scene in any format loadScene(path, SceneLoadOptions) reads (scene_load.h), with
+/// the file's own unit and up axis.
 /// Applies node transforms, triangulates, skips degenerate triangles (counted in stats).
 /// A scene far from the world origin is recentred (recenterScene, scene_origin.h); Assimp
 /// parses coordinates to float, so precision lost at parse time is not recovered.

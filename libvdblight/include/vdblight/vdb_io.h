@@ -11,7 +11,17 @@ namespace vdblight {
 
 struct WriteOptions {
     bool halfFloat = false;  ///< store grids as 16-bit floats (half the bytes)
+    /// Leave out the metadata that changes from run to run of the same bake (the keys of
+    /// runSpecificMetadataKeys: wall-clock seconds, thread count), so that the same inputs,
+    /// parameters and seed give the same file bytes on any machine and thread count
+    /// (docs/format.md, "Reproducible files"). The header UUID is derived from the content
+    /// either way.
+    bool reproducible = true;
 };
+
+/// Metadata keys (without prefix) that describe a run rather than its result: "bake_seconds",
+/// "threads". WriteOptions::reproducible leaves them out of the file.
+const std::vector<std::string>& runSpecificMetadataKeys();
 
 /// Writes `volume` to `path` atomically: a temporary file in the same directory is
 /// written, flushed and renamed, so a failure or interruption never leaves a partial
@@ -36,10 +46,23 @@ struct GridInfo {
     double voxelSize = 0;
 };
 
+/// The content hash of a .vdb file: SHA-256 of every byte except the 36-byte header UUID
+/// that OpenVDB fills in. writeVolume replaces that UUID by one derived from this hash, so
+/// equal hashes mean equal files (docs/format.md, "Reproducible files").
+struct ContentHash {
+    std::string sha256;       ///< 64 hex digits
+    std::string headerUuid;   ///< the UUID in the file's header
+    bool uuidFromContent = false;  ///< headerUuid is the one the hash gives (false: another writer)
+};
+
+/// Hashes a .vdb file. Throws IoError (unreadable) or FormatError (not an OpenVDB file).
+ContentHash fileContentHash(const std::string& path);
+
 struct FileInfo {
     std::string path;
     uint64_t fileBytes = 0;
     std::vector<GridInfo> grids;
+    ContentHash hash;
 };
 
 /// Lists the grids of a vdblight .vdb, by level then channel (same errors as readVolume).

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "vdblight/direct_light.h"
+#include "vdblight/depth_moments.h"
 #include "vdblight/layout.h"
 #include "vdblight/math.h"
 
@@ -42,6 +43,10 @@ struct VolumeLevel {
     /// trilinear basis-function weight that lay in the domain of interest when it was baked
     /// (bake_antialiased.h); written as the FloatGrid `validity` (docs/format.md).
     std::vector<float> validity;
+    /// Optional, empty or depth::kFloatsPerNode floats per stored node (same order as
+    /// `data`): the depth moments a lookup weights corners with so that it does not
+    /// interpolate across walls (depth_moments.h; grids depth_* in docs/format.md).
+    std::vector<float> depth;
     /// Direct light in occlusion mode (Volume::direct), level 0 only: per node, the visibility
     /// (0..1) of each listed light, node-major: [node * lights + i]; written as the FloatGrids
     /// `light_visibility_<i>` (docs/format.md). Empty in the other modes.
@@ -60,6 +65,8 @@ struct VolumeLevel {
     /// Nodes stored in `data`.
     std::size_t storedNodes() const { return sparse() ? activeNodes.size() : grid.nodeCount(); }
     const float* nodeData(std::size_t node, int channels) const { return data.data() + node * channels * 3; }
+    bool hasDepth() const { return !depth.empty(); }
+    const float* nodeDepth(std::size_t node) const { return depth.data() + node * depth::kFloatsPerNode; }
 };
 
 struct Volume {
@@ -74,6 +81,8 @@ struct Volume {
     void validate() const;
     /// Refinement factor K between consecutive levels (1 for a single-level volume).
     int refineFactor() const;
+    /// True if every level carries depth moments (VolumeLevel::depth).
+    bool hasDepth() const;
 };
 
 /// The level-structure part of Volume::validate: level 0 dense; for several levels, every

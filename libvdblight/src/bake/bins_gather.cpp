@@ -98,7 +98,7 @@ Volume bakeBins(const Scene& scene, const Tracer& tracer, const LevelLayout& lay
         return t;
     }();
     uint64_t seams = 0;
-    const std::vector<std::pair<int, std::size_t>> work = bake_detail::nodesToBake(volume, seams);
+    const std::vector<std::pair<int, std::size_t>> work = bake_detail::nodesToBake(volume, seams, options.only);
     const RadianceEstimator estimator(scene, tracer, options.transport);
     const bake_detail::ParallelRun run =
         bake_detail::forEachItemInParallel(work.size(), options.threads, interrupter, [&](std::size_t w, RayCount& count) {

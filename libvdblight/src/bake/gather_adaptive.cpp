@@ -4,9 +4,11 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <memory>
 
 #include "node_sampler.h"
 #include "parallel_nodes.h"
+#include "surface_cache.h"
 #include "vdblight/bake_adaptive.h"
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
@@ -14,22 +16,7 @@
 
 namespace vdblight {
 
-double AdaptiveStats::errorQuantile(double q) const {
-    if (estimatedError.empty()) return 0.0;
-    std::vector<float> sorted = estimatedError;
-    std::sort(sorted.begin(), sorted.end());
-    const std::size_t i = std::min(sorted.size() - 1, std::size_t(std::ceil(q * sorted.size())) - (q > 0 ? 1 : 0));
-    return sorted[i];
-}
-
 namespace {
-double relativeError(detail::NodeSampler& s, RayCount& count) {
-    const double se = s.ebarStandardError();
-    const double mean = s.ebarMean() + s.exactEbar(count);
-    if (se == 0.0) return 0.0;
-    return mean > 0 ? se / mean : std::numeric_limits<double>::infinity();
-}
-
 // Factor by which a standard error estimated from n samples can be too small with 10 %
 // probability (for normal samples): sqrt(k / q), q = the 10 % quantile of chi-square with
 // k = n - 1 degrees of freedom (Wilson-Hilferty). 1.33 for n = 16, 1.13 for n = 64,
@@ -62,17 +49,28 @@ Volume bakeShGatherAdaptive(const Scene& scene, const Tracer& tracer, const Grid
     std::vector<uint32_t> raysUsed(nodes, 0);
     std::vector<float> achieved(nodes, 0.0f);
 
-    const RadianceEstimator estimator(scene, tracer, o.transport);
-    const bake_detail::ParallelRun run =
-        bake_detail::forEachItemInParallel(nodes, o.threads, interrupter, [&](std::size_t n, RayCount& count) {
-            detail::NodeSampler sampler(estimator, Vec3f(grid.node(n)), o.seed, n, o.maxRays);
+    std::vector<Rgb> reflected;  // per node, nine coefficients: the next pass's cache
+    if (o.probePasses > 0) reflected.assign(nodes * sh::kCoeffs, Rgb(0, 0, 0));
+    RadianceEstimator estimator(scene, tracer, o.transport);
+    std::unique_ptr<bake_detail::VolumeSurfaceCache> cache;
+    bake_detail::ParallelRun run;
+    uint64_t samplesBefore = 0;  // samples of the passes before the last
+    // As bakeShGather (bake.h, probePasses): pass 0 traces full paths, later passes end them
+    // at their first hit with the previous pass's reflected light; each pass to the target.
+    for (int pass = 0; pass <= o.probePasses; ++pass) {
+        const uint64_t seed = pass == 0 ? o.seed : hashCombine(o.seed, uint64_t(pass));
+        const bool keepReflected = pass < o.probePasses;
+        for (uint32_t r : raysUsed) samplesBefore += r;
+        const bake_detail::ParallelRun passRun =
+            bake_detail::forEachItemInParallel(nodes, o.threads, interrupter, [&](std::size_t n, RayCount& count) {
+            detail::NodeSampler sampler(estimator, Vec3f(grid.node(n)), seed, n, o.maxRays);
             uint32_t taken = 0, next = o.minRays;
             double err = 0;
             bool previousMet = false;
             for (;;) {
                 sampler.addSamples(taken, next, count);
                 taken = next;
-                err = relativeError(sampler, count);
+                err = sampler.relativeStandardError(count);
                 // Zero variance (below what a double variance resolves) stops at once; otherwise the rule must hold at the end of
                 // two consecutive rounds (a rare large sample missing from a small round
                 // makes a variance look small by chance).
@@ -89,9 +87,22 @@ Volume bakeShGatherAdaptive(const Scene& scene, const Tracer& tracer, const Grid
                 dst[3 * j + 1] = float(coeffs[j].y);
                 dst[3 * j + 2] = float(coeffs[j].z);
             }
+            if (keepReflected) {
+                sampler.reflectedCoefficients(coeffs);
+                for (int j = 0; j < sh::kCoeffs; ++j) reflected[n * sh::kCoeffs + j] = Rgb(coeffs[j]);
+            }
             raysUsed[n] = taken;
             achieved[n] = float(std::min(err, 1e30));
         });
+        run.rays += passRun.rays;
+        run.seconds += passRun.seconds;
+        run.threads = passRun.threads;
+        if (keepReflected) {
+            estimator.setSurfaceCache(nullptr);
+            cache = std::make_unique<bake_detail::VolumeSurfaceCache>(tracer, grid, reflected);
+            estimator.setSurfaceCache(cache.get());
+        }
+    }
     AdaptiveStats local;
     AdaptiveStats& s = stats ? *stats : local;
     s.nodes = nodes;
@@ -114,12 +125,13 @@ Volume bakeShGatherAdaptive(const Scene& scene, const Tracer& tracer, const Grid
     m["min_rays"] = int64_t(o.minRays);
     m["max_rays"] = int64_t(o.maxRays);
     m["rays_per_node_mean"] = double(s.samples) / double(nodes);
+    if (o.probePasses > 0) {
+        m["probe_passes"] = int64_t(o.probePasses);
+        m["samples_earlier_passes"] = int64_t(samplesBefore);
+    }
     m["samples_total"] = int64_t(s.samples);
     m["samples_saved_vs_max"] = int64_t(uint64_t(o.maxRays) * nodes - s.samples);
-    m["error_estimate"] = std::string("relative standard error of the mean irradiance over normals (SH DC term), from the per-sample variance");
-    m["estimated_error_p50"] = s.errorQuantile(0.5);
-    m["estimated_error_p95"] = s.errorQuantile(0.95);
-    m["estimated_error_max"] = s.errorQuantile(1.0);
+    bake_detail::addErrorSummary(m, s.estimatedError, grid);
     m["nodes_at_max_rays"] = int64_t(s.nodesAtMax);
     m["direction_sampling"] = std::string("scrambled Sobol (0,2) uniform sphere in doubling rounds + NEE on emissive triangles; punctual lights exact or one sampled per ray");
     return volume;

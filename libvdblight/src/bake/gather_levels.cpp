@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "parallel_nodes.h"
+#include "vdblight/bake_depth.h"
 #include "vdblight/bake_levels.h"
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
@@ -29,7 +30,10 @@ Volume bakeShGatherLevels(const Scene& scene, const Tracer& tracer, const LevelL
     Volume volume;
     volume.basis = BasisDesc::sh2();
     volume.levels = layout.levels;
-    for (VolumeLevel& l : volume.levels) l.data.assign(l.storedNodes() * kFloats, 0.0f);
+    for (VolumeLevel& l : volume.levels) {
+        l.data.assign(l.storedNodes() * kFloats, 0.0f);
+        if (options.depthMoments) l.depth.assign(l.storedNodes() * depth::kFloatsPerNode, 0.0f);
+    }
     if (layout.culledNodes > 0) {  // solid_cull.h: inactive nodes inside closed solids
         volume.meta["culling"] = std::string("solid-regions");
         volume.meta["nodes_culled"] = int64_t(layout.culledNodes);
@@ -37,7 +41,7 @@ Volume bakeShGatherLevels(const Scene& scene, const Tracer& tracer, const LevelL
     volume.validate();
 
     uint64_t seams = 0;
-    const std::vector<std::pair<int, std::size_t>> work = bake_detail::nodesToBake(volume, seams);
+    const std::vector<std::pair<int, std::size_t>> work = bake_detail::nodesToBake(volume, seams, options.only);
     const RadianceEstimator estimator(scene, tracer, options.transport);
     const bake_detail::ParallelRun run =
         bake_detail::forEachItemInParallel(work.size(), options.threads, interrupter, [&](std::size_t w, RayCount& count) {
@@ -47,7 +51,9 @@ Volume bakeShGatherLevels(const Scene& scene, const Tracer& tracer, const LevelL
             const uint64_t stream = (uint64_t(work[w].first) << 56) | linear;
             Rgbd coeffs[sh::kCoeffs];
             projectIncidentRadiance(estimator, Vec3f(level.grid.node(std::size_t(linear))), options.raysPerNode,
-                                    options.seed, stream, coeffs, count);
+                                    options.seed, stream, coeffs, count, nullptr, nullptr,
+                                    options.depthMoments ? level.depth.data() + n * depth::kFloatsPerNode : nullptr,
+                                    level.grid.spacing);
             float* dst = level.data.data() + n * kFloats;
             for (int j = 0; j < sh::kCoeffs; ++j) {
                 dst[3 * j + 0] = float(coeffs[j].x);
@@ -56,6 +62,27 @@ Volume bakeShGatherLevels(const Scene& scene, const Tracer& tracer, const LevelL
             }
         });
     applySeamConstraints(volume);
+    RayCount seamDepthRays;
+    if (options.depthMoments) {
+        // Seam nodes take their radiance from the coarser level, but their depth belongs to
+        // their own position: the same rays as if they had been gathered (bake_depth.h).
+        std::vector<std::vector<char>> baked(volume.levels.size());
+        for (std::size_t l = 0; l < volume.levels.size(); ++l) baked[l].assign(volume.levels[l].storedNodes(), 0);
+        for (const auto& w : work) baked[std::size_t(w.first)][w.second] = 1;
+        std::vector<std::pair<int, std::size_t>> seamNodes;
+        for (std::size_t l = 0; l < volume.levels.size(); ++l)
+            for (std::size_t n = 0; n < baked[l].size(); ++n)
+                if (!baked[l][n]) seamNodes.emplace_back(int(l), n);
+        seamDepthRays = bake_detail::forEachItemInParallel(seamNodes.size(), options.threads, nullptr,
+                                                           [&](std::size_t w, RayCount& count) {
+            VolumeLevel& level = volume.levels[std::size_t(seamNodes[w].first)];
+            const std::size_t n = seamNodes[w].second;
+            const uint64_t linear = level.sparse() ? level.activeNodes[n] : n;
+            nodeDepthMoments(tracer, Vec3f(level.grid.node(std::size_t(linear))), level.grid.spacing, options.seed,
+                             (uint64_t(seamNodes[w].first) << 56) | linear, options.raysPerNode,
+                             level.depth.data() + n * depth::kFloatsPerNode, count);
+        }).rays;
+    }
 
     Metadata& m = volume.meta;
     bake_detail::addCommonBakeMetadata(m, scene, options.transport, options.seed, layout.totalNodes(), run);
@@ -63,6 +90,7 @@ Volume bakeShGatherLevels(const Scene& scene, const Tracer& tracer, const LevelL
     m["sampling"] = std::string("point");
     m["rays_per_node"] = int64_t(options.raysPerNode);
     m["direction_sampling"] = std::string("scrambled Sobol (0,2) uniform sphere + NEE on emissive triangles; punctual lights exact");
+    if (options.depthMoments) bake_detail::addDepthMetadata(m, options.raysPerNode);
     m["layout"] = std::string(layoutName(layout.kind));
     m["refine"] = int64_t(layout.refine);
     m["nodes_seam"] = int64_t(seams);
@@ -71,6 +99,7 @@ Volume bakeShGatherLevels(const Scene& scene, const Tracer& tracer, const LevelL
     if (stats) {
         stats->nodes = layout.totalNodes();
         stats->rays = run.rays;
+        stats->rays += seamDepthRays;
         stats->seconds = run.seconds;
         stats->seamNodes = seams;
     }

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "vdblight/bake.h"
+#include "vdblight/depth_moments.h"
 #include "vdblight/light.h"
 #include "vdblight/sampling.h"
 #include "vdblight/sh.h"
@@ -37,6 +38,13 @@ public:
           sampledLights_(estimator.samplesPunctualLights() && estimator.pointAndSpotLightCount() > plannedRays),
           lightOffset_(toUnitDouble(hashCombine(stream_, kLightChoice))),
           punctualOffset_(toUnitDouble(hashCombine(stream_, kPunctual))) {}
+
+    /// Also record every sample's first hit in `acc` (depth_moments.h; `spacing`: the node's
+    /// level spacing). The rays are the ones traced anyway: no extra rays, the same bits.
+    void recordDepth(depth::Accumulator* acc, double spacing) {
+        depth_ = acc;
+        depthSpacing_ = spacing;
+    }
 
     /// Adds samples [first, last) (sample numbers of the node's stratified sequence; rounds
     /// must be consecutive starting at 0). Optional first-hit tracing as in bake.h.
@@ -64,21 +72,18 @@ public:
             float u, v;
             sobol02(i, hashCombine(stream_, kDirection), u, v);
             const Vec3f dir = uniformSphere(u, v);
-            Rgb l;
-            if (tracer && backFaceHits) {
+            Rgb l, emitted;
+            if ((tracer && backFaceHits) || depth_) {
                 ++count.intersect;
-                const Hit hit = tracer->intersect(Ray{x_, dir});
-                if (hit.hit() && dot(hit.geometricNormal, dir) > 0.0f) ++*backFaceHits;
-                l = estimator_.gatherRadiance(x_, dir, kSpherePdf, rng_, count, &hit);
+                const Hit hit = (tracer ? *tracer : estimator_.tracer()).intersect(Ray{x_, dir});
+                if (backFaceHits && hit.hit() && dot(hit.geometricNormal, dir) > 0.0f) ++*backFaceHits;
+                if (depth_) depth_->add(dir, hit.hit() ? hit.t : std::numeric_limits<float>::infinity(), depthSpacing_);
+                l = estimator_.gatherRadiance(x_, dir, kSpherePdf, rng_, count, &hit, &emitted);
             } else {
-                l = estimator_.gatherRadiance(x_, dir, kSpherePdf, rng_, count);
+                l = estimator_.gatherRadiance(x_, dir, kSpherePdf, rng_, count, nullptr, &emitted);
             }
             sh::evalUnrolled(dir, y);
-            for (int j = 0; j < sh::kCoeffs; ++j) {
-                acc_[j][0] += double(l.x) * y[j];
-                acc_[j][1] += double(l.y) * y[j];
-                acc_[j][2] += double(l.z) * y[j];
-            }
+            addGathered(l, emitted, y);
             double ebar = kPi * double(luminance(l));
             // Emissive triangles: one NEE sample per ray, stratified on the light too.
             if (nee) {
@@ -139,6 +144,9 @@ public:
         if (backFaceHits)
             for (uint32_t k = 0; k < n; ++k)
                 if (hits[k].hit() && dot(hits[k].geometricNormal, dirs[k]) > 0.0f) ++*backFaceHits;
+        if (depth_)
+            for (uint32_t k = 0; k < n; ++k)
+                depth_->add(dirs[k], hits[k].hit() ? hits[k].t : std::numeric_limits<float>::infinity(), depthSpacing_);
 
         thread_local DeferredPaths paths_;  // reused: no allocations per node
         paths_.clear();
@@ -169,11 +177,7 @@ public:
             const uint32_t i = first + k;
             const Rgb l = paths_.radiance(k);
             sh::evalUnrolled(dirs[k], y);
-            for (int j = 0; j < sh::kCoeffs; ++j) {
-                acc_[j][0] += double(l.x) * y[j];
-                acc_[j][1] += double(l.y) * y[j];
-                acc_[j][2] += double(l.z) * y[j];
-            }
+            addGathered(l, paths_.firstEmission(k), y);
             double ebar = kPi * double(luminance(l));
             if (lightRay[k] != DeferredPaths::kNoShadowRay && !paths_.blocked(lightRay[k])) {
                 const LightSample& s = lights[k];
@@ -227,6 +231,15 @@ public:
                      Rgbd(lightAcc_[j][0], lightAcc_[j][1], lightAcc_[j][2]) * lightScale + exact_[j];
     }
 
+    /// The SH coefficients of the reflected light and sky alone (the gathered radiance less
+    /// the emission of directly hit emitters; no NEE, no punctual lights): what a
+    /// SurfaceIrradianceCache of this node holds (light.h, surface_cache.h).
+    void reflectedCoefficients(Rgbd out[sh::kCoeffs]) const {
+        const double dirScale = samples_ > 0 ? 4.0 * kPi / samples_ : 0.0;
+        for (int j = 0; j < sh::kCoeffs; ++j)
+            out[j] = Rgbd(reflected_[j][0], reflected_[j][1], reflected_[j][2]) * dirScale;
+    }
+
     uint32_t samples() const { return samples_; }
     /// Mean of the per-sample Ebar estimates and the standard error of that mean from the
     /// sample variance (an overestimate for the stratified direction part: conservative).
@@ -238,7 +251,28 @@ public:
         return std::sqrt(var / n);
     }
 
+    /// Relative standard error of the node's mean irradiance over normals: the standard
+    /// error of the samples' Ebar over Ebar (exact punctual lights included, adding no
+    /// variance). 0 for zero variance; infinity for a dark node with variance.
+    double relativeStandardError(RayCount& count) {
+        const double se = ebarStandardError();
+        const double mean = ebarMean() + exactEbar(count);
+        if (se == 0.0) return 0.0;
+        return mean > 0 ? se / mean : std::numeric_limits<double>::infinity();
+    }
+
 private:
+    void addGathered(const Rgb& l, const Rgb& emitted, const float y[sh::kCoeffs]) {
+        const Rgb r = l - emitted;
+        for (int j = 0; j < sh::kCoeffs; ++j) {
+            acc_[j][0] += double(l.x) * y[j];
+            acc_[j][1] += double(l.y) * y[j];
+            acc_[j][2] += double(l.z) * y[j];
+            reflected_[j][0] += double(r.x) * y[j];
+            reflected_[j][1] += double(r.y) * y[j];
+            reflected_[j][2] += double(r.z) * y[j];
+        }
+    }
     void addLight(const Rgb& weight, const float y[sh::kCoeffs]) {
         for (int j = 0; j < sh::kCoeffs; ++j) {
             lightAcc_[j][0] += double(weight.x) * y[j];
@@ -273,11 +307,14 @@ private:
     double lightOffset_, punctualOffset_;
     double acc_[sh::kCoeffs][3] = {};
     double lightAcc_[sh::kCoeffs][3] = {};
+    double reflected_[sh::kCoeffs][3] = {};
     double ebarSum_ = 0, ebarSquares_ = 0;
     Rgbd exact_[sh::kCoeffs] = {};
     double exactEbar_ = 0;
     bool exactDone_ = false;
     uint32_t samples_ = 0;
+    depth::Accumulator* depth_ = nullptr;
+    double depthSpacing_ = 1.0;
 };
 
 }  // namespace vdblight::detail

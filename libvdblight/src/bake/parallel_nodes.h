@@ -19,6 +19,7 @@
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
 #include "vdblight/light.h"
+#include "vdblight/tiles.h"
 #include "vdblight/volume.h"
 
 namespace vdblight {
@@ -67,12 +68,24 @@ ParallelRun forEachItemInParallel(std::size_t count, int threads, Interrupter* i
 }
 
 /// (level, position in the level's data) of every node a multi-level bake must sample, in a
-/// fixed order: seam nodes (set afterwards from the coarser level) are left out and counted.
-std::vector<std::pair<int, std::size_t>> nodesToBake(const Volume& volume, uint64_t& seams);
+/// fixed order: seam nodes (set afterwards from the coarser level) are left out and counted;
+/// with `only` (a tile, tiles.h), so are the nodes outside it (not counted).
+std::vector<std::pair<int, std::size_t>> nodesToBake(const Volume& volume, uint64_t& seams,
+                                                     const NodeMask* only = nullptr);
 
 /// The metadata every gather-style pass writes: scene identity, transport, seed, counts, time.
 void addCommonBakeMetadata(Metadata& m, const Scene& scene, const TransportOptions& transport, uint64_t seed,
                            uint64_t nodes, const ParallelRun& run);
+
+/// The per-node error summary of the point gathers (BakeStats::estimatedError, one value
+/// per node of `grid`): error_estimate (what it is), estimated_error_p50 / _p95 / _max and
+/// estimated_error_worst_nodes ("i,j,k:error;..." for the five worst nodes).
+void addErrorSummary(Metadata& m, const std::vector<float>& estimatedError, const GridSpec& grid);
+/// The metadata of a volume with depth moments (depth_moments.h) from `rays` rays per node.
+inline void addDepthMetadata(Metadata& m, uint32_t rays) {
+    m["depth_moments"] = std::string("axial depth per cube face, mean and sigma, 8-bit (depth_moments.h)");
+    m["depth_rays_per_node"] = int64_t(rays);
+}
 
 }  // namespace bake_detail
 }  // namespace vdblight

@@ -105,9 +105,10 @@ public:
             const Vec3f end = origin + dir * t;
             walk(origin, end, dir, power, sums, count);
             if (!hit.hit() || bounce >= options_.transport.maxBounces) return;
-            // Diffuse reflection by albedo, Russian roulette on the largest component.
+            // Diffuse reflection by albedo, Russian roulette on the largest component, capped
+            // like the gather's (light.h) so that white walls do not keep photons forever.
             const Rgb albedo = scene_.material(hit.triangle).albedo;
-            const float survive = maxComponent(albedo);
+            const float survive = std::min(kRouletteMaxSurvival, maxComponent(albedo));
             if (!(rng.uniform() < survive)) return;
             power = power * albedo / survive;
             Vec3f n = normalize(hit.geometricNormal);

@@ -205,6 +205,17 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
         for (auto& t : v) textures.push_back(std::move(t));
     }
     if (o.halfFloat) checkHalfRange(textures, descs);
+    // Depth moments (depth_moments.h) go along as three more textures when the texels are the
+    // nodes; values k/255 in [0, 1] are exact in half floats to 2^-11.
+    int depthExport = 0;
+    if (volume.hasDepth()) {
+        std::vector<std::vector<float>> depth = depthTextures(volume, lattice);
+        depthExport = depth.empty() ? -1 : 1;
+        if (!depth.empty()) {
+            for (TextureDesc& d : depthTextureDescs()) descs.push_back(std::move(d));
+            for (std::vector<float>& t : depth) textures.push_back(std::move(t));
+        }
+    }
 
     StagedFiles staged(outDir);
     staged.createDirectory();
@@ -217,7 +228,8 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
     manifest.momentOrder = binsVolume ? binSpec.order : 0;
     manifest.textures = descs;
     manifest.direct = &volume.direct;
-    for (std::size_t t = layoutCount; t < descs.size(); ++t) manifest.visibilityTextures.push_back(descs[t].name);
+    for (std::size_t t = layoutCount; t < layoutCount + visibility.size(); ++t) manifest.visibilityTextures.push_back(descs[t].name);
+    manifest.depth = depthExport;
     for (std::size_t t = 0; t < descs.size(); ++t) {
         TextureImage image;
         image.rgba = textures[t].data();

@@ -83,6 +83,10 @@ struct ManifestInput {
     /// visibility is component i % 4 of texture visibilityTextures[i / 4].
     const DirectLightSet* direct = nullptr;
     std::vector<std::string> visibilityTextures;
+    /// Depth moments (depth_moments.h): 0 = the volume has none; 1 = exported as the last
+    /// three textures depth_x, depth_y, depth_z; -1 = the volume has them but the lattice is
+    /// not its nodes (multi-level volume or --resolution), so they were not exported.
+    int depth = 0;
 };
 
 /// Occlusion volumes: the textures holding the lights' visibility, four lights per RGBA texture
@@ -90,6 +94,12 @@ struct ManifestInput {
 std::vector<TextureDesc> visibilityTextures(const DirectLightSet& direct);
 std::vector<std::vector<float>> sampleVisibility(const IrradianceQuery& query, const TextureLattice& lattice,
                                                  std::size_t lights);
+/// The three depth textures: per texel point (a node) and axis a, RGBA = (mean of the +a
+/// face, mean of the -a face, sigma of +a, sigma of -a), in cells. Empty if the lattice is
+/// not exactly the nodes of a single-level volume with depth moments.
+std::vector<std::vector<float>> depthTextures(const Volume& volume, const TextureLattice& lattice);
+/// Their descriptions, in the order depthTextures returns them.
+std::vector<TextureDesc> depthTextureDescs();
 std::string manifestJson(const ManifestInput& in);
 
 }  // namespace vdblight::exporter

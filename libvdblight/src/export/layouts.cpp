@@ -1,5 +1,6 @@
 // Export layouts: which textures a layout writes and how nine SH order-2 radiance
 // coefficients become their texels. The formulas are those of docs/engines.md.
+#include <algorithm>
 #include <cmath>
 
 #include "export_internal.h"
@@ -188,6 +189,39 @@ void packVectorTexel(ExportLayout layout, const float v[54], float* out) {
         colour[3] = 0.0f;
         dir[3] = 0.0f;
     }
+}
+
+std::vector<TextureDesc> depthTextureDescs() {
+    std::vector<TextureDesc> d;
+    for (const char* axis : {"x", "y", "z"}) {
+        const std::string a = axis;
+        d.push_back({"depth_" + a, {"mean_pos_" + a, "mean_neg_" + a, "sigma_pos_" + a, "sigma_neg_" + a}});
+    }
+    return d;
+}
+
+std::vector<std::vector<float>> depthTextures(const Volume& volume, const TextureLattice& lattice) {
+    if (volume.levels.size() != 1 || !volume.hasDepth()) return {};
+    const VolumeLevel& level = volume.levels[0];
+    const GridSpec& g = level.grid;
+    // Only a lattice that is the nodes themselves: depth moments belong to node positions
+    // and the spacing they are measured in; they cannot be resampled.
+    if (lattice.dims[0] != g.nx || lattice.dims[1] != g.ny || lattice.dims[2] != g.nz) return {};
+    const double tol = 1e-9 * std::max(1.0, g.spacing * std::max({g.nx, g.ny, g.nz}));
+    for (int a = 0; a < 3; ++a)
+        if (std::fabs(lattice.lo[a] - g.origin[a]) > tol) return {};
+    std::vector<std::vector<float>> out(3, std::vector<float>(g.nodeCount() * 4));
+    for (std::size_t n = 0; n < g.nodeCount(); ++n) {
+        const float* d = level.nodeDepth(n);
+        for (int a = 0; a < 3; ++a) {
+            float* t = &out[std::size_t(a)][n * 4];
+            t[0] = d[depth::kMeanPositive * 3 + a];
+            t[1] = d[depth::kMeanNegative * 3 + a];
+            t[2] = d[depth::kSigmaPositive * 3 + a];
+            t[3] = d[depth::kSigmaNegative * 3 + a];
+        }
+    }
+    return out;
 }
 
 }  // namespace exporter

@@ -2,9 +2,11 @@
 // (docs/engines.md explains each field).
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
 
 #include "export_internal.h"
+#include "vdblight/depth_moments.h"
 #include "vdblight/sh.h"
 
 namespace vdblight::exporter {
@@ -27,6 +29,16 @@ std::string quote(const std::string& s) {
 std::string num(double v) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.17g", v);
+    return buf;
+}
+/// A float constant as the shortest decimal that reads back as the same float.
+std::string numFloat(float v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.9g", double(v));
+    for (int digits = 1; digits <= 9; ++digits) {
+        std::snprintf(buf, sizeof buf, "%.*g", digits, double(v));
+        if (std::strtof(buf, nullptr) == v) break;
+    }
     return buf;
 }
 std::string vec(const Vec3d& v) { return "[" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + "]"; }
@@ -174,6 +186,24 @@ std::string manifestJson(const ManifestInput& in) {
         for (int c = 0; c < 2 * R * R; ++c)
             s << (c ? ", " : "") << "[" << c / (R * R) << ", " << c % R << ", " << c % (R * R) / R << "]";
         s << "]},\n";
+    }
+    if (in.depth != 0) {
+        s << "  \"depth\": {\"exported\": " << (in.depth > 0 ? "true" : "false");
+        if (in.depth > 0) {
+            s << ", \"textures\": [\"depth_x\", \"depth_y\", \"depth_z\"], \"bias\": " << numFloat(depth::kDepthBias)
+              << ", \"min_sigma\": " << numFloat(depth::kDepthMinSigma) << ", \"floor\": " << numFloat(depth::kDepthFloor)
+              << ",\n    \"units\": \"cells: distances divided by texel_spacing (the node spacing), clamped to 1\",\n"
+              << "    \"components\": \"depth_a.rgba = (mean of the +a face, mean of the -a face, sigma of +a, sigma of -a): "
+                 "the axial depth along a of the first hits of the node's rays whose dominant axis is +a or -a\",\n"
+              << "    \"lookup\": \"fetch the 8 corner texels (no hardware filtering); corner offset o = (x - corner) / "
+                 "texel_spacing; per axis a: mu, sigma = the face on the side of o_a, e = |o_a| - mu - bias, v_a = 1 if e <= 0 "
+                 "else s2 / (s2 + e^2) with s2 = sigma^2 + min_sigma^2; vis = (v_x v_y v_z)^3; weight = trilinear * (vis + floor); "
+                 "blend the layout's texels with the weights divided by their sum (docs/engines.md)\"";
+        } else {
+            s << ", \"reason\": \"depth moments belong to the volume's nodes; this lattice is not the nodes of a "
+                 "single-level volume (multi-level volume or --resolution)\"";
+        }
+        s << "},\n";
     }
     if (in.direct) s << directJson(*in.direct, in.visibilityTextures);
     switch (o.format) {

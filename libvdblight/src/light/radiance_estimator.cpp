@@ -311,6 +311,7 @@ namespace {
 /// walkPath's sink for gatherRadiance: every term added at once, NEE traced at once.
 struct ImmediateSink {
     Rgb radiance{0, 0, 0};
+    Rgb emitted{0, 0, 0};
     void add(const Rgb& term) { radiance += term; }
 };
 }  // namespace
@@ -318,6 +319,7 @@ struct ImmediateSink {
 /// walkPath's sink for gatherRadianceDeferred: terms recorded, NEE shadow rays deferred.
 struct RadianceEstimator::DeferredSink {
     DeferredPaths& paths;
+    Rgb emitted{0, 0, 0};
     void add(const Rgb& term) { paths.terms_.push_back({term, Rgb(), DeferredPaths::kNoShadowRay, false}); }
 };
 
@@ -342,7 +344,9 @@ void RadianceEstimator::walkPath(const Vec3f& origin, const Vec3f& dir, float di
         if (emitterOf_[hit.triangle] >= 0 &&
             !(reflection == 1 && options_.skipAtReceiver && options_.skipAtReceiver->skipsTriangle(hit.triangle))) {
             const float lightPdf = emitterPdf(hit.triangle, hit.t, ray.direction, &ray.origin);
-            sink.add(throughput * emittedRadiance(hit.triangle, ray.direction) * misWeight(pdf, lightPdf));
+            const Rgb e = throughput * emittedRadiance(hit.triangle, ray.direction) * misWeight(pdf, lightPdf);
+            if (reflection == 1) sink.emitted = e;
+            sink.add(e);
         }
         if (reflection > options_.maxBounces) break;
         const Material& m = scene_.material(hit.triangle);
@@ -352,6 +356,10 @@ void RadianceEstimator::walkPath(const Vec3f& origin, const Vec3f& dir, float di
         Vec3f n = unitNormals_[hit.triangle];
         if (dot(n, ray.direction) > 0) n = -n;
         const Vec3f p = offsetRayOrigin(ray.origin + ray.direction * hit.t, n, n);
+        // With a surface cache the path ends at its first hit (light.h): NEE there as usual,
+        // one direction sample for the emitters' other MIS share, the rest from the cache.
+        Rgb cached;
+        const bool ends = reflection == 1 && cache_ && cache_->irradiance(p, n, cached, rays);
         // Lambertian BRDF albedo / pi; albedo is in the throughput already.
         if constexpr (std::is_same_v<Sink, ImmediateSink>) {
             sink.add(throughput * directAtSurface(p, n, rng, rays) * float(kInvPi));
@@ -378,8 +386,23 @@ void RadianceEstimator::walkPath(const Vec3f& origin, const Vec3f& dir, float di
             sink.paths.terms_.push_back(term);
         }
 
+        if (ends) {
+            Vec3f t, b;
+            orthonormalBasis(n, t, b);
+            const Vec3f local = cosineHemisphere(rng.uniform(), rng.uniform());
+            const Ray next{p, t * local.x + b * local.y + n * local.z};
+            ++rays.intersect;
+            const Hit h = tracer_.intersect(next);
+            if (h.hit() && emitterOf_[h.triangle] >= 0) {
+                const float lightPdf = emitterPdf(h.triangle, h.t, next.direction, &next.origin);
+                sink.add(throughput * emittedRadiance(h.triangle, next.direction) *
+                         misWeight(local.z * float(kInvPi), lightPdf));
+            }
+            sink.add(throughput * cached * float(kInvPi));
+            break;
+        }
         if (reflection >= options_.rouletteStart) {
-            const float q = std::min(0.95f, maxComponent(throughput));
+            const float q = std::min(kRouletteMaxSurvival, maxComponent(throughput));
             if (rng.uniform() >= q) break;
             throughput *= 1.0f / q;
         }
@@ -392,9 +415,10 @@ void RadianceEstimator::walkPath(const Vec3f& origin, const Vec3f& dir, float di
 }
 
 Rgb RadianceEstimator::gatherRadiance(const Vec3f& origin, const Vec3f& dir, float dirPdf, Rng& rng,
-                                      RayCount& rays, const Hit* firstHit) const {
+                                      RayCount& rays, const Hit* firstHit, Rgb* firstEmission) const {
     ImmediateSink sink;
     walkPath(origin, dir, dirPdf, rng, rays, firstHit, sink);
+    if (firstEmission) *firstEmission = sink.emitted;
     return sink.radiance;
 }
 
@@ -403,11 +427,13 @@ void RadianceEstimator::gatherRadianceDeferred(const Vec3f& origin, const Vec3f&
     DeferredSink sink{out};
     walkPath(origin, dir, dirPdf, rng, rays, &firstHit, sink);
     out.pathEnd_.push_back(uint32_t(out.terms_.size()));
+    out.firstEmission_.push_back(sink.emitted);
 }
 
 void DeferredPaths::clear() {
     terms_.clear();
     pathEnd_.clear();
+    firstEmission_.clear();
     rays_.clear();
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "depth_weights.h"
 #include "vdblight/errors.h"
 #include "vdblight/layout_levels.h"
 
@@ -49,6 +50,8 @@ BinsLookup::BinsLookup(const Volume& volume, OutsidePolicy outside, bool interpo
     floatsPerNode_ = std::size_t(spec_.binCount()) * 3;
     levels_.resize(volume.levels.size());
     for (std::size_t l = 0; l < volume.levels.size(); ++l) levels_[l].data = volume.levels[l].data;
+    hasDepth_ = depthWeights_ = volume.hasDepth();
+    for (std::size_t l = 0; l < volume.levels.size() && hasDepth_; ++l) levels_[l].depth = volume.levels[l].depth;
     if (volume.levels.size() == 1 || grid_.nx < 2 || grid_.ny < 2 || grid_.nz < 2) return;
 
     const int K = K_, side = K + 1;
@@ -154,6 +157,11 @@ const BinsLookup::Level& BinsLookup::locate(const T g[3], std::size_t corner[8],
     }
     const T wx[2] = {1 - f[0], f[0]}, wy[2] = {1 - f[1], f[1]}, wz[2] = {1 - f[2], f[2]};
     for (int c = 0; c < 8; ++c) weight[c] = float(wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2]);
+    if (depthWeights_) {  // visibility-aware interpolation (depth_weights.h)
+        const float* depth[8];
+        for (int c = 0; c < 8; ++c) depth[c] = level->depth.data() + corner[c] * depth::kFloatsPerNode;
+        query_detail::weightByDepth(weight, depth, float(f[0]), float(f[1]), float(f[2]));
+    }
     return *level;
 }
 

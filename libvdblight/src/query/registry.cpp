@@ -41,4 +41,9 @@ IrradianceQuery::IrradianceQuery(const Volume& volume, OutsidePolicy outside) {
                       std::to_string(volume.levels.size()) + " levels");
 }
 
+IrradianceQuery::IrradianceQuery(const Volume& volume, OutsidePolicy outside, bool depthWeights)
+    : IrradianceQuery(volume, outside) {
+    lookup_->setDepthWeights(depthWeights);
+}
+
 }  // namespace vdblight

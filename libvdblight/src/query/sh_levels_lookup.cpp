@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "depth_weights.h"
 #include "vdblight/errors.h"
 #include "vdblight/layout_levels.h"
 #include "vdblight/query_levels.h"
@@ -19,14 +20,24 @@ void copyFolded(const float* src, float* dst) {
 }
 
 /// Trilinear blend of 8 nodes (strides in floats) then the 9-term dot product with Y(n).
+/// `depthBase`: the first corner's depth moments (the same node layout, depth::kFloatsPerNode
+/// floats per node) to weight the corners by (depth_weights.h), or null for plain trilinear.
 inline Rgb interpolate(const float* base, std::size_t sx, std::size_t sy, std::size_t sz, float fx, float fy, float fz,
-                       const float y[sh::kCoeffs]) {
+                       const float y[sh::kCoeffs], const float* depthBase = nullptr) {
     const float* corners[8] = {base, base + sx, base + sy, base + sx + sy,
                                base + sz, base + sx + sz, base + sy + sz, base + sx + sy + sz};
     const float wx[2] = {1 - fx, fx}, wy[2] = {1 - fy, fy}, wz[2] = {1 - fz, fz};
+    float weights[8];
+    for (int c = 0; c < 8; ++c) weights[c] = wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2];
+    if (depthBase) {
+        const float* depth[8];
+        for (int c = 0; c < 8; ++c)
+            depth[c] = depthBase + std::size_t(corners[c] - base) / kFloats * depth::kFloatsPerNode;
+        query_detail::weightByDepth(weights, depth, fx, fy, fz);
+    }
     float interp[kFloats] = {};
     for (int c = 0; c < 8; ++c) {
-        const float w = wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2];
+        const float w = weights[c];
         const float* p = corners[c];
         for (int f = 0; f < kFloats; ++f) interp[f] += w * p[f];
     }
@@ -70,9 +81,14 @@ ShLevelsLookup::ShLevelsLookup(const Volume& volume, OutsidePolicy outside) : ou
     // with an inactive corner gets the child value kCulled (the lookup returns 0 there).
     levels_[0].nodes.assign(grid_.nodeCount() * kFloats, 0.0f);
     std::vector<char> present(grid_.nodeCount(), l0.sparse() ? 0 : 1);
+    hasDepth_ = volume.hasDepth();
+    depthWeights_ = hasDepth_;
+    constexpr int kDepth = depth::kFloatsPerNode;
+    if (hasDepth_) levels_[0].depth.assign(grid_.nodeCount() * kDepth, 1.0f);
     for (std::size_t n = 0; n < l0.storedNodes(); ++n) {
         const std::size_t linear = l0.sparse() ? std::size_t(l0.activeNodes[n]) : n;
         copyFolded(l0.nodeData(n, sh::kCoeffs), &levels_[0].nodes[linear * kFloats]);
+        if (hasDepth_) std::copy_n(l0.nodeDepth(n), kDepth, &levels_[0].depth[linear * kDepth]);
         present[linear] = 1;
     }
     levels_[0].child.resize(std::size_t(grid_.nx - 1) * (grid_.ny - 1) * (grid_.nz - 1));
@@ -92,6 +108,7 @@ ShLevelsLookup::ShLevelsLookup(const Volume& volume, OutsidePolicy outside) : ou
         Level& out = levels_[l];
         const std::size_t bricks = parent.refinedCells.size();
         out.nodes.assign(bricks * std::size_t(side * side * side) * kFloats, 0.0f);
+        if (hasDepth_) out.depth.assign(bricks * std::size_t(side * side * side) * kDepth, 1.0f);
         const bool culled = metaString(volume.meta, "culling") == "solid-regions";
         if (l + 1 < volume.levels.size() || culled) out.child.assign(bricks * std::size_t(K * K * K), -1);
         std::vector<char> brickPresent(std::size_t(side * side * side));
@@ -105,9 +122,9 @@ ShLevelsLookup::ShLevelsLookup(const Volume& volume, OutsidePolicy outside) : ou
                         const int64_t at = findNode(fine, fine.grid.index(pi * K + u, pj * K + v, pk * K + w));
                         if (at < 0 && !culled) throw FormatError("level " + std::to_string(l) + " misses a node of a refined cell");
                         brickPresent[u + side * (v + side * std::size_t(w))] = at >= 0;
-                        if (at >= 0)
-                            copyFolded(fine.nodeData(std::size_t(at), sh::kCoeffs),
-                                       &out.nodes[(b * side * side * side + u + side * (v + side * std::size_t(w))) * kFloats]);
+                        const std::size_t slot = b * side * side * side + u + side * (v + side * std::size_t(w));
+                        if (at >= 0) copyFolded(fine.nodeData(std::size_t(at), sh::kCoeffs), &out.nodes[slot * kFloats]);
+                        if (at >= 0 && hasDepth_) std::copy_n(fine.nodeDepth(std::size_t(at)), kDepth, &out.depth[slot * kDepth]);
                         if (out.child.empty() || u == K || v == K || w == K) continue;
                         out.child[b * K * K * K + u + K * (v + K * std::size_t(w))] = int32_t(
                             positionIn(fine.refinedCells, fine.grid.index(pi * K + u, pj * K + v, pk * K + w)));
@@ -174,8 +191,13 @@ Rgb ShLevelsLookup::irradiance(const Vec3f& x, const Vec3f& n) const {
     float y[sh::kCoeffs];
     sh::evalUnrolled(n, y);
     Rgb e;
-    descend(x, [&](int, const float* base, std::size_t sx, std::size_t sy, std::size_t sz, float fx, float fy, float fz) {
-        e = base ? interpolate(base, sx, sy, sz, fx, fy, fz, y) : Rgb(0, 0, 0);
+    descend(x, [&](int l, const float* base, std::size_t sx, std::size_t sy, std::size_t sz, float fx, float fy, float fz) {
+        const Level& level = levels_[std::size_t(l)];
+        const float* depthBase =
+            base && depthWeights_
+                ? level.depth.data() + std::size_t(base - level.nodes.data()) / kFloats * depth::kFloatsPerNode
+                : nullptr;
+        e = base ? interpolate(base, sx, sy, sz, fx, fy, fz, y, depthBase) : Rgb(0, 0, 0);
     });
     return e;
 }
@@ -213,7 +235,9 @@ void ShLevelsLookup::shRadiance(const Vec3d& x, Rgb out[9]) const {
         for (int c = 0; c < sh::kCoeffs; ++c) out[c] = Rgb(0, 0, 0);
     };
     if (brick == kCulled) return culledCell();
+    std::size_t levelOf = 0;
     for (std::size_t l = 1; brick >= 0; ++l) {
+        levelOf = l;
         for (int a = 0; a < 3; ++a) {
             const double g = snap(frac[a] * K);
             cell[a] = std::min(int(g), K - 1);
@@ -226,11 +250,28 @@ void ShLevelsLookup::shRadiance(const Vec3d& x, Rgb out[9]) const {
         brick = level.child.empty() ? -1 : level.child[std::size_t(brick) * K * K * K + cell[0] + K * (cell[1] + K * cell[2])];
         if (brick == kCulled) return culledCell();
     }
+    float weights[8];
+    for (int corner = 0; corner < 8; ++corner) {
+        double w = 1.0;
+        for (int a = 0; a < 3; ++a) w *= ((corner >> a) & 1) ? frac[a] : 1.0 - frac[a];
+        weights[corner] = float(w);
+    }
+    if (depthWeights_) {
+        const Level& level = levels_[levelOf];
+        const float* depthBase = level.depth.data() + std::size_t(base - level.nodes.data()) / kFloats * depth::kFloatsPerNode;
+        const float* depth[8];
+        for (int corner = 0; corner < 8; ++corner) {
+            const std::size_t off = ((corner & 1) * sx + ((corner >> 1) & 1) * sy + (corner >> 2) * sz) / kFloats;
+            depth[corner] = depthBase + off * depth::kFloatsPerNode;
+        }
+        query_detail::weightByDepth(weights, depth, float(frac[0]), float(frac[1]), float(frac[2]));
+    }
     double sum[kFloats] = {};
     for (int corner = 0; corner < 8; ++corner) {
         const int d[3] = {corner & 1, (corner >> 1) & 1, corner >> 2};
-        double w = 1.0;
-        for (int a = 0; a < 3; ++a) w *= d[a] ? frac[a] : 1.0 - frac[a];
+        double w = depthWeights_ ? double(weights[corner]) : 1.0;
+        if (!depthWeights_)
+            for (int a = 0; a < 3; ++a) w *= d[a] ? frac[a] : 1.0 - frac[a];
         if (w == 0.0) continue;
         const float* p = base + d[0] * sx + d[1] * sy + d[2] * sz;
         for (int f = 0; f < kFloats; ++f) sum[f] += w * p[f];

@@ -1,3 +1,4 @@
+#include "depth_weights.h"
 #include "lattice_locate.h"
 #include "vdblight/query.h"
 
@@ -38,6 +39,8 @@ ShUniformLookup::ShUniformLookup(const Volume& volume, OutsidePolicy outside) : 
         const int j = int((i % kFloatsPerNode) / 3);
         coeffs_[i] = level.data[i] * float(sh::kCosineLobe[sh::bandOf(j)]);
     }
+    depth_ = level.depth;
+    depthWeights_ = !depth_.empty();
 }
 
 void ShUniformLookup::locate(const Vec3f& x, int& i, int& j, int& k, float& fx, float& fy, float& fz) const {
@@ -62,10 +65,19 @@ void ShUniformLookup::radianceCoefficients(const Vec3f& x, Rgb out[9]) const {
     locate(x, i, j, k, fx, fy, fz);
     for (int c = 0; c < sh::kCoeffs; ++c) out[c] = Rgb(0, 0, 0);
     const int di = grid_.nx > 1 ? 1 : 0, dj = grid_.ny > 1 ? 1 : 0, dk = grid_.nz > 1 ? 1 : 0;
+    float weights[8];
+    std::size_t nodes[8];
+    const float* depth[8];
     for (int corner = 0; corner < 8; ++corner) {
         const int ci = corner & 1, cj = (corner >> 1) & 1, ck = corner >> 2;
-        const float w = (ci ? fx : 1 - fx) * (cj ? fy : 1 - fy) * (ck ? fz : 1 - fz);
-        const float* p = coeffs_.data() + grid_.index(i + ci * di, j + cj * dj, k + ck * dk) * kFloatsPerNode;
+        weights[corner] = (ci ? fx : 1 - fx) * (cj ? fy : 1 - fy) * (ck ? fz : 1 - fz);
+        nodes[corner] = grid_.index(i + ci * di, j + cj * dj, k + ck * dk);
+        if (depthWeights_) depth[corner] = depth_.data() + nodes[corner] * depth::kFloatsPerNode;
+    }
+    if (depthWeights_) query_detail::weightByDepth(weights, depth, fx, fy, fz);
+    for (int corner = 0; corner < 8; ++corner) {
+        const float w = weights[corner];
+        const float* p = coeffs_.data() + nodes[corner] * kFloatsPerNode;
         for (int c = 0; c < sh::kCoeffs; ++c) {
             const float a = float(sh::kCosineLobe[sh::bandOf(c)]);
             out[c] += Rgb(p[3 * c], p[3 * c + 1], p[3 * c + 2]) * (w / a);
@@ -76,7 +88,20 @@ void ShUniformLookup::radianceCoefficients(const Vec3f& x, Rgb out[9]) const {
 void ShUniformLookup::shRadiance(const Vec3d& x, Rgb out[9]) const {
     // Located in double and snapped onto a node within 1e-9 of a cell, so that sampling at a
     // node's position returns exactly that node (export relies on it); accumulated in double.
-    const query_detail::TrilinearCorners corners = query_detail::trilinearCorners(grid_, x, outside_);
+    query_detail::TrilinearCorners corners = query_detail::trilinearCorners(grid_, x, outside_);
+    if (depthWeights_) {
+        int lo[3];
+        double frac[3];
+        query_detail::locateExact(grid_, x, outside_, lo, frac);
+        float w[8];
+        const float* depth[8];
+        for (int c = 0; c < 8; ++c) {
+            w[c] = float(corners.weight[c]);
+            depth[c] = depth_.data() + corners.node[c] * depth::kFloatsPerNode;
+        }
+        query_detail::weightByDepth(w, depth, float(frac[0]), float(frac[1]), float(frac[2]));
+        for (int c = 0; c < 8; ++c) corners.weight[c] = w[c];
+    }
     double sum[kFloatsPerNode] = {};
     for (int c = 0; c < 8; ++c) {
         const double w = corners.weight[c];
@@ -104,11 +129,20 @@ Rgb ShUniformLookup::irradiance(const Vec3f& x, const Vec3f& n) const {
     const float* corners[8] = {base, base + sx, base + sy, base + sx + sy,
                                base + sz, base + sx + sz, base + sy + sz, base + sx + sy + sz};
     const float wx[2] = {1 - fx, fx}, wy[2] = {1 - fy, fy}, wz[2] = {1 - fz, fz};
+    float weights[8];
+    for (int c = 0; c < 8; ++c) weights[c] = wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2];
+    if (depthWeights_) {
+        // The same corners in the depth array (depth::kFloatsPerNode floats per node).
+        const float* depth[8];
+        for (int c = 0; c < 8; ++c)
+            depth[c] = depth_.data() + std::size_t(corners[c] - coeffs_.data()) / kFloatsPerNode * depth::kFloatsPerNode;
+        query_detail::weightByDepth(weights, depth, fx, fy, fz);
+    }
 
     // Interpolate the 27 coefficients first, then one 9-term dot product per channel.
     float interp[kFloatsPerNode] = {};
     for (int c = 0; c < 8; ++c) {
-        const float w = wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2];
+        const float w = weights[c];
         const float* p = corners[c];
         for (int f = 0; f < kFloatsPerNode; ++f) interp[f] += w * p[f];
     }

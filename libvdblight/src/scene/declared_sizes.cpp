@@ -350,7 +350,9 @@ void checkFbxBinary(const std::string& d, Budget& budget) {
         const uint64_t end = wide ? u64le(d, at) : u32le(d, at);
         const uint64_t properties = wide ? u64le(d, at + 8) : u32le(d, at + 4);
         const std::size_t nameLength = uint8_t(d[at + headerBytes - 1]);
-        if (end == 0) { at += headerBytes; continue; }  // a null record closes a list
+        // A null record closes a list; at the top level it ends the records, and the footer
+        // that follows (padding, version, magic: written by Blender and the FBX SDK) is not one.
+        if (end == 0) { if (ends.size() == 1) break; at += headerBytes; continue; }
         if (end > ends.back() || end <= at) budget.refuse("an FBX record's end offset lies outside its parent");
         std::size_t p = at + headerBytes + nameLength;
         for (uint64_t k = 0; k < properties && p < end; ++k) {

@@ -1,4 +1,5 @@
-// Loading glTF 2.0 and OBJ+MTL through Assimp into a Scene (PLY: load_ply.cpp).
+// Loading every format Assimp reads into a Scene (PLY: load_ply.cpp; what differs between
+// formats, such as units, axes and light units: assimp_formats.cpp).
 //
 // Assimp's PreTransformVertices would bake node transforms into the meshes but drops the
 // lights, so the node hierarchy is walked here and every mesh instance and light is put
@@ -19,6 +20,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -28,8 +30,11 @@
 
 #include "vdblight/errors.h"
 #include "vdblight/scene.h"
+#include "vdblight/scene_load.h"
 #include "vdblight/scene_origin.h"
+#include "assimp_formats.h"
 #include "declared_sizes.h"
+#include "file_frame.h"
 #include "json.h"
 #include "load_ply.h"
 
@@ -131,11 +136,17 @@ struct Loader {
     const std::string& path;
     const aiScene& ai;
     Scene& scene;
+    const AssimpFormat& format;
     std::vector<uint32_t> materialOf;                       ///< aiScene material -> ours
+    std::vector<bool> defaultMaterial;                      ///< aiScene material is Assimp's stand-in
     std::multimap<std::string, aiMatrix4x4> nodeTransforms;  ///< world transform by node name
+    std::set<unsigned> meshesUsed;
+    std::size_t meshInstances = 0;
+    bool anyOwnMaterial = false;
     std::uint64_t memoryBound = 0;                           ///< sceneMemoryBound of the file
 
-    void addMesh(const aiMesh& mesh, const aiMatrix4x4& world) {
+    void addMesh(unsigned meshIndex, const aiMatrix4x4& world) {
+        const aiMesh& mesh = *ai.mMeshes[meshIndex];
         if (!(mesh.mPrimitiveTypes & aiPrimitiveType_TRIANGLE) || !mesh.mVertices) return;  // points, lines
         // Instancing multiplies meshes: the flattened scene must stay within the bound too.
         const double bytes = 12.0 * double(scene.positions.size() + mesh.mNumVertices) +
@@ -165,7 +176,10 @@ struct Loader {
             const uint32_t a = base + face.mIndices[0], b = base + face.mIndices[1], c = base + face.mIndices[2];
             addIndexedTriangle(scene, a, mirrored ? c : b, mirrored ? b : c, materialId);
         }
+        meshesUsed.insert(meshIndex);
         ++scene.stats.meshes;
+        ++meshInstances;
+        if (mesh.mMaterialIndex < defaultMaterial.size() && !defaultMaterial[mesh.mMaterialIndex]) anyOwnMaterial = true;
     }
 
     void addNode(const aiNode& node, const aiMatrix4x4& parent) {
@@ -175,7 +189,7 @@ struct Loader {
             if (node.mMeshes[k] >= ai.mNumMeshes)
                 throw SceneError("scene file '" + path + "': node '" + node.mName.C_Str() +
                                  "' refers to a missing mesh");
-            addMesh(*ai.mMeshes[node.mMeshes[k]], world);
+            addMesh(node.mMeshes[k], world);
         }
         for (unsigned k = 0; k < node.mNumChildren; ++k) addNode(*node.mChildren[k], world);
     }
@@ -190,7 +204,18 @@ struct Loader {
         nodeTransforms.erase(it);
         const Vec3f position = toVec(world * light.mPosition);
         Vec3f direction = toVec(aiMatrix3x3(world) * light.mDirection);
-        const Rgb colour = toRgb(light.mColorDiffuse);
+        Rgb colour = toRgb(light.mColorDiffuse);
+        float inner = light.mAngleInnerCone, outer = light.mAngleOuterCone;
+        if (format.lights == LightConvention::BlenderPower) {
+            // Blender writes its lights' power (W) into FBX Intensity x 100 and COLLADA colours;
+            // a point light of power P radiates P / (4 pi) W/sr, and a spot light is a point
+            // light with a mask (Blender, and its glTF exporter). Suns are W/m^2 already.
+            if (light.mType != aiLightSource_DIRECTIONAL) colour = colour * float(1.0 / (4.0 * kPi));
+            // Assimp gives full cone angles; COLLADA's is the falloff angle, with an outer
+            // angle Assimp guesses from the falloff exponent: the cone is taken as hard.
+            if (format.colladaSpot) inner = outer = 0.5f * light.mAngleInnerCone;
+            else { inner *= 0.5f; outer *= 0.5f; }
+        }
         if (light.mType == aiLightSource_SPOT || light.mType == aiLightSource_DIRECTIONAL) {
             if (!(length(direction) > 0.0f))
                 throw SceneError("scene file '" + path + "': light '" + light.mName.C_Str() +
@@ -200,7 +225,7 @@ struct Loader {
         switch (light.mType) {
         case aiLightSource_POINT: scene.pointLights.push_back({position, colour}); break;
         case aiLightSource_SPOT:
-            scene.spotLights.push_back({position, direction, colour, light.mAngleInnerCone, light.mAngleOuterCone});
+            scene.spotLights.push_back({position, direction, colour, std::min(inner, outer), outer});
             break;
         case aiLightSource_DIRECTIONAL: scene.directionalLights.push_back({direction, colour}); break;
         default: break;  // ambient and area lights have no glTF counterpart
@@ -208,36 +233,61 @@ struct Loader {
     }
 };
 
-}  // namespace
 
-Scene loadScene(const std::string& path) {
-    checkReadable(path);
-    const std::string ext = lowerExtension(path);
-    checkDeclaredSizes(path, ext);  // the memory bound: declared sizes checked before any reader trusts them
-    if (ext != ".gltf" && ext != ".glb" && ext != ".obj" && ext != ".ply")
-        throw SceneError("scene file '" + path + "': unsupported scene format '" + ext +
-                         "' (supported: .gltf .glb .obj .ply)");
-    if (ext == ".ply") return loadPlyScene(path);  // our own reader: Assimp's crashes on corrupt files
-
+/// Triangles, materials and lights of every node; the file's frame (unit, up axis) above the root.
+Scene loadAssimpScene(const std::string& path, const std::string& ext, const SceneLoadOptions& options,
+                      SceneLoadReport& report) {
+    checkLoadOptions(options);
     Assimp::Importer importer;
+    configureImporter(importer, ext, options);
+    if (ext == ".obj") useFixedObjText(importer, path);  // indented lines, numbers like ".5"
     // No aiProcess_ValidateDataStructure: it rejects a mesh without faces (an OBJ of bare
     // vertices), which should rather end in "no triangles"; the walk checks indices itself.
+    // Node transforms and instancing are applied by the walk below (Loader::addNode).
+    // Degenerate triangles are dropped by addIndexedTriangle, which counts them (Assimp's
+    // aiProcess_FindDegenerates would drop them silently).
     const aiScene* ai = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
     if (!ai || !ai->mRootNode)
         throw SceneError("cannot load scene file '" + path + "': " + oneLine(importer.GetErrorString()));
 
     Scene scene;
     scene.name = std::filesystem::path(path).stem().string();
-    Loader loader{path, *ai, scene, {}, {}, sceneMemoryBound(std::filesystem::file_size(path))};
+    std::vector<std::string>& warnings = report.warnings;
+    const bool objLibrariesMissing = ext == ".obj" && checkObjMaterialLibraries(path, warnings);
+    AssimpFormat format = describeAssimpFormat(importer, path, ext, *ai, options, warnings);
+    format.noMaterials = format.noMaterials || objLibrariesMissing;
+    Loader loader{path, *ai, scene, format, {}, {}, {}, {}, 0, false,
+                  sceneMemoryBound(std::filesystem::file_size(path))};
     try {
         const bool gltf = ext == ".gltf" || ext == ".glb";
         const std::vector<float> strengths = gltf ? gltfEmissiveStrengths(path, ext == ".glb") : std::vector<float>{};
+        std::size_t unread = 0;
+        std::string firstUnread;
         for (unsigned i = 0; i < ai->mNumMaterials; ++i) {
+            const aiMaterial& am = *ai->mMaterials[i];
             const float strength = i < strengths.size() ? strengths[i] : 1.0f;
-            loader.materialOf.push_back(addMaterial(scene, convertMaterial(*ai->mMaterials[i], strength)));
+            Material m = format.noMaterials ? Material{} : convertMaterial(am, strength);
+            if (format.noMaterials) m.name = AI_DEFAULT_MATERIAL_NAME;
+            loader.defaultMaterial.push_back(m.name == AI_DEFAULT_MATERIAL_NAME);
+            const DiffuseTexture texture = format.noMaterials ? DiffuseTexture{} : diffuseTexture(*ai, am, path);
+            // glTF multiplies baseColorFactor by the texture; OBJ, FBX and COLLADA
+            // renderers let the texture replace the diffuse colour.
+            if (texture.read) m.albedo = gltf ? m.albedo * texture.mean : texture.mean;
+            if (texture.present && !texture.read && unread++ == 0) firstUnread = texture.why;
+            loader.materialOf.push_back(addMaterial(scene, m));
         }
-        loader.addNode(*ai->mRootNode, aiMatrix4x4());
+        if (unread > 0)
+            warnings.push_back(std::to_string(unread) + " diffuse texture(s) not read (first: " + firstUnread +
+                               "): their materials' diffuse colour is the albedo");
+        loader.addNode(*ai->mRootNode, format.root);
         for (unsigned i = 0; i < ai->mNumLights; ++i) loader.addLight(*ai->mLights[i]);
+        report.meshes = loader.meshesUsed.size();
+        report.meshInstances = loader.meshInstances;
+        report.format = format.name;
+        report.metresPerUnit = format.metresPerUnit;
+        report.units = format.units;
+        report.up = format.up;
+        report.defaultAlbedoOnly = !loader.anyOwnMaterial;
         validateScene(scene);
         recenterScene(scene);  // far from the origin: local float geometry, double origin
     } catch (const SceneError& e) {
@@ -248,6 +298,47 @@ Scene loadScene(const std::string& path) {
         throw SceneError("scene file '" + path + "': mesh with a material index out of range");
     }
     return scene;
+}
+
+}  // namespace
+
+namespace {
+bool isSupportedExtension(const std::string& ext) {
+    const std::vector<std::string> supported = supportedSceneExtensions();
+    return !ext.empty() && std::binary_search(supported.begin(), supported.end(), ext);
+}
+
+std::string supportedExtensionList() {
+    std::string list;
+    for (const std::string& e : supportedSceneExtensions()) list += (list.empty() ? "" : " ") + e;
+    return list;
+}
+}  // namespace
+
+std::vector<std::string> supportedSceneExtensions() {
+    static const std::vector<std::string> extensions = [] {
+        std::vector<std::string> e = assimpExtensions();
+        if (std::find(e.begin(), e.end(), ".ply") == e.end()) e.push_back(".ply");
+        std::sort(e.begin(), e.end());
+        return e;
+    }();
+    return extensions;
+}
+
+Scene loadScene(const std::string& path) { return loadScene(path, SceneLoadOptions{}); }
+
+Scene loadScene(const std::string& path, const SceneLoadOptions& options, SceneLoadReport* report) {
+    checkReadable(path);
+    const std::string ext = lowerExtension(path);
+    checkDeclaredSizes(path, ext);  // the memory bound: declared sizes checked before any reader trusts them
+    if (!isSupportedExtension(ext))
+        throw SceneError("scene file '" + path + "': unsupported scene format '" + ext + "' (supported: " +
+                         supportedExtensionList() + ")");
+    SceneLoadReport local;
+    SceneLoadReport& r = report ? *report : local;
+    r = SceneLoadReport{};
+    if (ext == ".ply") return loadPlyScene(path, options, r);  // our own reader: Assimp's crashes on corrupt files
+    return loadAssimpScene(path, ext, options, r);
 }
 
 }  // namespace vdblight

@@ -24,6 +24,7 @@
 
 #include "vdblight/errors.h"
 #include "vdblight/scene_origin.h"
+#include "file_frame.h"
 
 namespace vdblight {
 
@@ -76,7 +77,8 @@ struct Element {
 
 class PlyReader {
 public:
-    PlyReader(const std::string& path, std::string data) : path_(path), data_(std::move(data)) {}
+    PlyReader(const std::string& path, std::string data, const FileFrame& frame, SceneLoadReport& report)
+        : path_(path), data_(std::move(data)), frame_(frame), report_(report) {}
 
     Scene read() {
         parseHeader();
@@ -168,10 +170,27 @@ private:
                 }
                 elements_.back().properties.push_back(std::move(p));
             } else {
-                fail(bad + ": unknown keyword '" + key.substr(0, 32) + "'");
+                // Old Blender ("Created by Blender3D 247 ...") and scanner software write free
+                // text lines; Assimp skips them, and so do we, unless the line could declare a
+                // property or an element, whose loss would change how the data is read.
+                if (mayDeclareData(words))
+                    fail(bad + ": unknown keyword '" + key.substr(0, 32) + "' in what may declare a property or element");
+                if (unknownLines_++ == 0) firstUnknown_ = "line " + std::to_string(lineNo) + " '" + line.substr(0, 48) + "'";
             }
         }
         if (!sawFormat) fail("header has no 'format' line");
+    }
+
+    /// "prop float x", "elemnt vertex 8", "propery list uchar int vertex_indices": a type
+    /// name or "list" among the words, or a count as the last of three.
+    static bool mayDeclareData(const std::vector<std::string>& words) {
+        Type t;
+        uint64_t n;
+        if (words.size() == 3 && parseCount(words[2], n)) return true;
+        if (words.size() != 3 && words.size() != 5) return false;
+        for (std::size_t k = 1; k + 1 < words.size(); ++k)
+            if (words[k] == "list" || parseType(words[k], t)) return true;
+        return false;
     }
 
     static bool parseCount(const std::string& s, uint64_t& out) {
@@ -352,6 +371,7 @@ private:
         Scene scene;
         scene.name = std::filesystem::path(path_).stem().string();
         scene.positions = std::move(positions_);
+        for (Vec3f& p : scene.positions) p = frame_.apply(p);  // a rotation and a uniform scale
         const uint32_t material = addMaterial(scene, Material{"default"});
         std::size_t at = 0;
         for (const uint64_t n : polygonSizes_) {
@@ -363,11 +383,22 @@ private:
                 addIndexedTriangle(scene, c[s], c[(s + k) % n], c[(s + k + 1) % n], material);
         }
         ++scene.stats.meshes;
+        report_.meshes = report_.meshInstances = 1;
+        report_.format = format_ == Format::Ascii ? "PLY (ascii)"
+                             : format_ == Format::BinaryLittle ? "PLY (binary little-endian)" : "PLY (binary big-endian)";
+        report_.defaultAlbedoOnly = true;
+        if (unknownLines_ > 0)
+            report_.warnings.push_back("PLY: skipped " + std::to_string(unknownLines_) +
+                                           " header line(s) with an unknown keyword (first: " + firstUnknown_ + ")");
         return scene;
     }
 
     std::string path_;
     std::string data_;
+    FileFrame frame_;
+    SceneLoadReport& report_;
+    std::size_t unknownLines_ = 0;
+    std::string firstUnknown_;
     std::size_t pos_ = 0;
     Format format_ = Format::Ascii;
     std::vector<Element> elements_;
@@ -384,14 +415,19 @@ private:
 
 }  // namespace
 
-Scene loadPlyScene(const std::string& path) {
+Scene loadPlyScene(const std::string& path, const SceneLoadOptions& options, SceneLoadReport& report) {
+    checkLoadOptions(options);
     std::ifstream in(path, std::ios::binary);
     if (!in) throw IoError("cannot read scene file '" + path + "': " + std::strerror(errno));
     std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     if (in.bad()) throw IoError("cannot read scene file '" + path + "'");
     Scene scene;
     try {
-        scene = PlyReader(path, std::move(data)).read();
+        const double scale = options.scale > 0 ? options.scale : 1.0;
+        scene = PlyReader(path, std::move(data), makeFileFrame(scale, options.up == UpAxis::Z), report).read();
+        report.metresPerUnit = scale;
+        report.units = describeUnit(scale) + (options.scale > 0 ? " (--scale)" : " (as stored)");
+        report.up = options.up == UpAxis::Z ? "Z (--up)" : options.up == UpAxis::Y ? "Y (--up)" : "Y (as stored)";
         validateScene(scene);
         recenterScene(scene);
     } catch (const SceneError& e) {

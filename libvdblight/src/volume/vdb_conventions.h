@@ -55,6 +55,9 @@ inline bool isStructuralKey(const std::string& key) {
     return pos > 5 && (rest == "_origin" || rest == "_spacing" || rest == "_dims");
 }
 
+/// Keys (without prefix) that only tile files carry (tiles.h: tile_index, tile_count, ...).
+inline bool isTileKey(const std::string& key) { return key.compare(0, 5, "tile_") == 0; }
+
 inline openvdb::Metadata::Ptr toVdbMeta(const MetaValue& value) {
     if (const auto* s = std::get_if<std::string>(&value)) return std::make_shared<openvdb::StringMetadata>(*s);
     if (const auto* i = std::get_if<int64_t>(&value)) return std::make_shared<openvdb::Int64Metadata>(*i);

@@ -17,8 +17,11 @@
 #include <openvdb/openvdb.h>
 #include <openvdb/io/File.h>
 #include <tbb/parallel_for.h>
+#include "vdblight/depth_moments.h"
 #include "vdblight/errors.h"
 #include "vdb_conventions.h"
+#include "content_hash.h"
+#include "tile_io.h"
 
 namespace vdblight {
 namespace {
@@ -410,6 +413,35 @@ void readDirect(OpenedFile& f, Volume& volume, const std::string& path) {
     }
 }
 
+/// Reads the optional depth-moment grids of a level (depth_moments.h): all four or an error,
+/// with exactly the channel grids' active voxels; values in [0, 1] are checked by validate.
+void readDepth(OpenedFile& f, VolumeLevel& out, int level, const std::string& path) {
+    VolumeLevel tmp;
+    tmp.grid = out.grid;
+    tmp.activeNodes = out.activeNodes;
+    tmp.data.assign(out.storedNodes() * depth::kFloatsPerNode, 0.0f);
+    for (int c = 0; c < depth::kChannels; ++c) {
+        const std::string name = gridNameFor(depth::channelName(c), level);
+        if (!f.file->hasGrid(name)) formatError(path, "has depth moments without grid '" + name + "'");
+        openvdb::GridBase::Ptr base;
+        try {
+            base = f.file->readGrid(name);
+        } catch (const std::exception& e) {
+            formatError(path, "grid '" + name + "' cannot be read (truncated or corrupt?): " + e.what());
+        }
+        if (out.sparse()) {
+            Vec3SGrid::Ptr grid = checkSparseChannelGrid(base, out.grid, nullptr, path);
+            if (uint64_t(grid->activeVoxelCount()) != out.activeNodes.size() ||
+                activeLinear(*grid, out.grid) != out.activeNodes)
+                formatError(path, "grid '" + name + "' has other active voxels than the level's channel grids");
+            copySparseChannel(*grid, tmp, c, depth::kChannels);
+        } else {
+            copyChannel(*checkChannelGrid(base, out.grid, path), tmp, c, depth::kChannels);
+        }
+    }
+    out.depth = std::move(tmp.data);
+}
+
 VolumeLevel readLevel(OpenedFile& f, const BasisDesc& basis, int level, const std::string& path, bool multiLevel) {
     VolumeLevel out;
     out.grid = readLevelSpec(*f.meta, level, path);
@@ -450,6 +482,7 @@ VolumeLevel readLevel(OpenedFile& f, const BasisDesc& basis, int level, const st
     }
     const std::string validityName = gridNameFor(kValidityName, level);
     if (level == 0 && f.file->hasGrid(validityName)) out.validity = readScalarGrid(f, validityName, out.grid, path);
+    if (f.file->hasGrid(gridNameFor(depth::channelName(0), level))) readDepth(f, out, level, path);
     return out;
 }
 
@@ -479,6 +512,12 @@ GridInfo describeGrid(openvdb::io::File& file, const openvdb::GridBase& grid) {
 Volume readVolume(const std::string& path) {
     OpenedFile f = openVolumeFile(path);
     const openvdb::MetaMap& meta = *f.meta;
+    if (auto count = meta.getMetadata<openvdb::Int64Metadata>(kPrefix + "tile_count")) {
+        const auto index = meta.getMetadata<openvdb::Int64Metadata>(kPrefix + "tile_index");
+        formatError(path, "is tile " + std::to_string(index ? index->value() : -1) + " of " +
+                              std::to_string(count->value()) + " of a bake, not a complete volume: merge the tiles with "
+                              "'vdblight merge TILES... -o OUT.vdb'");
+    }
     Volume volume;
     volume.basis.kind = requireMeta<std::string>(meta, kPrefix + "basis", path);
     volume.basis.channelNames = splitNames(requireMeta<std::string>(meta, kPrefix + "channels", path));
@@ -497,10 +536,97 @@ Volume readVolume(const std::string& path) {
     return volume;
 }
 
+namespace vdb_detail {
+
+TileFile readTileFile(const std::string& path) {
+    OpenedFile f = openVolumeFile(path);
+    const openvdb::MetaMap& meta = *f.meta;
+    if (!meta.getMetadata<openvdb::Int64Metadata>(kPrefix + "tile_count"))
+        formatError(path, "is not a tile (no vdblight:tile_count): a complete volume or another file");
+    TileFile t;
+    t.id.index = int(requireMeta<int64_t>(meta, kPrefix + "tile_index", path));
+    t.id.count = int(requireMeta<int64_t>(meta, kPrefix + "tile_count", path));
+    t.id.paramsHash = requireMeta<std::string>(meta, kPrefix + "tile_params_hash", path);
+    t.halfFloat = requireMeta<int64_t>(meta, kPrefix + "tile_half_float", path) != 0;
+    t.reproducible = requireMeta<int64_t>(meta, kPrefix + "tile_reproducible", path) != 0;
+    Volume& v = t.part;
+    v.basis.kind = requireMeta<std::string>(meta, kPrefix + "basis", path);
+    v.basis.channelNames = splitNames(requireMeta<std::string>(meta, kPrefix + "channels", path));
+    const int64_t levels = requireMeta<int64_t>(meta, kPrefix + "levels", path);
+    if (levels < 1 || levels > 64) formatError(path, "has an invalid level count " + std::to_string(levels));
+    const std::vector<std::string> dense = splitNames(requireMeta<std::string>(meta, kPrefix + "tile_dense_levels", path));
+    if (dense.size() != std::size_t(levels)) formatError(path, "has a tile_dense_levels entry per level missing");
+    const int channels = v.basis.channelCount();
+    for (int l = 0; l < int(levels); ++l) {
+        t.denseLevels.push_back(dense[std::size_t(l)] == "1" ? 1 : 0);
+        VolumeLevel out;
+        out.grid = readLevelSpec(meta, l, path);
+        const GridSpec& g = out.grid;
+        if (g.nx <= 0 || g.ny <= 0 || g.nz <= 0 || !(g.spacing > 0) || !isFinite(g.origin))
+            formatError(path, "has invalid dimensions, spacing or origin for level " + std::to_string(l));
+        Vec3SGrid::Ptr first;
+        for (int c = 0; c < channels; ++c) {
+            const std::string name = gridNameFor(v.basis.channelNames[std::size_t(c)], l);
+            if (!f.file->hasGrid(name)) formatError(path, "has no grid '" + name + "'");
+            openvdb::GridBase::Ptr base;
+            try {
+                base = f.file->readGrid(name);
+            } catch (const std::exception& e) {
+                formatError(path, "grid '" + name + "' cannot be read (truncated or corrupt?): " + e.what());
+            }
+            Vec3SGrid::Ptr grid = checkPlacedChannel(base, g, path);
+            grid->tree().voxelizeActiveTiles();
+            if (!insideBox(grid->evalActiveVoxelBoundingBox(), g.nx, g.ny, g.nz))
+                formatError(path, "grid '" + name + "' has active voxels outside its level's node box");
+            if (first && !grid->tree().hasSameTopology(first->tree()))
+                formatError(path, "grid '" + name + "' has other active voxels than the first channel of its level");
+            if (c == 0) {
+                first = grid;
+                out.activeNodes = activeLinear(*grid, g);
+                out.data.assign(out.activeNodes.size() * std::size_t(channels) * 3, 0.0f);
+            }
+            copySparseChannel(*grid, out, c, channels);
+        }
+        v.levels.push_back(std::move(out));
+    }
+    if (levels > 1)
+        for (int l = 0; l + 1 < int(levels); ++l) readMask(f, v.levels[std::size_t(l)], l, path);
+    v.meta = userMetadata(meta);
+    return t;
+}
+
+}  // namespace vdb_detail
+
+bool readTileId(const std::string& path, TileId& id) {
+    OpenedFile f = openVolumeFile(path);
+    const openvdb::MetaMap& meta = *f.meta;
+    if (!meta.getMetadata<openvdb::Int64Metadata>(kPrefix + "tile_count")) return false;
+    id.index = int(requireMeta<int64_t>(meta, kPrefix + "tile_index", path));
+    id.count = int(requireMeta<int64_t>(meta, kPrefix + "tile_count", path));
+    id.paramsHash = requireMeta<std::string>(meta, kPrefix + "tile_params_hash", path);
+    return true;
+}
+
+ContentHash fileContentHash(const std::string& path) {
+    checkReadable(path);
+    vdb_detail::FileDigest d;
+    try {
+        d = digestVdbFile(path);
+    } catch (const std::exception& e) {
+        throw FormatError(e.what());
+    }
+    ContentHash h;
+    h.sha256 = d.sha256;
+    h.headerUuid = d.headerUuid;
+    h.uuidFromContent = d.headerUuid == d.contentUuid;
+    return h;
+}
+
 FileInfo inspectVolumeFile(const std::string& path) {
     OpenedFile f = openVolumeFile(path);
     FileInfo info;
     info.path = path;
+    info.hash = fileContentHash(path);
     info.fileBytes = uint64_t(fs::file_size(path));
     std::vector<std::pair<int64_t, GridInfo>> grids;  // (channel, info), to sort
     try {

@@ -21,8 +21,11 @@
 #include <openvdb/openvdb.h>
 #include <openvdb/io/File.h>
 #include <tbb/parallel_for.h>
+#include "vdblight/depth_moments.h"
 #include "vdblight/errors.h"
+#include "vdblight/tiles.h"
 #include "vdb_conventions.h"
+#include "content_hash.h"
 
 namespace vdblight {
 namespace {
@@ -112,10 +115,17 @@ openvdb::FloatGrid::Ptr buildScalarGrid(const VolumeLevel& level, const std::vec
     return grid;
 }
 
-/// File-level metadata: the caller's entries plus the structural keys.
-openvdb::MetaMap fileMetadata(const Volume& volume) {
+bool isRunSpecific(const std::string& key) {
+    const std::vector<std::string>& keys = runSpecificMetadataKeys();
+    return std::find(keys.begin(), keys.end(), key) != keys.end();
+}
+
+/// File-level metadata: the caller's entries (less the run-specific ones for a reproducible
+/// file) plus the structural keys.
+openvdb::MetaMap fileMetadata(const Volume& volume, const WriteOptions& options) {
     openvdb::MetaMap meta;
-    for (const auto& [key, value] : volume.meta) meta.insertMeta(kPrefix + key, *toVdbMeta(value));
+    for (const auto& [key, value] : volume.meta)
+        if (!options.reproducible || !isRunSpecific(key)) meta.insertMeta(kPrefix + key, *toVdbMeta(value));
     meta.insertMeta(kPrefix + "format_version", openvdb::Int64Metadata(kFormatVersion));
     meta.insertMeta(kPrefix + "basis", openvdb::StringMetadata(volume.basis.kind));
     meta.insertMeta(kPrefix + "channels", openvdb::StringMetadata(joinNames(volume.basis.channelNames)));
@@ -170,15 +180,19 @@ void checkValues(const Volume& volume, const WriteOptions& options) {
     }
 }
 
-void checkWritable(const Volume& volume, const WriteOptions& options) {
-    try {
-        volume.validate();
-    } catch (const FormatError& e) {
-        throw ValueError(std::string("invalid volume: ") + e.what());
+/// `tile`: a partial volume from writeTile, whose levels list the tile's nodes (not a
+/// complete volume: no structure check).
+void checkWritable(const Volume& volume, const WriteOptions& options, bool tile) {
+    if (!tile) {
+        try {
+            volume.validate();
+        } catch (const FormatError& e) {
+            throw ValueError(std::string("invalid volume: ") + e.what());
+        }
     }
     for (const auto& entry : volume.meta) {
         if (entry.first.empty()) throw ValueError("metadata key is empty");
-        if (isStructuralKey(entry.first)) {
+        if (isStructuralKey(entry.first) || (!tile && isTileKey(entry.first))) {
             throw ValueError("metadata key '" + entry.first + "' is reserved (the writer sets it)");
         }
     }
@@ -190,6 +204,10 @@ void checkWritable(const Volume& volume, const WriteOptions& options) {
                 throw ValueError("grid name '" + gridNameFor(c, int(l)) + "' would appear twice");
     for (const std::string& c : volume.basis.channelNames)
         if (c == kValidityName) throw ValueError("channel name '" + kValidityName + "' is reserved for the validity grid");
+    for (std::size_t l = 0; l < volume.levels.size(); ++l)
+        for (int c = 0; volume.levels[l].hasDepth() && c < depth::kChannels; ++c)
+            if (!names.insert(gridNameFor(depth::channelName(c), int(l))).second)
+                throw ValueError("grid name '" + gridNameFor(depth::channelName(c), int(l)) + "' would appear twice");
     for (const VolumeLevel& level : volume.levels)
         if (level.sparse() && !level.validity.empty())
             throw ValueError("validity is stored for dense levels only");
@@ -205,15 +223,16 @@ void checkWritable(const Volume& volume, const WriteOptions& options) {
                 throw ValueError("grid name '" + maskNameFor(int(l)) + "' would appear twice");
 }
 
-openvdb::GridCPtrVec buildGrids(const Volume& volume, const WriteOptions& options) {
+openvdb::GridCPtrVec buildGrids(const Volume& volume, const WriteOptions& options, bool tile) {
     const int channels = volume.basis.channelCount();
     openvdb::GridCPtrVec grids;
     for (std::size_t l = 0; l < volume.levels.size(); ++l) {
         const VolumeLevel& level = volume.levels[l];
-        const std::vector<Coord> origins = level.sparse() ? std::vector<Coord>() : leafOrigins(level.grid);
+        const bool sparse = level.sparse() || tile;  // a tile lists its nodes, maybe none
+        const std::vector<Coord> origins = sparse ? std::vector<Coord>() : leafOrigins(level.grid);
         std::vector<Vec3SGrid::Ptr> built(std::size_t(channels), nullptr);
         tbb::parallel_for(0, channels, [&](int c) {
-            built[std::size_t(c)] = level.sparse() ? buildSparseChannelGrid(level, c, channels)
+            built[std::size_t(c)] = sparse ? buildSparseChannelGrid(level, c, channels)
                                                    : buildChannelGrid(level, c, channels, origins);
         });
         for (int c = 0; c < channels; ++c) {
@@ -246,6 +265,26 @@ openvdb::GridCPtrVec buildGrids(const Volume& volume, const WriteOptions& option
             tagGrid(*grid, volume, int(l), -1);
             grid->insertMeta(kPrefix + "light", openvdb::Int64Metadata(int64_t(i)));
             grids.push_back(grid);
+        }
+        if (level.hasDepth()) {
+            // Depth moments (depth_moments.h): four more Vec3S grids with the channel grids'
+            // active voxels, built by the same code from a level whose data is the depth.
+            VolumeLevel depthLevel;
+            depthLevel.grid = level.grid;
+            depthLevel.activeNodes = level.activeNodes;
+            depthLevel.data = level.depth;
+            for (int c = 0; c < depth::kChannels; ++c) {
+                Vec3SGrid::Ptr grid = level.sparse() ? buildSparseChannelGrid(depthLevel, c, depth::kChannels)
+                                                     : buildChannelGrid(depthLevel, c, depth::kChannels, origins);
+                grid->setName(gridNameFor(depth::channelName(c), int(l)));
+                grid->setTransform(levelTransform(level.grid));
+                grid->setGridClass(openvdb::GRID_UNKNOWN);
+                grid->setVectorType(openvdb::VEC_INVARIANT);
+                grid->setSaveFloatAsHalf(options.halfFloat);
+                tagGrid(*grid, volume, int(l), -1);
+                grid->insertMeta(kPrefix + "depth_channel", openvdb::StringMetadata(depth::channelName(c)));
+                grids.push_back(grid);
+            }
         }
         if (volume.levels.size() > 1 && l + 1 < volume.levels.size()) grids.push_back(buildMaskGrid(volume, int(l)));
     }
@@ -281,25 +320,89 @@ void syncFile(const std::string& path) {
 
 }  // namespace
 
-void writeVolume(const Volume& volume, const std::string& path, const WriteOptions& options) {
-    checkWritable(volume, options);
+const std::vector<std::string>& runSpecificMetadataKeys() {
+    static const std::vector<std::string> keys = {"bake_seconds", "threads"};
+    return keys;
+}
+
+namespace {
+void writeFile(const Volume& volume, const std::string& path, const WriteOptions& options, bool tile) {
+    checkWritable(volume, options, tile);
     initOpenVdb();
     const fs::path parent = fs::path(path).parent_path();
     std::error_code ec;
     if (!parent.empty() && !fs::is_directory(parent, ec)) {
         throw IoError("cannot write '" + path + "': directory '" + parent.string() + "' does not exist");
     }
-    const openvdb::GridCPtrVec grids = buildGrids(volume, options);
-    const openvdb::MetaMap meta = fileMetadata(volume);
+    const openvdb::GridCPtrVec grids = buildGrids(volume, options, tile);
+    const openvdb::MetaMap meta = fileMetadata(volume, options);
     const std::string tmp = createTempFile(path);
     try {
         openvdb::io::File(tmp).write(grids, meta);
+        stampContentUuid(tmp);  // OpenVDB's random UUID -> one from the content (content_hash.h)
         syncFile(tmp);
         if (std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error(std::strerror(errno));
     } catch (const std::exception& e) {
         std::remove(tmp.c_str());
         throw IoError("cannot write '" + path + "': " + e.what());
     }
+}
+}  // namespace
+
+void writeVolume(const Volume& volume, const std::string& path, const WriteOptions& options) {
+    writeFile(volume, path, options, false);
+}
+
+void writeTile(const Volume& volume, const NodeMask& mask, const TileId& id, const std::string& path,
+               const WriteOptions& options) {
+    try {
+        volume.validate();
+    } catch (const FormatError& e) {
+        throw ValueError(std::string("invalid volume: ") + e.what());
+    }
+    if (mask.size() != volume.levels.size()) throw ValueError("the tile's node mask does not match the volume's levels");
+    if (id.count < 1 || id.index < 0 || id.index >= id.count || id.paramsHash.empty())
+        throw ValueError("invalid tile identity " + std::to_string(id.index) + " of " + std::to_string(id.count));
+    const std::size_t floats = std::size_t(volume.basis.channelCount()) * 3;
+    Volume part;
+    part.basis = volume.basis;
+    part.meta = volume.meta;
+    std::string dense;
+    int64_t nodes = 0;
+    // Tile files carry neither the light list nor the visibility grids (bake --direct): a merge
+    // would turn such a volume into one that claims to hold all its direct light.
+    if (volume.direct.mode != DirectMode::Baked)
+        throw ValueError(std::string("a volume baked with --direct ") + directModeName(volume.direct.mode) +
+                         " cannot be tiled (add --direct baked)");
+    for (std::size_t l = 0; l < volume.levels.size(); ++l) {
+        const VolumeLevel& full = volume.levels[l];
+        if (!full.validity.empty()) throw ValueError("a volume with validity (the anti-aliased pass) cannot be tiled");
+        if (mask[l].size() != full.storedNodes()) throw ValueError("the tile's node mask does not match level " + std::to_string(l));
+        VolumeLevel level;
+        level.grid = full.grid;
+        level.refinedCells = full.refinedCells;
+        for (std::size_t n = 0; n < mask[l].size(); ++n) {
+            if (!mask[l][n]) continue;
+            level.activeNodes.push_back(full.sparse() ? full.activeNodes[n] : n);
+            level.data.insert(level.data.end(), full.nodeData(n, volume.basis.channelCount()),
+                              full.nodeData(n, volume.basis.channelCount()) + floats);
+        }
+        nodes += int64_t(level.activeNodes.size());
+        dense += std::string(l ? "," : "") + (full.sparse() ? "0" : "1");
+        part.levels.push_back(std::move(level));
+    }
+    part.meta["tile_index"] = int64_t(id.index);
+    part.meta["tile_count"] = int64_t(id.count);
+    part.meta["tile_params_hash"] = id.paramsHash;
+    part.meta["tile_dense_levels"] = dense;
+    part.meta["tile_nodes"] = nodes;
+    part.meta["tile_half_float"] = int64_t(options.halfFloat ? 1 : 0);
+    part.meta["tile_reproducible"] = int64_t(options.reproducible ? 1 : 0);
+    // Full floats whatever the merged file will use: the merge interpolates seams from these
+    // values, which must be the single bake's, not their half-float roundings.
+    WriteOptions full = options;
+    full.halfFloat = false;
+    writeFile(part, path, full, true);
 }
 
 }  // namespace vdblight

@@ -45,6 +45,14 @@ void validateLevel(const VolumeLevel& level, std::size_t index, int channels) {
         for (float v : level.validity)
             if (!(v >= 0.0f && v <= 1.0f)) throw FormatError(where + " has a validity outside [0, 1]");
     }
+    if (!level.depth.empty()) {
+        const std::size_t want = level.storedNodes() * std::size_t(depth::kFloatsPerNode);
+        if (level.depth.size() != want)
+            throw FormatError(where + " has " + std::to_string(level.depth.size()) + " depth values, expected " +
+                              std::to_string(want));
+        for (float v : level.depth)
+            if (!(v >= 0.0f && v <= 1.0f)) throw FormatError(where + " has a depth moment outside [0, 1]");
+    }
 }
 
 /// Direct light (direct_light.h): visibility only in occlusion mode, only on dense level 0,
@@ -90,9 +98,15 @@ void Volume::validate() const {
     }
     if (levels.empty()) throw FormatError("volume has no levels");
     for (std::size_t i = 0; i < levels.size(); ++i) validateLevel(levels[i], i, basis.channelCount());
+    for (const VolumeLevel& level : levels)
+        if (level.hasDepth() != levels[0].hasDepth()) throw FormatError("depth moments on some levels but not all");
+    for (int c = 0; c < depth::kChannels; ++c)
+        if (seen.count(depth::channelName(c))) throw FormatError("channel name '" + depth::channelName(c) + "' is reserved for depth moments");
     validateDirect(*this);
     validateLevelStructure(*this);
 }
+
+bool Volume::hasDepth() const { return !levels.empty() && levels[0].hasDepth(); }
 
 int Volume::refineFactor() const {
     return levels.size() < 2 ? 1 : int(std::lround(levels[0].grid.spacing / levels[1].grid.spacing));

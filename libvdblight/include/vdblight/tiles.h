@@ -1,0 +1,69 @@
+// Tiles: one bake split over several processes or machines, merged exactly (issue 17;
+// docs/format.md "Tiles", docs/scaling.md).
+//
+// The nodes of every level are cut into bricks of 8^3 nodes (the VDB leaf nodes of the
+// level's grids); the bricks, in the order (level, z, y, x), are cut into `count` contiguous
+// runs of about equal estimated cost. Tile i bakes only the nodes of its bricks and writes a
+// partial .vdb that records its identity and a hash of the scene and every bake parameter.
+// mergeTiles puts the tiles back together, applies what crosses tile borders (seam
+// constraints of bilevel / adaptive layouts) and gives exactly the volume a single-process
+// bake gives, so that writing it gives the same bytes.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "vdblight/vdb_io.h"
+#include "vdblight/volume.h"
+
+namespace vdblight {
+
+/// Per level, one flag per stored node (its position in VolumeLevel::data): 1 = in the set.
+using NodeMask = std::vector<std::vector<uint8_t>>;
+
+/// What a tile file says about itself.
+struct TileId {
+    int index = 0;
+    int count = 1;
+    /// SHA-256 of the scene's content hash and every bake parameter: equal for the tiles of
+    /// one bake, different for anything that would change the merged file.
+    std::string paramsHash;
+};
+
+/// The hash TileId::paramsHash holds: of the scene content hash and a canonical text of every
+/// bake parameter (one "name=value" per line; the caller leaves out the tile index, output
+/// path, thread count and other options that do not change the result).
+std::string tileParamsHash(const std::string& sceneHash, const std::string& parameters);
+
+/// Bricks of 8^3 nodes over all levels of `levels` (structure only: grid and activeNodes).
+uint64_t countBricks(const std::vector<VolumeLevel>& levels);
+
+/// The nodes of tile `index` of `count` (see above; the estimated cost of a brick is its
+/// number of nodes). Throws ValueError unless 1 <= count <= countBricks(levels) and
+/// 0 <= index < count.
+NodeMask tileNodeMask(const std::vector<VolumeLevel>& levels, int count, int index);
+
+/// Writes the nodes of `volume` in `mask` as tile `id` (partial .vdb, atomically as
+/// writeVolume; the header UUID is derived from the content). Values are stored as full
+/// floats even with options.halfFloat, which is recorded for the merged file. Refuses
+/// volumes with validity.
+void writeTile(const Volume& volume, const NodeMask& mask, const TileId& id, const std::string& path,
+               const WriteOptions& options = {});
+
+/// Reads the identity of a tile file. Returns false for a .vdb that is no tile (a complete
+/// volume); throws as readVolume for unreadable files.
+bool readTileId(const std::string& path, TileId& id);
+
+/// The merged volume and how to write it (the tiles' half-float and reproducible settings).
+struct MergedTiles {
+    Volume volume;
+    WriteOptions write;
+};
+
+/// Merges the tile files of one bake. Throws ValueError naming the files for a missing,
+/// duplicate or mismatched tile (other tile count or parameter hash), FormatError for files
+/// that are no tiles or overlap.
+MergedTiles mergeTiles(const std::vector<std::string>& paths);
+
+}  // namespace vdblight

@@ -1,0 +1,45 @@
+// The reflected light and sky of an earlier pass's volume as a SurfaceIrradianceCache
+// (light.h): "probe-to-probe bounces" (DDGI, Majercik et al. 2019), issue 15. (Internal to
+// the bake module.)
+//
+// At a surface point p with normal n the irradiance is interpolated trilinearly from the
+// eight nodes of p's cell (position clamped into the node box), each node's SH order-2
+// radiance of reflected light and sky convolved with the cosine lobe for n. A node takes
+// part only if it lies in front of the surface (dot(node - p, n) > 0) and p sees it (one
+// shadow ray each): nodes behind a wall, or inside it, would carry the other side's light.
+// The weights of the nodes that take part are renormalised; with none, the lookup fails and
+// the path continues (an unbiased fallback).
+//
+// What remains biased: the nodes' irradiance stands for p's (near-field occlusion at
+// corners, gradients across a cell), SH order 2 for the reflected light's directions, and
+// the earlier pass's own noise, which every later pass averages over many nodes instead of
+// removing.
+#pragma once
+
+#include <vector>
+
+#include "vdblight/layout.h"
+#include "vdblight/light.h"
+#include "vdblight/sh.h"
+
+namespace vdblight {
+
+class Tracer;
+
+namespace bake_detail {
+
+class VolumeSurfaceCache : public SurfaceIrradianceCache {
+public:
+    /// `reflected`: per node of `grid` (node order), nine RGB SH radiance coefficients of the
+    /// reflected light and sky (NodeSampler::reflectedCoefficients).
+    VolumeSurfaceCache(const Tracer& tracer, const GridSpec& grid, std::vector<Rgb> reflected);
+    bool irradiance(const Vec3f& p, const Vec3f& n, Rgb& out, RayCount& rays) const override;
+
+private:
+    const Tracer& tracer_;
+    GridSpec grid_;
+    std::vector<Rgb> coeffs_;  ///< per node, nine coefficients pre-multiplied by A_l
+};
+
+}  // namespace bake_detail
+}  // namespace vdblight

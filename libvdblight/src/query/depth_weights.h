@@ -1,0 +1,23 @@
+// Visibility-weighted trilinear interpolation (depth_moments.h), shared by the SH lookups.
+// (Internal to the query module.)
+#pragma once
+
+#include "vdblight/depth_moments.h"
+
+namespace vdblight::query_detail {
+
+/// Multiplies the eight trilinear weights w[c] (corner c = x bit 0, y bit 1, z bit 2 of the
+/// cell, fractions fx, fy, fz of the query point in it) by each corner's visibility plus
+/// depth::kDepthFloor and renormalises them to sum 1. depth[c]: the corner's depth values.
+inline void weightByDepth(float w[8], const float* const depth[8], float fx, float fy, float fz) {
+    float sum = 0.0f;
+    for (int c = 0; c < 8; ++c) {
+        const float v = depth::visibility(depth[c], fx - float(c & 1), fy - float((c >> 1) & 1), fz - float(c >> 2));
+        w[c] *= v + depth::kDepthFloor;
+        sum += w[c];
+    }
+    const float inv = 1.0f / sum;
+    for (int c = 0; c < 8; ++c) w[c] *= inv;
+}
+
+}  // namespace vdblight::query_detail

@@ -1,0 +1,130 @@
+// Merging the tiles of one bake (tiles.h) into the volume a single-process bake gives.
+//
+// Every node belongs to exactly one tile and was baked there with the same sample streams
+// as in a single bake, so copying the nodes back gives the same values. What crosses tile
+// borders is applied here: the seam constraints of bilevel / adaptive layouts (a seam node
+// interpolates the coarser level, whose nodes may lie in other tiles). Metadata counts that
+// each tile measured for its own nodes (rays) are summed in tile order.
+#include <algorithm>
+#include <map>
+#include <set>
+
+#include "tile_io.h"
+#include "vdblight/errors.h"
+#include "vdblight/layout_levels.h"
+#include "vdblight/tiles.h"
+
+namespace vdblight {
+namespace {
+using vdb_detail::TileFile;
+
+const char* const kSummedKeys[] = {"rays_intersect", "rays_occluded", "bake_seconds"};
+
+std::string quoted(const std::string& path) { return "'" + path + "'"; }
+
+/// Refuses tiles of other bakes, duplicates and gaps, naming the files.
+void checkIdentities(const std::vector<TileFile>& tiles, const std::vector<std::string>& paths) {
+    const TileId& first = tiles[0].id;
+    for (std::size_t t = 1; t < tiles.size(); ++t) {
+        const TileId& id = tiles[t].id;
+        if (id.count != first.count)
+            throw ValueError(quoted(paths[t]) + " is a tile of " + std::to_string(id.count) + " but " + quoted(paths[0]) +
+                             " is a tile of " + std::to_string(first.count) + ": not the same bake");
+        if (id.paramsHash != first.paramsHash)
+            throw ValueError(quoted(paths[t]) + " and " + quoted(paths[0]) +
+                             " were baked with different scenes or parameters (parameter hashes " +
+                             id.paramsHash.substr(0, 12) + " and " + first.paramsHash.substr(0, 12) + ")");
+    }
+    std::map<int, std::size_t> seen;
+    for (std::size_t t = 0; t < tiles.size(); ++t) {
+        const auto [it, fresh] = seen.emplace(tiles[t].id.index, t);
+        if (!fresh)
+            throw ValueError(quoted(paths[it->second]) + " and " + quoted(paths[t]) + " are both tile " +
+                             std::to_string(tiles[t].id.index) + " of " + std::to_string(first.count));
+    }
+    std::string missing;
+    int missingCount = 0;
+    for (int i = 0; i < first.count; ++i)
+        if (!seen.count(i)) missing += (missingCount++ ? ", " : "") + std::to_string(i);
+    if (missingCount > 0)
+        throw ValueError(std::string(missingCount == 1 ? "tile " : "tiles ") + missing + " of " +
+                         std::to_string(first.count) + (missingCount == 1 ? " is" : " are") + " missing (" +
+                         std::to_string(tiles.size()) + " given)");
+}
+
+}  // namespace
+
+MergedTiles mergeTiles(const std::vector<std::string>& paths) {
+    if (paths.empty()) throw ValueError("no tiles to merge");
+    std::vector<TileFile> tiles;
+    for (const std::string& p : paths) tiles.push_back(vdb_detail::readTileFile(p));
+    checkIdentities(tiles, paths);
+    std::vector<std::size_t> order(tiles.size());  // by tile index: the sums' fixed order
+    for (std::size_t t = 0; t < tiles.size(); ++t) order[std::size_t(tiles[t].id.index)] = t;
+
+    const TileFile& first = tiles[order[0]];
+    const int channels = first.part.basis.channelCount();
+    const std::size_t floats = std::size_t(channels) * 3;
+    MergedTiles out;
+    Volume& v = out.volume;
+    v.basis = first.part.basis;
+    for (std::size_t l = 0; l < first.part.levels.size(); ++l) {
+        const VolumeLevel& shape = first.part.levels[l];
+        VolumeLevel level;
+        level.grid = shape.grid;
+        level.refinedCells = shape.refinedCells;
+        // (linear index, tile, position in the tile) of every node, sorted by linear index.
+        std::vector<std::tuple<uint64_t, std::size_t, std::size_t>> nodes;
+        for (std::size_t t : order) {
+            const VolumeLevel& part = tiles[t].part.levels[l];
+            for (std::size_t n = 0; n < part.activeNodes.size(); ++n) nodes.emplace_back(part.activeNodes[n], t, n);
+        }
+        std::sort(nodes.begin(), nodes.end());
+        for (std::size_t n = 1; n < nodes.size(); ++n)
+            if (std::get<0>(nodes[n]) == std::get<0>(nodes[n - 1]))
+                throw FormatError(quoted(paths[std::get<1>(nodes[n - 1])]) + " and " + quoted(paths[std::get<1>(nodes[n])]) +
+                                  " both hold node " + std::to_string(std::get<0>(nodes[n])) + " of level " + std::to_string(l));
+        const bool dense = first.denseLevels[l] != 0;
+        if (dense && nodes.size() != level.grid.nodeCount())
+            throw FormatError("the tiles hold " + std::to_string(nodes.size()) + " of the " +
+                              std::to_string(level.grid.nodeCount()) + " nodes of level " + std::to_string(l));
+        level.data.resize(nodes.size() * floats);
+        if (!dense) level.activeNodes.reserve(nodes.size());
+        for (std::size_t n = 0; n < nodes.size(); ++n) {
+            const auto& [linear, t, at] = nodes[n];
+            if (!dense) level.activeNodes.push_back(linear);
+            const float* src = tiles[t].part.levels[l].nodeData(at, channels);
+            std::copy(src, src + floats, level.data.begin() + std::ptrdiff_t(n * floats));
+        }
+        v.levels.push_back(std::move(level));
+    }
+    for (const auto& [key, value] : first.part.meta)
+        if (key.compare(0, 5, "tile_") != 0) v.meta[key] = value;
+    for (const char* key : kSummedKeys) {
+        if (!v.meta.count(key)) continue;
+        if (std::holds_alternative<int64_t>(v.meta[key])) {
+            int64_t sum = 0;
+            for (std::size_t t : order) {
+                const auto it = tiles[t].part.meta.find(key);
+                if (it != tiles[t].part.meta.end() && std::holds_alternative<int64_t>(it->second))
+                    sum += std::get<int64_t>(it->second);
+            }
+            v.meta[key] = sum;
+        } else {
+            double sum = 0;
+            for (std::size_t t : order) sum += metaNumber(tiles[t].part.meta, key, 0);
+            v.meta[key] = sum;
+        }
+    }
+    if (v.levels.size() > 1) applySeamConstraints(v);  // seams cross tile borders
+    try {
+        v.validate();
+    } catch (const FormatError& e) {
+        throw FormatError(std::string("the merged tiles are inconsistent: ") + e.what());
+    }
+    out.write.halfFloat = first.halfFloat;
+    out.write.reproducible = first.reproducible;
+    return out;
+}
+
+}  // namespace vdblight

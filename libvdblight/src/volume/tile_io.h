@@ -1,0 +1,26 @@
+// Reading tile files (tiles.h), shared by vdb_read.cpp and merge.cpp. Internal.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "vdblight/tiles.h"
+
+namespace vdblight {
+namespace vdb_detail {
+
+/// A tile file: its identity and a partial volume whose every level lists the tile's nodes
+/// in activeNodes (possibly none), with the full volume's grids and refined cells.
+struct TileFile {
+    TileId id;
+    Volume part;
+    std::vector<uint8_t> denseLevels;  ///< per level: the complete volume stores it dense
+    bool halfFloat = false;
+    bool reproducible = true;
+};
+
+/// Reads a tile file. Throws FormatError if it is not one (or is corrupt), IoError if unreadable.
+TileFile readTileFile(const std::string& path);
+
+}  // namespace vdb_detail
+}  // namespace vdblight

@@ -1,0 +1,73 @@
+// End-to-end: `vdblight bake --depth-moments` (uniform, bilevel, anti-aliased), the depth grids
+// in the file, `query` with and without `--no-depth-weights`, `export` writing the depth
+// textures, and bad combinations refused with one line, a non-zero exit and no file.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+
+#include "cli_util.h"
+#include "test_util.h"
+#include "vdblight/vdb_io.h"
+
+using namespace vdblight;
+
+using test::CliRun;
+using test::runCli;
+
+TEST(CliDepth, BakeWithDepthMomentsQueriesAndExports) {
+    test::TempDir dir;
+    for (const std::string extra : {"", "--layout bilevel --refine 2", "--sampling antialiased"}) {
+        const std::string out = dir.file("d.vdb");
+        const CliRun bake = runCli("bake -o " + out + " --resolution 6 --rays 32 --bounces 2 --depth-moments " + extra);
+        ASSERT_EQ(bake.status, 0) << bake.output;
+        EXPECT_NE(bake.output.find("Depth moments:"), std::string::npos) << bake.output;
+        const Volume v = readVolume(out);
+        EXPECT_TRUE(v.hasDepth()) << extra;
+        const CliRun info = runCli("info " + out);
+        EXPECT_NE(info.output.find("depth_mean_pos"), std::string::npos) << info.output;
+        // Points near the tall box of the Cornell box, where some corners lie inside it.
+        const std::string csv = dir.file("p.csv");
+        {
+            std::ofstream f(csv);
+            f << "x,y,z,nx,ny,nz\n";
+            for (int i = 0; i < 40; ++i) f << 0.05 + 0.012 * i << ",0.2," << 0.35 + 0.004 * i << ",0,1,0\n";
+        }
+        const CliRun weighted = runCli("query " + out + " --points " + csv);
+        const CliRun plain = runCli("query " + out + " --points " + csv + " --no-depth-weights");
+        ASSERT_EQ(weighted.status, 0) << weighted.output;
+        ASSERT_EQ(plain.status, 0) << plain.output;
+        EXPECT_NE(weighted.output, plain.output) << extra;  // the weights change some answers
+    }
+    const std::string uniform = dir.file("u.vdb");
+    ASSERT_EQ(runCli("bake -o " + uniform + " --resolution 5 --rays 16 --bounces 1 --depth-moments -q").status, 0);
+    const CliRun ex = runCli("export " + uniform + " -o " + dir.file("ex") + " --format raw");
+    ASSERT_EQ(ex.status, 0) << ex.output;
+    EXPECT_TRUE(std::ifstream(dir.file("ex") + "/depth_x.raw").good());
+}
+
+TEST(CliDepth, FileWithDepthOpensInPyopenvdbAndBlender) {
+    test::TempDir dir;
+    const std::string out = dir.file("depth.vdb");
+    ASSERT_EQ(runCli("bake -q -o " + out + " --resolution 4 --rays 16 --depth-moments").status, 0);
+    const std::string source = VDBLIGHT_SOURCE_DIR;
+    std::string output;
+    EXPECT_EQ(test::runCommand("/usr/bin/python3 " + source + "/scripts/check_pyopenvdb.py " + out + " --depth", &output), 0)
+        << output;
+    if (std::getenv("VDBLIGHT_SKIP_BLENDER")) GTEST_SKIP() << "VDBLIGHT_SKIP_BLENDER is set";
+    EXPECT_EQ(test::runCommand("blender -b --factory-startup --python " + source + "/scripts/check_blender.py -- " + out,
+                               &output),
+              0)
+        << output;
+}
+
+TEST(CliDepth, BadDepthOptionsFailCleanly) {
+    test::TempDir dir;
+    test::expectCleanFailuresWithOutput(dir, {
+        {"bake --depth-rays 64", "--depth-rays needs --depth-moments"},
+        {"bake --depth-moments --method photons", "--depth-moments works with --method gather"},
+    });
+    const std::string plain = dir.file("plain.vdb");
+    ASSERT_EQ(runCli("bake -o " + plain + " --resolution 3 --rays 8 --bounces 1 -q").status, 0);
+    test::expectCleanFailure(dir, "query " + plain + " --at 0.2,0.2,0.2 --no-depth-weights", "has no depth moments");
+}

@@ -1,0 +1,64 @@
+// `vdblight slurm` (issue 17): the job-array and merge scripts it writes, run here without
+// Slurm (each array task by hand with SLURM_ARRAY_TASK_ID), give the bytes of a single bake;
+// re-running the array redoes only missing tiles. On a real one-node Slurm:
+// tests/slurm_cluster_test.sh.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "cli_util.h"
+
+namespace vdblight {
+namespace {
+using test::runCli;
+
+std::string fileBytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+const std::string kScene = std::string(VDBLIGHT_SOURCE_DIR) + "/data/cornell_box.obj";
+
+TEST(CliSlurm, ScriptsRunByHandGiveTheSingleBake) {
+    test::TempDir dir;
+    const std::string world = dir.file("world.vdb"), whole = dir.file("whole.vdb");
+    // Explicit: the uniform point gather's defaults (a probe pass, --direct occlusion) are not tileable.
+    const std::string opts = " --layout adaptive --levels 2 --refine 2 --resolution 6 --rays 8 --seed 4 --direct baked --quality preview";
+    ASSERT_EQ(runCli("bake " + kScene + " -q -o " + whole + opts).status, 0);
+    const test::CliRun w = runCli("slurm " + kScene + " -o " + world + " --tiles 3 --sbatch '--time=10 --mem 1G'" + opts);
+    ASSERT_EQ(w.status, 0) << w.output;
+    const std::string d = world + ".tiles";
+    const std::string array = fileBytes(d + "/tiles.sbatch"), merge = fileBytes(d + "/merge.sbatch");
+    EXPECT_NE(array.find("#SBATCH --array=0-2\n"), std::string::npos) << array;
+    EXPECT_NE(array.find("#SBATCH --time=10\n#SBATCH --mem 1G\n"), std::string::npos) << array;
+    EXPECT_NE(fileBytes(d + "/submit.sh").find("--dependency=afterok:$id"), std::string::npos);
+    for (int t = 0; t < 3; ++t)
+        ASSERT_EQ(test::runCommand("SLURM_ARRAY_TASK_ID=" + std::to_string(t) + " sh " + d + "/tiles.sbatch"), 0);
+    ASSERT_EQ(test::runCommand("sh " + d + "/merge.sbatch"), 0) << merge;
+    EXPECT_TRUE(fileBytes(world) == fileBytes(whole)) << "merged world differs from the single bake";
+    // Resumable: with tile 1 lost, the array redoes only tile 1.
+    std::filesystem::remove(d + "/tile-1.vdb");
+    const auto kept = std::filesystem::last_write_time(d + "/tile-0.vdb");
+    for (int t = 0; t < 3; ++t)
+        ASSERT_EQ(test::runCommand("SLURM_ARRAY_TASK_ID=" + std::to_string(t) + " sh " + d + "/tiles.sbatch"), 0);
+    EXPECT_EQ(std::filesystem::last_write_time(d + "/tile-0.vdb"), kept);
+    EXPECT_TRUE(std::filesystem::exists(d + "/tile-1.vdb"));
+    std::filesystem::remove(world);
+    ASSERT_EQ(test::runCommand("sh " + d + "/merge.sbatch"), 0);
+    EXPECT_TRUE(fileBytes(world) == fileBytes(whole));
+    const test::CliRun status = runCli("slurm --status " + world);
+    EXPECT_NE(status.output.find("3 of 3 tiles on disk"), std::string::npos) << status.output;
+}
+
+TEST(CliSlurm, RefusesOptionsItSetsItself) {
+    test::TempDir dir;
+    const std::string world = dir.file("w.vdb");
+    test::expectRefusal("slurm " + kScene + " -o " + world + " --tiles 2 --tile 1", "set by vdblight slurm", world, "tile");
+    test::expectRefusal("slurm " + kScene + " -o " + world + " --tiles 0", "--tiles must be at least 1", world, "zero");
+}
+
+}  // namespace
+}  // namespace vdblight

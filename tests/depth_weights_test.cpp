@@ -1,0 +1,397 @@
+// Visibility-aware interpolation (issue 15, item 4): depth moments per node (bake_depth.h,
+// depth_moments.h) and the lookups that weight corners by them (query.h, query_levels.h).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+
+#include "test_util.h"
+#include "vdblight/bake.h"
+#include "vdblight/bake_bins.h"
+#include "vdblight/bake_depth.h"
+#include "vdblight/bake_levels.h"
+#include "vdblight/depth_moments.h"
+#include "vdblight/export.h"
+#include "vdblight/layout_levels.h"
+#include "vdblight/query.h"
+#include "vdblight/query_levels.h"
+#include "vdblight/sampling.h"
+#include "vdblight/scene_generators.h"
+#include "vdblight/trace.h"
+#include "vdblight/vdb_io.h"
+
+namespace vdblight {
+namespace {
+
+// A closed room [0,4]x[0,2]x[0,2] cut in two at x = 2 by a solid wall 0.08 thick with no
+// door, a point light in the x < 2 half. The x > 2 half gets exactly no light. Nodes every
+// 0.4 from 0.2: the wall lies between the nodes at x = 1.8 and 2.2 (0.2 of a cell thick).
+constexpr double kWallLo = 1.96, kWallHi = 2.04;
+
+Scene thinWallScene() {
+    Scene s;
+    s.name = "thin_wall_no_door";
+    s.materials.resize(1);
+    s.materials[0].albedo = Rgb(0.7f, 0.7f, 0.7f);
+    appendBox(s, Vec3f(0, 0, 0), Vec3f(4, 2, 2), /*inward=*/true, 0);
+    appendBox(s, Vec3f(float(kWallLo), -0.01f, -0.01f), Vec3f(float(kWallHi), 2.01f, 2.01f), /*inward=*/false, 0);
+    s.pointLights.push_back({Vec3f(1.0f, 1.3f, 0.9f), Rgb(10, 10, 10)});
+    return s;
+}
+
+GridSpec thinWallGrid(double originX = 0.2) {
+    GridSpec g;
+    g.origin = Vec3d(originX, 0.2, 0.2);
+    g.spacing = 0.4;
+    g.nx = 10;
+    g.ny = g.nz = 5;
+    return g;
+}
+
+GatherOptions fastGather(int threads = 0) {
+    GatherOptions o;
+    o.raysPerNode = 96;
+    o.transport.maxBounces = 2;
+    o.threads = threads;
+    return o;
+}
+
+struct SideMeans {
+    double litMean = 0, darkMean = 0, darkMax = 0;
+};
+
+// Irradiance at random points with random normals in the cells that straddle the wall:
+// the lit side x in [litLo, 1.96), the dark side x in (2.04, darkHi].
+SideMeans measureSides(const IrradianceQuery& q, double litLo = 1.8, double darkHi = 2.2) {
+    Rng rng(7, 3);
+    SideMeans m;
+    const int n = 400;
+    for (int i = 0; i < n; ++i) {
+        const float y = 0.2f + 1.6f * rng.uniform(), z = 0.2f + 1.6f * rng.uniform();
+        const Vec3f normal = uniformSphere(rng.uniform(), rng.uniform());
+        const float xl = float(litLo + (kWallLo - litLo) * rng.uniform());
+        const float xd = float(kWallHi + 1e-3 + (darkHi - kWallHi - 1e-3) * rng.uniform());
+        const Rgb lit = q.irradiance(Vec3f(xl, y, z), normal), dark = q.irradiance(Vec3f(xd, y, z), normal);
+        m.litMean += std::fabs(luminance(lit)) / n;
+        m.darkMean += std::fabs(luminance(dark)) / n;
+        m.darkMax = std::max(m.darkMax, double(std::fabs(luminance(dark))));
+    }
+    return m;
+}
+
+class ThinWall : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        scene_ = new Scene(thinWallScene());
+        tracer_ = new Tracer(*scene_);
+    }
+    static void TearDownTestSuite() {
+        delete tracer_;
+        delete scene_;
+    }
+    static Scene* scene_;
+    static Tracer* tracer_;
+};
+Scene* ThinWall::scene_ = nullptr;
+Tracer* ThinWall::tracer_ = nullptr;
+
+TEST_F(ThinWall, DarkSideGetsNoneOfTheLitSidesLightWithWeightsAndPlentyWithout) {
+    Volume v = bakeShGather(*scene_, *tracer_, thinWallGrid(), fastGather());
+    DepthOptions d;
+    d.raysPerNode = 96;
+    bakeDepthMoments(*tracer_, v, d);
+    const IrradianceQuery weighted(v), plain(v, OutsidePolicy::Clamp, false);
+    ASSERT_TRUE(weighted.depthWeighted());
+    ASSERT_FALSE(plain.depthWeighted());
+    const SideMeans w = measureSides(weighted), p = measureSides(plain);
+    ASSERT_GT(w.litMean, 0.1);  // the lit side is lit
+    // Exactly no light reaches x > 2. With the weights the dark side reads only its own nodes.
+    EXPECT_LT(w.darkMax, 1e-3 * w.litMean) << "dark mean " << w.darkMean;
+    // The same volume, the same points, weights off: trilinear interpolation leaks through.
+    EXPECT_GT(p.darkMean, 0.1 * p.litMean);
+}
+
+TEST_F(ThinWall, BilevelVolumeDoesNotLeakWithWeights) {
+    LevelsPlacement placement;
+    placement.kind = LayoutKind::Bilevel;
+    placement.refine = 2;  // finest spacing 0.2, still wider than the 0.08 wall
+    // Level 0 from x = 0.3: the finest nodes next to the wall are at 1.9 (lit) and 2.1 (dark),
+    // none inside the wall (an in-wall node is black and would hide the leak by itself).
+    const LevelLayout layout = placeLevels(thinWallGrid(0.3), scene_->positions, scene_->indices, placement, 256);
+    GatherOptions o = fastGather();
+    o.depthMoments = true;  // from the gather's own rays
+    Volume v = bakeShGatherLevels(*scene_, *tracer_, layout, o);
+    ASSERT_GT(v.levels.size(), 1u);
+    const IrradianceQuery weighted(v), plain(v, OutsidePolicy::Clamp, false);
+    ASSERT_STREQ(weighted.kind(), "sh2-levels");
+    const SideMeans w = measureSides(weighted, 1.9, 2.1), p = measureSides(plain, 1.9, 2.1);
+    ASSERT_GT(w.litMean, 0.1);
+    EXPECT_LT(w.darkMax, 1e-3 * w.litMean) << "dark mean " << w.darkMean;
+    EXPECT_GT(p.darkMean, 0.05 * p.litMean);
+}
+
+TEST_F(ThinWall, BinsVolumeDoesNotLeakWithWeights) {
+    BinsBakeOptions o;
+    o.basis.kind = bins::BasisSpec::Kind::Bins;
+    o.basis.resolution = 4;
+    o.samplesPerBin = 3;
+    o.transport.maxBounces = 2;
+    Volume v = bakeBins(*scene_, *tracer_, uniformLayout(thinWallGrid()), o);
+    bakeDepthMoments(*tracer_, v, DepthOptions());
+    const IrradianceQuery weighted(v), plain(v, OutsidePolicy::Clamp, false);
+    ASSERT_STREQ(weighted.kind(), "bins");
+    ASSERT_TRUE(weighted.depthWeighted());
+    const SideMeans w = measureSides(weighted), p = measureSides(plain);
+    ASSERT_GT(w.litMean, 0.1);
+    EXPECT_LT(w.darkMax, 1e-3 * w.litMean) << "dark mean " << w.darkMean;
+    EXPECT_GT(p.darkMean, 0.1 * p.litMean);
+}
+
+TEST_F(ThinWall, DepthMomentsOfANodeFacingTheWall) {
+    // The node at (1.8, 1.0, 1.0) sees the wall 0.16 away along +x: every +x ray has axial
+    // depth 0.16 / 0.4 = 0.4 cells, so the mean is 0.4 (to 1/255) and sigma 0.
+    Volume v = bakeShGather(*scene_, *tracer_, thinWallGrid(), fastGather());
+    bakeDepthMoments(*tracer_, v, DepthOptions());
+    const std::size_t node = thinWallGrid().index(4, 2, 2);
+    const float* d = v.levels[0].nodeDepth(node);
+    EXPECT_NEAR(d[depth::kMeanPositive * 3 + 0], 0.4f, 0.5f / 255);
+    EXPECT_EQ(d[depth::kSigmaPositive * 3 + 0], 0.0f);
+    // -x: the room wall at x = 0 is 4.5 cells away: clamped to one cell, free.
+    EXPECT_EQ(d[depth::kMeanNegative * 3 + 0], 1.0f);
+    // A dark-side point behind the wall is hidden from it; a lit point in front is not.
+    EXPECT_LT(depth::visibility(d, 0.7f, 0.1f, -0.2f), 1e-4f);
+    EXPECT_EQ(depth::visibility(d, 0.3f, 0.1f, -0.2f), 1.0f);
+}
+
+TEST_F(ThinWall, DepthMomentsHaveTheSameBitsOnOneAndTwoThreads) {
+    Volume a = bakeShGather(*scene_, *tracer_, thinWallGrid(), fastGather(1));
+    Volume b = a;
+    DepthOptions d;
+    d.threads = 1;
+    bakeDepthMoments(*tracer_, a, d);
+    d.threads = 2;
+    bakeDepthMoments(*tracer_, b, d);
+    ASSERT_EQ(a.levels[0].depth.size(), b.levels[0].depth.size());
+    EXPECT_EQ(0, std::memcmp(a.levels[0].depth.data(), b.levels[0].depth.data(), a.levels[0].depth.size() * sizeof(float)));
+    // and another seed gives other rays (the test above would pass for a constant)
+    d.seed = 2;
+    Volume c = a;
+    bakeDepthMoments(*tracer_, c, d);
+    EXPECT_NE(0, std::memcmp(a.levels[0].depth.data(), c.levels[0].depth.data(), a.levels[0].depth.size() * sizeof(float)));
+}
+
+TEST_F(ThinWall, TheGatherRecordsTheSameDepthAsTheSeparatePassWithoutExtraRays) {
+    // Uniform: the gather's hook against bakeDepthMoments on the same rays; and the SH values
+    // are untouched by the hook (same bits with and without it).
+    GatherOptions o = fastGather();
+    BakeStats plainStats, hookStats;
+    const Volume plain = bakeShGather(*scene_, *tracer_, thinWallGrid(), o, nullptr, &plainStats);
+    o.depthMoments = true;
+    const Volume hooked = bakeShGather(*scene_, *tracer_, thinWallGrid(), o, nullptr, &hookStats);
+    EXPECT_EQ(plain.levels[0].data, hooked.levels[0].data);
+    EXPECT_EQ(plainStats.rays.total(), hookStats.rays.total());
+    Volume separate = plain;
+    DepthOptions d;
+    d.raysPerNode = o.raysPerNode;
+    bakeDepthMoments(*tracer_, separate, d);
+    EXPECT_EQ(hooked.levels[0].depth, separate.levels[0].depth);
+    // One-ray-at-a-time reference path: the same depth.
+    o.transport.packetRays = false;
+    const Volume single = bakeShGather(*scene_, *tracer_, thinWallGrid(), o);
+    EXPECT_EQ(single.levels[0].depth, hooked.levels[0].depth);
+
+    // Levels, seam nodes included (they take the coarser level's radiance, their own depth).
+    LevelsPlacement placement;
+    placement.kind = LayoutKind::Bilevel;
+    placement.refine = 2;
+    const LevelLayout layout = placeLevels(thinWallGrid(), scene_->positions, scene_->indices, placement, 256);
+    o = fastGather();
+    o.depthMoments = true;
+    const Volume levels = bakeShGatherLevels(*scene_, *tracer_, layout, o);
+    Volume levelsSeparate = levels;
+    bakeDepthMoments(*tracer_, levelsSeparate, d);
+    ASSERT_TRUE(levels.hasDepth());
+    for (std::size_t l = 0; l < levels.levels.size(); ++l)
+        EXPECT_EQ(levels.levels[l].depth, levelsSeparate.levels[l].depth) << "level " << l;
+}
+
+TEST_F(ThinWall, DepthMomentsSurviveTheVdbFile) {
+    LevelsPlacement placement;
+    placement.kind = LayoutKind::Bilevel;
+    placement.refine = 2;
+    const LevelLayout layout = placeLevels(thinWallGrid(), scene_->positions, scene_->indices, placement, 256);
+    Volume v = bakeShGatherLevels(*scene_, *tracer_, layout, fastGather());
+    bakeDepthMoments(*tracer_, v, DepthOptions());
+    test::TempDir dir;
+    const std::string path = dir.file("depth.vdb");
+    writeVolume(v, path);
+    const Volume r = readVolume(path);
+    ASSERT_TRUE(r.hasDepth());
+    for (std::size_t l = 0; l < v.levels.size(); ++l) EXPECT_EQ(v.levels[l].depth, r.levels[l].depth) << "level " << l;
+    bool found = false;
+    for (const GridInfo& g : inspectVolumeFile(path).grids)
+        if (g.name == "depth_mean_pos" && g.valueType == "vec3s") found = true;
+    EXPECT_TRUE(found);
+    // Half floats hold k/255 to 2^-11 relative: the lookup sees the same weights within that.
+    WriteOptions half;
+    half.halfFloat = true;
+    writeVolume(v, path, half);
+    const Volume h = readVolume(path);
+    for (std::size_t i = 0; i < v.levels[0].depth.size(); ++i)
+        ASSERT_NEAR(h.levels[0].depth[i], v.levels[0].depth[i], 1e-3f);
+}
+
+// The fast lookups against the simple reference, on random volumes with random depth
+// moments (so every branch of the Chebyshev test is taken) and at random points.
+void randomDepth(Volume& v, uint64_t seed) {
+    Rng rng(seed, 11);
+    for (VolumeLevel& l : v.levels) {
+        l.depth.resize(l.storedNodes() * depth::kFloatsPerNode);
+        for (std::size_t i = 0; i < l.depth.size(); ++i) {
+            const bool sigma = (i % depth::kFloatsPerNode) >= 6;
+            l.depth[i] = depth::quantize(sigma ? 0.3 * rng.uniform() : rng.uniform());
+        }
+    }
+}
+
+void randomData(Volume& v, uint64_t seed) {
+    Rng rng(seed, 5);
+    for (VolumeLevel& l : v.levels)
+        for (float& f : l.data) f = rng.uniform() * 2.0f - 0.3f;
+}
+
+void expectMatchesReference(const Volume& v, int points, uint64_t seed) {
+    const IrradianceQuery q(v);
+    ASSERT_TRUE(q.depthWeighted());
+    Rng rng(seed, 9);
+    const Bounds b = q.bounds();
+    int hidden = 0;
+    for (int i = 0; i < points; ++i) {
+        const Vec3d x = b.lo + Vec3d(double(rng.uniform()) * (b.hi.x - b.lo.x), double(rng.uniform()) * (b.hi.y - b.lo.y),
+                                     double(rng.uniform()) * (b.hi.z - b.lo.z));
+        const Vec3f n = uniformSphere(rng.uniform(), rng.uniform());
+        const Rgbd want = referenceDepthWeightedLookup(v, x, Vec3d(n));
+        const Rgb got = q.irradiance(Vec3f(x), n);
+        const Rgbd plain = referenceLookup(v, x, Vec3d(n));
+        if (std::fabs(plain.x - want.x) > 1e-2) ++hidden;
+        ASSERT_NEAR(got.x, want.x, 2e-4 * (1 + std::fabs(want.x))) << "point " << i;
+        ASSERT_NEAR(got.y, want.y, 2e-4 * (1 + std::fabs(want.y)));
+        ASSERT_NEAR(got.z, want.z, 2e-4 * (1 + std::fabs(want.z)));
+    }
+    EXPECT_GT(hidden, points / 10);  // the weights changed many answers
+}
+
+TEST(DepthWeightedLookup, UniformMatchesTheReference) {
+    Volume v;
+    v.basis = BasisDesc::sh2();
+    v.levels.resize(1);
+    v.levels[0].grid = GridSpec{Vec3d(-1, 0.5, 2), 0.3, 6, 5, 7};
+    v.levels[0].data.resize(v.levels[0].grid.nodeCount() * 27);
+    randomData(v, 1);
+    randomDepth(v, 2);
+    expectMatchesReference(v, 2000, 3);
+}
+
+TEST_F(ThinWall, LevelsMatchTheReference) {
+    LevelsPlacement placement;
+    placement.kind = LayoutKind::Adaptive;
+    placement.refine = 2;
+    placement.levels = 3;
+    const LevelLayout layout = placeLevels(thinWallGrid(), scene_->positions, scene_->indices, placement, 256);
+    Volume v;
+    v.basis = BasisDesc::sh2();
+    v.levels = layout.levels;
+    for (VolumeLevel& l : v.levels) l.data.resize(l.storedNodes() * 27);
+    randomData(v, 4);
+    randomDepth(v, 5);
+    ASSERT_EQ(v.levels.size(), 3u);
+    expectMatchesReference(v, 2000, 6);
+}
+
+TEST(DepthWeightedLookup, FreeNodesGiveTheTrilinearAnswer) {
+    Volume v;
+    v.basis = BasisDesc::sh2();
+    v.levels.resize(1);
+    v.levels[0].grid = GridSpec{Vec3d(0, 0, 0), 1.0, 3, 3, 3};
+    v.levels[0].data.resize(27 * 27);
+    randomData(v, 8);
+    v.levels[0].depth.assign(27 * depth::kFloatsPerNode, 0.0f);
+    for (std::size_t i = 0; i < v.levels[0].depth.size(); ++i)
+        if (i % depth::kFloatsPerNode < 6) v.levels[0].depth[i] = 1.0f;  // every face free for a whole cell
+    const IrradianceQuery q(v);
+    Rng rng(3, 3);
+    for (int i = 0; i < 200; ++i) {
+        const Vec3d x(2 * double(rng.uniform()), 2 * double(rng.uniform()), 2 * double(rng.uniform()));
+        const Vec3f n = uniformSphere(rng.uniform(), rng.uniform());
+        const Rgbd want = referenceLookup(v, x, Vec3d(n));
+        ASSERT_NEAR(q.irradiance(Vec3f(x), n).x, want.x, 1e-4 * (1 + std::fabs(want.x)));
+    }
+}
+
+TEST(DepthWeightedLookup, InvalidDepthIsRefused) {
+    Volume v;
+    v.basis = BasisDesc::sh2();
+    v.levels.resize(1);
+    v.levels[0].grid = GridSpec{Vec3d(0, 0, 0), 1.0, 2, 2, 2};
+    v.levels[0].data.resize(8 * 27);
+    v.levels[0].depth.assign(7 * depth::kFloatsPerNode, 0.5f);  // one node short
+    EXPECT_THROW(v.validate(), FormatError);
+    v.levels[0].depth.assign(8 * depth::kFloatsPerNode, 0.5f);
+    v.levels[0].depth[3] = 1.5f;  // outside [0, 1]
+    EXPECT_THROW(v.validate(), FormatError);
+    v.levels[0].depth[3] = 0.5f;
+    EXPECT_NO_THROW(v.validate());
+}
+
+std::vector<float> readFloats(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::vector<float> out(bytes.size() / 4);
+    std::memcpy(out.data(), bytes.data(), out.size() * 4);
+    return out;
+}
+
+std::string readText(const std::string& path) {
+    std::ifstream in(path);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+TEST(DepthWeightedLookup, ExportWritesTheDepthTexturesAtTheNodes) {
+    Volume v;
+    v.basis = BasisDesc::sh2();
+    v.levels.resize(1);
+    v.levels[0].grid = GridSpec{Vec3d(-1, 0.5, 2), 0.3, 4, 3, 5};
+    v.levels[0].data.resize(v.levels[0].grid.nodeCount() * 27);
+    randomData(v, 12);
+    randomDepth(v, 13);
+    test::TempDir dir;
+    ExportOptions o;
+    o.format = TextureFormat::Raw;
+    o.halfFloat = false;
+    exportTextures(v, dir.file("out"), o);
+    const GridSpec& g = v.levels[0].grid;
+    const char* names[3] = {"depth_x", "depth_y", "depth_z"};
+    for (int a = 0; a < 3; ++a) {
+        const std::vector<float> t = readFloats(dir.file("out") + "/" + names[a] + ".raw");
+        ASSERT_EQ(t.size(), g.nodeCount() * 4) << names[a];
+        for (std::size_t n = 0; n < g.nodeCount(); ++n) {
+            const float* d = v.levels[0].nodeDepth(n);
+            EXPECT_EQ(t[n * 4 + 0], d[depth::kMeanPositive * 3 + a]);
+            EXPECT_EQ(t[n * 4 + 1], d[depth::kMeanNegative * 3 + a]);
+            EXPECT_EQ(t[n * 4 + 2], d[depth::kSigmaPositive * 3 + a]);
+            EXPECT_EQ(t[n * 4 + 3], d[depth::kSigmaNegative * 3 + a]);
+        }
+    }
+    const std::string manifest = readText(dir.file("out") + "/manifest.json");
+    EXPECT_NE(manifest.find("\"depth\": {\"exported\": true"), std::string::npos);
+    // Resampled (--resolution): depth cannot follow, and the manifest says so.
+    o.resolution = 9;
+    exportTextures(v, dir.file("res"), o);
+    EXPECT_NE(readText(dir.file("res") + "/manifest.json").find("\"exported\": false"), std::string::npos);
+    EXPECT_FALSE(std::ifstream(dir.file("res") + "/depth_x.raw").good());
+}
+
+}  // namespace
+}  // namespace vdblight
