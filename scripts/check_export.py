@@ -22,6 +22,7 @@ is printed, and checked only with --compact-tolerance.
 """
 import argparse
 import json
+import math
 import os
 import struct
 import subprocess
@@ -164,6 +165,70 @@ def irradiance_terms(manifest, textures, x, n, max_abs=False):
     raise ValueError("unknown layout " + layout)
 
 
+def lambert_contour(rel, n):
+    """docs/engines.md: sum_i theta_i (n . gamma_i) over the loop (vertices relative to the
+    receiver) clipped to dot(n, v) >= 0."""
+    clipped = []
+    m = len(rel)
+    for i in range(m):
+        a, b = rel[i], rel[(i + 1) % m]
+        da, db = float(np.dot(n, a)), float(np.dot(n, b))
+        if da >= 0:
+            clipped.append(a)
+        if (da >= 0) != (db >= 0):
+            clipped.append(a + (b - a) * (da / (da - db)))
+    total = 0.0
+    for i in range(len(clipped)):
+        a, b = clipped[i], clipped[(i + 1) % len(clipped)]
+        g = np.cross(a, b)
+        length = float(np.linalg.norm(g))
+        if length > 0:
+            total += math.atan2(length, float(np.dot(a, b))) * float(np.dot(n, g)) / length
+    return total if len(clipped) >= 3 else 0.0
+
+
+def exact_irradiance(light, x, n):
+    """docs/engines.md / docs/format.md "Direct light": unshadowed irradiance, RGB."""
+    kind = light["kind"]
+    if kind == "directional":
+        return np.array(light["irradiance"]) * max(0.0, -float(np.dot(n, light["direction"])))
+    if kind in ("point", "spot"):
+        d = np.array(light["position"]) - x
+        d2 = float(np.dot(d, d))
+        w = d / math.sqrt(d2)
+        e = np.array(light["intensity"]) * max(0.0, float(np.dot(n, w))) / d2
+        if kind == "spot":
+            ci, co = math.cos(light["inner_cone"]), math.cos(light["outer_cone"])
+            c = float(np.dot(light["direction"], -w))
+            t = (1.0 if c > co else 0.0) if ci - co <= 1e-6 else min(1.0, max(0.0, (c - co) / (ci - co)))
+            e = e * t * t
+        return e
+    total = 0.0
+    for loop in light["loops"]:
+        loop = np.array(loop)
+        normal = np.array(light["normal"]) if kind == "polygon" else np.sum(
+            np.cross(loop, np.roll(loop, -1, axis=0)), axis=0)
+        side = float(np.dot(normal, x - loop[0]))
+        sign = 1.0 if side > 0 else (-1.0 if side < 0 and light["two_sided"] else 0.0)
+        if sign != 0.0:
+            total += sign * lambert_contour(list(loop - x), n)
+    return np.array(light["radiance"]) * max(0.0, -0.5 * total)
+
+
+def direct_light(manifest, textures, x, n):
+    """Occlusion exports: sum over listed lights of exact irradiance x sampled visibility; 0 otherwise."""
+    direct = manifest.get("direct", {"mode": "baked"})
+    out = np.zeros((len(x), 3))
+    if direct["mode"] != "occlusion":
+        return out
+    uvw = x * np.array(manifest["uvw_scale"]) + np.array(manifest["uvw_bias"])
+    for light in direct["lights"]:
+        vis = sample_trilinear(textures[light["visibility"]["texture"]], uvw)[:, "rgba".index(light["visibility"]["component"])]
+        for i in range(len(x)):
+            out[i] += vis[i] * exact_irradiance(light, x[i], n[i])
+    return out
+
+
 def direction_to_square(d):
     """docs/format.md / manifest bins.bin_of_direction: hemisphere h and square point (u, v) of unit d."""
     h = (d[:, 2] < 0).astype(np.int64)
@@ -238,6 +303,8 @@ def main():
     n = n.astype(np.float32).astype(np.float64)
     n /= np.linalg.norm(n, axis=1)[:, None]
 
+    # Runtime volumes: the textures hold the indirect light, which the query gives with --indirect-only.
+    extra = ["--indirect-only"] if manifest.get("direct", {}).get("mode") == "runtime" else []
     moment = manifest["layout"] == "bins" and manifest["bins"]["basis"].startswith("moment:")
     # A moment volume is queried with the view vector (0, 0, 1) mirrored about n.
     d = n
@@ -253,10 +320,14 @@ def main():
         axes = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], dtype=np.float64)
         rows_x = np.repeat(x, 8, axis=0)
         rows_n = np.concatenate([np.vstack([n[i], -n[i], axes]) for i in range(len(n))])
-        e = query(args.cli, args.volume, rows_x, rows_n).reshape(len(n), 8, 3)
+        e = (query(args.cli, args.volume, rows_x, rows_n, extra) - direct_light(manifest, textures, rows_x, rows_n)).reshape(
+            len(n), 8, 3)
         want = e[:, 2:, :].mean(axis=1) + 0.5 * (e[:, 0, :] - e[:, 1, :])
     else:
-        want = query(args.cli, args.volume, x, n, ["--view", "0,0,1"] if moment else [])
+        want = query(args.cli, args.volume, x, n, (["--view", "0,0,1"] if moment else []) + extra)
+        # Occlusion volumes: the query adds the listed lights' direct light, which the manifest's
+        # formula (exact irradiance x visibility texture) must reproduce.
+        want = want - direct_light(manifest, textures, x, n)
 
     tol = 1e-3 if manifest["component_type"] == "float16" else 1e-5
     status = 0
@@ -281,6 +352,8 @@ def main():
     # (The bins layout picks its texels by direction: its scale uses the same directions.)
     scale_dirs = d if manifest["layout"] == "bins" else np.abs(n)
     scale = np.abs(irradiance_terms(manifest, textures, x, scale_dirs, max_abs=True)).sum(axis=0)
+    # The visibility texels are rounded like the others: their share scales with the direct light.
+    scale = scale + np.abs(direct_light(manifest, textures, x, n))
     scale = np.maximum(scale, 1e-30)
     rel = np.abs(got - want) / scale
     worst = int(np.argmax(rel.max(axis=1)))

@@ -25,7 +25,8 @@ const std::string kScene = std::string(VDBLIGHT_SOURCE_DIR) + "/data/cornell_box
 TEST(CliSlurm, ScriptsRunByHandGiveTheSingleBake) {
     test::TempDir dir;
     const std::string world = dir.file("world.vdb"), whole = dir.file("whole.vdb");
-    const std::string opts = " --layout adaptive --levels 2 --refine 2 --resolution 6 --rays 8 --seed 4";
+    // Explicit: the uniform point gather's defaults (a probe pass, --direct occlusion) are not tileable.
+    const std::string opts = " --layout adaptive --levels 2 --refine 2 --resolution 6 --rays 8 --seed 4 --direct baked --quality preview";
     ASSERT_EQ(runCli("bake " + kScene + " -q -o " + whole + opts).status, 0);
     const test::CliRun w = runCli("slurm " + kScene + " -o " + world + " --tiles 3 --sbatch '--time=10 --mem 1G'" + opts);
     ASSERT_EQ(w.status, 0) << w.output;

@@ -20,6 +20,10 @@ std::string fileBytes(const std::string& path) {
     return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
+/// The defaults of the uniform SH point gather are not tileable (a probe-to-probe pass, the
+/// visibility pass of --direct occlusion): tests of tileable bakes say so explicitly.
+const std::string kTileable = " --direct baked --quality preview";
+
 /// Bakes `args` once whole and once as `tiles` tiles (tile i on 1 + i % 2 threads), merges
 /// the tiles given in reverse order and expects the same bytes.
 void expectMergeIdentical(const test::TempDir& dir, const std::string& args, int tiles) {
@@ -46,31 +50,31 @@ void expectMergeIdentical(const test::TempDir& dir, const std::string& args, int
 
 TEST(CliTiles, UniformBinsMergeToTheSingleBake) {
     test::TempDir dir;
-    expectMergeIdentical(dir, "--basis bins:2 --resolution 20 --rays 8 --seed 3", 3);
+    expectMergeIdentical(dir, "--basis bins:2 --resolution 20 --rays 8 --seed 3" + kTileable, 3);
 }
 
 TEST(CliTiles, AdaptiveLayoutMergesToTheSingleBakeSeamsIncluded) {
     test::TempDir dir;
-    expectMergeIdentical(dir, "--layout adaptive --levels 3 --refine 2 --resolution 6 --rays 8 --seed 2", 4);
+    expectMergeIdentical(dir, "--layout adaptive --levels 3 --refine 2 --resolution 6 --rays 8 --seed 2" + kTileable, 4);
 }
 
 TEST(CliTiles, BinsOnBilevelAndHalfFloatsMergeToTheSingleBake) {
     test::TempDir dir;
-    expectMergeIdentical(dir, "--basis bins:2 --layout bilevel --refine 2 --resolution 6 --rays 8 --half", 2);
+    expectMergeIdentical(dir, "--basis bins:2 --layout bilevel --refine 2 --resolution 6 --rays 8 --half" + kTileable, 2);
 }
 
 TEST(CliTiles, CulledBilevelMergesToTheSingleBake) {
     test::TempDir dir;
-    expectMergeIdentical(dir, "--layout bilevel --refine 2 --cull-solids --resolution 8 --rays 8", 3);
+    expectMergeIdentical(dir, "--layout bilevel --refine 2 --cull-solids --resolution 8 --rays 8" + kTileable, 3);
 }
 
 TEST(CliTiles, BadSetsOfTilesAreRefusedByName) {
     test::TempDir dir;
-    const std::string args = " --layout bilevel --refine 2 --resolution 10 --rays 4 -q --tiles 3 --tile ";
+    const std::string args = kTileable + " --layout bilevel --refine 2 --resolution 10 --rays 4 -q --tiles 3 --tile ";
     for (int t = 0; t < 3; ++t)
         ASSERT_EQ(runCli("bake -o " + dir.file("t" + std::to_string(t) + ".vdb") + args + std::to_string(t)).status, 0);
     ASSERT_EQ(runCli("bake -o " + dir.file("seed.vdb") + " --seed 9" + args + "1").status, 0);
-    ASSERT_EQ(runCli("bake -o " + dir.file("four.vdb") + " --layout bilevel --refine 2 --resolution 10 --rays 4 -q --tiles 4 --tile 1").status, 0);
+    ASSERT_EQ(runCli("bake -o " + dir.file("four.vdb") + kTileable + " --layout bilevel --refine 2 --resolution 10 --rays 4 -q --tiles 4 --tile 1").status, 0);
     const std::string out = dir.file("out.vdb");
     const std::string t0 = dir.file("t0.vdb"), t1 = dir.file("t1.vdb"), t2 = dir.file("t2.vdb");
     test::expectRefusal("merge " + t0 + " " + t2 + " -o " + out, "tile 1 of 3 is missing", out, "missing");
@@ -94,16 +98,23 @@ TEST(CliTiles, PassesThatCannotBeTiledSaySo) {
     test::expectRefusal("bake --method photons" + tile, "cannot be tiled", out, "photons");
     test::expectRefusal("bake --invalidate-backface 0.1" + tile, "cannot be tiled", out, "invalidate");
     test::expectRefusal("bake --target-error 0.1" + tile, "cannot be tiled", out, "target error");
+    // The defaults: one probe-to-probe pass, then --direct occlusion (its visibility pass bakes
+    // every node and tile files do not carry the visibility grids).
+    const std::string uniformTile = " --tiles 2 --tile 0 --resolution 4 -o " + out;
+    test::expectRefusal("bake --direct baked" + uniformTile, "add --probe-passes 0 or --quality preview", out, "probe pass");
+    test::expectRefusal("bake --quality preview" + uniformTile, "add --direct baked", out, "default occlusion");
+    test::expectRefusal("bake --quality preview --direct occlusion" + uniformTile, "add --direct baked", out, "occlusion");
+    test::expectRefusal("bake --quality preview --direct runtime" + uniformTile, "add --direct baked", out, "runtime");
     test::expectRefusal("bake --tiles 2 --resolution 4 -o " + out, "--tiles and --tile go together", out, "no --tile");
     test::expectRefusal("bake --tiles 2 --tile 2 --resolution 4 -o " + out, "--tile must be between 0 and 1", out, "range");
-    test::expectRefusal("bake --tiles 9 --tile 0 --layout bilevel --refine 2 --resolution 4 -o " + out, "bricks of 8^3 nodes", out, "too many");
-    // The default bake's probe-to-probe pass reads every node of the pass before.
-    test::expectRefusal("bake --tiles 2 --tile 0 --resolution 4 -o " + out, "the uniform SH point gather cannot be tiled yet", out, "uniform gather");
+    test::expectRefusal("bake --tiles 9 --tile 0 --layout bilevel --refine 2 --resolution 4 -o " + out + kTileable, "bricks of 8^3 nodes", out, "too many");
+    // The uniform point gather's per-node error summary is not merged yet.
+    test::expectRefusal("bake --tiles 2 --tile 0 --resolution 4 -o " + out + kTileable, "the uniform SH point gather cannot be tiled yet", out, "uniform gather");
 }
 
 TEST(CliTiles, ATileAlreadyOnDiskWithTheSameParametersIsSkipped) {
     test::TempDir dir;
-    const std::string tile = dir.file("t.vdb"), args = " --layout bilevel --refine 2 --resolution 10 --rays 8 --tiles 2 --tile 1 -o " + tile;
+    const std::string tile = dir.file("t.vdb"), args = kTileable + " --layout bilevel --refine 2 --resolution 10 --rays 8 --tiles 2 --tile 1 -o " + tile;
     ASSERT_EQ(runCli("bake -q" + args).status, 0);
     const std::string before = fileBytes(tile);
     const auto stamp = std::filesystem::last_write_time(tile);

@@ -53,7 +53,8 @@ slurmd -f "$SLURM_CONF" || fail "slurmd did not start"
 for i in $(seq 60); do sinfo -h -o %t 2>/dev/null | grep -q idle && break; sleep 1; done
 sinfo -h -o %t | grep -q idle || fail "the node did not come up"
 
-OPTS="--layout bilevel --refine 2 --resolution 16 --rays 512 --seed 3"
+# Tileable: bilevel (the uniform point gather is not), no probe pass, direct light in the SH.
+OPTS="--layout bilevel --refine 2 --resolution 16 --rays 512 --seed 3 --direct baked --quality preview"
 SCENE="$SRC/data/cornell_box.obj"
 wait_jobs() {  # until none of our jobs is pending or running (or 600 s)
   for i in $(seq 600); do [ -z "$(squeue -h -o %i 2>/dev/null)" ] && return 0; sleep 1; done; return 1

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 
@@ -128,6 +129,24 @@ TEST(Tiles, WrittenTilesMergeToTheSameFile) {
     } catch (const ValueError& e) {
         EXPECT_NE(std::string(e.what()).find("are both tile 1 of 3"), std::string::npos) << e.what();
     }
+}
+
+TEST(Tiles, AVolumeWithDirectLightOutOfTheShIsNotTiled) {
+    // Tile files do not carry the light list or visibility grids (bake --direct): the merged
+    // file would claim to hold all its direct light, so writeTile refuses.
+    test::TempDir dir;
+    Volume v = randomVolume();
+    v.direct.mode = DirectMode::Runtime;
+    TileId id;
+    id.index = 0, id.count = 2, id.paramsHash = tileParamsHash("scene", "rays=1\n");
+    const std::string path = dir.file("tile0.vdb");
+    try {
+        writeTile(v, tileNodeMask(v.levels, 2, 0), id, path);
+        ADD_FAILURE() << "a --direct runtime volume was written as a tile";
+    } catch (const ValueError& e) {
+        EXPECT_NE(std::string(e.what()).find("add --direct baked"), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(std::filesystem::exists(path));
 }
 
 }  // namespace

@@ -12,6 +12,8 @@
 #include "vdblight/bake_antialiased.h"
 #include "vdblight/bake_depth.h"
 #include "vdblight/bake_bins.h"
+#include "vdblight/bake_direct.h"
+#include "vdblight/scene_lights.h"
 #include "vdblight/bins.h"
 #include "vdblight/bake_levels.h"
 #include "vdblight/layout_levels.h"
@@ -60,6 +62,8 @@ struct BakeCommand {
     std::string quality = "default";  // preview | default | high (qualityPreset)
     int probePasses = 0;              // GatherOptions::probePasses
     std::string basis = "sh2";  // sh2 | bins:R | moment:n[:R] (bins.h)
+    std::string direct;            // baked | runtime | occlusion (bake_direct.h); empty: the default
+    int directLights = 4;          // --direct occlusion: lights with a visibility channel
     bool depthMoments = false;  // per-node depth moments for visibility-weighted lookups (bake_depth.h)
     uint32_t depthRays = 0;     // 0: as many as --rays (then the gather's own first rays)
     bool reproducible = true;   // leave run-specific metadata out of the file (vdb_io.h)
@@ -67,6 +71,34 @@ struct BakeCommand {
     int tile = -1;
     std::string parameters;     // every option that changes the result, for the tile hash
 };
+
+/// --direct: parsed and checked against the other options before anything is loaded.
+DirectOptions directFromOptions(const BakeCommand& c) {
+    DirectOptions d;
+    // The default is occlusion where it applies (docs/methods.md, "Direct light out of the SH"):
+    // the uniform SH point gather of a scene with lights; elsewhere baked.
+    const bool automatic = c.direct.empty();
+    d.mode = automatic ? DirectMode::Occlusion : parseDirectMode(c.direct);
+    d.maxLights = c.directLights;
+    d.seed = c.seed;
+    d.threads = c.threads;
+    if (d.mode == DirectMode::Baked) return d;
+    if (c.directLights < 1 || c.directLights > 16)
+        throw ValueError("--direct-lights must be between 1 and 16, got " + std::to_string(c.directLights));
+    const char* other = c.method != "gather" ? "--method photons"
+                        : c.sampling != "point" ? "--sampling antialiased"
+                        : c.layout != "uniform" ? "--layout bilevel/adaptive"
+                        : c.basis != "sh2"      ? "--basis bins/moment"
+                        : c.shWindow            ? "--sh-window"
+                                                : nullptr;
+    if (other && automatic) {
+        d.mode = DirectMode::Baked;
+        return d;
+    }
+    if (other)
+        throw ValueError(std::string("--direct ") + c.direct + " is implemented for the uniform SH point gather only, not with " + other);
+    return d;
+}
 
 /// Why a bake with these options cannot be split into tiles, or "" if it can.
 std::string untileable(const BakeCommand& c) {
@@ -76,13 +108,18 @@ std::string untileable(const BakeCommand& c) {
     if (c.invalidateBackface >= 0) return "--invalidate-backface cannot be tiled (its dilation crosses tile borders)";
     if (c.targetError > 0) return "--target-error cannot be tiled yet (its error statistics are not merged)";
     if (c.shWindow) return "--sh-window cannot be tiled yet (the window would have to follow the seams at merge)";
+    if (c.probePasses > 0)
+        return "probe-to-probe passes cannot be tiled yet (each pass reads every node of the pass before): "
+               "add --probe-passes 0 or --quality preview";
+    // The visibility pass bakes every node and tile files do not carry the light list or the
+    // visibility grids, so a merged file would lose them: only direct light in the SH tiles.
+    if (directFromOptions(c).mode != DirectMode::Baked)
+        return std::string("--direct ") + (c.direct.empty() ? "occlusion (the default here)" : c.direct) +
+               " cannot be tiled yet (tile files do not carry the light list and visibility channels): add --direct baked";
     if (c.method == "gather" && c.sampling == "point" && parseLayoutKind(c.layout) == LayoutKind::Uniform &&
         bins::parseBasisSpec(c.basis).kind == bins::BasisSpec::Kind::Sh2)
         return "the uniform SH point gather cannot be tiled yet (its per-node error summary, "
                "vdblight:estimated_error_*, is not merged): tile --layout bilevel or adaptive";
-    if (c.probePasses > 0)
-        return "probe-to-probe passes cannot be tiled yet (each pass reads every node of the pass before): "
-               "add --probe-passes 0 or --quality preview";
     return "";
 }
 
@@ -188,6 +225,7 @@ Volume bakeSelected(const BakeCommand& c, const Scene& scene, const Tracer& trac
 void run(const BakeCommand& c) {
     if (c.method != "gather" && c.method != "photons")
         throw ValueError("--method must be gather or photons, got '" + c.method + "'");
+    DirectOptions direct = directFromOptions(c);
     if (c.method == "photons") return runPhotons(c);
     checkOutputWritable(c.output);
     SceneLoadReport read;
@@ -241,6 +279,10 @@ void run(const BakeCommand& c) {
     options.seed = c.seed;
     options.threads = c.threads;
     options.transport = transportFromOptions(c.scene);
+    if (c.direct.empty() && direct.mode == DirectMode::Occlusion && sceneLights(scene).empty())
+        direct.mode = DirectMode::Baked;  // the default in a scene lit by the sky only
+    const DirectPlan plan = planDirectLight(scene, tracer, grid, direct);  // baked: an empty plan
+    options.transport.skipAtReceiver = plan.filter;
     options.probePasses = c.probePasses;
     // The point gather records depth moments from its own first rays (no extra rays).
     options.depthMoments = c.depthMoments && (c.depthRays == 0 || c.depthRays == c.rays);
@@ -288,6 +330,18 @@ void run(const BakeCommand& c) {
                       << 100.0 * (1.0 - double(layout.totalNodes()) / layout.denseEquivalentNodes()) << " % saved"
                       << (c.cullSolids ? ", " + std::to_string(layout.culledNodes) + " of them culled inside solids" : "")
                       << ").\n";
+    }
+    if (direct.mode != DirectMode::Baked) {
+        bakeLightVisibility(scene, tracer, plan, direct, volume, &progress);
+        if (!c.quiet) {
+            std::cout << "Direct light (" << directModeName(direct.mode) << "): " << plan.lights.size() << " of " << plan.sceneLightCount
+                      << " lights kept out of the SH";
+            if (direct.mode == DirectMode::Occlusion) {
+                std::cout << ", with visibility channels; measured share of the direct light:";
+                for (double share : plan.contribution) std::cout << ' ' << int(100.0 * share + 0.5) << " %";
+            }
+            std::cout << ".\n";
+        }
     }
     if (c.refineDistance > 0) volume.meta["refine_distance"] = c.refineDistance;
     if (c.shWindow) applyShWindow(volume);
@@ -470,6 +524,13 @@ void addBakeCommand(CLI::App& app) {
     cmd->add_flag("--cull-solids", c->cullSolids,
                   "bilevel/adaptive with sh2: leave out nodes whose every cell lies inside a closed solid "
                   "(docs/format.md, Levels); queries there return 0");
+    cmd->add_option("--direct", c->direct,
+                    "Direct light: baked (in the SH), runtime (SH holds indirect light; the file lists the lights for "
+                    "the run time to add) or occlusion (plus per-node visibility of the --direct-lights most important "
+                    "lights, added exactly at lookup). Default: occlusion for the uniform SH point gather of a scene "
+                    "with lights, baked otherwise");
+    cmd->add_option("--direct-lights", c->directLights, "--direct occlusion: lights with a visibility channel (1..16)")
+        ->capture_default_str();
     auto* probe = cmd->add_option("--probe-passes", c->probePasses,
                     "point gather: after a first pass of full paths, this many passes that end "
                     "each gathered path at its first hit with the previous pass's reflected light (probe-to-probe "

@@ -64,6 +64,12 @@ void printHuman(const Volume& v, const FileInfo& f) {
               << "  content hash: sha256 " << f.hash.sha256 << " (header UUID " << f.hash.headerUuid
               << (f.hash.uuidFromContent ? ", derived from it" : ", random: not written by this version") << ")\n"
               << "  basis: " << v.basis.kind << " (" << v.basis.channelCount() << describeChannels(v.basis.kind) << ")\n";
+    // bake --direct (docs/format.md, "Direct light").
+    std::cout << "  direct light: " << directModeName(v.direct.mode);
+    if (!v.direct.lights.empty())
+        std::cout << ", " << v.direct.lights.size() << " listed light" << (v.direct.lights.size() == 1 ? "" : "s")
+                  << (v.direct.hasVisibility() ? " with visibility grids" : " (added at run time)");
+    std::cout << "\n";
     for (std::size_t l = 0; l < v.levels.size(); ++l) {
         const GridSpec& g = v.levels[l].grid;
         std::cout << "  level " << l << ": " << g.nx << " x " << g.ny << " x " << g.nz << " box, "

@@ -9,7 +9,10 @@
 #include "vdblight/errors.h"
 #include "vdblight/query.h"
 #include "vdblight/query_levels.h"
+#include "vdblight/scene.h"
+#include "vdblight/scene_lights.h"
 #include "vdblight/scene_origin.h"
+#include "vdblight/trace.h"
 #include "vdblight/vdb_io.h"
 #include "vdblight/vector_grid_lookup.h"
 
@@ -25,8 +28,38 @@ struct QueryCommand {
     std::string interp = "trilinear";
     std::string view;  // moment volumes: view vector, mirrored about the normal (bins.h)
     bool raw = false;  // keep negative irradiance (SH ringing) instead of clamping it to 0
+    std::string scene;        // --direct runtime volumes: the scene whose lights are added with shadows
+    bool indirectOnly = false;  // --direct runtime volumes: the stored indirect light only
+    uint32_t shadowRays = 256;  // per polygon light and point, with --scene
     bool noDepthWeights = false;  // plain trilinear even if the volume has depth moments
 };
+
+/// A `--direct runtime` volume's direct light, added at query time with shadow rays
+/// (scene_lights.h). The scene must be the one baked: its lights must match the volume's list.
+struct RuntimeDirect {
+    Scene scene;
+    std::unique_ptr<Tracer> tracer;
+    std::vector<SceneLight> lights;
+};
+
+std::unique_ptr<RuntimeDirect> runtimeDirect(const QueryCommand& c, const Volume& volume) {
+    const bool runtime = volume.direct.mode == DirectMode::Runtime;
+    if (!runtime && (!c.scene.empty() || c.indirectOnly))
+        throw ValueError(std::string("--scene and --indirect-only apply to volumes baked with --direct runtime; this one is '") +
+                         directModeName(volume.direct.mode) + "'");
+    if (!runtime || c.indirectOnly) return nullptr;
+    if (c.scene.empty())
+        throw ValueError("'" + c.volume + "' holds indirect light only (bake --direct runtime): give --scene SCENE to add "
+                         "its lights' direct light with shadow rays, or --indirect-only for the stored light alone");
+    auto r = std::make_unique<RuntimeDirect>();
+    r->scene = loadScene(c.scene);
+    r->lights = sceneLights(r->scene);
+    if (r->lights.size() != volume.direct.lights.size())
+        throw ValueError("scene '" + c.scene + "' has " + std::to_string(r->lights.size()) + " lights, the volume lists " +
+                         std::to_string(volume.direct.lights.size()) + " (baked from another scene?)");
+    r->tracer = std::make_unique<Tracer>(r->scene);
+    return r;
+}
 
 void run(const QueryCommand& c) {
     if (c.interp != "trilinear" && c.interp != "tricubic")
@@ -62,6 +95,7 @@ void run(const QueryCommand& c) {
         throw ValueError("a moment volume ('" + volume.basis.kind + "') needs --view vx,vy,vz (towards the eye)");
     if (!moment && !c.view.empty())
         throw ValueError("--view applies to moment volumes (bake --basis moment:N); this one is '" + volume.basis.kind + "'");
+    const std::unique_ptr<RuntimeDirect> runtime = runtimeDirect(c, volume);
     std::unique_ptr<VolumeLookup> cubic;  // --interp tricubic (irradiance-vector volumes)
     if (c.interp == "tricubic") {
         if (!VectorGridLookup::accepts(volume))
@@ -85,6 +119,12 @@ void run(const QueryCommand& c) {
         const Vec3f n = normalize(p.normal);
         const Vec3f d = moment ? normalize(bins::reflectView(view, n)) : n;  // moment: the reflected view vector
         Rgb e = cubic ? cubic->irradiance(p.position, d) : query.irradianceWorld(world[i], d);
+        if (runtime) {  // the direct light the volume leaves out, with shadow rays
+            RayCount rays;
+            const Vec3d lx = query.inside(world[i]) ? world[i] : vmin(vmax(world[i], query.bounds().lo), query.bounds().hi);
+            e += runtimeDirectIrradiance(runtime->scene, *runtime->tracer, runtime->lights, runtime->scene.toLocal(lx), n,
+                                         c.shadowRays, hashCombine(0x9ee7, i), rays);
+        }
         if (!c.raw && (e.x < 0 || e.y < 0 || e.z < 0)) {  // order-2 SH ringing (docs/methods.md)
             ++negative;
             e = Rgb(std::max(e.x, 0.0f), std::max(e.y, 0.0f), std::max(e.z, 0.0f));
@@ -127,6 +167,12 @@ void addQueryCommand(CLI::App& app) {
     cmd->add_flag("--raw", c->raw,
                   "Print the raw reconstructed irradiance, negative where order-2 SH rings (default: negative "
                   "components clamped to 0)");
+    cmd->add_option("--scene", c->scene,
+                    "--direct runtime volumes: the scene baked; its lights' direct light is added with shadow rays");
+    cmd->add_flag("--indirect-only", c->indirectOnly, "--direct runtime volumes: print the stored indirect light only");
+    cmd->add_option("--shadow-rays", c->shadowRays, "With --scene: shadow rays per polygon light and point")
+        ->capture_default_str()
+        ->check(CLI::Range(1u, 1u << 20));
     cmd->callback([c] { run(*c); });
 }
 

@@ -51,6 +51,11 @@ void run(const SliceCommand& c) {
     const Volume volume = readVolume(c.volume);
     const SliceImage image = sliceVolume(volume, o);
     writeSlice(c.output, image, tone, o.axis, o.at, o.normal);
+    // Occlusion volumes include their lights' direct light (IrradianceQuery adds it); runtime
+    // volumes hold indirect light only, which is what the image shows.
+    if (volume.direct.mode == DirectMode::Runtime)
+        std::cerr << "vdblight: note: '" << c.volume << "' was baked with --direct runtime: the slice shows its indirect "
+                     "light only (the listed lights' direct light is added at run time)\n";
     if (!c.quiet)
         std::cout << "Wrote a " << image.width << " x " << image.height << " slice at " << c.axis << " = " << c.at
                   << " to " << c.output << "\n";

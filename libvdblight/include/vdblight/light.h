@@ -42,6 +42,18 @@ constexpr int kSafetyBounces = 1024;
 /// weight then grows by 0.99 / 0.95 per reflection, which is unbiased).
 constexpr float kRouletteMaxSurvival = 0.95f;
 
+/// Lights whose direct light at the receiver a bake leaves out (`bake --direct runtime |
+/// occlusion`, direct_light.h): light that reaches the gather point straight from these
+/// emitters (emissive triangles hit by the first ray or sampled by the node's NEE, punctual
+/// lights evaluated at the node). Their light at later path vertices stays: once reflected it
+/// is indirect light. Built by receiverFilter (scene_lights.h).
+struct ReceiverDirectFilter {
+    std::vector<uint8_t> triangle;  ///< per scene triangle: 1 = leave its emission out
+    std::vector<uint8_t> punctual;  ///< per punctual light (points, spots, directionals): 1 = leave out
+    bool skipsTriangle(uint32_t t) const { return t < triangle.size() && triangle[t]; }
+    bool skipsPunctual(int32_t i) const { return i >= 0 && std::size_t(i) < punctual.size() && punctual[i]; }
+};
+
 struct TransportOptions {
     /// Maximum number of diffuse reflections on a path from a light to the receiver:
     /// 0 = direct light only (emitters and sky seen directly), 1 = plus light reflected once...
@@ -75,6 +87,8 @@ struct TransportOptions {
     /// batch of paths is done; DeferredPaths); false = one ray at a time as each is needed
     /// (the reference path). Both give the same bits (node_batch_test).
     bool packetRays = true;
+    /// Direct light left out at the receiver (null: everything is kept, `--direct baked`).
+    std::shared_ptr<const ReceiverDirectFilter> skipAtReceiver;
 };
 
 /// Counts rays per calling context; summed deterministically by the caller.
@@ -93,6 +107,10 @@ struct LightSample {
     Vec3f direction;
     Rgb weight;
     float pdf = 0;  ///< solid-angle pdf of the light sampling (0 for delta lights)
+    /// Where it came from: the emissive triangle, or the punctual light's index in the order
+    /// points, spots, directionals (ReceiverDirectFilter); -1 if unknown.
+    int32_t source = -1;
+    bool punctual = false;  ///< source indexes punctual lights (else triangles)
 };
 
 /// Power-heuristic MIS weight of a sample drawn with pdf `a` against a strategy with pdf `b`.
@@ -232,6 +250,11 @@ public:
     const SurfaceIrradianceCache* surfaceCache() const { return cache_; }
 
     bool hasEmissiveTriangles() const { return !emitters_.empty(); }
+    /// True if the bake leaves this sample at the receiver out (TransportOptions::skipAtReceiver).
+    bool skipsAtReceiver(const LightSample& s) const {
+        const ReceiverDirectFilter* f = options_.skipAtReceiver.get();
+        return f && (s.punctual ? f->skipsPunctual(s.source) : f->skipsTriangle(uint32_t(s.source)));
+    }
     const TransportOptions& options() const { return options_; }
     const Tracer& tracer() const { return tracer_; }
 

@@ -51,6 +51,7 @@ inline Bounds toLocalBounds(Bounds box, const Vec3d& origin) {
 /// level's grid origin (double). The .vdb written from it maps index space to world space.
 inline void placeVolumeInWorld(Volume& volume, const Vec3d& origin) {
     for (VolumeLevel& level : volume.levels) level.grid.origin += origin;
+    for (DirectLight& light : volume.direct.lights) light.translate(origin);  // bake --direct
 }
 
 }  // namespace vdblight

@@ -11,6 +11,7 @@
 #include <variant>
 #include <vector>
 
+#include "vdblight/direct_light.h"
 #include "vdblight/depth_moments.h"
 #include "vdblight/layout.h"
 #include "vdblight/math.h"
@@ -46,6 +47,10 @@ struct VolumeLevel {
     /// `data`): the depth moments a lookup weights corners with so that it does not
     /// interpolate across walls (depth_moments.h; grids depth_* in docs/format.md).
     std::vector<float> depth;
+    /// Direct light in occlusion mode (Volume::direct), level 0 only: per node, the visibility
+    /// (0..1) of each listed light, node-major: [node * lights + i]; written as the FloatGrids
+    /// `light_visibility_<i>` (docs/format.md). Empty in the other modes.
+    std::vector<float> lightVisibility;
     /// Sparse levels (refined levels of a bilevel / n-level volume): the linear indices
     /// grid.index(i, j, k) of the nodes that exist, strictly ascending; `data` then holds
     /// these nodes in this order (its "node" is a position in this list). Empty = dense:
@@ -68,6 +73,8 @@ struct Volume {
     BasisDesc basis;
     std::vector<VolumeLevel> levels;  ///< level 0 is the coarsest (a uniform volume has one)
     Metadata meta;
+    /// How direct light is stored (`bake --direct`): mode and listed lights (direct_light.h).
+    DirectLightSet direct;
 
     /// Throws FormatError if levels, grids and data sizes are inconsistent, or if the level
     /// structure of a multi-level volume is (see validateLevelStructure in layout_levels.h).

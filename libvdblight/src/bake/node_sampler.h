@@ -91,7 +91,9 @@ public:
                 double w = radicalInverse(3, i) + lightOffset_;
                 w -= std::floor(w);
                 LightSample s;
-                if (estimator_.sampleEmissiveTriangles(x_, u, v, float(w), s, count)) {
+                Ray shadow;  // a light the bake leaves out at the node costs no shadow ray
+                if (estimator_.emissiveCandidate(x_, u, v, float(w), s, shadow) && !estimator_.skipsAtReceiver(s) &&
+                    (++count.occluded, !estimator_.tracer().occluded(shadow))) {
                     sh::evalUnrolled(s.direction, y);
                     const Rgb weight = s.weight * misWeight(s.pdf, kSpherePdf);
                     addLight(weight, y);
@@ -103,7 +105,7 @@ public:
                 double w = radicalInverse(5, i) + punctualOffset_;
                 w -= std::floor(w);
                 LightSample s;
-                if (estimator_.samplePunctualLight(x_, w, s, count)) {
+                if (estimator_.samplePunctualLight(x_, w, s, count) && !estimator_.skipsAtReceiver(s)) {
                     sh::evalUnrolled(s.direction, y);
                     addLight(s.weight, y);
                     ebar += 0.25 * double(luminance(s.weight));
@@ -159,7 +161,8 @@ public:
             double w = radicalInverseOf<3>(first + k) + lightOffset_;
             w -= std::floor(w);
             Ray shadow;
-            if (estimator_.emissiveCandidate(x_, u, v, float(w), lights[k], shadow)) {
+            if (estimator_.emissiveCandidate(x_, u, v, float(w), lights[k], shadow) &&
+                !estimator_.skipsAtReceiver(lights[k])) {
                 ++count.occluded;
                 lightRay[k] = paths_.addShadowRay(shadow);
             }
@@ -187,7 +190,7 @@ public:
                 double w = radicalInverseOf<5>(i) + punctualOffset_;
                 w -= std::floor(w);
                 LightSample s;
-                if (estimator_.samplePunctualLight(x_, w, s, count)) {
+                if (estimator_.samplePunctualLight(x_, w, s, count) && !estimator_.skipsAtReceiver(s)) {
                     sh::evalUnrolled(s.direction, y);
                     addLight(s.weight, y);
                     ebar += 0.25 * double(luminance(s.weight));
@@ -208,6 +211,7 @@ public:
             float y[sh::kCoeffs];
             // Punctual lights are deltas: their projection is exact, one shadow ray each.
             for (const LightSample& s : punctual) {
+                if (estimator_.skipsAtReceiver(s)) continue;
                 sh::evalUnrolled(s.direction, y);
                 for (int j = 0; j < sh::kCoeffs; ++j) exact_[j] += Rgbd(s.weight) * double(y[j]);
                 exactEbar_ += 0.25 * double(luminance(s.weight));

@@ -12,6 +12,7 @@
 #include "vdblight/bins.h"
 #include "vdblight/errors.h"
 #include "vdblight/irradiance_vectors_compact.h"
+#include "vdblight/query_direct.h"
 
 namespace vdblight {
 
@@ -132,6 +133,37 @@ private:
 };
 }  // namespace
 
+std::vector<TextureDesc> exporter::visibilityTextures(const DirectLightSet& direct) {
+    std::vector<TextureDesc> out;
+    if (!direct.hasVisibility()) return out;
+    const std::size_t n = direct.lights.size();
+    for (std::size_t first = 0; first < n; first += 4) {
+        const std::size_t last = std::min(n, first + 4) - 1;
+        TextureDesc d;
+        d.name = "light_visibility_" + std::to_string(first) + "_" + std::to_string(last);
+        for (std::size_t c = 0; c < 4; ++c)
+            d.components[c] = first + c <= last ? "visibility of light " + std::to_string(first + c) : "0";
+        out.push_back(d);
+    }
+    return out;
+}
+
+std::vector<std::vector<float>> exporter::sampleVisibility(const IrradianceQuery& query, const TextureLattice& lattice,
+                                                           std::size_t lights) {
+    const auto* occlusion = dynamic_cast<const OcclusionLookup*>(&query.lookup());
+    if (!occlusion) throw FormatError("the volume lists light visibility but its lookup does not read it");
+    std::vector<std::vector<float>> out((lights + 3) / 4, std::vector<float>(lattice.texelCount() * 4, 0.0f));
+    std::vector<float> v(lights);
+    std::size_t texel = 0;
+    for (int k = 0; k < lattice.dims[2]; ++k)
+        for (int j = 0; j < lattice.dims[1]; ++j)
+            for (int i = 0; i < lattice.dims[0]; ++i, ++texel) {
+                occlusion->visibility(lattice.point(i, j, k), v.data());
+                for (std::size_t l = 0; l < lights; ++l) out[l / 4][texel * 4 + l % 4] = v[l];
+            }
+    return out;
+}
+
 ExportSummary exportTextures(const Volume& volume, const std::string& outDir, const ExportOptions& o) {
     if (outDir.empty()) throw IoError("no output directory given");
     // A compact volume interpolates colour and direction separately between nodes; full
@@ -156,6 +188,9 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
     checkFormatLimits(o.format, lattice);
 
     std::vector<TextureDesc> descs = layoutTextures(o.layout, binResolution);
+    const std::size_t layoutCount = descs.size();
+    const std::vector<TextureDesc> visibility = visibilityTextures(volume.direct);  // bake --direct occlusion
+    descs.insert(descs.end(), visibility.begin(), visibility.end());
     const double bytesPerTexel = double(descs.size()) * 16.0 + (o.halfFloat ? 16.0 : 32.0);
     const double needed = double(lattice.texelCount()) * bytesPerTexel;
     if (needed > double(o.maxBytes))
@@ -165,6 +200,10 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
     checkOutputDirectory(outDir);
 
     std::vector<std::vector<float>> textures = sampleLayout(query, lattice, o.layout, binResolution);
+    if (!visibility.empty()) {
+        std::vector<std::vector<float>> v = sampleVisibility(query, lattice, volume.direct.lights.size());
+        for (auto& t : v) textures.push_back(std::move(t));
+    }
     if (o.halfFloat) checkHalfRange(textures, descs);
     // Depth moments (depth_moments.h) go along as three more textures when the texels are the
     // nodes; values k/255 in [0, 1] are exact in half floats to 2^-11.
@@ -188,6 +227,8 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
     manifest.binResolution = binResolution;
     manifest.momentOrder = binsVolume ? binSpec.order : 0;
     manifest.textures = descs;
+    manifest.direct = &volume.direct;
+    for (std::size_t t = layoutCount; t < layoutCount + visibility.size(); ++t) manifest.visibilityTextures.push_back(descs[t].name);
     manifest.depth = depthExport;
     for (std::size_t t = 0; t < descs.size(); ++t) {
         TextureImage image;

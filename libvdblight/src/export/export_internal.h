@@ -79,12 +79,21 @@ struct ManifestInput {
     std::vector<TextureDesc> textures;
     std::vector<std::string> fileNames;  ///< file name of each texture, in order
     std::vector<uint64_t> dataOffsets;   ///< byte offset of the texels in each file
+    /// The volume's direct-light mode and lights (bake --direct); in occlusion mode light i's
+    /// visibility is component i % 4 of texture visibilityTextures[i / 4].
+    const DirectLightSet* direct = nullptr;
+    std::vector<std::string> visibilityTextures;
     /// Depth moments (depth_moments.h): 0 = the volume has none; 1 = exported as the last
     /// three textures depth_x, depth_y, depth_z; -1 = the volume has them but the lattice is
     /// not its nodes (multi-level volume or --resolution), so they were not exported.
     int depth = 0;
 };
 
+/// Occlusion volumes: the textures holding the lights' visibility, four lights per RGBA texture
+/// (light_visibility_<first>_<last>), and their texels sampled through the query's lookup.
+std::vector<TextureDesc> visibilityTextures(const DirectLightSet& direct);
+std::vector<std::vector<float>> sampleVisibility(const IrradianceQuery& query, const TextureLattice& lattice,
+                                                 std::size_t lights);
 /// The three depth textures: per texel point (a node) and axis a, RGBA = (mean of the +a
 /// face, mean of the -a face, sigma of +a, sigma of -a), in cells. Empty if the lattice is
 /// not exactly the nodes of a single-level volume with depth moments.

@@ -68,6 +68,62 @@ const char* irradianceFormula(ExportLayout layout) {
     }
     return "";
 }
+/// The "direct" object (bake --direct; docs/engines.md, "Direct light").
+std::string directJson(const DirectLightSet& d, const std::vector<std::string>& visibility) {
+    std::ostringstream s;
+    s << "  \"direct\": {\"mode\": " << quote(directModeName(d.mode)) << ",\n";
+    switch (d.mode) {
+        case DirectMode::Baked:
+            s << "    \"meaning\": \"the textures hold all light, direct included\",\n";
+            break;
+        case DirectMode::Runtime:
+            s << "    \"meaning\": \"the textures hold indirect light only; add each listed light's direct light with "
+                 "your own shadows (docs/engines.md)\",\n";
+            break;
+        case DirectMode::Occlusion:
+            s << "    \"meaning\": \"the textures hold indirect light and the direct light of unlisted lights; add for each "
+                 "listed light exact_irradiance(light, x, n) * visibility, visibility = its component of its "
+                 "light_visibility texture sampled like the others (docs/engines.md)\",\n";
+            break;
+    }
+    s << "    \"lights\": [";
+    for (std::size_t i = 0; i < d.lights.size(); ++i) {
+        const DirectLight& l = d.lights[i];
+        s << (i ? ",\n" : "\n") << "      {";
+        switch (l.kind) {
+            case DirectLight::Kind::Point:
+                s << "\"kind\": \"point\", \"intensity\": " << vec(Vec3d(l.value)) << ", \"position\": " << vec(l.position);
+                break;
+            case DirectLight::Kind::Spot:
+                s << "\"kind\": \"spot\", \"intensity\": " << vec(Vec3d(l.value)) << ", \"position\": " << vec(l.position)
+                  << ", \"direction\": " << vec(l.direction) << ", \"inner_cone\": " << num(l.innerCone)
+                  << ", \"outer_cone\": " << num(l.outerCone);
+                break;
+            case DirectLight::Kind::Directional:
+                s << "\"kind\": \"directional\", \"irradiance\": " << vec(Vec3d(l.value)) << ", \"direction\": " << vec(l.direction);
+                break;
+            case DirectLight::Kind::Polygon:
+            case DirectLight::Kind::Mesh:
+                s << "\"kind\": " << (l.kind == DirectLight::Kind::Mesh ? "\"mesh\"" : "\"polygon\"") << ", \"radiance\": "
+                  << vec(Vec3d(l.value)) << ", \"two_sided\": " << (l.twoSided ? "true" : "false");
+                if (l.kind == DirectLight::Kind::Polygon) s << ", \"normal\": " << vec(l.normal);
+                s << ", \"loops\": [";
+                for (std::size_t k = 0; k < l.loops.size(); ++k) {
+                    s << (k ? ", [" : "[");
+                    for (std::size_t v = 0; v < l.loops[k].size(); ++v) s << (v ? ", " : "") << vec(l.loops[k][v]);
+                    s << "]";
+                }
+                s << "]";
+                break;
+        }
+        if (d.hasVisibility() && i / 4 < visibility.size())
+            s << ", \"visibility\": {\"texture\": " << quote(visibility[i / 4]) << ", \"component\": \""
+              << "rgba"[i % 4] << "\"}";
+        s << "}";
+    }
+    s << (d.lights.empty() ? "]\n" : "\n    ]\n") << "  },\n";
+    return s.str();
+}
 }  // namespace
 
 std::string manifestJson(const ManifestInput& in) {
@@ -149,6 +205,7 @@ std::string manifestJson(const ManifestInput& in) {
         }
         s << "},\n";
     }
+    if (in.direct) s << directJson(*in.direct, in.visibilityTextures);
     switch (o.format) {
         case TextureFormat::Ktx2:
             s << "  \"ktx2\": {\"vkFormat\": " << (o.halfFloat ? kVkR16G16B16A16Sfloat : kVkR32G32B32A32Sfloat)

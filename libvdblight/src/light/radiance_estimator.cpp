@@ -159,6 +159,8 @@ bool RadianceEstimator::samplePunctualLight(const Vec3f& x, double u, LightSampl
     out.direction = toLight / std::sqrt(dist2);
     out.weight = intensity * float(1.0 / (double(dist2) * pmf));
     out.pdf = 0.0f;
+    out.source = int32_t(l);  // points then spots: the punctual order
+    out.punctual = true;
     return true;
 }
 
@@ -195,6 +197,8 @@ bool RadianceEstimator::emissiveCandidate(const Vec3f& x, float u, float v, doub
     out.direction = wi;
     out.weight = d.emission * invPdf;
     out.pdf = 1.0f / invPdf;
+    out.source = int32_t(emitters_[e]);
+    out.punctual = false;
     return true;
 }
 
@@ -230,28 +234,35 @@ Rgb RadianceEstimator::emittedRadiance(uint32_t tri, const Vec3f& dir) const {
 
 void RadianceEstimator::punctualLights(const Vec3f& x, std::vector<LightSample>& out, RayCount& rays,
                                        bool skipSampled) const {
+    int32_t index = 0;  // the punctual order: points, spots, directionals (LightSample::source)
     auto addPoint = [&](const Vec3f& pos, const Rgb& intensity) {
         const Vec3f toLight = pos - x;
         const float dist2 = dot(toLight, toLight);
         if (!(dist2 > 0) || maxComponent(intensity) <= 0) return;
         ++rays.occluded;
         if (tracer_.occluded(Ray{x, toLight, 0.0f, kShadowEnd})) return;
-        out.push_back({toLight / std::sqrt(dist2), intensity / dist2});
+        out.push_back({toLight / std::sqrt(dist2), intensity / dist2, 0.0f, index, true});
     };
     const bool exact = !(skipSampled && samplesPunctualLights());
     if (exact) {
-        for (const PointLight& l : scene_.pointLights) addPoint(l.position, l.intensity);
+        for (const PointLight& l : scene_.pointLights) {
+            addPoint(l.position, l.intensity);
+            ++index;
+        }
         for (const SpotLight& s : scene_.spotLights) {
             const Vec3f d = x - s.position;
             const float len = length(d);
             if (len > 0) addPoint(s.position, s.intensity * spotFalloff(s, d / len));
+            ++index;
         }
     }
+    index = int32_t(pointAndSpotLightCount());
     for (const DirectionalLight& l : scene_.directionalLights) {
         const Vec3f toLight = -normalize(l.direction);
+        const int32_t source = index++;
         ++rays.occluded;
         if (tracer_.occluded(Ray{x, toLight})) continue;
-        out.push_back({toLight, l.irradiance});
+        out.push_back({toLight, l.irradiance, 0.0f, source, true});
     }
 }
 
@@ -330,7 +341,8 @@ void RadianceEstimator::walkPath(const Vec3f& origin, const Vec3f& dir, float di
             sink.add(throughput * scene_.sky.radiance(ray.direction));
             break;
         }
-        if (emitterOf_[hit.triangle] >= 0) {
+        if (emitterOf_[hit.triangle] >= 0 &&
+            !(reflection == 1 && options_.skipAtReceiver && options_.skipAtReceiver->skipsTriangle(hit.triangle))) {
             const float lightPdf = emitterPdf(hit.triangle, hit.t, ray.direction, &ray.origin);
             const Rgb e = throughput * emittedRadiance(hit.triangle, ray.direction) * misWeight(pdf, lightPdf);
             if (reflection == 1) sink.emitted = e;

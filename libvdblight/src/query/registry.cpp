@@ -4,6 +4,7 @@
 #include "vdblight/vector_grid_lookup.h"
 #include "vdblight/query_levels.h"
 #include "vdblight/bins_lookup.h"
+#include "vdblight/query_direct.h"
 #include "shifted_lookup.h"
 
 namespace vdblight {
@@ -30,6 +31,8 @@ IrradianceQuery::IrradianceQuery(const Volume& volume, OutsidePolicy outside) {
     for (const LookupKind& kind : lookupKinds()) {
         if (!kind.accepts(volume)) continue;
         lookup_ = createAnchored(volume, outside, kind.create);  // shifted_lookup.cpp
+        // bake --direct occlusion: add the listed lights' direct light (query_direct.h).
+        if (volume.direct.hasVisibility()) lookup_ = std::make_unique<OcclusionLookup>(std::move(lookup_), volume);
         bounds_ = lookup_->bounds();
         kind_ = kind.name;
         return;

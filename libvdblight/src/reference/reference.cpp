@@ -43,7 +43,8 @@ ChunkSum integrateChunk(const RadianceEstimator& estimator, const ReferencePoint
             double w = radicalInverse(3, i) + lightOffset;
             w -= std::floor(w);
             LightSample ls;
-            if (estimator.sampleEmissiveTriangles(point.position, u, v, float(w), ls, rays)) {
+            // TransportOptions::skipAtReceiver: the indirect-only reference (bench_direct's ground truth).
+            if (estimator.sampleEmissiveTriangles(point.position, u, v, float(w), ls, rays) && !estimator.skipsAtReceiver(ls)) {
                 const float cosine = std::max(0.0f, dot(n, ls.direction));
                 value += Rgbd(ls.weight) * double(cosine * misWeight(ls.pdf, cosine * float(kInvPi)));
             }
@@ -53,7 +54,7 @@ ChunkSum integrateChunk(const RadianceEstimator& estimator, const ReferencePoint
             double w = radicalInverse(5, i) + punctualOffset;
             w -= std::floor(w);
             LightSample ls;
-            if (estimator.samplePunctualLight(point.position, w, ls, rays))
+            if (estimator.samplePunctualLight(point.position, w, ls, rays) && !estimator.skipsAtReceiver(ls))
                 value += Rgbd(ls.weight) * double(std::max(0.0f, dot(n, ls.direction)));
         }
         s.sum += value;
@@ -128,7 +129,7 @@ std::vector<ReferenceResult> referenceIrradiance(const Scene& scene, const Trace
         RayCount rays;
         estimator.punctualLights(points[p].position, punctual, rays, !exactAtPoint);
         for (const LightSample& s : punctual)
-            results[p].irradiance += Rgbd(s.weight) * double(std::max(0.0f, dot(normals[p], s.direction)));
+            if (!estimator.skipsAtReceiver(s)) results[p].irradiance += Rgbd(s.weight) * double(std::max(0.0f, dot(normals[p], s.direction)));
     }
     return results;
 }

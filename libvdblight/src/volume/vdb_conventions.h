@@ -46,6 +46,7 @@ inline std::string levelKey(int level, const char* what) {
 /// part of Volume::meta and a caller may not set them.
 inline bool isStructuralKey(const std::string& key) {
     if (key == "format_version" || key == "basis" || key == "channels" || key == "levels") return true;
+    if (key == "direct" || key == "direct_lights" || key.compare(0, 13, "direct_light_") == 0) return true;
     // level<digits>_origin, level<digits>_spacing, level<digits>_dims
     if (key.compare(0, 5, "level") != 0) return false;
     std::size_t pos = 5;
@@ -115,6 +116,11 @@ inline Coord unpackCoord(const GridSpec& g, uint64_t linear) {
 
 /// Name of the optional per-node scalar grid (VolumeLevel::validity; docs/format.md).
 const std::string kValidityName = "validity";
+
+/// Direct light (occlusion mode): the visibility grid of listed light i, and the metadata key
+/// (without prefix) of light i's description (direct_light.h, docs/format.md).
+inline std::string visibilityGridName(std::size_t i) { return "light_visibility_" + std::to_string(i); }
+inline std::string directLightKey(std::size_t i) { return "direct_light_" + std::to_string(i); }
 using FloatLeafT = openvdb::FloatGrid::TreeType::LeafNodeType;
 
 }  // namespace vdb_detail

@@ -352,7 +352,7 @@ void readMask(OpenedFile& f, VolumeLevel& level, int index, const std::string& p
 
 /// Reads the optional validity FloatGrid of a level: same placement and active voxels as the
 /// channel grids, values in [0, 1] (checked by Volume::validate).
-void readValidity(OpenedFile& f, const std::string& name, VolumeLevel& out, const std::string& path) {
+std::vector<float> readScalarGrid(OpenedFile& f, const std::string& name, const GridSpec& g, const std::string& path) {
     openvdb::GridBase::Ptr base;
     try {
         base = f.file->readGrid(name);
@@ -361,7 +361,6 @@ void readValidity(OpenedFile& f, const std::string& name, VolumeLevel& out, cons
     }
     auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
     if (!grid) formatError(path, "grid '" + name + "' has type " + base->valueType() + ", expected float");
-    const GridSpec& g = out.grid;
     const openvdb::math::Transform& xf = grid->transform();
     const openvdb::Vec3d o = xf.indexToWorld(Coord(0, 0, 0));
     const double tol = 1e-9 * std::max({g.spacing, std::abs(g.origin.x), std::abs(g.origin.y), std::abs(g.origin.z)});
@@ -373,10 +372,44 @@ void readValidity(OpenedFile& f, const std::string& name, VolumeLevel& out, cons
         box.max() != Coord(g.nx - 1, g.ny - 1, g.nz - 1))
         formatError(path, "grid '" + name + "' does not have exactly one active voxel per node");
     grid->tree().voxelizeActiveTiles();
-    out.validity.assign(g.nodeCount(), 0.0f);
+    std::vector<float> values(g.nodeCount(), 0.0f);
     for (auto v = grid->cbeginValueOn(); v; ++v) {
         const Coord c = v.getCoord();
-        out.validity[g.index(c.x(), c.y(), c.z())] = *v;
+        values[g.index(c.x(), c.y(), c.z())] = *v;
+    }
+    return values;
+}
+
+/// The direct-light mode and light list (files without them: baked), and in occlusion mode
+/// the visibility grids of level 0 (docs/format.md, "Direct light").
+void readDirect(OpenedFile& f, Volume& volume, const std::string& path) {
+    const openvdb::MetaMap& meta = *f.meta;
+    const auto mode = meta.getMetadata<openvdb::StringMetadata>(kPrefix + "direct");
+    if (!mode) return;
+    try {
+        volume.direct.mode = parseDirectMode(mode->value());
+    } catch (const ValueError&) {
+        formatError(path, "has an unknown direct-light mode '" + mode->value() + "'");
+    }
+    const int64_t count = requireMeta<int64_t>(meta, kPrefix + "direct_lights", path);
+    if (count < 0 || count > 1000000) formatError(path, "has an invalid light count " + std::to_string(count));
+    for (int64_t i = 0; i < count; ++i) {
+        const std::string text = requireMeta<std::string>(meta, kPrefix + directLightKey(std::size_t(i)), path);
+        try {
+            volume.direct.lights.push_back(parseDirectLight(text));
+        } catch (const FormatError& e) {
+            formatError(path, "light " + std::to_string(i) + ": " + e.what());
+        }
+    }
+    if (!volume.direct.hasVisibility()) return;
+    VolumeLevel& level = volume.levels[0];
+    const std::size_t lights = volume.direct.lights.size();
+    level.lightVisibility.assign(level.grid.nodeCount() * lights, 0.0f);
+    for (std::size_t i = 0; i < lights; ++i) {
+        const std::string name = visibilityGridName(i);
+        if (!f.file->hasGrid(name)) formatError(path, "has no grid '" + name + "'");
+        const std::vector<float> v = readScalarGrid(f, name, level.grid, path);
+        for (std::size_t n = 0; n < v.size(); ++n) level.lightVisibility[n * lights + i] = v[n];
     }
 }
 
@@ -448,7 +481,7 @@ VolumeLevel readLevel(OpenedFile& f, const BasisDesc& basis, int level, const st
         copyChannel(*grid, out, c, channels);
     }
     const std::string validityName = gridNameFor(kValidityName, level);
-    if (level == 0 && f.file->hasGrid(validityName)) readValidity(f, validityName, out, path);
+    if (level == 0 && f.file->hasGrid(validityName)) out.validity = readScalarGrid(f, validityName, out.grid, path);
     if (f.file->hasGrid(gridNameFor(depth::channelName(0), level))) readDepth(f, out, level, path);
     return out;
 }
@@ -494,6 +527,7 @@ Volume readVolume(const std::string& path) {
     if (levels > 1)
         for (int l = 0; l + 1 < int(levels); ++l) readMask(f, volume.levels[std::size_t(l)], l, path);
     volume.meta = userMetadata(meta);
+    readDirect(f, volume, path);
     try {
         volume.validate();
     } catch (const FormatError& e) {

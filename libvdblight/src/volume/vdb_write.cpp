@@ -94,9 +94,11 @@ openvdb::BoolGrid::Ptr buildMaskGrid(const Volume& volume, int level) {
 }
 
 
-/// The level's validity as a FloatGrid whose voxels are all active, like the channel grids.
-/// Only dense levels carry validity (the anti-aliased pass bakes uniform volumes).
-openvdb::FloatGrid::Ptr buildValidityGrid(const VolumeLevel& level, const std::vector<Coord>& origins) {
+/// A per-node scalar of a dense level as a FloatGrid whose voxels are all active, like the
+/// channel grids: values[node * stride + offset]. Used for validity (stride 1; the anti-aliased
+/// pass bakes uniform volumes) and for the light visibility channels (stride = light count).
+openvdb::FloatGrid::Ptr buildScalarGrid(const VolumeLevel& level, const std::vector<Coord>& origins,
+                                        const float* values, std::size_t stride, std::size_t offset) {
     const GridSpec& g = level.grid;
     std::vector<std::unique_ptr<FloatLeafT>> leaves(origins.size());
     tbb::parallel_for(std::size_t(0), origins.size(), [&](std::size_t n) {
@@ -105,7 +107,7 @@ openvdb::FloatGrid::Ptr buildValidityGrid(const VolumeLevel& level, const std::v
         for (int z = o.z(); z < std::min(o.z() + kLeafDim, g.nz); ++z)
             for (int y = o.y(); y < std::min(o.y() + kLeafDim, g.ny); ++y)
                 for (int x = o.x(); x < std::min(o.x() + kLeafDim, g.nx); ++x)
-                    leaf->setValueOn(FloatLeafT::coordToOffset(Coord(x, y, z)), level.validity[g.index(x, y, z)]);
+                    leaf->setValueOn(FloatLeafT::coordToOffset(Coord(x, y, z)), values[g.index(x, y, z) * stride + offset]);
         leaves[n] = std::move(leaf);
     });
     auto grid = openvdb::FloatGrid::create(0.0f);
@@ -128,6 +130,11 @@ openvdb::MetaMap fileMetadata(const Volume& volume, const WriteOptions& options)
     meta.insertMeta(kPrefix + "basis", openvdb::StringMetadata(volume.basis.kind));
     meta.insertMeta(kPrefix + "channels", openvdb::StringMetadata(joinNames(volume.basis.channelNames)));
     meta.insertMeta(kPrefix + "levels", openvdb::Int64Metadata(int64_t(volume.levels.size())));
+    // Direct light (direct_light.h): the mode, and the listed lights one string each.
+    meta.insertMeta(kPrefix + "direct", openvdb::StringMetadata(directModeName(volume.direct.mode)));
+    meta.insertMeta(kPrefix + "direct_lights", openvdb::Int64Metadata(int64_t(volume.direct.lights.size())));
+    for (std::size_t i = 0; i < volume.direct.lights.size(); ++i)
+        meta.insertMeta(kPrefix + directLightKey(i), openvdb::StringMetadata(formatDirectLight(volume.direct.lights[i])));
     for (std::size_t l = 0; l < volume.levels.size(); ++l) {
         const GridSpec& g = volume.levels[l].grid;
         meta.insertMeta(levelKey(int(l), "origin"), openvdb::Vec3DMetadata({g.origin.x, g.origin.y, g.origin.z}));
@@ -204,6 +211,12 @@ void checkWritable(const Volume& volume, const WriteOptions& options, bool tile)
     for (const VolumeLevel& level : volume.levels)
         if (level.sparse() && !level.validity.empty())
             throw ValueError("validity is stored for dense levels only");
+    for (const VolumeLevel& level : volume.levels)
+        if (level.sparse() && !level.lightVisibility.empty())
+            throw ValueError("light visibility is stored for dense levels only");
+    for (const std::string& c : volume.basis.channelNames)
+        if (c.compare(0, 17, "light_visibility_") == 0)
+            throw ValueError("channel name '" + c + "' is reserved for the light visibility grids");
     if (volume.levels.size() > 1)
         for (std::size_t l = 0; l + 1 < volume.levels.size(); ++l)
             if (!names.insert(maskNameFor(int(l))).second)
@@ -233,12 +246,24 @@ openvdb::GridCPtrVec buildGrids(const Volume& volume, const WriteOptions& option
             grids.push_back(grid);
         }
         if (!level.validity.empty()) {
-            openvdb::FloatGrid::Ptr grid = buildValidityGrid(level, origins);
+            openvdb::FloatGrid::Ptr grid = buildScalarGrid(level, origins, level.validity.data(), 1, 0);
             grid->setName(gridNameFor(kValidityName, int(l)));
             grid->setTransform(levelTransform(level.grid));
             grid->setGridClass(openvdb::GRID_UNKNOWN);
             grid->setSaveFloatAsHalf(options.halfFloat);
             tagGrid(*grid, volume, int(l), -1);
+            grids.push_back(grid);
+        }
+        // Direct light, occlusion mode: one visibility grid per listed light (docs/format.md).
+        const std::size_t lights = volume.direct.lights.size();
+        for (std::size_t i = 0; i < lights && !level.lightVisibility.empty(); ++i) {
+            openvdb::FloatGrid::Ptr grid = buildScalarGrid(level, origins, level.lightVisibility.data(), lights, i);
+            grid->setName(gridNameFor(visibilityGridName(i), int(l)));
+            grid->setTransform(levelTransform(level.grid));
+            grid->setGridClass(openvdb::GRID_UNKNOWN);
+            grid->setSaveFloatAsHalf(options.halfFloat);
+            tagGrid(*grid, volume, int(l), -1);
+            grid->insertMeta(kPrefix + "light", openvdb::Int64Metadata(int64_t(i)));
             grids.push_back(grid);
         }
         if (level.hasDepth()) {
@@ -344,6 +369,11 @@ void writeTile(const Volume& volume, const NodeMask& mask, const TileId& id, con
     part.meta = volume.meta;
     std::string dense;
     int64_t nodes = 0;
+    // Tile files carry neither the light list nor the visibility grids (bake --direct): a merge
+    // would turn such a volume into one that claims to hold all its direct light.
+    if (volume.direct.mode != DirectMode::Baked)
+        throw ValueError(std::string("a volume baked with --direct ") + directModeName(volume.direct.mode) +
+                         " cannot be tiled (add --direct baked)");
     for (std::size_t l = 0; l < volume.levels.size(); ++l) {
         const VolumeLevel& full = volume.levels[l];
         if (!full.validity.empty()) throw ValueError("a volume with validity (the anti-aliased pass) cannot be tiled");

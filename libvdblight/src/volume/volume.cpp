@@ -55,6 +55,28 @@ void validateLevel(const VolumeLevel& level, std::size_t index, int channels) {
     }
 }
 
+/// Direct light (direct_light.h): visibility only in occlusion mode, only on dense level 0,
+/// one value in [0, 1] per node and listed light.
+void validateDirect(const Volume& v) {
+    const DirectLightSet& d = v.direct;
+    if (d.mode == DirectMode::Baked && !d.lights.empty()) throw FormatError("a baked-direct volume lists lights");
+    if (d.mode == DirectMode::Occlusion && d.lights.empty()) throw FormatError("an occlusion volume lists no lights");
+    for (std::size_t l = 0; l < v.levels.size(); ++l) {
+        const VolumeLevel& level = v.levels[l];
+        if (level.lightVisibility.empty()) {
+            if (l == 0 && d.hasVisibility()) throw FormatError("an occlusion volume has no light visibility");
+            continue;
+        }
+        if (l != 0 || !d.hasVisibility()) throw FormatError("light visibility only on level 0 of an occlusion volume");
+        if (level.lightVisibility.size() != level.grid.nodeCount() * d.lights.size())
+            throw FormatError("volume level 0 has " + std::to_string(level.lightVisibility.size()) +
+                              " light visibility values, expected " +
+                              std::to_string(level.grid.nodeCount() * d.lights.size()));
+        for (float x : level.lightVisibility)
+            if (!(x >= 0.0f && x <= 1.0f)) throw FormatError("volume level 0 has a light visibility outside [0, 1]");
+    }
+}
+
 }  // namespace
 
 BasisDesc BasisDesc::sh2() {
@@ -80,6 +102,7 @@ void Volume::validate() const {
         if (level.hasDepth() != levels[0].hasDepth()) throw FormatError("depth moments on some levels but not all");
     for (int c = 0; c < depth::kChannels; ++c)
         if (seen.count(depth::channelName(c))) throw FormatError("channel name '" + depth::channelName(c) + "' is reserved for depth moments");
+    validateDirect(*this);
     validateLevelStructure(*this);
 }
 

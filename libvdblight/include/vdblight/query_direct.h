@@ -1,0 +1,49 @@
+// Lookups of volumes baked with `bake --direct occlusion` (direct_light.h): the stored
+// (indirect) light plus, for each listed light, its exact unshadowed irradiance for the
+// normal times its visibility interpolated trilinearly between the nodes.
+//
+// IrradianceQuery wraps the lookup of such a volume in an OcclusionLookup on its own, so
+// `IrradianceQuery::irradiance` is the complete answer for baked and occlusion volumes. For a
+// runtime volume it is the indirect light only (the documented answer); its direct light needs
+// the scene (`vdblight query --scene`, runtimeDirectIrradiance in scene_lights.h).
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "vdblight/direct_light.h"
+#include "vdblight/query.h"
+
+namespace vdblight {
+
+class OcclusionLookup final : public VolumeLookup {
+public:
+    /// `base` answers for the volume's basis; `volume` supplies the lights and level 0's
+    /// visibility channels (it must have them: DirectLightSet::hasVisibility()).
+    OcclusionLookup(std::unique_ptr<VolumeLookup> base, const Volume& volume);
+
+    Rgb irradiance(const Vec3f& x, const Vec3f& n) const override;
+    Rgb irradianceWorld(const Vec3d& x, const Vec3f& n) const override;
+    Bounds bounds() const override { return base_->bounds(); }
+    void shRadiance(const Vec3d& x, Rgb out[9]) const override { base_->shRadiance(x, out); }
+    void irradianceVectors(const Vec3d& x, float out[54]) const override { base_->irradianceVectors(x, out); }
+    void binValues(const Vec3d& x, float* out) const override { base_->binValues(x, out); }
+    // The indirect part's interpolation may be depth-weighted (depth_moments.h); the
+    // visibility channels stay trilinear.
+    void setDepthWeights(bool on) override { base_->setDepthWeights(on); }
+    bool depthWeighted() const override { return base_->depthWeighted(); }
+
+    /// Visibility of every listed light at x (trilinear between nodes, x clamped to the box).
+    void visibility(const Vec3d& x, float* out) const;
+    /// The direct part alone: sum over lights of exactIrradiance * visibility.
+    Rgb direct(const Vec3d& x, const Vec3f& n) const;
+    const std::vector<DirectLight>& lights() const { return lights_; }
+
+private:
+    std::unique_ptr<VolumeLookup> base_;
+    std::vector<DirectLight> lights_;
+    GridSpec grid_;
+    std::vector<float> visibility_;  ///< node-major, lights_.size() per node
+};
+
+}  // namespace vdblight

@@ -1,0 +1,99 @@
+// `bake --direct runtime | occlusion` (bake_direct.h): light selection and visibility channels.
+
+#include "vdblight/bake_direct.h"
+
+#include <algorithm>
+#include <numeric>
+
+#include "parallel_nodes.h"
+#include "vdblight/errors.h"
+#include "vdblight/sampling.h"
+#include "vdblight/scene.h"
+#include "vdblight/trace.h"
+
+namespace vdblight {
+
+namespace {
+// Sample streams of the ranking and visibility rays (independent of the gather's).
+constexpr uint64_t kRankStream = 0xd1ec7a11ull, kVisibilityStream = 0x7151b1eull;
+constexpr int kMaxLights = 16;
+
+/// True where the light can add nothing at x (behind a one-sided polygon, outside a spot's cone).
+bool unreachable(const DirectLight& l, const Vec3d& x) { return maxComponent(meanIrradiance(l, x)) <= 0.0f; }
+}  // namespace
+
+DirectPlan planDirectLight(const Scene& scene, const Tracer& tracer, const GridSpec& grid, const DirectOptions& o) {
+    DirectPlan plan;
+    plan.mode = o.mode;
+    if (o.mode == DirectMode::Baked) return plan;
+    if (o.maxLights < 1 || o.maxLights > kMaxLights)
+        throw ValueError("--direct-lights must be between 1 and " + std::to_string(kMaxLights) + ", got " +
+                         std::to_string(o.maxLights));
+    std::vector<SceneLight> all = sceneLights(scene);
+    plan.sceneLightCount = all.size();
+    if (all.empty() && o.mode == DirectMode::Occlusion)
+        throw ValueError("--direct occlusion: the scene has no lights (emissive triangles, point, spot or directional "
+                         "lights); the sky stays in the volume");
+    // Measured contribution: at evenly strided nodes, mean irradiance x visibility, per light.
+    const std::size_t nodes = grid.nodeCount();
+    const std::size_t stride = std::max<std::size_t>(1, nodes / std::max<uint32_t>(1, o.rankingNodes));
+    const std::size_t ranked = (nodes + stride - 1) / stride;
+    std::vector<double> perNode(ranked * all.size(), 0.0);
+    bake_detail::forEachItemInParallel(ranked, o.threads, nullptr, [&](std::size_t r, RayCount& rays) {
+        const std::size_t n = r * stride;
+        const Vec3f x(grid.node(n));
+        for (std::size_t i = 0; i < all.size(); ++i) {
+            const double mean = luminance(meanIrradiance(all[i].light, Vec3d(x)));
+            if (!(mean > 0)) continue;
+            const uint64_t stream = hashCombine(hashCombine(o.seed ^ kRankStream, n), i);
+            perNode[r * all.size() + i] = mean * lightVisibility(scene, tracer, all[i], x, o.rankingSamples, stream, rays);
+        }
+    });
+    std::vector<double> total(all.size(), 0.0);
+    for (std::size_t r = 0; r < ranked; ++r)  // fixed order: deterministic
+        for (std::size_t i = 0; i < all.size(); ++i) total[i] += perNode[r * all.size() + i];
+    const double sum = std::accumulate(total.begin(), total.end(), 0.0);
+    std::vector<std::size_t> order(all.size());
+    std::iota(order.begin(), order.end(), std::size_t(0));
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return total[a] > total[b]; });
+    const std::size_t keep = o.mode == DirectMode::Runtime ? all.size() : std::min<std::size_t>(all.size(), std::size_t(o.maxLights));
+    for (std::size_t k = 0; k < keep; ++k) {
+        const std::size_t i = o.mode == DirectMode::Runtime ? k : order[k];  // runtime: scene order
+        plan.lights.push_back(all[i]);
+        plan.contribution.push_back(sum > 0 ? total[i] / sum : 0.0);
+    }
+    plan.filter = receiverFilter(scene, plan.lights);
+    return plan;
+}
+
+void bakeLightVisibility(const Scene& scene, const Tracer& tracer, const DirectPlan& plan, const DirectOptions& o,
+                         Volume& volume, Interrupter* interrupter) {
+    volume.direct.mode = plan.mode;
+    volume.direct.lights.clear();
+    for (const SceneLight& l : plan.lights) volume.direct.lights.push_back(l.light);
+    if (!volume.direct.hasVisibility()) return;
+    if (volume.levels.size() != 1 || volume.levels[0].sparse())
+        throw ValueError("--direct occlusion needs a single-level (uniform) volume");
+    VolumeLevel& level = volume.levels[0];
+    const GridSpec& grid = level.grid;
+    const std::size_t lights = plan.lights.size();
+    level.lightVisibility.assign(grid.nodeCount() * lights, 1.0f);
+    const bake_detail::ParallelRun run =
+        bake_detail::forEachItemInParallel(grid.nodeCount(), o.threads, interrupter, [&](std::size_t n, RayCount& rays) {
+            const Vec3f x(grid.node(n));
+            for (std::size_t i = 0; i < lights; ++i) {
+                if (unreachable(plan.lights[i].light, Vec3d(x))) continue;  // stays 1 (see bake_direct.h)
+                const uint64_t stream = hashCombine(hashCombine(o.seed ^ kVisibilityStream, n), i);
+                level.lightVisibility[n * lights + i] =
+                    float(lightVisibility(scene, tracer, plan.lights[i], x, o.visibilitySamples, stream, rays));
+            }
+        });
+    volume.meta["direct_visibility_samples"] = int64_t(o.visibilitySamples);
+    volume.meta["direct_visibility_rays"] = int64_t(run.rays.total());
+    // The wall time goes into the bake's own (the one metadata entry that may differ between
+    // runs with the same seed, besides the thread count).
+    if (auto it = volume.meta.find("bake_seconds"); it != volume.meta.end() && std::holds_alternative<double>(it->second))
+        it->second = std::get<double>(it->second) + run.seconds;
+}
+
+}  // namespace vdblight

@@ -1,0 +1,64 @@
+// OcclusionLookup (query_direct.h): stored light + exact direct light x interpolated visibility.
+
+#include "vdblight/query_direct.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace vdblight {
+
+OcclusionLookup::OcclusionLookup(std::unique_ptr<VolumeLookup> base, const Volume& volume)
+    : base_(std::move(base)), lights_(volume.direct.lights), grid_(volume.levels.at(0).grid),
+      visibility_(volume.levels[0].lightVisibility) {
+    if (!volume.direct.hasVisibility() || visibility_.size() != grid_.nodeCount() * lights_.size())
+        throw FormatError("occlusion lookup: the volume has no light visibility channels");
+}
+
+void OcclusionLookup::visibility(const Vec3d& x, float* out) const {
+    const std::size_t m = lights_.size();
+    int base[3], dims[3] = {grid_.nx, grid_.ny, grid_.nz};
+    double f[3];
+    for (int a = 0; a < 3; ++a) {
+        double u = (x[a] - grid_.origin[a]) / grid_.spacing;
+        if (!(u > 0)) u = 0;  // NaN and below: the first node
+        u = std::min(u, double(dims[a] - 1));
+        base[a] = std::min(int(u), std::max(0, dims[a] - 2));
+        f[a] = dims[a] > 1 ? u - base[a] : 0.0;
+    }
+    for (std::size_t i = 0; i < m; ++i) out[i] = 0.0f;
+    for (int c = 0; c < 8; ++c) {
+        const int di = c & 1, dj = (c >> 1) & 1, dk = (c >> 2) & 1;
+        const double w = (di ? f[0] : 1 - f[0]) * (dj ? f[1] : 1 - f[1]) * (dk ? f[2] : 1 - f[2]);
+        if (w == 0) continue;
+        const int i = std::min(base[0] + di, dims[0] - 1), j = std::min(base[1] + dj, dims[1] - 1),
+                  k = std::min(base[2] + dk, dims[2] - 1);
+        const float* v = visibility_.data() + grid_.index(i, j, k) * m;
+        for (std::size_t l = 0; l < m; ++l) out[l] += float(w * v[l]);
+    }
+}
+
+Rgb OcclusionLookup::direct(const Vec3d& x, const Vec3f& n) const {
+    float vis[16];
+    std::vector<float> many;
+    float* v = vis;
+    if (lights_.size() > 16) {
+        many.resize(lights_.size());
+        v = many.data();
+    }
+    visibility(x, v);
+    Rgb sum(0, 0, 0);
+    const Vec3d nd = normalize(Vec3d(n));
+    for (std::size_t i = 0; i < lights_.size(); ++i)
+        if (v[i] > 0) sum += exactIrradiance(lights_[i], x, nd) * v[i];
+    return sum;
+}
+
+Rgb OcclusionLookup::irradiance(const Vec3f& x, const Vec3f& n) const {
+    return base_->irradiance(x, n) + direct(Vec3d(x), n);
+}
+
+Rgb OcclusionLookup::irradianceWorld(const Vec3d& x, const Vec3f& n) const {
+    return base_->irradianceWorld(x, n) + direct(x, n);
+}
+
+}  // namespace vdblight

@@ -1,0 +1,284 @@
+// `bake --direct runtime | occlusion` (bake_direct.h, query_direct.h): visibility channels,
+// lookups against `reference` near a luminaire, determinism, the file round trip.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "test_util.h"
+#include "vdblight/bake.h"
+#include "vdblight/bake_direct.h"
+#include "vdblight/query.h"
+#include "vdblight/query_direct.h"
+#include "vdblight/reference.h"
+#include "vdblight/scene.h"
+#include "vdblight/scene_generators.h"
+#include "vdblight/scene_lights.h"
+#include "vdblight/trace.h"
+#include "vdblight/vdb_io.h"
+
+using namespace vdblight;
+
+namespace {
+
+uint32_t material(Scene& s, const Rgb& albedo, const Rgb& emission = {0, 0, 0}) {
+    Material m;
+    m.albedo = albedo;
+    m.emission = emission;
+    return addMaterial(s, m);
+}
+
+/// A downward-facing emissive quad (two triangles) at height y over [x0, x1] x [z0, z1].
+void addCeilingQuad(Scene& s, float x0, float x1, float z0, float z1, float y, uint32_t m) {
+    const Vec3f a(x0, y, z0), b(x1, y, z0), c(x1, y, z1), d(x0, y, z1);  // (b-a) x (c-a) points down
+    addTriangle(s, a, b, c, m);
+    addTriangle(s, a, c, d, m);
+}
+
+/// A horizontal blocker facing either way (Lambertian surfaces reflect on both sides).
+void addFloorQuad(Scene& s, float x0, float x1, float z0, float z1, float y, uint32_t m) {
+    const Vec3f a(x0, y, z0), b(x1, y, z0), c(x1, y, z1), d(x0, y, z1);
+    addTriangle(s, a, c, b, m);
+    addTriangle(s, a, d, c, m);
+}
+
+/// A room 4 x 3 x 4 with a closed fixture box under the ceiling whose bottom face emits.
+Scene luminaireRoom() {
+    Scene s;
+    s.name = "luminaire_room";
+    const uint32_t wall = material(s, {0.6f, 0.6f, 0.6f});
+    const uint32_t fixture = material(s, {0.5f, 0.5f, 0.5f});
+    const uint32_t lamp = material(s, {0.0f, 0.0f, 0.0f}, {20.0f, 19.0f, 17.0f});
+    appendBox(s, {-2, 0, -2}, {2, 3, 2}, true, wall);
+    appendBox(s, {-0.4f, 2.6f, -0.4f}, {0.4f, 2.8f, 0.4f}, false, fixture);
+    addCeilingQuad(s, -0.4f, 0.4f, -0.4f, 0.4f, 2.599f, lamp);
+    return s;
+}
+
+/// Nodes around and below the luminaire.
+GridSpec roomGrid() {
+    GridSpec g;
+    g.origin = {-1.0, 1.0, -1.0};
+    g.spacing = 0.5;
+    g.nx = 5;
+    g.ny = 4;
+    g.nz = 5;
+    return g;
+}
+
+/// 4096 rays per node: the indirect light near the luminaire is noisy (at 512 rays its per-node
+/// error was 5-15 % of the indirect irradiance, which hid the representation error measured here).
+Volume bakeRoom(const Scene& scene, const Tracer& tracer, DirectMode mode, int threads, DirectPlan* planOut = nullptr,
+                uint32_t rays = 4096, int probePasses = 0) {
+    DirectOptions d;
+    d.mode = mode;
+    d.threads = threads;
+    const GridSpec grid = roomGrid();
+    const DirectPlan plan = planDirectLight(scene, tracer, grid, d);
+    GatherOptions o;
+    o.raysPerNode = rays;
+    o.threads = threads;
+    o.transport.skipAtReceiver = plan.filter;
+    o.probePasses = probePasses;
+    Volume v = bakeShGather(scene, tracer, grid, o);
+    bakeLightVisibility(scene, tracer, plan, d, v);
+    if (planOut) *planOut = plan;
+    return v;
+}
+
+double rms(const std::vector<double>& e) {
+    double s = 0;
+    for (double x : e) s += x * x;
+    return std::sqrt(s / double(e.size()));
+}
+
+}  // namespace
+
+TEST(LightVisibility, UnblockedBlockedHalfBlocked) {
+    Scene s;
+    const uint32_t lamp = material(s, {0, 0, 0}, {1, 1, 1});
+    const uint32_t grey = material(s, {0.5f, 0.5f, 0.5f});
+    addCeilingQuad(s, -0.5f, 0.5f, -0.5f, 0.5f, 2.0f, lamp);
+    // A far piece of floor so that the scene has more than the light.
+    addFloorQuad(s, 10, 11, 10, 11, -5, grey);
+    const Vec3f x(0, 0, 0);
+    auto visibility = [&](const Scene& scene) {
+        const std::vector<SceneLight> lights = sceneLights(scene);
+        EXPECT_EQ(lights.size(), 1u);
+        const Tracer tracer(scene);
+        RayCount rays;
+        return lightVisibility(scene, tracer, lights[0], x, 256, 7, rays);
+    };
+    EXPECT_EQ(visibility(s), 1.0);
+    Scene blocked = s;
+    addFloorQuad(blocked, -5, 5, -5, 5, 1.0f, grey);
+    EXPECT_EQ(visibility(blocked), 0.0);
+    Scene half = s;
+    addFloorQuad(half, -5, 0, -5, 5, 1.0f, grey);  // covers x < 0: half the light, symmetrically
+    EXPECT_NEAR(visibility(half), 0.5, 0.03);
+
+    // Point lights: one shadow ray, 1 or 0.
+    Scene point = half;
+    point.pointLights.push_back({Vec3f(-0.5f, 2, 0), Rgb(1, 1, 1)});
+    point.pointLights.push_back({Vec3f(0.5f, 2, 0), Rgb(1, 1, 1)});
+    const std::vector<SceneLight> lights = sceneLights(point);
+    ASSERT_EQ(lights.size(), 3u);
+    const Tracer tracer(point);
+    RayCount rays;
+    EXPECT_EQ(lightVisibility(point, tracer, lights[1], x, 1, 1, rays), 0.0);
+    EXPECT_EQ(lightVisibility(point, tracer, lights[2], x, 1, 1, rays), 1.0);
+}
+
+TEST(DirectBake, OcclusionAndRuntimeMatchReferenceNearTheLuminaire) {
+    const Scene scene = luminaireRoom();
+    const Tracer tracer(scene);
+    DirectPlan occlusionPlan, runtimePlan;
+    const Volume baked = bakeRoom(scene, tracer, DirectMode::Baked, 0);
+    const Volume occlusion = bakeRoom(scene, tracer, DirectMode::Occlusion, 0, &occlusionPlan);
+    const Volume runtime = bakeRoom(scene, tracer, DirectMode::Runtime, 0, &runtimePlan);
+    ASSERT_EQ(occlusion.direct.lights.size(), 1u);
+    EXPECT_EQ(occlusion.direct.lights[0].kind, DirectLight::Kind::Polygon);
+    ASSERT_EQ(runtime.direct.lights.size(), 1u);
+    EXPECT_TRUE(runtime.levels[0].lightVisibility.empty());
+
+    // Nodes within 1.3 of the luminaire's centre, three normals each.
+    const GridSpec grid = roomGrid();
+    std::vector<ReferencePoint> points;
+    const Vec3f normals[] = {{0, 1, 0}, {1, 0, 0}, normalize(Vec3f(0.5f, 1, -0.3f))};
+    for (std::size_t n = 0; n < grid.nodeCount(); ++n) {
+        const Vec3f x(grid.node(n));
+        if (length(x - Vec3f(0, 2.6f, 0)) > 1.3f) continue;
+        for (const Vec3f& nn : normals) points.push_back({x, nn});
+    }
+    ASSERT_GE(points.size(), 30u);
+    // Two ground truths. (1) `reference`, averaged over 4 seeds: at one seed it errs by up to 2 %
+    // next to a luminaire (direct_light_test.cpp). (2) `reference` of the indirect light alone
+    // (the direct light at the point left out) + the exact direct light x visibility by 1024
+    // shadow rays: the direct part's formula is checked against numerical integration there.
+    std::vector<double> plain(points.size(), 0.0), split(points.size(), 0.0);
+    for (uint64_t seed = 1; seed <= 4; ++seed) {
+        ReferenceOptions ro;
+        ro.samples = 1 << 13;
+        ro.seed = seed;
+        const auto r = referenceIrradiance(scene, tracer, points, ro);
+        for (std::size_t i = 0; i < points.size(); ++i) plain[i] += luminance(Rgb(r[i].irradiance)) / 4;
+    }
+    ReferenceOptions ri;
+    ri.samples = 1 << 13;
+    ri.transport.skipAtReceiver = runtimePlan.filter;
+    const auto indirect = referenceIrradiance(scene, tracer, points, ri);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        RayCount rays;
+        split[i] = luminance(Rgb(indirect[i].irradiance)) +
+                   luminance(runtimeDirectIrradiance(scene, tracer, runtimePlan.lights, points[i].position,
+                                                     normalize(points[i].normal), 1024, 1000 + i, rays));
+    }
+    const IrradianceQuery qb(baked), qo(occlusion), qr(runtime);
+    EXPECT_NE(dynamic_cast<const OcclusionLookup*>(&qo.lookup()), nullptr);
+    std::vector<double> eb, eo, er, pb, po;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        ASSERT_GT(split[i], 0.0);
+        const Vec3f x = points[i].position, n = normalize(points[i].normal);
+        RayCount rays;
+        const Rgb direct = runtimeDirectIrradiance(scene, tracer, runtimePlan.lights, x, n, 256, i, rays);
+        eb.push_back(luminance(qb.irradiance(x, n)) / split[i] - 1.0);
+        eo.push_back(luminance(qo.irradiance(x, n)) / split[i] - 1.0);
+        er.push_back(luminance(qr.irradiance(x, n) + direct) / split[i] - 1.0);
+        pb.push_back(luminance(qb.irradiance(x, n)) / plain[i] - 1.0);
+        po.push_back(luminance(qo.irradiance(x, n)) / plain[i] - 1.0);
+    }
+    std::cout << "RMS relative error at " << points.size() << " node points near the luminaire, against indirect "
+              << "reference + exact direct: baked " << rms(eb) << ", occlusion " << rms(eo) << ", runtime " << rms(er)
+              << "; against reference (4 seeds): baked " << rms(pb) << ", occlusion " << rms(po) << "\n";
+    EXPECT_GT(rms(eb), 0.05);              // the SH cannot hold the nearby luminaire...
+    EXPECT_LT(rms(eo), 0.25 * rms(eb));    // ...the exact direct light can
+    EXPECT_LT(rms(er), 0.25 * rms(eb));
+    EXPECT_LT(rms(eo), 0.02);
+    EXPECT_LT(rms(er), 0.02);
+    EXPECT_LT(rms(po), 0.5 * rms(pb));     // and against plain reference, whose own noise is ~1 %
+}
+
+// Probe-to-probe passes (GatherOptions::probePasses) end paths at their first hit with the
+// previous pass's reflected light: the receiver filter must hold in every pass (no direct light
+// of a listed light at the node), and the cache must still hold the light those lights put on
+// surfaces (reflected there, it is indirect light). Both show in the stored SH against the
+// reference of the indirect light alone; the plain (baked) probe bake shows the direct part's size.
+TEST(DirectBake, ProbePassesKeepTheDirectLightOutAtTheReceiverOnly) {
+    const Scene scene = luminaireRoom();
+    const Tracer tracer(scene);
+    DirectPlan plan;
+    const Volume runtime = bakeRoom(scene, tracer, DirectMode::Runtime, 0, &plan, 2048, 1);
+    const Volume baked = bakeRoom(scene, tracer, DirectMode::Baked, 0, nullptr, 2048, 1);
+    ASSERT_EQ(std::get<int64_t>(runtime.meta.at("probe_passes")), 1);
+    const GridSpec grid = roomGrid();
+    std::vector<ReferencePoint> points;
+    const Vec3f normals[] = {{0, 1, 0}, {1, 0, 0}, {0, -1, 0}};
+    for (std::size_t n = 0; n < grid.nodeCount(); n += 3)
+        for (const Vec3f& nn : normals) points.push_back({Vec3f(grid.node(n)), nn});
+    ReferenceOptions ri;
+    ri.samples = 1 << 13;
+    ri.transport.skipAtReceiver = plan.filter;
+    const auto indirect = referenceIrradiance(scene, tracer, points, ri);
+    const IrradianceQuery qr(runtime), qb(baked);
+    double sumRef = 0, sumRuntime = 0, sumBaked = 0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        sumRef += luminance(Rgb(indirect[i].irradiance));
+        sumRuntime += luminance(qr.irradiance(points[i].position, points[i].normal));
+        sumBaked += luminance(qb.irradiance(points[i].position, points[i].normal));
+    }
+    std::cout << "Probe pass, mean irradiance over " << points.size() << " node points: indirect reference "
+              << sumRef / points.size() << ", runtime " << sumRuntime / points.size() << ", baked "
+              << sumBaked / points.size() << "\n";
+    EXPECT_GT(sumBaked, 1.5 * sumRef);  // the direct light is a large share here...
+    EXPECT_NEAR(sumRuntime / sumRef, 1.0, 0.06);  // ...and the runtime bake holds the indirect light alone
+}
+
+TEST(DirectBake, SameBitsOnOneAndTwoThreadsAndThroughAFile) {
+    const Scene scene = luminaireRoom();
+    const Tracer tracer(scene);
+    const Volume a = bakeRoom(scene, tracer, DirectMode::Occlusion, 1, nullptr, 128);
+    const Volume b = bakeRoom(scene, tracer, DirectMode::Occlusion, 2, nullptr, 128);
+    EXPECT_EQ(a.levels[0].data, b.levels[0].data);
+    EXPECT_EQ(a.levels[0].lightVisibility, b.levels[0].lightVisibility);
+    ASSERT_FALSE(a.levels[0].lightVisibility.empty());
+
+    test::TempDir dir;
+    writeVolume(a, dir.file("o.vdb"));
+    const Volume back = readVolume(dir.file("o.vdb"));
+    EXPECT_EQ(back.direct.mode, DirectMode::Occlusion);
+    ASSERT_EQ(back.direct.lights.size(), 1u);
+    EXPECT_EQ(formatDirectLight(back.direct.lights[0]), formatDirectLight(a.direct.lights[0]));
+    EXPECT_EQ(back.levels[0].lightVisibility, a.levels[0].lightVisibility);
+    const IrradianceQuery qa(a), qb(back);
+    const Vec3f x(0.2f, 2.2f, -0.3f), n(0, 1, 0);
+    EXPECT_EQ(qa.irradiance(x, n), qb.irradiance(x, n));
+}
+
+TEST(DirectBake, RefusesBadRequests) {
+    Scene sky = test::makeConstantSky(Rgb(1, 1, 1));
+    const Tracer tracer(sky);
+    DirectOptions d;
+    d.mode = DirectMode::Occlusion;
+    EXPECT_THROW(planDirectLight(sky, tracer, roomGrid(), d), ValueError);
+    const Scene room = luminaireRoom();
+    const Tracer roomTracer(room);
+    d.maxLights = 0;
+    EXPECT_THROW(planDirectLight(room, roomTracer, roomGrid(), d), ValueError);
+    d.maxLights = 17;
+    EXPECT_THROW(planDirectLight(room, roomTracer, roomGrid(), d), ValueError);
+}
+
+TEST(DirectBake, RanksLightsByMeasuredContributionNotPower) {
+    // Two lights: a strong one sealed inside a closed box (it lights nothing), a weak one in the room.
+    Scene s = luminaireRoom();
+    const uint32_t grey = material(s, {0.5f, 0.5f, 0.5f});
+    appendBox(s, {1.05f, 0.55f, 1.05f}, {1.45f, 0.95f, 1.45f}, false, grey);  // between the nodes
+    s.pointLights.push_back({Vec3f(1.25f, 0.75f, 1.25f), Rgb(1000, 1000, 1000)});  // sealed in
+    const Tracer tracer(s);
+    DirectOptions d;
+    d.mode = DirectMode::Occlusion;
+    d.maxLights = 1;
+    const DirectPlan plan = planDirectLight(s, tracer, roomGrid(), d);
+    ASSERT_EQ(plan.lights.size(), 1u);
+    EXPECT_EQ(plan.lights[0].light.kind, DirectLight::Kind::Polygon);
+    EXPECT_GT(plan.contribution[0], 0.95);
+}
