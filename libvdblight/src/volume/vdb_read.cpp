@@ -22,6 +22,7 @@
 #include "vdb_conventions.h"
 #include "content_hash.h"
 #include "tile_io.h"
+#include "vdb_delayed.h"
 
 namespace vdblight {
 namespace {
@@ -175,14 +176,17 @@ T requireMeta(const openvdb::MetaMap& meta, const std::string& key, const std::s
     return m->value();
 }
 
-OpenedFile openVolumeFile(const std::string& path) {
+OpenedFile openVolumeFile(const std::string& path, bool delayLoad = false) {
     initOpenVdb();
     checkReadable(path);
     checkNotTruncated(path);
     OpenedFile f;
     f.file = std::make_unique<openvdb::io::File>(path);
     try {
-        f.file->open(/*delayLoad=*/false);
+        // Delayed loading (vdb_stream.h) maps the file and must not copy it first (OpenVDB
+        // copies files below a size to a temporary file unless told not to).
+        if (delayLoad) f.file->setCopyMaxBytes(0);
+        f.file->open(delayLoad);
         f.meta = f.file->getMetadata();
     } catch (const std::exception& e) {
         formatError(path, std::string("is not a readable .vdb file (truncated or corrupt?): ") + e.what());
@@ -382,7 +386,7 @@ std::vector<float> readScalarGrid(OpenedFile& f, const std::string& name, const 
 
 /// The direct-light mode and light list (files without them: baked), and in occlusion mode
 /// the visibility grids of level 0 (docs/format.md, "Direct light").
-void readDirect(OpenedFile& f, Volume& volume, const std::string& path) {
+void readDirect(OpenedFile& f, Volume& volume, const std::string& path, bool visibility = true) {
     const openvdb::MetaMap& meta = *f.meta;
     const auto mode = meta.getMetadata<openvdb::StringMetadata>(kPrefix + "direct");
     if (!mode) return;
@@ -401,7 +405,7 @@ void readDirect(OpenedFile& f, Volume& volume, const std::string& path) {
             formatError(path, "light " + std::to_string(i) + ": " + e.what());
         }
     }
-    if (!volume.direct.hasVisibility()) return;
+    if (!volume.direct.hasVisibility() || !visibility) return;
     VolumeLevel& level = volume.levels[0];
     const std::size_t lights = volume.direct.lights.size();
     level.lightVisibility.assign(level.grid.nodeCount() * lights, 0.0f);
@@ -537,6 +541,52 @@ Volume readVolume(const std::string& path) {
 }
 
 namespace vdb_detail {
+
+DelayedVolumeFile openDelayedVolume(const std::string& path) {
+    OpenedFile f = openVolumeFile(path, /*delayLoad=*/true);
+    const openvdb::MetaMap& meta = *f.meta;
+    if (meta.getMetadata<openvdb::Int64Metadata>(kPrefix + "tile_count"))
+        formatError(path, "is a tile of a bake, not a complete volume: merge the tiles with 'vdblight merge'");
+    DelayedVolumeFile out;
+    Volume& v = out.header;
+    v.basis.kind = requireMeta<std::string>(meta, kPrefix + "basis", path);
+    v.basis.channelNames = splitNames(requireMeta<std::string>(meta, kPrefix + "channels", path));
+    const int64_t levels = requireMeta<int64_t>(meta, kPrefix + "levels", path);
+    if (levels < 1 || levels > 64) formatError(path, "has an invalid level count " + std::to_string(levels));
+    for (int l = 0; l < int(levels); ++l) {
+        VolumeLevel level;
+        level.grid = readLevelSpec(meta, l, path);
+        const GridSpec& g = level.grid;
+        if (g.nx <= 0 || g.ny <= 0 || g.nz <= 0 || !(g.spacing > 0) || !isFinite(g.origin))
+            formatError(path, "has invalid dimensions, spacing or origin for level " + std::to_string(l));
+        v.levels.push_back(std::move(level));
+    }
+    v.meta = userMetadata(meta);
+    readDirect(f, v, path, /*visibility=*/false);
+    if (levels != 1 || v.direct.hasVisibility()) {  // the caller refuses these kinds
+        out.file = std::move(f.file);
+        return out;
+    }
+    // Level 0's channel grids (and depth grids): topology in memory, leaf values left in the
+    // mapped file until a voxel of the leaf is read. The same checks as readLevel, all on
+    // the topology (active voxel counts and boxes come from the leaves' masks).
+    const GridSpec& g = v.levels[0].grid;
+    auto read = [&](const std::string& name) {
+        if (!f.file->hasGrid(name)) formatError(path, "has no grid '" + name + "'");
+        openvdb::GridBase::Ptr base;
+        try {
+            base = f.file->readGrid(name);
+        } catch (const std::exception& e) {
+            formatError(path, "grid '" + name + "' cannot be read (truncated or corrupt?): " + e.what());
+        }
+        return openvdb::GridBase::Ptr(checkChannelGrid(base, g, path));
+    };
+    for (const std::string& channel : v.basis.channelNames) out.channels.push_back(read(gridNameFor(channel, 0)));
+    if (f.file->hasGrid(gridNameFor(depth::channelName(0), 0)))
+        for (int c = 0; c < depth::kChannels; ++c) out.depth.push_back(read(gridNameFor(depth::channelName(c), 0)));
+    out.file = std::move(f.file);
+    return out;
+}
 
 TileFile readTileFile(const std::string& path) {
     OpenedFile f = openVolumeFile(path);
