@@ -112,12 +112,15 @@ TEST(QueryStream, ReadsOnlyTheLeavesItTouches) {
     auto file = std::make_shared<StreamedVolume>(path);
     EXPECT_EQ(file->totalLeaves(), 9u * 512u);
     EXPECT_EQ(file->loadedLeaves(), 0u);
+    const uint64_t topology = file->residentBytes();
+    EXPECT_LT(topology * 4, 64ull * 64 * 64 * 108);  // internal nodes of 9 grids: 6 MB here, fixed per grid
     const IrradianceQuery q = makeStreamingQuery(file, OutsidePolicy::Clamp);
     const GridSpec& g = file->header().levels[0].grid;
     q.irradianceWorld(g.node(20, 20, 20) + Vec3d(0.05, 0.05, 0.05), Vec3f(0, 1, 0));  // inside one leaf
     EXPECT_EQ(file->loadedLeaves(), 9u);
     q.irradianceWorld(g.node(20, 31, 7) + Vec3d(0.05, 0.05, 0.05), Vec3f(0, 1, 0));  // across leaf faces in y and z
     EXPECT_EQ(file->loadedLeaves(), 9u + 9u * 4u);
+    EXPECT_GE(file->residentBytes(), topology + 45u * (512u * 12u - 64u));  // the values of the leaves read, less their file reference
     EXPECT_TRUE(file->header().levels[0].data.empty());
 }
 

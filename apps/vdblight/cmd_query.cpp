@@ -173,7 +173,8 @@ void run(const QueryCommand& c) {
     if (c.streamReport) {
         if (opened.streamed)
             std::cerr << "vdblight: streamed '" << c.volume << "': read " << opened.streamed->loadedLeaves() << " of "
-                      << opened.streamed->totalLeaves() << " leaves\n";
+                      << opened.streamed->totalLeaves() << " leaves (grids in memory: "
+                      << formatBytes(double(opened.streamed->residentBytes())) << ")\n";
         else
             std::cerr << "vdblight: read all of '" << c.volume << "'\n";
     }

@@ -46,6 +46,9 @@ public:
     /// Leaf buffers (over every grid opened) read from the file so far, and in all.
     uint64_t loadedLeaves() const;
     uint64_t totalLeaves() const;
+    /// Bytes the opened grids take in memory now (OpenVDB's memUsage: the topology, a file
+    /// reference per leaf still on disk, the values of the leaves read).
+    uint64_t residentBytes() const;
     /// Size of the file in bytes.
     uint64_t fileBytes() const { return fileBytes_; }
 

@@ -75,4 +75,11 @@ uint64_t StreamedVolume::totalLeaves() const {
     return countLeaves(impl_->channels, false) + countLeaves(impl_->depth, false);
 }
 
+uint64_t StreamedVolume::residentBytes() const {
+    uint64_t n = 0;
+    for (const auto* trees : {&impl_->channels, &impl_->depth})
+        for (const Vec3STree* t : *trees) n += t->memUsage();
+    return n;
+}
+
 }  // namespace vdblight
