@@ -21,6 +21,7 @@
 
 #include "cli_util.h"
 #include "test_util.h"
+#include "random_volumes.h"
 #include "vdblight/sampling.h"
 #include "vdblight/sh.h"
 #include "vdblight/vdb_io.h"
@@ -200,4 +201,14 @@ TEST(CliQueryStream, SameOutputStreamedOrWhole) {
     ASSERT_EQ(test::runCommand(kCli + " query " + vdb + " --points " + csv + " --stream off --outside error 2>&1", &b), 0) << b;
     EXPECT_EQ(c, b);
     EXPECT_EQ(test::countLines(a), 201);
+}
+
+TEST(CliQueryStream, KindsThatDoNotStreamAreRefusedOrReadWhole) {
+    test::TempDir dir;
+    const std::string vdb = dir.file("levels.vdb");
+    writeVolume(test::randomLevelsVolume(LayoutKind::Adaptive, 2, BasisDesc::sh2(), 1, 0.0f, 1.0f), vdb);
+    test::expectCleanFailure(dir, "query " + vdb + " --at 0.5,0.5,0.5 --stream on", "cannot be streamed: it has 2 levels");
+    std::string log;
+    ASSERT_EQ(test::runCommand(kCli + " query " + vdb + " --at 0.5,0.5,0.5 --stream-report 2>&1", &log), 0) << log;
+    EXPECT_NE(log.find("read all of"), std::string::npos) << log;  // auto: small, read whole
 }
