@@ -22,6 +22,7 @@
 #include "cli_util.h"
 #include "test_util.h"
 #include "random_volumes.h"
+#include "vdblight/bins.h"
 #include "vdblight/sampling.h"
 #include "vdblight/sh.h"
 #include "vdblight/vdb_io.h"
@@ -205,9 +206,9 @@ TEST(CliQueryStream, SameOutputStreamedOrWhole) {
 
 TEST(CliQueryStream, KindsThatDoNotStreamAreRefusedOrReadWhole) {
     test::TempDir dir;
-    const std::string vdb = dir.file("levels.vdb");
-    writeVolume(test::randomLevelsVolume(LayoutKind::Adaptive, 2, BasisDesc::sh2(), 1, 0.0f, 1.0f), vdb);
-    test::expectCleanFailure(dir, "query " + vdb + " --at 0.5,0.5,0.5 --stream on", "cannot be streamed: it has 2 levels");
+    const std::string vdb = dir.file("bins.vdb");
+    writeVolume(test::randomLevelsVolume(LayoutKind::Adaptive, 2, bins::basis(bins::parseBasisSpec("bins:2")), 1, 0.0f, 1.0f), vdb);
+    test::expectCleanFailure(dir, "query " + vdb + " --at 0.5,0.5,0.5 --stream on", "cannot be streamed: its basis is 'bins:2'");
     std::string log;
     ASSERT_EQ(test::runCommand(kCli + " query " + vdb + " --at 0.5,0.5,0.5 --stream-report 2>&1", &log), 0) << log;
     EXPECT_NE(log.find("read all of"), std::string::npos) << log;  // auto: small, read whole

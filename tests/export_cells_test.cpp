@@ -154,6 +154,15 @@ TEST(ExportCells, CellsTileTheLatticeAndEqualTheWholeExport) {
         }
 }
 
+TEST(ExportCells, AdaptiveLevelsToo) {
+    const Volume v = test::randomLevelsVolume(LayoutKind::Adaptive, 3, BasisDesc::sh2(), 6, -0.5f, 1.5f);
+    test::TempDir dir;
+    ExportOptions o;
+    exportTextures(v, dir.file("whole"), o);
+    exportCells(IrradianceQuery(v), v, dir.file("cells"), o, 6);
+    expectCellsMatchWhole(dir.file("whole"), dir.file("cells"), ExportLayout::Sh2Packed, 6, 8);
+}
+
 TEST(ExportCells, StreamedVolumeExportsTheSameFiles) {
     test::TempDir dir;
     writeVolume(test::randomShVolume(21, 6, 10, 0.3, 5), dir.file("v.vdb"));

@@ -10,6 +10,7 @@
 #include "vdblight/depth_moments.h"
 #include "vdblight/errors.h"
 #include "vdblight/query.h"
+#include "vdblight/query_levels.h"
 #include "vdblight/query_stream.h"
 #include "vdblight/sampling.h"
 #include "vdblight/vdb_io.h"
@@ -50,7 +51,8 @@ void expectSameBits(const std::string& path, OutsidePolicy outside, bool depthWe
     EXPECT_EQ(streamed.depthWeighted(), memory.depthWeighted());
     EXPECT_EQ(streamed.bounds().lo, memory.bounds().lo);
     EXPECT_EQ(streamed.bounds().hi, memory.bounds().hi);
-    int compared = 0;
+    int compared = 0, finer = 0;
+    const auto* levels = dynamic_cast<const ShLevelsLookup*>(&memory.lookup());
     for (const Probe& p : probes(whole.levels[0].grid, 400, 7)) {
         bool threwMemory = false, threwStreamed = false;
         Rgb a, b, c, d;
@@ -64,6 +66,7 @@ void expectSameBits(const std::string& path, OutsidePolicy outside, bool depthWe
         } catch (const ValueError&) { threwStreamed = true; }
         ASSERT_EQ(threwMemory, threwStreamed) << p.x.x << "," << p.x.y << "," << p.x.z;
         if (threwMemory) continue;
+        if (levels && levels->levelAt(Vec3f(p.x)) > 0) ++finer;
         ASSERT_TRUE(sameBits(a, b)) << "irradiance at " << p.x.x << "," << p.x.y << "," << p.x.z;
         ASSERT_TRUE(sameBits(c, d)) << "irradianceWorld at " << p.x.x << "," << p.x.y << "," << p.x.z;
         Rgb sa[9], sb[9];
@@ -73,6 +76,7 @@ void expectSameBits(const std::string& path, OutsidePolicy outside, bool depthWe
         ++compared;
     }
     EXPECT_GT(compared, 200);
+    if (levels) EXPECT_GT(finer, 40) << "too few probes in refined cells";
 }
 
 TEST(QueryStream, SameBitsAsInMemoryLookup) {
@@ -124,14 +128,48 @@ TEST(QueryStream, ReadsOnlyTheLeavesItTouches) {
     EXPECT_TRUE(file->header().levels[0].data.empty());
 }
 
+TEST(QueryStream, SameBitsOnBilevelAndAdaptiveLevels) {
+    test::TempDir dir;
+    writeVolume(test::randomLevelsVolume(LayoutKind::Bilevel, 2, BasisDesc::sh2(), 1, -0.5f, 1.5f), dir.file("b.vdb"));
+    writeVolume(test::randomLevelsVolume(LayoutKind::Adaptive, 3, BasisDesc::sh2(), 2, -0.5f, 1.5f), dir.file("a.vdb"));
+    for (const char* name : {"b.vdb", "a.vdb"})
+        for (OutsidePolicy outside : {OutsidePolicy::Clamp, OutsidePolicy::Throw}) expectSameBits(dir.file(name), outside, true);
+    Volume far = test::randomLevelsVolume(LayoutKind::Adaptive, 3, BasisDesc::sh2(), 3, -0.5f, 1.5f);
+    for (VolumeLevel& l : far.levels) l.grid.origin += Vec3d(-3.0e6, 1.0e5, 2.5e6);
+    writeVolume(far, dir.file("far.vdb"));
+    expectSameBits(dir.file("far.vdb"), OutsidePolicy::Clamp, true);
+    Volume depth = test::randomLevelsVolume(LayoutKind::Adaptive, 3, BasisDesc::sh2(), 4, -0.5f, 1.5f);
+    Rng rng(8);
+    for (VolumeLevel& l : depth.levels) {
+        l.depth.resize(l.storedNodes() * depth::kFloatsPerNode);
+        for (float& f : l.depth) f = float(int(rng.uniform() * 256.0f) % 256) / 255.0f;
+    }
+    writeVolume(depth, dir.file("depth.vdb"));
+    expectSameBits(dir.file("depth.vdb"), OutsidePolicy::Clamp, true);
+    expectSameBits(dir.file("depth.vdb"), OutsidePolicy::Clamp, false);
+}
+
+// A bake with --cull-solids: level 0 is sparse and cells with a culled corner read 0.
+TEST(QueryStream, SameBitsOnACulledBake) {
+    test::TempDir dir;
+    const std::string vdb = dir.file("culled.vdb");
+    std::string log;
+    ASSERT_EQ(test::runCommand(std::string(VDBLIGHT_CLI_PATH) + " bake -o " + vdb +
+                                   " --resolution 12 --rays 16 --bounces 1 --layout bilevel --cull-solids --quiet 2>&1",
+                               &log),
+              0)
+        << log;
+    ASSERT_EQ(metaString(readVolume(vdb).meta, "culling"), "solid-regions");
+    expectSameBits(vdb, OutsidePolicy::Clamp, true);
+}
+
 TEST(QueryStream, RefusesKindsItDoesNotRead) {
     test::TempDir dir;
-    writeVolume(test::randomLevelsVolume(LayoutKind::Adaptive, 2, BasisDesc::sh2(), 1, 0.0f, 1.0f), dir.file("l.vdb"));
-    auto levels = std::make_shared<StreamedVolume>(dir.file("l.vdb"));
-    EXPECT_NE(streamingSupported(*levels).find("2 levels"), std::string::npos) << streamingSupported(*levels);
-    EXPECT_THROW(makeStreamingQuery(levels, OutsidePolicy::Clamp), FormatError);
-    float node[27];
-    EXPECT_THROW(levels->readNode(0, 0, 0, node), FormatError);
+    Volume bins = test::randomLevelsVolume(LayoutKind::Adaptive, 2, bins::basis(bins::parseBasisSpec("bins:2")), 1, 0.0f, 1.0f);
+    writeVolume(bins, dir.file("bins.vdb"));
+    auto other = std::make_shared<StreamedVolume>(dir.file("bins.vdb"));
+    EXPECT_NE(streamingSupported(*other).find("basis"), std::string::npos) << streamingSupported(*other);
+    EXPECT_THROW(makeStreamingQuery(other, OutsidePolicy::Clamp), FormatError);
     EXPECT_THROW(StreamedVolume(dir.file("missing.vdb")), IoError);
     test::writeTextFile(dir.file("junk.vdb"), "not a vdb file");
     EXPECT_THROW(StreamedVolume(dir.file("junk.vdb")), FormatError);

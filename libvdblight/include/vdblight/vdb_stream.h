@@ -33,16 +33,22 @@ public:
     /// What readVolume returns except node values: basis, every level's GridSpec (data,
     /// depth, validity and visibility empty), metadata, the direct-light mode and lights.
     const Volume& header() const;
-    /// Empty if nodes can be read (single-level volumes without per-light visibility, i.e.
-    /// not baked with --direct occlusion), else the reason (one sentence).
+    /// Empty if nodes can be read (every volume except those with per-light visibility, i.e.
+    /// baked with --direct occlusion), else the reason (one sentence).
     const std::string& unsupported() const { return unsupported_; }
-    /// Node (i, j, k) of level 0 (inside the box): channelCount() * 3 floats in Volume order
-    /// ([channel][rgb], exactly the values readVolume gives). Thread-safe. Throws FormatError
-    /// if unsupported() is not empty.
-    void readNode(int i, int j, int k, float* out) const;
-    /// True if level 0 carries depth moments; readDepth then gives depth::kFloatsPerNode floats.
+    /// Node (i, j, k) of `level` (inside its box): channelCount() * 3 floats in Volume order
+    /// ([channel][rgb], exactly the values readVolume gives; 0 for a node that is not stored).
+    /// Thread-safe. Throws FormatError if unsupported() is not empty.
+    void readNode(int level, int i, int j, int k, float* out) const;
+    void readNode(int i, int j, int k, float* out) const { readNode(0, i, j, k, out); }
+    /// True if node (i, j, k) of `level` is stored (an active voxel; sparse levels, culled nodes).
+    bool nodeStored(int level, int i, int j, int k) const;
+    /// True if cell (i, j, k) of `level` (lower corner node (i, j, k)) is refined into the next.
+    bool cellRefined(int level, int i, int j, int k) const;
+    /// True if every level carries depth moments; readDepth then gives depth::kFloatsPerNode floats.
     bool hasDepth() const;
-    void readDepth(int i, int j, int k, float* out) const;
+    void readDepth(int level, int i, int j, int k, float* out) const;
+    void readDepth(int i, int j, int k, float* out) const { readDepth(0, i, j, k, out); }
     /// Leaf buffers (over every grid opened) read from the file so far, and in all.
     uint64_t loadedLeaves() const;
     uint64_t totalLeaves() const;

@@ -563,27 +563,55 @@ DelayedVolumeFile openDelayedVolume(const std::string& path) {
     }
     v.meta = userMetadata(meta);
     readDirect(f, v, path, /*visibility=*/false);
-    if (levels != 1 || v.direct.hasVisibility()) {  // the caller refuses these kinds
+    if (v.direct.hasVisibility()) {  // the caller refuses this kind
         out.file = std::move(f.file);
         return out;
     }
-    // Level 0's channel grids (and depth grids): topology in memory, leaf values left in the
-    // mapped file until a voxel of the leaf is read. The same checks as readLevel, all on
-    // the topology (active voxel counts and boxes come from the leaves' masks).
-    const GridSpec& g = v.levels[0].grid;
+    // Every level's grids: topology in memory, leaf values left in the mapped file until a
+    // voxel of the leaf is read. The checks of readLevel / readMask that need no values
+    // (active voxel counts, boxes and topologies come from the leaves' masks).
     auto read = [&](const std::string& name) {
         if (!f.file->hasGrid(name)) formatError(path, "has no grid '" + name + "'");
-        openvdb::GridBase::Ptr base;
         try {
-            base = f.file->readGrid(name);
+            return f.file->readGrid(name);
         } catch (const std::exception& e) {
             formatError(path, "grid '" + name + "' cannot be read (truncated or corrupt?): " + e.what());
         }
-        return openvdb::GridBase::Ptr(checkChannelGrid(base, g, path));
     };
-    for (const std::string& channel : v.basis.channelNames) out.channels.push_back(read(gridNameFor(channel, 0)));
-    if (f.file->hasGrid(gridNameFor(depth::channelName(0), 0)))
-        for (int c = 0; c < depth::kChannels; ++c) out.depth.push_back(read(gridNameFor(depth::channelName(c), 0)));
+    for (int l = 0; l < int(levels); ++l) {
+        const GridSpec& g = v.levels[std::size_t(l)].grid;
+        DelayedLevel level;
+        Vec3SGrid::Ptr first;
+        bool sparse = l > 0;
+        for (std::size_t c = 0; c < v.basis.channelNames.size(); ++c) {
+            openvdb::GridBase::Ptr base = read(gridNameFor(v.basis.channelNames[c], l));
+            if (c == 0 && l == 0 && levels > 1) {
+                const auto typed = openvdb::gridPtrCast<Vec3SGrid>(base);
+                if (typed && typed->activeVoxelCount() < g.nodeCount()) sparse = true;  // culled
+            }
+            Vec3SGrid::Ptr grid = sparse ? checkSparseChannelGrid(base, g, first.get(), path) : checkChannelGrid(base, g, path);
+            if (c == 0) first = grid;
+            level.channels.push_back(grid);
+        }
+        if (f.file->hasGrid(gridNameFor(depth::channelName(0), l)))
+            for (int c = 0; c < depth::kChannels; ++c) {
+                openvdb::GridBase::Ptr base = read(gridNameFor(depth::channelName(c), l));
+                Vec3SGrid::Ptr grid = sparse ? checkSparseChannelGrid(base, g, first.get(), path) : checkChannelGrid(base, g, path);
+                level.depth.push_back(grid);
+            }
+        if (l + 1 < int(levels)) {
+            const std::string name = maskNameFor(l);
+            auto mask = openvdb::gridPtrCast<openvdb::BoolGrid>(read(name));
+            if (!mask) formatError(path, "grid '" + name + "' has type other than bool");
+            const double half = 0.5 * g.spacing;
+            if (!placedAt(mask->transform(), g.origin + Vec3d(half, half, half), g.spacing))
+                formatError(path, "grid '" + name + "' has a transform that does not match its level's cells");
+            if (!insideBox(mask->evalActiveVoxelBoundingBox(), g.nx - 1, g.ny - 1, g.nz - 1))
+                formatError(path, "grid '" + name + "' marks cells outside its level's cell range");
+            level.mask = mask;
+        }
+        out.levels.push_back(std::move(level));
+    }
     out.file = std::move(f.file);
     return out;
 }
