@@ -72,6 +72,7 @@ struct BakeCommand {
     int stage = -1;             // >= 0: only this pass of a bake with probe passes (tiles.h, "Staged bakes")
     std::string stageInput;     // stage > 0: the merged tiles of the stage before
     std::string parameters;     // every option that changes the result, for the tile hash
+    bool planOnly = false;      // bakeStageCount: parse and resolve the presets, bake nothing
 };
 
 /// --direct: parsed and checked against the other options before anything is loaded.
@@ -476,8 +477,8 @@ void runPhotons(const BakeCommand& c) {
 }
 }  // namespace
 
-void addBakeCommand(CLI::App& app) {
-    auto c = std::make_shared<BakeCommand>();
+namespace {
+void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
     CLI::App* cmd = app.add_subcommand("bake", "Bake a uniform SH order-2 irradiance volume into a .vdb");
     addSceneOptions(*cmd, c->scene);
     cmd->add_option("-o,--output", c->output, "Output .vdb file (written atomically)")->required();
@@ -602,6 +603,7 @@ void addBakeCommand(CLI::App& app) {
             if (maxRays->count() == 0) c->maxRays = std::max(caps.maxRays, c->minRays);
         }
         if (probe->count() == 0 && targetable) c->probePasses = preset.probePasses;
+        if (c->planOnly) return;
         // After the --quality preset, which may add an error target or probe passes.
         if ((tilesOpt->count() > 0) != (tileOpt->count() > 0)) throw ValueError("--tiles and --tile go together");
         if (tilesOpt->count() > 0) {
@@ -681,6 +683,27 @@ void addBakeCommand(CLI::App& app) {
         if (c->compact && c->method != "photons") throw ValueError("--compact applies to --method photons only");
         run(*c);
     });
+}
+}  // namespace
+
+void addBakeCommand(CLI::App& app) { addBakeCommandTo(app, std::make_shared<BakeCommand>()); }
+
+int bakeStageCount(const std::string& scene, const std::vector<std::string>& bakeArgs) {
+    CLI::App app;
+    auto c = std::make_shared<BakeCommand>();
+    c->planOnly = true;
+    addBakeCommandTo(app, c);
+    std::vector<std::string> words = {"vdblight", "bake", scene};
+    words.insert(words.end(), bakeArgs.begin(), bakeArgs.end());
+    words.insert(words.end(), {"-o", "plan.vdb"});
+    std::vector<const char*> argv;
+    for (const std::string& w : words) argv.push_back(w.c_str());
+    try {
+        app.parse(int(argv.size()), argv.data());
+    } catch (const CLI::ParseError& e) {
+        throw ValueError(std::string("bake options: ") + e.what());
+    }
+    return c->probePasses + 1;
 }
 
 }  // namespace vdblight::app
