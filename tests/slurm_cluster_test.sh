@@ -1,7 +1,7 @@
 #!/bin/sh
 # `vdblight slurm` on a real one-node Slurm (issue 17), started and stopped by this script:
 # the default bake (a probe-to-probe pass, so two stages: array -> merge -> array -> merge,
-# --direct occlusion), small: 4 tiles merged = the single bake; a stage-0 tile cancelled
+# --direct occlusion): 4 tiles merged = the single bake; a stage-0 tile cancelled
 # mid-run (scancel) leaves the chain waiting, and re-submitting redoes only that tile of
 # stage 0 (then stage 1) and gives the identical file.
 # Usage: slurm_cluster_test.sh VDBLIGHT SOURCE_DIR. Exit 77 (skipped) without Slurm or root.
@@ -55,9 +55,10 @@ slurmd -f "$SLURM_CONF" || fail "slurmd did not start"
 for i in $(seq 60); do sinfo -h -o %t 2>/dev/null | grep -q idle && break; sleep 1; done
 sinfo -h -o %t | grep -q idle || fail "the node did not come up"
 
-# The default bake's options (uniform SH point gather, one probe-to-probe pass, --direct
-# occlusion), at a size where a tile runs long enough to be cancelled while running.
-OPTS="--resolution 16 --rays 128 --seed 3"
+# The default bake (uniform SH point gather at 16 nodes on the longest axis and 256 rays, one
+# probe-to-probe pass, --direct occlusion) with seed 3: a tile runs long enough (seconds) to
+# be cancelled while it runs.
+OPTS="--seed 3"
 SCENE="$SRC/data/cornell_box.obj"
 wait_jobs() {  # until none of our jobs is pending or running (or 600 s)
   for i in $(seq 600); do [ -z "$(squeue -h -o %i 2>/dev/null)" ] && return 0; sleep 1; done; return 1
