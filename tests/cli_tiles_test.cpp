@@ -95,13 +95,15 @@ TEST(CliTiles, DefaultBakeTiledInStagesMergesToTheSingleBake) {
     const test::CliRun info = runCli("info " + dir.file("stage1.vdb"));
     EXPECT_NE(info.output.find("light_visibility_0"), std::string::npos) << info.output;
     EXPECT_NE(info.output.find("estimated_error_worst_nodes"), std::string::npos) << info.output;
-    // A stage-1 tile is baked again when the stage-0 file it read has changed.
+    // A stage file of another bake is refused; a stage-1 tile is baked again when the stage-0
+    // file it read has changed.
     const std::string tile = dir.file("s1t0.vdb"),
                       cmd = "bake -o " + tile + " --tiles 3 --tile 0 --stage 1 --stage-input " + dir.file("stage0.vdb") +
-                            " --resolution 10 --rays 32 --seed 4 --depth-moments";
+                            " --resolution 10 --rays 32 --depth-moments";
     ASSERT_EQ(runCli("bake -q -o " + dir.file("other.vdb") + " --tiles 1 --tile 0 --stage 0 --resolution 10 --rays 32 --seed 5 --depth-moments").status, 0);
     ASSERT_EQ(runCli("merge -q " + dir.file("other.vdb") + " -o " + dir.file("stage0.vdb")).status, 0);
-    const test::CliRun again = runCli(cmd);
+    test::expectRefusal(cmd, "is a stage of a bake with another scene or other options", "", "stage input of seed 5");
+    const test::CliRun again = runCli(cmd + " --seed 5");  // the options of the new stage 0: baked again
     ASSERT_EQ(again.status, 0) << again.output;
     EXPECT_NE(again.output.find("Baked tile 0 of 3 (stage 1"), std::string::npos) << again.output;
 }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 #include <thread>
 
 #include "app_common.h"
@@ -292,8 +293,21 @@ void run(const BakeCommand& c) {
     // A staged bake (tiles.h): this pass only, from the merged tiles of the stage before.
     Volume stageInput;
     options.stage = c.stage;
+    // Every stage of one bake has the same options but --stage (and maybe --tiles): their hash
+    // ties a stage file to the stages after it.
+    std::string sameBake;
+    if (c.stage >= 0) {
+        std::string others;
+        std::istringstream lines(c.parameters);
+        for (std::string line; std::getline(lines, line);)
+            if (line.compare(0, 8, "--stage=") != 0 && line.compare(0, 8, "--tiles=") != 0) others += line + "\n";
+        sameBake = tileParamsHash(scene.contentHash(), others);
+    }
     if (c.stage > 0) {
         stageInput = readProbeStage(c.stageInput);
+        if (metaString(stageInput.meta, "probe_stage_params_hash") != sameBake)
+            throw ValueError("'" + c.stageInput + "' is a stage of a bake with another scene or other options than --stage " +
+                             std::to_string(c.stage) + " here");
         options.stageInput = &stageInput;
     }
     const bool lastStage = c.stage < 0 || c.stage == c.probePasses;
@@ -376,7 +390,10 @@ void run(const BakeCommand& c) {
         // The per-node errors of the uniform point gathers, for the merge's error summary.
         TileNodeStats nodeStats;
         if (volume.levels.size() == 1 && !binned) nodeStats.estimatedError = stats.estimatedError;
-        if (!lastStage) write.halfFloat = false;  // the next stage reads the reflected light exactly
+        if (!lastStage) {
+            write.halfFloat = false;  // the next stage reads the reflected light exactly
+            volume.meta["probe_stage_params_hash"] = sameBake;
+        }
         writeTile(volume, tileMask, tileId, c.output, write, &nodeStats);
         uint64_t mine = 0;
         for (const auto& l : tileMask) mine += uint64_t(std::count(l.begin(), l.end(), uint8_t(1)));
