@@ -64,9 +64,12 @@ MergedTiles mergeTiles(const std::vector<std::string>& paths) {
     const TileFile& first = tiles[order[0]];
     const int channels = first.part.basis.channelCount();
     const std::size_t floats = std::size_t(channels) * 3;
-    for (const TileFile& t : tiles)
-        if (t.depth != first.depth || t.visibility != first.visibility || t.error != first.error)
-            throw FormatError(quoted(paths[0]) + " and another tile differ in the grids they carry");
+    for (std::size_t i = 0; i < tiles.size(); ++i) {
+        const TileFile& t = tiles[i];
+        if (t.depth != first.depth || t.visibility != first.visibility || t.error != first.error ||
+            t.part.direct.mode != first.part.direct.mode || t.part.direct.lights.size() != first.part.direct.lights.size())
+            throw FormatError(quoted(paths[i]) + " and " + quoted(paths[order[0]]) + " differ in the grids or lights they carry");
+    }
     MergedTiles out;
     Volume& v = out.volume;
     std::vector<float> error;  // level 0's per-node errors (TileNodeStats)
