@@ -97,6 +97,10 @@ TEST(CliSlurm, RefusesOptionsItSetsItself) {
     test::expectRefusal("slurm " + kScene + " -o " + world + " --tiles 2 --tile 1", "set by vdblight slurm", world, "tile");
     test::expectRefusal("slurm " + kScene + " -o " + world + " --tiles 0", "--tiles must be at least 1", world, "zero");
     test::expectRefusal("slurm " + kScene + " -o " + world + " --tiles 2 --stage 1", "set by vdblight slurm", world, "stage");
+    // What cannot be tiled is refused before any script is written.
+    test::expectRefusal("slurm " + kScene + " -o " + world + " --tiles 2 --sampling antialiased", "cannot be tiled", world,
+                        "antialiased");
+    EXPECT_FALSE(std::filesystem::exists(world + ".tiles"));
 }
 
 }  // namespace

@@ -620,7 +620,13 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
             if (maxRays->count() == 0) c->maxRays = std::max(caps.maxRays, c->minRays);
         }
         if (probe->count() == 0 && targetable) c->probePasses = preset.probePasses;
-        if (c->planOnly) return;
+        if (c->planOnly) {  // vdblight slurm: refuse what would not tile before writing any script
+            BakeCommand staged = *c;
+            staged.stage = 0;
+            const std::string why = untileable(staged);
+            if (!why.empty()) throw ValueError(why);
+            return;
+        }
         // After the --quality preset, which may add an error target or probe passes.
         if ((tilesOpt->count() > 0) != (tileOpt->count() > 0)) throw ValueError("--tiles and --tile go together");
         if (tilesOpt->count() > 0) {
