@@ -21,8 +21,14 @@ JOBS="${JOBS:-$(nproc)}"
 source "$ROOT/tests/fuzz/harnesses.sh"   # HARNESSES, MALLOC_LIMIT_MB, RSS_LIMIT_MB
 "$ROOT/scripts/fuzz_build.sh"
 
-rm -rf "$BUILD/artifacts" "$BUILD/corpus"
-mkdir -p "$BUILD/artifacts" "$BUILD/logs"
+rm -rf "$BUILD/artifacts" "$BUILD/corpus" "$BUILD/tmp"
+mkdir -p "$BUILD/artifacts" "$BUILD/logs" "$BUILD/tmp"
+# The harnesses write each input to a private temporary directory that they remove at exit,
+# but a harness that aborts (a sanitizer report, a known library finding) never reaches its
+# exit handlers: keep those directories under build-fuzz/tmp, emptied here and at the end,
+# instead of leaving them in /tmp.
+export TMPDIR="$BUILD/tmp"
+trap 'rm -rf "$BUILD/tmp"' EXIT
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
 run_one() {
