@@ -5,7 +5,7 @@
 # each harness
 #   1. replays every seed and saved regression input of tests/fuzz/corpus/<harness>/ once;
 #   2. fuzzes from those seeds with fixed seeds (-seed=1, then 2, ... after each documented
-#      library finding) for a fixed number of inputs (RUNS, default 2000; FUZZ_RUNS), never
+#      library finding) for a fixed number of inputs (RUNS, default 1000; FUZZ_RUNS), never
 #      for a wall-clock budget, from a fresh corpus, so what it tries depends only on the commit.
 # Every input that fails (crash, sanitizer report, leak, timeout, an allocation over the
 # malloc limit) is re-run by tests/fuzz/triage.py: it passes only as a documented library
@@ -16,7 +16,7 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD="${FUZZ_BUILD_DIR:-$ROOT/build-fuzz}"
-RUNS="${1:-${FUZZ_RUNS:-2000}}"
+RUNS="${1:-${FUZZ_RUNS:-1000}}"
 JOBS="${JOBS:-$(nproc)}"
 source "$ROOT/tests/fuzz/harnesses.sh"   # HARNESSES, MALLOC_LIMIT_MB, RSS_LIMIT_MB
 "$ROOT/scripts/fuzz_build.sh"

@@ -23,5 +23,5 @@ stage_done benchmarks
 # (docs/fuzzing.md; exploratory, time-based fuzzing is scripts/fuzz_explore.sh).
 "$ROOT/scripts/test_sanitize.sh" all
 stage_done sanitizers
-"$ROOT/scripts/fuzz.sh" "${FUZZ_RUNS:-2000}"
+"$ROOT/scripts/fuzz.sh" "${FUZZ_RUNS:-1000}"
 stage_done fuzz
