@@ -19,8 +19,9 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:abort_on_error=1
 if [ ${#TESTS[@]} -eq 0 ]; then
   cmake --build "$BUILD" -j "${JOBS:-$(nproc)}"
   # slurm_cluster_test (label `cluster`) starts Slurm daemons and runs whole bakes through
-  # them: 43 s under ASan for code that the CLI tiles and slurm tests already run here.
-  (cd "$BUILD" && ctest --output-on-failure -j "${JOBS:-$(nproc)}" -LE cluster)
+  # them: 43 s under ASan for code that the CLI tiles and slurm tests already run here;
+  # install_example_test (label `install`) links an example without sanitizer flags.
+  (cd "$BUILD" && ctest --output-on-failure -j "${JOBS:-$(nproc)}" -LE "cluster|install")
 else
   cmake --build "$BUILD" -j "${JOBS:-$(nproc)}" --target "${TESTS[@]}"
   for t in "${TESTS[@]}"; do "$BUILD/tests/$t"; done
