@@ -6,6 +6,9 @@
 #include "commands.h"
 #include "vdblight/errors.h"
 #include "vdblight/export.h"
+#include "vdblight/export_cells.h"
+#include "vdblight/query_stream.h"
+#include "vdblight/vdb_stream.h"
 #include "vdblight/preview.h"
 #include "vdblight/vdb_io.h"
 
@@ -20,7 +23,22 @@ struct ExportCommand {
     bool half = false, full = false;
     int resolution = 0;
     bool quiet = false;
+    int cells = 0;  // lattice steps per streaming cell (export_cells.h); 0: one texture set
 };
+
+/// export --cells K: the volume streamed when it is large and its kind streams (as `query`
+/// does), read whole otherwise; the same texels either way.
+CellsSummary exportByCells(const ExportCommand& c, const ExportOptions& o) {
+    std::error_code ec;
+    const uint64_t bytes = std::filesystem::file_size(c.volume, ec);
+    if (!ec && bytes >= kStreamAboveBytes) {
+        auto streamed = std::make_shared<StreamedVolume>(c.volume);
+        if (streamingSupported(*streamed).empty())
+            return exportCells(makeStreamingQuery(streamed, OutsidePolicy::Clamp), streamed->header(), c.output, o, c.cells);
+    }
+    const Volume volume = readVolume(c.volume);
+    return exportCells(IrradianceQuery(volume), volume, c.output, o, c.cells);
+}
 
 void run(const ExportCommand& c) {
     if (c.half && c.full) throw ValueError("give --half or --float, not both");
@@ -49,6 +67,16 @@ void run(const ExportCommand& c) {
     o.layout = parseExportLayout(c.layout);
     o.halfFloat = !c.full;
     o.resolution = c.resolution;
+    if (c.cells != 0) {
+        const CellsSummary s = exportByCells(c, o);
+        if (!c.quiet)
+            std::cout << "Exported " << s.cells[0] << " x " << s.cells[1] << " x " << s.cells[2] << " cells of "
+                      << formatName(o.format) << " textures (" << layoutName(o.layout) << ", "
+                      << (o.halfFloat ? "half" : "float") << ") over " << s.lattice.dims[0] << " x " << s.lattice.dims[1]
+                      << " x " << s.lattice.dims[2] << " texels + cells.json to " << c.output << " ("
+                      << formatBytes(double(s.bytes)) << ")\n";
+        return;
+    }
     const Volume volume = readVolume(c.volume);
     const ExportSummary s = exportTextures(volume, c.output, o);
     if (!c.quiet)
@@ -71,6 +99,11 @@ void addExportCommand(CLI::App& app) {
     cmd->add_flag("--float", c->full, "32-bit float texels");
     cmd->add_option("--resolution", c->resolution,
                     "Texels along the longest axis (default: the volume's finest node spacing)");
+    cmd->add_option("--cells", c->cells,
+                    "Cut the textures into streaming cells of K lattice steps per edge: OUTDIR/cell_<a>_<b>_<c>/ with "
+                    "textures + manifest.json each and OUTDIR/cells.json as index; neighbours share a texel plane "
+                    "(SH layouts; large volumes are streamed, not read whole)")
+        ->check(CLI::Range(1, 1 << 20));
     cmd->add_flag("-q,--quiet", c->quiet, "Print nothing on success");
     cmd->callback([c] { run(*c); });
 }

@@ -15,6 +15,10 @@
 #include "vdblight/trace.h"
 #include "vdblight/vdb_io.h"
 #include "vdblight/vector_grid_lookup.h"
+#include "vdblight/query_stream.h"
+#include "vdblight/vdb_stream.h"
+
+#include <filesystem>
 
 namespace vdblight::app {
 
@@ -32,7 +36,37 @@ struct QueryCommand {
     bool indirectOnly = false;  // --direct runtime volumes: the stored indirect light only
     uint32_t shadowRays = 256;  // per polygon light and point, with --scene
     bool noDepthWeights = false;  // plain trilinear even if the volume has depth moments
+    std::string stream = "auto";  // delayed loading: auto (files >= kStreamAboveBytes), on, off
+    bool streamReport = false;    // print how many leaves streaming read
 };
+
+/// The volume as a query reads it: streamed (only the leaves looked up are read; vdb_stream.h)
+/// or read whole. `header` is the Volume (whole) or its header (streamed: no node values).
+struct OpenedVolume {
+    Volume whole;
+    std::shared_ptr<StreamedVolume> streamed;
+    const Volume& header() const { return streamed ? streamed->header() : whole; }
+    bool hasDepth() const { return streamed ? streamed->hasDepth() : whole.hasDepth(); }
+};
+
+OpenedVolume openForQuery(const QueryCommand& c) {
+    OpenedVolume v;
+    if (c.stream != "off") {
+        std::error_code ec;
+        const uint64_t bytes = std::filesystem::file_size(c.volume, ec);
+        if (c.stream == "on" || (!ec && bytes >= kStreamAboveBytes)) {
+            v.streamed = std::make_shared<StreamedVolume>(c.volume);
+            const std::string why = streamingSupported(*v.streamed);
+            if (why.empty()) return v;
+            if (c.stream == "on") throw ValueError("--stream on: '" + c.volume + "' cannot be streamed: " + why);
+            std::cerr << "vdblight: note: reading all of '" << c.volume << "' (" << bytes / (1 << 20)
+                      << " MiB) into memory: it cannot be streamed: " << why << "\n";
+            v.streamed.reset();
+        }
+    }
+    v.whole = readVolume(c.volume);
+    return v;
+}
 
 /// A `--direct runtime` volume's direct light, added at query time with shadow rays
 /// (scene_lights.h). The scene must be the one baked: its lights must match the volume's list.
@@ -85,11 +119,13 @@ void run(const QueryCommand& c) {
     }
     if (!c.output.empty()) checkOutputWritable(c.output);
 
-    const Volume volume = readVolume(c.volume);
+    const OpenedVolume opened = openForQuery(c);
+    const Volume& volume = opened.header();
     const OutsidePolicy policy = c.outside == "error" ? OutsidePolicy::Throw : OutsidePolicy::Clamp;
-    if (c.noDepthWeights && !volume.hasDepth())
+    if (c.noDepthWeights && !opened.hasDepth())
         throw ValueError("--no-depth-weights: '" + c.volume + "' has no depth moments (bake --depth-moments)");
-    const IrradianceQuery query(volume, policy, !c.noDepthWeights);
+    const IrradianceQuery query = opened.streamed ? makeStreamingQuery(opened.streamed, policy, !c.noDepthWeights)
+                                                  : IrradianceQuery(volume, policy, !c.noDepthWeights);
     const bool moment = volume.basis.kind.rfind("moment:", 0) == 0;
     if (moment && c.view.empty())
         throw ValueError("a moment volume ('" + volume.basis.kind + "') needs --view vx,vy,vz (towards the eye)");
@@ -134,6 +170,14 @@ void run(const QueryCommand& c) {
             << ',' << e.x << ',' << e.y << ',' << e.z << '\n';
     }
     emitText(c.output, out.str());
+    if (c.streamReport) {
+        if (opened.streamed)
+            std::cerr << "vdblight: streamed '" << c.volume << "': read " << opened.streamed->loadedLeaves() << " of "
+                      << opened.streamed->totalLeaves() << " leaves (grids in memory: "
+                      << formatBytes(double(opened.streamed->residentBytes())) << ")\n";
+        else
+            std::cerr << "vdblight: read all of '" << c.volume << "'\n";
+    }
     if (clamped > 0)
         std::cerr << "vdblight: warning: " << clamped << " of " << points.size()
                   << " points lie outside the volume's node box and were clamped to its boundary\n";
@@ -167,6 +211,15 @@ void addQueryCommand(CLI::App& app) {
     cmd->add_flag("--raw", c->raw,
                   "Print the raw reconstructed irradiance, negative where order-2 SH rings (default: negative "
                   "components clamped to 0)");
+    cmd->add_option("--stream", c->stream,
+                    "Delayed loading, reading only the leaves (8^3 nodes) the points touch, for volumes larger than "
+                    "memory: auto (files of 256 MiB and more whose kind streams: SH order 2, uniform or levels, without "
+                    "--direct occlusion; others are read whole), on (refuse other kinds), off (read the whole file). "
+                    "The answers are the same bits either way")
+        ->check(CLI::IsMember({"auto", "on", "off"}))
+        ->capture_default_str();
+    cmd->add_flag("--stream-report", c->streamReport,
+                  "Print (stderr) how many leaves of the file were read (streamed) or that all of it was");
     cmd->add_option("--scene", c->scene,
                     "--direct runtime volumes: the scene baked; its lights' direct light is added with shadow rays");
     cmd->add_flag("--indirect-only", c->indirectOnly, "--direct runtime volumes: print the stored indirect light only");

@@ -87,6 +87,8 @@ public:
     /// `depthWeights` false: plain trilinear interpolation even if the volume carries depth
     /// moments (depth_moments.h); true (the other constructor): weighted where supported.
     IrradianceQuery(const Volume& volume, OutsidePolicy outside, bool depthWeights);
+    /// A query around a lookup built elsewhere (the streamed volumes of query_stream.h).
+    IrradianceQuery(std::unique_ptr<VolumeLookup> lookup, const char* kind);
 
     /// Irradiance (W/m^2, RGB) at x for the unit normal n.
     Rgb irradiance(const Vec3f& x, const Vec3f& n) const { return lookup_->irradiance(x, n); }

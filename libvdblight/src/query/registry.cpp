@@ -46,4 +46,7 @@ IrradianceQuery::IrradianceQuery(const Volume& volume, OutsidePolicy outside, bo
     lookup_->setDepthWeights(depthWeights);
 }
 
+IrradianceQuery::IrradianceQuery(std::unique_ptr<VolumeLookup> lookup, const char* kind)
+    : lookup_(std::move(lookup)), bounds_(lookup_->bounds()), kind_(kind) {}
+
 }  // namespace vdblight

@@ -54,4 +54,8 @@ std::unique_ptr<VolumeLookup> createAnchored(const Volume& volume, OutsidePolicy
     return std::make_unique<ShiftedLookup>(create(local, outside), anchor);
 }
 
+std::unique_ptr<VolumeLookup> shiftLookup(std::unique_ptr<VolumeLookup> inner, const Vec3d& anchor) {
+    return std::make_unique<ShiftedLookup>(std::move(inner), anchor);
+}
+
 }  // namespace vdblight

@@ -14,4 +14,8 @@ namespace vdblight {
 std::unique_ptr<VolumeLookup> createAnchored(const Volume& volume, OutsidePolicy outside,
                                              std::unique_ptr<VolumeLookup> (*create)(const Volume&, OutsidePolicy));
 
+/// Wraps `inner`, built on grids moved by minus `anchor`, as createAnchored does (for
+/// lookups not built from a Volume, such as the streamed one of query_stream.h).
+std::unique_ptr<VolumeLookup> shiftLookup(std::unique_ptr<VolumeLookup> inner, const Vec3d& anchor);
+
 }  // namespace vdblight

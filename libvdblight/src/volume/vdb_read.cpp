@@ -22,6 +22,7 @@
 #include "vdb_conventions.h"
 #include "content_hash.h"
 #include "tile_io.h"
+#include "vdb_delayed.h"
 
 namespace vdblight {
 namespace {
@@ -175,14 +176,17 @@ T requireMeta(const openvdb::MetaMap& meta, const std::string& key, const std::s
     return m->value();
 }
 
-OpenedFile openVolumeFile(const std::string& path) {
+OpenedFile openVolumeFile(const std::string& path, bool delayLoad = false) {
     initOpenVdb();
     checkReadable(path);
     checkNotTruncated(path);
     OpenedFile f;
     f.file = std::make_unique<openvdb::io::File>(path);
     try {
-        f.file->open(/*delayLoad=*/false);
+        // Delayed loading (vdb_stream.h) maps the file and must not copy it first (OpenVDB
+        // copies files below a size to a temporary file unless told not to).
+        if (delayLoad) f.file->setCopyMaxBytes(0);
+        f.file->open(delayLoad);
         f.meta = f.file->getMetadata();
     } catch (const std::exception& e) {
         formatError(path, std::string("is not a readable .vdb file (truncated or corrupt?): ") + e.what());
@@ -594,6 +598,80 @@ Volume readProbeStage(const std::string& path) {
 }
 
 namespace vdb_detail {
+
+DelayedVolumeFile openDelayedVolume(const std::string& path) {
+    OpenedFile f = openVolumeFile(path, /*delayLoad=*/true);
+    const openvdb::MetaMap& meta = *f.meta;
+    if (meta.getMetadata<openvdb::Int64Metadata>(kPrefix + "tile_count"))
+        formatError(path, "is a tile of a bake, not a complete volume: merge the tiles with 'vdblight merge'");
+    DelayedVolumeFile out;
+    Volume& v = out.header;
+    v.basis.kind = requireMeta<std::string>(meta, kPrefix + "basis", path);
+    v.basis.channelNames = splitNames(requireMeta<std::string>(meta, kPrefix + "channels", path));
+    const int64_t levels = requireMeta<int64_t>(meta, kPrefix + "levels", path);
+    if (levels < 1 || levels > 64) formatError(path, "has an invalid level count " + std::to_string(levels));
+    for (int l = 0; l < int(levels); ++l) {
+        VolumeLevel level;
+        level.grid = readLevelSpec(meta, l, path);
+        const GridSpec& g = level.grid;
+        if (g.nx <= 0 || g.ny <= 0 || g.nz <= 0 || !(g.spacing > 0) || !isFinite(g.origin))
+            formatError(path, "has invalid dimensions, spacing or origin for level " + std::to_string(l));
+        v.levels.push_back(std::move(level));
+    }
+    v.meta = userMetadata(meta);
+    readDirectLights(f, v, path);
+    if (v.direct.hasVisibility()) {  // the caller refuses this kind
+        out.file = std::move(f.file);
+        return out;
+    }
+    // Every level's grids: topology in memory, leaf values left in the mapped file until a
+    // voxel of the leaf is read. The checks of readLevel / readMask that need no values
+    // (active voxel counts, boxes and topologies come from the leaves' masks).
+    auto read = [&](const std::string& name) {
+        if (!f.file->hasGrid(name)) formatError(path, "has no grid '" + name + "'");
+        try {
+            return f.file->readGrid(name);
+        } catch (const std::exception& e) {
+            formatError(path, "grid '" + name + "' cannot be read (truncated or corrupt?): " + e.what());
+        }
+    };
+    for (int l = 0; l < int(levels); ++l) {
+        const GridSpec& g = v.levels[std::size_t(l)].grid;
+        DelayedLevel level;
+        Vec3SGrid::Ptr first;
+        bool sparse = l > 0;
+        for (std::size_t c = 0; c < v.basis.channelNames.size(); ++c) {
+            openvdb::GridBase::Ptr base = read(gridNameFor(v.basis.channelNames[c], l));
+            if (c == 0 && l == 0 && levels > 1) {
+                const auto typed = openvdb::gridPtrCast<Vec3SGrid>(base);
+                if (typed && typed->activeVoxelCount() < g.nodeCount()) sparse = true;  // culled
+            }
+            Vec3SGrid::Ptr grid = sparse ? checkSparseChannelGrid(base, g, first.get(), path) : checkChannelGrid(base, g, path);
+            if (c == 0) first = grid;
+            level.channels.push_back(grid);
+        }
+        if (f.file->hasGrid(gridNameFor(depth::channelName(0), l)))
+            for (int c = 0; c < depth::kChannels; ++c) {
+                openvdb::GridBase::Ptr base = read(gridNameFor(depth::channelName(c), l));
+                Vec3SGrid::Ptr grid = sparse ? checkSparseChannelGrid(base, g, first.get(), path) : checkChannelGrid(base, g, path);
+                level.depth.push_back(grid);
+            }
+        if (l + 1 < int(levels)) {
+            const std::string name = maskNameFor(l);
+            auto mask = openvdb::gridPtrCast<openvdb::BoolGrid>(read(name));
+            if (!mask) formatError(path, "grid '" + name + "' has type other than bool");
+            const double half = 0.5 * g.spacing;
+            if (!placedAt(mask->transform(), g.origin + Vec3d(half, half, half), g.spacing))
+                formatError(path, "grid '" + name + "' has a transform that does not match its level's cells");
+            if (!insideBox(mask->evalActiveVoxelBoundingBox(), g.nx - 1, g.ny - 1, g.nz - 1))
+                formatError(path, "grid '" + name + "' marks cells outside its level's cell range");
+            level.mask = mask;
+        }
+        out.levels.push_back(std::move(level));
+    }
+    out.file = std::move(f.file);
+    return out;
+}
 
 TileFile readTileFile(const std::string& path) {
     OpenedFile f = openVolumeFile(path);

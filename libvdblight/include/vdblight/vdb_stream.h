@@ -1,0 +1,68 @@
+// A .vdb read without loading it: OpenVDB's delayed loading maps the file and reads a leaf
+// (8^3 nodes of one grid) only when a lookup first touches one of its nodes, so that a world
+// larger than memory can still be queried (docs/scaling.md, "Worlds larger than memory").
+//
+//   StreamedVolume v("world.vdb");          // header + grid topology, no node values
+//   float node[27];
+//   v.readNode(10, 4, 7, node);             // pages in the leaves holding node (10, 4, 7)
+//
+// Lookups on it: makeStreamingQuery (query_stream.h).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "vdblight/volume.h"
+
+namespace vdblight {
+
+/// `vdblight query` streams a file at least this large when its kind supports it (and reads
+/// it whole below); `query --stream on|off` overrides.
+constexpr uint64_t kStreamAboveBytes = 256ull << 20;
+
+class StreamedVolume {
+public:
+    /// Opens `path` with delayed loading after the checks of readVolume that need no node
+    /// values. Throws IoError (unreadable) or FormatError (not a complete vdblight volume).
+    explicit StreamedVolume(const std::string& path);
+    ~StreamedVolume();
+    StreamedVolume(const StreamedVolume&) = delete;
+    StreamedVolume& operator=(const StreamedVolume&) = delete;
+
+    /// What readVolume returns except node values: basis, every level's GridSpec (data,
+    /// depth, validity and visibility empty), metadata, the direct-light mode and lights.
+    const Volume& header() const;
+    /// Empty if nodes can be read (every volume except those with per-light visibility, i.e.
+    /// baked with --direct occlusion), else the reason (one sentence).
+    const std::string& unsupported() const { return unsupported_; }
+    /// Node (i, j, k) of `level` (inside its box): channelCount() * 3 floats in Volume order
+    /// ([channel][rgb], exactly the values readVolume gives; 0 for a node that is not stored).
+    /// Thread-safe. Throws FormatError if unsupported() is not empty.
+    void readNode(int level, int i, int j, int k, float* out) const;
+    void readNode(int i, int j, int k, float* out) const { readNode(0, i, j, k, out); }
+    /// True if node (i, j, k) of `level` is stored (an active voxel; sparse levels, culled nodes).
+    bool nodeStored(int level, int i, int j, int k) const;
+    /// True if cell (i, j, k) of `level` (lower corner node (i, j, k)) is refined into the next.
+    bool cellRefined(int level, int i, int j, int k) const;
+    /// True if every level carries depth moments; readDepth then gives depth::kFloatsPerNode floats.
+    bool hasDepth() const;
+    void readDepth(int level, int i, int j, int k, float* out) const;
+    void readDepth(int i, int j, int k, float* out) const { readDepth(0, i, j, k, out); }
+    /// Leaf buffers (over every grid opened) read from the file so far, and in all.
+    uint64_t loadedLeaves() const;
+    uint64_t totalLeaves() const;
+    /// Bytes the opened grids take in memory now (OpenVDB's memUsage: the topology, a file
+    /// reference per leaf still on disk, the values of the leaves read).
+    uint64_t residentBytes() const;
+    /// Size of the file in bytes.
+    uint64_t fileBytes() const { return fileBytes_; }
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+    std::string unsupported_;
+    uint64_t fileBytes_ = 0;
+};
+
+}  // namespace vdblight

@@ -1,0 +1,339 @@
+// The SH order-2 uniform lookup on a streamed volume (query_stream.h). The arithmetic is
+// ShUniformLookup's, operation for operation (sh_uniform_lookup.cpp), with the corner nodes
+// read through StreamedVolume instead of a node array, so that the answers are the same bits;
+// query_stream_test checks that they are.
+#include "vdblight/query_stream.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "depth_weights.h"
+#include "lattice_locate.h"
+#include "shifted_lookup.h"
+#include "vdblight/errors.h"
+#include "vdblight/scene_origin.h"
+#include "vdblight/sh.h"
+
+namespace vdblight {
+
+namespace {
+constexpr int kFloatsPerNode = sh::kCoeffs * 3;
+
+// As in sh_uniform_lookup.cpp.
+inline void split(float g, int n, int& i, float& f) {
+    if (!(g >= 0.0f)) g = 0.0f;
+    if (g > float(n - 1)) g = float(n - 1);
+    i = std::min(int(g), std::max(n - 2, 0));
+    f = g - float(i);
+}
+
+class StreamingShLookup final : public VolumeLookup {
+public:
+    StreamingShLookup(std::shared_ptr<const StreamedVolume> volume, const GridSpec& grid, OutsidePolicy outside)
+        : volume_(std::move(volume)), grid_(grid), outside_(outside) {
+        origin_ = Vec3f(grid_.origin);
+        invSpacing_ = float(1.0 / grid_.spacing);
+        depthWeights_ = volume_->hasDepth();
+    }
+
+    Bounds bounds() const override { return grid_.nodeBounds(); }
+    void setDepthWeights(bool on) override { depthWeights_ = on && volume_->hasDepth(); }
+    bool depthWeighted() const override { return depthWeights_; }
+
+    Rgb irradiance(const Vec3f& x, const Vec3f& n) const override {
+        int i, j, k;
+        float fx, fy, fz;
+        locate(x, i, j, k, fx, fy, fz);
+        float y[sh::kCoeffs];
+        sh::evalUnrolled(n, y);
+        const int di = grid_.nx > 1 ? 1 : 0, dj = grid_.ny > 1 ? 1 : 0, dk = grid_.nz > 1 ? 1 : 0;
+        float p[8][kFloatsPerNode];
+        float d[8][depth::kFloatsPerNode];
+        const float* depth[8];
+        for (int c = 0; c < 8; ++c) {
+            const int ci = (c & 1) * di, cj = ((c >> 1) & 1) * dj, ck = (c >> 2) * dk;
+            node(i + ci, j + cj, k + ck, p[c]);
+            if (depthWeights_) volume_->readDepth(i + ci, j + cj, k + ck, d[c]);
+            depth[c] = d[c];
+        }
+        const float wx[2] = {1 - fx, fx}, wy[2] = {1 - fy, fy}, wz[2] = {1 - fz, fz};
+        float weights[8];
+        for (int c = 0; c < 8; ++c) weights[c] = wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2];
+        if (depthWeights_) query_detail::weightByDepth(weights, depth, fx, fy, fz);
+        float interp[kFloatsPerNode] = {};
+        for (int c = 0; c < 8; ++c) {
+            const float w = weights[c];
+            for (int f = 0; f < kFloatsPerNode; ++f) interp[f] += w * p[c][f];
+        }
+        Rgb e{0, 0, 0};
+        for (int c = 0; c < sh::kCoeffs; ++c) e += Rgb(interp[3 * c], interp[3 * c + 1], interp[3 * c + 2]) * y[c];
+        return e;
+    }
+
+    void shRadiance(const Vec3d& x, Rgb out[9]) const override {
+        query_detail::TrilinearCorners corners = query_detail::trilinearCorners(grid_, x, outside_);
+        float p[8][kFloatsPerNode];
+        float d[8][depth::kFloatsPerNode];
+        for (int c = 0; c < 8; ++c) {
+            const std::size_t linear = corners.node[c];
+            const int i = int(linear % std::size_t(grid_.nx)), j = int((linear / std::size_t(grid_.nx)) % std::size_t(grid_.ny)),
+                      k = int(linear / (std::size_t(grid_.nx) * std::size_t(grid_.ny)));
+            node(i, j, k, p[c]);
+            if (depthWeights_) volume_->readDepth(i, j, k, d[c]);
+        }
+        if (depthWeights_) {
+            int lo[3];
+            double frac[3];
+            query_detail::locateExact(grid_, x, outside_, lo, frac);
+            float w[8];
+            const float* depth[8];
+            for (int c = 0; c < 8; ++c) {
+                w[c] = float(corners.weight[c]);
+                depth[c] = d[c];
+            }
+            query_detail::weightByDepth(w, depth, float(frac[0]), float(frac[1]), float(frac[2]));
+            for (int c = 0; c < 8; ++c) corners.weight[c] = w[c];
+        }
+        double sum[kFloatsPerNode] = {};
+        for (int c = 0; c < 8; ++c) {
+            const double w = corners.weight[c];
+            if (w == 0.0) continue;
+            for (int f = 0; f < kFloatsPerNode; ++f) sum[f] += w * p[c][f];
+        }
+        for (int c = 0; c < sh::kCoeffs; ++c) {
+            const double a = sh::kCosineLobe[sh::bandOf(c)];
+            out[c] = Rgb(float(sum[3 * c] / a), float(sum[3 * c + 1] / a), float(sum[3 * c + 2] / a));
+        }
+    }
+
+private:
+    // The node's 27 coefficients with the cosine-lobe constants folded in, as ShUniformLookup
+    // stores them (float product).
+    void node(int i, int j, int k, float* out) const {
+        volume_->readNode(i, j, k, out);
+        for (int f = 0; f < kFloatsPerNode; ++f) out[f] = out[f] * float(sh::kCosineLobe[sh::bandOf(f / 3)]);
+    }
+
+    void locate(const Vec3f& x, int& i, int& j, int& k, float& fx, float& fy, float& fz) const {
+        const Vec3f g = (x - origin_) * invSpacing_;
+        if (outside_ == OutsidePolicy::Throw) {
+            const float tol = 1e-4f;
+            if (!(g.x >= -tol && g.y >= -tol && g.z >= -tol && g.x <= grid_.nx - 1 + tol && g.y <= grid_.ny - 1 + tol &&
+                  g.z <= grid_.nz - 1 + tol)) {
+                std::ostringstream s;
+                s << "point (" << x.x << ", " << x.y << ", " << x.z << ") is outside the volume";
+                throw ValueError(s.str());
+            }
+        }
+        split(g.x, grid_.nx, i, fx);
+        split(g.y, grid_.ny, j, fy);
+        split(g.z, grid_.nz, k, fz);
+    }
+
+    std::shared_ptr<const StreamedVolume> volume_;
+    GridSpec grid_;
+    OutsidePolicy outside_;
+    Vec3f origin_;
+    float invSpacing_;
+    bool depthWeights_ = false;
+};
+
+// The multi-level lookup on a streamed volume: ShLevelsLookup's descent and arithmetic
+// (sh_levels_lookup.cpp), with its child tables replaced by the refined-cell masks and the
+// nodes' presence (culled volumes) read from the grids' topology, and its node bricks by
+// voxels of each level's grids.
+class StreamingLevelsLookup final : public VolumeLookup {
+public:
+    StreamingLevelsLookup(std::shared_ptr<const StreamedVolume> volume, const GridSpec& grid0, OutsidePolicy outside)
+        : volume_(std::move(volume)), grid_(grid0), outside_(outside) {
+        const Volume& h = volume_->header();
+        K_ = h.refineFactor();
+        levels_ = int(h.levels.size());
+        culled_ = metaString(h.meta, "culling") == "solid-regions";
+        origin_ = Vec3f(grid_.origin);
+        invSpacing_ = float(1.0 / grid_.spacing);
+        depthWeights_ = volume_->hasDepth();
+    }
+
+    Bounds bounds() const override { return grid_.nodeBounds(); }
+    void setDepthWeights(bool on) override { depthWeights_ = on && volume_->hasDepth(); }
+    bool depthWeighted() const override { return depthWeights_; }
+
+    Rgb irradiance(const Vec3f& x, const Vec3f& n) const override {
+        float y[sh::kCoeffs];
+        sh::evalUnrolled(n, y);
+        const Vec3f g = (x - origin_) * invSpacing_;
+        if (outside_ == OutsidePolicy::Throw) {
+            const float tol = 1e-4f;
+            if (!(g.x >= -tol && g.y >= -tol && g.z >= -tol && g.x <= grid_.nx - 1 + tol && g.y <= grid_.ny - 1 + tol &&
+                  g.z <= grid_.nz - 1 + tol)) {
+                std::ostringstream s;
+                s << "point (" << x.x << ", " << x.y << ", " << x.z << ") is outside the volume";
+                throw ValueError(s.str());
+            }
+        }
+        int cell[3];
+        float f[3];
+        splitCell(g.x, grid_.nx, cell[0], f[0]);
+        splitCell(g.y, grid_.ny, cell[1], f[1]);
+        splitCell(g.z, grid_.nz, cell[2], f[2]);
+        int level = 0;
+        while (volume_->cellRefined(level, cell[0], cell[1], cell[2])) {
+            ++level;
+            for (int a = 0; a < 3; ++a) {
+                int local;
+                splitLocal(f[a], K_, local);
+                cell[a] = cell[a] * K_ + local;
+            }
+        }
+        if (leafCulled(level, cell)) return Rgb(0, 0, 0);
+        float p[8][kFloatsPerNode];
+        float d[8][depth::kFloatsPerNode];
+        const float* depth[8];
+        for (int c = 0; c < 8; ++c) {
+            node(level, cell[0] + (c & 1), cell[1] + ((c >> 1) & 1), cell[2] + (c >> 2), p[c]);
+            if (depthWeights_) volume_->readDepth(level, cell[0] + (c & 1), cell[1] + ((c >> 1) & 1), cell[2] + (c >> 2), d[c]);
+            depth[c] = d[c];
+        }
+        // interpolate() of sh_levels_lookup.cpp.
+        const float fx = f[0], fy = f[1], fz = f[2];
+        const float wx[2] = {1 - fx, fx}, wy[2] = {1 - fy, fy}, wz[2] = {1 - fz, fz};
+        float weights[8];
+        for (int c = 0; c < 8; ++c) weights[c] = wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2];
+        if (depthWeights_) query_detail::weightByDepth(weights, depth, fx, fy, fz);
+        float interp[kFloatsPerNode] = {};
+        for (int c = 0; c < 8; ++c) {
+            const float w = weights[c];
+            for (int k = 0; k < kFloatsPerNode; ++k) interp[k] += w * p[c][k];
+        }
+        Rgb e{0, 0, 0};
+        for (int c = 0; c < sh::kCoeffs; ++c) e += Rgb(interp[3 * c], interp[3 * c + 1], interp[3 * c + 2]) * y[c];
+        return e;
+    }
+
+    void shRadiance(const Vec3d& x, Rgb out[9]) const override {
+        const auto snap = [](double g) { return std::fabs(g - std::round(g)) < 1e-9 ? std::round(g) : g; };
+        const int dims[3] = {grid_.nx, grid_.ny, grid_.nz};
+        int cell[3];
+        double frac[3];
+        for (int a = 0; a < 3; ++a) {
+            double g = snap((x[a] - grid_.origin[a]) / grid_.spacing);
+            if (outside_ == OutsidePolicy::Throw && !(g >= -1e-4 && g <= dims[a] - 1 + 1e-4)) {
+                std::ostringstream s;
+                s << "point (" << x.x << ", " << x.y << ", " << x.z << ") is outside the volume";
+                throw ValueError(s.str());
+            }
+            if (!(g >= 0.0)) g = 0.0;
+            g = std::min(g, double(dims[a] - 1));
+            cell[a] = std::min(int(g), dims[a] - 2);
+            frac[a] = g - cell[a];
+        }
+        int level = 0;
+        while (volume_->cellRefined(level, cell[0], cell[1], cell[2])) {
+            ++level;
+            for (int a = 0; a < 3; ++a) {
+                const double g = snap(frac[a] * K_);
+                const int local = std::min(int(g), K_ - 1);
+                frac[a] = g - local;
+                cell[a] = cell[a] * K_ + local;
+            }
+        }
+        if (leafCulled(level, cell)) {
+            for (int c = 0; c < sh::kCoeffs; ++c) out[c] = Rgb(0, 0, 0);
+            return;
+        }
+        float p[8][kFloatsPerNode];
+        float d[8][depth::kFloatsPerNode];
+        for (int c = 0; c < 8; ++c) {
+            node(level, cell[0] + (c & 1), cell[1] + ((c >> 1) & 1), cell[2] + (c >> 2), p[c]);
+            if (depthWeights_) volume_->readDepth(level, cell[0] + (c & 1), cell[1] + ((c >> 1) & 1), cell[2] + (c >> 2), d[c]);
+        }
+        float weights[8];
+        for (int corner = 0; corner < 8; ++corner) {
+            double w = 1.0;
+            for (int a = 0; a < 3; ++a) w *= ((corner >> a) & 1) ? frac[a] : 1.0 - frac[a];
+            weights[corner] = float(w);
+        }
+        if (depthWeights_) {
+            const float* depth[8];
+            for (int c = 0; c < 8; ++c) depth[c] = d[c];
+            query_detail::weightByDepth(weights, depth, float(frac[0]), float(frac[1]), float(frac[2]));
+        }
+        double sum[kFloatsPerNode] = {};
+        for (int corner = 0; corner < 8; ++corner) {
+            const int b[3] = {corner & 1, (corner >> 1) & 1, corner >> 2};
+            double w = depthWeights_ ? double(weights[corner]) : 1.0;
+            if (!depthWeights_)
+                for (int a = 0; a < 3; ++a) w *= b[a] ? frac[a] : 1.0 - frac[a];
+            if (w == 0.0) continue;
+            for (int f = 0; f < kFloatsPerNode; ++f) sum[f] += w * p[corner][f];
+        }
+        for (int c = 0; c < sh::kCoeffs; ++c) {
+            const double a = sh::kCosineLobe[sh::bandOf(c)];
+            out[c] = Rgb(float(sum[3 * c] / a), float(sum[3 * c + 1] / a), float(sum[3 * c + 2] / a));
+        }
+    }
+
+private:
+    // As ShLevelsLookup's splitCell / splitLocal.
+    static void splitCell(float g, int n, int& i, float& f) {
+        if (!(g >= 0.0f)) g = 0.0f;
+        if (g > float(n - 1)) g = float(n - 1);
+        i = std::min(int(g), n - 2);
+        f = g - float(i);
+    }
+    static void splitLocal(float& f, int K, int& i) {
+        const float g = f * float(K);
+        i = std::min(int(g), K - 1);
+        f = g - float(i);
+    }
+    // A leaf cell of a culled volume with a corner that is not stored (ShLevelsLookup's kCulled;
+    // its level 0 is sparse only when culled).
+    bool leafCulled(int level, const int cell[3]) const {
+        if (!culled_ && level > 0) return false;
+        for (int c = 0; c < 8; ++c)
+            if (!volume_->nodeStored(level, cell[0] + (c & 1), cell[1] + ((c >> 1) & 1), cell[2] + (c >> 2))) return true;
+        return false;
+    }
+    void node(int level, int i, int j, int k, float* out) const {
+        volume_->readNode(level, i, j, k, out);
+        for (int f = 0; f < kFloatsPerNode; ++f) out[f] = out[f] * float(sh::kCosineLobe[sh::bandOf(f / 3)]);
+    }
+
+    std::shared_ptr<const StreamedVolume> volume_;
+    GridSpec grid_;
+    OutsidePolicy outside_;
+    int K_ = 1, levels_ = 1;
+    bool culled_ = false;
+    Vec3f origin_;
+    float invSpacing_ = 1;
+    bool depthWeights_ = false;
+};
+}  // namespace
+
+std::string streamingSupported(const StreamedVolume& volume) {
+    if (!volume.unsupported().empty()) return volume.unsupported();
+    if (volume.header().basis.kind != "sh2")
+        return "its basis is '" + volume.header().basis.kind + "' (streaming looks up SH order-2 volumes)";
+    return {};
+}
+
+IrradianceQuery makeStreamingQuery(std::shared_ptr<const StreamedVolume> volume, OutsidePolicy outside,
+                                   bool depthWeights) {
+    const std::string why = streamingSupported(*volume);
+    if (!why.empty()) throw FormatError("cannot stream this volume: " + why);
+    // Far from the origin: the lookup works relative to the anchor, as createAnchored does
+    // for in-memory volumes (shifted_lookup.cpp), so the float arithmetic is the same.
+    GridSpec grid = volume->header().levels[0].grid;
+    const Vec3d anchor = recenteringAnchor(grid.nodeBounds());
+    grid.origin += -anchor;
+    const bool levels = volume->header().levels.size() > 1;
+    std::unique_ptr<VolumeLookup> lookup;
+    if (levels) lookup = std::make_unique<StreamingLevelsLookup>(std::move(volume), grid, outside);
+    else lookup = std::make_unique<StreamingShLookup>(std::move(volume), grid, outside);
+    if (anchor != Vec3d(0, 0, 0)) lookup = shiftLookup(std::move(lookup), anchor);
+    lookup->setDepthWeights(depthWeights);
+    return IrradianceQuery(std::move(lookup), levels ? "sh2-levels-streamed" : "sh2-uniform-streamed");
+}
+
+}  // namespace vdblight

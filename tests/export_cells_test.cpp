@@ -1,0 +1,217 @@
+// export --cells (export_cells.h): the cells listed in cells.json tile the export lattice
+// (neighbours share exactly one texel plane, every texel is in a cell) and every cell texel
+// equals the whole-volume export's texel at the same lattice point, byte for byte; a streamed
+// volume exports the same cells as the volume in memory.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "cli_util.h"
+#include "random_volumes.h"
+#include "test_util.h"
+#include "vdblight/errors.h"
+#include "vdblight/export.h"
+#include "vdblight/export_cells.h"
+#include "vdblight/query_stream.h"
+#include "vdblight/vdb_io.h"
+
+using namespace vdblight;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string readFile(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+template <typename T>
+T at(const std::string& bytes, std::size_t offset) {
+    T v;
+    std::memcpy(&v, bytes.data() + offset, sizeof v);
+    return v;
+}
+
+// A KTX2 file's dims and its level-0 texel bytes (header fields per the KTX 2.0 spec).
+struct Ktx2 {
+    int dims[3];
+    std::string texels;
+};
+Ktx2 readKtx2(const fs::path& p) {
+    const std::string b = readFile(p);
+    Ktx2 k{{0, 0, 0}, {}};
+    EXPECT_GE(b.size(), 104u) << p;
+    if (b.size() < 104) return k;
+    for (int a = 0; a < 3; ++a) k.dims[a] = int(at<uint32_t>(b, 20 + 4 * a));
+    const uint64_t offset = at<uint64_t>(b, 80), length = at<uint64_t>(b, 88);
+    EXPECT_LE(offset + length, b.size()) << p;
+    if (offset + length > b.size()) return k;
+    k.texels = b.substr(offset, length);
+    return k;
+}
+
+// The cells of cells.json: directory, texel offset and dims, read with a plain scan.
+struct Cell {
+    std::string directory;
+    int offset[3], dims[3];
+};
+void readInts(const std::string& text, std::size_t& pos, const std::string& key, int out[3]) {
+    pos = text.find("\"" + key + "\": [", pos);
+    ASSERT_NE(pos, std::string::npos) << key;
+    pos += key.size() + 5;
+    ASSERT_EQ(std::sscanf(text.c_str() + pos, "%d, %d, %d", out, out + 1, out + 2), 3);
+}
+std::vector<Cell> readIndex(const fs::path& dir, int perAxis[3]) {
+    const std::string text = readFile(dir / "cells.json");
+    std::vector<Cell> cells;
+    std::size_t pos = 0;
+    readInts(text, pos, "cells_per_axis", perAxis);
+    while ((pos = text.find("\"directory\": \"", pos)) != std::string::npos) {
+        Cell c;
+        pos += 14;
+        c.directory = text.substr(pos, text.find('"', pos) - pos);
+        readInts(text, pos, "texel_offset", c.offset);
+        readInts(text, pos, "dims", c.dims);
+        cells.push_back(c);
+    }
+    return cells;
+}
+
+const std::vector<std::string>& textureNames(ExportLayout layout) {
+    static const std::vector<std::string> sh2 = {"sh2_sh_l0m0", "sh2_sh_l1m_neg1", "sh2_sh_l1m0", "sh2_sh_l1m1", "sh2_sh_l2m_neg2",
+                                                 "sh2_sh_l2m_neg1", "sh2_sh_l2m0", "sh2_sh_l2m1", "sh2_sh_l2m2"};
+    static const std::vector<std::string> packed = {"shAr", "shAg", "shAb", "shBr", "shBg", "shBb", "shC"};
+    static const std::vector<std::string> sh1 = {"shAr", "shAg", "shAb"};
+    return layout == ExportLayout::Sh2 ? sh2 : layout == ExportLayout::Sh1 ? sh1 : packed;
+}
+
+// Every cell texel equals the whole export's texel at the same lattice point; the cells
+// cover the lattice, overlapping only in shared boundary planes.
+void expectCellsMatchWhole(const fs::path& whole, const fs::path& cellsDir, ExportLayout layout, int k,
+                           std::size_t texelBytes) {
+    int perAxis[3];
+    const std::vector<Cell> cells = readIndex(cellsDir, perAxis);
+    ASSERT_EQ(cells.size(), std::size_t(perAxis[0]) * perAxis[1] * perAxis[2]);
+    std::size_t dirs = 0;
+    for (const auto& e : fs::directory_iterator(cellsDir)) dirs += e.is_directory();
+    EXPECT_EQ(dirs, cells.size());
+    for (const std::string& name : textureNames(layout)) {
+        const Ktx2 w = readKtx2(whole / (name + ".ktx2"));
+        std::vector<int> covered(std::size_t(w.dims[0]) * w.dims[1] * w.dims[2], 0);
+        for (const Cell& c : cells) {
+            const Ktx2 t = readKtx2(cellsDir / c.directory / (name + ".ktx2"));
+            for (int a = 0; a < 3; ++a) {
+                ASSERT_EQ(t.dims[a], c.dims[a]) << c.directory;
+                EXPECT_EQ(c.offset[a] % k, 0) << c.directory;
+                // Interior cells span k steps; the last one ends on the lattice's last texel.
+                const int end = c.offset[a] + c.dims[a] - 1;
+                EXPECT_TRUE(end == c.offset[a] + k || (end == w.dims[a] - 1 && c.dims[a] <= k + 1)) << c.directory;
+            }
+            for (int z = 0; z < t.dims[2]; ++z)
+                for (int y = 0; y < t.dims[1]; ++y)
+                    for (int x = 0; x < t.dims[0]; ++x) {
+                        const std::size_t wi =
+                            (std::size_t(c.offset[2] + z) * w.dims[1] + (c.offset[1] + y)) * w.dims[0] + (c.offset[0] + x);
+                        const std::size_t ti = (std::size_t(z) * t.dims[1] + y) * t.dims[0] + x;
+                        ASSERT_EQ(t.texels.compare(ti * texelBytes, texelBytes, w.texels, wi * texelBytes, texelBytes), 0)
+                            << name << " " << c.directory << " texel " << x << "," << y << "," << z;
+                        ++covered[wi];
+                    }
+        }
+        // Each texel lies in 2^(number of axes on which it is a shared cell boundary) cells.
+        for (int z = 0; z < w.dims[2]; ++z)
+            for (int y = 0; y < w.dims[1]; ++y)
+                for (int x = 0; x < w.dims[0]; ++x) {
+                    const int xyz[3] = {x, y, z};
+                    int expect = 1;
+                    for (int a = 0; a < 3; ++a)
+                        if (xyz[a] % k == 0 && xyz[a] > 0 && xyz[a] < w.dims[a] - 1) expect *= 2;
+                    ASSERT_EQ(covered[(std::size_t(z) * w.dims[1] + y) * w.dims[0] + x], expect) << x << "," << y << "," << z;
+                }
+    }
+}
+
+}  // namespace
+
+TEST(ExportCells, CellsTileTheLatticeAndEqualTheWholeExport) {
+    const Volume v = test::randomShVolume(13, 9, 7, 0.1, 21);
+    for (ExportLayout layout : {ExportLayout::Sh2Packed, ExportLayout::Sh2, ExportLayout::Sh1})
+        for (bool half : {true, false}) {
+            test::TempDir dir;
+            ExportOptions o;
+            o.layout = layout;
+            o.halfFloat = half;
+            exportTextures(v, dir.file("whole"), o);
+            for (int k : {4, 5, 12, 40}) {
+                const std::string out = dir.file("cells" + std::to_string(k));
+                const CellsSummary s = exportCells(IrradianceQuery(v), v, out, o, k);
+                EXPECT_EQ(s.cells[0], (13 - 2) / k + 1);
+                expectCellsMatchWhole(dir.file("whole"), out, layout, k, half ? 8 : 16);
+            }
+        }
+}
+
+TEST(ExportCells, AdaptiveLevelsToo) {
+    const Volume v = test::randomLevelsVolume(LayoutKind::Adaptive, 3, BasisDesc::sh2(), 6, -0.5f, 1.5f);
+    test::TempDir dir;
+    ExportOptions o;
+    exportTextures(v, dir.file("whole"), o);
+    exportCells(IrradianceQuery(v), v, dir.file("cells"), o, 6);
+    expectCellsMatchWhole(dir.file("whole"), dir.file("cells"), ExportLayout::Sh2Packed, 6, 8);
+}
+
+TEST(ExportCells, StreamedVolumeExportsTheSameFiles) {
+    test::TempDir dir;
+    writeVolume(test::randomShVolume(21, 6, 10, 0.3, 5), dir.file("v.vdb"));
+    const Volume v = readVolume(dir.file("v.vdb"));
+    ExportOptions o;
+    exportCells(IrradianceQuery(v), v, dir.file("memory"), o, 8);
+    auto streamed = std::make_shared<StreamedVolume>(dir.file("v.vdb"));
+    exportCells(makeStreamingQuery(streamed, OutsidePolicy::Clamp), streamed->header(), dir.file("streamed"), o, 8);
+    std::size_t files = 0;
+    for (const auto& e : fs::recursive_directory_iterator(dir.file("memory"))) {
+        if (!e.is_regular_file()) continue;
+        const fs::path other = fs::path(dir.file("streamed")) / fs::relative(e.path(), dir.file("memory"));
+        std::string a = readFile(e.path()), b = readFile(other);
+        if (e.path().filename() == "manifest.json" || e.path().filename() == "cells.json") {  // names the lookup kind
+            for (std::string* s : {&a, &b}) {
+                const std::size_t p = s->find("\"volume_kind\"");
+                s->erase(p, s->find('\n', p) - p);
+            }
+        }
+        EXPECT_EQ(a, b) << e.path();
+        ++files;
+    }
+    EXPECT_EQ(files, 3u * 1u * 2u * 8u + 1u);  // 6 cells x (7 textures + manifest) + cells.json
+}
+
+TEST(ExportCells, RefusesWhatCellsDoNotCarryAndLeavesNothing) {
+    test::TempDir dir;
+    const Volume v = test::randomShVolume(5, 5, 5, 0.1, 1);
+    ExportOptions o;
+    o.layout = ExportLayout::Vectors;
+    EXPECT_THROW(exportCells(IrradianceQuery(v), v, dir.file("a"), o, 2), FormatError);
+    o.layout = ExportLayout::Sh2Packed;
+    EXPECT_THROW(exportCells(IrradianceQuery(v), v, dir.file("b"), o, 0), ValueError);
+    Volume big = v;
+    for (float& f : big.levels[0].data) f = 1e6f;  // beyond half floats
+    EXPECT_THROW(exportCells(IrradianceQuery(big), big, dir.file("c"), o, 2), ValueError);
+    EXPECT_FALSE(fs::exists(dir.file("a")));
+    EXPECT_FALSE(fs::exists(dir.file("b")));
+    EXPECT_FALSE(fs::exists(dir.file("c")));
+}
+
+TEST(ExportCells, CommandLine) {
+    test::TempDir dir;
+    writeVolume(test::randomShVolume(9, 9, 9, 0.2, 3), dir.file("v.vdb"));
+    const test::CliRun r = test::runCli("export " + dir.file("v.vdb") + " -o " + dir.file("cells") + " --cells 4");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("2 x 2 x 2 cells"), std::string::npos) << r.output;
+    ASSERT_EQ(test::runCli("export " + dir.file("v.vdb") + " -o " + dir.file("whole")).status, 0);
+    expectCellsMatchWhole(dir.file("whole"), dir.file("cells"), ExportLayout::Sh2Packed, 4, 8);
+    test::expectCleanFailure(dir, "export " + dir.file("v.vdb") + " -o " + dir.file("x") + " --cells 4 --layout vectors",
+                             "SH layouts");
+}

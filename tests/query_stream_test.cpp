@@ -1,0 +1,179 @@
+// Streamed lookups (query_stream.h, vdb_stream.h) give the same bits as the in-memory lookup
+// of the same file, read only the leaves they touch, and refuse the kinds they do not read.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "random_volumes.h"
+#include "test_util.h"
+#include "vdblight/bins.h"
+#include "vdblight/depth_moments.h"
+#include "vdblight/errors.h"
+#include "vdblight/query.h"
+#include "vdblight/query_levels.h"
+#include "vdblight/query_stream.h"
+#include "vdblight/sampling.h"
+#include "vdblight/vdb_io.h"
+#include "vdblight/vdb_stream.h"
+
+namespace vdblight {
+namespace {
+
+bool sameBits(const Rgb& a, const Rgb& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+// Points in and around the node box (10 % beyond each side, so both clamping and the Throw
+// policy are exercised), with random unit normals; a few exactly on nodes.
+struct Probe {
+    Vec3d x;
+    Vec3f n;
+};
+std::vector<Probe> probes(const GridSpec& g, int count, uint64_t seed) {
+    Rng rng(seed);
+    const Bounds b = g.nodeBounds();
+    std::vector<Probe> out;
+    for (int p = 0; p < count; ++p) {
+        Probe q;
+        for (int a = 0; a < 3; ++a) q.x[a] = b.lo[a] + (rng.uniform() * 1.2 - 0.1) * (b.hi[a] - b.lo[a]);
+        if (p % 10 == 0) q.x = g.node(p % g.nx, (p / 3) % g.ny, (p / 7) % g.nz);
+        q.n = normalize(Vec3f(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f + 1e-3f));
+        out.push_back(q);
+    }
+    return out;
+}
+
+// Every lookup of the streamed query equals the in-memory one bit for bit (or both throw).
+void expectSameBits(const std::string& path, OutsidePolicy outside, bool depthWeights) {
+    const Volume whole = readVolume(path);
+    const IrradianceQuery memory(whole, outside, depthWeights);
+    auto file = std::make_shared<StreamedVolume>(path);
+    ASSERT_EQ(streamingSupported(*file), "");
+    const IrradianceQuery streamed = makeStreamingQuery(file, outside, depthWeights);
+    EXPECT_EQ(streamed.depthWeighted(), memory.depthWeighted());
+    EXPECT_EQ(streamed.bounds().lo, memory.bounds().lo);
+    EXPECT_EQ(streamed.bounds().hi, memory.bounds().hi);
+    int compared = 0, finer = 0;
+    const auto* levels = dynamic_cast<const ShLevelsLookup*>(&memory.lookup());
+    for (const Probe& p : probes(whole.levels[0].grid, 400, 7)) {
+        bool threwMemory = false, threwStreamed = false;
+        Rgb a, b, c, d;
+        try {
+            a = memory.irradiance(Vec3f(p.x), p.n);
+            c = memory.irradianceWorld(p.x, p.n);
+        } catch (const ValueError&) { threwMemory = true; }
+        try {
+            b = streamed.irradiance(Vec3f(p.x), p.n);
+            d = streamed.irradianceWorld(p.x, p.n);
+        } catch (const ValueError&) { threwStreamed = true; }
+        ASSERT_EQ(threwMemory, threwStreamed) << p.x.x << "," << p.x.y << "," << p.x.z;
+        if (threwMemory) continue;
+        if (levels && levels->levelAt(Vec3f(p.x)) > 0) ++finer;
+        ASSERT_TRUE(sameBits(a, b)) << "irradiance at " << p.x.x << "," << p.x.y << "," << p.x.z;
+        ASSERT_TRUE(sameBits(c, d)) << "irradianceWorld at " << p.x.x << "," << p.x.y << "," << p.x.z;
+        Rgb sa[9], sb[9];
+        memory.lookup().shRadiance(p.x, sa);
+        streamed.lookup().shRadiance(p.x, sb);
+        for (int j = 0; j < 9; ++j) ASSERT_TRUE(sameBits(sa[j], sb[j])) << "shRadiance " << j;
+        ++compared;
+    }
+    EXPECT_GT(compared, 200);
+    if (levels) EXPECT_GT(finer, 40) << "too few probes in refined cells";
+}
+
+TEST(QueryStream, SameBitsAsInMemoryLookup) {
+    test::TempDir dir;
+    const std::string path = dir.file("v.vdb");
+    writeVolume(test::randomShVolume(19, 11, 23, 0.13, 3), path);
+    for (OutsidePolicy outside : {OutsidePolicy::Clamp, OutsidePolicy::Throw}) expectSameBits(path, outside, true);
+}
+
+TEST(QueryStream, SameBitsWithHalfFloatsFlatAxesAndFarFromOrigin) {
+    test::TempDir dir;
+    Volume v = test::randomShVolume(9, 1, 12, 0.5, 5);  // one node along y
+    writeVolume(v, dir.file("flat.vdb"), WriteOptions{true, true});
+    expectSameBits(dir.file("flat.vdb"), OutsidePolicy::Clamp, true);
+    Volume far = test::randomShVolume(10, 8, 6, 0.25, 9);
+    far.levels[0].grid.origin = Vec3d(4.0e6, -2.5e5, 7.0e5);  // anchored lookups (shifted_lookup.h)
+    writeVolume(far, dir.file("far.vdb"));
+    expectSameBits(dir.file("far.vdb"), OutsidePolicy::Clamp, true);
+    expectSameBits(dir.file("far.vdb"), OutsidePolicy::Throw, true);
+}
+
+TEST(QueryStream, SameBitsWithDepthMomentsOnAndOff) {
+    test::TempDir dir;
+    Volume v = test::randomShVolume(14, 9, 10, 0.2, 11);
+    Rng rng(4);
+    v.levels[0].depth.resize(v.levels[0].grid.nodeCount() * depth::kFloatsPerNode);
+    for (float& f : v.levels[0].depth) f = float(int(rng.uniform() * 256.0f) % 256) / 255.0f;
+    writeVolume(v, dir.file("d.vdb"));
+    expectSameBits(dir.file("d.vdb"), OutsidePolicy::Clamp, true);
+    expectSameBits(dir.file("d.vdb"), OutsidePolicy::Clamp, false);
+}
+
+TEST(QueryStream, ReadsOnlyTheLeavesItTouches) {
+    test::TempDir dir;
+    const std::string path = dir.file("big.vdb");
+    writeVolume(test::randomShVolume(64, 64, 64, 0.1, 2), path);  // 8^3 leaves per grid
+    auto file = std::make_shared<StreamedVolume>(path);
+    EXPECT_EQ(file->totalLeaves(), 9u * 512u);
+    EXPECT_EQ(file->loadedLeaves(), 0u);
+    const uint64_t topology = file->residentBytes();
+    EXPECT_LT(topology * 4, 64ull * 64 * 64 * 108);  // internal nodes of 9 grids: 6 MB here, fixed per grid
+    const IrradianceQuery q = makeStreamingQuery(file, OutsidePolicy::Clamp);
+    const GridSpec& g = file->header().levels[0].grid;
+    q.irradianceWorld(g.node(20, 20, 20) + Vec3d(0.05, 0.05, 0.05), Vec3f(0, 1, 0));  // inside one leaf
+    EXPECT_EQ(file->loadedLeaves(), 9u);
+    q.irradianceWorld(g.node(20, 31, 7) + Vec3d(0.05, 0.05, 0.05), Vec3f(0, 1, 0));  // across leaf faces in y and z
+    EXPECT_EQ(file->loadedLeaves(), 9u + 9u * 4u);
+    EXPECT_GE(file->residentBytes(), topology + 45u * (512u * 12u - 64u));  // the values of the leaves read, less their file reference
+    EXPECT_TRUE(file->header().levels[0].data.empty());
+}
+
+TEST(QueryStream, SameBitsOnBilevelAndAdaptiveLevels) {
+    test::TempDir dir;
+    writeVolume(test::randomLevelsVolume(LayoutKind::Bilevel, 2, BasisDesc::sh2(), 1, -0.5f, 1.5f), dir.file("b.vdb"));
+    writeVolume(test::randomLevelsVolume(LayoutKind::Adaptive, 3, BasisDesc::sh2(), 2, -0.5f, 1.5f), dir.file("a.vdb"));
+    for (const char* name : {"b.vdb", "a.vdb"})
+        for (OutsidePolicy outside : {OutsidePolicy::Clamp, OutsidePolicy::Throw}) expectSameBits(dir.file(name), outside, true);
+    Volume far = test::randomLevelsVolume(LayoutKind::Adaptive, 3, BasisDesc::sh2(), 3, -0.5f, 1.5f);
+    for (VolumeLevel& l : far.levels) l.grid.origin += Vec3d(-3.0e6, 1.0e5, 2.5e6);
+    writeVolume(far, dir.file("far.vdb"));
+    expectSameBits(dir.file("far.vdb"), OutsidePolicy::Clamp, true);
+    Volume depth = test::randomLevelsVolume(LayoutKind::Adaptive, 3, BasisDesc::sh2(), 4, -0.5f, 1.5f);
+    Rng rng(8);
+    for (VolumeLevel& l : depth.levels) {
+        l.depth.resize(l.storedNodes() * depth::kFloatsPerNode);
+        for (float& f : l.depth) f = float(int(rng.uniform() * 256.0f) % 256) / 255.0f;
+    }
+    writeVolume(depth, dir.file("depth.vdb"));
+    expectSameBits(dir.file("depth.vdb"), OutsidePolicy::Clamp, true);
+    expectSameBits(dir.file("depth.vdb"), OutsidePolicy::Clamp, false);
+}
+
+// A bake with --cull-solids: level 0 is sparse and cells with a culled corner read 0.
+TEST(QueryStream, SameBitsOnACulledBake) {
+    test::TempDir dir;
+    const std::string vdb = dir.file("culled.vdb");
+    std::string log;
+    ASSERT_EQ(test::runCommand(std::string(VDBLIGHT_CLI_PATH) + " bake -o " + vdb +
+                                   " --resolution 12 --rays 16 --bounces 1 --layout bilevel --cull-solids --quiet 2>&1",
+                               &log),
+              0)
+        << log;
+    ASSERT_EQ(metaString(readVolume(vdb).meta, "culling"), "solid-regions");
+    expectSameBits(vdb, OutsidePolicy::Clamp, true);
+}
+
+TEST(QueryStream, RefusesKindsItDoesNotRead) {
+    test::TempDir dir;
+    Volume bins = test::randomLevelsVolume(LayoutKind::Adaptive, 2, bins::basis(bins::parseBasisSpec("bins:2")), 1, 0.0f, 1.0f);
+    writeVolume(bins, dir.file("bins.vdb"));
+    auto other = std::make_shared<StreamedVolume>(dir.file("bins.vdb"));
+    EXPECT_NE(streamingSupported(*other).find("basis"), std::string::npos) << streamingSupported(*other);
+    EXPECT_THROW(makeStreamingQuery(other, OutsidePolicy::Clamp), FormatError);
+    EXPECT_THROW(StreamedVolume(dir.file("missing.vdb")), IoError);
+    test::writeTextFile(dir.file("junk.vdb"), "not a vdb file");
+    EXPECT_THROW(StreamedVolume(dir.file("junk.vdb")), FormatError);
+}
+
+}  // namespace
+}  // namespace vdblight
