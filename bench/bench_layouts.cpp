@@ -166,7 +166,7 @@ struct Probe {
 std::vector<char> nearPoints(const Probe& probe, const LevelLayout& bilevel) {
     Volume v;
     v.basis = BasisDesc::sh2();
-    v.levels = bilevel.levels;
+    v.levels = volumeLevels(bilevel.levels);
     for (VolumeLevel& l : v.levels) l.data.assign(l.storedNodes() * 27, 0.0f);
     const ShLevelsLookup mask(v, OutsidePolicy::Clamp);
     std::vector<char> near(probe.points.size());
@@ -416,7 +416,7 @@ void benchLayouts(const Scene& scene, int threads, bool quick, const LayoutBench
         [&] {
             Volume v;
             v.basis = BasisDesc::sh2();
-            v.levels = bilevel.levels;
+            v.levels = volumeLevels(bilevel.levels);
             for (VolumeLevel& l : v.levels) l.data.assign(l.storedNodes() * 27, 0.0f);
             return v;
         }(),

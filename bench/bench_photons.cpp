@@ -32,6 +32,7 @@
 #include "vdblight/scene_generators.h"
 #include "vdblight/trace.h"
 #include "vdblight/vector_grid_lookup.h"
+#include "vdblight/volume_compact.h"
 #include "bench_args.h"
 #include "bench_scenes.h"
 #include "bench_util.h"

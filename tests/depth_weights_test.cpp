@@ -302,7 +302,7 @@ TEST_F(ThinWall, LevelsMatchTheReference) {
     const LevelLayout layout = placeLevels(thinWallGrid(), scene_->positions, scene_->indices, placement, 256);
     Volume v;
     v.basis = BasisDesc::sh2();
-    v.levels = layout.levels;
+    v.levels = volumeLevels(layout.levels);
     for (VolumeLevel& l : v.levels) l.data.resize(l.storedNodes() * 27);
     randomData(v, 4);
     randomDepth(v, 5);

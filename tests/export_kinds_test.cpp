@@ -19,6 +19,7 @@
 #include "vdblight/sh.h"
 #include "vdblight/slice.h"
 #include "vdblight/vector_grid_lookup.h"
+#include "vdblight/volume_compact.h"
 
 using namespace vdblight;
 namespace fs = std::filesystem;

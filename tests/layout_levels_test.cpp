@@ -92,7 +92,7 @@ LevelLayout placeTestSoup(int n, LayoutKind kind, int refine = LevelsPlacement{}
 Volume layoutVolume(const LevelLayout& layout, uint32_t seed) {
     Volume v;
     v.basis = BasisDesc::sh2();
-    v.levels = layout.levels;
+    v.levels = volumeLevels(layout.levels);
     std::mt19937 rng(seed);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     for (VolumeLevel& l : v.levels) {
@@ -277,7 +277,7 @@ TEST(Seams, LookupIsContinuousAcrossLevelBoundaries) {
 TEST(Seams, SeamNodesTouchAnUnrefinedCoarseCellAndOthersDoNot) {
     const LevelLayout layout = placeTestSoup(6, LayoutKind::Bilevel);
     const std::vector<std::size_t> seams = seamNodes(layout.levels, 1, 3);
-    const VolumeLevel& fine = layout.levels[1];
+    const LevelTopology& fine = layout.levels[1];
     EXPECT_GT(seams.size(), 0u);
     EXPECT_LT(seams.size(), fine.activeNodes.size());
     // A node strictly inside a refined coarse cell is never a seam node.

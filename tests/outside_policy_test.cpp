@@ -21,6 +21,7 @@
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
 #include "vdblight/vector_grid_lookup.h"
+#include "vdblight/volume_compact.h"
 
 using namespace vdblight;
 

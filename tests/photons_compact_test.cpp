@@ -18,6 +18,7 @@
 #include "vdblight/trace.h"
 #include "vdblight/vdb_io.h"
 #include "vdblight/vector_grid_lookup.h"
+#include "vdblight/volume_compact.h"
 
 using namespace vdblight;
 

@@ -50,7 +50,7 @@ inline Volume randomLevelsVolume(LayoutKind kind, int levels, const BasisDesc& b
     const LevelLayout layout = placeLevels(g0, pos, idx, p, floats * 4);
     Volume v;
     v.basis = basis;
-    v.levels = layout.levels;
+    v.levels = volumeLevels(layout.levels);
     std::mt19937 rng(seed);
     std::uniform_real_distribution<float> u(lo, hi);
     for (VolumeLevel& l : v.levels) {

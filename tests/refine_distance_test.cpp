@@ -51,7 +51,7 @@ std::vector<uint64_t> bruteRefined(const LevelLayout& layout, std::size_t l, dou
         for (int j = 0; j + 1 < g.ny; ++j)
             for (int i = 0; i + 1 < g.nx; ++i) {
                 if (l > 0) {
-                    const VolumeLevel& parent = layout.levels[l - 1];
+                    const LevelTopology& parent = layout.levels[l - 1];
                     if (!isRefined(parent, parent.grid.index(i / K, j / K, k / K))) continue;
                 }
                 const auto testBox = [&](const GridSpec& gg, int ii, int jj, int kk) {

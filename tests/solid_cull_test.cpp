@@ -111,7 +111,7 @@ LevelLayout place(const TestScene& t, LayoutKind kind, int resolution, int level
     return placeLevels(g0, t.scene.positions, t.scene.indices, p, 1);
 }
 
-bool refined(const VolumeLevel& l, uint64_t cell) {
+bool refined(const LevelTopology& l, uint64_t cell) {
     return std::binary_search(l.refinedCells.begin(), l.refinedCells.end(), cell);
 }
 
@@ -170,8 +170,8 @@ std::vector<std::vector<uint64_t>> bruteForceCulled(const TestScene& t, const Le
 std::vector<std::vector<uint64_t>> removedNodes(const LevelLayout& full, const LevelLayout& culled) {
     std::vector<std::vector<uint64_t>> out(full.levels.size());
     for (std::size_t l = 0; l < full.levels.size(); ++l) {
-        const VolumeLevel& a = full.levels[l];
-        const VolumeLevel& b = culled.levels[l];
+        const LevelTopology& a = full.levels[l];
+        const LevelTopology& b = culled.levels[l];
         for (uint64_t n = 0; n < a.grid.nodeCount(); ++n) {
             const bool inA = !a.sparse() || std::binary_search(a.activeNodes.begin(), a.activeNodes.end(), n);
             const bool inB = !b.sparse() || std::binary_search(b.activeNodes.begin(), b.activeNodes.end(), n);
@@ -185,7 +185,7 @@ std::vector<std::vector<uint64_t>> removedNodes(const LevelLayout& full, const L
 Volume zeroVolume(const LevelLayout& layout) {
     Volume v;
     v.basis = BasisDesc::sh2();
-    v.levels = layout.levels;
+    v.levels = volumeLevels(layout.levels);
     for (VolumeLevel& l : v.levels) {
         l.data.assign(l.storedNodes() * 27, 0.0f);
         for (std::size_t n = 0; n < l.storedNodes(); ++n) l.data[n * 27] = 1.0f;  // L00 = 1

@@ -29,6 +29,7 @@
 #include "vdblight/tiles.h"
 #include "vdblight/trace.h"
 #include "vdblight/vdb_io.h"
+#include "vdblight/volume_compact.h"
 
 namespace vdblight::app {
 
@@ -256,9 +257,9 @@ void run(const BakeCommand& c) {
         }
     }
     // The tile's nodes once the layout is known (every level of it).
-    auto selectTile = [&](const std::vector<VolumeLevel>& levels) -> const NodeMask* {
+    auto selectTile = [&](const std::vector<LevelTopology>& levels) -> const NodeMask* {
         if (c.tiles <= 0) return nullptr;
-        tileMask = tileNodeMask(levels, c.tiles, c.tile);
+        tileMask = tileNodeMask(volumeLevels(levels), c.tiles, c.tile);
         return &tileMask;
     };
 
@@ -333,7 +334,7 @@ void run(const BakeCommand& c) {
         bo.only = selectTile(layout.levels);
         volume = bakeBins(scene, tracer, layout, bo, &progress, &stats);
     } else if (levels.kind == LayoutKind::Uniform) {
-        VolumeLevel shape;
+        LevelTopology shape;
         shape.grid = grid;
         options.only = selectTile({shape});
         volume = bakeSelected(c, scene, tracer, grid, options, &progress, &stats);

@@ -8,7 +8,6 @@
 #include "vdblight/bins.h"
 #include "vdblight/errors.h"
 #include "vdblight/query.h"
-#include "vdblight/query_levels.h"
 #include "vdblight/scene.h"
 #include "vdblight/scene_lights.h"
 #include "vdblight/scene_origin.h"
@@ -126,7 +125,7 @@ void run(const QueryCommand& c) {
         throw ValueError("--no-depth-weights: '" + c.volume + "' has no depth moments (bake --depth-moments)");
     const IrradianceQuery query = opened.streamed ? makeStreamingQuery(opened.streamed, policy, !c.noDepthWeights)
                                                   : IrradianceQuery(volume, policy, !c.noDepthWeights);
-    const bool moment = volume.basis.kind.rfind("moment:", 0) == 0;
+    const bool moment = query.viewDependent();
     if (moment && c.view.empty())
         throw ValueError("a moment volume ('" + volume.basis.kind + "') needs --view vx,vy,vz (towards the eye)");
     if (!moment && !c.view.empty())
@@ -146,12 +145,11 @@ void run(const QueryCommand& c) {
     std::size_t clamped = 0, culled = 0, negative = 0;
     // Culled volumes flag points in solid cells. A volume far from the origin is wrapped in a
     // shifted lookup and is not checked here (its lookup still returns the documented 0).
-    const auto* levels = dynamic_cast<const ShLevelsLookup*>(&query.lookup());
     const bool far = recenteringAnchor(query.bounds()) != Vec3d(0, 0, 0);
     for (std::size_t i = 0; i < points.size(); ++i) {
         const ReferencePoint& p = points[i];
         if (!query.inside(world[i])) ++clamped;
-        if (levels && levels->inCulledCell(p.position)) ++culled;
+        if (query.inCulledCell(p.position)) ++culled;
         const Vec3f n = normalize(p.normal);
         const Vec3f d = moment ? normalize(bins::reflectView(view, n)) : n;  // moment: the reflected view vector
         Rgb e = cubic ? cubic->irradiance(p.position, d) : query.irradianceWorld(world[i], d);

@@ -25,7 +25,7 @@
 #include <vector>
 
 #include "vdblight/math.h"
-#include "vdblight/volume.h"
+#include "vdblight/basis_desc.h"
 
 namespace vdblight {
 namespace bins {
@@ -46,6 +46,9 @@ BasisSpec parseBasisSpec(const std::string& text);
 std::string kindName(const BasisSpec& spec);
 /// True if `kind` is a bins or moment basis kind; fills `spec` from it and the channel count.
 bool specFromVolume(const BasisDesc& basis, BasisSpec& spec);
+/// True if the basis stores a view-dependent quantity: a moment basis ("moment:n"), looked
+/// up along the view vector mirrored about the normal (reflectView).
+bool viewDependent(const BasisDesc& basis);
 
 /// The BasisDesc: 2 R^2 channels named "bin_h<h>_u<iu>_v<iv>" in channel order.
 BasisDesc basis(const BasisSpec& spec);

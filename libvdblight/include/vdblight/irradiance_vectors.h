@@ -15,7 +15,7 @@
 #pragma once
 
 #include "vdblight/math.h"
-#include "vdblight/volume.h"
+#include "vdblight/basis_desc.h"
 
 namespace vdblight {
 namespace iv {

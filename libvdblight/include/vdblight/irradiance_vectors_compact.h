@@ -11,12 +11,12 @@
 // irradiance_vectors.h: 0 = +x, 1 = -x, ..., 5 = -z); names "ivc_<axis><pos|neg>_rgb" and
 // "ivc_<axis><pos|neg>_dir". A lookup interpolates colour and direction separately
 // (trilinear or tricubic, VectorGridLookup), renormalises the direction, then blends by n^2
-// as the full form does.
+// as the full form does. Compacting a whole volume: iv::compact in volume_compact.h.
 #pragma once
 
+#include "vdblight/basis_desc.h"
 #include "vdblight/irradiance_vectors.h"
 #include "vdblight/math.h"
-#include "vdblight/volume.h"
 
 namespace vdblight {
 namespace iv {
@@ -26,10 +26,6 @@ constexpr int kCompactFloatsPerNode = kCompactChannels * 3;
 
 /// The volume basis "irradiance_vectors_compact": 12 channels in the order above.
 BasisDesc compactBasis();
-
-/// The compact form of a (single-level) irradiance-vector volume: same grid, metadata plus
-/// `compact_form`. Throws FormatError for another kind of volume.
-Volume compact(const Volume& full);
 
 /// Compacts one node: `full` holds kFloatsPerNode floats, `out` gets kCompactFloatsPerNode.
 void compactNode(const float* full, float* out);

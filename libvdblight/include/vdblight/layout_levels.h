@@ -4,11 +4,12 @@
 // Level l has spacing h0 / K^l, the same origin as level 0 and dims (n_{l-1} - 1) K + 1, so
 // node (i, j, k) of level l-1 is node (K i, K j, K k) of level l. A cell is named by its
 // lower corner node. Level 0 is dense; a finer level holds only the corners of the children
-// of refined cells (VolumeLevel::activeNodes), so a query never needs any other node.
+// of refined cells (LevelTopology::activeNodes), so a query never needs any other node.
 //
 // Seams: a fine node that touches a coarser cell which is not refined (on a shared face,
 // edge or corner) is a "seam node". Its value is not baked but set to what the coarser
-// level interpolates there (applySeamConstraints), which makes the reconstruction C0
+// level interpolates there (applySeamConstraints in volume.h, with the stencils of
+// level_topology.h), which makes the reconstruction C0
 // across level boundaries: trilinear interpolation reproduces the coarse (bi)linear
 // function exactly on the shared face.
 #pragma once
@@ -19,8 +20,8 @@
 #include <vector>
 
 #include "vdblight/layout.h"
+#include "vdblight/level_topology.h"
 #include "vdblight/math.h"
-#include "vdblight/volume.h"
 
 namespace vdblight {
 
@@ -52,7 +53,7 @@ struct LevelsPlacement {
 struct LevelLayout {
     LayoutKind kind = LayoutKind::Uniform;
     int refine = 1;
-    std::vector<VolumeLevel> levels;  ///< data left empty
+    std::vector<LevelTopology> levels;  ///< which nodes exist (a bake adds the data: VolumeLevel)
     /// With LevelsPlacement::keepFinestGeometry: cells of the finest level (that exist, i.e.
     /// children of refined cells) overlapped by a triangle (same test as refinement), ascending.
     std::vector<uint64_t> finestGeometryCells;
@@ -77,24 +78,5 @@ struct LevelLayout {
 LevelLayout placeLevels(const GridSpec& level0, const std::vector<Vec3f>& positions,
                         const std::vector<uint32_t>& indices, const LevelsPlacement& placement,
                         std::size_t bytesPerNode);
-
-/// Position in level.data of the node with linear index `linear`, or -1 if it is not active.
-int64_t findNode(const VolumeLevel& level, uint64_t linear);
-/// True if the cell with lower-corner linear index `cell` is refined.
-bool isRefined(const VolumeLevel& level, uint64_t cell);
-
-/// The descent every simple multi-level lookup does: x is clamped into level 0's node box,
-/// then followed down through refined cells. Returns the finest level whose cell contains x,
-/// with that cell's lower node indices and the fractions towards the next nodes (an axis
-/// with a single node has cell 0, fraction 0). `refine` is the volume's refinement factor.
-std::size_t finestCellAt(const std::vector<VolumeLevel>& levels, int refine, const Vec3d& x, int cell[3],
-                         double frac[3]);
-
-/// Seam nodes of level `level` (>= 1): positions in levels[level].activeNodes, ascending.
-std::vector<std::size_t> seamNodes(const std::vector<VolumeLevel>& levels, int level, int refine);
-
-/// Sets every seam node of levels 1.. (coarse to fine) to the coarser level's trilinear
-/// interpolation at its position. Requires a structurally valid volume with filled data.
-void applySeamConstraints(Volume& volume);
 
 }  // namespace vdblight

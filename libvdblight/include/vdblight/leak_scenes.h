@@ -8,7 +8,7 @@
 
 #include <vector>
 
-#include "vdblight/layout.h"
+#include "vdblight/math.h"
 #include "vdblight/scene.h"
 
 namespace vdblight {

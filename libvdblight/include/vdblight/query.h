@@ -69,6 +69,14 @@ public:
     virtual void setDepthWeights(bool on) { (void)on; }
     /// True if lookups are weighted by depth moments.
     virtual bool depthWeighted() const { return false; }
+    /// Culled volumes (solid_cull.h): true if the cell the lookup at x ends in has a culled
+    /// corner (inside closed geometry; the lookup returns 0 there). Default: false, for kinds
+    /// that hold no culled volumes, and for wrappers (a volume far from the origin, direct
+    /// light), which do not report it.
+    virtual bool inCulledCell(const Vec3f& x) const {
+        (void)x;
+        return false;
+    }
 };
 
 /// A registry entry: `accepts` says whether a volume is of this kind, `create` builds it.
@@ -103,6 +111,11 @@ public:
     const char* kind() const { return kind_; }
     /// True if lookups weight the corners by the volume's depth moments.
     bool depthWeighted() const { return lookup_->depthWeighted(); }
+    /// True if the volume's basis stores a view-dependent quantity (moment volumes, bins.h):
+    /// look it up along bins::reflectView(view, n) instead of n.
+    bool viewDependent() const { return viewDependent_; }
+    /// True if the lookup at x ends in a culled cell (VolumeLookup::inCulledCell).
+    bool inCulledCell(const Vec3f& x) const { return lookup_->inCulledCell(x); }
     /// The lookup behind this query (for per-basis hooks such as shRadiance).
     const VolumeLookup& lookup() const { return *lookup_; }
 
@@ -110,6 +123,7 @@ private:
     std::unique_ptr<VolumeLookup> lookup_;
     Bounds bounds_;
     const char* kind_ = "";
+    bool viewDependent_ = false;
 };
 
 /// The fast lookup for single-level SH order-2 volumes (exposed for tests and benchmarks).

@@ -28,7 +28,7 @@ public:
     /// Culled volumes (solid_cull.h): true if the cell the lookup at x ends in has a culled
     /// (inactive) corner; such a cell lies inside closed geometry, and irradiance() and
     /// shRadiance() return 0 there instead of reading the missing nodes.
-    bool inCulledCell(const Vec3f& x) const;
+    bool inCulledCell(const Vec3f& x) const override;
     void setDepthWeights(bool on) override { depthWeights_ = on && hasDepth_; }
     bool depthWeighted() const override { return depthWeights_; }
 

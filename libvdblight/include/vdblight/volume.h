@@ -11,9 +11,10 @@
 #include <variant>
 #include <vector>
 
+#include "vdblight/basis_desc.h"
 #include "vdblight/direct_light.h"
 #include "vdblight/depth_moments.h"
-#include "vdblight/layout.h"
+#include "vdblight/level_topology.h"
 #include "vdblight/math.h"
 
 namespace vdblight {
@@ -25,18 +26,9 @@ using MetaValue = std::variant<std::string, int64_t, double>;
 /// Metadata keys without the "vdblight:" prefix that the file adds.
 using Metadata = std::map<std::string, MetaValue>;
 
-/// The directional basis stored at each node.
-struct BasisDesc {
-    std::string kind = "sh2";                ///< "sh2": real SH order 2, radiance coefficients
-    std::vector<std::string> channelNames;   ///< grid name of each channel, in channel order
-
-    int channelCount() const { return int(channelNames.size()); }
-    /// SH order 2 radiance: nine channels named as sh::gridName(j).
-    static BasisDesc sh2();
-};
-
-struct VolumeLevel {
-    GridSpec grid;
+/// A level: its topology (grid, active nodes, refined cells; level_topology.h) plus the
+/// channels stored at its nodes.
+struct VolumeLevel : LevelTopology {
     /// Node-major: data[(node * channels + c) * 3 + rgb], node = grid.index(i, j, k).
     std::vector<float> data;
     /// Optional, empty or one value per node in [0, 1]: the fraction of the node's
@@ -51,19 +43,6 @@ struct VolumeLevel {
     /// (0..1) of each listed light, node-major: [node * lights + i]; written as the FloatGrids
     /// `light_visibility_<i>` (docs/format.md). Empty in the other modes.
     std::vector<float> lightVisibility;
-    /// Sparse levels (refined levels of a bilevel / n-level volume): the linear indices
-    /// grid.index(i, j, k) of the nodes that exist, strictly ascending; `data` then holds
-    /// these nodes in this order (its "node" is a position in this list). Empty = dense:
-    /// every node of the box exists and `data` is in node order.
-    std::vector<uint64_t> activeNodes;
-    /// Cells of this level refined into the next level, each named by the linear index
-    /// grid.index(i, j, k) of its lower corner node, strictly ascending. Empty on the
-    /// finest level (and on a single-level volume).
-    std::vector<uint64_t> refinedCells;
-
-    bool sparse() const { return !activeNodes.empty(); }
-    /// Nodes stored in `data`.
-    std::size_t storedNodes() const { return sparse() ? activeNodes.size() : grid.nodeCount(); }
     const float* nodeData(std::size_t node, int channels) const { return data.data() + node * channels * 3; }
     bool hasDepth() const { return !depth.empty(); }
     const float* nodeDepth(std::size_t node) const { return depth.data() + node * depth::kFloatsPerNode; }
@@ -77,7 +56,7 @@ struct Volume {
     DirectLightSet direct;
 
     /// Throws FormatError if levels, grids and data sizes are inconsistent, or if the level
-    /// structure of a multi-level volume is (see validateLevelStructure in layout_levels.h).
+    /// structure of a multi-level volume is (validateLevelStructure below).
     void validate() const;
     /// Refinement factor K between consecutive levels (1 for a single-level volume).
     int refineFactor() const;
@@ -91,6 +70,19 @@ struct Volume {
 /// corners of the children of the coarser level's refined cells. Throws FormatError naming
 /// the first problem.
 void validateLevelStructure(const Volume& volume);
+
+/// Levels with the given topology (a placed layout's, LevelLayout::levels) and no data yet.
+std::vector<VolumeLevel> volumeLevels(const std::vector<LevelTopology>& topology);
+
+/// Sets every seam node of levels 1.. (coarse to fine) to the coarser level's trilinear
+/// interpolation at its position (seams: layout_levels.h; stencils: seamStencils).
+/// Requires a structurally valid volume with filled data.
+void applySeamConstraints(Volume& volume);
+
+/// Places a volume baked in a scene's local frame into the world: adds `origin` to every
+/// level's grid origin (double) and moves its listed direct lights. The .vdb written from it
+/// maps index space to world space (scene_origin.h, docs/scene.md "Large coordinates").
+void placeVolumeInWorld(Volume& volume, const Vec3d& origin);
 
 /// Reads a metadata value (with conversion between int and double), or `fallback`.
 double metaNumber(const Metadata& meta, const std::string& key, double fallback);

@@ -84,7 +84,7 @@ Volume bakeBins(const Scene& scene, const Tracer& tracer, const LevelLayout& lay
 
     Volume volume;
     volume.basis = bins::basis(options.basis);
-    volume.levels = layout.levels;
+    volume.levels = volumeLevels(layout.levels);
     for (VolumeLevel& l : volume.levels) l.data.assign(l.storedNodes() * floats, 0.0f);
     volume.validate();
 

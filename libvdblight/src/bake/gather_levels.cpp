@@ -29,7 +29,7 @@ Volume bakeShGatherLevels(const Scene& scene, const Tracer& tracer, const LevelL
 
     Volume volume;
     volume.basis = BasisDesc::sh2();
-    volume.levels = layout.levels;
+    volume.levels = volumeLevels(layout.levels);
     for (VolumeLevel& l : volume.levels) {
         l.data.assign(l.storedNodes() * kFloats, 0.0f);
         if (options.depthMoments) l.depth.assign(l.storedNodes() * depth::kFloatsPerNode, 0.0f);

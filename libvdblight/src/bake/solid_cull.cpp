@@ -26,7 +26,7 @@ Idx unpack(const GridSpec& g, uint64_t linear) {
 bool contains(const std::vector<uint64_t>& sorted, uint64_t v) { return std::binary_search(sorted.begin(), sorted.end(), v); }
 
 /// Cells of level l that exist: every cell of level 0; children of refined cells below.
-std::vector<uint64_t> existingCells(const std::vector<VolumeLevel>& levels, std::size_t l, int K) {
+std::vector<uint64_t> existingCells(const std::vector<LevelTopology>& levels, std::size_t l, int K) {
     std::vector<uint64_t> cells;
     const GridSpec& g = levels[l].grid;
     if (l == 0) {
@@ -35,7 +35,7 @@ std::vector<uint64_t> existingCells(const std::vector<VolumeLevel>& levels, std:
                 for (int i = 0; i + 1 < g.nx; ++i) cells.push_back(g.index(i, j, k));
         return cells;
     }
-    const VolumeLevel& parent = levels[l - 1];
+    const LevelTopology& parent = levels[l - 1];
     for (uint64_t p : parent.refinedCells) {
         const Idx c = unpack(parent.grid, p);
         for (int w = 0; w < K; ++w)
@@ -47,11 +47,11 @@ std::vector<uint64_t> existingCells(const std::vector<VolumeLevel>& levels, std:
 }
 
 /// True if the cell (i, j, k) of level l exists (see existingCells).
-bool cellExists(const std::vector<VolumeLevel>& levels, std::size_t l, int K, int i, int j, int k) {
+bool cellExists(const std::vector<LevelTopology>& levels, std::size_t l, int K, int i, int j, int k) {
     const GridSpec& g = levels[l].grid;
     if (i < 0 || j < 0 || k < 0 || i > g.nx - 2 || j > g.ny - 2 || k > g.nz - 2) return false;
     if (l == 0) return true;
-    const VolumeLevel& parent = levels[l - 1];
+    const LevelTopology& parent = levels[l - 1];
     return contains(parent.refinedCells, parent.grid.index(i / K, j / K, k / K));
 }
 
@@ -88,7 +88,7 @@ std::vector<std::vector<uint64_t>> classifySolidCells(const LevelLayout& layout,
     if (options.raysPerCell < 1 || options.maxCellsPerComponent < 1 || !(options.backfaceFraction > 0.0) ||
         options.backfaceFraction > 1.0)
         throw ValueError("solid culling needs at least one ray and one cell per region and a back-face fraction in (0, 1]");
-    const std::vector<VolumeLevel>& levels = layout.levels;
+    const std::vector<LevelTopology>& levels = layout.levels;
     const std::size_t L = levels.size();
     std::vector<std::vector<uint64_t>> solid(L);
     if (L < 2) return solid;
@@ -209,8 +209,8 @@ std::vector<std::vector<uint64_t>> classifySolidCells(const LevelLayout& layout,
 
 std::vector<uint64_t> culledNodes(const LevelLayout& layout, const std::vector<std::vector<uint64_t>>& solid,
                                   std::size_t l) {
-    const std::vector<VolumeLevel>& levels = layout.levels;
-    const VolumeLevel& level = levels.at(l);
+    const std::vector<LevelTopology>& levels = layout.levels;
+    const LevelTopology& level = levels.at(l);
     const GridSpec& g = level.grid;
     const int K = layout.refine;
     std::vector<uint64_t> out;
@@ -250,7 +250,7 @@ uint64_t cullSolidNodes(LevelLayout& layout, const Tracer& tracer, const SolidCu
     for (std::size_t l = 0; l < layout.levels.size(); ++l) culled[l] = culledNodes(layout, solid, l);
     for (std::size_t l = 0; l < layout.levels.size(); ++l) {
         if (culled[l].empty()) continue;
-        VolumeLevel& level = layout.levels[l];
+        LevelTopology& level = layout.levels[l];
         std::vector<uint64_t> kept;
         const auto keep = [&](uint64_t n) {
             if (!std::binary_search(culled[l].begin(), culled[l].end(), n)) kept.push_back(n);

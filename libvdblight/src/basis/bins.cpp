@@ -72,6 +72,8 @@ BasisSpec parseBasisSpec(const std::string& text) {
     return spec;
 }
 
+bool viewDependent(const BasisDesc& basis) { return basis.kind.rfind("moment:", 0) == 0; }
+
 std::string kindName(const BasisSpec& spec) {
     switch (spec.kind) {
         case BasisSpec::Kind::Bins: return "bins:" + std::to_string(spec.resolution);

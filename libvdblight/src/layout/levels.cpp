@@ -146,7 +146,7 @@ const char* layoutName(LayoutKind kind) {
 
 uint64_t LevelLayout::totalNodes() const {
     uint64_t n = 0;
-    for (const VolumeLevel& l : levels) n += l.storedNodes();
+    for (const LevelTopology& l : levels) n += l.storedNodes();
     return n;
 }
 
@@ -154,40 +154,14 @@ double LevelLayout::denseEquivalentNodes() const {
     return levels.empty() ? 0.0 : double(levels.back().grid.nodeCount());
 }
 
-int64_t findNode(const VolumeLevel& level, uint64_t linear) {
+int64_t findNode(const LevelTopology& level, uint64_t linear) {
     if (!level.sparse()) return linear < level.grid.nodeCount() ? int64_t(linear) : -1;
     const auto it = std::lower_bound(level.activeNodes.begin(), level.activeNodes.end(), linear);
     return it != level.activeNodes.end() && *it == linear ? int64_t(it - level.activeNodes.begin()) : -1;
 }
 
-bool isRefined(const VolumeLevel& level, uint64_t cell) {
+bool isRefined(const LevelTopology& level, uint64_t cell) {
     return std::binary_search(level.refinedCells.begin(), level.refinedCells.end(), cell);
-}
-
-std::size_t finestCellAt(const std::vector<VolumeLevel>& levels, int refine, const Vec3d& x, int cell[3],
-                         double frac[3]) {
-    const GridSpec& g0 = levels.at(0).grid;
-    const int dims[3] = {g0.nx, g0.ny, g0.nz};
-    for (int a = 0; a < 3; ++a) {
-        if (dims[a] < 2) {
-            cell[a] = 0, frac[a] = 0;
-            continue;
-        }
-        const double u = std::min(std::max((x[a] - g0.origin[a]) / g0.spacing, 0.0), double(dims[a] - 1));
-        cell[a] = std::min(int(std::floor(u)), dims[a] - 2);
-        frac[a] = u - cell[a];
-    }
-    std::size_t l = 0;
-    while (l + 1 < levels.size() && isRefined(levels[l], levels[l].grid.index(cell[0], cell[1], cell[2]))) {
-        for (int a = 0; a < 3; ++a) {
-            const double u = frac[a] * refine;
-            const int c = std::min(int(std::floor(u)), refine - 1);
-            frac[a] = u - c;
-            cell[a] = cell[a] * refine + c;
-        }
-        ++l;
-    }
-    return l;
 }
 
 LevelLayout placeLevels(const GridSpec& level0, const std::vector<Vec3f>& positions,
@@ -201,7 +175,7 @@ LevelLayout placeLevels(const GridSpec& level0, const std::vector<Vec3f>& positi
     LevelLayout out;
     out.kind = p.kind;
     out.refine = levelCount > 1 ? K : 1;
-    VolumeLevel first;
+    LevelTopology first;
     first.grid = level0;
     out.levels.push_back(first);
     if (levelCount == 1) return out;
@@ -231,7 +205,7 @@ LevelLayout placeLevels(const GridSpec& level0, const std::vector<Vec3f>& positi
     const double grow = p.refineDistance;
     CellTriangles geometry = level0Geometry(level0, tris, margin, grow);
     for (int l = 1; l < levelCount; ++l) {
-        VolumeLevel& coarse = out.levels.back();
+        LevelTopology& coarse = out.levels.back();
         coarse.refinedCells = cellsOf(geometry);
         if (coarse.refinedCells.empty()) {
             out.hasFinestGeometry = true;  // the last level placed has no geometry
@@ -240,7 +214,7 @@ LevelLayout placeLevels(const GridSpec& level0, const std::vector<Vec3f>& positi
         // Estimate before allocating: each refined cell brings at most (K + 1)^3 nodes.
         const double estimate = total + double(coarse.refinedCells.size()) * std::pow(K + 1.0, 3.0);
         if (estimate > double(p.maxNodes)) throw ValueError(tooLarge(estimate, bytesPerNode, p.maxNodes, "the layout"));
-        VolumeLevel fine;
+        LevelTopology fine;
         fine.grid.origin = level0.origin;
         fine.grid.spacing = coarse.grid.spacing / K;
         fine.grid.nx = (coarse.grid.nx - 1) * K + 1;

@@ -1,9 +1,11 @@
 // Seam nodes: fine nodes touching a coarser cell that is not refined take the coarse
-// interpolation, so that the multi-level reconstruction is continuous (C0).
+// interpolation, so that the multi-level reconstruction is continuous (C0). Here: which
+// nodes are seams and where the coarse level interpolates them (topology only); the
+// values are written by applySeamConstraints (volume/seam_constraints.cpp).
 #include <cmath>
 
 #include "vdblight/errors.h"
-#include "vdblight/layout_levels.h"
+#include "vdblight/level_topology.h"
 
 namespace vdblight {
 
@@ -47,9 +49,7 @@ void forCoarseCells(const GridSpec& coarse, int K, const Node& p, F visit) {
 
 }  // namespace
 
-std::vector<std::size_t> seamNodes(const std::vector<VolumeLevel>& levels, int level, int K) {
-    const VolumeLevel& fine = levels.at(std::size_t(level));
-    const VolumeLevel& coarse = levels.at(std::size_t(level - 1));
+std::vector<std::size_t> seamNodes(const LevelTopology& coarse, const LevelTopology& fine, int K) {
     std::vector<std::size_t> seams;
     for (std::size_t n = 0; n < fine.activeNodes.size(); ++n) {
         const Node p = unpackNode(fine.grid, fine.activeNodes[n]);
@@ -63,39 +63,23 @@ std::vector<std::size_t> seamNodes(const std::vector<VolumeLevel>& levels, int l
     return seams;
 }
 
-void applySeamConstraints(Volume& volume) {
-    const int floats = volume.basis.channelCount() * 3;
-    for (std::size_t l = 1; l < volume.levels.size(); ++l) {
-        const VolumeLevel& coarse = volume.levels[l - 1];
-        VolumeLevel& fine = volume.levels[l];
-        const int K = int(std::lround(coarse.grid.spacing / fine.grid.spacing));
-        for (std::size_t n : seamNodes(volume.levels, int(l), K)) {
-            const Node p = unpackNode(fine.grid, fine.activeNodes[n]);
-            // A refined coarse cell containing p: all its corners exist on the coarse level.
-            Node cell{-1, -1, -1};
-            forCoarseCells(coarse.grid, K, p, [&](const Node& c) {
-                if (!isRefined(coarse, coarse.grid.index(c.i, c.j, c.k))) return true;
-                cell = c;
-                return false;
-            });
-            if (cell.i < 0) throw FormatError("level " + std::to_string(l) + " has a node outside every refined cell");
-            const double t[3] = {double(p.i - K * cell.i) / K, double(p.j - K * cell.j) / K,
-                                 double(p.k - K * cell.k) / K};
-            std::vector<double> acc(std::size_t(floats), 0.0);
-            for (int corner = 0; corner < 8; ++corner) {
-                const int d[3] = {corner & 1, (corner >> 1) & 1, corner >> 2};
-                double w = 1.0;
-                for (int a = 0; a < 3; ++a) w *= d[a] ? t[a] : 1.0 - t[a];
-                if (w == 0.0) continue;
-                const int64_t at = findNode(coarse, coarse.grid.index(cell.i + d[0], cell.j + d[1], cell.k + d[2]));
-                if (at < 0) throw FormatError("level " + std::to_string(l - 1) + " misses a corner of a refined cell");
-                const float* src = coarse.data.data() + std::size_t(at) * std::size_t(floats);
-                for (int f = 0; f < floats; ++f) acc[std::size_t(f)] += w * double(src[f]);
-            }
-            float* dst = fine.data.data() + n * std::size_t(floats);
-            for (int f = 0; f < floats; ++f) dst[f] = float(acc[std::size_t(f)]);
-        }
+std::vector<SeamStencil> seamStencils(const LevelTopology& coarse, const LevelTopology& fine, int K, int level) {
+    std::vector<SeamStencil> out;
+    for (std::size_t n : seamNodes(coarse, fine, K)) {
+        const Node p = unpackNode(fine.grid, fine.activeNodes[n]);
+        // A refined coarse cell containing p: all its corners exist on the coarse level.
+        Node cell{-1, -1, -1};
+        forCoarseCells(coarse.grid, K, p, [&](const Node& c) {
+            if (!isRefined(coarse, coarse.grid.index(c.i, c.j, c.k))) return true;
+            cell = c;
+            return false;
+        });
+        if (cell.i < 0) throw FormatError("level " + std::to_string(level) + " has a node outside every refined cell");
+        out.push_back({n,
+                       {cell.i, cell.j, cell.k},
+                       {double(p.i - K * cell.i) / K, double(p.j - K * cell.j) / K, double(p.k - K * cell.k) / K}});
     }
+    return out;
 }
 
 }  // namespace vdblight

@@ -1,4 +1,5 @@
 // The kinds of volume that IrradianceQuery can read. A new kind adds one line here.
+#include "vdblight/bins.h"
 #include "vdblight/errors.h"
 #include "vdblight/query.h"
 #include "vdblight/vector_grid_lookup.h"
@@ -35,6 +36,7 @@ IrradianceQuery::IrradianceQuery(const Volume& volume, OutsidePolicy outside) {
         if (volume.direct.hasVisibility()) lookup_ = std::make_unique<OcclusionLookup>(std::move(lookup_), volume);
         bounds_ = lookup_->bounds();
         kind_ = kind.name;
+        viewDependent_ = bins::viewDependent(volume.basis);
         return;
     }
     throw FormatError("no lookup for volumes with basis '" + volume.basis.kind + "' and " +

@@ -11,7 +11,7 @@
 #include "lattice_locate.h"
 #include "shifted_lookup.h"
 #include "vdblight/errors.h"
-#include "vdblight/scene_origin.h"
+#include "vdblight/world_frame.h"
 #include "vdblight/sh.h"
 
 namespace vdblight {

@@ -5,7 +5,7 @@
 #include <sstream>
 
 #include "vdblight/errors.h"
-#include "vdblight/scene_origin.h"
+#include "vdblight/world_frame.h"
 
 namespace vdblight {
 

@@ -6,7 +6,6 @@
 #include <set>
 
 #include "vdblight/errors.h"
-#include "vdblight/sh.h"
 
 namespace vdblight {
 namespace {
@@ -79,13 +78,6 @@ void validateDirect(const Volume& v) {
 
 }  // namespace
 
-BasisDesc BasisDesc::sh2() {
-    BasisDesc desc;
-    desc.kind = "sh2";
-    for (int j = 0; j < sh::kCoeffs; ++j) desc.channelNames.emplace_back(sh::gridName(j));
-    return desc;
-}
-
 void Volume::validate() const {
     if (basis.kind.empty()) throw FormatError("volume basis kind is empty");
     if (basis.channelCount() == 0) throw FormatError("volume basis has no channels");
@@ -107,6 +99,17 @@ void Volume::validate() const {
 }
 
 bool Volume::hasDepth() const { return !levels.empty() && levels[0].hasDepth(); }
+
+std::vector<VolumeLevel> volumeLevels(const std::vector<LevelTopology>& topology) {
+    std::vector<VolumeLevel> levels(topology.size());
+    for (std::size_t l = 0; l < topology.size(); ++l) static_cast<LevelTopology&>(levels[l]) = topology[l];
+    return levels;
+}
+
+void placeVolumeInWorld(Volume& volume, const Vec3d& origin) {
+    for (VolumeLevel& level : volume.levels) level.grid.origin += origin;
+    for (DirectLight& light : volume.direct.lights) light.translate(origin);  // bake --direct
+}
 
 int Volume::refineFactor() const {
     return levels.size() < 2 ? 1 : int(std::lround(levels[0].grid.spacing / levels[1].grid.spacing));
