@@ -47,8 +47,8 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     std::vector<std::size_t> selected;  // a tile's nodes (tiles.h); empty = all
     if (options.only) {
         if (options.only->size() != 1 || (*options.only)[0].size() != nodes) throw ValueError("the node mask does not match the grid");
-        if (options.probePasses > 0)  // a probe pass reads every node of the pass before
-            throw ValueError("a tile cannot be baked with probe-to-probe passes (use --probe-passes 0 or --quality preview)");
+        if (options.probePasses > 0 && options.stage < 0)  // a probe pass reads every node of the pass before
+            throw ValueError("a tile of a bake with probe-to-probe passes is baked in stages (GatherOptions::stage; tiles.h)");
         for (std::size_t n = 0; n < nodes; ++n)
             if ((*options.only)[0][n]) selected.push_back(n);
     }
@@ -58,9 +58,17 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     RadianceEstimator estimator(scene, tracer, options.transport);
     std::unique_ptr<bake_detail::VolumeSurfaceCache> cache;
     bake_detail::ParallelRun run;
+    // One stage of a staged bake (tiles.h) runs one pass, from the stage before's reflected light.
+    const bake_detail::PassRange range =
+        bake_detail::stagePasses(options.probePasses, options.stage, options.stageInput, grid, options.depthMoments);
+    if (range.first > 0) {
+        cache = std::make_unique<bake_detail::VolumeSurfaceCache>(tracer, grid, bake_detail::stageReflected(*options.stageInput));
+        estimator.setSurfaceCache(cache.get());
+        if (options.depthMoments) level.depth = options.stageInput->levels[0].depth;  // pass 0's
+    }
     // Pass 0 traces full paths; pass k > 0 ends them at their first hit with pass k - 1's
     // reflected light (probe-to-probe bounces, surface_cache.h), with its own seed.
-    for (int pass = 0; pass <= options.probePasses; ++pass) {
+    for (int pass = range.first; pass <= range.last; ++pass) {
         const uint64_t seed = pass == 0 ? options.seed : hashCombine(options.seed, uint64_t(pass));
         const bool keepReflected = pass < options.probePasses;
         const bake_detail::ParallelRun passRun =
@@ -92,7 +100,7 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
         run.rays += passRun.rays;
         run.seconds += passRun.seconds;
         run.threads = passRun.threads;
-        if (keepReflected) {
+        if (keepReflected && pass < range.last) {
             estimator.setSurfaceCache(nullptr);
             cache = std::make_unique<bake_detail::VolumeSurfaceCache>(tracer, grid, reflected);
             estimator.setSurfaceCache(cache.get());
@@ -101,6 +109,19 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
 
     Metadata& m = volume.meta;
     bake_detail::addCommonBakeMetadata(m, scene, options.transport, options.seed, nodes, run);
+    if (options.stageInput) addEarlierStageSums(m, options.stageInput->meta);
+    if (options.depthMoments) bake_detail::addDepthMetadata(m, options.raysPerNode);
+    if (range.last < options.probePasses) {  // a stage before the last: its reflected light
+        volume = bake_detail::stageVolume(grid, reflected, std::move(level.depth), std::move(m), range.last,
+                                          options.probePasses);
+        if (stats) {
+            stats->nodes = nodes;
+            stats->rays = run.rays;
+            stats->seconds = run.seconds;
+            stats->estimatedError.clear();
+        }
+        return volume;
+    }
     m["method"] = std::string("gather");
     m["sampling"] = std::string("point");
     m["rays_per_node"] = int64_t(options.raysPerNode);
@@ -113,7 +134,6 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
             "(trilinear over the visible nodes in front of the surface; DDGI-style); error_estimate excludes the "
             "previous passes' noise");
     }
-    if (options.depthMoments) bake_detail::addDepthMetadata(m, options.raysPerNode);
 
     if (stats) {
         stats->nodes = nodes;

@@ -10,7 +10,9 @@
 #include "parallel_nodes.h"
 #include "surface_cache.h"
 #include "vdblight/bake_adaptive.h"
+#include "vdblight/error_summary.h"
 #include "vdblight/errors.h"
+#include "vdblight/tiles.h"
 #include "vdblight/interrupter.h"
 #include "vdblight/scene.h"
 
@@ -48,6 +50,14 @@ Volume bakeShGatherAdaptive(const Scene& scene, const Tracer& tracer, const Grid
     level.data.assign(nodes * sh::kCoeffs * 3, 0.0f);
     std::vector<uint32_t> raysUsed(nodes, 0);
     std::vector<float> achieved(nodes, 0.0f);
+    std::vector<std::size_t> selected;  // a tile's nodes (tiles.h); empty = all
+    if (o.only) {
+        if (o.only->size() != 1 || (*o.only)[0].size() != nodes) throw ValueError("the node mask does not match the grid");
+        if (o.probePasses > 0 && o.stage < 0)
+            throw ValueError("a tile of a bake with probe-to-probe passes is baked in stages (AdaptiveOptions::stage; tiles.h)");
+        for (std::size_t n = 0; n < nodes; ++n)
+            if ((*o.only)[0][n]) selected.push_back(n);
+    }
 
     std::vector<Rgb> reflected;  // per node, nine coefficients: the next pass's cache
     if (o.probePasses > 0) reflected.assign(nodes * sh::kCoeffs, Rgb(0, 0, 0));
@@ -55,14 +65,22 @@ Volume bakeShGatherAdaptive(const Scene& scene, const Tracer& tracer, const Grid
     std::unique_ptr<bake_detail::VolumeSurfaceCache> cache;
     bake_detail::ParallelRun run;
     uint64_t samplesBefore = 0;  // samples of the passes before the last
+    // One stage of a staged bake (tiles.h) runs one pass, from the stage before's reflected light.
+    const bake_detail::PassRange range = bake_detail::stagePasses(o.probePasses, o.stage, o.stageInput, grid, false);
+    if (range.first > 0) {
+        cache = std::make_unique<bake_detail::VolumeSurfaceCache>(tracer, grid, bake_detail::stageReflected(*o.stageInput));
+        estimator.setSurfaceCache(cache.get());
+        samplesBefore = uint64_t(metaNumber(o.stageInput->meta, "probe_stage_samples", 0));
+    }
     // As bakeShGather (bake.h, probePasses): pass 0 traces full paths, later passes end them
     // at their first hit with the previous pass's reflected light; each pass to the target.
-    for (int pass = 0; pass <= o.probePasses; ++pass) {
+    for (int pass = range.first; pass <= range.last; ++pass) {
         const uint64_t seed = pass == 0 ? o.seed : hashCombine(o.seed, uint64_t(pass));
         const bool keepReflected = pass < o.probePasses;
         for (uint32_t r : raysUsed) samplesBefore += r;
-        const bake_detail::ParallelRun passRun =
-            bake_detail::forEachItemInParallel(nodes, o.threads, interrupter, [&](std::size_t n, RayCount& count) {
+        const bake_detail::ParallelRun passRun = bake_detail::forEachItemInParallel(
+            o.only ? selected.size() : nodes, o.threads, interrupter, [&](std::size_t item, RayCount& count) {
+            const std::size_t n = o.only ? selected[item] : item;
             detail::NodeSampler sampler(estimator, Vec3f(grid.node(n)), seed, n, o.maxRays);
             uint32_t taken = 0, next = o.minRays;
             double err = 0;
@@ -97,7 +115,7 @@ Volume bakeShGatherAdaptive(const Scene& scene, const Tracer& tracer, const Grid
         run.rays += passRun.rays;
         run.seconds += passRun.seconds;
         run.threads = passRun.threads;
-        if (keepReflected) {
+        if (keepReflected && pass < range.last) {
             estimator.setSurfaceCache(nullptr);
             cache = std::make_unique<bake_detail::VolumeSurfaceCache>(tracer, grid, reflected);
             estimator.setSurfaceCache(cache.get());
@@ -119,18 +137,24 @@ Volume bakeShGatherAdaptive(const Scene& scene, const Tracer& tracer, const Grid
 
     Metadata& m = volume.meta;
     bake_detail::addCommonBakeMetadata(m, scene, o.transport, o.seed, nodes, run);
+    if (o.stageInput) addEarlierStageSums(m, o.stageInput->meta);
+    if (range.last < o.probePasses) {  // a stage before the last: its reflected light
+        m["probe_stage_samples"] = int64_t(s.samples);
+        volume = bake_detail::stageVolume(grid, reflected, {}, std::move(m), range.last, o.probePasses);
+        s.estimatedError.clear();
+        return volume;
+    }
     m["method"] = std::string("gather");
     m["sampling"] = std::string("point, error-targeted");
     m["target_error"] = o.targetError;
     m["min_rays"] = int64_t(o.minRays);
     m["max_rays"] = int64_t(o.maxRays);
-    m["rays_per_node_mean"] = double(s.samples) / double(nodes);
     if (o.probePasses > 0) {
         m["probe_passes"] = int64_t(o.probePasses);
         m["samples_earlier_passes"] = int64_t(samplesBefore);
     }
     m["samples_total"] = int64_t(s.samples);
-    m["samples_saved_vs_max"] = int64_t(uint64_t(o.maxRays) * nodes - s.samples);
+    addSampleSummary(m);  // rays_per_node_mean, samples_saved_vs_max (error_summary.h: the merge's too)
     bake_detail::addErrorSummary(m, s.estimatedError, grid);
     m["nodes_at_max_rays"] = int64_t(s.nodesAtMax);
     m["direction_sampling"] = std::string("scrambled Sobol (0,2) uniform sphere in doubling rounds + NEE on emissive triangles; punctual lights exact or one sampled per ray");

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "vdblight/bake.h"
+#include "vdblight/error_summary.h"
 
 #include "vdblight/layout_levels.h"
 #include "vdblight/scene.h"
@@ -44,39 +45,7 @@ void addCommonBakeMetadata(Metadata& m, const Scene& scene, const TransportOptio
     m["threads"] = int64_t(run.threads);
 }
 
-void addErrorSummary(Metadata& m, const std::vector<float>& estimatedError, const GridSpec& grid) {
-    BakeStats s;
-    s.estimatedError = estimatedError;
-    m["error_estimate"] = std::string(
-        "relative standard error of each node's mean irradiance over normals (SH DC term), from the per-sample "
-        "variance (noise only: not bias, SH truncation or interpolation)");
-    m["estimated_error_p50"] = s.errorQuantile(0.5);
-    m["estimated_error_p95"] = s.errorQuantile(0.95);
-    m["estimated_error_max"] = s.errorQuantile(1.0);
-    std::vector<std::size_t> order(estimatedError.size());
-    std::iota(order.begin(), order.end(), std::size_t(0));
-    const std::size_t worst = std::min<std::size_t>(5, order.size());
-    // Ties broken by node index: the same text for any thread count.
-    std::partial_sort(order.begin(), order.begin() + worst, order.end(), [&](std::size_t a, std::size_t b) {
-        return estimatedError[a] != estimatedError[b] ? estimatedError[a] > estimatedError[b] : a < b;
-    });
-    std::ostringstream text;
-    for (std::size_t k = 0; k < worst; ++k) {
-        const std::size_t n = order[k];
-        const std::size_t i = n % std::size_t(grid.nx), j = (n / std::size_t(grid.nx)) % std::size_t(grid.ny),
-                          kk = n / (std::size_t(grid.nx) * std::size_t(grid.ny));
-        text << (k ? ";" : "") << i << ',' << j << ',' << kk << ':' << estimatedError[n];
-    }
-    m["estimated_error_worst_nodes"] = text.str();
-}
-
 }  // namespace bake_detail
 
-double BakeStats::errorQuantile(double q) const {
-    if (estimatedError.empty()) return 0.0;
-    std::vector<float> sorted = estimatedError;
-    std::sort(sorted.begin(), sorted.end());
-    const std::size_t i = std::min(sorted.size() - 1, std::size_t(std::ceil(q * sorted.size())) - (q > 0 ? 1 : 0));
-    return sorted[i];
-}
+double BakeStats::errorQuantile(double q) const { return vdblight::errorQuantile(estimatedError, q); }
 }  // namespace vdblight

@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "vdblight/error_summary.h"
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
 #include "vdblight/light.h"
@@ -77,10 +78,10 @@ std::vector<std::pair<int, std::size_t>> nodesToBake(const Volume& volume, uint6
 void addCommonBakeMetadata(Metadata& m, const Scene& scene, const TransportOptions& transport, uint64_t seed,
                            uint64_t nodes, const ParallelRun& run);
 
-/// The per-node error summary of the point gathers (BakeStats::estimatedError, one value
-/// per node of `grid`): error_estimate (what it is), estimated_error_p50 / _p95 / _max and
-/// estimated_error_worst_nodes ("i,j,k:error;..." for the five worst nodes).
-void addErrorSummary(Metadata& m, const std::vector<float>& estimatedError, const GridSpec& grid);
+/// The per-node error summary of the point gathers (error_summary.h).
+inline void addErrorSummary(Metadata& m, const std::vector<float>& estimatedError, const GridSpec& grid) {
+    vdblight::addErrorSummary(m, estimatedError, grid);
+}
 /// The metadata of a volume with depth moments (depth_moments.h) from `rays` rays per node.
 inline void addDepthMetadata(Metadata& m, uint32_t rays) {
     m["depth_moments"] = std::string("axial depth per cube face, mean and sigma, 8-bit (depth_moments.h)");
