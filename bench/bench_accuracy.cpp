@@ -55,6 +55,8 @@
 #include "vdblight/bake_antialiased.h"
 #include "vdblight/bake_bins.h"
 #include "vdblight/bake_levels.h"
+#include "vdblight/bake_depth.h"
+#include "vdblight/node_budget.h"
 #include "vdblight/irradiance_vectors.h"
 #include "vdblight/layout_levels.h"
 #include "vdblight/photons.h"
@@ -270,24 +272,119 @@ Baked directGather(const Ctx& c, int resolution, uint32_t rays, DirectMode mode,
     return b;
 }
 
+/// A candidate default (--try SPEC): `key=value` pairs separated by commas, e.g.
+/// "res=32,rays=512,passes=1,depth=1" or "nodes=32768,target=0.03,max=1024".
+///   res=N      nodes on the longest axis (16); nodes=N: the spacing that gives about N nodes
+///   rays=N     rays per node and pass (256); target=E, min=N, max=N: error-targeted instead
+///   passes=N   probe-to-probe passes (1); depth=1: depth moments, weighted lookups
+///   direct=baked|runtime|occlusion (occlusion)
+/// Every bake of the command is reproduced (bake_direct.h plan, gather, visibility, depth).
+struct TrySpec {
+    int res = 16;
+    uint64_t nodes = 0;
+    uint32_t rays = 256, minRays = 64, maxRays = 2048;
+    double target = 0;
+    int passes = 1;
+    bool depth = false;
+    DirectMode direct = DirectMode::Occlusion;
+};
+
+TrySpec parseTry(const std::string& spec) {
+    TrySpec t;
+    std::size_t pos = 0;
+    while (pos < spec.size()) {
+        std::size_t end = spec.find(',', pos);
+        if (end == std::string::npos) end = spec.size();
+        const std::string kv = spec.substr(pos, end - pos);
+        pos = end + 1;
+        const std::size_t eq = kv.find('=');
+        if (eq == std::string::npos) throw ValueError("--try: expected key=value, got '" + kv + "'");
+        const std::string k = kv.substr(0, eq), v = kv.substr(eq + 1);
+        if (k == "res") t.res = std::stoi(v);
+        else if (k == "nodes") t.nodes = std::stoull(v);
+        else if (k == "rays") t.rays = uint32_t(std::stoul(v));
+        else if (k == "min") t.minRays = uint32_t(std::stoul(v));
+        else if (k == "max") t.maxRays = uint32_t(std::stoul(v));
+        else if (k == "target") t.target = std::stod(v);
+        else if (k == "passes") t.passes = std::stoi(v);
+        else if (k == "depth") t.depth = v == "1";
+        else if (k == "direct") t.direct = parseDirectMode(v);
+        else throw ValueError("--try: unknown key '" + k + "'");
+    }
+    return t;
+}
+
+/// The grid of a TrySpec: `nodes` > 0 is spacingForNodeBudget (the default bake's rule).
+GridSpec tryGrid(const Scene& s, const TrySpec& t, const Settings& st) {
+    GridPlacement p;
+    if (t.nodes > 0) {
+        p.spacing = spacingForNodeBudget(s.bounds(), st.quick ? std::max<uint64_t>(64, t.nodes / 8) : t.nodes);
+    } else {
+        p.resolution = st.res(t.res);
+    }
+    return placeUniformGrid(s.bounds(), p, 1);
+}
+
+Baked tryBake(const Ctx& c, const TrySpec& t) {
+    DirectOptions d;
+    d.mode = t.direct;
+    d.seed = c.seed;
+    d.threads = c.settings.threads;
+    const GridSpec grid = tryGrid(c.scene, t, c.settings);
+    const double t0 = bench::now();
+    if (d.mode != DirectMode::Baked && sceneLights(c.scene).empty()) d.mode = DirectMode::Baked;
+    const DirectPlan plan = planDirectLight(c.scene, c.tracer, grid, d);
+    Volume v;
+    std::string note;
+    if (t.target > 0) {
+        AdaptiveOptions a;
+        a.targetError = t.target;
+        a.minRays = c.settings.rays(t.minRays);
+        a.maxRays = std::max(a.minRays, c.settings.rays(t.maxRays));
+        a.seed = c.seed;
+        a.threads = c.settings.threads;
+        a.transport.skipAtReceiver = plan.filter;
+        a.probePasses = t.passes;
+        AdaptiveStats st;
+        v = bakeShGatherAdaptive(c.scene, c.tracer, grid, a, nullptr, &st);
+        note = std::to_string(st.samples / std::max<uint64_t>(1, st.nodes)) + " rays/node";
+        if (t.depth) {
+            DepthOptions dopt;
+            dopt.raysPerNode = c.settings.rays(256);
+            dopt.seed = c.seed;
+            dopt.threads = c.settings.threads;
+            bakeDepthMoments(c.tracer, v, dopt);
+        }
+    } else {
+        GatherOptions g = gatherOptions(c, c.settings.rays(t.rays));
+        g.transport.skipAtReceiver = plan.filter;
+        g.probePasses = t.passes;
+        g.depthMoments = t.depth;
+        v = bakeShGather(c.scene, c.tracer, grid, g);
+    }
+    bakeLightVisibility(c.scene, c.tracer, plan, d, v);
+    const double secs = bench::now() - t0;
+    Baked b = fromVolume(std::move(v), secs, grid.nodeCount());
+    b.note = note;
+    return b;
+}
+
 /// The table of methods and modes. Resolutions and budgets are the full run's; --quick
 /// scales them down (Settings::res / rays / photons).
 std::vector<Config> configurations() {
     std::vector<Config> v;
-    // What `vdblight bake SCENE -o OUT` does with no other option (cmd_bake.cpp): a uniform
-    // grid of 16 nodes on the longest axis, point gather with the library's GatherOptions
-    // defaults. Keep this in step with the command's defaults.
-    // Since issue 15 item 3 the command's default is --direct occlusion (baked in a scene
-    // without lights), with --quality default's probe pass; the direct_* rows below compare
-    // the three modes without it.
-    v.push_back({"default", "vdblight bake SCENE -o OUT (16 nodes, 256 rays + 1 probe pass: --quality default, "
-                            "--direct occlusion)",
-                 [](const Ctx& c) {
-                     const uint32_t rays = GatherOptions().raysPerNode;
-                     return directGather(c, c.settings.res(16), c.settings.quick ? c.settings.rays(rays) : rays,
-                                         DirectMode::Occlusion, 1);  // --quality default (cmd_bake.cpp qualityPreset)
-                 },
-                 true});
+    // What `vdblight bake SCENE -o OUT` does with no other option (cmd_bake.cpp, --quality
+    // default; keep this in step with its qualityPreset): --direct occlusion (baked in a scene
+    // without lights), about 16384 nodes in the scene box (node_budget.h), 512 rays of full
+    // paths + one probe-to-probe pass of 512, depth moments from the gather's own first hits
+    // and depth-weighted lookups. --quick: 1/8 of the nodes, 1/16 of the rays.
+    v.push_back({"default", "vdblight bake SCENE -o OUT (--quality default: ~16384 nodes, 512 rays + 1 probe pass, "
+                            "depth moments, --direct occlusion)",
+                 [](const Ctx& c) { return tryBake(c, parseTry("nodes=16384,rays=512,passes=1,depth=1")); }, true});
+    // The default before this choice (issue 15 merges): 16 nodes on the longest axis, 256 rays
+    // + one probe pass, no depth moments.
+    v.push_back({"default_16_256", "16 nodes, 256 rays + 1 probe pass, --direct occlusion (the default before)",
+                 [](const Ctx& c) { return tryBake(c, parseTry("res=16,rays=256,passes=1")); }});
     for (const auto& [mode, name] : {std::pair{DirectMode::Baked, "baked"}, std::pair{DirectMode::Runtime, "runtime"},
                                      std::pair{DirectMode::Occlusion, "occlusion"}})
         v.push_back({std::string("direct_") + name, std::string("--direct ") + name + ", 16 nodes, 256 rays",
@@ -300,8 +397,9 @@ std::vector<Config> configurations() {
                  [](const Ctx& c) { return pointGather(c, c.settings.res(16), c.settings.rays(1024), 0, true); }});
     v.push_back({"point_32_256", "point gather, 32 nodes, 256 rays",
                  [](const Ctx& c) { return pointGather(c, c.settings.res(32), c.settings.rays(256)); }});
-    v.push_back({"preview", "--quality preview: 16 nodes, 256 rays of full paths, no probe pass",
-                 [](const Ctx& c) { return pointGather(c, c.settings.res(16), c.settings.rays(256)); }});
+    v.push_back({"preview", "--quality preview: 16 nodes, 256 rays of full paths, no probe pass, no depth moments, "
+                            "--direct occlusion",
+                 [](const Ctx& c) { return tryBake(c, parseTry("res=16,rays=256,passes=0")); }});
     v.push_back({"probe_32_128", "--resolution 32 --rays 128 --probe-passes 1 (issue 15)",
                  [](const Ctx& c) {
                      GatherOptions g;
@@ -633,6 +731,7 @@ int main(int argc, char** argv) {
                                                       {"--cache", "DIR"},
                                                       {"--worst", "N"},
                                                       {"--guard", "F"},
+                                                      {"--try", "SPECS"},
                                                       {"--no-decompose", ""}});
     if (!args.parse(argc, argv)) return 1;
     std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress visible when redirected to a file
@@ -656,7 +755,23 @@ int main(int argc, char** argv) {
     // Reference, floor and spatial runs use this many threads too (the bakes take --threads).
     tbb::global_control threadLimit(tbb::global_control::max_allowed_parallelism, std::size_t(std::max(1, st.threads)));
 
-    const std::vector<Config> configs = configurations();
+    std::vector<Config> configs = configurations();
+    // --try SPEC (repeatable as SPEC;SPEC): candidate defaults, named try_<spec>, measured with noise.
+    if (args.given("--try")) {
+        const std::string all = args.text("--try");
+        std::size_t pos = 0;
+        while (pos <= all.size()) {
+            std::size_t end = all.find(';', pos);
+            if (end == std::string::npos) end = all.size();
+            const std::string spec = all.substr(pos, end - pos);
+            pos = end + 1;
+            if (spec.empty()) continue;
+            const TrySpec t = parseTry(spec);
+            std::string name = "try:" + spec;  // no commas in the CSV's config column
+            std::replace(name.begin(), name.end(), ',', '/');
+            configs.push_back({name, "--try " + spec, [t](const Ctx& c) { return tryBake(c, t); }, true});
+        }
+    }
     std::printf("vdblight_bench_accuracy%s: %d points per scene, ground truth %u samples x %d bounces, %d threads\n",
                 st.quick ? " --quick (small workloads)" : "", st.points, st.refSamples, st.refBounces, st.threads);
     std::vector<Row> summary;

@@ -103,10 +103,51 @@ def sample_trilinear(tex, uvw, max_abs=False):
     return result
 
 
+def depth_weights(manifest, textures, x):
+    """docs/engines.md, visibility-aware lookup: the 8 corner texel indices and their weights
+    (trilinear x (Chebyshev visibility^3 + floor), normalised) of a volume with depth moments."""
+    d = manifest["depth"]
+    dims = np.array(manifest["dims"], dtype=np.int64)
+    spacing = np.array(manifest["texel_spacing"], dtype=np.float64)
+    g = np.clip((x - np.array(manifest["bounds_min"])) / spacing, 0.0, (dims - 1).astype(np.float64))
+    i0 = np.minimum(np.floor(g).astype(np.int64), np.maximum(dims - 2, 0))
+    f = g - i0
+    bias, min_sigma, floor = d["bias"], d["min_sigma"], d["floor"]
+    idx, w = [], []
+    for corner in range(8):
+        bits = np.array([(corner >> a) & 1 for a in range(3)])
+        p = np.minimum(i0 + bits, dims - 1)
+        o = f - bits
+        v = np.ones(len(x))
+        for a, name in enumerate(d["textures"]):
+            t = textures[name][p[:, 2], p[:, 1], p[:, 0]]
+            neg = o[:, a] < 0
+            mu = np.where(neg, t[:, 1], t[:, 0])
+            sigma = np.where(neg, t[:, 3], t[:, 2])
+            e = np.abs(o[:, a]) - mu - bias
+            s2 = sigma * sigma + min_sigma * min_sigma
+            v *= np.where(e <= 0, 1.0, s2 / (s2 + e * e))
+        trilinear = np.prod(np.where(bits == 1, f, 1.0 - f), axis=1)
+        idx.append(p)
+        w.append(trilinear * (v ** 3 + floor))
+    w = np.array(w)
+    return idx, w / w.sum(axis=0)
+
+
+def sample_weighted(tex, idx, w):
+    return sum(w[c][:, None] * tex[idx[c][:, 2], idx[c][:, 1], idx[c][:, 0]] for c in range(8))
+
+
 def irradiance_terms(manifest, textures, x, n, max_abs=False):
     """docs/engines.md: the terms whose sum is E(x, n), per colour channel: shape (terms, points, 3)."""
     uvw = x * np.array(manifest["uvw_scale"]) + np.array(manifest["uvw_bias"])
-    s = {name: sample_trilinear(tex, uvw, max_abs) for name, tex in textures.items()}
+    if manifest.get("depth", {}).get("exported") and not max_abs:
+        # Depth moments: the basis texels blended with the visibility-aware weights (the
+        # query's default); the visibility textures of listed lights stay trilinear.
+        idx, w = depth_weights(manifest, textures, x)
+        s = {name: sample_weighted(tex, idx, w) for name, tex in textures.items()}
+    else:
+        s = {name: sample_trilinear(tex, uvw, max_abs) for name, tex in textures.items()}
     layout = manifest["layout"]
     nx_, ny_, nz_ = n[:, 0], n[:, 1], n[:, 2]
     terms = []

@@ -64,10 +64,30 @@ TEST(CliDepth, FileWithDepthOpensInPyopenvdbAndBlender) {
 TEST(CliDepth, BadDepthOptionsFailCleanly) {
     test::TempDir dir;
     test::expectCleanFailuresWithOutput(dir, {
-        {"bake --depth-rays 64", "--depth-rays needs --depth-moments"},
+        // Depth moments are on by default (--quality default), off with preview or --no-depth-moments.
+        {"bake --depth-rays 64 --no-depth-moments", "--depth-rays needs --depth-moments"},
+        {"bake --depth-rays 64 --quality preview", "--depth-rays needs --depth-moments"},
         {"bake --depth-moments --method photons", "--depth-moments works with --method gather"},
     });
     const std::string plain = dir.file("plain.vdb");
-    ASSERT_EQ(runCli("bake -o " + plain + " --resolution 3 --rays 8 --bounces 1 -q").status, 0);
+    ASSERT_EQ(runCli("bake -o " + plain + " --resolution 3 --rays 8 --bounces 1 -q --no-depth-moments").status, 0);
     test::expectCleanFailure(dir, "query " + plain + " --at 0.2,0.2,0.2 --no-depth-weights", "has no depth moments");
+}
+
+// The default bake (issue 15) stores depth moments and its lookups are weighted by them;
+// --quality preview and --no-depth-moments leave them out.
+TEST(CliDepth, OnByDefaultOffWithPreviewOrNoDepthMoments) {
+    test::TempDir dir;
+    const std::string common = " --resolution 4 --rays 16 --bounces 1 -q";
+    const std::string byDefault = dir.file("default.vdb"), preview = dir.file("preview.vdb"), off = dir.file("off.vdb");
+    ASSERT_EQ(runCli("bake -o " + byDefault + common).status, 0);
+    ASSERT_EQ(runCli("bake -o " + preview + common + " --quality preview").status, 0);
+    ASSERT_EQ(runCli("bake -o " + off + common + " --no-depth-moments").status, 0);
+    EXPECT_TRUE(readVolume(byDefault).hasDepth());
+    EXPECT_FALSE(readVolume(preview).hasDepth());
+    EXPECT_FALSE(readVolume(off).hasDepth());
+    // Other passes keep their own defaults: no depth moments unless asked for.
+    const std::string photons = dir.file("photons.vdb");
+    ASSERT_EQ(runCli("bake -o " + photons + " --method photons --photons 20000 --resolution 4 -q").status, 0);
+    EXPECT_FALSE(readVolume(photons).hasDepth());
 }

@@ -27,6 +27,10 @@ struct Pass {
 // Small bakes of every pass (and the options that change what a pass does).
 const Pass kPasses[] = {
     {"point gather", "--resolution 6 --rays 32"},
+    // The default bake's passes (issue 15): --direct occlusion (light list + visibility), one
+    // probe-to-probe pass, depth moments; only the node budget and rays are made small.
+    {"default quality", "--resolution 6 --rays 32 --quality default"},
+    {"default quality, error-targeted", "--resolution 5 --quality high --min-rays 8 --max-rays 32"},
     {"adaptive layout", "--layout adaptive --levels 2 --refine 2 --resolution 5 --rays 16"},
     {"antialiased", "--sampling antialiased --resolution 5 --rays 16"},
     {"back-face invalidation", "--invalidate-backface 0.1 --resolution 5 --rays 16"},
@@ -49,6 +53,12 @@ TEST(CliReproducible, OneAndTwoThreadsGiveIdenticalFilesForEveryPass) {
         const std::string ba = fileBytes(a), bb = fileBytes(b);
         ASSERT_GT(ba.size(), 1000u);
         EXPECT_TRUE(ba == bb) << "files differ (sizes " << ba.size() << ", " << bb.size() << ")";
+        if (std::string(p.name).rfind("default quality", 0) == 0) {  // what the default adds is in the file
+            const Volume v = readVolume(a);
+            EXPECT_TRUE(v.hasDepth());
+            EXPECT_TRUE(v.direct.hasVisibility());
+            EXPECT_EQ(std::get<int64_t>(v.meta.at("probe_passes")), std::string(p.name) == "default quality" ? 1 : 2);  // high: 2
+        }
         const ContentHash h = fileContentHash(a);
         EXPECT_TRUE(h.uuidFromContent);
         const test::CliRun info = runCli("info " + a);

@@ -2,8 +2,12 @@
 // requests refused before allocating anything.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "vdblight/errors.h"
 #include "vdblight/layout.h"
+#include "vdblight/node_budget.h"
 
 using namespace vdblight;
 
@@ -80,4 +84,36 @@ TEST(Layout, RefusesAbsurdGridsWithTheMemoryFigure) {
         EXPECT_NE(msg.find("nodes would need"), std::string::npos) << msg;
         EXPECT_NE(msg.find("PiB"), std::string::npos) << msg;
     }
+}
+
+// The default bake's grid (node_budget.h, issue 15): about the budget in a box of any shape,
+// the same spacing on every axis, 16..64 nodes on the longest axis.
+TEST(NodeBudget, GivesAboutTheBudgetWhateverTheShape) {
+    const Vec3d boxes[] = {{1, 1, 1}, {8, 2.62, 4.02}, {6, 3, 5}, {16, 4.31, 16}};
+    for (const Vec3d& size : boxes) {
+        Bounds b;
+        b.lo = Vec3d(-1, 2, 3);
+        b.hi = b.lo + size;
+        GridPlacement p;
+        p.spacing = spacingForNodeBudget(b, 16384);
+        const GridSpec g = placeUniformGrid(b, p, 1);
+        EXPECT_NEAR(double(g.nodeCount()), 16384.0, 0.2 * 16384.0) << size.x << " x " << size.y << " x " << size.z;
+        const int longest = std::max(g.nx, std::max(g.ny, g.nz));
+        EXPECT_GE(longest, 16);
+        EXPECT_LE(longest, 64);
+    }
+}
+
+TEST(NodeBudget, FlatAndNeedleBoxesStayBetween16And64OnTheLongestAxis) {
+    Bounds flat;  // a floor with nothing on it: zero height
+    flat.lo = Vec3d(0, 0, 0);
+    flat.hi = Vec3d(10, 0, 10);
+    EXPECT_NEAR(spacingForNodeBudget(flat, 4096), std::cbrt(10.0 * 10.0 * (10.0 / 16) / 4096), 1e-12);  // height 10/16
+    Bounds needle;
+    needle.lo = Vec3d(0, 0, 0);
+    needle.hi = Vec3d(100, 0.01, 0.01);
+    EXPECT_DOUBLE_EQ(spacingForNodeBudget(needle, 16384), 100.0 / 64);  // capped: 64 on the long axis
+    EXPECT_DOUBLE_EQ(spacingForNodeBudget(needle, 1), 100.0 / 16);      // never coarser than 16
+    EXPECT_THROW(spacingForNodeBudget(needle, 0), ValueError);
+    EXPECT_THROW(spacingForNodeBudget(Bounds(), 16384), ValueError);
 }

@@ -28,6 +28,7 @@
 #include "vdblight/sh_window.h"
 #include "vdblight/tiles.h"
 #include "vdblight/trace.h"
+#include "vdblight/node_budget.h"
 #include "vdblight/vdb_io.h"
 #include "vdblight/volume_compact.h"
 
@@ -39,6 +40,7 @@ struct BakeCommand {
     std::string output;
     double spacing = 0;
     int resolution = 0;
+    uint64_t nodes = 0;  // > 0: about this many nodes (node_budget.h; the --quality preset's)
     std::string bounds;
     uint32_t rays = 256;
     uint64_t seed = 1;
@@ -143,23 +145,33 @@ std::string bakeParameters(const CLI::App& cmd) {
 
 void runPhotons(const BakeCommand& c);
 
-/// What --quality means for the point gather (docs/methods.md, issue 15). `preview`: the
-/// fixed 256 rays per node of full paths (sub-second bakes to iterate on a scene).
-/// `default`: 256 rays of full paths, then one probe-to-probe pass of 256 rays that ends
-/// paths at their first hit with the first pass's reflected light (GatherOptions::probePasses):
-/// about twice preview's rays, and much less noise where light comes through openings.
-/// `high`: every node sampled to a relative standard error of 3 % (64..2048 rays,
-/// bake_adaptive.h), two probe passes. Explicit --rays, --target-error, --probe-passes,
-/// --min-rays and --max-rays override the preset's.
+/// What --quality means for the point gather (docs/methods.md, "The default bake", issue 15).
+/// `preview`: 16 nodes on the longest axis, a fixed 256 rays per node of full paths, no
+/// depth moments (sub-second bakes to iterate on a scene).
+/// `default`: about kDefaultNodes nodes in the scene box (node_budget.h: the spacing
+/// follows the scene's volume, 16..64 nodes on its longest axis), kDefaultRays rays of full
+/// paths, then one probe-to-probe pass of as many rays that ends paths at their first hit
+/// with the first pass's reflected light (GatherOptions::probePasses), and depth moments from
+/// the gather's own first hits so that lookups do not interpolate across walls
+/// (depth_moments.h). The measured choice against the accuracy benchmark's ground truth.
+/// `high`: the default's grid and depth moments, every node sampled to a relative standard
+/// error of 3 % (64..2048 rays, bake_adaptive.h), two probe passes. Explicit --resolution,
+/// --spacing, --rays, --target-error, --probe-passes, --[no-]depth-moments, --min-rays and
+/// --max-rays override the preset's.
+constexpr uint64_t kDefaultNodes = 16384;
+constexpr uint32_t kDefaultRays = 512;
 struct QualityPreset {
     double targetError;  ///< 0: fixed budget (--rays)
     uint32_t minRays, maxRays;
     int probePasses;
+    uint64_t nodes;      ///< 0: 16 nodes on the longest axis
+    uint32_t rays;       ///< rays per node and pass of a fixed budget
+    bool depthMoments;
 };
 QualityPreset qualityPreset(const std::string& quality) {
-    if (quality == "preview") return {0.0, 0, 0, 0};
-    if (quality == "default") return {0.0, 0, 0, 1};
-    if (quality == "high") return {0.03, 64, 2048, 2};
+    if (quality == "preview") return {0.0, 0, 0, 0, 0, 256, false};
+    if (quality == "default") return {0.0, 0, 0, 1, kDefaultNodes, kDefaultRays, true};
+    if (quality == "high") return {0.03, 64, 2048, 2, kDefaultNodes, kDefaultRays, true};
     throw ValueError("--quality must be preview, default or high, got '" + quality + "'");
 }
 
@@ -265,8 +277,9 @@ void run(const BakeCommand& c) {
 
     GridPlacement placement;
     placement.spacing = c.spacing;
-    placement.resolution = (c.spacing > 0 || c.resolution > 0) ? c.resolution : 16;
+    placement.resolution = (c.spacing > 0 || c.resolution > 0 || c.nodes > 0) ? c.resolution : 16;
     if (!c.bounds.empty()) placement.bounds = toLocalBounds(parseBounds(c.bounds), scene.origin);
+    if (c.nodes > 0) placement.spacing = spacingForNodeBudget(placement.bounds ? *placement.bounds : scene.bounds(), c.nodes);
     // Bytes per node while baking and writing: float coefficients plus OpenVDB's copy.
     // The anti-aliased pass also holds double accumulators per node (coefficients + 2 weights).
     // The least-squares fit adds its 27-entry Gram row, and its solve a prior and six CG
@@ -510,11 +523,13 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
                                  "samples to an error target instead)")
                      ->check(CLI::Range(1u, 1u << 30));
     cmd->add_option("--quality", c->quality,
-                    "preview: 256 rays per node of full paths (fast, noisy where light is hard to reach); "
-                    "default: 256 rays + one probe-to-probe pass of 256 (about 2x preview's time, much less noise "
-                    "where light comes through openings); high: each node sampled to a relative standard error of "
-                    "3 % (64..2048 rays) + two probe passes. Presets apply to --method gather, --sampling point, "
-                    "--layout uniform, --basis sh2; other passes take the fixed --rays")
+                    "preview: 16 nodes on the longest axis, 256 rays per node of full paths (sub-second, noisy "
+                    "where light is hard to reach); default: about 16384 nodes in the scene box (16..64 on its "
+                    "longest axis), 512 rays + one probe-to-probe pass of 512, depth moments (seconds; the "
+                    "measured most accurate within 30 s, docs/methods.md); high: default's grid, each node "
+                    "sampled to a relative standard error of 3 % (64..2048 rays) + two probe passes. Presets "
+                    "apply to --method gather, --sampling point, --layout uniform, --basis sh2; other passes "
+                    "take 16 nodes on the longest axis and the fixed --rays (default 256)")
         ->capture_default_str();
     cmd->add_option("--seed", c->seed, "Random seed (same seed, same bits, any thread count)")->capture_default_str();
     cmd->add_option("--threads", c->threads, "Worker threads (0 = all cores)")->capture_default_str()->check(CLI::Range(0, 4096));
@@ -576,9 +591,10 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
                     "bounces, DDGI-style; less noise where light comes through openings, some bias; docs/methods.md). "
                     "Default: 0 with --quality preview, 1 with default, 2 with high")
         ->check(CLI::Range(0, 8));  // default: the --quality preset's
-    cmd->add_flag("--depth-moments", c->depthMoments,
+    auto* depthOpt = cmd->add_flag("--depth-moments,!--no-depth-moments", c->depthMoments,
                   "gather with sh2: also store per-node depth moments, so that lookups do not interpolate across "
-                  "walls (docs/methods.md, visibility-aware interpolation)");
+                  "walls (docs/methods.md, visibility-aware interpolation). Default: on with --quality default "
+                  "and high where the preset applies, off otherwise");
     auto* depthRays = cmd->add_option("--depth-rays", c->depthRays,
                                       "--depth-moments: first-hit rays per node (default: as many as --rays)")
                           ->check(CLI::Range(1u, 1u << 20));
@@ -599,8 +615,7 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
     auto* stageInputOpt = cmd->add_option("--stage-input", c->stageInput,
                     "With --stage S > 0: the merged tiles of stage S-1 ('vdblight merge' of their tile files)");
     cmd->callback([c, cmd, spacing, resolution, invalidate, refine, levelsOpt, target, maxRays, minRays, refineDistance,
-                   rays, probe, depthRays, tilesOpt, tileOpt, stageOpt, stageInputOpt] {
-        if (depthRays->count() > 0 && !c->depthMoments) throw ValueError("--depth-rays needs --depth-moments");
+                   rays, probe, depthRays, depthOpt, tilesOpt, tileOpt, stageOpt, stageInputOpt] {
         if (c->depthMoments && c->method != "gather")
             throw ValueError("--depth-moments works with --method gather only (the irradiance-vector lookup does not weight by depth yet)");
         if (target->count() > 0 && !(c->targetError > 0 && c->targetError <= 1))
@@ -621,6 +636,10 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
             if (maxRays->count() == 0) c->maxRays = std::max(caps.maxRays, c->minRays);
         }
         if (probe->count() == 0 && targetable) c->probePasses = preset.probePasses;
+        if (targetable && spacing->count() == 0 && resolution->count() == 0) c->nodes = preset.nodes;
+        if (targetable && rays->count() == 0 && c->targetError == 0) c->rays = preset.rays;
+        if (targetable && depthOpt->count() == 0) c->depthMoments = preset.depthMoments;
+        if (depthRays->count() > 0 && !c->depthMoments) throw ValueError("--depth-rays needs --depth-moments");
         if (c->planOnly) {  // vdblight slurm: refuse what would not tile before writing any script
             BakeCommand staged = *c;
             staged.stage = 0;
