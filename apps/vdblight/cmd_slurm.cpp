@@ -13,6 +13,7 @@
 
 #include "app_common.h"
 #include "commands.h"
+#include "vdblight/atomic_file.h"
 #include "vdblight/errors.h"
 #include "vdblight/tiles.h"
 
@@ -57,11 +58,14 @@ std::string sbatchLines(const std::string& extra) {
 }
 
 void writeScript(const fs::path& path, const std::string& text) {
-    std::ofstream out(path);
-    out << text;
-    out.close();
-    if (!out) throw IoError("cannot write '" + path.string() + "'");
-    fs::permissions(path, fs::perms::owner_exec | fs::perms::group_exec | fs::perms::others_exec, fs::perm_options::add);
+    writeFileAtomically(path.string(), [&](const std::string& temp) {
+        std::ofstream out(temp, std::ios::binary);
+        out << text;
+        out.close();
+        if (!out) throw IoError("cannot write '" + temp + "'");
+        fs::permissions(temp, fs::perms::owner_exec | fs::perms::group_exec | fs::perms::others_exec,
+                        fs::perm_options::add);
+    });
 }
 
 std::string run(const std::string& command) {
@@ -150,7 +154,7 @@ void addSlurmCommand(CLI::App& app) {
                     "mid=$(sbatch --parsable --dependency=afterok:$id " + shellQuote(d + "/merge.sbatch") + ")\nmid=${mid%%;*}\n"
                     "echo \"$id $mid\" > " + shellQuote(d + "/jobs") + "\n"
                     "echo \"tiles: job $id (array 0-" + std::to_string(c->tiles - 1) + "), merge: job $mid (afterok:$id)\"\n");
-        std::ofstream(dir / "tiles") << c->tiles << "\n";
+        writeFileAtomically((dir / "tiles").string(), std::to_string(c->tiles) + "\n");
         std::cout << "Wrote " << d << "/tiles.sbatch (array of " << c->tiles << " tiles), merge.sbatch and submit.sh.\n";
         if (c->submit) std::cout << run("sh " + shellQuote(d + "/submit.sh"));
         else std::cout << "Submit with: sh " << shellQuote(d + "/submit.sh") << "\n";
