@@ -2,13 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
-#include <sstream>
 
 #include "vdblight/bake.h"
-
 #include "vdblight/layout_levels.h"
-#include "vdblight/scene.h"
+#include "vdblight/sh.h"
 
 namespace vdblight {
 namespace bake_detail {
@@ -28,46 +25,20 @@ std::vector<std::pair<int, std::size_t>> nodesToBake(const Volume& volume, uint6
     return work;
 }
 
-void addCommonBakeMetadata(Metadata& m, const Scene& scene, const TransportOptions& transport, uint64_t seed,
-                           uint64_t nodes, const ParallelRun& run) {
-    m["scene_name"] = scene.name;
-    m["scene_hash"] = scene.contentHash();
-    m["scene_triangles"] = int64_t(scene.triangleCount());
-    m["seed"] = int64_t(seed);
-    m["bounces"] = int64_t(transport.maxBounces);
-    m["roulette_start"] = int64_t(transport.rouletteStart);
-    m["roulette_max_survival"] = double(kRouletteMaxSurvival);
-    m["nodes"] = int64_t(nodes);
-    m["rays_intersect"] = int64_t(run.rays.intersect);
-    m["rays_occluded"] = int64_t(run.rays.occluded);
-    m["bake_seconds"] = run.seconds;
-    m["threads"] = int64_t(run.threads);
+std::size_t checkThreadsAndGrid(int threads, const GridSpec& grid) {
+    if (threads < 0) throw ValueError("thread count must be positive (0 = all cores)");
+    const std::size_t nodes = grid.nodeCount();
+    if (nodes == 0) throw ValueError("the grid has no nodes");
+    return nodes;
 }
 
-void addErrorSummary(Metadata& m, const std::vector<float>& estimatedError, const GridSpec& grid) {
-    BakeStats s;
-    s.estimatedError = estimatedError;
-    m["error_estimate"] = std::string(
-        "relative standard error of each node's mean irradiance over normals (SH DC term), from the per-sample "
-        "variance (noise only: not bias, SH truncation or interpolation)");
-    m["estimated_error_p50"] = s.errorQuantile(0.5);
-    m["estimated_error_p95"] = s.errorQuantile(0.95);
-    m["estimated_error_max"] = s.errorQuantile(1.0);
-    std::vector<std::size_t> order(estimatedError.size());
-    std::iota(order.begin(), order.end(), std::size_t(0));
-    const std::size_t worst = std::min<std::size_t>(5, order.size());
-    // Ties broken by node index: the same text for any thread count.
-    std::partial_sort(order.begin(), order.begin() + worst, order.end(), [&](std::size_t a, std::size_t b) {
-        return estimatedError[a] != estimatedError[b] ? estimatedError[a] > estimatedError[b] : a < b;
-    });
-    std::ostringstream text;
-    for (std::size_t k = 0; k < worst; ++k) {
-        const std::size_t n = order[k];
-        const std::size_t i = n % std::size_t(grid.nx), j = (n / std::size_t(grid.nx)) % std::size_t(grid.ny),
-                          kk = n / (std::size_t(grid.nx) * std::size_t(grid.ny));
-        text << (k ? ";" : "") << i << ',' << j << ',' << kk << ':' << estimatedError[n];
-    }
-    m["estimated_error_worst_nodes"] = text.str();
+Volume emptyShVolume(const GridSpec& grid) {
+    Volume volume;
+    volume.basis = BasisDesc::sh2();
+    volume.levels.resize(1);
+    volume.levels[0].grid = grid;
+    volume.levels[0].data.assign(grid.nodeCount() * sh::kCoeffs * 3, 0.0f);
+    return volume;
 }
 
 }  // namespace bake_detail

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "core/grid_index.h"
 #include "vdblight/errors.h"
 #include "vdblight/trace.h"
 
@@ -14,14 +15,9 @@ namespace vdblight {
 
 namespace {
 
-struct Idx {
-    int i, j, k;
-};
+using Idx = core::Index3;
 
-Idx unpack(const GridSpec& g, uint64_t linear) {
-    const uint64_t nx = uint64_t(g.nx), ny = uint64_t(g.ny);
-    return {int(linear % nx), int((linear / nx) % ny), int(linear / (nx * ny))};
-}
+Idx unpack(const GridSpec& g, uint64_t linear) { return core::unflatten(linear, uint64_t(g.nx), uint64_t(g.ny)); }
 
 bool contains(const std::vector<uint64_t>& sorted, uint64_t v) { return std::binary_search(sorted.begin(), sorted.end(), v); }
 

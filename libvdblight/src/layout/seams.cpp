@@ -2,6 +2,7 @@
 // interpolation, so that the multi-level reconstruction is continuous (C0).
 #include <cmath>
 
+#include "core/grid_index.h"
 #include "vdblight/errors.h"
 #include "vdblight/layout_levels.h"
 
@@ -9,14 +10,9 @@ namespace vdblight {
 
 namespace {
 
-struct Node {
-    int i, j, k;
-};
+using Node = core::Index3;
 
-Node unpackNode(const GridSpec& g, uint64_t linear) {
-    const uint64_t nx = uint64_t(g.nx), ny = uint64_t(g.ny);
-    return {int(linear % nx), int((linear / nx) % ny), int(linear / (nx * ny))};
-}
+Node unpackNode(const GridSpec& g, uint64_t linear) { return core::unflatten(linear, uint64_t(g.nx), uint64_t(g.ny)); }
 
 /// Coarse cell indices along one axis whose closed extent contains fine index p.
 int coarseCandidates(int p, int K, int coarseCells, int out[2]) {
