@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "core/union_find.h"
 #include "core/grid_index.h"
 #include "vdblight/errors.h"
 #include "vdblight/trace.h"
@@ -51,18 +52,7 @@ bool cellExists(const std::vector<VolumeLevel>& levels, std::size_t l, int K, in
     return contains(parent.refinedCells, parent.grid.index(i / K, j / K, k / K));
 }
 
-struct UnionFind {
-    std::vector<uint32_t> parent;
-    explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-    uint32_t find(uint32_t a) {
-        while (parent[a] != a) a = parent[a] = parent[parent[a]];
-        return a;
-    }
-    void join(uint32_t a, uint32_t b) {
-        a = find(a), b = find(b);
-        if (a != b) parent[std::max(a, b)] = std::min(a, b);  // deterministic roots
-    }
-};
+using core::UnionFind;
 
 /// Fixed spherical Fibonacci directions, tilted off the axes so that rays do not run along
 /// axis-aligned walls or through mesh edges of axis-aligned quads.
