@@ -284,12 +284,15 @@ TEST(Stress, DynamicRangeAndOverflow) {
     const Volume v = bakeSmall(s, g, 256);
     EXPECT_TRUE(allFinite(v));
 
-    // An emission of 3e38 (near FLT_MAX) times the SH projection's weights leaves float range:
-    // the bake must overflow, so that the writer's refusal below is always exercised.
+    // Every surface emitting 3e38 (near FLT_MAX): a node above the ground sees it over a whole
+    // hemisphere, and its SH DC coefficient (radiance x 2 pi Y00, about 5e38) leaves float range.
+    // The bake must overflow, so that the writer's refusal below is always exercised. (The
+    // tiny light alone at 3e38 does not overflow: the test's old branch never ran.)
+    s.materials[0].emission = Rgb(3e38f, 3e38f, 3e38f);
     s.materials[1].emission = Rgb(3e38f, 3e38f, 3e38f);
     const Volume hot = bakeSmall(s, g, 16);
-    ASSERT_FALSE(allFinite(hot)) << "an emission of 3e38 no longer overflows float storage; the overflow check needs a "
-                                    "brighter input";
+    ASSERT_FALSE(allFinite(hot)) << "an emission of 3e38 on every surface no longer overflows float storage; the "
+                                    "overflow check needs a brighter input";
     test::TempDir dir;
     const std::string path = dir.file("hot.vdb");
     EXPECT_THROW(writeVolume(hot, path, WriteOptions{}), ValueError);
