@@ -5,7 +5,7 @@
 # each harness
 #   1. replays every seed and saved regression input of tests/fuzz/corpus/<harness>/ once;
 #   2. fuzzes from those seeds with fixed seeds (-seed=1, then 2, ... after each documented
-#      library finding) for a fixed number of inputs (RUNS, default 2000; FUZZ_RUNS), never
+#      library finding) for a fixed number of inputs (RUNS, default 1000; FUZZ_RUNS), never
 #      for a wall-clock budget, from a fresh corpus, so what it tries depends only on the commit.
 # Every input that fails (crash, sanitizer report, leak, timeout, an allocation over the
 # malloc limit) is re-run by tests/fuzz/triage.py: it passes only as a documented library
@@ -16,13 +16,19 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD="${FUZZ_BUILD_DIR:-$ROOT/build-fuzz}"
-RUNS="${1:-${FUZZ_RUNS:-2000}}"
+RUNS="${1:-${FUZZ_RUNS:-1000}}"
 JOBS="${JOBS:-$(nproc)}"
 source "$ROOT/tests/fuzz/harnesses.sh"   # HARNESSES, MALLOC_LIMIT_MB, RSS_LIMIT_MB
 "$ROOT/scripts/fuzz_build.sh"
 
-rm -rf "$BUILD/artifacts" "$BUILD/corpus"
-mkdir -p "$BUILD/artifacts" "$BUILD/logs"
+rm -rf "$BUILD/artifacts" "$BUILD/corpus" "$BUILD/tmp"
+mkdir -p "$BUILD/artifacts" "$BUILD/logs" "$BUILD/tmp"
+# The harnesses write each input to a private temporary directory that they remove at exit,
+# but a harness that aborts (a sanitizer report, a known library finding) never reaches its
+# exit handlers: keep those directories under build-fuzz/tmp, emptied here and at the end,
+# instead of leaving them in /tmp.
+export TMPDIR="$BUILD/tmp"
+trap 'rm -rf "$BUILD/tmp"' EXIT
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
 run_one() {

@@ -19,8 +19,11 @@ source "$ROOT/tests/fuzz/harnesses.sh"
 if (($#)); then HARNESSES=("$@"); fi
 "$ROOT/scripts/fuzz_build.sh"
 
-rm -rf "$BUILD/explore-artifacts"
-mkdir -p "$BUILD/explore-artifacts" "$BUILD/logs"
+rm -rf "$BUILD/explore-artifacts" "$BUILD/explore-tmp"
+mkdir -p "$BUILD/explore-artifacts" "$BUILD/logs" "$BUILD/explore-tmp"
+# Aborted harness processes skip their exit handlers: their input directories go here, not /tmp.
+export TMPDIR="$BUILD/explore-tmp"
+trap 'rm -rf "$BUILD/explore-tmp"' EXIT
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
 run_one() {

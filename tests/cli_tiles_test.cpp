@@ -20,8 +20,8 @@ std::string fileBytes(const std::string& path) {
     return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-/// The defaults of the uniform SH point gather are not tileable (a probe-to-probe pass, the
-/// visibility pass of --direct occlusion): tests of tileable bakes say so explicitly.
+/// Bakes without probe-to-probe passes tile in one stage (the default bake's pass is staged:
+/// DefaultBakeTiledInStagesMergesToTheSingleBake).
 const std::string kTileable = " --direct baked --quality preview";
 
 /// Bakes `args` once whole and once as `tiles` tiles (tile i on 1 + i % 2 threads), merges
@@ -46,6 +46,73 @@ void expectMergeIdentical(const test::TempDir& dir, const std::string& args, int
     ASSERT_GT(a.size(), 1000u);
     EXPECT_TRUE(a == b) << "merged file differs from the single bake (" << a.size() << " vs " << b.size() << " bytes)";
     EXPECT_EQ(fileContentHash(whole).sha256, fileContentHash(merged).sha256);
+}
+
+/// Bakes `args` once whole and once as `tiles` tiles in stages 0..`last` (bake --stage, each
+/// stage after 0 reading the merged tiles of the one before), and expects the merged last
+/// stage to have the single bake's bytes. Re-running a tile of every stage skips it.
+void expectStagedMergeIdentical(const test::TempDir& dir, const std::string& args, int tiles, int last) {
+    const std::string whole = dir.file("whole.vdb");
+    const test::CliRun w = runCli("bake -q -o " + whole + " --threads 2 " + args);
+    ASSERT_EQ(w.status, 0) << w.output;
+    std::string merged;
+    for (int stage = 0; stage <= last; ++stage) {
+        const std::string input = stage > 0 ? " --stage-input " + merged : "";
+        std::string list;
+        for (int t = 0; t < tiles; ++t) {
+            const std::string tile = dir.file("s" + std::to_string(stage) + "t" + std::to_string(t) + ".vdb");
+            const std::string cmd = "bake -o " + tile + " --tiles " + std::to_string(tiles) + " --tile " + std::to_string(t) +
+                                    " --stage " + std::to_string(stage) + input + " " + args;
+            const test::CliRun r = runCli(cmd + " --threads " + std::to_string(1 + t % 2));
+            ASSERT_EQ(r.status, 0) << r.output;
+            EXPECT_NE(r.output.find("Baked tile " + std::to_string(t) + " of " + std::to_string(tiles) + " (stage " +
+                                    std::to_string(stage)),
+                      std::string::npos)
+                << r.output;
+            if (t == 0) {  // resumable in every stage: the same tile again is skipped
+                const test::CliRun again = runCli(cmd);
+                ASSERT_EQ(again.status, 0) << again.output;
+                EXPECT_NE(again.output.find("already baked"), std::string::npos) << again.output;
+            }
+            list = tile + " " + list;
+        }
+        merged = dir.file("stage" + std::to_string(stage) + ".vdb");
+        const test::CliRun m = runCli("merge " + list + "-o " + merged);
+        ASSERT_EQ(m.status, 0) << m.output;
+        if (stage < last)  // the reflected light of a pass is no volume to look up
+            test::expectRefusal("query " + merged + " --at 0.2,0.2,0.2 --normal 0,1,0", "stage-input", "", "query a stage");
+    }
+    const std::string a = fileBytes(whole), b = fileBytes(merged);
+    ASSERT_GT(a.size(), 1000u);
+    EXPECT_TRUE(a == b) << "merged file differs from the single bake (" << a.size() << " vs " << b.size() << " bytes)";
+}
+
+TEST(CliTiles, DefaultBakeTiledInStagesMergesToTheSingleBake) {
+    // The default bake (one probe-to-probe pass, --direct occlusion, the per-node error
+    // summary) at a small size, plus depth moments: stage 0, merge, stage 1, merge.
+    test::TempDir dir;
+    expectStagedMergeIdentical(dir, "--resolution 10 --rays 32 --seed 4 --depth-moments", 3, 1);
+    const test::CliRun info = runCli("info " + dir.file("stage1.vdb"));
+    EXPECT_NE(info.output.find("light_visibility_0"), std::string::npos) << info.output;
+    EXPECT_NE(info.output.find("estimated_error_worst_nodes"), std::string::npos) << info.output;
+    // A stage file of another bake is refused; a stage-1 tile is baked again when the stage-0
+    // file it read has changed.
+    const std::string tile = dir.file("s1t0.vdb"),
+                      cmd = "bake -o " + tile + " --tiles 3 --tile 0 --stage 1 --stage-input " + dir.file("stage0.vdb") +
+                            " --resolution 10 --rays 32 --depth-moments";
+    ASSERT_EQ(runCli("bake -q -o " + dir.file("other.vdb") + " --tiles 1 --tile 0 --stage 0 --resolution 10 --rays 32 --seed 5 --depth-moments").status, 0);
+    ASSERT_EQ(runCli("merge -q " + dir.file("other.vdb") + " -o " + dir.file("stage0.vdb")).status, 0);
+    test::expectRefusal(cmd, "is a stage of a bake with another scene or other options", "", "stage input of seed 5");
+    const test::CliRun again = runCli(cmd + " --seed 5");  // the options of the new stage 0: baked again
+    ASSERT_EQ(again.status, 0) << again.output;
+    EXPECT_NE(again.output.find("Baked tile 0 of 3 (stage 1"), std::string::npos) << again.output;
+}
+
+TEST(CliTiles, ErrorTargetedBakeWithTwoProbePassesMergesToTheSingleBake) {
+    // --quality high: every node to an error target, two probe passes (three stages);
+    // depth moments from their own pass.
+    test::TempDir dir;
+    expectStagedMergeIdentical(dir, "--quality high --max-rays 64 --resolution 10 --depth-moments --half", 2, 2);
 }
 
 TEST(CliTiles, UniformBinsMergeToTheSingleBake) {
@@ -97,19 +164,22 @@ TEST(CliTiles, PassesThatCannotBeTiledSaySo) {
     test::expectRefusal("bake --sampling antialiased" + tile, "cannot be tiled", out, "antialiased");
     test::expectRefusal("bake --method photons" + tile, "cannot be tiled", out, "photons");
     test::expectRefusal("bake --invalidate-backface 0.1" + tile, "cannot be tiled", out, "invalidate");
-    test::expectRefusal("bake --target-error 0.1" + tile, "cannot be tiled", out, "target error");
-    // The defaults: one probe-to-probe pass, then --direct occlusion (its visibility pass bakes
-    // every node and tile files do not carry the visibility grids).
+    test::expectRefusal("bake --sh-window --resolution 4 --tiles 2 --tile 0 --probe-passes 0 -o " + out, "cannot be tiled", out,
+                        "sh-window");
+    // Probe-to-probe passes (the default) are tiled in stages, each reading the one before.
     const std::string uniformTile = " --tiles 2 --tile 0 --resolution 4 -o " + out;
-    test::expectRefusal("bake --direct baked" + uniformTile, "add --probe-passes 0 or --quality preview", out, "probe pass");
-    test::expectRefusal("bake --quality preview" + uniformTile, "add --direct baked", out, "default occlusion");
-    test::expectRefusal("bake --quality preview --direct occlusion" + uniformTile, "add --direct baked", out, "occlusion");
-    test::expectRefusal("bake --quality preview --direct runtime" + uniformTile, "add --direct baked", out, "runtime");
+    test::expectRefusal("bake" + uniformTile, "tiled in stages", out, "default without --stage");
+    test::expectRefusal("bake --stage 2" + uniformTile, "--stage must be between 0 and 1", out, "stage range");
+    test::expectRefusal("bake --stage 1" + uniformTile, "needs --stage-input", out, "no stage input");
+    test::expectRefusal("bake --stage 0 --stage-input " + out + uniformTile, "--stage-input needs --stage 1", out, "input at 0");
+    test::expectRefusal("bake --stage 0 --resolution 4 -o " + out, "--stage needs --tiles", out, "stage without tiles");
+    test::expectRefusal("bake --stage 0 --quality preview" + uniformTile, "--stage needs probe-to-probe passes", out, "no passes");
+    const std::string volume = dir.file("volume.vdb");
+    ASSERT_EQ(runCli("bake -q --quality preview --resolution 4 -o " + volume).status, 0);
+    test::expectRefusal("bake --stage 1 --stage-input " + volume + uniformTile, "no probe stage file", out, "a volume as input");
     test::expectRefusal("bake --tiles 2 --resolution 4 -o " + out, "--tiles and --tile go together", out, "no --tile");
     test::expectRefusal("bake --tiles 2 --tile 2 --resolution 4 -o " + out, "--tile must be between 0 and 1", out, "range");
     test::expectRefusal("bake --tiles 9 --tile 0 --layout bilevel --refine 2 --resolution 4 -o " + out + kTileable, "bricks of 8^3 nodes", out, "too many");
-    // The uniform point gather's per-node error summary is not merged yet.
-    test::expectRefusal("bake --tiles 2 --tile 0 --resolution 4 -o " + out + kTileable, "the uniform SH point gather cannot be tiled yet", out, "uniform gather");
 }
 
 TEST(CliTiles, ATileAlreadyOnDiskWithTheSameParametersIsSkipped) {

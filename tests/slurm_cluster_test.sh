@@ -1,7 +1,9 @@
 #!/bin/sh
 # `vdblight slurm` on a real one-node Slurm (issue 17), started and stopped by this script:
-# 4 tiles merged = the single bake; a tile cancelled mid-run (scancel) leaves the merge
-# waiting, and re-submitting redoes only that tile and gives the identical file.
+# the default bake (a probe-to-probe pass, so two stages: array -> merge -> array -> merge,
+# --direct occlusion): 4 tiles merged = the single bake; a stage-0 tile cancelled
+# mid-run (scancel) leaves the chain waiting, and re-submitting redoes only that tile of
+# stage 0 (then stage 1) and gives the identical file.
 # Usage: slurm_cluster_test.sh VDBLIGHT SOURCE_DIR. Exit 77 (skipped) without Slurm or root.
 set -u
 B=$1; SRC=$2
@@ -53,8 +55,10 @@ slurmd -f "$SLURM_CONF" || fail "slurmd did not start"
 for i in $(seq 60); do sinfo -h -o %t 2>/dev/null | grep -q idle && break; sleep 1; done
 sinfo -h -o %t | grep -q idle || fail "the node did not come up"
 
-# Tileable: bilevel (the uniform point gather is not), no probe pass, direct light in the SH.
-OPTS="--layout bilevel --refine 2 --resolution 16 --rays 512 --seed 3 --direct baked --quality preview"
+# The default bake (uniform SH point gather at 16 nodes on the longest axis and 256 rays, one
+# probe-to-probe pass, --direct occlusion) with seed 3: a tile runs long enough (seconds) to
+# be cancelled while it runs.
+OPTS="--seed 3"
 SCENE="$SRC/data/cornell_box.obj"
 wait_jobs() {  # until none of our jobs is pending or running (or 600 s)
   for i in $(seq 600); do [ -z "$(squeue -h -o %i 2>/dev/null)" ] && return 0; sleep 1; done; return 1
@@ -68,22 +72,23 @@ T2=$(date +%s.%N)
 cmp "$W/whole.vdb" "$W/world.vdb" || fail "4 tiles on Slurm differ from the single bake"
 echo "single bake $(echo "$T1 - $T0" | bc) s; submit -> merged on Slurm $(echo "$T2 - $T1" | bc) s: identical"
 
-# Cancel a tile mid-run: the merge waits forever (afterok never satisfied); re-submit.
+# Cancel a stage-0 tile mid-run: the chain waits forever (afterok never satisfied); re-submit.
 rm -rf "$W/world.vdb" "$W/world.vdb.tiles"
 "$B" slurm "$SCENE" -o "$W/world.vdb" --tiles 4 --submit $OPTS || fail "submit 2"
-ID=$(cut -d' ' -f1 "$W/world.vdb.tiles/jobs"); MID=$(cut -d' ' -f2 "$W/world.vdb.tiles/jobs")
+ID=$(cut -d' ' -f1 "$W/world.vdb.tiles/jobs"); LATER=$(cut -d' ' -f2- "$W/world.vdb.tiles/jobs")
 for i in $(seq 100); do squeue -h -j "${ID}_2" -o %T 2>/dev/null | grep -q RUNNING && break; sleep 0.2; done
 scancel "${ID}_2"
 for i in $(seq 600); do [ -z "$(squeue -h -j "$ID" -o %i 2>/dev/null)" ] && break; sleep 1; done
-[ -f "$W/world.vdb.tiles/tile-2.vdb" ] && fail "the cancelled tile left a file"
-[ -f "$W/world.vdb" ] && fail "the merge ran although a tile was cancelled"
-scancel "$MID"
+[ -f "$W/world.vdb.tiles/stage-0-tile-2.vdb" ] && fail "the cancelled tile left a file"
+[ -f "$W/world.vdb.tiles/stage-0.vdb" ] && fail "the stage-0 merge ran although a tile was cancelled"
+[ -f "$W/world.vdb" ] && fail "the final merge ran although a tile was cancelled"
+scancel $LATER
 T3=$(date +%s.%N)
 "$B" slurm "$SCENE" -o "$W/world.vdb" --tiles 4 --submit $OPTS || fail "re-submit"
 wait_jobs || fail "resumed jobs did not finish"
 T4=$(date +%s.%N)
 cmp "$W/whole.vdb" "$W/world.vdb" || fail "the resumed bake differs from the single bake"
-SKIPPED=$(grep -l "already baked" "$W"/world.vdb.tiles/tile-*.log | wc -l)
-[ "$SKIPPED" -eq 3 ] || fail "expected 3 tiles skipped on resume, got $SKIPPED"
-echo "resumed after cancelling 1 of 4 tiles: $(echo "$T4 - $T3" | bc) s, 3 tiles skipped: identical"
+SKIPPED=$(grep -l "already baked" "$W"/world.vdb.tiles/stage-0-tile-*.log | wc -l)
+[ "$SKIPPED" -eq 3 ] || fail "expected 3 stage-0 tiles skipped on resume, got $SKIPPED"
+echo "resumed after cancelling 1 of 4 stage-0 tiles: $(echo "$T4 - $T3" | bc) s, 3 skipped: identical"
 echo PASSED

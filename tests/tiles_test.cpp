@@ -8,6 +8,7 @@
 #include <iterator>
 
 #include "test_util.h"
+#include "vdblight/error_summary.h"
 #include "vdblight/errors.h"
 #include "vdblight/tiles.h"
 #include "vdblight/vdb_io.h"
@@ -131,22 +132,82 @@ TEST(Tiles, WrittenTilesMergeToTheSameFile) {
     }
 }
 
-TEST(Tiles, AVolumeWithDirectLightOutOfTheShIsNotTiled) {
-    // Tile files do not carry the light list or visibility grids (bake --direct): the merged
-    // file would claim to hold all its direct light, so writeTile refuses.
+TEST(Tiles, EveryChannelAndTheErrorSummaryMergeToTheSameFile) {
+    // Depth moments, occlusion-mode light visibility and the light list travel with the
+    // tiles' nodes; the error summary is recomputed from the tiles' per-node errors and the
+    // counts (rays, samples, visibility rays) are summed, plus an earlier stage's once.
     test::TempDir dir;
-    Volume v = randomVolume();
-    v.direct.mode = DirectMode::Runtime;
-    TileId id;
-    id.index = 0, id.count = 2, id.paramsHash = tileParamsHash("scene", "rays=1\n");
-    const std::string path = dir.file("tile0.vdb");
-    try {
-        writeTile(v, tileNodeMask(v.levels, 2, 0), id, path);
-        ADD_FAILURE() << "a --direct runtime volume was written as a tile";
-    } catch (const ValueError& e) {
-        EXPECT_NE(std::string(e.what()).find("add --direct baked"), std::string::npos) << e.what();
+    Volume whole = randomVolume();
+    VolumeLevel& level = whole.levels[0];
+    const std::size_t nodes = level.grid.nodeCount();
+    level.depth.resize(nodes * depth::kFloatsPerNode);
+    for (std::size_t i = 0; i < level.depth.size(); ++i) level.depth[i] = float((i * 31) % 256) / 255.0f;
+    whole.direct.mode = DirectMode::Occlusion;
+    for (int i = 0; i < 2; ++i) {
+        DirectLight light;
+        light.position = Vec3d(0.1 * i, 1, 0.5);
+        light.value = Rgb(1, 2, 3);
+        whole.direct.lights.push_back(light);
     }
-    EXPECT_FALSE(std::filesystem::exists(path));
+    level.lightVisibility.resize(nodes * 2);
+    for (std::size_t i = 0; i < level.lightVisibility.size(); ++i) level.lightVisibility[i] = float((i * 17) % 101) / 100.0f;
+    std::vector<float> error(nodes);
+    for (std::size_t n = 0; n < nodes; ++n) error[n] = float((n * 7727) % 389) / 997.0f;
+    addErrorSummary(whole.meta, error, level.grid);
+    whole.meta["rays_intersect"] = int64_t(5000);  // 1000 of earlier stages + 4000 of this one
+    whole.meta["direct_visibility_rays"] = int64_t(nodes * 2);
+    writeVolume(whole, dir.file("whole.vdb"));
+
+    const int count = 3;
+    std::vector<std::string> paths;
+    for (int t = 0; t < count; ++t) {
+        TileId id;
+        id.index = t, id.count = count, id.paramsHash = tileParamsHash("scene", "rays=1\n");
+        const NodeMask mask = tileNodeMask(whole.levels, count, t);
+        const int64_t mine = int64_t(std::count(mask[0].begin(), mask[0].end(), uint8_t(1)));
+        Volume part = whole;  // as a tile's bake: its own counts, a summary of its own nodes
+        part.meta["rays_intersect"] = int64_t(t == 0 ? 2000 : 1000);
+        part.meta["direct_visibility_rays"] = mine * 2;
+        std::vector<float> own(nodes, 0.0f);
+        for (std::size_t n = 0; n < nodes; ++n) own[n] = mask[0][n] ? error[n] : 0.0f;
+        addErrorSummary(part.meta, own, level.grid);
+        Metadata earlier;
+        earlier["rays_intersect"] = int64_t(1000);
+        addEarlierStageSums(part.meta, earlier);
+        TileNodeStats stats;
+        stats.estimatedError = own;
+        paths.push_back(dir.file("tile" + std::to_string(t) + ".vdb"));
+        writeTile(part, mask, id, paths.back(), {}, &stats);
+    }
+    const MergedTiles merged = mergeTiles(paths);
+    EXPECT_EQ(merged.volume.direct.lights.size(), 2u);
+    EXPECT_EQ(std::get<int64_t>(merged.volume.meta.at("rays_intersect")), 5000);
+    writeVolume(merged.volume, dir.file("merged.vdb"), merged.write);
+    EXPECT_TRUE(bytesOf(dir.file("merged.vdb")) == bytesOf(dir.file("whole.vdb")));
+    const Volume back = readVolume(dir.file("merged.vdb"));
+    EXPECT_EQ(back.levels[0].depth, level.depth);
+    EXPECT_EQ(back.levels[0].lightVisibility, level.lightVisibility);
+}
+
+TEST(Tiles, AProbeStageFileIsReadOnlyAsAStageInput) {
+    // The merged tiles of a stage before the last hold reflected light: readVolume refuses
+    // them (not a volume to look up), readProbeStage reads them, and nothing else.
+    test::TempDir dir;
+    Volume stage = randomVolume();
+    stage.basis = probeStageBasis();
+    stage.meta["probe_stage"] = int64_t(0);
+    stage.meta["probe_passes"] = int64_t(1);
+    writeVolume(stage, dir.file("stage0.vdb"));
+    try {
+        readVolume(dir.file("stage0.vdb"));
+        ADD_FAILURE() << "a probe stage file was read as a volume";
+    } catch (const FormatError& e) {
+        EXPECT_NE(std::string(e.what()).find("--stage-input"), std::string::npos) << e.what();
+    }
+    const Volume back = readProbeStage(dir.file("stage0.vdb"));
+    EXPECT_EQ(back.levels[0].data, stage.levels[0].data);
+    writeVolume(randomVolume(), dir.file("whole.vdb"));
+    EXPECT_THROW(readProbeStage(dir.file("whole.vdb")), FormatError);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 #include <thread>
 
 #include "app_common.h"
@@ -69,7 +70,10 @@ struct BakeCommand {
     bool reproducible = true;   // leave run-specific metadata out of the file (vdb_io.h)
     int tiles = 0;              // > 0: bake only tile `tile` of this many (tiles.h)
     int tile = -1;
+    int stage = -1;             // >= 0: only this pass of a bake with probe passes (tiles.h, "Staged bakes")
+    std::string stageInput;     // stage > 0: the merged tiles of the stage before
     std::string parameters;     // every option that changes the result, for the tile hash
+    bool planOnly = false;      // bakeStageCount: parse and resolve the presets, bake nothing
 };
 
 /// --direct: parsed and checked against the other options before anything is loaded.
@@ -106,27 +110,22 @@ std::string untileable(const BakeCommand& c) {
     if (c.sampling == "antialiased")
         return "--sampling antialiased cannot be tiled (cells share nodes across tile borders, dilation crosses them)";
     if (c.invalidateBackface >= 0) return "--invalidate-backface cannot be tiled (its dilation crosses tile borders)";
-    if (c.targetError > 0) return "--target-error cannot be tiled yet (its error statistics are not merged)";
     if (c.shWindow) return "--sh-window cannot be tiled yet (the window would have to follow the seams at merge)";
-    if (c.probePasses > 0)
-        return "probe-to-probe passes cannot be tiled yet (each pass reads every node of the pass before): "
-               "add --probe-passes 0 or --quality preview";
-    // The visibility pass bakes every node and tile files do not carry the light list or the
-    // visibility grids, so a merged file would lose them: only direct light in the SH tiles.
-    if (directFromOptions(c).mode != DirectMode::Baked)
-        return std::string("--direct ") + (c.direct.empty() ? "occlusion (the default here)" : c.direct) +
-               " cannot be tiled yet (tile files do not carry the light list and visibility channels): add --direct baked";
-    if (c.method == "gather" && c.sampling == "point" && parseLayoutKind(c.layout) == LayoutKind::Uniform &&
-        bins::parseBasisSpec(c.basis).kind == bins::BasisSpec::Kind::Sh2)
-        return "the uniform SH point gather cannot be tiled yet (its per-node error summary, "
-               "vdblight:estimated_error_*, is not merged): tile --layout bilevel or adaptive";
+    // Each probe-to-probe pass reads every node of the pass before: one stage per pass.
+    if (c.probePasses > 0 && c.stage < 0)
+        return "probe-to-probe passes are tiled in stages (each pass reads every node of the pass before): bake "
+               "every tile with --stage 0, merge them, then every tile with --stage 1 --stage-input STAGE0.vdb, ... up "
+               "to --stage " + std::to_string(c.probePasses) + ", and merge the last stage ('vdblight slurm' writes "
+               "this chain; docs/scaling.md), or add --probe-passes 0";
     return "";
 }
 
 /// The canonical text of the options that change a bake's result: each as given on the
 /// command line, so that every tile of one bake must be started with the same options.
 std::string bakeParameters(const CLI::App& cmd) {
-    static const char* const kIgnored[] = {"--output", "--tile", "--threads", "--quiet", "--help", "--reproducible"};
+    // --stage-input: its content, not its path, is part of the parameters (run()).
+    static const char* const kIgnored[] = {"--output", "--tile", "--threads", "--quiet", "--help", "--reproducible",
+                                           "--stage-input"};
     std::vector<std::string> lines;
     for (const CLI::Option* opt : cmd.get_options()) {
         const std::string name = opt->get_name();
@@ -193,10 +192,13 @@ Volume bakeSelected(const BakeCommand& c, const Scene& scene, const Tracer& trac
         a.threads = options.threads;
         a.transport = options.transport;
         a.probePasses = options.probePasses;
+        a.only = options.only;
+        a.stage = options.stage;
+        a.stageInput = options.stageInput;
         AdaptiveStats as;
         Volume v = bakeShGatherAdaptive(scene, tracer, grid, a, progress, &as);
         *stats = as;
-        if (!c.quiet)
+        if (!c.quiet && !as.estimatedError.empty() && !options.only)
             std::cout << "Error-targeted: relative standard error of mean irradiance p50 " << as.errorQuantile(0.5)
                       << ", p95 " << as.errorQuantile(0.95) << ", max " << as.errorQuantile(1.0) << " (target "
                       << c.targetError << ", " << as.nodesAtMax << " nodes stopped at --max-rays " << c.maxRays << "); "
@@ -234,7 +236,9 @@ void run(const BakeCommand& c) {
     NodeMask tileMask;
     if (c.tiles > 0) {
         tileId.index = c.tile, tileId.count = c.tiles;
-        tileId.paramsHash = tileParamsHash(scene.contentHash(), c.parameters);
+        // A stage's tiles depend on the stage before's merged file: its content is a parameter.
+        const std::string input = c.stage > 0 ? "stage_input_sha256=" + fileContentHash(c.stageInput).sha256 + "\n" : "";
+        tileId.paramsHash = tileParamsHash(scene.contentHash(), c.parameters + input);
         TileId onDisk;
         bool done = false;
         std::error_code ec;
@@ -286,6 +290,27 @@ void run(const BakeCommand& c) {
     options.probePasses = c.probePasses;
     // The point gather records depth moments from its own first rays (no extra rays).
     options.depthMoments = c.depthMoments && (c.depthRays == 0 || c.depthRays == c.rays);
+    // A staged bake (tiles.h): this pass only, from the merged tiles of the stage before.
+    Volume stageInput;
+    options.stage = c.stage;
+    // Every stage of one bake has the same options but --stage (and maybe --tiles): their hash
+    // ties a stage file to the stages after it.
+    std::string sameBake;
+    if (c.stage >= 0) {
+        std::string others;
+        std::istringstream lines(c.parameters);
+        for (std::string line; std::getline(lines, line);)
+            if (line.compare(0, 8, "--stage=") != 0 && line.compare(0, 8, "--tiles=") != 0) others += line + "\n";
+        sameBake = tileParamsHash(scene.contentHash(), others);
+    }
+    if (c.stage > 0) {
+        stageInput = readProbeStage(c.stageInput);
+        if (metaString(stageInput.meta, "probe_stage_params_hash") != sameBake)
+            throw ValueError("'" + c.stageInput + "' is a stage of a bake with another scene or other options than --stage " +
+                             std::to_string(c.stage) + " here");
+        options.stageInput = &stageInput;
+    }
+    const bool lastStage = c.stage < 0 || c.stage == c.probePasses;
 
     ProgressBar progress(c.quiet);
     LevelsBakeStats stats;
@@ -331,8 +356,8 @@ void run(const BakeCommand& c) {
                       << (c.cullSolids ? ", " + std::to_string(layout.culledNodes) + " of them culled inside solids" : "")
                       << ").\n";
     }
-    if (direct.mode != DirectMode::Baked) {
-        bakeLightVisibility(scene, tracer, plan, direct, volume, &progress);
+    if (direct.mode != DirectMode::Baked && lastStage) {
+        bakeLightVisibility(scene, tracer, plan, direct, volume, &progress, c.tiles > 0 ? &tileMask : nullptr);
         if (!c.quiet) {
             std::cout << "Direct light (" << directModeName(direct.mode) << "): " << plan.lights.size() << " of " << plan.sceneLightCount
                       << " lights kept out of the SH";
@@ -346,11 +371,12 @@ void run(const BakeCommand& c) {
     if (c.refineDistance > 0) volume.meta["refine_distance"] = c.refineDistance;
     if (c.shWindow) applyShWindow(volume);
     DepthStats depthStats;
-    if (c.depthMoments && !volume.hasDepth()) {  // passes without the gather's hook (bake_depth.h)
+    if (c.depthMoments && !volume.hasDepth() && lastStage) {  // passes without the gather's hook (bake_depth.h)
         DepthOptions depthOptions;
         depthOptions.raysPerNode = c.depthRays > 0 ? c.depthRays : c.rays;
         depthOptions.seed = c.seed;
         depthOptions.threads = c.threads;
+        depthOptions.only = c.tiles > 0 ? &tileMask : nullptr;
         bakeDepthMoments(tracer, volume, depthOptions, nullptr, &depthStats);
     }
     placeVolumeInWorld(volume, scene.origin);  // baked in the scene's local frame (scene_origin.h)
@@ -361,13 +387,25 @@ void run(const BakeCommand& c) {
     write.halfFloat = c.half;
     write.reproducible = c.reproducible;
     if (c.tiles > 0) {
-        writeTile(volume, tileMask, tileId, c.output, write);
+        // The per-node errors of the uniform point gathers, for the merge's error summary.
+        TileNodeStats nodeStats;
+        if (volume.levels.size() == 1 && !binned) nodeStats.estimatedError = stats.estimatedError;
+        if (!lastStage) {
+            write.halfFloat = false;  // the next stage reads the reflected light exactly
+            volume.meta["probe_stage_params_hash"] = sameBake;
+        }
+        writeTile(volume, tileMask, tileId, c.output, write, &nodeStats);
         uint64_t mine = 0;
         for (const auto& l : tileMask) mine += uint64_t(std::count(l.begin(), l.end(), uint8_t(1)));
         if (!c.quiet)
-            std::cout << "Baked tile " << c.tile << " of " << c.tiles << ": " << mine << " of " << stats.nodes
-                      << " nodes, " << formatCount(double(stats.rays.total())) << " rays in " << formatSeconds(stats.seconds)
-                      << ". Wrote " << c.output << " (merge the tiles with 'vdblight merge').\n";
+            std::cout << "Baked tile " << c.tile << " of " << c.tiles
+                      << (c.stage >= 0 ? " (stage " + std::to_string(c.stage) + " of 0.." + std::to_string(c.probePasses) + ")" : "")
+                      << ": " << mine << " of " << stats.nodes << " nodes, " << formatCount(double(stats.rays.total()))
+                      << " rays in " << formatSeconds(stats.seconds) << ". Wrote " << c.output
+                      << (lastStage ? " (merge the tiles with 'vdblight merge')"
+                                    : " (merge this stage's tiles with 'vdblight merge', then bake stage " +
+                                          std::to_string(c.stage + 1) + " with --stage-input MERGED.vdb)")
+                      << ".\n";
         return;
     }
     writeVolume(volume, c.output, write);
@@ -456,8 +494,8 @@ void runPhotons(const BakeCommand& c) {
 }
 }  // namespace
 
-void addBakeCommand(CLI::App& app) {
-    auto c = std::make_shared<BakeCommand>();
+namespace {
+void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
     CLI::App* cmd = app.add_subcommand("bake", "Bake a uniform SH order-2 irradiance volume into a .vdb");
     addSceneOptions(*cmd, c->scene);
     cmd->add_option("-o,--output", c->output, "Output .vdb file (written atomically)")->required();
@@ -553,8 +591,14 @@ void addBakeCommand(CLI::App& app) {
                     "bake only --tile I of them; 'vdblight merge' puts the tile files together (docs/scaling.md). "
                     "A tile file that exists with the same scene and parameters is skipped (resumable)");
     auto* tileOpt = cmd->add_option("--tile", c->tile, "With --tiles N: the tile to bake, 0 .. N-1");
+    auto* stageOpt = cmd->add_option("--stage", c->stage,
+                    "With --tiles and probe-to-probe passes: bake only pass S (0 .. --probe-passes) of the tile; "
+                    "stages after 0 read the merged tiles of the stage before (--stage-input); merging the last "
+                    "stage's tiles gives the single bake (docs/scaling.md, staged bakes)");
+    auto* stageInputOpt = cmd->add_option("--stage-input", c->stageInput,
+                    "With --stage S > 0: the merged tiles of stage S-1 ('vdblight merge' of their tile files)");
     cmd->callback([c, cmd, spacing, resolution, invalidate, refine, levelsOpt, target, maxRays, minRays, refineDistance,
-                   rays, probe, depthRays, tilesOpt, tileOpt] {
+                   rays, probe, depthRays, tilesOpt, tileOpt, stageOpt, stageInputOpt] {
         if (depthRays->count() > 0 && !c->depthMoments) throw ValueError("--depth-rays needs --depth-moments");
         if (c->depthMoments && c->method != "gather")
             throw ValueError("--depth-moments works with --method gather only (the irradiance-vector lookup does not weight by depth yet)");
@@ -576,6 +620,13 @@ void addBakeCommand(CLI::App& app) {
             if (maxRays->count() == 0) c->maxRays = std::max(caps.maxRays, c->minRays);
         }
         if (probe->count() == 0 && targetable) c->probePasses = preset.probePasses;
+        if (c->planOnly) {  // vdblight slurm: refuse what would not tile before writing any script
+            BakeCommand staged = *c;
+            staged.stage = 0;
+            const std::string why = untileable(staged);
+            if (!why.empty()) throw ValueError(why);
+            return;
+        }
         // After the --quality preset, which may add an error target or probe passes.
         if ((tilesOpt->count() > 0) != (tileOpt->count() > 0)) throw ValueError("--tiles and --tile go together");
         if (tilesOpt->count() > 0) {
@@ -586,6 +637,18 @@ void addBakeCommand(CLI::App& app) {
             if (!why.empty()) throw ValueError(why);
             c->parameters = bakeParameters(*cmd);
         }
+        if (stageOpt->count() > 0) {
+            if (tilesOpt->count() == 0) throw ValueError("--stage needs --tiles and --tile (one stage of a tiled bake; --tiles 1 --tile 0 for all nodes)");
+            if (c->probePasses == 0) throw ValueError("--stage needs probe-to-probe passes (a bake without them has one stage: leave --stage out)");
+            if (c->stage < 0 || c->stage > c->probePasses)
+                throw ValueError("--stage must be between 0 and " + std::to_string(c->probePasses) +
+                                 " (one stage per pass: the first pass and " + std::to_string(c->probePasses) +
+                                 " probe-to-probe passes), got " + std::to_string(c->stage));
+        }
+        if ((c->stage > 0) != (stageInputOpt->count() > 0))
+            throw ValueError(c->stage > 0 ? "--stage " + std::to_string(c->stage) + " needs --stage-input (the merged tiles of stage " +
+                                                std::to_string(c->stage - 1) + ")"
+                                          : std::string("--stage-input needs --stage 1 or later"));
         if (c->shWindow && (c->method != "gather" || bins::parseBasisSpec(c->basis).kind != bins::BasisSpec::Kind::Sh2))
             throw ValueError("--sh-window applies to --method gather with --basis sh2 only");
         if (probe->count() > 0 && c->probePasses > 0 && !targetable)
@@ -643,6 +706,27 @@ void addBakeCommand(CLI::App& app) {
         if (c->compact && c->method != "photons") throw ValueError("--compact applies to --method photons only");
         run(*c);
     });
+}
+}  // namespace
+
+void addBakeCommand(CLI::App& app) { addBakeCommandTo(app, std::make_shared<BakeCommand>()); }
+
+int bakeStageCount(const std::string& scene, const std::vector<std::string>& bakeArgs) {
+    CLI::App app;
+    auto c = std::make_shared<BakeCommand>();
+    c->planOnly = true;
+    addBakeCommandTo(app, c);
+    std::vector<std::string> words = {"vdblight", "bake", scene};
+    words.insert(words.end(), bakeArgs.begin(), bakeArgs.end());
+    words.insert(words.end(), {"-o", "plan.vdb"});
+    std::vector<const char*> argv;
+    for (const std::string& w : words) argv.push_back(w.c_str());
+    try {
+        app.parse(int(argv.size()), argv.data());
+    } catch (const CLI::ParseError& e) {
+        throw ValueError(std::string("bake options: ") + e.what());
+    }
+    return c->probePasses + 1;
 }
 
 }  // namespace vdblight::app

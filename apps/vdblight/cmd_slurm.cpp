@@ -1,7 +1,9 @@
 // vdblight slurm SCENE -o WORLD.vdb --tiles N [bake options] [--sbatch "..."] [--submit]:
 // a tiled bake (tiles.h) as a Slurm job array plus a merge job that runs after every tile
-// succeeded (docs/scaling.md). The scripts go to WORLD.vdb.tiles/ beside the output; the
-// tiles are written there too, so that re-submitting redoes only the tiles not on disk.
+// succeeded (docs/scaling.md); a bake with probe-to-probe passes as one such pair per stage,
+// each array after the merge before (array -> merge -> array -> merge, afterok). The scripts
+// go to WORLD.vdb.tiles/ beside the output; the tiles are written there too, so that
+// re-submitting redoes only the tiles not on disk (in every stage).
 #include <unistd.h>
 
 #include <climits>
@@ -79,25 +81,37 @@ std::string run(const std::string& command) {
     return out;
 }
 
-void showStatus(const fs::path& dir, int tiles) {
-    int onDisk = 0;
-    for (int t = 0; t < tiles; ++t) {
-        TileId id;
-        try {
-            if (readTileId((dir / ("tile-" + std::to_string(t) + ".vdb")).string(), id) && id.index == t) ++onDisk;
-        } catch (const Error&) {
+/// Tile file and log names of stage `stage` of `stages` (one stage: the names before staging).
+std::string stagePrefix(int stage, int stages) { return stages == 1 ? "" : "stage-" + std::to_string(stage) + "-"; }
+
+void showStatus(const fs::path& dir, int tiles, int stages) {
+    for (int s = 0; s < stages; ++s) {
+        int onDisk = 0;
+        for (int t = 0; t < tiles; ++t) {
+            TileId id;
+            try {
+                if (readTileId((dir / (stagePrefix(s, stages) + "tile-" + std::to_string(t) + ".vdb")).string(), id) && id.index == t)
+                    ++onDisk;
+            } catch (const Error&) {
+            }
         }
+        std::cout << onDisk << " of " << tiles << " tiles on disk in " << dir.string()
+                  << (stages > 1 ? " (stage " + std::to_string(s) + " of 0.." + std::to_string(stages - 1) + ")" : "") << "\n";
     }
-    std::cout << onDisk << " of " << tiles << " tiles on disk in " << dir.string() << "\n";
     std::ifstream jobs(dir / "jobs");
-    std::string tileJob, mergeJob;
-    if (!(jobs >> tileJob >> mergeJob)) {
+    std::vector<std::string> ids;
+    for (std::string id; jobs >> id;) ids.push_back(id);
+    if (ids.size() < 2) {
         std::cout << "not submitted (no " << (dir / "jobs").string() << ")\n";
         return;
     }
-    std::cout << "tiles: job " << tileJob << ", merge: job " << mergeJob << "\n";
-    std::cout << run("squeue -h -j " + tileJob + "," + mergeJob + " -o '  %i %T %M' 2>/dev/null || true")
-              << run("sacct -n -X -j " + tileJob + "," + mergeJob + " -o JobID,State,Elapsed 2>/dev/null || true");
+    std::string list;
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+        std::cout << (i % 2 ? ", merge: job " : "tiles: job ") << ids[i] << (i % 2 ? "\n" : "");
+        list += (i ? "," : "") + ids[i];
+    }
+    std::cout << run("squeue -h -j " + list + " -o '  %i %T %M' 2>/dev/null || true")
+              << run("sacct -n -X -j " + list + " -o JobID,State,Elapsed 2>/dev/null || true");
 }
 }  // namespace
 
@@ -120,42 +134,61 @@ void addSlurmCommand(CLI::App& app) {
         const fs::path dir = output.string() + ".tiles";
         if (c->status) {
             std::ifstream count(dir / "tiles");
-            int tiles = 0;
+            int tiles = 0, stages = 1;
             if (!(count >> tiles)) throw IoError("no tiled bake for '" + c->output + "' (" + (dir / "tiles").string() + " missing)");
-            return showStatus(dir, tiles);
+            count >> stages;
+            return showStatus(dir, tiles, std::max(1, stages));
         }
         if (c->scene.empty()) throw ValueError("slurm needs the scene file first");
         if (c->tiles < 1) throw ValueError("--tiles must be at least 1");
         checkOutputWritable(output.string());
         std::string bakeArgs;
         for (const std::string& a : cmd->remaining()) {
-            if (a == "--tile" || a == "--tiles" || a == "-o" || a == "--output")
+            if (a == "--tile" || a == "--tiles" || a == "-o" || a == "--output" || a == "--stage" || a == "--stage-input")
                 throw ValueError("'" + a + "' is set by vdblight slurm itself");
             bakeArgs += " " + shellQuote(a);
         }
+        // Probe-to-probe passes read every node of the pass before: one job array per pass,
+        // each after the merge of the one before (tiles.h, "Staged bakes").
+        const int stages = bakeStageCount(c->scene, cmd->remaining());
         fs::create_directories(dir);
         const std::string vdblight = shellQuote(selfPath()), d = dir.string();
         const std::string scene = shellQuote(fs::absolute(c->scene).string());
         const std::string extra = sbatchLines(c->sbatch);
-        writeScript(dir / "tiles.sbatch",
-                    "#!/bin/sh\n#SBATCH --job-name=vdblight-tiles\n#SBATCH --array=0-" + std::to_string(c->tiles - 1) +
-                        "\n#SBATCH --requeue\n#SBATCH --output=" + d + "/tile-%a.log\n" + extra +
-                        "# One tile per array task; a tile already on disk with the same parameters is skipped.\n"
-                        "exec " + vdblight + " bake " + scene + " -o " + shellQuote(d) + "/tile-$SLURM_ARRAY_TASK_ID.vdb" +
-                        " --tiles " + std::to_string(c->tiles) + " --tile $SLURM_ARRAY_TASK_ID" + bakeArgs + "\n");
-        std::string tiles;
-        for (int t = 0; t < c->tiles; ++t) tiles += " " + shellQuote(d + "/tile-" + std::to_string(t) + ".vdb");
-        writeScript(dir / "merge.sbatch", "#!/bin/sh\n#SBATCH --job-name=vdblight-merge\n#SBATCH --output=" + d +
-                                              "/merge.log\n" + extra + "exec " + vdblight + " merge" + tiles + " -o " +
-                                              shellQuote(output.string()) + "\n");
-        writeScript(dir / "submit.sh",
-                    "#!/bin/sh\n# Submits the tiles as a job array and the merge to run after all of them succeeded.\nset -e\n"
-                    "id=$(sbatch --parsable " + shellQuote(d + "/tiles.sbatch") + ")\nid=${id%%;*}\n"
-                    "mid=$(sbatch --parsable --dependency=afterok:$id " + shellQuote(d + "/merge.sbatch") + ")\nmid=${mid%%;*}\n"
-                    "echo \"$id $mid\" > " + shellQuote(d + "/jobs") + "\n"
-                    "echo \"tiles: job $id (array 0-" + std::to_string(c->tiles - 1) + "), merge: job $mid (afterok:$id)\"\n");
-        writeFileAtomically((dir / "tiles").string(), std::to_string(c->tiles) + "\n");
-        std::cout << "Wrote " << d << "/tiles.sbatch (array of " << c->tiles << " tiles), merge.sbatch and submit.sh.\n";
+        const std::string last = std::to_string(c->tiles - 1);
+        std::string submit = "#!/bin/sh\n# Submits the tiles as a job array and the merge to run after all of them succeeded" +
+                             std::string(stages > 1 ? ", stage after stage" : "") + ".\nset -e\ndep=\nids=\n";
+        for (int s = 0; s < stages; ++s) {
+            const std::string prefix = stagePrefix(s, stages), suffix = stages == 1 ? "" : "-" + std::to_string(s);
+            const std::string stageArgs =
+                stages == 1 ? "" : " --stage " + std::to_string(s) + (s > 0 ? " --stage-input " + shellQuote(d + "/stage-" + std::to_string(s - 1) + ".vdb") : "");
+            const std::string merged = s + 1 == stages ? output.string() : d + "/stage-" + std::to_string(s) + ".vdb";
+            writeScript(dir / ("tiles" + suffix + ".sbatch"),
+                        "#!/bin/sh\n#SBATCH --job-name=vdblight-tiles" + suffix + "\n#SBATCH --array=0-" + last +
+                            "\n#SBATCH --requeue\n#SBATCH --output=" + d + "/" + prefix + "tile-%a.log\n" + extra +
+                            "# One tile per array task; a tile already on disk with the same parameters is skipped.\n"
+                            "exec " + vdblight + " bake " + scene + " -o " + shellQuote(d) + "/" + prefix +
+                            "tile-$SLURM_ARRAY_TASK_ID.vdb --tiles " + std::to_string(c->tiles) +
+                            " --tile $SLURM_ARRAY_TASK_ID" + stageArgs + bakeArgs + "\n");
+            std::string tiles;
+            for (int t = 0; t < c->tiles; ++t) tiles += " " + shellQuote(d + "/" + prefix + "tile-" + std::to_string(t) + ".vdb");
+            writeScript(dir / ("merge" + suffix + ".sbatch"),
+                        "#!/bin/sh\n#SBATCH --job-name=vdblight-merge" + suffix + "\n#SBATCH --output=" + d + "/merge" + suffix +
+                            ".log\n" + extra + "exec " + vdblight + " merge" + tiles + " -o " + shellQuote(merged) + "\n");
+            submit += "id=$(sbatch --parsable $dep " + shellQuote(d + "/tiles" + suffix + ".sbatch") + ")\nid=${id%%;*}\n"
+                      "mid=$(sbatch --parsable --dependency=afterok:$id " + shellQuote(d + "/merge" + suffix + ".sbatch") +
+                      ")\nmid=${mid%%;*}\ndep=--dependency=afterok:$mid\nids=\"$ids $id $mid\"\n"
+                      "echo \"" + (stages > 1 ? "stage " + std::to_string(s) + ": " : std::string()) + "tiles: job $id (array 0-" +
+                      last + (s > 0 ? ", after the merge before" : "") + "), merge: job $mid (afterok:$id)\"\n";
+        }
+        submit += "echo $ids > " + shellQuote(d + "/jobs") + "\n";
+        writeScript(dir / "submit.sh", submit);
+        writeFileAtomically((dir / "tiles").string(), std::to_string(c->tiles) + " " + std::to_string(stages) + "\n");
+        if (stages == 1)
+            std::cout << "Wrote " << d << "/tiles.sbatch (array of " << c->tiles << " tiles), merge.sbatch and submit.sh.\n";
+        else
+            std::cout << "Wrote " << d << "/tiles-S.sbatch and merge-S.sbatch for stages S = 0.." << stages - 1 << " (arrays of "
+                      << c->tiles << " tiles; stage S+1 reads the merged stage S) and submit.sh.\n";
         if (c->submit) std::cout << run("sh " + shellQuote(d + "/submit.sh"));
         else std::cout << "Submit with: sh " << shellQuote(d + "/submit.sh") << "\n";
     });

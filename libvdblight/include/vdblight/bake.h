@@ -42,6 +42,13 @@ struct GatherOptions {
     bool depthMoments = false;
     /// Bake only these nodes (one tile of a bake, tiles.h); the others stay 0. Null = all.
     const NodeMask* only = nullptr;
+    /// Staged probe passes (tiles.h, "Staged bakes"): -1 = every pass; s in 0..probePasses =
+    /// pass s only. A stage before the last returns a probe stage volume (probeStageBasis: the
+    /// pass's reflected light; depth moments; counts; vdblight:probe_stage), the last one the
+    /// bake's volume; a tile of a bake with probe passes must be baked in stages.
+    int stage = -1;
+    /// Stage > 0: the merged probe stage volume of stage - 1 (readProbeStage), every node.
+    const Volume* stageInput = nullptr;
 };
 
 struct BakeStats {

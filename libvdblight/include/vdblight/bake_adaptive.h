@@ -42,6 +42,10 @@ struct AdaptiveOptions {
     /// Probe-to-probe bounces as GatherOptions::probePasses (bake.h); every pass samples to
     /// the target. The per-node error then excludes the earlier passes' noise.
     int probePasses = 0;
+    /// As GatherOptions (bake.h): one tile's nodes, and one stage of a staged bake (tiles.h).
+    const NodeMask* only = nullptr;
+    int stage = -1;
+    const Volume* stageInput = nullptr;
 };
 
 struct AdaptiveStats : BakeStats {

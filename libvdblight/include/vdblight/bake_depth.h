@@ -15,6 +15,7 @@
 #include <cstdint>
 
 #include "vdblight/light.h"
+#include "vdblight/tiles.h"
 #include "vdblight/volume.h"
 
 namespace vdblight {
@@ -26,6 +27,8 @@ struct DepthOptions {
     uint32_t raysPerNode = 256;
     uint64_t seed = 1;
     int threads = 0;  ///< 0 = all hardware threads
+    /// Bake only these nodes (one tile of a bake, tiles.h); the others stay 0. Null = all.
+    const NodeMask* only = nullptr;
 };
 
 struct DepthStats {

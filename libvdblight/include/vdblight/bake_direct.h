@@ -16,6 +16,7 @@
 #include "vdblight/direct_light.h"
 #include "vdblight/layout.h"
 #include "vdblight/scene_lights.h"
+#include "vdblight/tiles.h"
 #include "vdblight/volume.h"
 
 namespace vdblight {
@@ -54,8 +55,9 @@ DirectPlan planDirectLight(const Scene& scene, const Tracer& tracer, const GridS
 /// occlusion, level 0's lightVisibility (lightVisibility() of scene_lights.h at each node; a
 /// node the light cannot reach at all -- behind a one-sided polygon, outside a spot's cone --
 /// gets 1, so that interpolating towards the lit side is not darkened by it). Deterministic:
-/// the samples of node n and light i depend on (seed, n, i) only.
+/// the samples of node n and light i depend on (seed, n, i) only. With `only` (one tile of a
+/// bake, tiles.h) only those nodes are baked (direct_visibility_rays counts their rays).
 void bakeLightVisibility(const Scene& scene, const Tracer& tracer, const DirectPlan& plan, const DirectOptions& options,
-                         Volume& volume, Interrupter* interrupter = nullptr);
+                         Volume& volume, Interrupter* interrupter = nullptr, const NodeMask* only = nullptr);
 
 }  // namespace vdblight

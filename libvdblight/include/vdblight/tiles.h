@@ -44,12 +44,22 @@ uint64_t countBricks(const std::vector<VolumeLevel>& levels);
 /// 0 <= index < count.
 NodeMask tileNodeMask(const std::vector<VolumeLevel>& levels, int count, int index);
 
+/// Per-node statistics a tile carries so that the merge can summarise them over the whole
+/// volume (they are not stored in complete volumes).
+struct TileNodeStats {
+    /// Single-level volumes: per node of level 0 (node order), the estimated relative standard
+    /// error of the point gathers (BakeStats::estimatedError); the merge recomputes the error
+    /// summary (error_summary.h) from it. Empty: none.
+    std::vector<float> estimatedError;
+};
+
 /// Writes the nodes of `volume` in `mask` as tile `id` (partial .vdb, atomically as
-/// writeVolume; the header UUID is derived from the content). Values are stored as full
-/// floats even with options.halfFloat, which is recorded for the merged file. Refuses
-/// volumes with validity.
+/// writeVolume; the header UUID is derived from the content): their basis channels, depth
+/// moments and light visibility, the light list, and `stats` of the tile's nodes. Values are
+/// stored as full floats even with options.halfFloat, which is recorded for the merged file.
+/// Refuses volumes with validity.
 void writeTile(const Volume& volume, const NodeMask& mask, const TileId& id, const std::string& path,
-               const WriteOptions& options = {});
+               const WriteOptions& options = {}, const TileNodeStats* stats = nullptr);
 
 /// Reads the identity of a tile file. Returns false for a .vdb that is no tile (a complete
 /// volume); throws as readVolume for unreadable files.
@@ -63,7 +73,35 @@ struct MergedTiles {
 
 /// Merges the tile files of one bake. Throws ValueError naming the files for a missing,
 /// duplicate or mismatched tile (other tile count or parameter hash), FormatError for files
-/// that are no tiles or overlap.
+/// that are no tiles or overlap. Counts each tile measured for its own nodes
+/// (tileSummedKeys) are summed in tile order; the error summary is recomputed from the
+/// tiles' per-node errors, the sample summary of error-targeted bakes from the summed counts.
 MergedTiles mergeTiles(const std::vector<std::string>& paths);
+
+/// Metadata counts (rays, samples, ...) that a tile measures for its own nodes and the merge
+/// sums in tile order.
+const std::vector<std::string>& tileSummedKeys();
+
+// ---------------------------------------------------------------------------------------
+// Staged bakes: passes that read every node of the pass before (the probe-to-probe passes,
+// GatherOptions::probePasses) are tiled one pass at a time. Stage s (0..passes) bakes pass s
+// of the tile's nodes; a stage before the last writes a probe stage volume (the pass's
+// reflected light per node, probeStageBasis, plus what later stages carry forward: depth
+// moments, counts); its tiles merge into one complete stage file, which every tile of
+// stage s + 1 reads (readProbeStage). The tiles of the last stage merge into the volume a
+// single-process bake gives. docs/scaling.md, "Staged bakes".
+
+/// The basis of a probe stage volume: nine RGB SH order-2 radiance coefficients per node of
+/// the pass's reflected light and sky (kind "sh2_reflected", channels reflected_sh_0..8).
+BasisDesc probeStageBasis();
+
+/// For a tile of stage s > 0: records the stage input's summed counts (tileSummedKeys) as
+/// tile_earlier_<key>, which the merge adds once, so the merged counts cover every stage.
+void addEarlierStageSums(Metadata& tileMeta, const Metadata& stageInput);
+
+/// Reads a merged probe stage file (written by mergeTiles + writeVolume from stage tiles;
+/// vdblight:probe_stage set). Throws FormatError for any other file. readVolume refuses
+/// stage files: they hold reflected light, not a volume to look up.
+Volume readProbeStage(const std::string& path);
 
 }  // namespace vdblight

@@ -62,7 +62,10 @@ void bakeDepthMoments(const Tracer& tracer, Volume& volume, const DepthOptions& 
     for (std::size_t l = 0; l < volume.levels.size(); ++l) {
         VolumeLevel& level = volume.levels[l];
         level.depth.assign(level.storedNodes() * depth::kFloatsPerNode, 0.0f);
-        for (std::size_t n = 0; n < level.storedNodes(); ++n) work.emplace_back(int(l), n);
+        if (options.only && (options.only->size() != volume.levels.size() || (*options.only)[l].size() != level.storedNodes()))
+            throw ValueError("the node mask does not match the levels");
+        for (std::size_t n = 0; n < level.storedNodes(); ++n)
+            if (!options.only || (*options.only)[l][n]) work.emplace_back(int(l), n);
     }
     const bake_detail::ParallelRun run = bake_detail::depthMomentsOfNodes(tracer, volume, work, options.seed,
                                                                           options.raysPerNode, options.threads, interrupter);

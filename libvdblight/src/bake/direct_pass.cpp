@@ -67,7 +67,7 @@ DirectPlan planDirectLight(const Scene& scene, const Tracer& tracer, const GridS
 }
 
 void bakeLightVisibility(const Scene& scene, const Tracer& tracer, const DirectPlan& plan, const DirectOptions& o,
-                         Volume& volume, Interrupter* interrupter) {
+                         Volume& volume, Interrupter* interrupter, const NodeMask* only) {
     volume.direct.mode = plan.mode;
     volume.direct.lights.clear();
     for (const SceneLight& l : plan.lights) volume.direct.lights.push_back(l.light);
@@ -78,8 +78,15 @@ void bakeLightVisibility(const Scene& scene, const Tracer& tracer, const DirectP
     const GridSpec& grid = level.grid;
     const std::size_t lights = plan.lights.size();
     level.lightVisibility.assign(grid.nodeCount() * lights, 1.0f);
-    const bake_detail::ParallelRun run =
-        bake_detail::forEachItemInParallel(grid.nodeCount(), o.threads, interrupter, [&](std::size_t n, RayCount& rays) {
+    std::vector<std::size_t> selected;  // a tile's nodes (tiles.h)
+    if (only) {
+        if (only->size() != 1 || (*only)[0].size() != grid.nodeCount()) throw ValueError("the node mask does not match the grid");
+        for (std::size_t n = 0; n < grid.nodeCount(); ++n)
+            if ((*only)[0][n]) selected.push_back(n);
+    }
+    const bake_detail::ParallelRun run = bake_detail::forEachItemInParallel(
+        only ? selected.size() : grid.nodeCount(), o.threads, interrupter, [&](std::size_t item, RayCount& rays) {
+            const std::size_t n = only ? selected[item] : item;
             const Vec3f x(grid.node(n));
             for (std::size_t i = 0; i < lights; ++i) {
                 if (unreachable(plan.lights[i].light, Vec3d(x))) continue;  // stays 1 (see bake_direct.h)

@@ -10,6 +10,7 @@
 #include "vdblight/interrupter.h"
 #include "vdblight/scene.h"
 #include "vdblight/sh.h"
+#include "vdblight/tiles.h"
 #include "vdblight/trace.h"
 
 namespace vdblight {
@@ -37,8 +38,8 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     std::vector<std::size_t> selected;  // a tile's nodes (tiles.h); empty = all
     if (options.only) {
         if (options.only->size() != 1 || (*options.only)[0].size() != nodes) throw ValueError("the node mask does not match the grid");
-        if (options.probePasses > 0)  // a probe pass reads every node of the pass before
-            throw ValueError("a tile cannot be baked with probe-to-probe passes (use --probe-passes 0 or --quality preview)");
+        if (options.probePasses > 0 && options.stage < 0)  // a probe pass reads every node of the pass before
+            throw ValueError("a tile of a bake with probe-to-probe passes is baked in stages (GatherOptions::stage; tiles.h)");
         for (std::size_t n = 0; n < nodes; ++n)
             if ((*options.only)[0][n]) selected.push_back(n);
     }
@@ -46,8 +47,14 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     std::vector<Rgb> reflected;  // per node, nine coefficients: the next pass's cache
     if (options.probePasses > 0) reflected.assign(nodes * sh::kCoeffs, Rgb(0, 0, 0));
     RadianceEstimator estimator(scene, tracer, options.transport);
+    // One stage of a staged bake (tiles.h) runs one pass, from the stage before's reflected light.
+    const bake_detail::PassRange range =
+        bake_detail::stagePasses(options.probePasses, options.stage, options.stageInput, grid, options.depthMoments);
+    if (range.first > 0 && options.depthMoments) level.depth = options.stageInput->levels[0].depth;  // pass 0's
     const bake_detail::ParallelRun run = bake_detail::runProbePasses(
-        estimator, tracer, grid, options.seed, options.probePasses, reflected, [&](const bake_detail::ProbePass& pass) {
+        estimator, tracer, grid, options.seed, options.probePasses, range,
+        range.first > 0 ? bake_detail::stageReflected(*options.stageInput) : std::vector<Rgb>(), reflected,
+        [&](const bake_detail::ProbePass& pass) {
             return bake_detail::forEachItemInParallel(
                 options.only ? selected.size() : nodes, options.threads, interrupter, [&](std::size_t item, RayCount& count) {
                     const std::size_t n = options.only ? selected[item] : item;
@@ -68,8 +75,21 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
         });
 
     bake_detail::PassMetadata m(volume.meta);
-    m.common(scene, options.transport, options.seed, nodes, run)
-        .method("gather", "point")
+    m.common(scene, options.transport, options.seed, nodes, run);
+    if (options.stageInput) addEarlierStageSums(volume.meta, options.stageInput->meta);
+    if (options.depthMoments) m.depthMoments(options.raysPerNode);
+    if (range.last < options.probePasses) {  // a stage before the last: its reflected light
+        volume = bake_detail::stageVolume(grid, reflected, std::move(level.depth), std::move(volume.meta), range.last,
+                                          options.probePasses);
+        if (stats) {
+            stats->nodes = nodes;
+            stats->rays = run.rays;
+            stats->seconds = run.seconds;
+            stats->estimatedError.clear();
+        }
+        return volume;
+    }
+    m.method("gather", "point")
         .count("rays_per_node", options.raysPerNode)
         .text("direction_sampling", "scrambled Sobol (0,2) uniform sphere + NEE on emissive triangles; punctual lights exact")
         .errorSummary(error, grid);
@@ -80,7 +100,6 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
                   "(trilinear over the visible nodes in front of the surface; DDGI-style); error_estimate excludes the "
                   "previous passes' noise");
     }
-    if (options.depthMoments) m.depthMoments(options.raysPerNode);
 
     if (stats) {
         stats->nodes = nodes;

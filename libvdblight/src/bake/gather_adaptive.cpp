@@ -7,6 +7,7 @@
 #include "probe_passes.h"
 #include "vdblight/bake_adaptive.h"
 #include "vdblight/errors.h"
+#include "vdblight/tiles.h"
 #include "vdblight/interrupter.h"
 #include "vdblight/scene.h"
 
@@ -38,16 +39,31 @@ Volume bakeShGatherAdaptive(const Scene& scene, const Tracer& tracer, const Grid
     VolumeLevel& level = volume.levels[0];
     std::vector<uint32_t> raysUsed(nodes, 0);
     std::vector<float> achieved(nodes, 0.0f);
+    std::vector<std::size_t> selected;  // a tile's nodes (tiles.h); empty = all
+    if (o.only) {
+        if (o.only->size() != 1 || (*o.only)[0].size() != nodes) throw ValueError("the node mask does not match the grid");
+        if (o.probePasses > 0 && o.stage < 0)
+            throw ValueError("a tile of a bake with probe-to-probe passes is baked in stages (AdaptiveOptions::stage; tiles.h)");
+        for (std::size_t n = 0; n < nodes; ++n)
+            if ((*o.only)[0][n]) selected.push_back(n);
+    }
 
     std::vector<Rgb> reflected;  // per node, nine coefficients: the next pass's cache
     if (o.probePasses > 0) reflected.assign(nodes * sh::kCoeffs, Rgb(0, 0, 0));
     RadianceEstimator estimator(scene, tracer, o.transport);
     uint64_t samplesBefore = 0;  // samples of the passes before the last
+    // One stage of a staged bake (tiles.h) runs one pass, from the stage before's reflected light.
+    const bake_detail::PassRange range = bake_detail::stagePasses(o.probePasses, o.stage, o.stageInput, grid, false);
+    if (range.first > 0) samplesBefore = uint64_t(metaNumber(o.stageInput->meta, "probe_stage_samples", 0));
     // As bakeShGather (bake.h, probePasses), each pass to the target.
     const bake_detail::ParallelRun run = bake_detail::runProbePasses(
-        estimator, tracer, grid, o.seed, o.probePasses, reflected, [&](const bake_detail::ProbePass& pass) {
+        estimator, tracer, grid, o.seed, o.probePasses, range,
+        range.first > 0 ? bake_detail::stageReflected(*o.stageInput) : std::vector<Rgb>(), reflected,
+        [&](const bake_detail::ProbePass& pass) {
             for (uint32_t r : raysUsed) samplesBefore += r;
-            return bake_detail::forEachItemInParallel(nodes, o.threads, interrupter, [&](std::size_t n, RayCount& count) {
+            return bake_detail::forEachItemInParallel(
+                o.only ? selected.size() : nodes, o.threads, interrupter, [&](std::size_t item, RayCount& count) {
+                const std::size_t n = o.only ? selected[item] : item;
                 detail::NodeSampler sampler(estimator, Vec3f(grid.node(n)), pass.seed, n, o.maxRays);
                 uint32_t taken = 0, next = o.minRays;
                 double err = 0;
@@ -87,15 +103,21 @@ Volume bakeShGatherAdaptive(const Scene& scene, const Tracer& tracer, const Grid
     s.estimatedError = std::move(achieved);
 
     bake_detail::PassMetadata m(volume.meta);
-    m.common(scene, o.transport, o.seed, nodes, run)
-        .method("gather", "point, error-targeted")
+    m.common(scene, o.transport, o.seed, nodes, run);
+    if (o.stageInput) addEarlierStageSums(volume.meta, o.stageInput->meta);
+    if (range.last < o.probePasses) {  // a stage before the last: its reflected light
+        m.count("probe_stage_samples", int64_t(s.samples));
+        volume = bake_detail::stageVolume(grid, reflected, {}, std::move(volume.meta), range.last, o.probePasses);
+        s.estimatedError.clear();
+        return volume;
+    }
+    m.method("gather", "point, error-targeted")
         .number("target_error", o.targetError)
         .count("min_rays", o.minRays)
-        .count("max_rays", o.maxRays)
-        .number("rays_per_node_mean", double(s.samples) / double(nodes));
+        .count("max_rays", o.maxRays);
     if (o.probePasses > 0) m.count("probe_passes", o.probePasses).count("samples_earlier_passes", int64_t(samplesBefore));
     m.count("samples_total", int64_t(s.samples))
-        .count("samples_saved_vs_max", int64_t(uint64_t(o.maxRays) * nodes - s.samples))
+        .sampleSummary()
         .errorSummary(s.estimatedError, grid)
         .count("nodes_at_max_rays", int64_t(s.nodesAtMax))
         .text("direction_sampling", "scrambled Sobol (0,2) uniform sphere in doubling rounds + NEE on emissive triangles; "

@@ -67,13 +67,14 @@ Volume bakeShGatherLevels(const Scene& scene, const Tracer& tracer, const LevelL
     if (options.depthMoments) {
         // Seam nodes take their radiance from the coarser level, but their depth belongs to
         // their own position: the same rays as if they had been gathered (bake_depth.h).
+        // A tile's seam nodes only (the merge copies depth node by node).
         std::vector<std::vector<char>> baked(volume.levels.size());
         for (std::size_t l = 0; l < volume.levels.size(); ++l) baked[l].assign(volume.levels[l].storedNodes(), 0);
         for (const auto& w : work) baked[std::size_t(w.first)][w.second] = 1;
         std::vector<std::pair<int, std::size_t>> seamNodes;
         for (std::size_t l = 0; l < volume.levels.size(); ++l)
             for (std::size_t n = 0; n < baked[l].size(); ++n)
-                if (!baked[l][n]) seamNodes.emplace_back(int(l), n);
+                if (!baked[l][n] && (!options.only || (*options.only)[l][n])) seamNodes.emplace_back(int(l), n);
         seamDepthRays = bake_detail::depthMomentsOfNodes(tracer, volume, seamNodes, options.seed, options.raysPerNode,
                                                          options.threads, nullptr).rays;
     }

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "vdblight/bake.h"
+#include "vdblight/error_summary.h"
 #include "vdblight/layout_levels.h"
 #include "vdblight/sh.h"
 
@@ -43,11 +44,5 @@ Volume emptyShVolume(const GridSpec& grid) {
 
 }  // namespace bake_detail
 
-double BakeStats::errorQuantile(double q) const {
-    if (estimatedError.empty()) return 0.0;
-    std::vector<float> sorted = estimatedError;
-    std::sort(sorted.begin(), sorted.end());
-    const std::size_t i = std::min(sorted.size() - 1, std::size_t(std::ceil(q * sorted.size())) - (q > 0 ? 1 : 0));
-    return sorted[i];
-}
+double BakeStats::errorQuantile(double q) const { return vdblight::errorQuantile(estimatedError, q); }
 }  // namespace vdblight

@@ -1,12 +1,8 @@
 #include "pass_metadata.h"
 
-#include <algorithm>
-#include <numeric>
-#include <sstream>
-
-#include "core/grid_index.h"
 #include "parallel_nodes.h"
 #include "vdblight/bake.h"
+#include "vdblight/error_summary.h"
 #include "vdblight/scene.h"
 
 namespace vdblight::bake_detail {
@@ -49,28 +45,12 @@ PassMetadata& PassMetadata::method(const std::string& method, const std::string&
 }
 
 PassMetadata& PassMetadata::errorSummary(const std::vector<float>& estimatedError, const GridSpec& grid) {
-    BakeStats s;
-    s.estimatedError = estimatedError;
-    m_["error_estimate"] = std::string(
-        "relative standard error of each node's mean irradiance over normals (SH DC term), from the per-sample "
-        "variance (noise only: not bias, SH truncation or interpolation)");
-    m_["estimated_error_p50"] = s.errorQuantile(0.5);
-    m_["estimated_error_p95"] = s.errorQuantile(0.95);
-    m_["estimated_error_max"] = s.errorQuantile(1.0);
-    std::vector<std::size_t> order(estimatedError.size());
-    std::iota(order.begin(), order.end(), std::size_t(0));
-    const std::size_t worst = std::min<std::size_t>(5, order.size());
-    // Ties broken by node index: the same text for any thread count.
-    std::partial_sort(order.begin(), order.begin() + worst, order.end(), [&](std::size_t a, std::size_t b) {
-        return estimatedError[a] != estimatedError[b] ? estimatedError[a] > estimatedError[b] : a < b;
-    });
-    std::ostringstream text;
-    for (std::size_t k = 0; k < worst; ++k) {
-        const std::size_t n = order[k];
-        const core::Index3 node = core::unflatten(n, uint64_t(grid.nx), uint64_t(grid.ny));
-        text << (k ? ";" : "") << node.i << ',' << node.j << ',' << node.k << ':' << estimatedError[n];
-    }
-    m_["estimated_error_worst_nodes"] = text.str();
+    addErrorSummary(m_, estimatedError, grid);  // the merge of tiles writes the same (error_summary.h)
+    return *this;
+}
+
+PassMetadata& PassMetadata::sampleSummary() {
+    addSampleSummary(m_);  // the merge of tiles recomputes it the same way
     return *this;
 }
 

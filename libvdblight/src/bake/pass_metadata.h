@@ -38,8 +38,12 @@ public:
 
     /// The per-node error summary of the point gathers (BakeStats::estimatedError, one value
     /// per node of `grid`): error_estimate (what it is), estimated_error_p50 / _p95 / _max and
-    /// estimated_error_worst_nodes ("i,j,k:error;..." for the five worst nodes).
+    /// estimated_error_worst_nodes ("i,j,k:error;..." for the five worst nodes): addErrorSummary
+    /// (error_summary.h), which the merge of tiles uses too.
     PassMetadata& errorSummary(const std::vector<float>& estimatedError, const GridSpec& grid);
+    /// rays_per_node_mean and samples_saved_vs_max of an error-targeted bake from the
+    /// samples_total, nodes and max_rays written before: addSampleSummary (error_summary.h).
+    PassMetadata& sampleSummary();
     /// depth_moments and depth_rays_per_node of a volume with depth moments from `rays` rays per node.
     PassMetadata& depthMoments(uint32_t rays);
 

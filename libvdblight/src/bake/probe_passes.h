@@ -1,7 +1,8 @@
 // The pass loop of the point gathers with probe-to-probe bounces (GatherOptions::probePasses,
 // AdaptiveOptions::probePasses): pass 0 traces full paths, pass k > 0 ends them at their first
 // hit with pass k - 1's reflected light (surface_cache.h) and has its own seed. One loop for
-// the fixed and the error-targeted gather. (Internal to the bake module.)
+// the fixed and the error-targeted gather, whole or one stage of a staged bake (tiles.h).
+// (Internal to the bake module.)
 #pragma once
 
 #include <memory>
@@ -20,22 +21,30 @@ struct ProbePass {
     bool keepReflected = false;  ///< a later pass reads this pass's reflected light
 };
 
-/// Runs passes 0 .. `passes`: runPass(const ProbePass&) bakes every node (one
-/// forEachItemInParallel) and, with keepReflected, fills `reflected` (nine coefficients per
-/// node of `grid`), which then becomes the estimator's surface cache for the next pass.
-/// Returns the ray counts and times of all passes summed.
+/// Runs passes range.first .. range.last of a bake with passes 0 .. `passes` (all of them, or
+/// one stage of a staged bake: stagePasses, surface_cache.h). runPass(const ProbePass&) bakes
+/// the nodes (one forEachItemInParallel) and, with keepReflected, fills `reflected` (nine
+/// coefficients per node of `grid`), which then becomes the estimator's surface cache for the
+/// next pass of the range. A range starting after pass 0 reads `startReflected` (the previous
+/// stage's reflected light, stageReflected) as the cache of its first pass; otherwise it is
+/// ignored. Returns the ray counts and times of the passes run, summed.
 template <typename RunPass>
 ParallelRun runProbePasses(RadianceEstimator& estimator, const Tracer& tracer, const GridSpec& grid, uint64_t seed,
-                           int passes, const std::vector<Rgb>& reflected, RunPass&& runPass) {
+                           int passes, const PassRange& range, const std::vector<Rgb>& startReflected,
+                           const std::vector<Rgb>& reflected, RunPass&& runPass) {
     std::unique_ptr<VolumeSurfaceCache> cache;
+    if (range.first > 0) {
+        cache = std::make_unique<VolumeSurfaceCache>(tracer, grid, startReflected);
+        estimator.setSurfaceCache(cache.get());
+    }
     ParallelRun run;
-    for (int p = 0; p <= passes; ++p) {
+    for (int p = range.first; p <= range.last; ++p) {
         const ProbePass pass{p, p == 0 ? seed : hashCombine(seed, uint64_t(p)), p < passes};
         const ParallelRun passRun = runPass(pass);
         run.rays += passRun.rays;
         run.seconds += passRun.seconds;
         run.threads = passRun.threads;
-        if (pass.keepReflected) {
+        if (pass.keepReflected && p < range.last) {
             estimator.setSurfaceCache(nullptr);
             cache = std::make_unique<VolumeSurfaceCache>(tracer, grid, reflected);
             estimator.setSurfaceCache(cache.get());

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "vdblight/errors.h"
+#include "vdblight/tiles.h"
 #include "vdblight/trace.h"
 
 namespace vdblight {
@@ -53,6 +55,55 @@ bool VolumeSurfaceCache::irradiance(const Vec3f& p, const Vec3f& n, Rgb& out, Ra
     out = sum / weight;
     out = Rgb(std::max(0.0f, out.x), std::max(0.0f, out.y), std::max(0.0f, out.z));  // SH ringing
     return true;
+}
+
+PassRange stagePasses(int probePasses, int stage, const Volume* input, const GridSpec& grid, bool depthMoments) {
+    if (stage < 0) return {0, probePasses};
+    if (stage > probePasses)
+        throw ValueError("stage " + std::to_string(stage) + " does not exist: the bake has " +
+                         std::to_string(probePasses + 1) + " stages (0.." + std::to_string(probePasses) + ")");
+    if ((stage > 0) != (input != nullptr))
+        throw ValueError(stage > 0 ? "stage " + std::to_string(stage) + " needs the merged volume of stage " +
+                                         std::to_string(stage - 1)
+                                   : std::string("stage 0 reads no stage input"));
+    if (input) {
+        const VolumeLevel* level = input->levels.size() == 1 ? &input->levels[0] : nullptr;
+        if (input->basis.kind != probeStageBasis().kind || !level || level->sparse() || level->grid.nx != grid.nx ||
+            level->grid.ny != grid.ny || level->grid.nz != grid.nz || std::abs(level->grid.spacing - grid.spacing) > 1e-9 * grid.spacing)
+            throw ValueError("the stage input is not a probe stage volume of this grid");
+        if (metaNumber(input->meta, "probe_stage", -1) != stage - 1 || metaNumber(input->meta, "probe_passes", -1) != probePasses)
+            throw ValueError("the stage input is stage " + std::to_string(int(metaNumber(input->meta, "probe_stage", -1))) +
+                             " of a bake with " + std::to_string(int(metaNumber(input->meta, "probe_passes", -1))) +
+                             " probe passes, not stage " + std::to_string(stage - 1) + " of " + std::to_string(probePasses));
+        if (depthMoments && !level->hasDepth()) throw ValueError("the stage input has no depth moments");
+    }
+    return {stage, stage};
+}
+
+std::vector<Rgb> stageReflected(const Volume& input) {
+    const std::vector<float>& d = input.levels[0].data;
+    std::vector<Rgb> out(d.size() / 3);
+    for (std::size_t i = 0; i < out.size(); ++i) out[i] = Rgb(d[3 * i], d[3 * i + 1], d[3 * i + 2]);
+    return out;
+}
+
+Volume stageVolume(const GridSpec& grid, const std::vector<Rgb>& reflected, std::vector<float> depth, Metadata meta,
+                   int stage, int probePasses) {
+    Volume v;
+    v.basis = probeStageBasis();
+    v.levels.resize(1);
+    v.levels[0].grid = grid;
+    v.levels[0].data.resize(reflected.size() * 3);
+    for (std::size_t i = 0; i < reflected.size(); ++i)
+        for (int c = 0; c < 3; ++c) v.levels[0].data[3 * i + std::size_t(c)] = reflected[i][c];
+    v.levels[0].depth = std::move(depth);
+    v.meta = std::move(meta);
+    v.meta["probe_stage"] = int64_t(stage);
+    v.meta["probe_passes"] = int64_t(probePasses);
+    v.meta["probe_stage_note"] = std::string(
+        "the reflected light and sky of a probe-to-probe pass per node (reflected_sh_*), read by the next stage's "
+        "tiles; not a volume to look up");
+    return v;
 }
 
 }  // namespace bake_detail

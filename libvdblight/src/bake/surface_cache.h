@@ -21,6 +21,7 @@
 #include "vdblight/layout.h"
 #include "vdblight/light.h"
 #include "vdblight/sh.h"
+#include "vdblight/volume.h"
 
 namespace vdblight {
 
@@ -40,6 +41,21 @@ private:
     GridSpec grid_;
     std::vector<Rgb> coeffs_;  ///< per node, nine coefficients pre-multiplied by A_l
 };
+
+/// Staged probe passes (tiles.h, "Staged bakes"): which passes a gather with `probePasses`
+/// runs for GatherOptions::stage (-1: all), checked against the stage input.
+struct PassRange {
+    int first = 0, last = 0;
+};
+PassRange stagePasses(int probePasses, int stage, const Volume* stageInput, const GridSpec& grid, bool depthMoments);
+
+/// The reflected-light coefficients of a probe stage volume (probeStageBasis), per node.
+std::vector<Rgb> stageReflected(const Volume& stageInput);
+
+/// The probe stage volume of a stage before the last: `reflected` as its data, `depth` (may
+/// be empty) and the counts of `meta` (common bake metadata) with probe_stage = `stage`.
+Volume stageVolume(const GridSpec& grid, const std::vector<Rgb>& reflected, std::vector<float> depth, Metadata meta,
+                   int stage, int probePasses);
 
 }  // namespace bake_detail
 }  // namespace vdblight

@@ -10,6 +10,7 @@
 #include <set>
 
 #include "tile_io.h"
+#include "vdblight/error_summary.h"
 #include "vdblight/errors.h"
 #include "vdblight/layout_levels.h"
 #include "vdblight/tiles.h"
@@ -17,8 +18,6 @@
 namespace vdblight {
 namespace {
 using vdb_detail::TileFile;
-
-const char* const kSummedKeys[] = {"rays_intersect", "rays_occluded", "bake_seconds"};
 
 std::string quoted(const std::string& path) { return "'" + path + "'"; }
 
@@ -65,8 +64,15 @@ MergedTiles mergeTiles(const std::vector<std::string>& paths) {
     const TileFile& first = tiles[order[0]];
     const int channels = first.part.basis.channelCount();
     const std::size_t floats = std::size_t(channels) * 3;
+    for (std::size_t i = 0; i < tiles.size(); ++i) {
+        const TileFile& t = tiles[i];
+        if (t.depth != first.depth || t.visibility != first.visibility || t.error != first.error ||
+            t.part.direct.mode != first.part.direct.mode || t.part.direct.lights.size() != first.part.direct.lights.size())
+            throw FormatError(quoted(paths[i]) + " and " + quoted(paths[order[0]]) + " differ in the grids or lights they carry");
+    }
     MergedTiles out;
     Volume& v = out.volume;
+    std::vector<float> error;  // level 0's per-node errors (TileNodeStats)
     v.basis = first.part.basis;
     for (std::size_t l = 0; l < first.part.levels.size(); ++l) {
         const VolumeLevel& shape = first.part.levels[l];
@@ -90,18 +96,36 @@ MergedTiles mergeTiles(const std::vector<std::string>& paths) {
                               std::to_string(level.grid.nodeCount()) + " nodes of level " + std::to_string(l));
         level.data.resize(nodes.size() * floats);
         if (!dense) level.activeNodes.reserve(nodes.size());
+        // Depth moments, light visibility and per-node errors follow the nodes (tile_io.h).
+        if (first.depth) level.depth.resize(nodes.size() * depth::kFloatsPerNode);
+        const std::size_t lights = first.visibility && l == 0 ? first.part.direct.lights.size() : 0;
+        level.lightVisibility.resize(nodes.size() * lights);
+        if (first.error && l == 0) error.resize(nodes.size());
         for (std::size_t n = 0; n < nodes.size(); ++n) {
             const auto& [linear, t, at] = nodes[n];
             if (!dense) level.activeNodes.push_back(linear);
-            const float* src = tiles[t].part.levels[l].nodeData(at, channels);
+            const VolumeLevel& part = tiles[t].part.levels[l];
+            const float* src = part.nodeData(at, channels);
             std::copy(src, src + floats, level.data.begin() + std::ptrdiff_t(n * floats));
+            if (first.depth)
+                std::copy(part.nodeDepth(at), part.nodeDepth(at) + depth::kFloatsPerNode,
+                          level.depth.begin() + std::ptrdiff_t(n * depth::kFloatsPerNode));
+            if (lights)
+                std::copy(part.lightVisibility.begin() + std::ptrdiff_t(at * lights),
+                          part.lightVisibility.begin() + std::ptrdiff_t((at + 1) * lights),
+                          level.lightVisibility.begin() + std::ptrdiff_t(n * lights));
+            if (first.error && l == 0) error[n] = tiles[t].estimatedError.at(at);
         }
         v.levels.push_back(std::move(level));
     }
+    v.direct = first.part.direct;
     for (const auto& [key, value] : first.part.meta)
         if (key.compare(0, 5, "tile_") != 0) v.meta[key] = value;
-    for (const char* key : kSummedKeys) {
+    // Counts each tile measured for its own nodes, in tile order, plus (staged bakes) the
+    // earlier stages' once.
+    for (const std::string& key : tileSummedKeys()) {
         if (!v.meta.count(key)) continue;
+        const auto earlier = first.part.meta.find("tile_earlier_" + key);
         if (std::holds_alternative<int64_t>(v.meta[key])) {
             int64_t sum = 0;
             for (std::size_t t : order) {
@@ -109,13 +133,20 @@ MergedTiles mergeTiles(const std::vector<std::string>& paths) {
                 if (it != tiles[t].part.meta.end() && std::holds_alternative<int64_t>(it->second))
                     sum += std::get<int64_t>(it->second);
             }
+            if (earlier != first.part.meta.end() && std::holds_alternative<int64_t>(earlier->second))
+                sum += std::get<int64_t>(earlier->second);
             v.meta[key] = sum;
         } else {
             double sum = 0;
             for (std::size_t t : order) sum += metaNumber(tiles[t].part.meta, key, 0);
+            sum += metaNumber(first.part.meta, "tile_earlier_" + key, 0);
             v.meta[key] = sum;
         }
     }
+    // Summaries of per-node statistics, by the code the bakes use (error_summary.h).
+    if (first.error) addErrorSummary(v.meta, error, v.levels[0].grid);
+    if (v.meta.count("samples_total") && v.meta.count("max_rays") && v.meta.count("rays_per_node_mean"))
+        addSampleSummary(v.meta);
     if (v.levels.size() > 1) applySeamConstraints(v);  // seams cross tile borders
     try {
         v.validate();

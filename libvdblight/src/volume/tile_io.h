@@ -17,6 +17,10 @@ struct TileFile {
     std::vector<uint8_t> denseLevels;  ///< per level: the complete volume stores it dense
     bool halfFloat = false;
     bool reproducible = true;
+    bool depth = false;       ///< the volume has depth moments (in part's levels, tile nodes)
+    bool visibility = false;  ///< level 0 has light visibility (part.levels[0], tile nodes)
+    bool error = false;       ///< estimatedError holds level 0's per-node errors
+    std::vector<float> estimatedError;  ///< TileNodeStats, in the order of part.levels[0].activeNodes
 };
 
 /// Reads a tile file. Throws FormatError if it is not one (or is corrupt), IoError if unreadable.

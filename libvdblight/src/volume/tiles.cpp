@@ -49,6 +49,25 @@ std::string tileParamsHash(const std::string& sceneHash, const std::string& para
     return vdb_detail::Sha256::hex(h.finish());
 }
 
+const std::vector<std::string>& tileSummedKeys() {
+    static const std::vector<std::string> keys = {"rays_intersect",   "rays_occluded",     "bake_seconds",
+                                                  "direct_visibility_rays", "samples_total", "nodes_at_max_rays",
+                                                  "probe_stage_samples"};
+    return keys;
+}
+
+BasisDesc probeStageBasis() {
+    BasisDesc b;
+    b.kind = "sh2_reflected";
+    for (int j = 0; j < 9; ++j) b.channelNames.push_back("reflected_sh_" + std::to_string(j));
+    return b;
+}
+
+void addEarlierStageSums(Metadata& tileMeta, const Metadata& stageInput) {
+    for (const std::string& key : tileSummedKeys())
+        if (auto it = stageInput.find(key); it != stageInput.end()) tileMeta["tile_earlier_" + key] = it->second;
+}
+
 uint64_t countBricks(const std::vector<VolumeLevel>& levels) {
     uint64_t total = 0;
     for (const VolumeLevel& l : levels) total += brickCosts(nodeBricks(l)).size();

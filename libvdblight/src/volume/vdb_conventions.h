@@ -122,6 +122,8 @@ const std::string kValidityName = "validity";
 /// (without prefix) of light i's description (direct_light.h, docs/format.md).
 inline std::string visibilityGridName(std::size_t i) { return "light_visibility_" + std::to_string(i); }
 inline std::string directLightKey(std::size_t i) { return "direct_light_" + std::to_string(i); }
+/// Tile files (tiles.h): the FloatGrid of the tile's per-node estimated errors (level 0).
+const std::string kTileErrorName = "tile_estimated_error";
 using FloatLeafT = openvdb::FloatGrid::TreeType::LeafNodeType;
 
 }  // namespace vdb_detail

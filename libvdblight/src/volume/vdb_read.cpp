@@ -379,9 +379,43 @@ std::vector<float> readScalarGrid(OpenedFile& f, const std::string& name, const 
     return values;
 }
 
-/// The direct-light mode and light list (files without them: baked), and in occlusion mode
-/// the visibility grids of level 0 (docs/format.md, "Direct light").
-void readDirect(OpenedFile& f, Volume& volume, const std::string& path) {
+/// A per-node scalar of a tile's nodes (tiles.h): a FloatGrid placed as the level whose
+/// active voxels are exactly `level.activeNodes`; values in that order.
+std::vector<float> readSparseScalar(OpenedFile& f, const std::string& name, const VolumeLevel& level,
+                                    const std::string& path) {
+    if (!f.file->hasGrid(name)) formatError(path, "has no grid '" + name + "'");
+    openvdb::GridBase::Ptr base;
+    try {
+        base = f.file->readGrid(name);
+    } catch (const std::exception& e) {
+        formatError(path, "grid '" + name + "' cannot be read (truncated or corrupt?): " + e.what());
+    }
+    auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
+    if (!grid) formatError(path, "grid '" + name + "' has type " + base->valueType() + ", expected float");
+    if (!placedAt(grid->transform(), level.grid.origin, level.grid.spacing))
+        formatError(path, "grid '" + name + "' has a transform that does not match its level's origin and spacing");
+    grid->tree().voxelizeActiveTiles();
+    std::vector<float> values;
+    std::vector<uint64_t> linear;
+    for (auto v = grid->cbeginValueOn(); v; ++v) {
+        const Coord c = v.getCoord();
+        if (c.x() < 0 || c.y() < 0 || c.z() < 0 || c.x() >= level.grid.nx || c.y() >= level.grid.ny || c.z() >= level.grid.nz)
+            formatError(path, "grid '" + name + "' has active voxels outside its level's node box");
+        linear.push_back(level.grid.index(c.x(), c.y(), c.z()));
+    }
+    std::vector<std::size_t> order(linear.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return linear[a] < linear[b]; });
+    std::vector<float> raw;
+    for (auto v = grid->cbeginValueOn(); v; ++v) raw.push_back(*v);
+    std::vector<uint64_t> sorted;
+    for (std::size_t i : order) sorted.push_back(linear[i]), values.push_back(raw[i]);
+    if (sorted != level.activeNodes) formatError(path, "grid '" + name + "' has other active voxels than the tile's nodes");
+    return values;
+}
+
+/// The direct-light mode and light list (files without them: baked).
+void readDirectLights(OpenedFile& f, Volume& volume, const std::string& path) {
     const openvdb::MetaMap& meta = *f.meta;
     const auto mode = meta.getMetadata<openvdb::StringMetadata>(kPrefix + "direct");
     if (!mode) return;
@@ -400,6 +434,12 @@ void readDirect(OpenedFile& f, Volume& volume, const std::string& path) {
             formatError(path, "light " + std::to_string(i) + ": " + e.what());
         }
     }
+}
+
+/// The direct-light mode and light list, and in occlusion mode the visibility grids of
+/// level 0 (docs/format.md, "Direct light").
+void readDirect(OpenedFile& f, Volume& volume, const std::string& path) {
+    readDirectLights(f, volume, path);
     if (!volume.direct.hasVisibility()) return;
     VolumeLevel& level = volume.levels[0];
     const std::size_t lights = volume.direct.lights.size();
@@ -498,9 +538,17 @@ GridInfo describeGrid(openvdb::io::File& file, const openvdb::GridBase& grid) {
 
 }  // namespace
 
-Volume readVolume(const std::string& path) {
+/// readVolume, and readProbeStage with `stage`.
+static Volume readVolumeFile(const std::string& path, bool stage) {
     OpenedFile f = openVolumeFile(path);
     const openvdb::MetaMap& meta = *f.meta;
+    const auto probeStage = meta.getMetadata<openvdb::Int64Metadata>(kPrefix + "probe_stage");
+    if (probeStage && !stage)
+        formatError(path, "is stage " + std::to_string(probeStage->value()) + " of a staged bake (the reflected light of "
+                          "a probe-to-probe pass), not a volume to look up: bake the next stage's tiles with "
+                          "--stage-input " + path);
+    if (!probeStage && stage)
+        formatError(path, "is no probe stage file (no vdblight:probe_stage): give the merged tiles of the stage before");
     if (auto count = meta.getMetadata<openvdb::Int64Metadata>(kPrefix + "tile_count")) {
         const auto index = meta.getMetadata<openvdb::Int64Metadata>(kPrefix + "tile_index");
         formatError(path, "is tile " + std::to_string(index ? index->value() : -1) + " of " +
@@ -523,6 +571,15 @@ Volume readVolume(const std::string& path) {
         formatError(path, std::string("is inconsistent: ") + e.what());
     }
     return volume;
+}
+
+Volume readVolume(const std::string& path) { return readVolumeFile(path, false); }
+
+Volume readProbeStage(const std::string& path) {
+    Volume v = readVolumeFile(path, true);
+    if (v.basis.kind != probeStageBasis().kind || v.levels.size() != 1)
+        throw FormatError("'" + path + "' is a probe stage file of another kind (basis " + v.basis.kind + ")");
+    return v;
 }
 
 namespace vdb_detail {
@@ -576,6 +633,26 @@ TileFile readTileFile(const std::string& path) {
     if (levels > 1)
         for (int l = 0; l + 1 < int(levels); ++l) readMask(f, v.levels[std::size_t(l)], l, path);
     v.meta = userMetadata(meta);
+    t.depth = metaNumber(v.meta, "tile_depth", 0) != 0;
+    t.visibility = metaNumber(v.meta, "tile_visibility", 0) != 0;
+    t.error = metaNumber(v.meta, "tile_estimated_error", 0) != 0;
+    if ((t.visibility || t.error) && levels != 1) formatError(path, "has per-node visibility or errors on several levels");
+    // Depth moments, light visibility and errors of the tile's nodes (none on a level
+    // without nodes in this tile).
+    for (int l = 0; l < int(levels) && t.depth; ++l)
+        if (!v.levels[std::size_t(l)].activeNodes.empty()) readDepth(f, v.levels[std::size_t(l)], l, path);
+    readDirectLights(f, v, path);
+    VolumeLevel& level0 = v.levels[0];
+    if (t.visibility && !level0.activeNodes.empty()) {
+        if (!v.direct.hasVisibility()) formatError(path, "has light visibility but no occlusion-mode lights");
+        const std::size_t lights = v.direct.lights.size();
+        level0.lightVisibility.assign(level0.activeNodes.size() * lights, 0.0f);
+        for (std::size_t i = 0; i < lights; ++i) {
+            const std::vector<float> values = readSparseScalar(f, visibilityGridName(i), level0, path);
+            for (std::size_t n = 0; n < values.size(); ++n) level0.lightVisibility[n * lights + i] = values[n];
+        }
+    }
+    if (t.error && !level0.activeNodes.empty()) t.estimatedError = readSparseScalar(f, kTileErrorName, level0, path);
     return t;
 }
 

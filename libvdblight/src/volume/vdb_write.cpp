@@ -107,6 +107,16 @@ openvdb::FloatGrid::Ptr buildScalarGrid(const VolumeLevel& level, const std::vec
     return grid;
 }
 
+/// A per-node scalar of a sparse level (or of a tile's nodes, tiles.h): exactly the nodes of
+/// `activeNodes` are active voxels, values[position * stride + offset].
+openvdb::FloatGrid::Ptr buildSparseScalarGrid(const GridSpec& g, const std::vector<uint64_t>& activeNodes,
+                                              const float* values, std::size_t stride, std::size_t offset) {
+    auto grid = openvdb::FloatGrid::create(0.0f);
+    auto acc = grid->getAccessor();
+    for (std::size_t n = 0; n < activeNodes.size(); ++n) acc.setValue(unpackCoord(g, activeNodes[n]), values[n * stride + offset]);
+    return grid;
+}
+
 bool isRunSpecific(const std::string& key) {
     const std::vector<std::string>& keys = runSpecificMetadataKeys();
     return std::find(keys.begin(), keys.end(), key) != keys.end();
@@ -204,7 +214,7 @@ void checkWritable(const Volume& volume, const WriteOptions& options, bool tile)
         if (level.sparse() && !level.validity.empty())
             throw ValueError("validity is stored for dense levels only");
     for (const VolumeLevel& level : volume.levels)
-        if (level.sparse() && !level.lightVisibility.empty())
+        if (level.sparse() && !level.lightVisibility.empty() && !tile)
             throw ValueError("light visibility is stored for dense levels only");
     for (const std::string& c : volume.basis.channelNames)
         if (c.compare(0, 17, "light_visibility_") == 0)
@@ -249,7 +259,9 @@ openvdb::GridCPtrVec buildGrids(const Volume& volume, const WriteOptions& option
         // Direct light, occlusion mode: one visibility grid per listed light (docs/format.md).
         const std::size_t lights = volume.direct.lights.size();
         for (std::size_t i = 0; i < lights && !level.lightVisibility.empty(); ++i) {
-            openvdb::FloatGrid::Ptr grid = buildScalarGrid(level, origins, level.lightVisibility.data(), lights, i);
+            openvdb::FloatGrid::Ptr grid =
+                sparse ? buildSparseScalarGrid(level.grid, level.activeNodes, level.lightVisibility.data(), lights, i)
+                       : buildScalarGrid(level, origins, level.lightVisibility.data(), lights, i);
             grid->setName(gridNameFor(visibilityGridName(i), int(l)));
             grid->setTransform(levelTransform(level.grid));
             grid->setGridClass(openvdb::GRID_UNKNOWN);
@@ -266,7 +278,7 @@ openvdb::GridCPtrVec buildGrids(const Volume& volume, const WriteOptions& option
             depthLevel.activeNodes = level.activeNodes;
             depthLevel.data = level.depth;
             for (int c = 0; c < depth::kChannels; ++c) {
-                Vec3SGrid::Ptr grid = level.sparse() ? buildSparseChannelGrid(depthLevel, c, depth::kChannels)
+                Vec3SGrid::Ptr grid = sparse ? buildSparseChannelGrid(depthLevel, c, depth::kChannels)
                                                      : buildChannelGrid(depthLevel, c, depth::kChannels, origins);
                 grid->setName(gridNameFor(depth::channelName(c), int(l)));
                 grid->setTransform(levelTransform(level.grid));
@@ -291,10 +303,13 @@ const std::vector<std::string>& runSpecificMetadataKeys() {
 }
 
 namespace {
-void writeFile(const Volume& volume, const std::string& path, const WriteOptions& options, bool tile) {
+/// `extra`: grids only a tile file carries (tiles.h), appended after the volume's.
+void writeFile(const Volume& volume, const std::string& path, const WriteOptions& options, bool tile,
+               const openvdb::GridCPtrVec& extra = {}) {
     checkWritable(volume, options, tile);
     initOpenVdb();
-    const openvdb::GridCPtrVec grids = buildGrids(volume, options, tile);
+    openvdb::GridCPtrVec grids = buildGrids(volume, options, tile);
+    grids.insert(grids.end(), extra.begin(), extra.end());
     const openvdb::MetaMap meta = fileMetadata(volume, options);
     writeFileAtomically(path, [&](const std::string& temp) {
         openvdb::io::File(temp).write(grids, meta);
@@ -308,7 +323,7 @@ void writeVolume(const Volume& volume, const std::string& path, const WriteOptio
 }
 
 void writeTile(const Volume& volume, const NodeMask& mask, const TileId& id, const std::string& path,
-               const WriteOptions& options) {
+               const WriteOptions& options, const TileNodeStats* stats) {
     try {
         volume.validate();
     } catch (const FormatError& e) {
@@ -318,20 +333,23 @@ void writeTile(const Volume& volume, const NodeMask& mask, const TileId& id, con
     if (id.count < 1 || id.index < 0 || id.index >= id.count || id.paramsHash.empty())
         throw ValueError("invalid tile identity " + std::to_string(id.index) + " of " + std::to_string(id.count));
     const std::size_t floats = std::size_t(volume.basis.channelCount()) * 3;
+    const std::size_t lights = volume.direct.lights.size();
+    const bool depth = volume.hasDepth();
+    const bool error = stats && !stats->estimatedError.empty();
+    if (error && (volume.levels.size() != 1 || stats->estimatedError.size() != volume.levels[0].storedNodes()))
+        throw ValueError("the tile's per-node errors do not match the volume's nodes");
     Volume part;
     part.basis = volume.basis;
     part.meta = volume.meta;
+    part.direct = volume.direct;  // the light list; level 0's visibility of the tile's nodes below
     std::string dense;
     int64_t nodes = 0;
-    // Tile files carry neither the light list nor the visibility grids (bake --direct): a merge
-    // would turn such a volume into one that claims to hold all its direct light.
-    if (volume.direct.mode != DirectMode::Baked)
-        throw ValueError(std::string("a volume baked with --direct ") + directModeName(volume.direct.mode) +
-                         " cannot be tiled (add --direct baked)");
+    std::vector<float> tileError;
     for (std::size_t l = 0; l < volume.levels.size(); ++l) {
         const VolumeLevel& full = volume.levels[l];
         if (!full.validity.empty()) throw ValueError("a volume with validity (the anti-aliased pass) cannot be tiled");
         if (mask[l].size() != full.storedNodes()) throw ValueError("the tile's node mask does not match level " + std::to_string(l));
+        const bool visibility = !full.lightVisibility.empty();
         VolumeLevel level;
         level.grid = full.grid;
         level.refinedCells = full.refinedCells;
@@ -340,6 +358,11 @@ void writeTile(const Volume& volume, const NodeMask& mask, const TileId& id, con
             level.activeNodes.push_back(full.sparse() ? full.activeNodes[n] : n);
             level.data.insert(level.data.end(), full.nodeData(n, volume.basis.channelCount()),
                               full.nodeData(n, volume.basis.channelCount()) + floats);
+            if (depth) level.depth.insert(level.depth.end(), full.nodeDepth(n), full.nodeDepth(n) + depth::kFloatsPerNode);
+            if (visibility)
+                level.lightVisibility.insert(level.lightVisibility.end(), full.lightVisibility.begin() + std::ptrdiff_t(n * lights),
+                                             full.lightVisibility.begin() + std::ptrdiff_t((n + 1) * lights));
+            if (error) tileError.push_back(stats->estimatedError[n]);
         }
         nodes += int64_t(level.activeNodes.size());
         dense += std::string(l ? "," : "") + (full.sparse() ? "0" : "1");
@@ -352,11 +375,26 @@ void writeTile(const Volume& volume, const NodeMask& mask, const TileId& id, con
     part.meta["tile_nodes"] = nodes;
     part.meta["tile_half_float"] = int64_t(options.halfFloat ? 1 : 0);
     part.meta["tile_reproducible"] = int64_t(options.reproducible ? 1 : 0);
+    part.meta["tile_depth"] = int64_t(depth ? 1 : 0);
+    part.meta["tile_visibility"] = int64_t(volume.levels[0].lightVisibility.empty() ? 0 : 1);
+    part.meta["tile_estimated_error"] = int64_t(error ? 1 : 0);
+    openvdb::GridCPtrVec extra;
+    if (error && !tileError.empty()) {
+        // The per-node error the bake summarised over its nodes only: the merge summarises
+        // the whole volume's (error_summary.h). Full floats: the summary prints them.
+        const VolumeLevel& level = part.levels[0];
+        openvdb::FloatGrid::Ptr grid = buildSparseScalarGrid(level.grid, level.activeNodes, tileError.data(), 1, 0);
+        grid->setName(kTileErrorName);
+        grid->setTransform(levelTransform(level.grid));
+        grid->setGridClass(openvdb::GRID_UNKNOWN);
+        tagGrid(*grid, part, 0, -1);
+        extra.push_back(grid);
+    }
     // Full floats whatever the merged file will use: the merge interpolates seams from these
     // values, which must be the single bake's, not their half-float roundings.
     WriteOptions full = options;
     full.halfFloat = false;
-    writeFile(part, path, full, true);
+    writeFile(part, path, full, true, extra);
 }
 
 }  // namespace vdblight

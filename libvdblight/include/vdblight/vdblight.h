@@ -1,0 +1,28 @@
+// vdblight: the whole public API in one include, for applications that link
+// vdblight::vdblight (find_package(vdblight), examples/bake_and_query.cpp).
+//
+// What a user needs, in the order of the data flow:
+//   scene_load.h   loadScene: every format Assimp reads, plus our PLY reader (scene.h: Scene)
+//   trace.h        Tracer: the Embree BVH every pass traces through
+//   layout.h       placeUniformGrid: where the nodes go (layout_levels.h: bilevel/adaptive)
+//   bake.h         bakeShGather and its options (other passes: bake_*.h, photons.h)
+//   vdb_io.h       writeVolume (atomic) / readVolume / inspectVolumeFile
+//   query.h        IrradianceQuery: irradiance(x, n) at run time
+//   export.h       exportTextures: dense textures + manifest for engines
+//   errors.h       the typed exceptions every call may throw (catch vdblight::Error once)
+// Smaller programs may include only the headers they use.
+#pragma once
+
+#include "vdblight/errors.h"
+#include "vdblight/math.h"
+#include "vdblight/scene.h"
+#include "vdblight/scene_load.h"
+#include "vdblight/trace.h"
+#include "vdblight/layout.h"
+#include "vdblight/layout_levels.h"
+#include "vdblight/sh.h"
+#include "vdblight/volume.h"
+#include "vdblight/bake.h"
+#include "vdblight/vdb_io.h"
+#include "vdblight/query.h"
+#include "vdblight/export.h"
