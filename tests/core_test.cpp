@@ -1,13 +1,17 @@
 // The core every module shares: the atomic file writer (vdblight/atomic_file.h), parallelFor
 // with progress and cancelling, and the linear-index helper (libvdblight/src/core/).
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
 #include <sstream>
+#include <thread>
 #include <vector>
 
 #include "../libvdblight/src/core/grid_index.h"    // internal
@@ -123,11 +127,83 @@ TEST(AtomicFile, AMissingDirectoryOrAnUncommittedFileLeavesNothing) {
         EXPECT_TRUE(fs::exists(f.tempPath()));
     }
     EXPECT_TRUE(listDir(dir.path()).empty());
-    // A destination that cannot be replaced (a directory): the rename fails, nothing is left.
+    // A destination that is a directory is refused up front by name; nothing is left.
     fs::create_directory(dir.path() / "taken");
-    EXPECT_THROW(writeFileAtomically(dir.file("taken"), std::string("x")), IoError);
+    try {
+        writeFileAtomically(dir.file("taken"), std::string("x"));
+        FAIL() << "expected IoError";
+    } catch (const IoError& e) {
+        EXPECT_EQ(std::string(e.what()), "cannot write '" + dir.file("taken") + "': it is a directory");
+    }
     EXPECT_EQ(listDir(dir.path()), std::vector<std::string>{"taken"});
     EXPECT_TRUE(fs::is_empty(dir.path() / "taken"));
+}
+
+namespace {
+bool isFifo(const std::string& path) {
+    struct stat st;
+    return ::stat(path.c_str(), &st) == 0 && S_ISFIFO(st.st_mode);
+}
+bool isCharDevice(const std::string& path) {
+    struct stat st;
+    return ::stat(path.c_str(), &st) == 0 && S_ISCHR(st.st_mode);
+}
+}  // namespace
+
+// A destination that is no regular file (here a FIFO; `-o /dev/null` is the same code path,
+// below) receives the content: it is not renamed over (which would leave a regular file in
+// its place), and no temporary file is left beside it or in the temporary directory.
+TEST(AtomicFile, AFifoReceivesTheContentAndStaysAFifo) {
+    test::TempDir dir;
+    const std::string fifo = dir.file("pipe");
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0) << std::strerror(errno);
+
+    // A writer that fails never opens the FIFO (no reader needed) and leaves nothing.
+    std::string temp;
+    EXPECT_THROW(writeFileAtomically(fifo, [&](const std::string& t) {
+                     temp = t;
+                     writeHalfThenThrow<std::runtime_error>(t, "half of it", "x");
+                 }),
+                 IoError);
+    EXPECT_TRUE(isFifo(fifo));
+    EXPECT_FALSE(fs::exists(temp));
+    EXPECT_EQ(fs::path(temp).parent_path(), fs::temp_directory_path()) << "not beside the FIFO";
+
+    std::string received;
+    std::thread reader([&] { received = readFile(fifo); });
+    const std::string content(300000, 'v');  // more than a pipe buffer: the copy loops
+    writeFileAtomically(fifo, [&](const std::string& t) {
+        temp = t;
+        std::ofstream(t, std::ios::binary) << content;
+    });
+    reader.join();
+    EXPECT_EQ(received.size(), content.size());
+    EXPECT_TRUE(received == content);
+    EXPECT_TRUE(isFifo(fifo)) << "the FIFO was replaced by a regular file";
+    EXPECT_FALSE(fs::exists(temp));
+    EXPECT_EQ(listDir(dir.path()), std::vector<std::string>{"pipe"});
+}
+
+// /dev/null (a character device) takes the FIFO's code path: copied into, never renamed over.
+// Only the decision is checked here, without a commit, so that a bug cannot replace the
+// machine's /dev/null (root may rename over it).
+TEST(AtomicFile, DevNullIsWrittenIntoNotRenamedOver) {
+    if (!isCharDevice("/dev/null")) GTEST_SKIP() << "/dev/null is not a character device on this machine";
+    std::string temp;
+    {
+        AtomicFile f("/dev/null");
+        EXPECT_TRUE(f.copiesIntoDestination());
+        temp = f.tempPath();
+        EXPECT_EQ(fs::path(temp).parent_path(), fs::temp_directory_path());
+        EXPECT_TRUE(fs::is_regular_file(temp));
+    }
+    EXPECT_FALSE(fs::exists(temp));
+    EXPECT_TRUE(isCharDevice("/dev/null"));
+
+    test::TempDir dir;
+    EXPECT_FALSE(AtomicFile(dir.file("new.txt")).copiesIntoDestination());
+    writeFileAtomically(dir.file("old.txt"), std::string("x"));
+    EXPECT_FALSE(AtomicFile(dir.file("old.txt")).copiesIntoDestination());
 }
 
 namespace {
