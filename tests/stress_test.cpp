@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -283,17 +284,29 @@ TEST(Stress, DynamicRangeAndOverflow) {
     const Volume v = bakeSmall(s, g, 256);
     EXPECT_TRUE(allFinite(v));
 
+    // Every surface emitting 3e38 (near FLT_MAX): a node above the ground sees it over a whole
+    // hemisphere, and its SH DC coefficient (radiance x 2 pi Y00, about 5e38) leaves float range.
+    // The bake must overflow, so that the writer's refusal below is always exercised. (The
+    // tiny light alone at 3e38 does not overflow: the test's old branch never ran.)
+    s.materials[0].emission = Rgb(3e38f, 3e38f, 3e38f);
     s.materials[1].emission = Rgb(3e38f, 3e38f, 3e38f);
     const Volume hot = bakeSmall(s, g, 16);
+    ASSERT_FALSE(allFinite(hot)) << "an emission of 3e38 on every surface no longer overflows float storage; the "
+                                    "overflow check needs a brighter input";
     test::TempDir dir;
     const std::string path = dir.file("hot.vdb");
-    if (allFinite(hot)) {
-        EXPECT_NO_THROW(writeVolume(hot, path, WriteOptions{}));
-    } else {
-        EXPECT_THROW(writeVolume(hot, path, WriteOptions{}), ValueError);
-        EXPECT_FALSE(std::filesystem::exists(path));
-        std::printf("  emission 3e38: the bake overflows float; the writer refuses it and leaves no file\n");
+    EXPECT_THROW(writeVolume(hot, path, WriteOptions{}), ValueError);
+    EXPECT_FALSE(std::filesystem::exists(path));
+    // The same refusal for one infinite and one NaN coefficient in an otherwise good volume.
+    for (float bad : {std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()}) {
+        Volume one = v;
+        one.levels[0].data[one.levels[0].data.size() / 2] = bad;
+        EXPECT_THROW(writeVolume(one, path, WriteOptions{}), ValueError) << bad;
+        EXPECT_FALSE(std::filesystem::exists(path)) << bad;
     }
+    EXPECT_TRUE(std::filesystem::is_empty(dir.path())) << "no temporary file is left either";
+    EXPECT_NO_THROW(writeVolume(v, path, WriteOptions{}));  // the finite volume is written
+    std::printf("  emission 3e38: the bake overflows float; the writer refuses it and leaves no file\n");
 }
 
 // Half precision: the error the 16-bit storage adds, measured on a baked volume, bounded by

@@ -1,5 +1,6 @@
 // Tests of the volume module: Volume checks and the .vdb reader/writer (docs/format.md).
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 
@@ -9,7 +10,9 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <iterator>
 #include <random>
+#include <thread>
 
 #include <openvdb/openvdb.h>
 #include <openvdb/io/File.h>
@@ -107,6 +110,36 @@ TEST(VdbIo, RoundTripIsBitIdentical) {
     EXPECT_EQ(g.nz, 5);
     ASSERT_EQ(r.levels[0].data.size(), v.levels[0].data.size());
     EXPECT_EQ(0, std::memcmp(r.levels[0].data.data(), v.levels[0].data.data(), v.levels[0].data.size() * sizeof(float)));
+}
+
+// `-o /dev/null` and named pipes: the writer reads its own file back (the content UUID,
+// content_hash.h), so the whole file is made in the temporary directory and then copied into
+// the pipe, which stays a pipe (atomic_file.h); the reader gets the file writeVolume makes.
+TEST(VdbIo, WritingIntoAFifoSendsTheFileAndKeepsTheFifo) {
+    test::TempDir dir;
+    const Volume v = makeVolume(3, 4, 5);
+    WriteOptions reproducible;
+    reproducible.reproducible = true;
+    writeVolume(v, dir.file("v.vdb"), reproducible);
+    const std::string fifo = dir.file("pipe");
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    std::string received;
+    std::thread reader([&] {
+        std::ifstream in(fifo, std::ios::binary);
+        received.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    });
+    writeVolume(v, fifo, reproducible);
+    reader.join();
+    std::ifstream file(dir.file("v.vdb"), std::ios::binary);
+    const std::string expected((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    EXPECT_FALSE(expected.empty());
+    EXPECT_TRUE(received == expected) << received.size() << " bytes received, " << expected.size() << " expected";
+    struct stat st;
+    ASSERT_EQ(::stat(fifo.c_str(), &st), 0);
+    EXPECT_TRUE(S_ISFIFO(st.st_mode)) << "the FIFO was replaced by a regular file";
+    std::vector<std::string> names = listDir(dir.path());
+    std::sort(names.begin(), names.end());
+    EXPECT_EQ(names, (std::vector<std::string>{"pipe", "v.vdb"}));
 }
 
 TEST(VdbIo, ZeroNodesStayActive) {

@@ -12,6 +12,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "vdblight/atomic_file.h"
 #include "vdblight/errors.h"
 
 namespace vdblight::app {
@@ -199,23 +200,7 @@ void emitText(const std::string& path, const std::string& text) {
         std::cout << text;
         return;
     }
-    const std::string temp = path + ".tmp-" + std::to_string(::getpid());
-    {
-        std::ofstream file(temp, std::ios::binary);
-        file << text;
-        file.flush();
-        if (!file) {
-            std::error_code ec;
-            fs::remove(temp, ec);
-            throw IoError("cannot write '" + path + "'");
-        }
-    }
-    std::error_code ec;
-    fs::rename(temp, path, ec);
-    if (ec) {
-        fs::remove(temp, ec);
-        throw IoError("cannot write '" + path + "': " + ec.message());
-    }
+    writeFileAtomically(path, text);
 }
 
 namespace {

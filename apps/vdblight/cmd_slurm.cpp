@@ -15,6 +15,7 @@
 
 #include "app_common.h"
 #include "commands.h"
+#include "vdblight/atomic_file.h"
 #include "vdblight/errors.h"
 #include "vdblight/tiles.h"
 
@@ -59,11 +60,14 @@ std::string sbatchLines(const std::string& extra) {
 }
 
 void writeScript(const fs::path& path, const std::string& text) {
-    std::ofstream out(path);
-    out << text;
-    out.close();
-    if (!out) throw IoError("cannot write '" + path.string() + "'");
-    fs::permissions(path, fs::perms::owner_exec | fs::perms::group_exec | fs::perms::others_exec, fs::perm_options::add);
+    writeFileAtomically(path.string(), [&](const std::string& temp) {
+        std::ofstream out(temp, std::ios::binary);
+        out << text;
+        out.close();
+        if (!out) throw IoError("cannot write '" + temp + "'");
+        fs::permissions(temp, fs::perms::owner_exec | fs::perms::group_exec | fs::perms::others_exec,
+                        fs::perm_options::add);
+    });
 }
 
 std::string run(const std::string& command) {
@@ -179,7 +183,7 @@ void addSlurmCommand(CLI::App& app) {
         }
         submit += "echo $ids > " + shellQuote(d + "/jobs") + "\n";
         writeScript(dir / "submit.sh", submit);
-        std::ofstream(dir / "tiles") << c->tiles << " " << stages << "\n";
+        writeFileAtomically((dir / "tiles").string(), std::to_string(c->tiles) + " " + std::to_string(stages) + "\n");
         if (stages == 1)
             std::cout << "Wrote " << d << "/tiles.sbatch (array of " << c->tiles << " tiles), merge.sbatch and submit.sh.\n";
         else

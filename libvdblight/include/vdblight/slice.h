@@ -63,7 +63,7 @@ void writeSlice(const std::string& path, const SliceImage& image, const ToneMap&
                 double at = 0.0, const Vec3f& normal = Vec3f(0, 0, 1));
 
 /// A minimal PNG encoder (8-bit RGB, zlib-deflated, no filtering): writes `rgb` (3 bytes per
-/// pixel, rows top to bottom) to `path` directly (callers stage it). Throws IoError.
+/// pixel, rows top to bottom) to `path` atomically (atomic_file.h). Throws IoError.
 void writePng(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb);
 
 }  // namespace vdblight

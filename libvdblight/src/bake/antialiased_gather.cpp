@@ -3,17 +3,17 @@
 // its eight nodes; cells are processed in parallel, a chunk of z-slabs at a time, and reduced into
 // the nodes in cell order.
 #include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "core/grid_index.h"
+#include "parallel_nodes.h"
+#include "pass_metadata.h"
 #include "vdblight/bake_antialiased.h"
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
@@ -44,8 +44,8 @@ void bakeCell(const Scene& scene, const RadianceEstimator& estimator, const Trac
     const std::vector<CellSample> samples = classifyCell(scene, tracer, grid, cell, o.raysPerCell, o.seed, o.domain, count, &hits, o.fallback);
     int cx, cy, cz;
     cellDims(grid, cx, cy, cz);
-    const Vec3d lo = grid.node(int(cell % std::size_t(cx)), int(cell / std::size_t(cx) % std::size_t(cy)),
-                               int(cell / (std::size_t(cx) * std::size_t(cy))));
+    const core::Index3 ijk = core::unflatten(cell, uint64_t(cx), uint64_t(cy));
+    const Vec3d lo = grid.node(ijk.i, ijk.j, ijk.k);
     const bool flat[3] = {grid.nx == 1, grid.ny == 1, grid.nz == 1};
 
     const uint64_t stream = hashCombine(o.seed, cell);
@@ -153,9 +153,7 @@ void bakeCell(const Scene& scene, const RadianceEstimator& estimator, const Trac
 Volume bakeShAntialiased(const Scene& scene, const Tracer& tracer, const GridSpec& grid, const AntialiasedOptions& o,
                          Interrupter* interrupter, BakeStats* stats) {
     if (o.raysPerCell == 0) throw ValueError("rays per cell must be at least 1");
-    if (o.threads < 0) throw ValueError("thread count must be positive (0 = all cores)");
-    const std::size_t nodes = grid.nodeCount();
-    if (nodes == 0) throw ValueError("the grid has no nodes");
+    const std::size_t nodes = bake_detail::checkThreadsAndGrid(o.threads, grid);
     int cx, cy, cz;
     cellDims(grid, cx, cy, cz);
     const std::size_t cells = cellCount(grid), slabCells = std::size_t(cx) * std::size_t(cy);
@@ -168,69 +166,48 @@ Volume bakeShAntialiased(const Scene& scene, const Tracer& tracer, const GridSpe
     std::optional<NodeGram> gram;
     if (o.fit == NodeFit::LeastSquares) gram.emplace(grid);
     const RadianceEstimator estimator(scene, tracer, o.transport);
-    tbb::enumerable_thread_specific<RayCount> rayCounts;
     tbb::enumerable_thread_specific<std::vector<LightSample>> punctualScratch;
-    std::atomic<uint64_t> done{0};
-    std::atomic<bool> cancelled{false};
     uint64_t accepted = 0;
-    if (interrupter) interrupter->start("baking (anti-aliased)", cells);
-
+    bake_detail::ParallelRun run;
     const auto start = std::chrono::steady_clock::now();
-    const int threads = o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
-    tbb::task_arena arena(threads);
-    // Cells are baked in chunks of whole z-slabs (at most ~kChunkCells cells, at least one
-    // slab) so that the parallel loop balances over many cells between reductions.
-    constexpr std::size_t kChunkCells = 8192;
-    const int slabsPerChunk = int(std::clamp<std::size_t>(kChunkCells / slabCells, 1, std::size_t(cz)));
-    std::vector<CellPartial> chunk(std::size_t(slabsPerChunk) * slabCells);
-    for (int ck0 = 0; ck0 < cz && !cancelled; ck0 += slabsPerChunk) {
-        const std::size_t first = std::size_t(ck0) * slabCells;
-        const std::size_t count = std::size_t(std::min(cz - ck0, slabsPerChunk)) * slabCells;
-        arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 1), [&](const tbb::blocked_range<std::size_t>& r) {
-                for (std::size_t c = r.begin(); c != r.end(); ++c) {
-                    if (cancelled.load(std::memory_order_relaxed)) return;
-                    bakeCell(scene, estimator, tracer, grid, first + c, o, chunk[c], rayCounts.local(),
-                             punctualScratch.local());
-                    const uint64_t finished = done.fetch_add(1, std::memory_order_relaxed) + 1;
-                    if (interrupter) {
-                        interrupter->progress(finished);
-                        if (interrupter->wasInterrupted()) cancelled = true;
-                    }
+    const int threads = core::threadCount(o.threads);
+    {
+        core::TaskProgress progress(interrupter, "baking (anti-aliased)", cells, "bake cancelled");
+        // Cells are baked in chunks of whole z-slabs (at most ~kChunkCells cells, at least one
+        // slab) so that the parallel loop balances over many cells between reductions.
+        constexpr std::size_t kChunkCells = 8192;
+        const int slabsPerChunk = int(std::clamp<std::size_t>(kChunkCells / slabCells, 1, std::size_t(cz)));
+        std::vector<CellPartial> chunk(std::size_t(slabsPerChunk) * slabCells);
+        for (int ck0 = 0; ck0 < cz; ck0 += slabsPerChunk) {
+            const std::size_t first = std::size_t(ck0) * slabCells;
+            const std::size_t count = std::size_t(std::min(cz - ck0, slabsPerChunk)) * slabCells;
+            run.rays += bake_detail::forEachItemInParallel(count, o.threads, progress, [&](std::size_t c, RayCount& rays) {
+                bakeCell(scene, estimator, tracer, grid, first + c, o, chunk[c], rays, punctualScratch.local());
+            }).rays;
+            // Fixed-order reduction: cells in index order, corners in bit order.
+            for (std::size_t c = 0; c < count; ++c) {
+                const CellPartial& part = chunk[c];
+                const core::Index3 cell = core::unflatten(first + c, uint64_t(cx), uint64_t(cy));
+                accepted += part.accepted;
+                if (gram) gram->addCell(cell.i, cell.j, cell.k, part.gram);
+                for (int corner = 0; corner < 8; ++corner) {
+                    const int i = cell.i + (corner & 1), j = cell.j + (corner >> 1 & 1), k = cell.k + (corner >> 2 & 1);
+                    if (i >= grid.nx || j >= grid.ny || k >= grid.nz) continue;  // flat axis
+                    const std::size_t n = grid.index(i, j, k);
+                    norm[n] += part.norm[corner];
+                    candidate[n] += part.candidate[corner];
+                    for (int v = 0; v < kValues; ++v) acc[n * kValues + v] += part.coeff[corner][v];
                 }
-            });
-        });
-        if (cancelled) break;
-        // Fixed-order reduction: cells in index order, corners in bit order.
-        for (std::size_t c = 0; c < count; ++c) {
-            const CellPartial& part = chunk[c];
-            const int ci = int(c % std::size_t(cx)), cj = int(c / std::size_t(cx) % std::size_t(cy)),
-                      ck = ck0 + int(c / slabCells);
-            accepted += part.accepted;
-            if (gram) gram->addCell(ci, cj, ck, part.gram);
-            for (int corner = 0; corner < 8; ++corner) {
-                const int i = ci + (corner & 1), j = cj + (corner >> 1 & 1), k = ck + (corner >> 2 & 1);
-                if (i >= grid.nx || j >= grid.ny || k >= grid.nz) continue;  // flat axis
-                const std::size_t n = grid.index(i, j, k);
-                norm[n] += part.norm[corner];
-                candidate[n] += part.candidate[corner];
-                for (int v = 0; v < kValues; ++v) acc[n * kValues + v] += part.coeff[corner][v];
             }
         }
     }
-    if (interrupter) interrupter->end();
-    if (cancelled) throw Cancelled("bake cancelled");
     if (accepted == 0) {
         throw SceneError("no ray origin in any cell lies in the domain of interest: every surface is seen from its "
                          "back side (do the normals look reversed? check the faces' winding)");
     }
 
-    Volume volume;
-    volume.basis = BasisDesc::sh2();
-    volume.levels.resize(1);
+    Volume volume = bake_detail::emptyShVolume(grid);
     VolumeLevel& level = volume.levels[0];
-    level.grid = grid;
-    level.data.assign(nodes * kValues, 0.0f);
     level.validity.assign(nodes, 0.0f);
     std::vector<uint8_t> filled(nodes, 0);
     std::size_t unfilled = 0;
@@ -253,40 +230,30 @@ Volume bakeShAntialiased(const Scene& scene, const Tracer& tracer, const GridSpe
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-    RayCount total;
-    for (const RayCount& c : rayCounts) total += c;
-    Metadata& m = volume.meta;
-    m["scene_name"] = scene.name;
-    m["scene_hash"] = scene.contentHash();
-    m["scene_triangles"] = int64_t(scene.triangleCount());
-    m["method"] = std::string("gather");
-    m["sampling"] = std::string("antialiased");
-    m["domain"] = std::string(o.domain == DomainMode::Interior ? "interior" : "all");
-    if (o.visibleSupport) m["support"] = std::string("visible (origin-to-node occlusion test)");
+    const RayCount total = run.rays;
+    // As the other passes' keys (PassMetadata), except roulette_max_survival, which this pass
+    // has never written (its files stay the same bits).
+    bake_detail::PassMetadata m(volume.meta);
+    m.scene(scene).method("gather", "antialiased").transport(o.transport, o.seed, false).run(nodes, total, seconds, threads);
+    m.text("domain", o.domain == DomainMode::Interior ? "interior" : "all");
+    if (o.visibleSupport) m.text("support", "visible (origin-to-node occlusion test)");
     if (gram) {
-        m["fit"] = std::string("least-squares (Tikhonov towards eq. 6)");
-        m["fit_tikhonov"] = o.tikhonov;
-        m["fit_cg_iterations"] = int64_t(fitStats.maxIterations);
-        m["fit_tolerance"] = o.fitTolerance;
+        m.text("fit", "least-squares (Tikhonov towards eq. 6)")
+            .number("fit_tikhonov", o.tikhonov)
+            .count("fit_cg_iterations", fitStats.maxIterations)
+            .number("fit_tolerance", o.fitTolerance);
     } else {
-        m["fit"] = std::string("projection (eq. 6)");
+        m.text("fit", "projection (eq. 6)");
     }
-    m["rays_per_cell"] = int64_t(o.raysPerCell);
-    m["seed"] = int64_t(o.seed);
-    m["bounces"] = int64_t(o.transport.maxBounces);
-    m["roulette_start"] = int64_t(o.transport.rouletteStart);
-    m["origin_sampling"] = std::string("shifted Halton (bases 5, 7, 11) per cell, trilinear weights, eq. 6");
-    m["direction_sampling"] = std::string("shifted Halton (bases 2, 3) uniform sphere + NEE on emissive triangles; punctual lights exact per origin (one sampled per origin above the exact-light limit)");
-    m["nodes"] = int64_t(nodes);
-    m["cells"] = int64_t(cells);
-    m["origins_accepted"] = int64_t(accepted);
-    m["origins_rejected"] = int64_t(cells * o.raysPerCell - accepted);
-    m["nodes_dilated"] = int64_t(unfilled);
-    m["dilation_passes"] = int64_t(passes);
-    m["rays_intersect"] = int64_t(total.intersect);
-    m["rays_occluded"] = int64_t(total.occluded);
-    m["bake_seconds"] = seconds;
-    m["threads"] = int64_t(threads);
+    m.count("rays_per_cell", o.raysPerCell)
+        .text("origin_sampling", "shifted Halton (bases 5, 7, 11) per cell, trilinear weights, eq. 6")
+        .text("direction_sampling", "shifted Halton (bases 2, 3) uniform sphere + NEE on emissive triangles; punctual "
+                                    "lights exact per origin (one sampled per origin above the exact-light limit)")
+        .count("cells", int64_t(cells))
+        .count("origins_accepted", int64_t(accepted))
+        .count("origins_rejected", int64_t(cells * o.raysPerCell - accepted))
+        .count("nodes_dilated", int64_t(unfilled))
+        .count("dilation_passes", passes);
     if (stats) {
         stats->nodes = nodes;
         stats->rays = total;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "parallel_nodes.h"
+#include "pass_metadata.h"
 #include "vdblight/bake_antialiased.h"
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
@@ -22,17 +23,11 @@ Volume bakeShGatherInvalidated(const Scene& scene, const Tracer& tracer, const G
     if (!(maxBackfaceFraction >= 0.0 && maxBackfaceFraction <= 1.0))
         throw ValueError("the back-face fraction must be in [0, 1], got " + std::to_string(maxBackfaceFraction));
     if (options.raysPerNode == 0) throw ValueError("rays per node must be at least 1");
-    if (options.threads < 0) throw ValueError("thread count must be positive (0 = all cores)");
-    const std::size_t nodes = grid.nodeCount();
-    if (nodes == 0) throw ValueError("the grid has no nodes");
+    const std::size_t nodes = bake_detail::checkThreadsAndGrid(options.threads, grid);
     constexpr int kValues = sh::kCoeffs * 3;
 
-    Volume volume;
-    volume.basis = BasisDesc::sh2();
-    volume.levels.resize(1);
+    Volume volume = bake_detail::emptyShVolume(grid);
     VolumeLevel& level = volume.levels[0];
-    level.grid = grid;
-    level.data.assign(nodes * kValues, 0.0f);
     std::vector<uint32_t> backFaces(nodes, 0);
 
     const RadianceEstimator estimator(scene, tracer, options.transport);
@@ -63,15 +58,14 @@ Volume bakeShGatherInvalidated(const Scene& scene, const Tracer& tracer, const G
     }
     const int passes = invalid ? dilateUnfilledNodes(level, sh::kCoeffs, valid, weight) : 0;
 
-    Metadata& m = volume.meta;
-    bake_detail::addCommonBakeMetadata(m, scene, options.transport, options.seed, nodes, run);
-    m["method"] = std::string("gather");
-    m["sampling"] = std::string("point");
-    m["invalidate_backface"] = maxBackfaceFraction;
-    m["rays_per_node"] = int64_t(options.raysPerNode);
-    m["direction_sampling"] = std::string("scrambled Sobol (0,2) uniform sphere + NEE on emissive triangles; punctual lights exact");
-    m["nodes_dilated"] = int64_t(invalid);
-    m["dilation_passes"] = int64_t(passes);
+    bake_detail::PassMetadata(volume.meta)
+        .common(scene, options.transport, options.seed, nodes, run)
+        .method("gather", "point")
+        .number("invalidate_backface", maxBackfaceFraction)
+        .count("rays_per_node", options.raysPerNode)
+        .text("direction_sampling", "scrambled Sobol (0,2) uniform sphere + NEE on emissive triangles; punctual lights exact")
+        .count("nodes_dilated", int64_t(invalid))
+        .count("dilation_passes", passes);
     if (stats) {
         stats->nodes = nodes;
         stats->rays = run.rays;

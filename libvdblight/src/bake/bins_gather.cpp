@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "parallel_nodes.h"
+#include "pass_metadata.h"
 #include "vdblight/bake_bins.h"
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
@@ -136,21 +137,20 @@ Volume bakeBins(const Scene& scene, const Tracer& tracer, const LevelLayout& lay
         });
     if (volume.levels.size() > 1) applySeamConstraints(volume);
 
-    Metadata& m = volume.meta;
-    bake_detail::addCommonBakeMetadata(m, scene, options.transport, options.seed, layout.totalNodes(), run);
-    m["method"] = std::string("gather");
-    m["sampling"] = std::string("point");
-    m["bins_resolution"] = int64_t(R);
-    m["bins"] = int64_t(bins);
-    m["moment_order"] = int64_t(options.basis.order);
-    m["samples_per_bin"] = int64_t(options.samplesPerBin);
-    m["rays_per_node"] = int64_t(uint64_t(bins) * options.samplesPerBin);
-    m["direction_sampling"] =
-        std::string("scrambled Sobol (0,2) stratified inside each equal-area bin + NEE on emissive triangles; punctual lights exact");
-    m["quadrature"] = std::string("eq. 5: (n+1)/2 * sum_i Lbar_i * integral over bin i of max(0, w . w_j)^n");
-    m["layout"] = std::string(layoutName(layout.kind));
-    m["refine"] = int64_t(layout.refine);
-    m["nodes_seam"] = int64_t(seams);
+    bake_detail::PassMetadata(volume.meta)
+        .common(scene, options.transport, options.seed, layout.totalNodes(), run)
+        .method("gather", "point")
+        .count("bins_resolution", R)
+        .count("bins", bins)
+        .count("moment_order", options.basis.order)
+        .count("samples_per_bin", options.samplesPerBin)
+        .count("rays_per_node", int64_t(uint64_t(bins) * options.samplesPerBin))
+        .text("direction_sampling", "scrambled Sobol (0,2) stratified inside each equal-area bin + NEE on emissive "
+                                    "triangles; punctual lights exact")
+        .text("quadrature", "eq. 5: (n+1)/2 * sum_i Lbar_i * integral over bin i of max(0, w . w_j)^n")
+        .text("layout", layoutName(layout.kind))
+        .count("refine", layout.refine)
+        .count("nodes_seam", int64_t(seams));
 
     if (stats) {
         stats->nodes = layout.totalNodes();

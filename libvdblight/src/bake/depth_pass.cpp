@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "parallel_nodes.h"
+#include "pass_metadata.h"
 #include "vdblight/depth_moments.h"
 #include "vdblight/errors.h"
 #include "vdblight/sampling.h"
@@ -39,6 +40,20 @@ void nodeDepthMoments(const Tracer& tracer, const Vec3f& x, double spacing, uint
     acc.finish(out);
 }
 
+bake_detail::ParallelRun bake_detail::depthMomentsOfNodes(const Tracer& tracer, Volume& volume,
+                                                         const std::vector<std::pair<int, std::size_t>>& work,
+                                                         uint64_t seed, uint32_t rays, int threads,
+                                                         Interrupter* interrupter) {
+    return forEachItemInParallel(work.size(), threads, interrupter, [&](std::size_t w, RayCount& count) {
+        VolumeLevel& level = volume.levels[std::size_t(work[w].first)];
+        const std::size_t n = work[w].second;
+        const uint64_t linear = level.sparse() ? level.activeNodes[n] : n;
+        nodeDepthMoments(tracer, Vec3f(level.grid.node(std::size_t(linear))), level.grid.spacing, seed,
+                         (uint64_t(work[w].first) << 56) | linear, rays, level.depth.data() + n * depth::kFloatsPerNode,
+                         count);
+    });
+}
+
 void bakeDepthMoments(const Tracer& tracer, Volume& volume, const DepthOptions& options, Interrupter* interrupter,
                       DepthStats* stats) {
     if (options.raysPerNode == 0) throw ValueError("depth rays per node must be at least 1");
@@ -52,16 +67,9 @@ void bakeDepthMoments(const Tracer& tracer, Volume& volume, const DepthOptions& 
         for (std::size_t n = 0; n < level.storedNodes(); ++n)
             if (!options.only || (*options.only)[l][n]) work.emplace_back(int(l), n);
     }
-    const bake_detail::ParallelRun run =
-        bake_detail::forEachItemInParallel(work.size(), options.threads, interrupter, [&](std::size_t w, RayCount& count) {
-            VolumeLevel& level = volume.levels[std::size_t(work[w].first)];
-            const std::size_t n = work[w].second;
-            const uint64_t linear = level.sparse() ? level.activeNodes[n] : n;
-            nodeDepthMoments(tracer, Vec3f(level.grid.node(std::size_t(linear))), level.grid.spacing, options.seed,
-                             (uint64_t(work[w].first) << 56) | linear, options.raysPerNode,
-                             level.depth.data() + n * depth::kFloatsPerNode, count);
-        });
-    bake_detail::addDepthMetadata(volume.meta, options.raysPerNode);
+    const bake_detail::ParallelRun run = bake_detail::depthMomentsOfNodes(tracer, volume, work, options.seed,
+                                                                          options.raysPerNode, options.threads, interrupter);
+    bake_detail::PassMetadata(volume.meta).depthMoments(options.raysPerNode);
     if (stats) {
         stats->rays = run.rays.total();
         stats->seconds = run.seconds;

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "vdblight/bake_antialiased.h"
+#include "core/grid_index.h"
 #include "vdblight/errors.h"
 #include "vdblight/radical_inverse_fast.h"
 #include "vdblight/scene.h"
@@ -68,8 +69,8 @@ std::vector<CellSample> classifyCell(const Scene& scene, const Tracer& tracer, c
     int cx, cy, cz;
     cellDims(grid, cx, cy, cz);
     if (cell >= cellCount(grid)) throw ValueError("cell index " + std::to_string(cell) + " is out of range");
-    const int ci = int(cell % std::size_t(cx)), cj = int(cell / std::size_t(cx) % std::size_t(cy)),
-              ck = int(cell / (std::size_t(cx) * std::size_t(cy)));
+    const core::Index3 c = core::unflatten(cell, uint64_t(cx), uint64_t(cy));
+    const int ci = c.i, cj = c.j, ck = c.k;
     const Vec3d lo = grid.node(ci, cj, ck);
     // A flat axis (one node) has cells of zero extent along it.
     const Vec3d extent(grid.nx > 1 ? grid.spacing : 0.0, grid.ny > 1 ? grid.spacing : 0.0,

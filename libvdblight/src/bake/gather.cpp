@@ -1,20 +1,17 @@
 // The point-gather pass: SH order-2 radiance at every node of a uniform grid.
 
 #include <algorithm>
-#include <atomic>
-#include <chrono>
-#include <memory>
 #include <vector>
 
-#include "parallel_nodes.h"
+#include "pass_metadata.h"
+#include "probe_passes.h"
 #include "vdblight/bake.h"
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
 #include "vdblight/scene.h"
 #include "vdblight/sh.h"
+#include "vdblight/tiles.h"
 #include "vdblight/trace.h"
-#include "node_sampler.h"
-#include "surface_cache.h"
 
 namespace vdblight {
 
@@ -32,16 +29,10 @@ void projectIncidentRadiance(const RadianceEstimator& estimator, const Vec3f& x,
 Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& grid, const GatherOptions& options,
                     Interrupter* interrupter, BakeStats* stats) {
     if (options.raysPerNode == 0) throw ValueError("rays per node must be at least 1");
-    if (options.threads < 0) throw ValueError("thread count must be positive (0 = all cores)");
-    const std::size_t nodes = grid.nodeCount();
-    if (nodes == 0) throw ValueError("the grid has no nodes");
+    const std::size_t nodes = bake_detail::checkThreadsAndGrid(options.threads, grid);
 
-    Volume volume;
-    volume.basis = BasisDesc::sh2();
-    volume.levels.resize(1);
+    Volume volume = bake_detail::emptyShVolume(grid);
     VolumeLevel& level = volume.levels[0];
-    level.grid = grid;
-    level.data.assign(nodes * sh::kCoeffs * 3, 0.0f);
     if (options.depthMoments) level.depth.assign(nodes * depth::kFloatsPerNode, 0.0f);
 
     std::vector<std::size_t> selected;  // a tile's nodes (tiles.h); empty = all
@@ -56,63 +47,39 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     std::vector<Rgb> reflected;  // per node, nine coefficients: the next pass's cache
     if (options.probePasses > 0) reflected.assign(nodes * sh::kCoeffs, Rgb(0, 0, 0));
     RadianceEstimator estimator(scene, tracer, options.transport);
-    std::unique_ptr<bake_detail::VolumeSurfaceCache> cache;
-    bake_detail::ParallelRun run;
     // One stage of a staged bake (tiles.h) runs one pass, from the stage before's reflected light.
     const bake_detail::PassRange range =
         bake_detail::stagePasses(options.probePasses, options.stage, options.stageInput, grid, options.depthMoments);
-    if (range.first > 0) {
-        cache = std::make_unique<bake_detail::VolumeSurfaceCache>(tracer, grid, bake_detail::stageReflected(*options.stageInput));
-        estimator.setSurfaceCache(cache.get());
-        if (options.depthMoments) level.depth = options.stageInput->levels[0].depth;  // pass 0's
-    }
-    // Pass 0 traces full paths; pass k > 0 ends them at their first hit with pass k - 1's
-    // reflected light (probe-to-probe bounces, surface_cache.h), with its own seed.
-    for (int pass = range.first; pass <= range.last; ++pass) {
-        const uint64_t seed = pass == 0 ? options.seed : hashCombine(options.seed, uint64_t(pass));
-        const bool keepReflected = pass < options.probePasses;
-        const bake_detail::ParallelRun passRun =
-            bake_detail::forEachItemInParallel(options.only ? selected.size() : nodes, options.threads, interrupter,
-                                               [&](std::size_t item, RayCount& count) {
-                const std::size_t n = options.only ? selected[item] : item;
-                Rgbd coeffs[sh::kCoeffs];
-                // projectIncidentRadiance's sampling, keeping the sampler for its error estimate.
-                detail::NodeSampler sampler(estimator, Vec3f(grid.node(n)), seed, n, options.raysPerNode);
-                // Depth moments come from the first pass's own first hits (no extra rays).
-                depth::Accumulator depthAcc;
-                const bool recordDepth = options.depthMoments && pass == 0;
-                if (recordDepth) sampler.recordDepth(&depthAcc, grid.spacing);
-                sampler.addSamples(0, options.raysPerNode, count);
-                sampler.coefficients(coeffs, count);
-                if (recordDepth) depthAcc.finish(level.depth.data() + n * depth::kFloatsPerNode);
-                error[n] = float(std::min(sampler.relativeStandardError(count), 1e30));
-                float* dst = level.data.data() + n * sh::kCoeffs * 3;
-                for (int j = 0; j < sh::kCoeffs; ++j) {
-                    dst[3 * j + 0] = float(coeffs[j].x);
-                    dst[3 * j + 1] = float(coeffs[j].y);
-                    dst[3 * j + 2] = float(coeffs[j].z);
-                }
-                if (keepReflected) {
-                    sampler.reflectedCoefficients(coeffs);
-                    for (int j = 0; j < sh::kCoeffs; ++j) reflected[n * sh::kCoeffs + j] = Rgb(coeffs[j]);
-                }
-            });
-        run.rays += passRun.rays;
-        run.seconds += passRun.seconds;
-        run.threads = passRun.threads;
-        if (keepReflected && pass < range.last) {
-            estimator.setSurfaceCache(nullptr);
-            cache = std::make_unique<bake_detail::VolumeSurfaceCache>(tracer, grid, reflected);
-            estimator.setSurfaceCache(cache.get());
-        }
-    }
+    if (range.first > 0 && options.depthMoments) level.depth = options.stageInput->levels[0].depth;  // pass 0's
+    const bake_detail::ParallelRun run = bake_detail::runProbePasses(
+        estimator, tracer, grid, options.seed, options.probePasses, range,
+        range.first > 0 ? bake_detail::stageReflected(*options.stageInput) : std::vector<Rgb>(), reflected,
+        [&](const bake_detail::ProbePass& pass) {
+            return bake_detail::forEachItemInParallel(
+                options.only ? selected.size() : nodes, options.threads, interrupter, [&](std::size_t item, RayCount& count) {
+                    const std::size_t n = options.only ? selected[item] : item;
+                    Rgbd coeffs[sh::kCoeffs];
+                    // projectIncidentRadiance's sampling, keeping the sampler for its error estimate.
+                    detail::NodeSampler sampler(estimator, Vec3f(grid.node(n)), pass.seed, n, options.raysPerNode);
+                    // Depth moments come from the first pass's own first hits (no extra rays).
+                    depth::Accumulator depthAcc;
+                    const bool recordDepth = options.depthMoments && pass.index == 0;
+                    if (recordDepth) sampler.recordDepth(&depthAcc, grid.spacing);
+                    sampler.addSamples(0, options.raysPerNode, count);
+                    sampler.coefficients(coeffs, count);
+                    if (recordDepth) depthAcc.finish(level.depth.data() + n * depth::kFloatsPerNode);
+                    error[n] = float(std::min(sampler.relativeStandardError(count), 1e30));
+                    bake_detail::storeNode(sampler, coeffs, level.data.data() + n * sh::kCoeffs * 3,
+                                           pass.keepReflected ? &reflected[n * sh::kCoeffs] : nullptr);
+                });
+        });
 
-    Metadata& m = volume.meta;
-    bake_detail::addCommonBakeMetadata(m, scene, options.transport, options.seed, nodes, run);
-    if (options.stageInput) addEarlierStageSums(m, options.stageInput->meta);
-    if (options.depthMoments) bake_detail::addDepthMetadata(m, options.raysPerNode);
+    bake_detail::PassMetadata m(volume.meta);
+    m.common(scene, options.transport, options.seed, nodes, run);
+    if (options.stageInput) addEarlierStageSums(volume.meta, options.stageInput->meta);
+    if (options.depthMoments) m.depthMoments(options.raysPerNode);
     if (range.last < options.probePasses) {  // a stage before the last: its reflected light
-        volume = bake_detail::stageVolume(grid, reflected, std::move(level.depth), std::move(m), range.last,
+        volume = bake_detail::stageVolume(grid, reflected, std::move(level.depth), std::move(volume.meta), range.last,
                                           options.probePasses);
         if (stats) {
             stats->nodes = nodes;
@@ -122,17 +89,16 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
         }
         return volume;
     }
-    m["method"] = std::string("gather");
-    m["sampling"] = std::string("point");
-    m["rays_per_node"] = int64_t(options.raysPerNode);
-    m["direction_sampling"] = std::string("scrambled Sobol (0,2) uniform sphere + NEE on emissive triangles; punctual lights exact");
-    bake_detail::addErrorSummary(m, error, grid);
+    m.method("gather", "point")
+        .count("rays_per_node", options.raysPerNode)
+        .text("direction_sampling", "scrambled Sobol (0,2) uniform sphere + NEE on emissive triangles; punctual lights exact")
+        .errorSummary(error, grid);
     if (options.probePasses > 0) {
-        m["probe_passes"] = int64_t(options.probePasses);
-        m["probe_bounces"] = std::string(
-            "passes after the first end gathered paths at their first hit with the previous pass's reflected light "
-            "(trilinear over the visible nodes in front of the surface; DDGI-style); error_estimate excludes the "
-            "previous passes' noise");
+        m.count("probe_passes", options.probePasses)
+            .text("probe_bounces",
+                  "passes after the first end gathered paths at their first hit with the previous pass's reflected light "
+                  "(trilinear over the visible nodes in front of the surface; DDGI-style); error_estimate excludes the "
+                  "previous passes' noise");
     }
 
     if (stats) {

@@ -1,16 +1,11 @@
 // The error-targeted point gather (bake_adaptive.h).
 
 #include <algorithm>
-#include <atomic>
-#include <chrono>
 #include <cmath>
-#include <memory>
 
-#include "node_sampler.h"
-#include "parallel_nodes.h"
-#include "surface_cache.h"
+#include "pass_metadata.h"
+#include "probe_passes.h"
 #include "vdblight/bake_adaptive.h"
-#include "vdblight/error_summary.h"
 #include "vdblight/errors.h"
 #include "vdblight/tiles.h"
 #include "vdblight/interrupter.h"
@@ -38,16 +33,10 @@ Volume bakeShGatherAdaptive(const Scene& scene, const Tracer& tracer, const Grid
     if (o.minRays < 2) throw ValueError("the first round needs at least 2 rays per node to estimate a variance");
     if (o.maxRays < o.minRays) throw ValueError("max rays (" + std::to_string(o.maxRays) + ") is below the first round (" +
                                                 std::to_string(o.minRays) + ")");
-    if (o.threads < 0) throw ValueError("thread count must be positive (0 = all cores)");
-    const std::size_t nodes = grid.nodeCount();
-    if (nodes == 0) throw ValueError("the grid has no nodes");
+    const std::size_t nodes = bake_detail::checkThreadsAndGrid(o.threads, grid);
 
-    Volume volume;
-    volume.basis = BasisDesc::sh2();
-    volume.levels.resize(1);
+    Volume volume = bake_detail::emptyShVolume(grid);
     VolumeLevel& level = volume.levels[0];
-    level.grid = grid;
-    level.data.assign(nodes * sh::kCoeffs * 3, 0.0f);
     std::vector<uint32_t> raysUsed(nodes, 0);
     std::vector<float> achieved(nodes, 0.0f);
     std::vector<std::size_t> selected;  // a tile's nodes (tiles.h); empty = all
@@ -62,65 +51,43 @@ Volume bakeShGatherAdaptive(const Scene& scene, const Tracer& tracer, const Grid
     std::vector<Rgb> reflected;  // per node, nine coefficients: the next pass's cache
     if (o.probePasses > 0) reflected.assign(nodes * sh::kCoeffs, Rgb(0, 0, 0));
     RadianceEstimator estimator(scene, tracer, o.transport);
-    std::unique_ptr<bake_detail::VolumeSurfaceCache> cache;
-    bake_detail::ParallelRun run;
     uint64_t samplesBefore = 0;  // samples of the passes before the last
     // One stage of a staged bake (tiles.h) runs one pass, from the stage before's reflected light.
     const bake_detail::PassRange range = bake_detail::stagePasses(o.probePasses, o.stage, o.stageInput, grid, false);
-    if (range.first > 0) {
-        cache = std::make_unique<bake_detail::VolumeSurfaceCache>(tracer, grid, bake_detail::stageReflected(*o.stageInput));
-        estimator.setSurfaceCache(cache.get());
-        samplesBefore = uint64_t(metaNumber(o.stageInput->meta, "probe_stage_samples", 0));
-    }
-    // As bakeShGather (bake.h, probePasses): pass 0 traces full paths, later passes end them
-    // at their first hit with the previous pass's reflected light; each pass to the target.
-    for (int pass = range.first; pass <= range.last; ++pass) {
-        const uint64_t seed = pass == 0 ? o.seed : hashCombine(o.seed, uint64_t(pass));
-        const bool keepReflected = pass < o.probePasses;
-        for (uint32_t r : raysUsed) samplesBefore += r;
-        const bake_detail::ParallelRun passRun = bake_detail::forEachItemInParallel(
-            o.only ? selected.size() : nodes, o.threads, interrupter, [&](std::size_t item, RayCount& count) {
-            const std::size_t n = o.only ? selected[item] : item;
-            detail::NodeSampler sampler(estimator, Vec3f(grid.node(n)), seed, n, o.maxRays);
-            uint32_t taken = 0, next = o.minRays;
-            double err = 0;
-            bool previousMet = false;
-            for (;;) {
-                sampler.addSamples(taken, next, count);
-                taken = next;
-                err = sampler.relativeStandardError(count);
-                // Zero variance (below what a double variance resolves) stops at once; otherwise the rule must hold at the end of
-                // two consecutive rounds (a rare large sample missing from a small round
-                // makes a variance look small by chance).
-                const bool met = err * varianceUncertainty(taken) <= o.targetError;
-                if (err <= 1e-7 || (met && previousMet) || taken >= o.maxRays) break;
-                previousMet = met;
-                next = uint32_t(std::min<uint64_t>(uint64_t(taken) * 2, o.maxRays));
-            }
-            Rgbd coeffs[sh::kCoeffs];
-            sampler.coefficients(coeffs, count);
-            float* dst = level.data.data() + n * sh::kCoeffs * 3;
-            for (int j = 0; j < sh::kCoeffs; ++j) {
-                dst[3 * j + 0] = float(coeffs[j].x);
-                dst[3 * j + 1] = float(coeffs[j].y);
-                dst[3 * j + 2] = float(coeffs[j].z);
-            }
-            if (keepReflected) {
-                sampler.reflectedCoefficients(coeffs);
-                for (int j = 0; j < sh::kCoeffs; ++j) reflected[n * sh::kCoeffs + j] = Rgb(coeffs[j]);
-            }
-            raysUsed[n] = taken;
-            achieved[n] = float(std::min(err, 1e30));
+    if (range.first > 0) samplesBefore = uint64_t(metaNumber(o.stageInput->meta, "probe_stage_samples", 0));
+    // As bakeShGather (bake.h, probePasses), each pass to the target.
+    const bake_detail::ParallelRun run = bake_detail::runProbePasses(
+        estimator, tracer, grid, o.seed, o.probePasses, range,
+        range.first > 0 ? bake_detail::stageReflected(*o.stageInput) : std::vector<Rgb>(), reflected,
+        [&](const bake_detail::ProbePass& pass) {
+            for (uint32_t r : raysUsed) samplesBefore += r;
+            return bake_detail::forEachItemInParallel(
+                o.only ? selected.size() : nodes, o.threads, interrupter, [&](std::size_t item, RayCount& count) {
+                const std::size_t n = o.only ? selected[item] : item;
+                detail::NodeSampler sampler(estimator, Vec3f(grid.node(n)), pass.seed, n, o.maxRays);
+                uint32_t taken = 0, next = o.minRays;
+                double err = 0;
+                bool previousMet = false;
+                for (;;) {
+                    sampler.addSamples(taken, next, count);
+                    taken = next;
+                    err = sampler.relativeStandardError(count);
+                    // Zero variance (below what a double variance resolves) stops at once; otherwise the rule must hold at the end of
+                    // two consecutive rounds (a rare large sample missing from a small round
+                    // makes a variance look small by chance).
+                    const bool met = err * varianceUncertainty(taken) <= o.targetError;
+                    if (err <= 1e-7 || (met && previousMet) || taken >= o.maxRays) break;
+                    previousMet = met;
+                    next = uint32_t(std::min<uint64_t>(uint64_t(taken) * 2, o.maxRays));
+                }
+                Rgbd coeffs[sh::kCoeffs];
+                sampler.coefficients(coeffs, count);
+                bake_detail::storeNode(sampler, coeffs, level.data.data() + n * sh::kCoeffs * 3,
+                                       pass.keepReflected ? &reflected[n * sh::kCoeffs] : nullptr);
+                raysUsed[n] = taken;
+                achieved[n] = float(std::min(err, 1e30));
+            });
         });
-        run.rays += passRun.rays;
-        run.seconds += passRun.seconds;
-        run.threads = passRun.threads;
-        if (keepReflected && pass < range.last) {
-            estimator.setSurfaceCache(nullptr);
-            cache = std::make_unique<bake_detail::VolumeSurfaceCache>(tracer, grid, reflected);
-            estimator.setSurfaceCache(cache.get());
-        }
-    }
     AdaptiveStats local;
     AdaptiveStats& s = stats ? *stats : local;
     s.nodes = nodes;
@@ -135,29 +102,26 @@ Volume bakeShGatherAdaptive(const Scene& scene, const Tracer& tracer, const Grid
     s.raysPerNode = std::move(raysUsed);
     s.estimatedError = std::move(achieved);
 
-    Metadata& m = volume.meta;
-    bake_detail::addCommonBakeMetadata(m, scene, o.transport, o.seed, nodes, run);
-    if (o.stageInput) addEarlierStageSums(m, o.stageInput->meta);
+    bake_detail::PassMetadata m(volume.meta);
+    m.common(scene, o.transport, o.seed, nodes, run);
+    if (o.stageInput) addEarlierStageSums(volume.meta, o.stageInput->meta);
     if (range.last < o.probePasses) {  // a stage before the last: its reflected light
-        m["probe_stage_samples"] = int64_t(s.samples);
-        volume = bake_detail::stageVolume(grid, reflected, {}, std::move(m), range.last, o.probePasses);
+        m.count("probe_stage_samples", int64_t(s.samples));
+        volume = bake_detail::stageVolume(grid, reflected, {}, std::move(volume.meta), range.last, o.probePasses);
         s.estimatedError.clear();
         return volume;
     }
-    m["method"] = std::string("gather");
-    m["sampling"] = std::string("point, error-targeted");
-    m["target_error"] = o.targetError;
-    m["min_rays"] = int64_t(o.minRays);
-    m["max_rays"] = int64_t(o.maxRays);
-    if (o.probePasses > 0) {
-        m["probe_passes"] = int64_t(o.probePasses);
-        m["samples_earlier_passes"] = int64_t(samplesBefore);
-    }
-    m["samples_total"] = int64_t(s.samples);
-    addSampleSummary(m);  // rays_per_node_mean, samples_saved_vs_max (error_summary.h: the merge's too)
-    bake_detail::addErrorSummary(m, s.estimatedError, grid);
-    m["nodes_at_max_rays"] = int64_t(s.nodesAtMax);
-    m["direction_sampling"] = std::string("scrambled Sobol (0,2) uniform sphere in doubling rounds + NEE on emissive triangles; punctual lights exact or one sampled per ray");
+    m.method("gather", "point, error-targeted")
+        .number("target_error", o.targetError)
+        .count("min_rays", o.minRays)
+        .count("max_rays", o.maxRays);
+    if (o.probePasses > 0) m.count("probe_passes", o.probePasses).count("samples_earlier_passes", int64_t(samplesBefore));
+    m.count("samples_total", int64_t(s.samples))
+        .sampleSummary()
+        .errorSummary(s.estimatedError, grid)
+        .count("nodes_at_max_rays", int64_t(s.nodesAtMax))
+        .text("direction_sampling", "scrambled Sobol (0,2) uniform sphere in doubling rounds + NEE on emissive triangles; "
+                                    "punctual lights exact or one sampled per ray");
     return volume;
 }
 

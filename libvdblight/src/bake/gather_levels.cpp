@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "parallel_nodes.h"
+#include "pass_metadata.h"
 #include "vdblight/bake_depth.h"
 #include "vdblight/bake_levels.h"
 #include "vdblight/errors.h"
@@ -74,28 +75,20 @@ Volume bakeShGatherLevels(const Scene& scene, const Tracer& tracer, const LevelL
         for (std::size_t l = 0; l < volume.levels.size(); ++l)
             for (std::size_t n = 0; n < baked[l].size(); ++n)
                 if (!baked[l][n] && (!options.only || (*options.only)[l][n])) seamNodes.emplace_back(int(l), n);
-        seamDepthRays = bake_detail::forEachItemInParallel(seamNodes.size(), options.threads, nullptr,
-                                                           [&](std::size_t w, RayCount& count) {
-            VolumeLevel& level = volume.levels[std::size_t(seamNodes[w].first)];
-            const std::size_t n = seamNodes[w].second;
-            const uint64_t linear = level.sparse() ? level.activeNodes[n] : n;
-            nodeDepthMoments(tracer, Vec3f(level.grid.node(std::size_t(linear))), level.grid.spacing, options.seed,
-                             (uint64_t(seamNodes[w].first) << 56) | linear, options.raysPerNode,
-                             level.depth.data() + n * depth::kFloatsPerNode, count);
-        }).rays;
+        seamDepthRays = bake_detail::depthMomentsOfNodes(tracer, volume, seamNodes, options.seed, options.raysPerNode,
+                                                         options.threads, nullptr).rays;
     }
 
-    Metadata& m = volume.meta;
-    bake_detail::addCommonBakeMetadata(m, scene, options.transport, options.seed, layout.totalNodes(), run);
-    m["method"] = std::string("gather");
-    m["sampling"] = std::string("point");
-    m["rays_per_node"] = int64_t(options.raysPerNode);
-    m["direction_sampling"] = std::string("scrambled Sobol (0,2) uniform sphere + NEE on emissive triangles; punctual lights exact");
-    if (options.depthMoments) bake_detail::addDepthMetadata(m, options.raysPerNode);
-    m["layout"] = std::string(layoutName(layout.kind));
-    m["refine"] = int64_t(layout.refine);
-    m["nodes_seam"] = int64_t(seams);
-    m["nodes_dense_equivalent"] = layout.denseEquivalentNodes();
+    bake_detail::PassMetadata m(volume.meta);
+    m.common(scene, options.transport, options.seed, layout.totalNodes(), run)
+        .method("gather", "point")
+        .count("rays_per_node", options.raysPerNode)
+        .text("direction_sampling", "scrambled Sobol (0,2) uniform sphere + NEE on emissive triangles; punctual lights exact");
+    if (options.depthMoments) m.depthMoments(options.raysPerNode);
+    m.text("layout", layoutName(layout.kind))
+        .count("refine", layout.refine)
+        .count("nodes_seam", int64_t(seams))
+        .number("nodes_dense_equivalent", layout.denseEquivalentNodes());
 
     if (stats) {
         stats->nodes = layout.totalNodes();

@@ -2,14 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
-#include <sstream>
 
 #include "vdblight/bake.h"
 #include "vdblight/error_summary.h"
-
 #include "vdblight/layout_levels.h"
-#include "vdblight/scene.h"
+#include "vdblight/sh.h"
 
 namespace vdblight {
 namespace bake_detail {
@@ -29,20 +26,20 @@ std::vector<std::pair<int, std::size_t>> nodesToBake(const Volume& volume, uint6
     return work;
 }
 
-void addCommonBakeMetadata(Metadata& m, const Scene& scene, const TransportOptions& transport, uint64_t seed,
-                           uint64_t nodes, const ParallelRun& run) {
-    m["scene_name"] = scene.name;
-    m["scene_hash"] = scene.contentHash();
-    m["scene_triangles"] = int64_t(scene.triangleCount());
-    m["seed"] = int64_t(seed);
-    m["bounces"] = int64_t(transport.maxBounces);
-    m["roulette_start"] = int64_t(transport.rouletteStart);
-    m["roulette_max_survival"] = double(kRouletteMaxSurvival);
-    m["nodes"] = int64_t(nodes);
-    m["rays_intersect"] = int64_t(run.rays.intersect);
-    m["rays_occluded"] = int64_t(run.rays.occluded);
-    m["bake_seconds"] = run.seconds;
-    m["threads"] = int64_t(run.threads);
+std::size_t checkThreadsAndGrid(int threads, const GridSpec& grid) {
+    if (threads < 0) throw ValueError("thread count must be positive (0 = all cores)");
+    const std::size_t nodes = grid.nodeCount();
+    if (nodes == 0) throw ValueError("the grid has no nodes");
+    return nodes;
+}
+
+Volume emptyShVolume(const GridSpec& grid) {
+    Volume volume;
+    volume.basis = BasisDesc::sh2();
+    volume.levels.resize(1);
+    volume.levels[0].grid = grid;
+    volume.levels[0].data.assign(grid.nodeCount() * sh::kCoeffs * 3, 0.0f);
+    return volume;
 }
 
 }  // namespace bake_detail

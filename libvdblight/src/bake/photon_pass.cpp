@@ -2,7 +2,6 @@
 // lattice into irradiance vectors (photons.h).
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -14,6 +13,8 @@
 #include <sstream>
 #include <vector>
 
+#include "core/parallel_for.h"
+#include "pass_metadata.h"
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
 #include "vdblight/irradiance_vectors.h"
@@ -235,7 +236,7 @@ Volume bakePhotons(const Scene& scene, const Tracer& tracer, const GridSpec& gri
     const uint64_t batchSize = photonBatchSize(options.photons, nodes);
     const uint64_t batches = (options.photons + batchSize - 1) / batchSize;
 
-    const int threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
+    const int threads = core::threadCount(options.threads);
     // Several batches per thread and round (memory permitting), so that a thread held up
     // by the machine's load does not leave the others waiting at every round's reduction.
     const uint64_t bufferBytes = uint64_t(floats) * sizeof(float);
@@ -244,15 +245,13 @@ Volume bakePhotons(const Scene& scene, const Tracer& tracer, const GridSpec& gri
     std::vector<std::vector<float>> buffers(slots, std::vector<float>(floats));
     std::vector<double> total(floats, 0.0);
     std::vector<Counters> batchCounts(batches);
-    if (interrupter) interrupter->start("tracing photons", options.photons);
 
     const auto start = std::chrono::steady_clock::now();
-    tbb::task_arena arena(threads);
-    uint64_t done = 0;
-    for (uint64_t first = 0; first < batches; first += slots) {
-        const uint64_t round = std::min(slots, batches - first);
-        arena.execute([&] {
-            tbb::parallel_for(uint64_t(0), round, [&](uint64_t s) {
+    {
+        core::TaskProgress progress(interrupter, "tracing photons", options.photons, "bake cancelled");
+        for (uint64_t first = 0; first < batches; first += slots) {
+            const uint64_t round = std::min(slots, batches - first);
+            core::parallelFor(round, threads, [&](std::size_t s) {
                 const uint64_t b = first + s;
                 float* sums = buffers[s].data();
                 std::memset(sums, 0, floats * sizeof(float));
@@ -260,23 +259,18 @@ Volume bakePhotons(const Scene& scene, const Tracer& tracer, const GridSpec& gri
                 for (uint64_t i = b * batchSize; i < end; ++i) walker.trace(i, sums, batchCounts[b]);
             });
             // Add the round's buffers in batch order (per element: same order, same bits).
-            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, floats, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+            constexpr std::size_t kBlock = 4096;
+            core::parallelFor((floats + kBlock - 1) / kBlock, threads, [&](std::size_t block) {
+                const std::size_t begin = block * kBlock, end = std::min(floats, begin + kBlock);
                 for (uint64_t s = 0; s < round; ++s) {
                     const float* src = buffers[s].data();
-                    for (std::size_t e = r.begin(); e != r.end(); ++e) total[e] += double(src[e]);
+                    for (std::size_t e = begin; e != end; ++e) total[e] += double(src[e]);
                 }
             });
-        });
-        done = std::min(options.photons, (first + round) * batchSize);
-        if (interrupter) {
-            interrupter->progress(done);
-            if (interrupter->wasInterrupted()) {
-                interrupter->end();
-                throw Cancelled("bake cancelled");
-            }
+            progress.reportDone(std::min(options.photons, (first + round) * batchSize));
+            progress.throwIfCancelled();
         }
     }
-    if (interrupter) interrupter->end();
 
     Volume volume;
     volume.basis = iv::basis();
@@ -292,26 +286,20 @@ Volume bakePhotons(const Scene& scene, const Tracer& tracer, const GridSpec& gri
         sum.rays += c.rays;
     }
     const Rgb power = walker.emitter().totalPower();
-    Metadata& m = volume.meta;
-    m["scene_name"] = scene.name;
-    m["scene_hash"] = scene.contentHash();
-    m["scene_triangles"] = int64_t(scene.triangleCount());
-    m["method"] = std::string("photons");
-    m["photons"] = int64_t(options.photons);
-    m["photon_batch_size"] = int64_t(batchSize);
-    m["photon_estimator"] = std::string(options.estimator == PhotonEstimator::Flux ? "flux" : "paper_cosine");
-    m["photon_segments"] = int64_t(sum.segments);
-    m["photon_face_crossings"] = int64_t(sum.crossings);
-    m["emitted_power"] = std::to_string(power.x) + "," + std::to_string(power.y) + "," + std::to_string(power.z);
-    m["lights"] = int64_t(walker.emitter().lightCount());
-    m["seed"] = int64_t(options.seed);
-    m["bounces"] = int64_t(options.transport.maxBounces);
-    m["roulette"] = std::string("from the first reflection, survival = max albedo component");
-    m["nodes"] = int64_t(nodes);
-    m["rays_intersect"] = int64_t(sum.rays.intersect);
-    m["rays_occluded"] = int64_t(sum.rays.occluded);
-    m["bake_seconds"] = seconds;
-    m["threads"] = int64_t(threads);
+    bake_detail::PassMetadata(volume.meta)
+        .scene(scene)
+        .run(nodes, sum.rays, seconds, threads)
+        .text("method", "photons")
+        .count("photons", int64_t(options.photons))
+        .count("photon_batch_size", int64_t(batchSize))
+        .text("photon_estimator", options.estimator == PhotonEstimator::Flux ? "flux" : "paper_cosine")
+        .count("photon_segments", int64_t(sum.segments))
+        .count("photon_face_crossings", int64_t(sum.crossings))
+        .text("emitted_power", std::to_string(power.x) + "," + std::to_string(power.y) + "," + std::to_string(power.z))
+        .count("lights", int64_t(walker.emitter().lightCount()))
+        .count("seed", int64_t(options.seed))
+        .count("bounces", options.transport.maxBounces)
+        .text("roulette", "from the first reflection, survival = max albedo component");
 
     if (stats) {
         stats->photons = options.photons;

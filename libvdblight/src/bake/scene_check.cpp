@@ -1,12 +1,10 @@
 // Faces whose back side is seen from open space (scene_check.h).
 #include "vdblight/scene_check.h"
 
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
-
 #include <algorithm>
 #include <cmath>
 
+#include "core/parallel_for.h"
 #include "vdblight/errors.h"
 #include "vdblight/sampling.h"
 #include "vdblight/scene.h"
@@ -39,39 +37,36 @@ SceneCheckResult findBackfacingTriangles(const Scene& scene, const Tracer& trace
     // Per z-slab counts, reduced in slab order (determinism for any thread count).
     std::vector<std::vector<std::pair<uint32_t, uint32_t>>> slabHits(n[2]);
     std::vector<uint64_t> slabOpen(n[2], 0);
-    const int threads = o.threads > 0 ? o.threads : tbb::this_task_arena::max_concurrency();
-    tbb::task_arena arena(threads);
-    arena.execute([&] {
-        tbb::parallel_for(0, n[2], [&](int k) {
-            std::vector<uint32_t> local;  // triangles hit from behind by the current probe
-            for (int j = 0; j < n[1]; ++j)
-                for (int i = 0; i < n[0]; ++i) {
-                    const std::size_t probe = (std::size_t(k) * n[1] + j) * n[0] + i;
-                    const Vec3d pd(b.lo.x + (i + kOffset) * size.x / n[0], b.lo.y + (j + kOffset) * size.y / n[1],
-                                   b.lo.z + (k + kOffset) * size.z / n[2]);
-                    const Vec3f p(pd);
-                    const uint64_t scramble = hashCombine(o.seed, probe);
-                    local.clear();
-                    for (uint32_t s = 0; s < o.raysPerPoint; ++s) {
-                        float u, v;
-                        sobol02(s, scramble, u, v);
-                        Ray ray;
-                        ray.origin = p;
-                        ray.direction = uniformSphere(u, v);
-                        const Hit hit = tracer.intersect(ray);
-                        if (hit.hit() && dot(hit.geometricNormal, ray.direction) > 0.0f) local.push_back(hit.triangle);
-                    }
-                    if (double(local.size()) > o.maxBackfaceFraction * o.raysPerPoint) continue;
-                    ++slabOpen[k];
-                    std::sort(local.begin(), local.end());
-                    for (std::size_t a = 0; a < local.size();) {
-                        std::size_t e = a;
-                        while (e < local.size() && local[e] == local[a]) ++e;
-                        slabHits[k].push_back({local[a], uint32_t(e - a)});
-                        a = e;
-                    }
+    core::parallelFor(std::size_t(n[2]), o.threads, [&](std::size_t slab) {
+        const int k = int(slab);
+        std::vector<uint32_t> local;  // triangles hit from behind by the current probe
+        for (int j = 0; j < n[1]; ++j)
+            for (int i = 0; i < n[0]; ++i) {
+                const std::size_t probe = (std::size_t(k) * n[1] + j) * n[0] + i;
+                const Vec3d pd(b.lo.x + (i + kOffset) * size.x / n[0], b.lo.y + (j + kOffset) * size.y / n[1],
+                               b.lo.z + (k + kOffset) * size.z / n[2]);
+                const Vec3f p(pd);
+                const uint64_t scramble = hashCombine(o.seed, probe);
+                local.clear();
+                for (uint32_t s = 0; s < o.raysPerPoint; ++s) {
+                    float u, v;
+                    sobol02(s, scramble, u, v);
+                    Ray ray;
+                    ray.origin = p;
+                    ray.direction = uniformSphere(u, v);
+                    const Hit hit = tracer.intersect(ray);
+                    if (hit.hit() && dot(hit.geometricNormal, ray.direction) > 0.0f) local.push_back(hit.triangle);
                 }
-        });
+                if (double(local.size()) > o.maxBackfaceFraction * o.raysPerPoint) continue;
+                ++slabOpen[k];
+                std::sort(local.begin(), local.end());
+                for (std::size_t a = 0; a < local.size();) {
+                    std::size_t e = a;
+                    while (e < local.size() && local[e] == local[a]) ++e;
+                    slabHits[k].push_back({local[a], uint32_t(e - a)});
+                    a = e;
+                }
+            }
     });
 
     SceneCheckResult r;

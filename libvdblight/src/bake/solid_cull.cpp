@@ -7,6 +7,8 @@
 #include <cmath>
 #include <numeric>
 
+#include "core/union_find.h"
+#include "core/grid_index.h"
 #include "vdblight/errors.h"
 #include "vdblight/trace.h"
 
@@ -14,14 +16,9 @@ namespace vdblight {
 
 namespace {
 
-struct Idx {
-    int i, j, k;
-};
+using Idx = core::Index3;
 
-Idx unpack(const GridSpec& g, uint64_t linear) {
-    const uint64_t nx = uint64_t(g.nx), ny = uint64_t(g.ny);
-    return {int(linear % nx), int((linear / nx) % ny), int(linear / (nx * ny))};
-}
+Idx unpack(const GridSpec& g, uint64_t linear) { return core::unflatten(linear, uint64_t(g.nx), uint64_t(g.ny)); }
 
 bool contains(const std::vector<uint64_t>& sorted, uint64_t v) { return std::binary_search(sorted.begin(), sorted.end(), v); }
 
@@ -55,18 +52,7 @@ bool cellExists(const std::vector<LevelTopology>& levels, std::size_t l, int K, 
     return contains(parent.refinedCells, parent.grid.index(i / K, j / K, k / K));
 }
 
-struct UnionFind {
-    std::vector<uint32_t> parent;
-    explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-    uint32_t find(uint32_t a) {
-        while (parent[a] != a) a = parent[a] = parent[parent[a]];
-        return a;
-    }
-    void join(uint32_t a, uint32_t b) {
-        a = find(a), b = find(b);
-        if (a != b) parent[std::max(a, b)] = std::min(a, b);  // deterministic roots
-    }
-};
+using core::UnionFind;
 
 /// Fixed spherical Fibonacci directions, tilted off the axes so that rays do not run along
 /// axis-aligned walls or through mesh edges of axis-aligned quads.

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "export_internal.h"
+#include "vdblight/atomic_file.h"
 #include "vdblight/bins.h"
 #include "vdblight/errors.h"
 #include "vdblight/irradiance_vectors_compact.h"
@@ -86,14 +87,14 @@ void checkOutputDirectory(const fs::path& dir) {
         throw IoError("cannot write into '" + dir.string() + "': '" + p.string() + "' is not writable");
 }
 
-// Files written under temporary names; commit() renames them, the destructor removes what is
-// left (and the directories it created) after an error.
+// Files written under temporary names (atomic_file.h); commit() renames them all, the
+// destructor removes what is left (and the directories it created) after an error.
 class StagedFiles {
 public:
     explicit StagedFiles(const fs::path& dir) : dir_(dir) {}
     ~StagedFiles() {
+        files_.clear();  // removes the temporary files before their directories
         std::error_code ec;
-        for (const auto& f : files_) fs::remove(f.first, ec);
         for (auto it = createdDirs_.rbegin(); it != createdDirs_.rend(); ++it) fs::remove(*it, ec);
     }
     void createDirectory() {
@@ -107,19 +108,16 @@ public:
             createdDirs_.push_back(*it);
         }
     }
+    /// The temporary path to write file `name` of the directory to.
     std::string stage(const std::string& name) {
-        const fs::path final = dir_ / name;
-        const fs::path tmp = dir_ / ("." + name + ".tmp-" + std::to_string(::getpid()));
-        files_.push_back({tmp, final});
-        return tmp.string();
+        files_.emplace_back((dir_ / name).string());
+        return files_.back().tempPath();
     }
     std::vector<std::string> commit() {
         std::vector<std::string> out;
-        for (const auto& f : files_) {
-            std::error_code ec;
-            fs::rename(f.first, f.second, ec);
-            if (ec) throw IoError("cannot rename into '" + f.second.string() + "': " + ec.message());
-            out.push_back(f.second.string());
+        for (AtomicFile& f : files_) {
+            f.commit();
+            out.push_back(f.path());
         }
         files_.clear();
         createdDirs_.clear();
@@ -128,7 +126,7 @@ public:
 
 private:
     fs::path dir_;
-    std::vector<std::pair<fs::path, fs::path>> files_;
+    std::vector<AtomicFile> files_;
     std::vector<fs::path> createdDirs_;
 };
 }  // namespace

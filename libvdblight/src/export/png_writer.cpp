@@ -3,9 +3,7 @@
 // deflate stream come from zlib.
 #include <zlib.h>
 
-#include <cstdio>
-#include <memory>
-
+#include "vdblight/atomic_file.h"
 #include "vdblight/errors.h"
 #include "vdblight/slice.h"
 
@@ -51,10 +49,7 @@ void writePng(const std::string& path, int width, int height, const std::vector<
     chunk(file, "IDAT", packed);
     chunk(file, "IEND", {});
 
-    std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "wb"), &std::fclose);
-    if (!f) throw IoError("cannot open '" + path + "' for writing");
-    if (std::fwrite(file.data(), 1, file.size(), f.get()) != file.size() || std::fflush(f.get()) != 0)
-        throw IoError("cannot write '" + path + "'");
+    writeFileAtomically(path, std::string(file.begin(), file.end()));
 }
 
 }  // namespace vdblight

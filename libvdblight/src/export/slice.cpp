@@ -10,13 +10,13 @@
 #include <ImfVecAttribute.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 
+#include "vdblight/atomic_file.h"
 #include "vdblight/errors.h"
 #include "vdblight/query.h"
 #include "vdblight/slice.h"
@@ -131,19 +131,8 @@ void writeSlice(const std::string& path, const SliceImage& image, const ToneMap&
     const std::string ext = lower(fs::path(path).extension().string());
     if (ext != ".png" && ext != ".exr")
         throw ValueError("slice output '" + path + "' must end in .png (tone-mapped) or .exr (linear)");
-    const fs::path final(path);
-    const fs::path tmp = final.parent_path() / ("." + final.filename().string() + ".tmp-" + std::to_string(::getpid()));
-    try {
-        if (ext == ".png") writePng(tmp.string(), image.width, image.height, toneMapSlice(image, tone));
-        else writeExr(tmp.string(), image, axis, at, normal);
-        std::error_code ec;
-        fs::rename(tmp, final, ec);
-        if (ec) throw IoError("cannot rename into '" + path + "': " + ec.message());
-    } catch (...) {
-        std::error_code ec;
-        fs::remove(tmp, ec);
-        throw;
-    }
+    if (ext == ".png") writePng(path, image.width, image.height, toneMapSlice(image, tone));
+    else writeFileAtomically(path, [&](const std::string& temp) { writeExr(temp, image, axis, at, normal); });
 }
 
 }  // namespace vdblight

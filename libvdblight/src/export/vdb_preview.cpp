@@ -3,12 +3,11 @@
 #include <openvdb/openvdb.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <unistd.h>
 
 #include <cstdio>
-#include <filesystem>
 #include <mutex>
 
+#include "vdblight/atomic_file.h"
 #include "vdblight/errors.h"
 #include "vdblight/preview.h"
 #include "vdblight/query.h"
@@ -94,19 +93,7 @@ TextureLattice exportPreviewVdb(const Volume& volume, const std::string& path, i
     openvdb::MetaMap meta;
     meta.insertMeta("vdblight:preview_of_kind", openvdb::StringMetadata(query.kind()));
     meta.insertMeta("vdblight:preview_units", openvdb::StringMetadata("irradiance W/m^2"));
-    namespace fs = std::filesystem;
-    const fs::path final(path);
-    const fs::path tmp = final.parent_path() / ("." + final.filename().string() + ".tmp-" + std::to_string(::getpid()));
-    try {
-        openvdb::io::File(tmp.string()).write(grids, meta);
-        std::error_code ec;
-        fs::rename(tmp, final, ec);
-        if (ec) throw std::runtime_error(ec.message());
-    } catch (const std::exception& e) {
-        std::error_code ec;
-        fs::remove(tmp, ec);
-        throw IoError("cannot write '" + path + "': " + e.what());
-    }
+    writeFileAtomically(path, [&](const std::string& temp) { openvdb::io::File(temp).write(grids, meta); });
     return l;
 }
 

@@ -4,6 +4,7 @@
 #include <sstream>
 #include <utility>
 
+#include "core/grid_index.h"
 #include "vdblight/errors.h"
 #include "vdblight/layout_levels.h"
 
@@ -11,14 +12,9 @@ namespace vdblight {
 
 namespace {
 
-struct CellIndex {
-    int i, j, k;
-};
+using CellIndex = core::Index3;
 
-CellIndex unpack(const GridSpec& g, uint64_t linear) {
-    const uint64_t nx = uint64_t(g.nx), ny = uint64_t(g.ny);
-    return {int(linear % nx), int((linear / nx) % ny), int(linear / (nx * ny))};
-}
+CellIndex unpack(const GridSpec& g, uint64_t linear) { return core::unflatten(linear, uint64_t(g.nx), uint64_t(g.ny)); }
 
 /// The cell's box, pushed out by `margin` on the sides that lie on the node box border,
 /// then grown by `grow` (LevelsPlacement::refineDistance) on every side.

@@ -4,6 +4,7 @@
 // values are written by applySeamConstraints (volume/seam_constraints.cpp).
 #include <cmath>
 
+#include "core/grid_index.h"
 #include "vdblight/errors.h"
 #include "vdblight/level_topology.h"
 
@@ -11,14 +12,9 @@ namespace vdblight {
 
 namespace {
 
-struct Node {
-    int i, j, k;
-};
+using Node = core::Index3;
 
-Node unpackNode(const GridSpec& g, uint64_t linear) {
-    const uint64_t nx = uint64_t(g.nx), ny = uint64_t(g.ny);
-    return {int(linear % nx), int((linear / nx) % ny), int(linear / (nx * ny))};
-}
+Node unpackNode(const GridSpec& g, uint64_t linear) { return core::unflatten(linear, uint64_t(g.nx), uint64_t(g.ny)); }
 
 /// Coarse cell indices along one axis whose closed extent contains fine index p.
 int coarseCandidates(int p, int K, int coarseCells, int out[2]) {

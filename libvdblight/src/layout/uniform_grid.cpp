@@ -1,16 +1,15 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/grid_index.h"
 #include "vdblight/errors.h"
 #include "vdblight/layout.h"
 
 namespace vdblight {
 
 Vec3d GridSpec::node(std::size_t index) const {
-    const std::size_t i = index % std::size_t(nx);
-    const std::size_t j = (index / std::size_t(nx)) % std::size_t(ny);
-    const std::size_t k = index / (std::size_t(nx) * std::size_t(ny));
-    return node(int(i), int(j), int(k));
+    const core::Index3 n = core::unflatten(index, uint64_t(nx), uint64_t(ny));
+    return node(n.i, n.j, n.k);
 }
 
 Bounds GridSpec::nodeBounds() const {

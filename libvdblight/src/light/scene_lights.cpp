@@ -8,6 +8,7 @@
 #include <map>
 #include <numeric>
 
+#include "core/union_find.h"
 #include "vdblight/sampling.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
@@ -22,19 +23,7 @@ constexpr float kShadowEnd = 1.0f - 1e-4f;
 using Key = std::array<float, 3>;
 Key keyOf(const Vec3f& p) { return {p.x, p.y, p.z}; }
 
-struct UnionFind {
-    std::vector<uint32_t> parent;
-    explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-    uint32_t find(uint32_t a) {
-        while (parent[a] != a) a = parent[a] = parent[parent[a]];
-        return a;
-    }
-    void join(uint32_t a, uint32_t b) {
-        a = find(a);
-        b = find(b);
-        if (a != b) parent[std::max(a, b)] = std::min(a, b);  // the smallest index is the root
-    }
-};
+using core::UnionFind;
 
 /// Two emissive triangles belong to one polygon light if they share an edge, have one
 /// material, and lie in one plane facing the same way.

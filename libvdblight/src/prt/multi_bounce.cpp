@@ -14,7 +14,6 @@
 // sparse rows estimated by rays from each receiver; the same iteration runs with
 // sparse x dense products, so the paper's 45 k samples need n * rays entries, not n^2.
 #include <Eigen/Dense>
-#include <atomic>
 #include <cmath>
 
 #include "prt_internal.h"
@@ -119,12 +118,10 @@ std::vector<float> sampleFormFactors(const SurfaceSamples& s, const Tracer& trac
                          " samples");
     }
     std::vector<float> F(n * n, 0.0f);
-    std::atomic<uint64_t> done{0};
-    std::atomic<bool> cancelled{false};
+    core::TaskProgress progress(interrupter, "PRT bake cancelled");  // the caller starts and ends the task
     // Row r traces the pairs (r, j > r) and writes both F[r][j] and F[j][r]: every entry has
     // exactly one writer.
     parallelFor(n, threads, [&](std::size_t r) {
-        if (cancelled.load(std::memory_order_relaxed)) return;
         for (std::size_t j = r + 1; j < n; ++j) {
             const float frj = diskTransfer(s.position[r], s.normal[r], s.position[j], s.normal[j], s.area[j]);
             const float fjr = diskTransfer(s.position[j], s.normal[j], s.position[r], s.normal[r], s.area[r]);
@@ -133,12 +130,7 @@ std::vector<float> sampleFormFactors(const SurfaceSamples& s, const Tracer& trac
             F[r * n + j] = frj;
             F[j * n + r] = fjr;
         }
-        if (interrupter) {
-            interrupter->progress(++done);
-            if (interrupter->wasInterrupted()) cancelled = true;
-        }
-    });
-    if (cancelled) throw Cancelled("PRT bake cancelled");
+    }, &progress);
     if (normalise) {
         parallelFor(n, threads, [&](std::size_t r) {
             double sum = 0;
@@ -282,11 +274,8 @@ void bakeMultiBounceTransfer(PrtData& prt, const Tracer& tracer, int bounces, bo
         return;
     }
     const std::size_t blocks = (nodes + kNodeBlock - 1) / kNodeBlock;
-    if (in) in->start("volume transfer", blocks);
-    std::atomic<uint64_t> done{0};
-    std::atomic<bool> cancelled{false};
+    core::TaskProgress progress(in, "volume transfer", blocks, "PRT bake cancelled");
     parallelFor(blocks, threads, [&](std::size_t blk) {
-        if (cancelled.load(std::memory_order_relaxed)) return;
         const std::size_t n0 = blk * kNodeBlock, count = std::min(kNodeBlock, nodes - n0);
         MatF G = MatF::Zero(Eigen::Index(count * sh::kCoeffs), Eigen::Index(n));
         float y[sh::kCoeffs];
@@ -308,13 +297,7 @@ void bakeMultiBounceTransfer(PrtData& prt, const Tracer& tracer, int bounces, bo
         MatF V[3];
         for (int c = 0; c < 3; ++c) V[c].noalias() = G * Y[c];
         store(n0, count, V);
-        if (in) {
-            in->progress(++done);
-            if (in->wasInterrupted()) cancelled = true;
-        }
-    });
-    if (in) in->end();
-    if (cancelled) throw Cancelled("PRT bake cancelled");
+    }, &progress);
 }
 
 }  // namespace vdblight

@@ -1,8 +1,7 @@
 // Pieces shared by the PRT bake and relight files.
 #pragma once
 
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
+#include "../core/parallel_for.h"  // relative: tests include this header too
 
 #include "vdblight/prt.h"
 #include "vdblight/sampling.h"
@@ -14,14 +13,9 @@ namespace vdblight::prt_detail {
 /// Shadow rays to a point light end just short of it (as radiance_estimator.cpp).
 constexpr float kShadowEnd = 1.0f - 1e-4f;
 
-inline int threadCount(int threads) { return threads > 0 ? threads : tbb::this_task_arena::max_concurrency(); }
-
-/// f(i) for i in [0, n) on `threads` threads; each i writes only its own outputs.
-template <typename F>
-void parallelFor(std::size_t n, int threads, F&& f) {
-    tbb::task_arena arena(threadCount(threads));
-    arena.execute([&] { tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) { f(i); }); });
-}
+/// f(i) for i in [0, n) on `threads` threads, each i writing only its own outputs (core/parallel_for.h).
+using core::parallelFor;
+using core::threadCount;
 
 /// True if the segment between two surface points (each offset along its normal) is free.
 inline bool visibleBetween(const Tracer& tracer, const Vec3f& p, const Vec3f& np, const Vec3f& q, const Vec3f& nq) {

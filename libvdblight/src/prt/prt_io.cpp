@@ -2,16 +2,9 @@
 // matrices as sparse float grids whose voxel (a, b, c) is a matrix entry.
 #include "vdblight/prt_io.h"
 
-#include <fcntl.h>
-#include <unistd.h>
-
-#include <atomic>
 #include <cmath>
-#include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <mutex>
-#include <random>
 
 #include <openvdb/openvdb.h>
 #include <openvdb/points/PointAttribute.h>
@@ -20,6 +13,7 @@
 #include <openvdb/points/PointDataGrid.h>
 #include <openvdb/tools/PointIndexGrid.h>
 
+#include "vdblight/atomic_file.h"
 #include "vdblight/errors.h"
 
 namespace vdblight {
@@ -74,21 +68,6 @@ void finishGrid(GridT& grid, const std::string& name, bool quantize) {
         else fits = std::abs(v[0]) < kHalfMax && std::abs(v[1]) < kHalfMax && std::abs(v[2]) < kHalfMax;
     }
     grid.setSaveFloatAsHalf(quantize && fits);
-}
-
-std::string createTemp(const std::string& path) {
-    static std::atomic<unsigned> counter{0};
-    std::random_device rd;
-    for (int attempt = 0; attempt < 16; ++attempt) {
-        const std::string tmp = path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(rd() ^ counter++);
-        const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0666);
-        if (fd >= 0) {
-            ::close(fd);
-            return tmp;
-        }
-        if (errno != EEXIST) throw IoError("cannot write '" + path + "': " + std::strerror(errno));
-    }
-    throw IoError("cannot write '" + path + "': no free temporary file name");
 }
 
 vp::PointDataGrid::Ptr buildPoints(const PrtData& prt, bool quantize) {
@@ -261,14 +240,7 @@ void writePrt(const PrtData& prt, const std::string& path, const PrtWriteOptions
     }
     openvdb::GridCPtrVec grids{points, visBasis, lightBasis, transfer};
     if (volumeTransfer) grids.push_back(volumeTransfer);
-    const std::string tmp = createTemp(path);
-    try {
-        openvdb::io::File(tmp).write(grids, m);
-        if (std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error(std::strerror(errno));
-    } catch (const std::exception& e) {
-        std::remove(tmp.c_str());
-        throw IoError("cannot write '" + path + "': " + e.what());
-    }
+    writeFileAtomically(path, [&](const std::string& temp) { openvdb::io::File(temp).write(grids, m); });
 }
 
 namespace {

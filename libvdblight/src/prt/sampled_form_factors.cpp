@@ -17,7 +17,6 @@
 // ray order after a stable sort by sender; rows are independent, so the result has the
 // same bits for any thread count.
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 
 #include "prt_internal.h"
@@ -59,17 +58,8 @@ template <typename RowFn>
 SparseRows buildRows(std::size_t receivers, int width, int threads, Interrupter* in, RowFn&& row) {
     std::vector<std::vector<uint32_t>> cols(receivers);
     std::vector<std::vector<float>> weights(receivers);
-    std::atomic<uint64_t> done{0};
-    std::atomic<bool> cancelled{false};
-    parallelFor(receivers, threads, [&](std::size_t r) {
-        if (cancelled.load(std::memory_order_relaxed)) return;
-        row(r, cols[r], weights[r]);
-        if (in) {
-            in->progress(++done);
-            if (in->wasInterrupted()) cancelled = true;
-        }
-    });
-    if (cancelled) throw Cancelled("PRT bake cancelled");
+    core::TaskProgress progress(in, "PRT bake cancelled");  // the caller starts and ends the task
+    parallelFor(receivers, threads, [&](std::size_t r) { row(r, cols[r], weights[r]); }, &progress);
     SparseRows out;
     out.width = width;
     out.begin.assign(receivers + 1, 0);

@@ -5,31 +5,17 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/grid_index.h"
 #include "depth_weights.h"
+#include "lattice_locate.h"
 #include "vdblight/errors.h"
 #include "vdblight/layout_levels.h"
 
 namespace vdblight {
 
 namespace {
-template <class T>
-inline void splitCell(T g, int n, int& i, T& f) {
-    if (!(g >= T(0))) g = T(0);
-    if (g > T(n - 1)) g = T(n - 1);
-    i = std::min(int(g), n - 2);
-    if (i < 0) i = 0;
-    f = g - T(i);
-}
-template <class T>
-inline void splitLocal(T& f, int K, int& i) {
-    const T g = f * T(K);
-    i = std::min(int(g), K - 1);
-    f = g - T(i);
-}
-int64_t positionIn(const std::vector<uint64_t>& sorted, uint64_t value) {
-    const auto it = std::lower_bound(sorted.begin(), sorted.end(), value);
-    return it != sorted.end() && *it == value ? int64_t(it - sorted.begin()) : -1;
-}
+using query_detail::positionIn;
+using query_detail::splitCell;
 }  // namespace
 
 bool BinsLookup::accepts(const Volume& volume) {
@@ -55,12 +41,7 @@ BinsLookup::BinsLookup(const Volume& volume, OutsidePolicy outside, bool interpo
     if (volume.levels.size() == 1 || grid_.nx < 2 || grid_.ny < 2 || grid_.nz < 2) return;
 
     const int K = K_, side = K + 1;
-    levels_[0].child.resize(std::size_t(grid_.nx - 1) * (grid_.ny - 1) * (grid_.nz - 1));
-    for (int k = 0; k < grid_.nz - 1; ++k)
-        for (int j = 0; j < grid_.ny - 1; ++j)
-            for (int i = 0; i < grid_.nx - 1; ++i)
-                levels_[0].child[i + std::size_t(grid_.nx - 1) * (j + std::size_t(grid_.ny - 1) * k)] =
-                    int32_t(positionIn(l0.refinedCells, grid_.index(i, j, k)));
+    levels_[0].child = query_detail::levelZeroChildren(grid_, l0.refinedCells);
     for (std::size_t l = 1; l < volume.levels.size(); ++l) {
         const VolumeLevel& parent = volume.levels[l - 1];
         const VolumeLevel& fine = volume.levels[l];
@@ -70,9 +51,8 @@ BinsLookup::BinsLookup(const Volume& volume, OutsidePolicy outside, bool interpo
         out.nodes.resize(bricks * std::size_t(side * side * side));
         if (l + 1 < volume.levels.size()) out.child.resize(bricks * std::size_t(K * K * K));
         for (std::size_t b = 0; b < bricks; ++b) {
-            const uint64_t cell = parent.refinedCells[b];
-            const int pi = int(cell % uint64_t(pg.nx)), pj = int(cell / uint64_t(pg.nx) % uint64_t(pg.ny)),
-                      pk = int(cell / (uint64_t(pg.nx) * uint64_t(pg.ny)));
+            const core::Index3 parentCell = core::unflatten(parent.refinedCells[b], uint64_t(pg.nx), uint64_t(pg.ny));
+            const int pi = parentCell.i, pj = parentCell.j, pk = parentCell.k;
             for (int w = 0; w < side; ++w)
                 for (int v = 0; v < side; ++v)
                     for (int u = 0; u < side; ++u) {
@@ -128,32 +108,16 @@ const BinsLookup::Level& BinsLookup::locate(const T g[3], std::size_t corner[8],
         if (dims[a] < 2) continue;  // a flat axis: one node, no interpolation
         splitCell(g[a], dims[a], *idx[a], f[a]);
     }
-    const Level* level = &levels_[0];
-    const int32_t top = levels_[0].child.empty()
-                            ? -1
-                            : levels_[0].child[i + std::size_t(grid_.nx - 1) * (j + std::size_t(grid_.ny - 1) * k)];
-    if (top < 0) {
+    const query_detail::LeafCell leaf = query_detail::descendLevels(levels_, grid_, K_, i, j, k, f);
+    const Level* level = &levels_[leaf.level];
+    if (leaf.level == 0) {
         const int di = grid_.nx > 1, dj = grid_.ny > 1, dk = grid_.nz > 1;
         for (int c = 0; c < 8; ++c)
             corner[c] = grid_.index(i + (c & 1) * di, j + ((c >> 1) & 1) * dj, k + (c >> 2) * dk);
     } else {
-        const int K = K_, side = K + 1;
-        int32_t brick = top;
-        for (std::size_t l = 1;; ++l) {
-            splitLocal(f[0], K, i);
-            splitLocal(f[1], K, j);
-            splitLocal(f[2], K, k);
-            const Level& lv = levels_[l];
-            const int32_t next = lv.child.empty() ? -1 : lv.child[std::size_t(brick) * K * K * K + i + K * (j + K * k)];
-            if (next < 0) {
-                const uint32_t* nodes = lv.nodes.data() + std::size_t(brick) * side * side * side;
-                for (int c = 0; c < 8; ++c)
-                    corner[c] = nodes[(i + (c & 1)) + side * ((j + ((c >> 1) & 1)) + side * (k + (c >> 2)))];
-                level = &lv;
-                break;
-            }
-            brick = next;
-        }
+        const int side = K_ + 1;
+        const uint32_t* nodes = level->nodes.data() + std::size_t(leaf.brick) * side * side * side;
+        for (int c = 0; c < 8; ++c) corner[c] = nodes[(i + (c & 1)) + side * ((j + ((c >> 1) & 1)) + side * (k + (c >> 2)))];
     }
     const T wx[2] = {1 - f[0], f[0]}, wy[2] = {1 - f[1], f[1]}, wz[2] = {1 - f[2], f[2]};
     for (int c = 0; c < 8; ++c) weight[c] = float(wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2]);
@@ -167,15 +131,7 @@ const BinsLookup::Level& BinsLookup::locate(const T g[3], std::size_t corner[8],
 
 Rgb BinsLookup::irradiance(const Vec3f& x, const Vec3f& d) const {
     const Vec3f gv = (x - origin_) * invSpacing_;
-    if (outside_ == OutsidePolicy::Throw) {
-        const float tol = 1e-4f;
-        if (!(gv.x >= -tol && gv.y >= -tol && gv.z >= -tol && gv.x <= grid_.nx - 1 + tol &&
-              gv.y <= grid_.ny - 1 + tol && gv.z <= grid_.nz - 1 + tol)) {
-            std::ostringstream s;
-            s << "point (" << x.x << ", " << x.y << ", " << x.z << ") is outside the volume";
-            throw ValueError(s.str());
-        }
-    }
+    query_detail::checkInside(gv, grid_, x, outside_);
     const float g[3] = {gv.x, gv.y, gv.z};
     std::size_t corner[8];
     float w[8];

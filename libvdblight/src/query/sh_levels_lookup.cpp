@@ -3,7 +3,10 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/grid_index.h"
 #include "depth_weights.h"
+#include "lattice_locate.h"
+#include "sh_trilinear.h"
 #include "vdblight/errors.h"
 #include "vdblight/layout_levels.h"
 #include "vdblight/query_levels.h"
@@ -12,57 +15,12 @@
 namespace vdblight {
 
 namespace {
-constexpr int kFloats = sh::kCoeffs * 3;
+constexpr int kFloats = query_detail::kShFloats;
+using query_detail::positionIn;
 
 /// Copies one node's coefficients with the cosine-lobe constants A_l folded in.
 void copyFolded(const float* src, float* dst) {
     for (int f = 0; f < kFloats; ++f) dst[f] = src[f] * float(sh::kCosineLobe[sh::bandOf(f / 3)]);
-}
-
-/// Trilinear blend of 8 nodes (strides in floats) then the 9-term dot product with Y(n).
-/// `depthBase`: the first corner's depth moments (the same node layout, depth::kFloatsPerNode
-/// floats per node) to weight the corners by (depth_weights.h), or null for plain trilinear.
-inline Rgb interpolate(const float* base, std::size_t sx, std::size_t sy, std::size_t sz, float fx, float fy, float fz,
-                       const float y[sh::kCoeffs], const float* depthBase = nullptr) {
-    const float* corners[8] = {base, base + sx, base + sy, base + sx + sy,
-                               base + sz, base + sx + sz, base + sy + sz, base + sx + sy + sz};
-    const float wx[2] = {1 - fx, fx}, wy[2] = {1 - fy, fy}, wz[2] = {1 - fz, fz};
-    float weights[8];
-    for (int c = 0; c < 8; ++c) weights[c] = wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2];
-    if (depthBase) {
-        const float* depth[8];
-        for (int c = 0; c < 8; ++c)
-            depth[c] = depthBase + std::size_t(corners[c] - base) / kFloats * depth::kFloatsPerNode;
-        query_detail::weightByDepth(weights, depth, fx, fy, fz);
-    }
-    float interp[kFloats] = {};
-    for (int c = 0; c < 8; ++c) {
-        const float w = weights[c];
-        const float* p = corners[c];
-        for (int f = 0; f < kFloats; ++f) interp[f] += w * p[f];
-    }
-    Rgb e{0, 0, 0};
-    for (int c = 0; c < sh::kCoeffs; ++c) e += Rgb(interp[3 * c], interp[3 * c + 1], interp[3 * c + 2]) * y[c];
-    return e;
-}
-
-/// Lattice coordinate along one axis clamped into the cells [0, n - 1), split into cell and fraction.
-inline void splitCell(float g, int n, int& i, float& f) {
-    if (!(g >= 0.0f)) g = 0.0f;
-    if (g > float(n - 1)) g = float(n - 1);
-    i = std::min(int(g), n - 2);
-    f = g - float(i);
-}
-
-inline void splitLocal(float& f, int K, int& i) {
-    const float g = f * float(K);
-    i = std::min(int(g), K - 1);
-    f = g - float(i);
-}
-
-int64_t positionIn(const std::vector<uint64_t>& sorted, uint64_t value) {
-    const auto it = std::lower_bound(sorted.begin(), sorted.end(), value);
-    return it != sorted.end() && *it == value ? int64_t(it - sorted.begin()) : -1;
 }
 }  // namespace
 
@@ -91,14 +49,13 @@ ShLevelsLookup::ShLevelsLookup(const Volume& volume, OutsidePolicy outside) : ou
         if (hasDepth_) std::copy_n(l0.nodeDepth(n), kDepth, &levels_[0].depth[linear * kDepth]);
         present[linear] = 1;
     }
-    levels_[0].child.resize(std::size_t(grid_.nx - 1) * (grid_.ny - 1) * (grid_.nz - 1));
-    for (int k = 0; k < grid_.nz - 1; ++k)
+    levels_[0].child = query_detail::levelZeroChildren(grid_, l0.refinedCells);
+    for (int k = 0; k < grid_.nz - 1; ++k)  // unrefined cells with a culled corner
         for (int j = 0; j < grid_.ny - 1; ++j)
             for (int i = 0; i < grid_.nx - 1; ++i) {
-                int32_t child = int32_t(positionIn(l0.refinedCells, grid_.index(i, j, k)));
+                int32_t& child = levels_[0].child[i + std::size_t(grid_.nx - 1) * (j + std::size_t(grid_.ny - 1) * k)];
                 for (int c = 0; c < 8 && child < 0; ++c)
                     if (!present[grid_.index(i + (c & 1), j + ((c >> 1) & 1), k + (c >> 2))]) child = kCulled;
-                levels_[0].child[i + std::size_t(grid_.nx - 1) * (j + std::size_t(grid_.ny - 1) * k)] = child;
             }
 
     for (std::size_t l = 1; l < volume.levels.size(); ++l) {
@@ -113,9 +70,8 @@ ShLevelsLookup::ShLevelsLookup(const Volume& volume, OutsidePolicy outside) : ou
         if (l + 1 < volume.levels.size() || culled) out.child.assign(bricks * std::size_t(K * K * K), -1);
         std::vector<char> brickPresent(std::size_t(side * side * side));
         for (std::size_t b = 0; b < bricks; ++b) {
-            const uint64_t cell = parent.refinedCells[b];
-            const int pi = int(cell % uint64_t(pg.nx)), pj = int(cell / uint64_t(pg.nx) % uint64_t(pg.ny)),
-                      pk = int(cell / (uint64_t(pg.nx) * uint64_t(pg.ny)));
+            const core::Index3 parentCell = core::unflatten(parent.refinedCells[b], uint64_t(pg.nx), uint64_t(pg.ny));
+            const int pi = parentCell.i, pj = parentCell.j, pk = parentCell.k;
             for (int w = 0; w < side; ++w)
                 for (int v = 0; v < side; ++v)
                     for (int u = 0; u < side; ++u) {
@@ -145,46 +101,27 @@ ShLevelsLookup::ShLevelsLookup(const Volume& volume, OutsidePolicy outside) : ou
 template <typename Visit>
 void ShLevelsLookup::descend(const Vec3f& x, Visit visit) const {
     const Vec3f g = (x - origin_) * invSpacing_;
-    if (outside_ == OutsidePolicy::Throw) {
-        const float tol = 1e-4f;
-        if (!(g.x >= -tol && g.y >= -tol && g.z >= -tol && g.x <= grid_.nx - 1 + tol && g.y <= grid_.ny - 1 + tol &&
-              g.z <= grid_.nz - 1 + tol)) {
-            std::ostringstream s;
-            s << "point (" << x.x << ", " << x.y << ", " << x.z << ") is outside the volume";
-            throw ValueError(s.str());
-        }
-    }
+    query_detail::checkInside(g, grid_, x, outside_);
     int i, j, k;
-    float fx, fy, fz;
-    splitCell(g.x, grid_.nx, i, fx);
-    splitCell(g.y, grid_.ny, j, fy);
-    splitCell(g.z, grid_.nz, k, fz);
-    int32_t brick = levels_[0].child[i + std::size_t(grid_.nx - 1) * (j + std::size_t(grid_.ny - 1) * k)];
-    if (brick < 0) {
-        const std::size_t sx = kFloats, sy = std::size_t(grid_.nx) * kFloats, sz = std::size_t(grid_.ny) * sy;
-        visit(0, brick == kCulled ? nullptr : levels_[0].nodes.data() + grid_.index(i, j, k) * kFloats, sx, sy, sz, fx, fy, fz);
+    float f[3];
+    query_detail::splitCell(g.x, grid_.nx, i, f[0]);
+    query_detail::splitCell(g.y, grid_.ny, j, f[1]);
+    query_detail::splitCell(g.z, grid_.nz, k, f[2]);
+    const query_detail::LeafCell leaf = query_detail::descendLevels(levels_, grid_, K_, i, j, k, f);
+    if (leaf.stop == kCulled) {
+        visit(int(leaf.level), nullptr, 0, 0, 0, f[0], f[1], f[2]);
         return;
     }
-    const int K = K_, side = K + 1;
-    for (std::size_t l = 1;; ++l) {
-        splitLocal(fx, K, i);
-        splitLocal(fy, K, j);
-        splitLocal(fz, K, k);
-        const Level& level = levels_[l];
-        const int32_t next = level.child.empty() ? -1 : level.child[std::size_t(brick) * K * K * K + i + K * (j + K * k)];
-        if (next == kCulled) {
-            visit(int(l), nullptr, 0, 0, 0, fx, fy, fz);
-            return;
-        }
-        if (next < 0) {
-            const std::size_t sx = kFloats, sy = std::size_t(side) * kFloats, sz = std::size_t(side) * sy;
-            const float* base = level.nodes.data() +
-                                (std::size_t(brick) * side * side * side + i + side * (j + std::size_t(side) * k)) * kFloats;
-            visit(int(l), base, sx, sy, sz, fx, fy, fz);
-            return;
-        }
-        brick = next;
+    if (leaf.level == 0) {
+        const std::size_t sx = kFloats, sy = std::size_t(grid_.nx) * kFloats, sz = std::size_t(grid_.ny) * sy;
+        visit(0, levels_[0].nodes.data() + grid_.index(i, j, k) * kFloats, sx, sy, sz, f[0], f[1], f[2]);
+        return;
     }
+    const int side = K_ + 1;
+    const std::size_t sx = kFloats, sy = std::size_t(side) * kFloats, sz = std::size_t(side) * sy;
+    const float* base = levels_[leaf.level].nodes.data() +
+                        (std::size_t(leaf.brick) * side * side * side + i + side * (j + std::size_t(side) * k)) * kFloats;
+    visit(int(leaf.level), base, sx, sy, sz, f[0], f[1], f[2]);
 }
 
 Rgb ShLevelsLookup::irradiance(const Vec3f& x, const Vec3f& n) const {
@@ -197,7 +134,7 @@ Rgb ShLevelsLookup::irradiance(const Vec3f& x, const Vec3f& n) const {
             base && depthWeights_
                 ? level.depth.data() + std::size_t(base - level.nodes.data()) / kFloats * depth::kFloatsPerNode
                 : nullptr;
-        e = base ? interpolate(base, sx, sy, sz, fx, fy, fz, y, depthBase) : Rgb(0, 0, 0);
+        e = base ? query_detail::interpolateSh(base, sx, sy, sz, fx, fy, fz, y, depthBase) : Rgb(0, 0, 0);
     });
     return e;
 }

@@ -1,5 +1,6 @@
 #include "depth_weights.h"
 #include "lattice_locate.h"
+#include "sh_trilinear.h"
 #include "vdblight/query.h"
 
 #include <cmath>
@@ -11,16 +12,8 @@
 namespace vdblight {
 
 namespace {
-constexpr int kFloatsPerNode = sh::kCoeffs * 3;
-
-// Lattice coordinate of x along one axis, clamped into [0, n - 1], split into the lower
-// node index and the fraction towards the next node.
-inline void split(float g, int n, int& i, float& f) {
-    if (!(g >= 0.0f)) g = 0.0f;  // also maps NaN to the boundary instead of an index
-    if (g > float(n - 1)) g = float(n - 1);
-    i = std::min(int(g), std::max(n - 2, 0));
-    f = g - float(i);
-}
+constexpr int kFloatsPerNode = query_detail::kShFloats;
+using query_detail::splitCell;
 }  // namespace
 
 bool ShUniformLookup::accepts(const Volume& volume) {
@@ -45,18 +38,10 @@ ShUniformLookup::ShUniformLookup(const Volume& volume, OutsidePolicy outside) : 
 
 void ShUniformLookup::locate(const Vec3f& x, int& i, int& j, int& k, float& fx, float& fy, float& fz) const {
     const Vec3f g = (x - origin_) * invSpacing_;
-    if (outside_ == OutsidePolicy::Throw) {
-        const float tol = 1e-4f;
-        if (!(g.x >= -tol && g.y >= -tol && g.z >= -tol && g.x <= grid_.nx - 1 + tol && g.y <= grid_.ny - 1 + tol &&
-              g.z <= grid_.nz - 1 + tol)) {
-            std::ostringstream s;
-            s << "point (" << x.x << ", " << x.y << ", " << x.z << ") is outside the volume";
-            throw ValueError(s.str());
-        }
-    }
-    split(g.x, grid_.nx, i, fx);
-    split(g.y, grid_.ny, j, fy);
-    split(g.z, grid_.nz, k, fz);
+    query_detail::checkInside(g, grid_, x, outside_);
+    splitCell(g.x, grid_.nx, i, fx);
+    splitCell(g.y, grid_.ny, j, fy);
+    splitCell(g.z, grid_.nz, k, fz);
 }
 
 void ShUniformLookup::radianceCoefficients(const Vec3f& x, Rgb out[9]) const {
@@ -125,57 +110,21 @@ Rgb ShUniformLookup::irradiance(const Vec3f& x, const Vec3f& n) const {
     const std::size_t sx = grid_.nx > 1 ? kFloatsPerNode : 0;
     const std::size_t sy = grid_.ny > 1 ? std::size_t(grid_.nx) * kFloatsPerNode : 0;
     const std::size_t sz = grid_.nz > 1 ? std::size_t(grid_.nx) * grid_.ny * kFloatsPerNode : 0;
-    const float* base = coeffs_.data() + grid_.index(i, j, k) * kFloatsPerNode;
-    const float* corners[8] = {base, base + sx, base + sy, base + sx + sy,
-                               base + sz, base + sx + sz, base + sy + sz, base + sx + sy + sz};
-    const float wx[2] = {1 - fx, fx}, wy[2] = {1 - fy, fy}, wz[2] = {1 - fz, fz};
-    float weights[8];
-    for (int c = 0; c < 8; ++c) weights[c] = wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2];
-    if (depthWeights_) {
-        // The same corners in the depth array (depth::kFloatsPerNode floats per node).
-        const float* depth[8];
-        for (int c = 0; c < 8; ++c)
-            depth[c] = depth_.data() + std::size_t(corners[c] - coeffs_.data()) / kFloatsPerNode * depth::kFloatsPerNode;
-        query_detail::weightByDepth(weights, depth, fx, fy, fz);
-    }
-
-    // Interpolate the 27 coefficients first, then one 9-term dot product per channel.
-    float interp[kFloatsPerNode] = {};
-    for (int c = 0; c < 8; ++c) {
-        const float w = weights[c];
-        const float* p = corners[c];
-        for (int f = 0; f < kFloatsPerNode; ++f) interp[f] += w * p[f];
-    }
-    Rgb e{0, 0, 0};
-    for (int c = 0; c < sh::kCoeffs; ++c) e += Rgb(interp[3 * c], interp[3 * c + 1], interp[3 * c + 2]) * y[c];
-    return e;
+    const std::size_t node = grid_.index(i, j, k);
+    return query_detail::interpolateSh(coeffs_.data() + node * kFloatsPerNode, sx, sy, sz, fx, fy, fz, y,
+                                       depthWeights_ ? depth_.data() + node * depth::kFloatsPerNode : nullptr);
 }
 
 Rgbd referenceLookup(const Volume& volume, const Vec3d& x, const Vec3d& n) {
     const VolumeLevel& level = volume.levels.at(0);
-    const GridSpec& g = level.grid;
     const int channels = volume.basis.channelCount();
-    const Vec3d lattice = (x - g.origin) / g.spacing;
-    const int dims[3] = {g.nx, g.ny, g.nz};
-    int lo[3];
-    double frac[3];
-    for (int a = 0; a < 3; ++a) {
-        const double c = std::min(std::max(lattice[a], 0.0), double(dims[a] - 1));
-        lo[a] = std::min(int(std::floor(c)), std::max(dims[a] - 2, 0));
-        frac[a] = c - lo[a];
-    }
+    const query_detail::TrilinearCorners t = query_detail::referenceCorners(level.grid, x);
     double y[9];
     sh::evalGeneric(2, normalize(n), y);
     Rgbd e{0, 0, 0};
     for (int corner = 0; corner < 8; ++corner) {
-        int idx[3];
-        double w = 1.0;
-        for (int a = 0; a < 3; ++a) {
-            const int bit = (corner >> a) & 1;
-            idx[a] = std::min(lo[a] + bit, dims[a] - 1);
-            w *= bit ? frac[a] : 1.0 - frac[a];
-        }
-        const float* p = level.nodeData(g.index(idx[0], idx[1], idx[2]), channels);
+        const double w = t.weight[corner];
+        const float* p = level.nodeData(t.node[corner], channels);
         for (int j = 0; j < 9; ++j) {
             const double s = w * sh::kCosineLobe[sh::bandOf(j)] * y[j];
             e += Rgbd(p[3 * j], p[3 * j + 1], p[3 * j + 2]) * s;

@@ -106,27 +106,12 @@ Rgb VectorGridLookup::irradiance(const Vec3f& x, const Vec3f& n) const {
 
 Rgbd referenceVectorLookup(const Volume& volume, const Vec3d& x, const Vec3d& nIn) {
     const VolumeLevel& level = volume.levels.at(0);
-    const GridSpec& g = level.grid;
     const Vec3d n = normalize(nIn);
-    const Vec3d lattice = (x - g.origin) / g.spacing;
-    const int dims[3] = {g.nx, g.ny, g.nz};
-    int lo[3];
-    double frac[3];
-    for (int a = 0; a < 3; ++a) {
-        const double c = std::min(std::max(lattice[a], 0.0), double(dims[a] - 1));
-        lo[a] = std::min(int(std::floor(c)), std::max(dims[a] - 2, 0));
-        frac[a] = c - lo[a];
-    }
+    const query_detail::TrilinearCorners t = query_detail::referenceCorners(level.grid, x);
     Rgbd e{0, 0, 0};
     for (int corner = 0; corner < 8; ++corner) {
-        int idx[3];
-        double w = 1.0;
-        for (int a = 0; a < 3; ++a) {
-            const int bit = (corner >> a) & 1;
-            idx[a] = std::min(lo[a] + bit, dims[a] - 1);
-            w *= bit ? frac[a] : 1.0 - frac[a];
-        }
-        const float* p = level.nodeData(g.index(idx[0], idx[1], idx[2]), iv::kChannels);
+        const double w = t.weight[corner];
+        const float* p = level.nodeData(t.node[corner], iv::kChannels);
         for (int a = 0; a < 3; ++a) {
             const float* v = p + 9 * iv::direction(a, n[a] < 0.0);
             for (int c = 0; c < 3; ++c) {

@@ -1,11 +1,10 @@
 // Ground-truth irradiance by direct hemisphere integration (no SH, no grid).
 #include "vdblight/reference.h"
 
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
+#include <algorithm>
+#include <cmath>
 
-#include <atomic>
-
+#include "core/parallel_for.h"
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
 #include "vdblight/sampling.h"
@@ -84,15 +83,9 @@ std::vector<ReferenceResult> referenceIrradiance(const Scene& scene, const Trace
     const uint32_t chunksPerPoint = (options.samples + kChunk - 1) / kChunk;
     const std::size_t tasks = points.size() * chunksPerPoint;
     std::vector<ChunkSum> chunks(tasks);
-    std::atomic<uint64_t> done{0};
-    std::atomic<bool> cancelled{false};
-    if (interrupter) interrupter->start("reference", tasks);
-
-    const int threads = options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency();
-    tbb::task_arena arena(threads);
-    arena.execute([&] {
-        tbb::parallel_for(std::size_t(0), tasks, [&](std::size_t task) {
-            if (cancelled.load(std::memory_order_relaxed)) return;
+    {
+        core::TaskProgress progress(interrupter, "reference", tasks, "reference cancelled");
+        core::parallelFor(tasks, options.threads, [&](std::size_t task) {
             const std::size_t p = task / chunksPerPoint;
             const uint32_t chunk = uint32_t(task % chunksPerPoint);
             const uint32_t first = chunk * kChunk;
@@ -100,14 +93,8 @@ std::vector<ReferenceResult> referenceIrradiance(const Scene& scene, const Trace
             RayCount rays;
             chunks[task] = integrateChunk(estimator, points[p], normals[p], hashCombine(options.seed, p), first,
                                           count, exactAtPoint, rays);
-            if (interrupter) {
-                interrupter->progress(done.fetch_add(1) + 1);
-                if (interrupter->wasInterrupted()) cancelled = true;
-            }
-        });
-    });
-    if (interrupter) interrupter->end();
-    if (cancelled) throw Cancelled("reference cancelled");
+        }, &progress);
+    }
 
     std::vector<ReferenceResult> results(points.size());
     std::vector<LightSample> punctual;

@@ -6,6 +6,8 @@
 #include <numeric>
 #include <sstream>
 
+#include "core/grid_index.h"
+
 namespace vdblight {
 
 double errorQuantile(const std::vector<float>& values, double q) {
@@ -33,9 +35,8 @@ void addErrorSummary(Metadata& m, const std::vector<float>& estimatedError, cons
     std::ostringstream text;
     for (std::size_t k = 0; k < worst; ++k) {
         const std::size_t n = order[k];
-        const std::size_t i = n % std::size_t(grid.nx), j = (n / std::size_t(grid.nx)) % std::size_t(grid.ny),
-                          kk = n / (std::size_t(grid.nx) * std::size_t(grid.ny));
-        text << (k ? ";" : "") << i << ',' << j << ',' << kk << ':' << estimatedError[n];
+        const core::Index3 node = core::unflatten(n, uint64_t(grid.nx), uint64_t(grid.ny));
+        text << (k ? ";" : "") << node.i << ',' << node.j << ',' << node.k << ':' << estimatedError[n];
     }
     m["estimated_error_worst_nodes"] = text.str();
 }

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/grid_index.h"
 #include "vdblight/errors.h"
 #include "vdblight/volume.h"
 
@@ -18,8 +19,8 @@ bool strictlyAscending(const std::vector<uint64_t>& v) {
 }
 
 void unpack(const GridSpec& g, uint64_t linear, int& i, int& j, int& k) {
-    const uint64_t nx = uint64_t(g.nx), ny = uint64_t(g.ny);
-    i = int(linear % nx), j = int((linear / nx) % ny), k = int(linear / (nx * ny));
+    const core::Index3 c = core::unflatten(linear, uint64_t(g.nx), uint64_t(g.ny));
+    i = c.i, j = c.j, k = c.k;
 }
 
 void checkGeometry(const GridSpec& g0, const GridSpec& coarse, const GridSpec& fine, int K, std::size_t l) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "sha256.h"
+#include "core/grid_index.h"
 #include "vdblight/errors.h"
 
 namespace vdblight {
@@ -21,8 +22,8 @@ std::vector<uint64_t> nodeBricks(const VolumeLevel& level) {
     const uint64_t nx = uint64_t(g.nx), ny = uint64_t(g.ny);
     for (std::size_t n = 0; n < stored; ++n) {
         const uint64_t linear = level.sparse() ? level.activeNodes[n] : n;
-        const uint64_t i = linear % nx, j = (linear / nx) % ny, k = linear / (nx * ny);
-        out[n] = ((k / kBrick) * nby + j / kBrick) * nbx + i / kBrick;
+        const core::Index3 c = core::unflatten(linear, nx, ny);
+        out[n] = ((uint64_t(c.k) / kBrick) * nby + uint64_t(c.j) / kBrick) * nbx + uint64_t(c.i) / kBrick;
     }
     return out;
 }

@@ -10,6 +10,7 @@
 
 #include <openvdb/openvdb.h>
 
+#include "core/grid_index.h"
 #include "vdblight/vdb_io.h"
 
 namespace vdblight {
@@ -110,8 +111,8 @@ inline openvdb::math::Transform::Ptr maskTransform(const GridSpec& g) {
 }
 
 inline Coord unpackCoord(const GridSpec& g, uint64_t linear) {
-    const uint64_t nx = uint64_t(g.nx), ny = uint64_t(g.ny);
-    return Coord(int(linear % nx), int((linear / nx) % ny), int(linear / (nx * ny)));
+    const core::Index3 c = core::unflatten(linear, uint64_t(g.nx), uint64_t(g.ny));
+    return Coord(c.i, c.j, c.k);
 }
 
 /// Name of the optional per-node scalar grid (VolumeLevel::validity; docs/format.md).

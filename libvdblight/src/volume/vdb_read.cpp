@@ -43,6 +43,15 @@ struct OpenedFile {
     throw FormatError("'" + path + "' " + what);
 }
 
+/// Reads grid `name` of the file; FormatError naming the file if it cannot be read.
+openvdb::GridBase::Ptr readGridChecked(OpenedFile& f, const std::string& name, const std::string& path) {
+    try {
+        return f.file->readGrid(name);
+    } catch (const std::exception& e) {
+        formatError(path, "grid '" + name + "' cannot be read (truncated or corrupt?): " + e.what());
+    }
+}
+
 void checkReadable(const std::string& path) {
     std::error_code ec;
     const fs::file_status status = fs::status(path, ec);
@@ -332,12 +341,7 @@ void readMask(OpenedFile& f, VolumeLevel& level, int index, const std::string& p
     const std::string name = maskNameFor(index);
     if (!f.file->hasGrid(name))
         formatError(path, "has no grid '" + name + "' (the mask of level " + std::to_string(index) + "'s refined cells)");
-    openvdb::GridBase::Ptr base;
-    try {
-        base = f.file->readGrid(name);
-    } catch (const std::exception& e) {
-        formatError(path, "grid '" + name + "' cannot be read (truncated or corrupt?): " + e.what());
-    }
+    const openvdb::GridBase::Ptr base = readGridChecked(f, name, path);
     auto mask = openvdb::gridPtrCast<openvdb::BoolGrid>(base);
     if (!mask) formatError(path, "grid '" + name + "' has type " + base->valueType() + ", expected bool");
     const GridSpec& g = level.grid;
@@ -357,12 +361,7 @@ void readMask(OpenedFile& f, VolumeLevel& level, int index, const std::string& p
 /// Reads the optional validity FloatGrid of a level: same placement and active voxels as the
 /// channel grids, values in [0, 1] (checked by Volume::validate).
 std::vector<float> readScalarGrid(OpenedFile& f, const std::string& name, const GridSpec& g, const std::string& path) {
-    openvdb::GridBase::Ptr base;
-    try {
-        base = f.file->readGrid(name);
-    } catch (const std::exception& e) {
-        formatError(path, "grid '" + name + "' cannot be read (truncated or corrupt?): " + e.what());
-    }
+    const openvdb::GridBase::Ptr base = readGridChecked(f, name, path);
     auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
     if (!grid) formatError(path, "grid '" + name + "' has type " + base->valueType() + ", expected float");
     const openvdb::math::Transform& xf = grid->transform();
@@ -467,12 +466,7 @@ void readDepth(OpenedFile& f, VolumeLevel& out, int level, const std::string& pa
     for (int c = 0; c < depth::kChannels; ++c) {
         const std::string name = gridNameFor(depth::channelName(c), level);
         if (!f.file->hasGrid(name)) formatError(path, "has depth moments without grid '" + name + "'");
-        openvdb::GridBase::Ptr base;
-        try {
-            base = f.file->readGrid(name);
-        } catch (const std::exception& e) {
-            formatError(path, "grid '" + name + "' cannot be read (truncated or corrupt?): " + e.what());
-        }
+        const openvdb::GridBase::Ptr base = readGridChecked(f, name, path);
         if (out.sparse()) {
             Vec3SGrid::Ptr grid = checkSparseChannelGrid(base, out.grid, nullptr, path);
             if (uint64_t(grid->activeVoxelCount()) != out.activeNodes.size() ||
@@ -499,12 +493,7 @@ VolumeLevel readLevel(OpenedFile& f, const BasisDesc& basis, int level, const st
     for (int c = 0; c < channels; ++c) {
         const std::string name = gridNameFor(basis.channelNames[std::size_t(c)], level);
         if (!f.file->hasGrid(name)) formatError(path, "has no grid '" + name + "'");
-        openvdb::GridBase::Ptr base;
-        try {
-            base = f.file->readGrid(name);
-        } catch (const std::exception& e) {
-            formatError(path, "grid '" + name + "' cannot be read (truncated or corrupt?): " + e.what());
-        }
+        const openvdb::GridBase::Ptr base = readGridChecked(f, name, path);
         if (c == 0 && level == 0 && multiLevel) {
             const auto typed = openvdb::gridPtrCast<Vec3SGrid>(base);
             if (typed && typed->activeVoxelCount() < g.nodeCount()) sparse = true;
@@ -703,12 +692,7 @@ TileFile readTileFile(const std::string& path) {
         for (int c = 0; c < channels; ++c) {
             const std::string name = gridNameFor(v.basis.channelNames[std::size_t(c)], l);
             if (!f.file->hasGrid(name)) formatError(path, "has no grid '" + name + "'");
-            openvdb::GridBase::Ptr base;
-            try {
-                base = f.file->readGrid(name);
-            } catch (const std::exception& e) {
-                formatError(path, "grid '" + name + "' cannot be read (truncated or corrupt?): " + e.what());
-            }
+            const openvdb::GridBase::Ptr base = readGridChecked(f, name, path);
             Vec3SGrid::Ptr grid = checkPlacedChannel(base, g, path);
             grid->tree().voxelizeActiveTiles();
             if (!insideBox(grid->evalActiveVoxelBoundingBox(), g.nx, g.ny, g.nz))

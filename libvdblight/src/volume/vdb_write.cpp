@@ -2,25 +2,18 @@
 //
 // One Vec3SGrid per (level, channel); voxel (i, j, k) of a level's grids is node (i, j, k)
 // of that level, every node an active voxel. Grids are built leaf by leaf (8^3 voxels) in
-// parallel. Writing goes to a temporary file in the target directory that is renamed over
-// the destination only once complete.
+// parallel. Writing goes through the atomic file writer (atomic_file.h): a temporary file in
+// the target directory, renamed over the destination only once complete.
 #include "vdblight/vdb_io.h"
-#include <fcntl.h>
-#include <unistd.h>
 #include <algorithm>
-#include <atomic>
-#include <cerrno>
 #include <cmath>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <memory>
 #include <mutex>
-#include <random>
 #include <set>
 #include <openvdb/openvdb.h>
 #include <openvdb/io/File.h>
 #include <tbb/parallel_for.h>
+#include "vdblight/atomic_file.h"
 #include "vdblight/depth_moments.h"
 #include "vdblight/errors.h"
 #include "vdblight/tiles.h"
@@ -30,7 +23,6 @@
 namespace vdblight {
 namespace {
 using namespace vdb_detail;
-namespace fs = std::filesystem;
 
 // ---------------------------------------------------------------------------------------
 // Writing
@@ -303,33 +295,6 @@ openvdb::GridCPtrVec buildGrids(const Volume& volume, const WriteOptions& option
     return grids;
 }
 
-/// Creates a fresh, uniquely named temporary file beside `path` and returns its name.
-std::string createTempFile(const std::string& path) {
-    static std::atomic<unsigned> counter{0};
-    std::random_device rd;
-    for (int attempt = 0; attempt < 16; ++attempt) {
-        const std::string tmp = path + ".tmp-" + std::to_string(::getpid()) + "-" +
-                                std::to_string(rd() ^ (counter++ * 2654435761u));
-        const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0666);
-        if (fd >= 0) {
-            ::close(fd);
-            return tmp;
-        }
-        if (errno != EEXIST) throw IoError("cannot write '" + path + "': " + std::strerror(errno));
-    }
-    throw IoError("cannot write '" + path + "': no free temporary file name");
-}
-
-void syncFile(const std::string& path) {
-    const int fd = ::open(path.c_str(), O_RDONLY);
-    if (fd < 0 || ::fsync(fd) != 0) {
-        const int err = errno;
-        if (fd >= 0) ::close(fd);
-        throw std::runtime_error(std::string("cannot flush temporary file: ") + std::strerror(err));
-    }
-    ::close(fd);
-}
-
 }  // namespace
 
 const std::vector<std::string>& runSpecificMetadataKeys() {
@@ -343,24 +308,13 @@ void writeFile(const Volume& volume, const std::string& path, const WriteOptions
                const openvdb::GridCPtrVec& extra = {}) {
     checkWritable(volume, options, tile);
     initOpenVdb();
-    const fs::path parent = fs::path(path).parent_path();
-    std::error_code ec;
-    if (!parent.empty() && !fs::is_directory(parent, ec)) {
-        throw IoError("cannot write '" + path + "': directory '" + parent.string() + "' does not exist");
-    }
     openvdb::GridCPtrVec grids = buildGrids(volume, options, tile);
     grids.insert(grids.end(), extra.begin(), extra.end());
     const openvdb::MetaMap meta = fileMetadata(volume, options);
-    const std::string tmp = createTempFile(path);
-    try {
-        openvdb::io::File(tmp).write(grids, meta);
-        stampContentUuid(tmp);  // OpenVDB's random UUID -> one from the content (content_hash.h)
-        syncFile(tmp);
-        if (std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error(std::strerror(errno));
-    } catch (const std::exception& e) {
-        std::remove(tmp.c_str());
-        throw IoError("cannot write '" + path + "': " + e.what());
-    }
+    writeFileAtomically(path, [&](const std::string& temp) {
+        openvdb::io::File(temp).write(grids, meta);
+        stampContentUuid(temp);  // OpenVDB's random UUID -> one from the content (content_hash.h)
+    });
 }
 }  // namespace
 

@@ -1,0 +1,45 @@
+// The fast SH order-2 irradiance of a cell, shared by ShUniformLookup and ShLevelsLookup.
+// (Internal to the query module.)
+#pragma once
+
+#include <cstddef>
+
+#include "depth_weights.h"
+#include "vdblight/math.h"
+#include "vdblight/sh.h"
+
+namespace vdblight::query_detail {
+
+constexpr int kShFloats = sh::kCoeffs * 3;
+
+/// Trilinear blend of the 8 nodes of a cell (base: the lower corner's 27 coefficients with the
+/// cosine-lobe constants folded in; sx, sy, sz: strides to the next node along x, y, z, in
+/// floats), then one 9-term dot product per channel with y = Y(n). `depthBase`: the lower
+/// corner's depth moments in an array of the same node order (depth::kFloatsPerNode floats
+/// per node) to weight the corners by (depth_weights.h), or null for plain trilinear.
+inline Rgb interpolateSh(const float* base, std::size_t sx, std::size_t sy, std::size_t sz, float fx, float fy, float fz,
+                         const float y[sh::kCoeffs], const float* depthBase = nullptr) {
+    const float* corners[8] = {base, base + sx, base + sy, base + sx + sy,
+                               base + sz, base + sx + sz, base + sy + sz, base + sx + sy + sz};
+    const float wx[2] = {1 - fx, fx}, wy[2] = {1 - fy, fy}, wz[2] = {1 - fz, fz};
+    float weights[8];
+    for (int c = 0; c < 8; ++c) weights[c] = wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2];
+    if (depthBase) {
+        const float* depth[8];
+        for (int c = 0; c < 8; ++c)
+            depth[c] = depthBase + std::size_t(corners[c] - base) / kShFloats * depth::kFloatsPerNode;
+        weightByDepth(weights, depth, fx, fy, fz);
+    }
+    // Interpolate the 27 coefficients first, then one 9-term dot product per channel.
+    float interp[kShFloats] = {};
+    for (int c = 0; c < 8; ++c) {
+        const float w = weights[c];
+        const float* p = corners[c];
+        for (int f = 0; f < kShFloats; ++f) interp[f] += w * p[f];
+    }
+    Rgb e{0, 0, 0};
+    for (int c = 0; c < sh::kCoeffs; ++c) e += Rgb(interp[3 * c], interp[3 * c + 1], interp[3 * c + 2]) * y[c];
+    return e;
+}
+
+}  // namespace vdblight::query_detail
