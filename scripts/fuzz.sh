@@ -45,8 +45,8 @@ run_one() {
   : >"$log"
   while ((done_runs < RUNS && seed <= MAX_RESUMES)); do
     local artifacts="$BUILD/artifacts/$h-seed$seed-"
-    LSAN_OPTIONS="suppressions=$ROOT/tests/fuzz/lsan.supp" \
-    "$BUILD/tests/fuzz/$h" -seed="$seed" -runs="$((RUNS - done_runs))" -timeout=10 -rss_limit_mb="$RSS_LIMIT_MB" \
+    LSAN_OPTIONS="suppressions=$ROOT/tests/fuzz/lsan.supp" $NO_ASLR \
+    "$BUILD/tests/fuzz/$h" -seed="$seed" -runs="$((RUNS - done_runs))" -reload=0 -timeout=10 -rss_limit_mb="$RSS_LIMIT_MB" \
         -malloc_limit_mb="$MALLOC_LIMIT_MB" -artifact_prefix="$artifacts" "$work" "$seeds" >"$log.$seed" 2>&1 || true
     cat "$log.$seed" >>"$log"
     local last
@@ -61,6 +61,11 @@ run_one() {
 }
 export -f run_one
 MAX_RESUMES="${FUZZ_MAX_RESUMES:-20}"
-export BUILD ROOT RUNS RSS_LIMIT_MB MALLOC_LIMIT_MB MAX_RESUMES
+# Address-space randomisation changes the order of pointer-keyed containers in the libraries,
+# and so the coverage an input reaches and the corpus a seed grows (measured: the same glTF run
+# reached cov 1093 or 1095): run the fuzzer with it off where setarch can (util-linux).
+NO_ASLR=""
+if setarch "$(uname -m)" -R true 2>/dev/null; then NO_ASLR="setarch $(uname -m) -R"; fi
+export BUILD ROOT RUNS RSS_LIMIT_MB MALLOC_LIMIT_MB MAX_RESUMES NO_ASLR
 printf '%s\n' "${HARNESSES[@]}" | xargs -P "$JOBS" -I{} bash -c 'run_one {}'
 echo "fuzz: every harness replayed its seeds and regression inputs and ran $RUNS inputs from fixed seeds with no new finding"
