@@ -38,8 +38,9 @@ run_one() {
   # 2. Fixed-seed, fixed-count fuzzing. Non-fork mode stops at the first failing input; a
   #    documented library finding is triaged and the run resumes from the corpus it has
   #    grown, with the next seed, for the runs that are left (at most MAX_RESUMES times).
-  #    Each segment depends only on its seed and corpus, so the whole sequence is the same
-  #    on every machine.
+  #    Each segment depends only on its seed and corpus (and, through libFuzzer's own
+  #    allocations, on the checkout path), so the whole sequence is the same on every run
+  #    (docs/fuzzing.md: what was measured, and the four things that made it differ).
   mkdir -p "$work"
   local done_runs=0 seed=1 log="$BUILD/logs/$h.log"
   : >"$log"
