@@ -44,10 +44,17 @@ uint64_t countBricks(const std::vector<VolumeLevel>& levels);
 /// 0 <= index < count.
 NodeMask tileNodeMask(const std::vector<VolumeLevel>& levels, int count, int index);
 
+/// Tile-local memory: sets every level's window (VolumeLevel::windowFirst, windowNodes) to the
+/// stored positions from the first to the last node of `only` in that level (a level without
+/// any: the first position only, so that every level keeps its arrays), or to every position
+/// without `only`. A tile's bricks are a contiguous run in (level, z, y, x) order, so its
+/// window spans its own nodes plus at most the partial rows of bricks at both ends.
+void setTileWindows(std::vector<VolumeLevel>& levels, const NodeMask* only);
+
 /// Per-node statistics a tile carries so that the merge can summarise them over the whole
 /// volume (they are not stored in complete volumes).
 struct TileNodeStats {
-    /// Single-level volumes: per node of level 0 (node order), the estimated relative standard
+    /// Single-level volumes: per node of level 0's window (node order; VolumeLevel::heldNodes), the estimated relative standard
     /// error of the point gathers (BakeStats::estimatedError); the merge recomputes the error
     /// summary (error_summary.h) from it. Empty: none.
     std::vector<float> estimatedError;

@@ -43,9 +43,19 @@ struct VolumeLevel : LevelTopology {
     /// (0..1) of each listed light, node-major: [node * lights + i]; written as the FloatGrids
     /// `light_visibility_<i>` (docs/format.md). Empty in the other modes.
     std::vector<float> lightVisibility;
-    const float* nodeData(std::size_t node, int channels) const { return data.data() + node * channels * 3; }
+    /// A tile's bake (tiles.h) holds only the window of stored positions that its nodes span:
+    /// `data`, `depth` and `lightVisibility` then hold positions [windowFirst, windowFirst +
+    /// windowNodes) (position n at n - windowFirst), so that a tile allocates memory for about
+    /// its own nodes, not the whole volume's. windowNodes 0 (complete volumes): every position.
+    std::size_t windowFirst = 0;
+    std::size_t windowNodes = 0;
+    /// Positions the per-node arrays hold.
+    std::size_t heldNodes() const { return windowNodes ? windowNodes : storedNodes(); }
+    /// Index in the per-node arrays of stored position `node` (inside the window).
+    std::size_t held(std::size_t node) const { return node - windowFirst; }
+    const float* nodeData(std::size_t node, int channels) const { return data.data() + held(node) * channels * 3; }
     bool hasDepth() const { return !depth.empty(); }
-    const float* nodeDepth(std::size_t node) const { return depth.data() + node * depth::kFloatsPerNode; }
+    const float* nodeDepth(std::size_t node) const { return depth.data() + held(node) * depth::kFloatsPerNode; }
 };
 
 struct Volume {

@@ -9,6 +9,7 @@
 
 #include "parallel_nodes.h"
 #include "pass_metadata.h"
+#include "vdblight/tiles.h"
 #include "vdblight/bake_bins.h"
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
@@ -86,7 +87,8 @@ Volume bakeBins(const Scene& scene, const Tracer& tracer, const LevelLayout& lay
     Volume volume;
     volume.basis = bins::basis(options.basis);
     volume.levels = volumeLevels(layout.levels);
-    for (VolumeLevel& l : volume.levels) l.data.assign(l.storedNodes() * floats, 0.0f);
+    setTileWindows(volume.levels, options.only);  // a tile: only the nodes it spans (tiles.h)
+    for (VolumeLevel& l : volume.levels) l.data.assign(l.heldNodes() * floats, 0.0f);
     volume.validate();
 
     // Transposed (column i contiguous), so that the product below is a sequence of axpys over
@@ -132,10 +134,12 @@ Volume bakeBins(const Scene& scene, const Tracer& tracer, const LevelLayout& lay
                     outB[j] += col[j] * lb;
                 }
             }
-            float* dst = level.data.data() + n * floats;
+            float* dst = level.data.data() + level.held(n) * floats;
             for (int j = 0; j < bins; ++j) dst[3 * j] = outR[j], dst[3 * j + 1] = outG[j], dst[3 * j + 2] = outB[j];
         });
-    if (volume.levels.size() > 1) applySeamConstraints(volume);
+    // A tile leaves its seam nodes at 0: they interpolate the coarser level, whose nodes may lie
+    // in other tiles, and the merge sets them (tiles.h).
+    if (volume.levels.size() > 1 && !options.only) applySeamConstraints(volume);
 
     bake_detail::PassMetadata(volume.meta)
         .common(scene, options.transport, options.seed, layout.totalNodes(), run)

@@ -49,7 +49,7 @@ bake_detail::ParallelRun bake_detail::depthMomentsOfNodes(const Tracer& tracer, 
         const std::size_t n = work[w].second;
         const uint64_t linear = level.sparse() ? level.activeNodes[n] : n;
         nodeDepthMoments(tracer, Vec3f(level.grid.node(std::size_t(linear))), level.grid.spacing, seed,
-                         (uint64_t(work[w].first) << 56) | linear, rays, level.depth.data() + n * depth::kFloatsPerNode,
+                         (uint64_t(work[w].first) << 56) | linear, rays, level.depth.data() + level.held(n) * depth::kFloatsPerNode,
                          count);
     });
 }
@@ -61,9 +61,10 @@ void bakeDepthMoments(const Tracer& tracer, Volume& volume, const DepthOptions& 
     std::vector<std::pair<int, std::size_t>> work;
     for (std::size_t l = 0; l < volume.levels.size(); ++l) {
         VolumeLevel& level = volume.levels[l];
-        level.depth.assign(level.storedNodes() * depth::kFloatsPerNode, 0.0f);
         if (options.only && (options.only->size() != volume.levels.size() || (*options.only)[l].size() != level.storedNodes()))
             throw ValueError("the node mask does not match the levels");
+        // A tile's volume holds its window of nodes (tiles.h): depth for the same positions.
+        level.depth.assign(level.heldNodes() * depth::kFloatsPerNode, 0.0f);
         for (std::size_t n = 0; n < level.storedNodes(); ++n)
             if (!options.only || (*options.only)[l][n]) work.emplace_back(int(l), n);
     }

@@ -77,7 +77,7 @@ void bakeLightVisibility(const Scene& scene, const Tracer& tracer, const DirectP
     VolumeLevel& level = volume.levels[0];
     const GridSpec& grid = level.grid;
     const std::size_t lights = plan.lights.size();
-    level.lightVisibility.assign(grid.nodeCount() * lights, 1.0f);
+    level.lightVisibility.assign(level.heldNodes() * lights, 1.0f);  // a tile: its window (tiles.h)
     std::vector<std::size_t> selected;  // a tile's nodes (tiles.h)
     if (only) {
         if (only->size() != 1 || (*only)[0].size() != grid.nodeCount()) throw ValueError("the node mask does not match the grid");
@@ -91,7 +91,7 @@ void bakeLightVisibility(const Scene& scene, const Tracer& tracer, const DirectP
             for (std::size_t i = 0; i < lights; ++i) {
                 if (unreachable(plan.lights[i].light, Vec3d(x))) continue;  // stays 1 (see bake_direct.h)
                 const uint64_t stream = hashCombine(hashCombine(o.seed ^ kVisibilityStream, n), i);
-                level.lightVisibility[n * lights + i] =
+                level.lightVisibility[level.held(n) * lights + i] =
                     float(lightVisibility(scene, tracer, plan.lights[i], x, o.visibilitySamples, stream, rays));
             }
         });

@@ -31,10 +31,6 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     if (options.raysPerNode == 0) throw ValueError("rays per node must be at least 1");
     const std::size_t nodes = bake_detail::checkThreadsAndGrid(options.threads, grid);
 
-    Volume volume = bake_detail::emptyShVolume(grid);
-    VolumeLevel& level = volume.levels[0];
-    if (options.depthMoments) level.depth.assign(nodes * depth::kFloatsPerNode, 0.0f);
-
     std::vector<std::size_t> selected;  // a tile's nodes (tiles.h); empty = all
     if (options.only) {
         if (options.only->size() != 1 || (*options.only)[0].size() != nodes) throw ValueError("the node mask does not match the grid");
@@ -43,21 +39,32 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
         for (std::size_t n = 0; n < nodes; ++n)
             if ((*options.only)[0][n]) selected.push_back(n);
     }
-    std::vector<float> error(nodes, 0.0f);
+    // A tile holds only the window of nodes it spans (tiles.h, setTileWindows): every per-node
+    // array below is indexed by level.held(n).
+    Volume volume = bake_detail::emptyShVolume(grid, options.only);
+    VolumeLevel& level = volume.levels[0];
+    const std::size_t held = level.heldNodes();
+    if (options.depthMoments) level.depth.assign(held * depth::kFloatsPerNode, 0.0f);
+    std::vector<float> error(held, 0.0f);
     std::vector<Rgb> reflected;  // per node, nine coefficients: the next pass's cache
-    if (options.probePasses > 0) reflected.assign(nodes * sh::kCoeffs, Rgb(0, 0, 0));
+    if (options.probePasses > 0) reflected.assign(held * sh::kCoeffs, Rgb(0, 0, 0));
     RadianceEstimator estimator(scene, tracer, options.transport);
     // One stage of a staged bake (tiles.h) runs one pass, from the stage before's reflected light.
     const bake_detail::PassRange range =
         bake_detail::stagePasses(options.probePasses, options.stage, options.stageInput, grid, options.depthMoments);
-    if (range.first > 0 && options.depthMoments) level.depth = options.stageInput->levels[0].depth;  // pass 0's
+    if (range.first > 0 && options.depthMoments) {  // pass 0's, of the window
+        const std::vector<float>& in = options.stageInput->levels[0].depth;
+        const auto from = in.begin() + std::ptrdiff_t(level.windowFirst * depth::kFloatsPerNode);
+        level.depth.assign(from, from + std::ptrdiff_t(held * depth::kFloatsPerNode));
+    }
     const bake_detail::ParallelRun run = bake_detail::runProbePasses(
         estimator, tracer, grid, options.seed, options.probePasses, range,
-        range.first > 0 ? bake_detail::stageReflected(*options.stageInput) : std::vector<Rgb>(), reflected,
+        range.first > 0 ? options.stageInput->levels[0].data.data() : nullptr, reflected,
         [&](const bake_detail::ProbePass& pass) {
             return bake_detail::forEachItemInParallel(
                 options.only ? selected.size() : nodes, options.threads, interrupter, [&](std::size_t item, RayCount& count) {
                     const std::size_t n = options.only ? selected[item] : item;
+                    const std::size_t h = level.held(n);
                     Rgbd coeffs[sh::kCoeffs];
                     // projectIncidentRadiance's sampling, keeping the sampler for its error estimate.
                     detail::NodeSampler sampler(estimator, Vec3f(grid.node(n)), pass.seed, n, options.raysPerNode);
@@ -67,10 +74,10 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
                     if (recordDepth) sampler.recordDepth(&depthAcc, grid.spacing);
                     sampler.addSamples(0, options.raysPerNode, count);
                     sampler.coefficients(coeffs, count);
-                    if (recordDepth) depthAcc.finish(level.depth.data() + n * depth::kFloatsPerNode);
-                    error[n] = float(std::min(sampler.relativeStandardError(count), 1e30));
-                    bake_detail::storeNode(sampler, coeffs, level.data.data() + n * sh::kCoeffs * 3,
-                                           pass.keepReflected ? &reflected[n * sh::kCoeffs] : nullptr);
+                    if (recordDepth) depthAcc.finish(level.depth.data() + h * depth::kFloatsPerNode);
+                    error[h] = float(std::min(sampler.relativeStandardError(count), 1e30));
+                    bake_detail::storeNode(sampler, coeffs, level.data.data() + h * sh::kCoeffs * 3,
+                                           pass.keepReflected ? &reflected[h * sh::kCoeffs] : nullptr);
                 });
         });
 
@@ -79,7 +86,7 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     if (options.stageInput) addEarlierStageSums(volume.meta, options.stageInput->meta);
     if (options.depthMoments) m.depthMoments(options.raysPerNode);
     if (range.last < options.probePasses) {  // a stage before the last: its reflected light
-        volume = bake_detail::stageVolume(grid, reflected, std::move(level.depth), std::move(volume.meta), range.last,
+        volume = bake_detail::stageVolume(level, reflected, std::move(level.depth), std::move(volume.meta), range.last,
                                           options.probePasses);
         if (stats) {
             stats->nodes = nodes;
@@ -92,7 +99,8 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     m.method("gather", "point")
         .count("rays_per_node", options.raysPerNode)
         .text("direction_sampling", "scrambled Sobol (0,2) uniform sphere + NEE on emissive triangles; punctual lights exact")
-        .errorSummary(error, grid);
+        ;
+    if (!options.only) m.errorSummary(error, grid);  // a tile's: the merge's, from every tile's errors
     if (options.probePasses > 0) {
         m.count("probe_passes", options.probePasses)
             .text("probe_bounces",

@@ -35,10 +35,12 @@ Volume bakeShGatherAdaptive(const Scene& scene, const Tracer& tracer, const Grid
                                                 std::to_string(o.minRays) + ")");
     const std::size_t nodes = bake_detail::checkThreadsAndGrid(o.threads, grid);
 
-    Volume volume = bake_detail::emptyShVolume(grid);
+    // A tile holds only the window of nodes it spans (tiles.h): per-node arrays by level.held(n).
+    Volume volume = bake_detail::emptyShVolume(grid, o.only);
     VolumeLevel& level = volume.levels[0];
-    std::vector<uint32_t> raysUsed(nodes, 0);
-    std::vector<float> achieved(nodes, 0.0f);
+    const std::size_t held = level.heldNodes();
+    std::vector<uint32_t> raysUsed(held, 0);
+    std::vector<float> achieved(held, 0.0f);
     std::vector<std::size_t> selected;  // a tile's nodes (tiles.h); empty = all
     if (o.only) {
         if (o.only->size() != 1 || (*o.only)[0].size() != nodes) throw ValueError("the node mask does not match the grid");
@@ -49,7 +51,7 @@ Volume bakeShGatherAdaptive(const Scene& scene, const Tracer& tracer, const Grid
     }
 
     std::vector<Rgb> reflected;  // per node, nine coefficients: the next pass's cache
-    if (o.probePasses > 0) reflected.assign(nodes * sh::kCoeffs, Rgb(0, 0, 0));
+    if (o.probePasses > 0) reflected.assign(held * sh::kCoeffs, Rgb(0, 0, 0));
     RadianceEstimator estimator(scene, tracer, o.transport);
     uint64_t samplesBefore = 0;  // samples of the passes before the last
     // One stage of a staged bake (tiles.h) runs one pass, from the stage before's reflected light.
@@ -58,12 +60,13 @@ Volume bakeShGatherAdaptive(const Scene& scene, const Tracer& tracer, const Grid
     // As bakeShGather (bake.h, probePasses), each pass to the target.
     const bake_detail::ParallelRun run = bake_detail::runProbePasses(
         estimator, tracer, grid, o.seed, o.probePasses, range,
-        range.first > 0 ? bake_detail::stageReflected(*o.stageInput) : std::vector<Rgb>(), reflected,
+        range.first > 0 ? o.stageInput->levels[0].data.data() : nullptr, reflected,
         [&](const bake_detail::ProbePass& pass) {
             for (uint32_t r : raysUsed) samplesBefore += r;
             return bake_detail::forEachItemInParallel(
                 o.only ? selected.size() : nodes, o.threads, interrupter, [&](std::size_t item, RayCount& count) {
                 const std::size_t n = o.only ? selected[item] : item;
+                const std::size_t h = level.held(n);
                 detail::NodeSampler sampler(estimator, Vec3f(grid.node(n)), pass.seed, n, o.maxRays);
                 uint32_t taken = 0, next = o.minRays;
                 double err = 0;
@@ -82,10 +85,10 @@ Volume bakeShGatherAdaptive(const Scene& scene, const Tracer& tracer, const Grid
                 }
                 Rgbd coeffs[sh::kCoeffs];
                 sampler.coefficients(coeffs, count);
-                bake_detail::storeNode(sampler, coeffs, level.data.data() + n * sh::kCoeffs * 3,
-                                       pass.keepReflected ? &reflected[n * sh::kCoeffs] : nullptr);
-                raysUsed[n] = taken;
-                achieved[n] = float(std::min(err, 1e30));
+                bake_detail::storeNode(sampler, coeffs, level.data.data() + h * sh::kCoeffs * 3,
+                                       pass.keepReflected ? &reflected[h * sh::kCoeffs] : nullptr);
+                raysUsed[h] = taken;
+                achieved[h] = float(std::min(err, 1e30));
             });
         });
     AdaptiveStats local;
@@ -95,7 +98,7 @@ Volume bakeShGatherAdaptive(const Scene& scene, const Tracer& tracer, const Grid
     s.seconds = run.seconds;
     s.samples = 0;
     s.nodesAtMax = 0;
-    for (std::size_t n = 0; n < nodes; ++n) {
+    for (std::size_t n = 0; n < held; ++n) {
         s.samples += raysUsed[n];
         if (raysUsed[n] >= o.maxRays && achieved[n] * varianceUncertainty(raysUsed[n]) > o.targetError) ++s.nodesAtMax;
     }
@@ -107,7 +110,7 @@ Volume bakeShGatherAdaptive(const Scene& scene, const Tracer& tracer, const Grid
     if (o.stageInput) addEarlierStageSums(volume.meta, o.stageInput->meta);
     if (range.last < o.probePasses) {  // a stage before the last: its reflected light
         m.count("probe_stage_samples", int64_t(s.samples));
-        volume = bake_detail::stageVolume(grid, reflected, {}, std::move(volume.meta), range.last, o.probePasses);
+        volume = bake_detail::stageVolume(level, reflected, {}, std::move(volume.meta), range.last, o.probePasses);
         s.estimatedError.clear();
         return volume;
     }
@@ -117,9 +120,9 @@ Volume bakeShGatherAdaptive(const Scene& scene, const Tracer& tracer, const Grid
         .count("max_rays", o.maxRays);
     if (o.probePasses > 0) m.count("probe_passes", o.probePasses).count("samples_earlier_passes", int64_t(samplesBefore));
     m.count("samples_total", int64_t(s.samples))
-        .sampleSummary()
-        .errorSummary(s.estimatedError, grid)
-        .count("nodes_at_max_rays", int64_t(s.nodesAtMax))
+        .sampleSummary();
+    if (!o.only) m.errorSummary(s.estimatedError, grid);  // a tile's: the merge's, from every tile's errors
+    m.count("nodes_at_max_rays", int64_t(s.nodesAtMax))
         .text("direction_sampling", "scrambled Sobol (0,2) uniform sphere in doubling rounds + NEE on emissive triangles; "
                                     "punctual lights exact or one sampled per ray");
     return volume;

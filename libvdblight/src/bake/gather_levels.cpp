@@ -7,6 +7,7 @@
 
 #include "parallel_nodes.h"
 #include "pass_metadata.h"
+#include "vdblight/tiles.h"
 #include "vdblight/bake_depth.h"
 #include "vdblight/bake_levels.h"
 #include "vdblight/errors.h"
@@ -31,9 +32,10 @@ Volume bakeShGatherLevels(const Scene& scene, const Tracer& tracer, const LevelL
     Volume volume;
     volume.basis = BasisDesc::sh2();
     volume.levels = volumeLevels(layout.levels);
+    setTileWindows(volume.levels, options.only);  // a tile: only the nodes it spans (tiles.h)
     for (VolumeLevel& l : volume.levels) {
-        l.data.assign(l.storedNodes() * kFloats, 0.0f);
-        if (options.depthMoments) l.depth.assign(l.storedNodes() * depth::kFloatsPerNode, 0.0f);
+        l.data.assign(l.heldNodes() * kFloats, 0.0f);
+        if (options.depthMoments) l.depth.assign(l.heldNodes() * depth::kFloatsPerNode, 0.0f);
     }
     if (layout.culledNodes > 0) {  // solid_cull.h: inactive nodes inside closed solids
         volume.meta["culling"] = std::string("solid-regions");
@@ -53,16 +55,18 @@ Volume bakeShGatherLevels(const Scene& scene, const Tracer& tracer, const LevelL
             Rgbd coeffs[sh::kCoeffs];
             projectIncidentRadiance(estimator, Vec3f(level.grid.node(std::size_t(linear))), options.raysPerNode,
                                     options.seed, stream, coeffs, count, nullptr, nullptr,
-                                    options.depthMoments ? level.depth.data() + n * depth::kFloatsPerNode : nullptr,
+                                    options.depthMoments ? level.depth.data() + level.held(n) * depth::kFloatsPerNode : nullptr,
                                     level.grid.spacing);
-            float* dst = level.data.data() + n * kFloats;
+            float* dst = level.data.data() + level.held(n) * kFloats;
             for (int j = 0; j < sh::kCoeffs; ++j) {
                 dst[3 * j + 0] = float(coeffs[j].x);
                 dst[3 * j + 1] = float(coeffs[j].y);
                 dst[3 * j + 2] = float(coeffs[j].z);
             }
         });
-    applySeamConstraints(volume);
+    // Seam nodes interpolate the coarser level, whose nodes may lie in other tiles: a tile
+    // leaves its seam nodes at 0 and the merge sets them (tiles.h).
+    if (!options.only) applySeamConstraints(volume);
     RayCount seamDepthRays;
     if (options.depthMoments) {
         // Seam nodes take their radiance from the coarser level, but their depth belongs to

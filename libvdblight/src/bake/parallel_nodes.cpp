@@ -33,12 +33,13 @@ std::size_t checkThreadsAndGrid(int threads, const GridSpec& grid) {
     return nodes;
 }
 
-Volume emptyShVolume(const GridSpec& grid) {
+Volume emptyShVolume(const GridSpec& grid, const NodeMask* only) {
     Volume volume;
     volume.basis = BasisDesc::sh2();
     volume.levels.resize(1);
     volume.levels[0].grid = grid;
-    volume.levels[0].data.assign(grid.nodeCount() * sh::kCoeffs * 3, 0.0f);
+    setTileWindows(volume.levels, only);
+    volume.levels[0].data.assign(volume.levels[0].heldNodes() * sh::kCoeffs * 3, 0.0f);
     return volume;
 }
 

@@ -10,10 +10,17 @@
 namespace vdblight {
 namespace bake_detail {
 
-VolumeSurfaceCache::VolumeSurfaceCache(const Tracer& tracer, const GridSpec& grid, std::vector<Rgb> reflected)
-    : tracer_(tracer), grid_(grid), coeffs_(std::move(reflected)) {
-    for (std::size_t i = 0; i < coeffs_.size(); ++i)
-        coeffs_[i] = coeffs_[i] * float(sh::kCosineLobe[sh::bandOf(int(i % sh::kCoeffs))]);
+VolumeSurfaceCache::VolumeSurfaceCache(const Tracer& tracer, const GridSpec& grid, const float* reflected)
+    : tracer_(tracer), grid_(grid), coeffs_(reflected) {
+    for (int j = 0; j < sh::kCoeffs; ++j) lobe_[j] = float(sh::kCosineLobe[sh::bandOf(j)]);
+}
+
+VolumeSurfaceCache::VolumeSurfaceCache(const Tracer& tracer, const GridSpec& grid, const std::vector<Rgb>& reflected)
+    : VolumeSurfaceCache(tracer, grid, nullptr) {
+    own_.resize(reflected.size() * 3);
+    for (std::size_t i = 0; i < reflected.size(); ++i)
+        for (int c = 0; c < 3; ++c) own_[3 * i + std::size_t(c)] = reflected[i][c];
+    coeffs_ = own_.data();
 }
 
 bool VolumeSurfaceCache::irradiance(const Vec3f& p, const Vec3f& n, Rgb& out, RayCount& rays) const {
@@ -45,9 +52,10 @@ bool VolumeSurfaceCache::irradiance(const Vec3f& p, const Vec3f& n, Rgb& out, Ra
         if (!(dot(d, n) > 0)) continue;  // behind the surface: the other side's light
         ++rays.occluded;
         if (tracer_.occluded(Ray{p, d, 0.0f, 1.0f})) continue;
-        const Rgb* c9 = coeffs_.data() + grid_.index(idx[0], idx[1], idx[2]) * sh::kCoeffs;
+        const float* c27 = coeffs_ + grid_.index(idx[0], idx[1], idx[2]) * sh::kCoeffs * 3;
         Rgb e{0, 0, 0};
-        for (int j = 0; j < sh::kCoeffs; ++j) e += c9[j] * y[j];
+        // (c A_l) y_l: the same float operations as multiplying by A_l first.
+        for (int j = 0; j < sh::kCoeffs; ++j) e += (Rgb(c27[3 * j], c27[3 * j + 1], c27[3 * j + 2]) * lobe_[j]) * y[j];
         sum += e * w;
         weight += w;
     }
@@ -80,19 +88,15 @@ PassRange stagePasses(int probePasses, int stage, const Volume* input, const Gri
     return {stage, stage};
 }
 
-std::vector<Rgb> stageReflected(const Volume& input) {
-    const std::vector<float>& d = input.levels[0].data;
-    std::vector<Rgb> out(d.size() / 3);
-    for (std::size_t i = 0; i < out.size(); ++i) out[i] = Rgb(d[3 * i], d[3 * i + 1], d[3 * i + 2]);
-    return out;
-}
 
-Volume stageVolume(const GridSpec& grid, const std::vector<Rgb>& reflected, std::vector<float> depth, Metadata meta,
+Volume stageVolume(const VolumeLevel& shape, const std::vector<Rgb>& reflected, std::vector<float> depth, Metadata meta,
                    int stage, int probePasses) {
     Volume v;
     v.basis = probeStageBasis();
     v.levels.resize(1);
-    v.levels[0].grid = grid;
+    v.levels[0].grid = shape.grid;
+    v.levels[0].windowFirst = shape.windowFirst;
+    v.levels[0].windowNodes = shape.windowNodes;
     v.levels[0].data.resize(reflected.size() * 3);
     for (std::size_t i = 0; i < reflected.size(); ++i)
         for (int c = 0; c < 3; ++c) v.levels[0].data[3 * i + std::size_t(c)] = reflected[i][c];

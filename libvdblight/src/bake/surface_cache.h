@@ -32,14 +32,20 @@ namespace bake_detail {
 class VolumeSurfaceCache : public SurfaceIrradianceCache {
 public:
     /// `reflected`: per node of `grid` (node order), nine RGB SH radiance coefficients of the
-    /// reflected light and sky (NodeSampler::reflectedCoefficients).
-    VolumeSurfaceCache(const Tracer& tracer, const GridSpec& grid, std::vector<Rgb> reflected);
+    /// reflected light and sky (NodeSampler::reflectedCoefficients); copied.
+    VolumeSurfaceCache(const Tracer& tracer, const GridSpec& grid, const std::vector<Rgb>& reflected);
+    /// The same coefficients as 27 floats per node, read in place: a probe stage volume's data
+    /// (tiles.h), which must outlive the cache, so that a staged tile holds the whole pass
+    /// before once, not twice.
+    VolumeSurfaceCache(const Tracer& tracer, const GridSpec& grid, const float* reflected);
     bool irradiance(const Vec3f& p, const Vec3f& n, Rgb& out, RayCount& rays) const override;
 
 private:
     const Tracer& tracer_;
     GridSpec grid_;
-    std::vector<Rgb> coeffs_;  ///< per node, nine coefficients pre-multiplied by A_l
+    std::vector<float> own_;  ///< the copy of the first constructor
+    const float* coeffs_;     ///< per node, 27 floats: nine RGB coefficients
+    float lobe_[sh::kCoeffs];  ///< A_l of each coefficient's band, applied at lookup
 };
 
 /// Staged probe passes (tiles.h, "Staged bakes"): which passes a gather with `probePasses`
@@ -49,12 +55,12 @@ struct PassRange {
 };
 PassRange stagePasses(int probePasses, int stage, const Volume* stageInput, const GridSpec& grid, bool depthMoments);
 
-/// The reflected-light coefficients of a probe stage volume (probeStageBasis), per node.
-std::vector<Rgb> stageReflected(const Volume& stageInput);
 
 /// The probe stage volume of a stage before the last: `reflected` as its data, `depth` (may
 /// be empty) and the counts of `meta` (common bake metadata) with probe_stage = `stage`.
-Volume stageVolume(const GridSpec& grid, const std::vector<Rgb>& reflected, std::vector<float> depth, Metadata meta,
+/// `shape`: the baked level (its grid and, for a tile, its window of nodes, which `reflected`
+/// and `depth` hold).
+Volume stageVolume(const VolumeLevel& shape, const std::vector<Rgb>& reflected, std::vector<float> depth, Metadata meta,
                    int stage, int probePasses);
 
 }  // namespace bake_detail

@@ -104,4 +104,23 @@ NodeMask tileNodeMask(const std::vector<VolumeLevel>& levels, int count, int ind
     return mask;
 }
 
+void setTileWindows(std::vector<VolumeLevel>& levels, const NodeMask* only) {
+    if (only && only->size() != levels.size()) throw ValueError("the node mask does not match the levels");
+    for (std::size_t l = 0; l < levels.size(); ++l) {
+        VolumeLevel& level = levels[l];
+        level.windowFirst = 0, level.windowNodes = 0;
+        if (!only) continue;
+        const std::vector<uint8_t>& m = (*only)[l];
+        if (m.size() != level.storedNodes()) throw ValueError("the node mask does not match level " + std::to_string(l));
+        const auto first = std::find(m.begin(), m.end(), uint8_t(1));
+        if (first == m.end()) {
+            level.windowNodes = std::min<std::size_t>(1, m.size());
+            continue;
+        }
+        const auto last = std::find(m.rbegin(), m.rend(), uint8_t(1));
+        level.windowFirst = std::size_t(first - m.begin());
+        level.windowNodes = std::size_t(m.rend() - last) - level.windowFirst;
+    }
+}
+
 }  // namespace vdblight

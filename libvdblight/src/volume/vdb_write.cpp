@@ -336,7 +336,7 @@ void writeTile(const Volume& volume, const NodeMask& mask, const TileId& id, con
     const std::size_t lights = volume.direct.lights.size();
     const bool depth = volume.hasDepth();
     const bool error = stats && !stats->estimatedError.empty();
-    if (error && (volume.levels.size() != 1 || stats->estimatedError.size() != volume.levels[0].storedNodes()))
+    if (error && (volume.levels.size() != 1 || stats->estimatedError.size() != volume.levels[0].heldNodes()))
         throw ValueError("the tile's per-node errors do not match the volume's nodes");
     Volume part;
     part.basis = volume.basis;
@@ -349,6 +349,11 @@ void writeTile(const Volume& volume, const NodeMask& mask, const TileId& id, con
         const VolumeLevel& full = volume.levels[l];
         if (!full.validity.empty()) throw ValueError("a volume with validity (the anti-aliased pass) cannot be tiled");
         if (mask[l].size() != full.storedNodes()) throw ValueError("the tile's node mask does not match level " + std::to_string(l));
+        // The volume may hold only the tile's window of nodes (VolumeLevel::windowFirst): it must
+        // cover the mask.
+        for (std::size_t n = 0; n < mask[l].size(); ++n)
+            if (mask[l][n] && (n < full.windowFirst || n - full.windowFirst >= full.heldNodes()))
+                throw ValueError("the tile's nodes lie outside the nodes the volume holds (level " + std::to_string(l) + ")");
         const bool visibility = !full.lightVisibility.empty();
         VolumeLevel level;
         level.grid = full.grid;
@@ -360,9 +365,10 @@ void writeTile(const Volume& volume, const NodeMask& mask, const TileId& id, con
                               full.nodeData(n, volume.basis.channelCount()) + floats);
             if (depth) level.depth.insert(level.depth.end(), full.nodeDepth(n), full.nodeDepth(n) + depth::kFloatsPerNode);
             if (visibility)
-                level.lightVisibility.insert(level.lightVisibility.end(), full.lightVisibility.begin() + std::ptrdiff_t(n * lights),
-                                             full.lightVisibility.begin() + std::ptrdiff_t((n + 1) * lights));
-            if (error) tileError.push_back(stats->estimatedError[n]);
+                level.lightVisibility.insert(level.lightVisibility.end(),
+                                             full.lightVisibility.begin() + std::ptrdiff_t(full.held(n) * lights),
+                                             full.lightVisibility.begin() + std::ptrdiff_t((full.held(n) + 1) * lights));
+            if (error) tileError.push_back(stats->estimatedError[full.held(n)]);
         }
         nodes += int64_t(level.activeNodes.size());
         dense += std::string(l ? "," : "") + (full.sparse() ? "0" : "1");

@@ -30,10 +30,12 @@ void validateLevel(const VolumeLevel& level, std::size_t index, int channels) {
         throw FormatError(where + " has invalid spacing " + std::to_string(g.spacing) + " (must be finite and > 0)");
     }
     if (!isFinite(g.origin)) throw FormatError(where + " has a non-finite origin");
-    const std::size_t expected = level.storedNodes() * std::size_t(channels) * 3;
+    if (level.windowNodes && level.windowFirst + level.windowNodes > level.storedNodes())
+        throw FormatError(where + " holds a window of nodes beyond its " + std::to_string(level.storedNodes()) + " nodes");
+    const std::size_t expected = level.heldNodes() * std::size_t(channels) * 3;
     if (level.data.size() != expected) {
         throw FormatError(where + " holds " + std::to_string(level.data.size()) + " floats, expected " +
-                          std::to_string(expected) + " (" + std::to_string(level.storedNodes()) + " nodes x " +
+                          std::to_string(expected) + " (" + std::to_string(level.heldNodes()) + " nodes x " +
                           std::to_string(channels) + " channels x 3)");
     }
     if (!level.validity.empty()) {
@@ -45,7 +47,7 @@ void validateLevel(const VolumeLevel& level, std::size_t index, int channels) {
             if (!(v >= 0.0f && v <= 1.0f)) throw FormatError(where + " has a validity outside [0, 1]");
     }
     if (!level.depth.empty()) {
-        const std::size_t want = level.storedNodes() * std::size_t(depth::kFloatsPerNode);
+        const std::size_t want = level.heldNodes() * std::size_t(depth::kFloatsPerNode);
         if (level.depth.size() != want)
             throw FormatError(where + " has " + std::to_string(level.depth.size()) + " depth values, expected " +
                               std::to_string(want));
@@ -67,10 +69,10 @@ void validateDirect(const Volume& v) {
             continue;
         }
         if (l != 0 || !d.hasVisibility()) throw FormatError("light visibility only on level 0 of an occlusion volume");
-        if (level.lightVisibility.size() != level.grid.nodeCount() * d.lights.size())
+        if (level.lightVisibility.size() != level.heldNodes() * d.lights.size())
             throw FormatError("volume level 0 has " + std::to_string(level.lightVisibility.size()) +
                               " light visibility values, expected " +
-                              std::to_string(level.grid.nodeCount() * d.lights.size()));
+                              std::to_string(level.heldNodes() * d.lights.size()));
         for (float x : level.lightVisibility)
             if (!(x >= 0.0f && x <= 1.0f)) throw FormatError("volume level 0 has a light visibility outside [0, 1]");
     }
