@@ -1,95 +1,104 @@
 #!/bin/sh
-# `vdblight slurm` on a real one-node Slurm (issue 17), started and stopped by this script:
-# the default bake (a probe-to-probe pass, so two stages: array -> merge -> array -> merge,
-# --direct occlusion): 4 tiles merged = the single bake; a stage-0 tile cancelled
-# mid-run (scancel) leaves the chain waiting, and re-submitting redoes only that tile of
-# stage 0 (then stage 1) and gives the identical file.
+# `vdblight slurm` on a real one-node Slurm (issue 17), started and stopped by this script
+# (tests/slurm_local.sh): the default bake (a probe-to-probe pass, so two stages: array -> merge
+# -> array -> merge, --direct occlusion), 4 tiles.
+#  1. Merged = the single bake, byte for byte, although one stage-0 tile's bake process was
+#     killed mid-run (SIGKILL: the tile script requeues its task) and another stage-0 tile was
+#     requeued by Slurm mid-run (`scontrol requeue`).
+#  2. A stage-0 tile cancelled mid-run (scancel) leaves the chain waiting; re-submitting redoes
+#     only that tile (3 skipped) and gives the identical file.
+#  3. After a complete run, one stage-1 tile and the merged file lost: re-submitting redoes
+#     only that tile (4 + 3 skipped) and gives the identical file.
 # Usage: slurm_cluster_test.sh VDBLIGHT SOURCE_DIR. Exit 77 (skipped) without Slurm or root.
 set -u
 B=$1; SRC=$2
-for tool in slurmctld slurmd sbatch squeue scancel munged munge; do
-  if ! command -v $tool >/dev/null 2>&1 && [ ! -x /usr/sbin/$tool ]; then
-    echo "SKIPPED: Slurm is not installed ($tool missing; scripts/setup.sh installs slurmctld slurmd slurm-client munge)"; exit 77
-  fi
-done
-[ "$(id -u)" -eq 0 ] || { echo "SKIPPED: the one-node Slurm needs root"; exit 77; }
+. "$SRC/tests/slurm_local.sh"
+slurm_local_check
 W=$(mktemp -d /tmp/vdblight-slurm.XXXXXX)
-HOST=$(hostname -s)
-cleanup() {
-  for p in "$W/slurmd.pid" "$W/slurmctld.pid"; do [ -f "$p" ] && kill "$(cat "$p")" 2>/dev/null; done
-  [ -n "${MUNGE_STARTED:-}" ] && [ -f /run/munge/munged.pid ] && kill "$(cat /run/munge/munged.pid)" 2>/dev/null
-  sleep 1; rm -rf "$W"
-}
+cleanup() { slurm_local_stop; [ -n "${KEEP_SLURM_DIR:-}" ] && echo "kept $W" || rm -rf "$W"; }
 trap cleanup EXIT
 fail() { echo "FAILED: $*"; for f in "$W"/*.log "$W"/world.vdb.tiles/*.log; do [ -f "$f" ] && { echo "== $f"; tail -5 "$f"; }; done; exit 1; }
-if ! munge -n 2>/dev/null | unmunge >/dev/null 2>&1; then
-  mkdir -p /run/munge && chown munge:munge /run/munge
-  su -s /bin/sh munge -c /usr/sbin/munged || fail "munged did not start"
-  MUNGE_STARTED=1; sleep 1
-fi
-mkdir -p "$W/spool" "$W/state"
-cat > "$W/slurm.conf" <<CONF
-ClusterName=vdblight
-SlurmctldHost=$HOST
-SlurmUser=root
-SlurmdUser=root
-AuthType=auth/munge
-StateSaveLocation=$W/state
-SlurmdSpoolDir=$W/spool
-SlurmctldPidFile=$W/slurmctld.pid
-SlurmdPidFile=$W/slurmd.pid
-SlurmctldLogFile=$W/slurmctld.log
-SlurmdLogFile=$W/slurmd.log
-ProctrackType=proctrack/linuxproc
-TaskPlugin=task/none
-SelectType=select/cons_tres
-SelectTypeParameters=CR_Core
-ReturnToService=2
-MpiDefault=none
-NodeName=$HOST CPUs=$(nproc) State=UNKNOWN
-PartitionName=bake Nodes=$HOST Default=YES MaxTime=INFINITE State=UP
-CONF
-export SLURM_CONF="$W/slurm.conf"
-slurmctld -f "$SLURM_CONF" || fail "slurmctld did not start"
-slurmd -f "$SLURM_CONF" || fail "slurmd did not start"
-for i in $(seq 60); do sinfo -h -o %t 2>/dev/null | grep -q idle && break; sleep 1; done
-sinfo -h -o %t | grep -q idle || fail "the node did not come up"
+slurm_local_start "$W" || fail "the one-node Slurm did not start"
 
 # The default bake's passes (uniform SH point gather, one probe-to-probe pass, --direct
 # occlusion, depth moments) with seed 3, at the earlier default's 16 nodes on the longest axis
 # and 256 rays (the default's ~16384 nodes x 512 rays would cost CI ~8x the time; the grid and
-# ray count change no pass): a tile runs long enough (seconds) to be cancelled while it runs.
+# ray count change no pass): a tile runs long enough (seconds) to be killed while it runs.
 OPTS="--seed 3 --resolution 16 --rays 256"
 SCENE="$SRC/data/cornell_box.obj"
-wait_jobs() {  # until none of our jobs is pending or running (or 600 s)
-  for i in $(seq 600); do [ -z "$(squeue -h -o %i 2>/dev/null)" ] && return 0; sleep 1; done; return 1
+TILES="$W/world.vdb.tiles"
+now() { date +%s.%N; }
+secs() { echo "$2 - $1" | bc; }
+skipped() { grep -l "already baked" "$TILES"/stage-$1-tile-*.log 2>/dev/null | wc -l; }
+# Waits until array task $1 runs a bake (its process is up), then prints the bake's pid.
+bake_pid() {
+  for i in $(seq 600); do
+    p=$(pgrep -f -- "$TILES/stage-0-tile-$1.vdb --tiles 4" | head -1)
+    [ -n "$p" ] && { echo "$p"; return 0; }
+    sleep 0.05
+  done
+  return 1
 }
-T0=$(date +%s.%N)
-"$B" bake "$SCENE" -q -o "$W/whole.vdb" --threads 2 $OPTS || fail "single bake"
-T1=$(date +%s.%N)
-"$B" slurm "$SCENE" -o "$W/world.vdb" --tiles 4 --submit $OPTS || fail "submit"
-wait_jobs || fail "jobs did not finish"
-T2=$(date +%s.%N)
-cmp "$W/whole.vdb" "$W/world.vdb" || fail "4 tiles on Slurm differ from the single bake"
-echo "single bake $(echo "$T1 - $T0" | bc) s; submit -> merged on Slurm $(echo "$T2 - $T1" | bc) s: identical"
 
-# Cancel a stage-0 tile mid-run: the chain waits forever (afterok never satisfied); re-submit.
-rm -rf "$W/world.vdb" "$W/world.vdb.tiles"
-"$B" slurm "$SCENE" -o "$W/world.vdb" --tiles 4 --submit $OPTS || fail "submit 2"
-ID=$(cut -d' ' -f1 "$W/world.vdb.tiles/jobs"); LATER=$(cut -d' ' -f2- "$W/world.vdb.tiles/jobs")
-for i in $(seq 100); do squeue -h -j "${ID}_2" -o %T 2>/dev/null | grep -q RUNNING && break; sleep 0.2; done
+T0=$(now)
+"$B" bake "$SCENE" -q -o "$W/whole.vdb" --threads 2 $OPTS || fail "single bake"
+T1=$(now)
+echo "single bake, 2 threads: $(secs $T0 $T1) s"
+
+# 1. Kill one tile's process, requeue another through Slurm: both run again, the chain goes on.
+"$B" slurm "$SCENE" -o "$W/world.vdb" --tiles 4 --submit $OPTS >/dev/null || fail "submit"
+ID=$(cut -d' ' -f1 "$TILES/jobs")
+P1=$(bake_pid 1) || fail "stage-0 tile 1 never ran"
+kill -KILL "$P1"
+bake_pid 2 >/dev/null || fail "stage-0 tile 2 never ran"
+scontrol requeue "${ID}_2" || fail "scontrol requeue ${ID}_2"
+# Slurm holds a requeued job for 120 s (its BeginTime); start both as soon as they are back in
+# the queue, so that CI does not wait.
+for t in 1 2; do
+  for i in $(seq 300); do squeue -h -j "${ID}_$t" -o %T 2>/dev/null | grep -q PENDING && break; sleep 0.1; done
+  scontrol update JobId="${ID}_$t" StartTime=now || fail "tile $t was not requeued"
+done
+slurm_local_wait || fail "jobs did not finish"
+T2=$(now)
+[ -f "$W/world.vdb" ] || fail "no merged file after the requeued tiles"
+cmp "$W/whole.vdb" "$W/world.vdb" || fail "4 tiles on Slurm (one killed, one requeued) differ from the single bake"
+grep -q "requeueing tile 1" "$TILES/stage-0-tile-1.log" || fail "tile 1 was not requeued after its bake was killed"
+for t in 1 2; do
+  R=$(sacct -n -X -D -j "${ID}_$t" -o State 2>/dev/null | grep -c REQUEUED)
+  [ "$R" -ge 1 ] || scontrol show job "${ID}_$t" 2>/dev/null | grep -q "Restarts=[1-9]" ||
+    fail "stage-0 tile $t shows no requeue in sacct or scontrol"
+done
+echo "submit -> merged on Slurm, tile 1's bake killed (requeued by its script), tile 2 requeued (scontrol): $(secs $T1 $T2) s: identical"
+
+# 3. Lose one stage-1 tile and the merged file: only that tile is baked again.
+rm -f "$W/world.vdb" "$TILES/stage-1-tile-3.vdb"
+T3=$(now)
+"$B" slurm "$SCENE" -o "$W/world.vdb" --tiles 4 --submit $OPTS >/dev/null || fail "re-submit after a lost tile"
+slurm_local_wait || fail "resumed jobs did not finish"
+T4=$(now)
+cmp "$W/whole.vdb" "$W/world.vdb" || fail "the bake resumed after a lost stage-1 tile differs from the single bake"
+[ "$(skipped 0)" -eq 4 ] || fail "expected 4 stage-0 tiles skipped on resume, got $(skipped 0)"
+[ "$(skipped 1)" -eq 3 ] || fail "expected 3 stage-1 tiles skipped on resume, got $(skipped 1)"
+grep -q "already baked" "$TILES/stage-1-tile-3.log" && fail "the lost stage-1 tile was not baked again"
+echo "resumed after losing 1 of 4 stage-1 tiles: $(secs $T3 $T4) s, 7 of 8 tiles skipped: identical"
+
+# 2. Cancel a stage-0 tile mid-run: the chain waits forever (afterok never satisfied); re-submit.
+rm -rf "$W/world.vdb" "$TILES"
+"$B" slurm "$SCENE" -o "$W/world.vdb" --tiles 4 --submit $OPTS >/dev/null || fail "submit 2"
+ID=$(cut -d' ' -f1 "$TILES/jobs"); LATER=$(cut -d' ' -f2- "$TILES/jobs")
+bake_pid 2 >/dev/null || fail "stage-0 tile 2 never ran"
 scancel "${ID}_2"
-for i in $(seq 600); do [ -z "$(squeue -h -j "$ID" -o %i 2>/dev/null)" ] && break; sleep 1; done
-[ -f "$W/world.vdb.tiles/stage-0-tile-2.vdb" ] && fail "the cancelled tile left a file"
-[ -f "$W/world.vdb.tiles/stage-0.vdb" ] && fail "the stage-0 merge ran although a tile was cancelled"
+for i in $(seq 600); do [ -z "$(squeue -h -j "$ID" -o %i 2>/dev/null)" ] && break; sleep 0.2; done
+[ -f "$TILES/stage-0-tile-2.vdb" ] && fail "the cancelled tile left a file"
+grep -q "requeueing" "$TILES/stage-0-tile-2.log" && fail "the cancelled tile was requeued"
+[ -f "$TILES/stage-0.vdb" ] && fail "the stage-0 merge ran although a tile was cancelled"
 [ -f "$W/world.vdb" ] && fail "the final merge ran although a tile was cancelled"
 scancel $LATER
-T3=$(date +%s.%N)
-"$B" slurm "$SCENE" -o "$W/world.vdb" --tiles 4 --submit $OPTS || fail "re-submit"
-wait_jobs || fail "resumed jobs did not finish"
-T4=$(date +%s.%N)
+T5=$(now)
+"$B" slurm "$SCENE" -o "$W/world.vdb" --tiles 4 --submit $OPTS >/dev/null || fail "re-submit"
+slurm_local_wait || fail "resumed jobs did not finish"
+T6=$(now)
 cmp "$W/whole.vdb" "$W/world.vdb" || fail "the resumed bake differs from the single bake"
-SKIPPED=$(grep -l "already baked" "$W"/world.vdb.tiles/stage-0-tile-*.log | wc -l)
-[ "$SKIPPED" -eq 3 ] || fail "expected 3 stage-0 tiles skipped on resume, got $SKIPPED"
-echo "resumed after cancelling 1 of 4 stage-0 tiles: $(echo "$T4 - $T3" | bc) s, 3 skipped: identical"
+[ "$(skipped 0)" -eq 3 ] || fail "expected 3 stage-0 tiles skipped on resume, got $(skipped 0)"
+echo "resumed after cancelling 1 of 4 stage-0 tiles: $(secs $T5 $T6) s, 3 skipped: identical"
 echo PASSED

@@ -81,6 +81,19 @@ std::string run(const std::string& command) {
     return out;
 }
 
+/// The end of a tile's job script: a bake killed by a signal (a kill, the OOM killer, a node
+/// in trouble) puts its array task back into the queue, up to 3 times, so that the chain goes
+/// on; a bake that stops with an error message exits with it (it would fail again). Slurm's
+/// own --requeue covers node failures and `scontrol requeue`; `scancel` kills this script too,
+/// so a cancelled tile stays cancelled.
+const char* const kRequeueOnSignal =
+    "rc=$?\n"
+    "if [ $rc -gt 128 ] && [ \"${SLURM_RESTART_COUNT:-0}\" -lt 3 ]; then\n"
+    "  echo \"vdblight slurm: the bake was killed by signal $((rc - 128)): requeueing tile $SLURM_ARRAY_TASK_ID\"\n"
+    "  scontrol requeue \"${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}\"\n"
+    "fi\n"
+    "exit $rc\n";
+
 /// Tile file and log names of stage `stage` of `stages` (one stage: the names before staging).
 std::string stagePrefix(int stage, int stages) { return stages == 1 ? "" : "stage-" + std::to_string(stage) + "-"; }
 
@@ -165,11 +178,11 @@ void addSlurmCommand(CLI::App& app) {
             const std::string merged = s + 1 == stages ? output.string() : d + "/stage-" + std::to_string(s) + ".vdb";
             writeScript(dir / ("tiles" + suffix + ".sbatch"),
                         "#!/bin/sh\n#SBATCH --job-name=vdblight-tiles" + suffix + "\n#SBATCH --array=0-" + last +
-                            "\n#SBATCH --requeue\n#SBATCH --output=" + d + "/" + prefix + "tile-%a.log\n" + extra +
-                            "# One tile per array task; a tile already on disk with the same parameters is skipped.\n"
-                            "exec " + vdblight + " bake " + scene + " -o " + shellQuote(d) + "/" + prefix +
+                            "\n#SBATCH --requeue\n#SBATCH --open-mode=append\n#SBATCH --output=" + d + "/" + prefix + "tile-%a.log\n" + extra +
+                            "# One tile per array task; a tile already on disk with the same parameters is skipped.\n" +
+                            vdblight + " bake " + scene + " -o " + shellQuote(d) + "/" + prefix +
                             "tile-$SLURM_ARRAY_TASK_ID.vdb --tiles " + std::to_string(c->tiles) +
-                            " --tile $SLURM_ARRAY_TASK_ID" + stageArgs + bakeArgs + "\n");
+                            " --tile $SLURM_ARRAY_TASK_ID" + stageArgs + bakeArgs + "\n" + kRequeueOnSignal);
             std::string tiles;
             for (int t = 0; t < c->tiles; ++t) tiles += " " + shellQuote(d + "/" + prefix + "tile-" + std::to_string(t) + ".vdb");
             writeScript(dir / ("merge" + suffix + ".sbatch"),
