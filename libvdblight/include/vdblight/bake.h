@@ -58,7 +58,8 @@ struct BakeStats {
     double raysPerSecond() const { return seconds > 0 ? double(rays.total()) / seconds : 0.0; }
     /// Per node (passes that estimate it: the point gathers of bake.h and bake_adaptive.h),
     /// the relative standard error of its mean irradiance over normals, from the sample
-    /// variance of its samples (node_sampler.h); empty for other passes.
+    /// variance of its samples (node_sampler.h); empty for other passes. A tile's bake
+    /// (`only`, tiles.h) holds the nodes of its window only (VolumeLevel::heldNodes).
     std::vector<float> estimatedError;
     /// q-quantile (0..1) of estimatedError (nearest rank); 0 if there is none.
     double errorQuantile(double q) const;

@@ -49,7 +49,7 @@ struct AdaptiveOptions {
 };
 
 struct AdaptiveStats : BakeStats {
-    std::vector<uint32_t> raysPerNode;    ///< gathered rays (samples) per node
+    std::vector<uint32_t> raysPerNode;    ///< gathered rays (samples) per node (a tile: per node of its window)
     uint64_t samples = 0;                 ///< sum of raysPerNode
     uint64_t nodesAtMax = 0;              ///< nodes that stopped at maxRays without meeting the rule
     // estimatedError (BakeStats): the achieved relative standard error per node.
