@@ -9,7 +9,9 @@
 #     only that tile (3 skipped) and gives the identical file.
 #  3. After a complete run, one stage-1 tile and the merged file lost: re-submitting redoes
 #     only that tile (4 + 3 skipped) and gives the identical file.
-# Usage: slurm_cluster_test.sh VDBLIGHT SOURCE_DIR. Exit 77 (skipped) without Slurm or root.
+# Usage: slurm_cluster_test.sh VDBLIGHT SOURCE_DIR (absolute: the single bake and the tiles must
+# record the same scene path). Exit 77 (skipped) without Slurm or root. KEEP_SLURM_DIR=1 keeps
+# the work directory (logs, tiles) for a look after a failure.
 set -u
 B=$1; SRC=$2
 . "$SRC/tests/slurm_local.sh"
