@@ -1,0 +1,60 @@
+// The point gather as a Pass (bake.h): SH order 2 at the nodes of a uniform grid, with
+// probe-to-probe passes, depth moments from its own first hits, direct light out of the SH
+// and, as an option, the engines' back-face invalidation (bake_antialiased.h).
+#include "passes.h"
+
+#include "pass_options.h"
+#include "vdblight/bake_antialiased.h"
+#include "vdblight/errors.h"
+#include "vdblight/sh.h"
+
+namespace vdblight::bake_detail {
+
+std::vector<PassOption> GatherPass::options() const {
+    return {raysOption("ray directions per node and pass (a fixed budget)"),
+            probePassesOption(),
+            numberOption("invalidate-backface",
+                         "nodes whose rays hit back-faces more than this fraction are replaced by dilating valid "
+                         "neighbours",
+                         "off", 0, 1, &BakeRequest::invalidateBackface,
+                         "--invalidate-backface applies to --sampling point only", "in [0, 1]"),
+            depthMomentsOption(), depthRaysOption(), shWindowOption()};
+}
+
+void GatherPass::validate(const BakeRequest& request) const {
+    if (request.invalidateBackface && request.probePasses && *request.probePasses > 0)
+        throw ValueError("--probe-passes works with --method gather, --sampling point, --layout uniform and "
+                         "--basis sh2 only");
+    Pass::validate(request);
+}
+
+std::size_t GatherPass::bytesPerNode(const BakeRequest&) const {
+    // Float coefficients plus OpenVDB's copy while writing.
+    return 2 * sh::kCoeffs * 3 * sizeof(float);
+}
+
+std::string GatherPass::untileable(const BakeRequest& r) const {
+    if (r.invalidateBackface) return "--invalidate-backface cannot be tiled (its dilation crosses tile borders)";
+    if (r.shWindow) return "--sh-window cannot be tiled yet (the window would have to follow the seams at merge)";
+    // Each probe-to-probe pass reads every node of the pass before: one stage per pass.
+    const int passes = r.probePasses.value_or(0);
+    if (passes > 0 && !r.stage)
+        return "probe-to-probe passes are tiled in stages (each pass reads every node of the pass before): bake "
+               "every tile with --stage 0, merge them, then every tile with --stage 1 --stage-input STAGE0.vdb, ... up "
+               "to --stage " + std::to_string(passes) + ", and merge the last stage ('vdblight slurm' writes "
+               "this chain; docs/scaling.md), or add --probe-passes 0";
+    return "";
+}
+
+Volume GatherPass::run(const BakeContext& c, const BakeRequest& r, const GridSpec& grid, BakeReport& report) const {
+    GatherOptions options = gatherOptions(c, r);
+    LevelTopology shape;
+    shape.grid = grid;
+    options.only = selectTile(c, {shape});
+    if (r.invalidateBackface)
+        return bakeShGatherInvalidated(c.scene, c.tracer, grid, options, *r.invalidateBackface, c.interrupter,
+                                       &report.stats);
+    return bakeShGather(c.scene, c.tracer, grid, options, c.interrupter, &report.stats);
+}
+
+}  // namespace vdblight::bake_detail

@@ -1,0 +1,171 @@
+// The option declarations the passes share, and what every pass does alike: the range and
+// word checks of Pass::validate, the default Pass::finish.
+#include "pass_options.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "vdblight/bake.h"
+#include "vdblight/bins.h"
+#include "vdblight/errors.h"
+#include "vdblight/layout_levels.h"
+
+namespace vdblight {
+
+namespace {
+std::string numberText(double v) {
+    if (std::isfinite(v) && v == std::floor(v) && std::fabs(v) < 1e15) {
+        std::ostringstream s;
+        s << int64_t(v);
+        return s.str();
+    }
+    return std::to_string(v);
+}
+
+std::string rangeText(const PassOption& o) {
+    if (!o.range.empty()) return o.range;
+    if (o.minExclusive) return "in (" + numberText(o.min) + ", " + numberText(o.max) + "]";
+    if (std::isinf(o.max)) return "at least " + numberText(o.min);
+    return "between " + numberText(o.min) + " and " + numberText(o.max);
+}
+}  // namespace
+
+void Pass::validate(const BakeRequest& request) const {
+    for (const PassOption& o : options()) {
+        if (o.number) {
+            const std::optional<double> v = o.number(request);
+            if (!v) continue;
+            const bool aboveMin = o.minExclusive ? *v > o.min : *v >= o.min;
+            if (!(aboveMin && *v <= o.max))  // NaN fails too
+                throw ValueError("--" + o.name + " must be " + rangeText(o) + ", got " + numberText(*v));
+        } else if (o.word && !o.choices.empty()) {
+            const std::optional<std::string> w = o.word(request);
+            if (!w) continue;
+            bool known = false;
+            for (const std::string& c : o.choices) known = known || c == *w;
+            if (!known)
+                throw ValueError("--" + o.name + " must be " + bake_detail::joinChoices(o.choices) + ", got '" + *w + "'");
+        }
+    }
+}
+
+void Pass::finish(Volume&, WriteOptions&, const BakeRequest&) const {}
+
+namespace bake_detail {
+
+bool isSh2(const std::string& basis) { return bins::parseBasisSpec(basis).kind == bins::BasisSpec::Kind::Sh2; }
+
+std::string joinChoices(const std::vector<std::string>& words) {
+    std::string text;
+    for (std::size_t i = 0; i < words.size(); ++i)
+        text += (i == 0 ? "" : i + 1 == words.size() ? " or " : ", ") + words[i];
+    return text;
+}
+
+PassOption flagOption(std::string name, std::string help, bool BakeRequest::*field, std::string needs) {
+    PassOption o;
+    o.name = std::move(name);
+    o.help = std::move(help);
+    o.defaultValue = "off";
+    o.min = 0, o.max = 1;
+    o.needs = std::move(needs);
+    o.number = [field](const BakeRequest& r) -> std::optional<double> {
+        return r.*field ? std::optional<double>(1.0) : std::nullopt;
+    };
+    o.setNumber = [field](BakeRequest& r, double v) { r.*field = v != 0; };
+    return o;
+}
+
+PassOption flagOption(std::string name, std::string help, std::optional<bool> BakeRequest::*field, std::string needs) {
+    PassOption o;
+    o.name = std::move(name);
+    o.help = std::move(help);
+    o.defaultValue = "the --quality preset's";
+    o.min = 0, o.max = 1;
+    o.needs = std::move(needs);
+    o.number = [field](const BakeRequest& r) -> std::optional<double> {
+        return (r.*field).value_or(false) ? std::optional<double>(1.0) : std::nullopt;
+    };
+    o.setNumber = [field](BakeRequest& r, double v) { r.*field = v != 0; };
+    return o;
+}
+
+PassOption wordOption(std::string name, std::string help, std::string defaultValue, std::vector<std::string> choices,
+                      std::string BakeRequest::*field, std::string needs) {
+    PassOption o;
+    o.name = std::move(name);
+    o.help = std::move(help);
+    o.defaultValue = std::move(defaultValue);
+    o.choices = std::move(choices);
+    o.needs = std::move(needs);
+    o.word = [field](const BakeRequest& r) -> std::optional<std::string> {
+        if ((r.*field).empty()) return std::nullopt;
+        return r.*field;
+    };
+    return o;
+}
+
+PassOption raysOption(const std::string& help) {
+    return numberOption("rays", help, "256 (the --quality preset's for the uniform SH point gather)", 1, double(1u << 30),
+                        &BakeRequest::rays);
+}
+
+PassOption depthMomentsOption() {
+    return flagOption("depth-moments",
+                      "also store per-node depth moments, so that lookups do not interpolate across walls "
+                      "(depth_moments.h)",
+                      &BakeRequest::depthMoments,
+                      "--depth-moments works with --method gather only (the irradiance-vector lookup does not weight "
+                      "by depth yet)");
+}
+
+PassOption depthRaysOption() {
+    return numberOption("depth-rays", "depth moments: first-hit rays per node", "as many as --rays", 1, double(1u << 20),
+                        &BakeRequest::depthRays, "--depth-rays needs --depth-moments");
+}
+
+PassOption shWindowOption() {
+    return flagOption("sh-window", "window the SH bands so that irradiance is never negative (sh_window.h)",
+                      &BakeRequest::shWindow, "--sh-window applies to --method gather with --basis sh2 only");
+}
+
+PassOption probePassesOption() {
+    PassOption o = numberOption("probe-passes",
+                                "passes after the first that end gathered paths at their first hit with the "
+                                "previous pass's reflected light (probe-to-probe bounces)",
+                                "the --quality preset's (0, 1 or 2)", 0, 8, &BakeRequest::probePasses,
+                                "--probe-passes works with --method gather, --sampling point, --layout uniform and "
+                                "--basis sh2 only");
+    // 0 passes is what every other pass does: only more than 0 is refused elsewhere.
+    o.number = [](const BakeRequest& r) -> std::optional<double> {
+        if (!r.probePasses || *r.probePasses == 0) return std::nullopt;
+        return double(*r.probePasses);
+    };
+    return o;
+}
+
+GatherOptions gatherOptions(const BakeContext& c, const BakeRequest& r) {
+    GatherOptions o;
+    o.raysPerNode = *r.rays;
+    o.seed = c.seed;
+    o.threads = c.threads;
+    o.transport = c.transport;
+    o.probePasses = *r.probePasses;
+    // The point gather records depth moments from its own first rays (no extra rays).
+    o.depthMoments = *r.depthMoments && (!r.depthRays || *r.depthRays == *r.rays);
+    o.stage = c.stage;
+    o.stageInput = c.stageInput;
+    return o;
+}
+
+LevelsPlacement levelsPlacement(const BakeRequest& r) {
+    LevelsPlacement p;
+    p.kind = parseLayoutKind(r.layout);
+    p.refine = *r.refine;
+    p.levels = *r.levels;
+    p.refineDistance = *r.refineDistance;
+    return p;
+}
+
+}  // namespace bake_detail
+}  // namespace vdblight

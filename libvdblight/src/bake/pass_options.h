@@ -1,0 +1,88 @@
+// Declaring a pass's options (PassOption, pass.h) in one line each: the BakeRequest field,
+// its range or words, and the refusal when another pass is given it. (Internal to the bake
+// module; the passes' files use it.)
+#pragma once
+
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "vdblight/bake_volume.h"
+#include "vdblight/pass.h"
+
+namespace vdblight::bake_detail {
+
+constexpr double kNoMax = std::numeric_limits<double>::infinity();
+
+/// A number held in a std::optional field of BakeRequest (given = set).
+template <typename T>
+PassOption numberOption(std::string name, std::string help, std::string defaultValue, double min, double max,
+                        std::optional<T> BakeRequest::*field, std::string needs = {}, std::string range = {}) {
+    PassOption o;
+    o.name = std::move(name);
+    o.help = std::move(help);
+    o.defaultValue = std::move(defaultValue);
+    o.min = min;
+    o.max = max;
+    o.range = std::move(range);
+    o.needs = std::move(needs);
+    o.number = [field](const BakeRequest& r) -> std::optional<double> {
+        if (!(r.*field)) return std::nullopt;
+        return double(*(r.*field));
+    };
+    o.setNumber = [field](BakeRequest& r, double v) { r.*field = T(v); };
+    return o;
+}
+
+/// A number held in a plain field, given when it differs from `unset` (e.g. photons).
+template <typename T>
+PassOption plainNumberOption(std::string name, std::string help, double min, double max, T BakeRequest::*field,
+                             T unset) {
+    PassOption o;
+    o.name = std::move(name);
+    o.help = std::move(help);
+    o.defaultValue = std::to_string(unset);
+    o.min = min;
+    o.max = max;
+    o.number = [field, unset](const BakeRequest& r) -> std::optional<double> {
+        if (r.*field == unset) return std::nullopt;
+        return double(r.*field);
+    };
+    o.setNumber = [field](BakeRequest& r, double v) { r.*field = T(v); };
+    return o;
+}
+
+/// An on/off flag (given = on).
+PassOption flagOption(std::string name, std::string help, bool BakeRequest::*field, std::string needs = {});
+PassOption flagOption(std::string name, std::string help, std::optional<bool> BakeRequest::*field, std::string needs = {});
+
+/// A word among `choices` held in a string field (given = non-empty).
+PassOption wordOption(std::string name, std::string help, std::string defaultValue, std::vector<std::string> choices,
+                      std::string BakeRequest::*field, std::string needs = {});
+
+/// The declared options every pass that gathers SH or bins at nodes shares.
+PassOption raysOption(const std::string& help);
+PassOption depthMomentsOption();
+PassOption depthRaysOption();
+PassOption shWindowOption();
+PassOption probePassesOption();
+
+/// The basis text names SH order 2 (bins.h parses it; ValueError for an unknown basis).
+bool isSh2(const std::string& basis);
+
+/// "a, b or c".
+std::string joinChoices(const std::vector<std::string>& words);
+
+/// The tile selection of a context as a function of the levels (null without tiles).
+inline const NodeMask* selectTile(const BakeContext& c, const std::vector<LevelTopology>& levels) {
+    return c.selectTile ? c.selectTile(levels) : nullptr;
+}
+
+/// The point gather's options from a resolved request (bake.h): shared by gather and levels.
+GatherOptions gatherOptions(const BakeContext& c, const BakeRequest& r);
+
+/// The multi-level placement of a resolved request (layout_levels.h).
+LevelsPlacement levelsPlacement(const BakeRequest& r);
+
+}  // namespace vdblight::bake_detail
