@@ -74,8 +74,16 @@ void checkTiles(const BakeRequest& given, const BakeRequest& r, const Pass& pass
         if (*r.tile < 0 || *r.tile >= *r.tiles)
             throw ValueError("--tile must be between 0 and " + std::to_string(*r.tiles - 1) + ", got " +
                              std::to_string(*r.tile));
-        const std::string why = pass.untileable(r);
-        if (!why.empty()) throw ValueError(why);
+        // The selected pass, and the passes other options name: a request that asks for two
+        // (antialiased sampling on a bilevel layout) is refused for tiling first, as before.
+        std::vector<const Pass*> named = {&pass};
+        if (r.method == "photons") named.push_back(&findPass("photons"));
+        if (r.sampling == "antialiased") named.push_back(&findPass("antialiased"));
+        if (r.invalidateBackface) named.push_back(&findPass("gather"));
+        for (const Pass* p : named) {
+            const std::string why = p->untileable(r);
+            if (!why.empty()) throw ValueError(why);
+        }
     }
     const int passes = r.probePasses.value_or(0);
     if (given.stage) {
