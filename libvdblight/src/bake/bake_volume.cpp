@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "pass_metadata.h"
 #include "pass_options.h"
 #include "vdblight/bake_depth.h"
 #include "vdblight/bake_direct.h"
@@ -106,7 +107,7 @@ Volume bakeImpl(const Scene& scene, const BakeRequest& given, Interrupter* inter
     const NodeMask* only = tile ? &tile->mask : nullptr;
     if (direct.mode != DirectMode::Baked && report.lastStage)
         bakeLightVisibility(scene, tracer, report.direct, direct, volume, interrupter, only);
-    if (*r.refineDistance > 0) volume.meta["refine_distance"] = *r.refineDistance;
+    if (*r.refineDistance > 0) bake_detail::PassMetadata(volume.meta).number("refine_distance", *r.refineDistance);
     if (r.shWindow) applyShWindow(volume);
     if (*r.depthMoments && !volume.hasDepth() && report.lastStage) {  // passes without the gather's hook (bake_depth.h)
         DepthOptions depthOptions;
@@ -119,8 +120,8 @@ Volume bakeImpl(const Scene& scene, const BakeRequest& given, Interrupter* inter
         report.depth = depthStats;
     }
     placeVolumeInWorld(volume, scene.origin);  // baked in the scene's local frame (scene_origin.h)
-    volume.meta["scene_file"] = r.sceneFile.empty() ? std::string("(in memory)") : r.sceneFile;
-    volume.meta["sky"] = skyText(scene, r);
+    bake_detail::PassMetadata(volume.meta).provenance(r.sceneFile.empty() ? std::string("(in memory)") : r.sceneFile,
+                                                      skyText(scene, r));
     report.write.halfFloat = r.halfFloat;
     report.write.reproducible = r.reproducible;
     pass.finish(volume, report.write, r);
@@ -172,7 +173,7 @@ Volume bakeToFile(const Scene& scene, const BakeRequest& request, const std::str
     if (volume.levels.size() == 1 && report.pass->name() != "bins") nodeStats.estimatedError = report.stats.estimatedError;
     if (!report.lastStage) {
         report.write.halfFloat = false;  // the next stage reads the reflected light exactly
-        volume.meta["probe_stage_params_hash"] = tile.sameBake;
+        bake_detail::PassMetadata(volume.meta).text("probe_stage_params_hash", tile.sameBake);
     }
     writeTile(volume, tile.mask, tile.id, path, report.write, &nodeStats);
     report.tileNodes = 0;
