@@ -213,6 +213,32 @@ TEST(BakeVolume, RefusesOptionsThePassDoesNotTake) {
     EXPECT_EQ(refusal([](BakeRequest&) {}), "accepted");
 }
 
+TEST(BakeVolume, OptionsSetFromTextAsTheCommandLineGivesThem) {
+    for (const Pass* pass : passRegistry())
+        for (const PassOption& o : pass->options()) {
+            SCOPED_TRACE(pass->name() + " --" + o.name);
+            ASSERT_TRUE(o.setText);
+            BakeRequest r;
+            if (o.flag) {
+                o.setText(r, "true");
+                EXPECT_EQ(o.number(r), std::optional<double>(1.0));
+                EXPECT_THROW(o.setText(r, "maybe"), ValueError);
+            } else if (!o.choices.empty()) {
+                o.setText(r, o.choices.back());
+                EXPECT_EQ(o.word(r), std::optional<std::string>(o.choices.back()));
+            } else {
+                o.setText(r, "2");
+                EXPECT_EQ(o.number(r), std::optional<double>(2.0));
+                try {
+                    o.setText(r, "2x");
+                    ADD_FAILURE() << "'2x' accepted";
+                } catch (const ValueError& e) {
+                    EXPECT_NE(std::string(e.what()).find("--" + o.name), std::string::npos) << e.what();
+                }
+            }
+        }
+}
+
 TEST(BakeVolume, RefusesAGridThatWouldNotFitBeforeBaking) {
     const Scene scene = loadScene(defaultScenePath(), SceneLoadOptions{});
     BakeRequest r;

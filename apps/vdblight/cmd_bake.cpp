@@ -3,6 +3,7 @@
 // bakes and writes the file; this file only prints what the bake did.
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <iostream>
 #include <string>
 
@@ -23,36 +24,18 @@ struct BakeCommand {
     std::string output;
     double spacing = 0;
     int resolution = 0;
-    uint64_t nodes = 0;  // > 0: about this many nodes (node_budget.h; the --quality preset's)
     std::string bounds;
-    uint32_t rays = 256;
     uint64_t seed = 1;
     int threads = 0;
     bool half = false;
     bool quiet = false;
     std::string method = "gather";
-    uint64_t photons = 1'000'000;
-    bool compact = false;            // --method photons: write the section 4.2 form
     std::string sampling = "point";  // point | antialiased (bake_antialiased.h)
-    std::string domain;              // all | interior; default interior for antialiased
-    std::string fit;                 // projection | least-squares (antialiased only; default projection)
-    double invalidateBackface = -1;  // < 0: off (point sampling only)
     std::string layout = "uniform";
-    int refine = 3;
-    int levels = 3;
-    bool cullSolids = false;
-    double refineDistance = 0.0;
-    bool shWindow = false;
-    double targetError = 0;  // > 0: error-targeted point gather (bake_adaptive.h)
-    uint32_t maxRays = 0;    // 0: the --quality preset's
-    uint32_t minRays = 0;    // 0: the --quality preset's
-    std::string quality = "default";  // preview | default | high (qualityPreset)
-    int probePasses = 0;              // GatherOptions::probePasses
+    std::string quality = "default";  // preview | default | high (resolveBakeRequest)
     std::string basis = "sh2";  // sh2 | bins:R | moment:n[:R] (bins.h)
     std::string direct;            // baked | runtime | occlusion (bake_direct.h); empty: the default
     int directLights = 4;          // --direct occlusion: lights with a visibility channel
-    bool depthMoments = false;  // per-node depth moments for visibility-weighted lookups (bake_depth.h)
-    uint32_t depthRays = 0;     // 0: as many as --rays (then the gather's own first rays)
     bool reproducible = true;   // leave run-specific metadata out of the file (vdb_io.h)
     int tiles = 0;              // > 0: bake only tile `tile` of this many (tiles.h)
     int tile = -1;
@@ -60,6 +43,16 @@ struct BakeCommand {
     std::string stageInput;     // stage > 0: the merged tiles of the stage before
     std::string parameters;     // every option that changes the result, for the tile hash
     bool planOnly = false;      // bakeStageCount: parse and resolve the presets, bake nothing
+    int stages = 1;             // bakeStageCount's answer
+    /// The passes' own options (pass.h), one command-line option each: the table of passes.
+    struct PassFlag {
+        PassOption option;
+        std::vector<std::string> passes;  // that declare it
+        std::string text;
+        bool on = false;
+        CLI::Option* cli = nullptr;
+    };
+    std::deque<PassFlag> passOptions;
 };
 
 /// The canonical text of the options that change a bake's result: each as given on the
@@ -101,15 +94,48 @@ void printNoiseSummary(const BakeStats& stats, const Volume& volume, const GridS
 }
 
 
-/// The options given on the command line, as a request (empty optionals: not given).
+/// The shared options whose absence means "the default" (the passes' own are in
+/// BakeCommand::passOptions).
 struct GivenOptions {
-    CLI::Option *spacing, *resolution, *rays, *invalidate, *refine, *levels, *target, *maxRays, *minRays,
-        *refineDistance, *probe, *depthOpt, *depthRays, *tiles, *tile, *stage;
+    CLI::Option *spacing, *resolution, *tiles, *tile, *stage;
 };
 
 template <typename T>
 std::optional<T> given(const CLI::Option* option, const T& value) {
     return option->count() > 0 ? std::optional<T>(value) : std::nullopt;
+}
+
+std::string choiceList(const std::vector<std::string>& words) {
+    std::string text;
+    for (const std::string& w : words) text += (text.empty() ? "" : "|") + w;
+    return text;
+}
+
+/// Declares every option the passes declare (pass.h), once per name, in the order of the
+/// registry, with the first declaration's help, its default and the passes that take it.
+void addPassOptions(CLI::App& cmd, BakeCommand& c) {
+    for (const Pass* pass : passRegistry())
+        for (const PassOption& o : pass->options()) {
+            auto same = std::find_if(c.passOptions.begin(), c.passOptions.end(),
+                                     [&](const BakeCommand::PassFlag& f) { return f.option.name == o.name; });
+            if (same != c.passOptions.end()) {
+                same->passes.push_back(pass->name());
+                continue;
+            }
+            c.passOptions.push_back({o, {pass->name()}, {}, false, nullptr});
+        }
+    for (BakeCommand::PassFlag& f : c.passOptions) {
+        std::string takers;
+        for (const std::string& p : f.passes) takers += (takers.empty() ? "" : ", ") + p;
+        const std::string name = "--" + f.option.name;
+        const std::string help = f.option.help + " [pass" + (f.passes.size() > 1 ? "es " : " ") + takers + "]";
+        if (f.option.flag)
+            f.cli = cmd.add_flag(f.option.negatable ? name + ",!--no-" + f.option.name : name, f.on, help);
+        else
+            f.cli = cmd.add_option(name, f.text, help)
+                        ->type_name(f.option.choices.empty() ? "NUMBER" : choiceList(f.option.choices))
+                        ->default_str(f.option.defaultValue);
+    }
 }
 
 BakeRequest toRequest(const BakeCommand& c, const GivenOptions& g) {
@@ -125,25 +151,10 @@ BakeRequest toRequest(const BakeCommand& c, const GivenOptions& g) {
     r.spacing = given(g.spacing, c.spacing);
     r.resolution = given(g.resolution, c.resolution);
     if (!c.bounds.empty()) r.bounds = parseBounds(c.bounds);
-    r.refine = given(g.refine, c.refine);
-    r.levels = given(g.levels, c.levels);
-    r.refineDistance = given(g.refineDistance, c.refineDistance);
-    r.cullSolids = c.cullSolids;
-    r.rays = given(g.rays, c.rays);
-    r.targetError = given(g.target, c.targetError);
-    r.minRays = given(g.minRays, c.minRays);
-    r.maxRays = given(g.maxRays, c.maxRays);
-    r.probePasses = given(g.probe, c.probePasses);
-    r.invalidateBackface = given(g.invalidate, c.invalidateBackface);
-    r.domain = c.domain;
-    r.fit = c.fit;
-    r.photons = c.photons;
-    r.compact = c.compact;
-    r.shWindow = c.shWindow;
+    for (const BakeCommand::PassFlag& f : c.passOptions)
+        if (f.cli->count() > 0) f.option.setText(r, f.option.flag ? (f.on ? "true" : "false") : f.text);
     r.direct = c.direct;
     r.directLights = c.directLights;
-    r.depthMoments = given(g.depthOpt, c.depthMoments);
-    r.depthRays = given(g.depthRays, c.depthRays);
     r.halfFloat = c.half;
     r.reproducible = c.reproducible;
     r.tiles = given(g.tiles, c.tiles);
@@ -167,7 +178,7 @@ void printPhotonSummary(const BakeCommand& c, const Scene& scene, const SceneLoa
               << formatSeconds(stats.seconds) << " ("
               << formatCount(stats.seconds > 0 ? double(stats.photons) / stats.seconds : 0.0) << " photons/s). Wrote "
               << c.output
-              << (c.compact ? " (compact irradiance vectors: colour + direction, 12 half-float Vec3 grids).\n"
+              << (report.resolved.compact ? " (compact irradiance vectors: colour + direction, 12 half-float Vec3 grids).\n"
                             : " (irradiance vectors, 18 Vec3f grids).\n");
 }
 
@@ -299,10 +310,6 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
         cmd->add_option("--resolution", c->resolution, "Nodes along the longest axis (default 16)")->excludes(spacing);
     cmd->add_option("--bounds", c->bounds,
                     "Node box x0,y0,z0,x1,y1,z1 (default: scene bounds inset by half a spacing)");
-    auto* rays = cmd->add_option("--rays", c->rays,
-                                 "Ray directions per node and pass: a fixed budget (default 256; --quality high "
-                                 "samples to an error target instead)")
-                     ->check(CLI::Range(1u, 1u << 30));
     cmd->add_option("--quality", c->quality,
                     "preview: 16 nodes on the longest axis, 256 rays per node of full paths (sub-second, noisy "
                     "where light is hard to reach); default: about 16384 nodes in the scene box (16..64 on its "
@@ -317,48 +324,17 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
     cmd->add_flag("--half", c->half, "Store the grids as 16-bit floats");
     cmd->add_option("--method", c->method, "gather (SH order 2 at each node) or photons (irradiance vectors, Pacanowski et al.)")
         ->capture_default_str();
-    cmd->add_option("--photons", c->photons, "Photons emitted in total (--method photons)")->capture_default_str();
-    cmd->add_flag("--compact", c->compact,
-                  "--method photons: write the compact colour + direction form (Pacanowski et al. 4.2; 12 half-float "
-                  "grids) instead of the 18 full grids");
     cmd->add_option("--sampling", c->sampling,
                     "point: project at the nodes; antialiased: trilinear-weighted origins over each cell "
                     "(Kontkanen-Laine eq. 6; --rays is then rays per cell)")
         ->capture_default_str();
-    cmd->add_option("--domain", c->domain,
-                    "antialiased only: all, or interior = only origins that see no back-face (default)");
-    cmd->add_option("--fit", c->fit,
-                    "antialiased only: projection = eq. 6 (default), or least-squares = fit the node values to the "
-                    "samples over the domain (docs/methods.md)");
-    auto* invalidate = cmd->add_option("--invalidate-backface", c->invalidateBackface,
-                    "point only: nodes whose rays hit back-faces more than this fraction (0..1) are replaced by "
-                    "dilating valid neighbours");
     cmd->add_option("--layout", c->layout, "Node layout: uniform, bilevel (Greger et al.) or adaptive (n levels)")
         ->capture_default_str();
-    auto* refine = cmd->add_option("--refine", c->refine, "bilevel/adaptive: split refined cells K x K x K")->capture_default_str();
-    auto* levelsOpt = cmd->add_option("--levels", c->levels, "adaptive: number of levels including the first")->capture_default_str();
-    auto* target = cmd->add_option("--target-error", c->targetError,
-                    "point gather: sample each node in doubling rounds until the relative standard error of its "
-                    "mean irradiance is below this (e.g. 0.02), up to --max-rays");
-    auto* maxRays = cmd->add_option("--max-rays", c->maxRays,
-                                    "error-targeted bakes: most rays a node may take (default 2048)");
-    auto* minRays = cmd->add_option("--min-rays", c->minRays,
-                                    "error-targeted bakes: rays of the first round (default 64)");
-    cmd->add_flag("--sh-window", c->shWindow,
-                  "gather: window the SH bands (1, 0.584, 0.135) so that irradiance is never negative (blurs; "
-                  "docs/methods.md)");
     cmd->add_option("--basis", c->basis,
                     "Directional basis: sh2, bins:R (Greger: 2 R^2 equal-area bins of irradiance) or moment:n[:R] "
                     "(n-th moment, eq. 5, for glossy lookups with query --view; R = 17 by default); with bins, "
                     "--rays is rounded up to a multiple of the bin count")
         ->capture_default_str();
-    auto* refineDistance = cmd->add_option("--refine-distance", c->refineDistance,
-                    "bilevel/adaptive: refine every cell within this distance (scene units, max-norm) of a "
-                    "triangle, not only cells that contain one (0 = Greger's rule)")
-                               ->capture_default_str();
-    cmd->add_flag("--cull-solids", c->cullSolids,
-                  "bilevel/adaptive with sh2: leave out nodes whose every cell lies inside a closed solid "
-                  "(docs/format.md, Levels); queries there return 0");
     cmd->add_option("--direct", c->direct,
                     "Direct light: baked (in the SH), runtime (SH holds indirect light; the file lists the lights for "
                     "the run time to add) or occlusion (plus per-node visibility of the --direct-lights most important "
@@ -366,19 +342,6 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
                     "with lights, baked otherwise");
     cmd->add_option("--direct-lights", c->directLights, "--direct occlusion: lights with a visibility channel (1..16)")
         ->capture_default_str();
-    auto* probe = cmd->add_option("--probe-passes", c->probePasses,
-                    "point gather: after a first pass of full paths, this many passes that end "
-                    "each gathered path at its first hit with the previous pass's reflected light (probe-to-probe "
-                    "bounces, DDGI-style; less noise where light comes through openings, some bias; docs/methods.md). "
-                    "Default: 0 with --quality preview, 1 with default, 2 with high")
-        ->check(CLI::Range(0, 8));  // default: the --quality preset's
-    auto* depthOpt = cmd->add_flag("--depth-moments,!--no-depth-moments", c->depthMoments,
-                  "gather with sh2: also store per-node depth moments, so that lookups do not interpolate across "
-                  "walls (docs/methods.md, visibility-aware interpolation). Default: on with --quality default "
-                  "and high where the preset applies, off otherwise");
-    auto* depthRays = cmd->add_option("--depth-rays", c->depthRays,
-                                      "--depth-moments: first-hit rays per node (default: as many as --rays)")
-                          ->check(CLI::Range(1u, 1u << 20));
     cmd->add_flag("--reproducible,!--no-reproducible", c->reproducible,
                   "Same inputs, parameters and seed give the same file bytes on any machine and thread count: "
                   "the wall-clock time and thread count are printed, not stored (default); --no-reproducible "
@@ -395,16 +358,19 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
                     "stage's tiles gives the single bake (docs/scaling.md, staged bakes)");
     cmd->add_option("--stage-input", c->stageInput,
                     "With --stage S > 0: the merged tiles of stage S-1 ('vdblight merge' of their tile files)");
-    const GivenOptions g{spacing, resolution, rays, invalidate, refine, levelsOpt, target, maxRays, minRays,
-                         refineDistance, probe, depthOpt, depthRays, tilesOpt, tileOpt, stageOpt};
+    addPassOptions(*cmd, *c);
+    std::string passes = "Passes (the options select one; each takes the options marked with its name):";
+    for (const Pass* p : passRegistry()) passes += "\n  " + p->name() + ": " + p->description();
+    cmd->footer(passes);
+    const GivenOptions g{spacing, resolution, tilesOpt, tileOpt, stageOpt};
     cmd->callback([c, cmd, g] {
         if (c->planOnly) {  // vdblight slurm: refuse what would not tile before writing any script
             BakeRequest staged = resolveBakeRequest(toRequest(*c, g));
-            if (g.depthRays->count() > 0 && !*staged.depthMoments) throw ValueError("--depth-rays needs --depth-moments");
+            if (staged.depthRays && !*staged.depthMoments) throw ValueError("--depth-rays needs --depth-moments");
             staged.stage = 0;
             const std::string why = findPass(staged.pass).untileable(staged);
             if (!why.empty()) throw ValueError(why);
-            c->probePasses = *staged.probePasses;
+            c->stages = *staged.probePasses + 1;
             return;
         }
         // Every option that changes the result, for the tile hash.
@@ -431,7 +397,7 @@ int bakeStageCount(const std::string& scene, const std::vector<std::string>& bak
     } catch (const CLI::ParseError& e) {
         throw ValueError(std::string("bake options: ") + e.what());
     }
-    return c->probePasses + 1;
+    return c->stages;
 }
 
 }  // namespace vdblight::app

@@ -55,6 +55,11 @@ struct PassOption {
     std::function<std::optional<std::string>(const BakeRequest&)> word;
     /// Sets the option in a request (numbers and flags), for tests and generic callers.
     std::function<void(BakeRequest&, double)> setNumber;
+    /// Sets the option from its text, as a command line gives it (numbers: ValueError naming
+    /// the option for text that is not one; words as given; flags: "true" / "false").
+    std::function<void(BakeRequest&, const std::string&)> setText;
+    bool flag = false;       ///< an on/off switch (`--name`)
+    bool negatable = false;  ///< a flag that may also be switched off (`--no-name`): its default is not "off"
     /// The one-line refusal when the option is given to a pass that does not declare it
     /// ("--fit needs --sampling antialiased"); empty: other passes ignore it.
     std::string needs;

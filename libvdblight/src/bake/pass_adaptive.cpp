@@ -16,15 +16,15 @@ const char* const kNeedsTarget =
 std::vector<PassOption> AdaptivePass::options() const {
     PassOption target = numberOption("target-error",
                                      "sample each node in doubling rounds until the relative standard error of its "
-                                     "mean irradiance is below this",
+                                     "mean irradiance is below this (e.g. 0.02), up to --max-rays",
                                      "the --quality preset's (0.03 with high)", 0, 1, &BakeRequest::targetError,
                                      "--target-error works with --method gather, --sampling point, --layout uniform "
                                      "and --basis sh2 only");
     target.minExclusive = true;
     return {target,
-            numberOption("min-rays", "rays of the first round", "64", 2, double(1u << 30), &BakeRequest::minRays,
+            numberOption("min-rays", "error-targeted bakes: rays of the first round", "64", 2, double(1u << 30), &BakeRequest::minRays,
                          kNeedsTarget),
-            numberOption("max-rays", "most rays a node may take", "2048", 2, double(1u << 30), &BakeRequest::maxRays,
+            numberOption("max-rays", "error-targeted bakes: most rays a node may take", "2048", 2, double(1u << 30), &BakeRequest::maxRays,
                          kNeedsTarget),
             probePassesOption(), depthMomentsOption(), depthRaysOption(), shWindowOption()};
 }

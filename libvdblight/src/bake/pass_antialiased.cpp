@@ -13,7 +13,10 @@ std::vector<PassOption> AntialiasedPass::options() const {
             wordOption("domain", "all, or interior = only origins that see no back-face", "interior",
                        {"all", "interior"}, &BakeRequest::domain,
                        "--domain needs --sampling antialiased (point sampling has --invalidate-backface)"),
-            wordOption("fit", "projection = eq. 6, or least-squares = fit the node values to the samples", "projection",
+            wordOption("fit",
+                       "projection = eq. 6, or least-squares = fit the node values to the samples over the domain "
+                       "(docs/methods.md)",
+                       "projection",
                        {"projection", "least-squares"}, &BakeRequest::fit, "--fit needs --sampling antialiased"),
             depthMomentsOption(), depthRaysOption(), shWindowOption()};
 }

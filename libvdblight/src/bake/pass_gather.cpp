@@ -11,11 +11,12 @@
 namespace vdblight::bake_detail {
 
 std::vector<PassOption> GatherPass::options() const {
-    return {raysOption("ray directions per node and pass (a fixed budget)"),
+    return {raysOption("Ray directions per node and pass: a fixed budget (--quality high samples to an error target "
+                       "instead; antialiased: rays per cell; bins: rounded up to a multiple of the bin count)"),
             probePassesOption(),
             numberOption("invalidate-backface",
-                         "nodes whose rays hit back-faces more than this fraction are replaced by dilating valid "
-                         "neighbours",
+                         "nodes whose rays hit back-faces more than this fraction (0..1) are replaced by dilating "
+                         "valid neighbours (the engines' heuristic)",
                          "off", 0, 1, &BakeRequest::invalidateBackface,
                          "--invalidate-backface applies to --sampling point only", "in [0, 1]"),
             depthMomentsOption(), depthRaysOption(), shWindowOption()};

@@ -13,13 +13,13 @@
 namespace vdblight::bake_detail {
 
 std::vector<PassOption> layoutOptions() {
-    return {numberOption("refine", "split refined cells K x K x K", "3", 2, kNoMax, &BakeRequest::refine,
+    return {numberOption("refine", "bilevel/adaptive: split refined cells K x K x K", "3", 2, kNoMax, &BakeRequest::refine,
                          "--refine needs --layout bilevel or adaptive"),
             numberOption("levels", "adaptive: number of levels including the first", "3", 1, 16, &BakeRequest::levels,
                          "--levels needs --layout adaptive", "at least 1"),
             numberOption("refine-distance",
-                         "refine every cell within this distance (scene units, max-norm) of a triangle, not only "
-                         "cells that contain one",
+                         "bilevel/adaptive: refine every cell within this distance (scene units, max-norm) of a "
+                         "triangle, not only cells that contain one (0 = Greger's rule)",
                          "0", 0, kNoMax, &BakeRequest::refineDistance, "--refine-distance needs --layout bilevel or adaptive",
                          "a finite distance >= 0")};
 }
@@ -34,7 +34,8 @@ std::vector<PassOption> LevelsPass::options() const {
     std::vector<PassOption> o = layoutOptions();
     o.push_back(raysOption("ray directions per node"));
     o.push_back(flagOption("cull-solids",
-                           "leave out nodes whose every cell lies inside a closed solid (docs/format.md, Levels)",
+                           "bilevel/adaptive with sh2: leave out nodes whose every cell lies inside a closed solid "
+                           "(docs/format.md, Levels); queries there return 0",
                            &BakeRequest::cullSolids, "--cull-solids needs --layout bilevel or adaptive and --basis sh2"));
     o.push_back(depthMomentsOption());
     o.push_back(depthRaysOption());

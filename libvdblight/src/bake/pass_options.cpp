@@ -62,8 +62,32 @@ std::string joinChoices(const std::vector<std::string>& words) {
     return text;
 }
 
+double parseOptionNumber(const std::string& name, const std::string& text, bool integer) {
+    std::size_t used = 0;
+    double v = 0;
+    try {
+        v = std::stod(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used == 0 || used != text.size()) throw ValueError("--" + name + " must be a number, got '" + text + "'");
+    if (integer && !(v == std::floor(v) && std::fabs(v) < 9e18))
+        throw ValueError("--" + name + " must be a whole number, got '" + text + "'");
+    return v;
+}
+
+namespace {
+void setFlagText(bool& value, const std::string& name, const std::string& text) {
+    if (text == "true" || text == "1") value = true;
+    else if (text == "false" || text == "0") value = false;
+    else throw ValueError("--" + name + " is on or off (true or false), got '" + text + "'");
+}
+}  // namespace
+
 PassOption flagOption(std::string name, std::string help, bool BakeRequest::*field, std::string needs) {
     PassOption o;
+    o.flag = true;
+    o.setText = [field, n = name](BakeRequest& r, const std::string& text) { setFlagText(r.*field, n, text); };
     o.name = std::move(name);
     o.help = std::move(help);
     o.defaultValue = "off";
@@ -78,6 +102,13 @@ PassOption flagOption(std::string name, std::string help, bool BakeRequest::*fie
 
 PassOption flagOption(std::string name, std::string help, std::optional<bool> BakeRequest::*field, std::string needs) {
     PassOption o;
+    o.flag = true;
+    o.negatable = true;
+    o.setText = [field, n = name](BakeRequest& r, const std::string& text) {
+        bool on = false;
+        setFlagText(on, n, text);
+        r.*field = on;
+    };
     o.name = std::move(name);
     o.help = std::move(help);
     o.defaultValue = "the --quality preset's";
@@ -98,6 +129,7 @@ PassOption wordOption(std::string name, std::string help, std::string defaultVal
     o.defaultValue = std::move(defaultValue);
     o.choices = std::move(choices);
     o.needs = std::move(needs);
+    o.setText = [field](BakeRequest& r, const std::string& text) { r.*field = text; };
     o.word = [field](const BakeRequest& r) -> std::optional<std::string> {
         if ((r.*field).empty()) return std::nullopt;
         return r.*field;
@@ -113,27 +145,32 @@ PassOption raysOption(const std::string& help) {
 PassOption depthMomentsOption() {
     return flagOption("depth-moments",
                       "also store per-node depth moments, so that lookups do not interpolate across walls "
-                      "(depth_moments.h)",
+                      "(docs/methods.md, visibility-aware interpolation). Default: on with --quality default and high "
+                      "where the preset applies, off otherwise",
                       &BakeRequest::depthMoments,
                       "--depth-moments works with --method gather only (the irradiance-vector lookup does not weight "
                       "by depth yet)");
 }
 
 PassOption depthRaysOption() {
-    return numberOption("depth-rays", "depth moments: first-hit rays per node", "as many as --rays", 1, double(1u << 20),
+    return numberOption("depth-rays", "--depth-moments: first-hit rays per node", "as many as --rays", 1, double(1u << 20),
                         &BakeRequest::depthRays, "--depth-rays needs --depth-moments");
 }
 
 PassOption shWindowOption() {
-    return flagOption("sh-window", "window the SH bands so that irradiance is never negative (sh_window.h)",
+    return flagOption("sh-window",
+                      "window the SH bands (1, 0.584, 0.135) so that irradiance is never negative (blurs; "
+                      "docs/methods.md)",
                       &BakeRequest::shWindow, "--sh-window applies to --method gather with --basis sh2 only");
 }
 
 PassOption probePassesOption() {
     PassOption o = numberOption("probe-passes",
-                                "passes after the first that end gathered paths at their first hit with the "
-                                "previous pass's reflected light (probe-to-probe bounces)",
-                                "the --quality preset's (0, 1 or 2)", 0, 8, &BakeRequest::probePasses,
+                                "after a first pass of full paths, this many passes that end each gathered path at "
+                                "its first hit with the previous pass's reflected light (probe-to-probe bounces, "
+                                "DDGI-style; less noise where light comes through openings, some bias; "
+                                "docs/methods.md)",
+                                "0 with --quality preview, 1 with default, 2 with high", 0, 8, &BakeRequest::probePasses,
                                 "--probe-passes works with --method gather, --sampling point, --layout uniform and "
                                 "--basis sh2 only");
     // 0 passes is what every other pass does: only more than 0 is refused elsewhere.

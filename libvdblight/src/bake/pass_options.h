@@ -4,16 +4,29 @@
 #pragma once
 
 #include <limits>
+#include <type_traits>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "vdblight/bake_volume.h"
+#include "vdblight/errors.h"
 #include "vdblight/pass.h"
 
 namespace vdblight::bake_detail {
 
 constexpr double kNoMax = std::numeric_limits<double>::infinity();
+
+/// `text` as a number of type T for option `name` (ValueError: one line naming the option).
+double parseOptionNumber(const std::string& name, const std::string& text, bool integer);
+
+template <typename T>
+T parseOptionValue(const std::string& name, const std::string& text) {
+    const double v = parseOptionNumber(name, text, std::is_integral_v<T>);
+    if (std::is_unsigned_v<T> && v < 0)
+        throw ValueError("--" + name + " must not be negative, got " + text);
+    return T(v);
+}
 
 /// A number held in a std::optional field of BakeRequest (given = set).
 template <typename T>
@@ -32,6 +45,7 @@ PassOption numberOption(std::string name, std::string help, std::string defaultV
         return double(*(r.*field));
     };
     o.setNumber = [field](BakeRequest& r, double v) { r.*field = T(v); };
+    o.setText = [field, n = o.name](BakeRequest& r, const std::string& text) { r.*field = parseOptionValue<T>(n, text); };
     return o;
 }
 
@@ -50,6 +64,7 @@ PassOption plainNumberOption(std::string name, std::string help, double min, dou
         return double(r.*field);
     };
     o.setNumber = [field](BakeRequest& r, double v) { r.*field = T(v); };
+    o.setText = [field, n = o.name](BakeRequest& r, const std::string& text) { r.*field = parseOptionValue<T>(n, text); };
     return o;
 }
 
