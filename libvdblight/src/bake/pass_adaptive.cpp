@@ -9,6 +9,25 @@
 namespace vdblight::bake_detail {
 
 namespace {
+class AdaptivePass : public Pass {
+public:
+    std::string name() const override { return "adaptive"; }
+    std::string description() const override {
+        return "error-targeted point gather: each node sampled until its irradiance reaches a relative standard "
+               "error (bake_adaptive.h)";
+    }
+    std::vector<PassOption> options() const override;
+    void validate(const BakeRequest& request) const override;
+    std::size_t bytesPerNode(const BakeRequest& request) const override;
+    std::string untileable(const BakeRequest& request) const override;
+    bool takesDirectLight() const override { return true; }
+    bool takesShWindow() const override { return true; }
+    Volume run(const BakeContext& context, const BakeRequest& request, const GridSpec& grid,
+               BakeReport& report) const override;
+};
+}  // namespace
+
+namespace {
 const char* const kNeedsTarget =
     "--max-rays and --min-rays need an error-targeted bake (--target-error, or --quality default/high without --rays)";
 }
@@ -45,7 +64,7 @@ void AdaptivePass::validate(const BakeRequest& request) const {
 
 std::size_t AdaptivePass::bytesPerNode(const BakeRequest&) const { return 2 * sh::kCoeffs * 3 * sizeof(float); }
 
-std::string AdaptivePass::untileable(const BakeRequest& r) const { return GatherPass().untileable(r); }
+std::string AdaptivePass::untileable(const BakeRequest& r) const { return pointGatherUntileable(r); }
 
 Volume AdaptivePass::run(const BakeContext& c, const BakeRequest& r, const GridSpec& grid, BakeReport& report) const {
     AdaptiveOptions a;
@@ -66,6 +85,11 @@ Volume AdaptivePass::run(const BakeContext& c, const BakeRequest& r, const GridS
     static_cast<BakeStats&>(report.stats) = stats;
     report.adaptive = std::move(stats);
     return v;
+}
+
+const Pass& adaptivePass() {
+    static const AdaptivePass pass;
+    return pass;
 }
 
 }  // namespace vdblight::bake_detail

@@ -8,6 +8,24 @@
 
 namespace vdblight::bake_detail {
 
+namespace {
+class AntialiasedPass : public Pass {
+public:
+    std::string name() const override { return "antialiased"; }
+    std::string description() const override {
+        return "anti-aliased gather (Kontkanen-Laine eq. 6): origins over each cell, domain of interest, validity "
+               "(bake_antialiased.h)";
+    }
+    std::vector<PassOption> options() const override;
+    void validate(const BakeRequest& request) const override;
+    std::size_t bytesPerNode(const BakeRequest& request) const override;
+    std::string untileable(const BakeRequest& request) const override;
+    bool takesShWindow() const override { return true; }
+    Volume run(const BakeContext& context, const BakeRequest& request, const GridSpec& grid,
+               BakeReport& report) const override;
+};
+}  // namespace
+
 std::vector<PassOption> AntialiasedPass::options() const {
     return {raysOption("candidate ray origins (one ray each) per cell"),
             wordOption("domain", "all, or interior = only origins that see no back-face", "interior",
@@ -45,6 +63,11 @@ Volume AntialiasedPass::run(const BakeContext& c, const BakeRequest& r, const Gr
     aa.domain = r.domain == "all" ? DomainMode::All : DomainMode::Interior;
     aa.fit = r.fit == "least-squares" ? NodeFit::LeastSquares : NodeFit::Projection;
     return bakeShAntialiased(c.scene, c.tracer, grid, aa, c.interrupter, &report.stats);
+}
+
+const Pass& antialiasedPass() {
+    static const AntialiasedPass pass;
+    return pass;
 }
 
 }  // namespace vdblight::bake_detail

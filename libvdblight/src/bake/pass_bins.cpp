@@ -11,8 +11,22 @@
 
 namespace vdblight::bake_detail {
 
-std::vector<PassOption> layoutOptions();
-void checkLayoutOptions(const BakeRequest& r);
+namespace {
+class BinsPass : public Pass {
+public:
+    std::string name() const override { return "bins"; }
+    std::string description() const override {
+        return "Greger bins / moments: radiance sampled through every bin, one value per bin direction "
+               "(bake_bins.h)";
+    }
+    std::vector<PassOption> options() const override;
+    void validate(const BakeRequest& request) const override;
+    std::size_t bytesPerNode(const BakeRequest& request) const override;
+    std::string untileable(const BakeRequest& request) const override;
+    Volume run(const BakeContext& context, const BakeRequest& request, const GridSpec& grid,
+               BakeReport& report) const override;
+};
+}  // namespace
 
 std::vector<PassOption> BinsPass::options() const {
     std::vector<PassOption> o = layoutOptions();
@@ -48,6 +62,11 @@ Volume BinsPass::run(const BakeContext& c, const BakeRequest& r, const GridSpec&
                                    : placeLevels(grid, c.scene.positions, c.scene.indices, placement, bytesPerNode(r));
     bo.only = selectTile(c, layout.levels);
     return bakeBins(c.scene, c.tracer, layout, bo, c.interrupter, &report.stats);
+}
+
+const Pass& binsPass() {
+    static const BinsPass pass;
+    return pass;
 }
 
 }  // namespace vdblight::bake_detail

@@ -10,6 +10,24 @@
 
 namespace vdblight::bake_detail {
 
+namespace {
+class GatherPass : public Pass {
+public:
+    std::string name() const override { return "gather"; }
+    std::string description() const override {
+        return "point gather: SH order 2 of the incident radiance at each node of a uniform grid (bake.h)";
+    }
+    std::vector<PassOption> options() const override;
+    void validate(const BakeRequest& request) const override;
+    std::size_t bytesPerNode(const BakeRequest& request) const override;
+    std::string untileable(const BakeRequest& request) const override;
+    bool takesDirectLight() const override { return true; }
+    bool takesShWindow() const override { return true; }
+    Volume run(const BakeContext& context, const BakeRequest& request, const GridSpec& grid,
+               BakeReport& report) const override;
+};
+}  // namespace
+
 std::vector<PassOption> GatherPass::options() const {
     return {raysOption("Ray directions per node and pass: a fixed budget (--quality high samples to an error target "
                        "instead; antialiased: rays per cell; bins: rounded up to a multiple of the bin count)"),
@@ -34,7 +52,9 @@ std::size_t GatherPass::bytesPerNode(const BakeRequest&) const {
     return 2 * sh::kCoeffs * 3 * sizeof(float);
 }
 
-std::string GatherPass::untileable(const BakeRequest& r) const {
+std::string GatherPass::untileable(const BakeRequest& r) const { return pointGatherUntileable(r); }
+
+std::string pointGatherUntileable(const BakeRequest& r) {
     if (r.invalidateBackface) return "--invalidate-backface cannot be tiled (its dilation crosses tile borders)";
     if (r.shWindow) return "--sh-window cannot be tiled yet (the window would have to follow the seams at merge)";
     // Each probe-to-probe pass reads every node of the pass before: one stage per pass.
@@ -56,6 +76,11 @@ Volume GatherPass::run(const BakeContext& c, const BakeRequest& r, const GridSpe
         return bakeShGatherInvalidated(c.scene, c.tracer, grid, options, *r.invalidateBackface, c.interrupter,
                                        &report.stats);
     return bakeShGather(c.scene, c.tracer, grid, options, c.interrupter, &report.stats);
+}
+
+const Pass& gatherPass() {
+    static const GatherPass pass;
+    return pass;
 }
 
 }  // namespace vdblight::bake_detail

@@ -12,6 +12,24 @@
 
 namespace vdblight::bake_detail {
 
+namespace {
+class LevelsPass : public Pass {
+public:
+    std::string name() const override { return "levels"; }
+    std::string description() const override {
+        return "point gather on bilevel / adaptive levels (Greger et al.), seams from the coarser level, optional "
+               "solid culling (bake_levels.h)";
+    }
+    std::vector<PassOption> options() const override;
+    void validate(const BakeRequest& request) const override;
+    std::size_t bytesPerNode(const BakeRequest& request) const override;
+    std::string untileable(const BakeRequest& request) const override;
+    bool takesShWindow() const override { return true; }
+    Volume run(const BakeContext& context, const BakeRequest& request, const GridSpec& grid,
+               BakeReport& report) const override;
+};
+}  // namespace
+
 std::vector<PassOption> layoutOptions() {
     return {numberOption("refine", "bilevel/adaptive: split refined cells K x K x K", "3", 2, kNoMax, &BakeRequest::refine,
                          "--refine needs --layout bilevel or adaptive"),
@@ -70,6 +88,11 @@ Volume LevelsPass::run(const BakeContext& c, const BakeRequest& r, const GridSpe
     report.layout = LayoutSummary{int(volume.levels.size()), layout.refine, layout.totalNodes(),
                                   layout.denseEquivalentNodes(), layout.culledNodes};
     return volume;
+}
+
+const Pass& levelsPass() {
+    static const LevelsPass pass;
+    return pass;
 }
 
 }  // namespace vdblight::bake_detail

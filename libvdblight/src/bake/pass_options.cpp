@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <type_traits>
 
 #include "vdblight/bake.h"
 #include "vdblight/bins.h"
@@ -84,51 +85,57 @@ void setFlagText(bool& value, const std::string& name, const std::string& text) 
 }
 }  // namespace
 
-PassOption flagOption(std::string name, std::string help, bool BakeRequest::*field, std::string needs) {
-    PassOption o;
-    o.flag = true;
-    o.setText = [field, n = name](BakeRequest& r, const std::string& text) { setFlagText(r.*field, n, text); };
-    o.name = std::move(name);
-    o.help = std::move(help);
-    o.defaultValue = "off";
-    o.min = 0, o.max = 1;
-    o.needs = std::move(needs);
-    o.number = [field](const BakeRequest& r) -> std::optional<double> {
-        return r.*field ? std::optional<double>(1.0) : std::nullopt;
-    };
-    o.setNumber = [field](BakeRequest& r, double v) { r.*field = v != 0; };
-    return o;
-}
-
-PassOption flagOption(std::string name, std::string help, std::optional<bool> BakeRequest::*field, std::string needs) {
-    PassOption o;
-    o.flag = true;
-    o.negatable = true;
-    o.setText = [field, n = name](BakeRequest& r, const std::string& text) {
-        bool on = false;
-        setFlagText(on, n, text);
-        r.*field = on;
-    };
-    o.name = std::move(name);
-    o.help = std::move(help);
-    o.defaultValue = "the --quality preset's";
-    o.min = 0, o.max = 1;
-    o.needs = std::move(needs);
-    o.number = [field](const BakeRequest& r) -> std::optional<double> {
-        return (r.*field).value_or(false) ? std::optional<double>(1.0) : std::nullopt;
-    };
-    o.setNumber = [field](BakeRequest& r, double v) { r.*field = v != 0; };
-    return o;
-}
-
-PassOption wordOption(std::string name, std::string help, std::string defaultValue, std::vector<std::string> choices,
-                      std::string BakeRequest::*field, std::string needs) {
+PassOption describeOption(std::string name, std::string help, std::string defaultValue, double min, double max,
+                          std::string needs, std::string range) {
     PassOption o;
     o.name = std::move(name);
     o.help = std::move(help);
     o.defaultValue = std::move(defaultValue);
-    o.choices = std::move(choices);
+    o.min = min;
+    o.max = max;
     o.needs = std::move(needs);
+    o.range = std::move(range);
+    return o;
+}
+
+namespace {
+/// A flag in a bool field (default off) or a std::optional<bool> one (default: the preset's,
+/// so it may be switched off too).
+template <typename Field>
+PassOption flagOf(std::string name, std::string help, Field BakeRequest::*field, std::string needs) {
+    constexpr bool negatable = !std::is_same_v<Field, bool>;
+    PassOption o = describeOption(std::move(name), std::move(help), negatable ? "the --quality preset's" : "off", 0, 1,
+                                  std::move(needs));
+    o.flag = true;
+    o.negatable = negatable;
+    o.number = [field](const BakeRequest& r) -> std::optional<double> {
+        bool on = false;
+        if constexpr (negatable) on = (r.*field).value_or(false);
+        else on = r.*field;
+        return on ? std::optional<double>(1.0) : std::nullopt;
+    };
+    o.setNumber = [field](BakeRequest& r, double v) { r.*field = v != 0; };
+    o.setText = [field, n = o.name](BakeRequest& r, const std::string& text) {
+        bool on = false;
+        setFlagText(on, n, text);
+        r.*field = on;
+    };
+    return o;
+}
+}  // namespace
+
+PassOption flagOption(std::string name, std::string help, bool BakeRequest::*field, std::string needs) {
+    return flagOf(std::move(name), std::move(help), field, std::move(needs));
+}
+
+PassOption flagOption(std::string name, std::string help, std::optional<bool> BakeRequest::*field, std::string needs) {
+    return flagOf(std::move(name), std::move(help), field, std::move(needs));
+}
+
+PassOption wordOption(std::string name, std::string help, std::string defaultValue, std::vector<std::string> choices,
+                      std::string BakeRequest::*field, std::string needs) {
+    PassOption o = describeOption(std::move(name), std::move(help), std::move(defaultValue), 0, 0, std::move(needs));
+    o.choices = std::move(choices);
     o.setText = [field](BakeRequest& r, const std::string& text) { r.*field = text; };
     o.word = [field](const BakeRequest& r) -> std::optional<std::string> {
         if ((r.*field).empty()) return std::nullopt;

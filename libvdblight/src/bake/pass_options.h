@@ -28,40 +28,20 @@ T parseOptionValue(const std::string& name, const std::string& text) {
     return T(v);
 }
 
+/// An option's description (name, help, default, range, refusal elsewhere), without the
+/// functions that reach its BakeRequest field yet.
+PassOption describeOption(std::string name, std::string help, std::string defaultValue, double min, double max,
+                          std::string needs = {}, std::string range = {});
+
 /// A number held in a std::optional field of BakeRequest (given = set).
 template <typename T>
 PassOption numberOption(std::string name, std::string help, std::string defaultValue, double min, double max,
                         std::optional<T> BakeRequest::*field, std::string needs = {}, std::string range = {}) {
-    PassOption o;
-    o.name = std::move(name);
-    o.help = std::move(help);
-    o.defaultValue = std::move(defaultValue);
-    o.min = min;
-    o.max = max;
-    o.range = std::move(range);
-    o.needs = std::move(needs);
+    PassOption o = describeOption(std::move(name), std::move(help), std::move(defaultValue), min, max, std::move(needs),
+                                  std::move(range));
     o.number = [field](const BakeRequest& r) -> std::optional<double> {
         if (!(r.*field)) return std::nullopt;
         return double(*(r.*field));
-    };
-    o.setNumber = [field](BakeRequest& r, double v) { r.*field = T(v); };
-    o.setText = [field, n = o.name](BakeRequest& r, const std::string& text) { r.*field = parseOptionValue<T>(n, text); };
-    return o;
-}
-
-/// A number held in a plain field, given when it differs from `unset` (e.g. photons).
-template <typename T>
-PassOption plainNumberOption(std::string name, std::string help, double min, double max, T BakeRequest::*field,
-                             T unset) {
-    PassOption o;
-    o.name = std::move(name);
-    o.help = std::move(help);
-    o.defaultValue = std::to_string(unset);
-    o.min = min;
-    o.max = max;
-    o.number = [field, unset](const BakeRequest& r) -> std::optional<double> {
-        if (r.*field == unset) return std::nullopt;
-        return double(r.*field);
     };
     o.setNumber = [field](BakeRequest& r, double v) { r.*field = T(v); };
     o.setText = [field, n = o.name](BakeRequest& r, const std::string& text) { r.*field = parseOptionValue<T>(n, text); };

@@ -8,10 +8,32 @@
 
 namespace vdblight::bake_detail {
 
+namespace {
+class PhotonsPass : public Pass {
+public:
+    std::string name() const override { return "photons"; }
+    std::string description() const override {
+        return "photon pass (Pacanowski et al.): irradiance vectors from photons crossing the node lattice "
+               "(photons.h)";
+    }
+    std::vector<PassOption> options() const override;
+    void validate(const BakeRequest& request) const override;
+    std::size_t bytesPerNode(const BakeRequest& request) const override;
+    std::string untileable(const BakeRequest& request) const override;
+    bool takesDepthMoments() const override { return false; }
+    Volume run(const BakeContext& context, const BakeRequest& request, const GridSpec& grid,
+               BakeReport& report) const override;
+    void finish(Volume& volume, WriteOptions& write, const BakeRequest& request) const override;
+};
+}  // namespace
+
 std::vector<PassOption> PhotonsPass::options() const {
-    PassOption photons = plainNumberOption("photons", "photons emitted in total", 1, double(kMaxPhotons),
-                                           &BakeRequest::photons, uint64_t(1'000'000));
+    PassOption photons = describeOption("photons", "photons emitted in total", "1000000", 1, double(kMaxPhotons));
     photons.number = [](const BakeRequest& r) -> std::optional<double> { return double(r.photons); };
+    photons.setNumber = [](BakeRequest& r, double v) { r.photons = uint64_t(v); };
+    photons.setText = [](BakeRequest& r, const std::string& text) {
+        r.photons = parseOptionValue<uint64_t>("photons", text);
+    };
     return {photons, flagOption("compact",
                                 "write the compact colour + direction form (Pacanowski et al. 4.2; 12 half-float "
                                 "grids) instead of the 18 full grids",
@@ -55,6 +77,11 @@ void PhotonsPass::finish(Volume& volume, WriteOptions& write, const BakeRequest&
     if (!r.compact) return;
     volume = iv::compact(volume);
     write.halfFloat = true;
+}
+
+const Pass& photonsPass() {
+    static const PhotonsPass pass;
+    return pass;
 }
 
 }  // namespace vdblight::bake_detail

@@ -1,5 +1,5 @@
-// The table of passes (pass.h): adding a pass is a class in passes.h, its file, and one
-// line here.
+// The table of passes (pass.h): adding a pass is its file (pass_<name>.cpp), its function in
+// passes.h and one entry here.
 #include "passes.h"
 
 #include "pass_options.h"
@@ -8,13 +8,9 @@
 namespace vdblight {
 
 const std::vector<const Pass*>& passRegistry() {
-    static const bake_detail::GatherPass gather;
-    static const bake_detail::AdaptivePass adaptive;
-    static const bake_detail::AntialiasedPass antialiased;
-    static const bake_detail::LevelsPass levels;
-    static const bake_detail::BinsPass bins;
-    static const bake_detail::PhotonsPass photons;
-    static const std::vector<const Pass*> all = {&gather, &adaptive, &antialiased, &levels, &bins, &photons};
+    using namespace bake_detail;
+    static const std::vector<const Pass*> all = {&gatherPass(), &adaptivePass(), &antialiasedPass(),
+                                                 &levelsPass(),  &binsPass(),     &photonsPass()};
     return all;
 }
 
