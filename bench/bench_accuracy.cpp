@@ -373,7 +373,7 @@ Baked tryBake(const Ctx& c, const TrySpec& t) {
 /// scales them down (Settings::res / rays / photons).
 std::vector<Config> configurations() {
     std::vector<Config> v;
-    // What `vdblight bake SCENE -o OUT` does with no other option (cmd_bake.cpp, --quality
+    // What `vdblight bake SCENE -o OUT` does with no other option (bake/bake_request.cpp, --quality
     // default; keep this in step with its qualityPreset): --direct occlusion (baked in a scene
     // without lights), about 16384 nodes in the scene box (node_budget.h), 512 rays of full
     // paths + one probe-to-probe pass of 512, depth moments from the gather's own first hits

@@ -1,5 +1,6 @@
 // The smallest complete use of vdblight as a library: load a scene, bake an SH irradiance
-// volume, write it to a .vdb, read it back and query it, as an engine tool would.
+// volume into a .vdb (bakeToFile, bake_volume.h), read it back and query it, as an engine tool
+// would.
 //
 //   bake_and_query SCENE OUT.vdb
 //
@@ -18,20 +19,19 @@ int main(int argc, char** argv) {
     try {
         using namespace vdblight;
         const Scene scene = loadScene(argv[1], SceneLoadOptions{});
-        const Tracer tracer(scene);
 
-        // 8 nodes along the longest axis; the byte estimate lets placeUniformGrid refuse
-        // grids that would not fit in memory before anything is allocated.
-        GridPlacement placement;
-        placement.resolution = 8;
-        const GridSpec grid = placeUniformGrid(scene.bounds(), placement, sh::kCoeffs * 3 * sizeof(float));
-
-        GatherOptions options;
-        options.raysPerNode = 64;
-        options.seed = 1;
-        BakeStats stats;
-        const Volume baked = bakeShGather(scene, tracer, grid, options, nullptr, &stats);
-        writeVolume(baked, argv[2]);  // atomic: a temporary file renamed into place
+        // The same entry point as `vdblight bake` (the same file for the same options):
+        // a BakeRequest starts at the command line's defaults. Here 8 nodes along the longest
+        // axis and 64 rays per node; the grid is refused before anything is allocated if it
+        // would not fit in memory, and the file is written atomically.
+        BakeRequest request;
+        request.quality = "preview";
+        request.resolution = 8;
+        request.rays = 64;
+        request.seed = 1;
+        BakeReport report;
+        bakeToFile(scene, request, argv[2], nullptr, &report);
+        const BakeStats& stats = report.stats;
 
         const Volume volume = readVolume(argv[2]);
         const IrradianceQuery query(volume);

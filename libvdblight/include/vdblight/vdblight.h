@@ -5,7 +5,8 @@
 //   scene_load.h   loadScene: every format Assimp reads, plus our PLY reader (scene.h: Scene)
 //   trace.h        Tracer: the Embree BVH every pass traces through
 //   layout.h       placeUniformGrid: where the nodes go (layout_levels.h: bilevel/adaptive)
-//   bake.h         bakeShGather and its options (other passes: bake_*.h, photons.h)
+//   bake_volume.h  bakeVolume / bakeToFile: the bake `vdblight bake` runs, from a BakeRequest
+//                  (pass.h: the passes behind it; bake.h, bake_*.h, photons.h: each pass alone)
 //   vdb_io.h       writeVolume (atomic) / readVolume / inspectVolumeFile
 //   query.h        IrradianceQuery: irradiance(x, n) at run time
 //   export.h       exportTextures: dense textures + manifest for engines
@@ -23,6 +24,7 @@
 #include "vdblight/sh.h"
 #include "vdblight/volume.h"
 #include "vdblight/bake.h"
+#include "vdblight/bake_volume.h"
 #include "vdblight/vdb_io.h"
 #include "vdblight/query.h"
 #include "vdblight/export.h"

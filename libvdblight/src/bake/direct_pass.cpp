@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "parallel_nodes.h"
+#include "pass_metadata.h"
 #include "vdblight/errors.h"
 #include "vdblight/sampling.h"
 #include "vdblight/scene.h"
@@ -95,8 +96,9 @@ void bakeLightVisibility(const Scene& scene, const Tracer& tracer, const DirectP
                     float(lightVisibility(scene, tracer, plan.lights[i], x, o.visibilitySamples, stream, rays));
             }
         });
-    volume.meta["direct_visibility_samples"] = int64_t(o.visibilitySamples);
-    volume.meta["direct_visibility_rays"] = int64_t(run.rays.total());
+    bake_detail::PassMetadata(volume.meta)
+        .count("direct_visibility_samples", int64_t(o.visibilitySamples))
+        .count("direct_visibility_rays", int64_t(run.rays.total()));
     // The wall time goes into the bake's own (the one metadata entry that may differ between
     // runs with the same seed, besides the thread count).
     if (auto it = volume.meta.find("bake_seconds"); it != volume.meta.end() && std::holds_alternative<double>(it->second))

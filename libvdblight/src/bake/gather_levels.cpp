@@ -38,8 +38,7 @@ Volume bakeShGatherLevels(const Scene& scene, const Tracer& tracer, const LevelL
         if (options.depthMoments) l.depth.assign(l.heldNodes() * depth::kFloatsPerNode, 0.0f);
     }
     if (layout.culledNodes > 0) {  // solid_cull.h: inactive nodes inside closed solids
-        volume.meta["culling"] = std::string("solid-regions");
-        volume.meta["nodes_culled"] = int64_t(layout.culledNodes);
+        bake_detail::PassMetadata(volume.meta).text("culling", "solid-regions").count("nodes_culled", int64_t(layout.culledNodes));
     }
     volume.validate();
 

@@ -60,6 +60,12 @@ PassMetadata& PassMetadata::depthMoments(uint32_t rays) {
     return *this;
 }
 
+PassMetadata& PassMetadata::provenance(const std::string& sceneFile, const std::string& sky) {
+    m_["scene_file"] = sceneFile;
+    m_["sky"] = sky;
+    return *this;
+}
+
 PassMetadata& PassMetadata::text(const std::string& key, const std::string& value) {
     m_[key] = value;
     return *this;

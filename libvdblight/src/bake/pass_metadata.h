@@ -47,6 +47,10 @@ public:
     /// depth_moments and depth_rays_per_node of a volume with depth moments from `rays` rays per node.
     PassMetadata& depthMoments(uint32_t rays);
 
+    /// scene_file and sky: where the scene came from and its sky, as the caller names them
+    /// (BakeRequest::sceneFile, BakeRequest::sky).
+    PassMetadata& provenance(const std::string& sceneFile, const std::string& sky);
+
     PassMetadata& text(const std::string& key, const std::string& value);
     PassMetadata& count(const std::string& key, int64_t value);
     PassMetadata& number(const std::string& key, double value);

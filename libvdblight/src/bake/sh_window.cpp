@@ -1,5 +1,6 @@
 #include "vdblight/sh_window.h"
 
+#include "pass_metadata.h"
 #include "vdblight/errors.h"
 #include "vdblight/sh.h"
 
@@ -15,7 +16,8 @@ void applyShWindow(Volume& volume) {
                 for (int c = 0; c < 3; ++c)
                     level.data[(n * sh::kCoeffs + j) * 3 + c] *= float(sh::kNonNegativeWindow[sh::bandOf(j)]);
     }
-    volume.meta["sh_window"] = std::string("non-negative spline window w_l = 1/(1 + 0.177732 l^2 (l+1)^2): 1, 0.584478, 0.135165");
+    bake_detail::PassMetadata(volume.meta)
+        .text("sh_window", "non-negative spline window w_l = 1/(1 + 0.177732 l^2 (l+1)^2): 1, 0.584478, 0.135165");
 }
 
 }  // namespace vdblight

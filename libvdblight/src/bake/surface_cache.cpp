@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "pass_metadata.h"
 #include "vdblight/errors.h"
 #include "vdblight/tiles.h"
 #include "vdblight/trace.h"
@@ -102,11 +103,12 @@ Volume stageVolume(const VolumeLevel& shape, const std::vector<Rgb>& reflected, 
         for (int c = 0; c < 3; ++c) v.levels[0].data[3 * i + std::size_t(c)] = reflected[i][c];
     v.levels[0].depth = std::move(depth);
     v.meta = std::move(meta);
-    v.meta["probe_stage"] = int64_t(stage);
-    v.meta["probe_passes"] = int64_t(probePasses);
-    v.meta["probe_stage_note"] = std::string(
-        "the reflected light and sky of a probe-to-probe pass per node (reflected_sh_*), read by the next stage's "
-        "tiles; not a volume to look up");
+    PassMetadata(v.meta)
+        .count("probe_stage", int64_t(stage))
+        .count("probe_passes", int64_t(probePasses))
+        .text("probe_stage_note",
+              "the reflected light and sky of a probe-to-probe pass per node (reflected_sh_*), read by the next stage's "
+              "tiles; not a volume to look up");
     return v;
 }
 

@@ -1,0 +1,196 @@
+// What a BakeRequest means (bake_volume.h): the --quality presets, the pass the options
+// select, and the rules between options that no single pass owns (layout, basis, tiles,
+// stages, direct light, depth moments). Each pass checks its own options (pass.h).
+#include <algorithm>
+#include <cmath>
+
+#include "pass_options.h"
+#include "vdblight/bake_volume.h"
+#include "vdblight/bins.h"
+#include "vdblight/errors.h"
+#include "vdblight/layout_levels.h"
+
+namespace vdblight {
+
+namespace {
+/// What --quality means for the point gather (docs/methods.md, "The default bake", issue 15).
+/// `preview`: 16 nodes on the longest axis, a fixed 256 rays per node of full paths, no
+/// depth moments (sub-second bakes to iterate on a scene).
+/// `default`: about kDefaultNodes nodes in the scene box (node_budget.h: the spacing
+/// follows the scene's volume, 16..64 nodes on its longest axis), kDefaultRays rays of full
+/// paths, then one probe-to-probe pass of as many rays that ends paths at their first hit
+/// with the first pass's reflected light (GatherOptions::probePasses), and depth moments from
+/// the gather's own first hits so that lookups do not interpolate across walls
+/// (depth_moments.h). The measured choice against the accuracy benchmark's ground truth.
+/// `high`: the default's grid and depth moments, every node sampled to a relative standard
+/// error of 3 % (64..2048 rays, bake_adaptive.h), two probe passes. Explicit resolution,
+/// spacing, rays, target error, probe passes, depth moments, min and max rays override the
+/// preset's. The presets apply where the point gather on a uniform SH grid runs; other
+/// passes take 16 nodes on the longest axis and a fixed 256 rays.
+constexpr uint64_t kDefaultNodes = 16384;
+constexpr uint32_t kDefaultRays = 512;
+constexpr uint32_t kPlainRays = 256;
+struct QualityPreset {
+    double targetError;  ///< 0: fixed budget (rays)
+    uint32_t minRays, maxRays;
+    int probePasses;
+    uint64_t nodes;      ///< 0: 16 nodes on the longest axis
+    uint32_t rays;       ///< rays per node and pass of a fixed budget
+    bool depthMoments;
+};
+QualityPreset qualityPreset(const std::string& quality) {
+    if (quality == "preview") return {0.0, 0, 0, 0, 0, 256, false};
+    if (quality == "default") return {0.0, 0, 0, 1, kDefaultNodes, kDefaultRays, true};
+    if (quality == "high") return {0.03, 64, 2048, 2, kDefaultNodes, kDefaultRays, true};
+    throw ValueError("--quality must be preview, default or high, got '" + quality + "'");
+}
+
+/// The uniform SH point gather, where the presets' error target and probe passes apply.
+bool targetable(const BakeRequest& r) {
+    return r.method == "gather" && r.sampling == "point" && !r.invalidateBackface &&
+           parseLayoutKind(r.layout) == LayoutKind::Uniform && bake_detail::isSh2(r.basis);
+}
+
+std::string selectPassName(const BakeRequest& r) {
+    if (!r.pass.empty()) return r.pass;
+    if (r.method == "photons") return "photons";
+    if (!bake_detail::isSh2(r.basis)) return "bins";
+    if (parseLayoutKind(r.layout) != LayoutKind::Uniform) return "levels";
+    if (r.targetError) return "adaptive";
+    if (r.sampling == "antialiased") return "antialiased";
+    return "gather";
+}
+
+void checkChoice(const std::string& option, const std::string& value, const std::vector<std::string>& choices) {
+    if (std::find(choices.begin(), choices.end(), value) == choices.end())
+        throw ValueError("--" + option + " must be " + bake_detail::joinChoices(choices) + ", got '" + value + "'");
+}
+
+/// Tiles and stages of a tiled bake (tiles.h), after the preset (which may add probe passes).
+void checkTiles(const BakeRequest& given, const BakeRequest& r, const Pass& pass) {
+    if (given.tiles.has_value() != given.tile.has_value()) throw ValueError("--tiles and --tile go together");
+    if (given.tiles) {
+        if (*r.tiles < 1) throw ValueError("--tiles must be at least 1, got " + std::to_string(*r.tiles));
+        if (*r.tile < 0 || *r.tile >= *r.tiles)
+            throw ValueError("--tile must be between 0 and " + std::to_string(*r.tiles - 1) + ", got " +
+                             std::to_string(*r.tile));
+        // The selected pass, and the passes other options name: a request that asks for two
+        // (antialiased sampling on a bilevel layout) is refused for tiling first, as before.
+        std::vector<const Pass*> named = {&pass};
+        if (r.method == "photons") named.push_back(&findPass("photons"));
+        if (r.sampling == "antialiased") named.push_back(&findPass("antialiased"));
+        if (r.invalidateBackface) named.push_back(&findPass("gather"));
+        for (const Pass* p : named) {
+            const std::string why = p->untileable(r);
+            if (!why.empty()) throw ValueError(why);
+        }
+    }
+    const int passes = r.probePasses.value_or(0);
+    if (given.stage) {
+        if (!given.tiles)
+            throw ValueError("--stage needs --tiles and --tile (one stage of a tiled bake; --tiles 1 --tile 0 for all nodes)");
+        if (passes == 0)
+            throw ValueError("--stage needs probe-to-probe passes (a bake without them has one stage: leave --stage out)");
+        if (*r.stage < 0 || *r.stage > passes)
+            throw ValueError("--stage must be between 0 and " + std::to_string(passes) +
+                             " (one stage per pass: the first pass and " + std::to_string(passes) +
+                             " probe-to-probe passes), got " + std::to_string(*r.stage));
+    }
+    const int stage = r.stage.value_or(-1);
+    if ((stage > 0) != !r.stageInput.empty())
+        throw ValueError(stage > 0 ? "--stage " + std::to_string(stage) + " needs --stage-input (the merged tiles of stage " +
+                                         std::to_string(stage - 1) + ")"
+                                   : std::string("--stage-input needs --stage 1 or later"));
+}
+
+/// Direct light out of the basis: the passes that take it, and the option that stops it.
+void checkDirect(const BakeRequest& r, const Pass& pass) {
+    // Automatic (empty): occlusion where it applies, baked elsewhere; the light count is
+    // checked either way.
+    if (!r.direct.empty() && parseDirectMode(r.direct) == DirectMode::Baked) return;
+    if (r.directLights < 1 || r.directLights > 16)
+        throw ValueError("--direct-lights must be between 1 and 16, got " + std::to_string(r.directLights));
+    if (r.direct.empty()) return;
+    if (pass.takesDirectLight() && !r.shWindow) return;
+    const std::string other = r.method != "gather"           ? "--method photons"
+                              : r.sampling != "point"        ? "--sampling antialiased"
+                              : r.layout != "uniform"        ? "--layout bilevel/adaptive"
+                              : !bake_detail::isSh2(r.basis) ? "--basis bins/moment"
+                              : r.shWindow                   ? "--sh-window"
+                                                             : "pass " + pass.name();
+    throw ValueError("--direct " + r.direct + " is implemented for the uniform SH point gather only, not with " + other);
+}
+}  // namespace
+
+BakeRequest resolveBakeRequest(const BakeRequest& given) {
+    BakeRequest r = given;
+    const QualityPreset preset = qualityPreset(r.quality);
+    const bool presetApplies = targetable(r);
+    if (!r.targetError && !r.rays && preset.targetError > 0 && presetApplies) r.targetError = preset.targetError;
+    if (r.targetError) {
+        const QualityPreset caps = qualityPreset("high");
+        if (!r.minRays) r.minRays = caps.minRays;
+        if (!r.maxRays) r.maxRays = std::max(caps.maxRays, *r.minRays);
+    }
+    if (!r.probePasses) r.probePasses = presetApplies ? preset.probePasses : 0;
+    if (presetApplies && !r.spacing && !r.resolution && !r.nodes && preset.nodes > 0) r.nodes = preset.nodes;
+    if (!r.rays) r.rays = presetApplies && !r.targetError ? preset.rays : kPlainRays;
+    if (!r.depthMoments) r.depthMoments = presetApplies && preset.depthMoments;
+    if (!r.refine) r.refine = 3;
+    if (!r.levels) r.levels = 3;
+    if (!r.refineDistance) r.refineDistance = 0.0;
+    r.pass = selectPassName(r);
+    return r;
+}
+
+const Pass& checkBakeRequest(const BakeRequest& given) {
+    checkChoice("method", given.method, {"gather", "photons"});
+    checkChoice("sampling", given.sampling, {"point", "antialiased"});
+    const LayoutKind kind = parseLayoutKind(given.layout);
+    const bool sh2 = bake_detail::isSh2(given.basis);  // throws for an unknown basis
+    const BakeRequest r = resolveBakeRequest(given);  // throws for an unknown quality
+    const Pass& pass = findPass(r.pass);
+
+    if (given.targetError && given.rays)
+        throw ValueError("--target-error and --rays exclude each other (an error target or a fixed budget)");
+    if (given.depthMoments.value_or(false) && !pass.takesDepthMoments())
+        throw ValueError("--depth-moments works with --method gather only (the irradiance-vector lookup does not "
+                         "weight by depth yet)");
+    if (given.depthRays && !*r.depthMoments) throw ValueError("--depth-rays needs --depth-moments");
+    checkTiles(given, r, pass);
+    if (r.shWindow && !pass.takesShWindow()) throw ValueError("--sh-window applies to --method gather with --basis sh2 only");
+    if (!sh2 && (r.method != "gather" || r.sampling != "point" || r.invalidateBackface))
+        throw ValueError("--basis bins/moment works with --method gather and --sampling point only");
+    if (kind == LayoutKind::Uniform && given.refine) throw ValueError("--refine needs --layout bilevel or adaptive");
+    if (kind != LayoutKind::Adaptive && given.levels) throw ValueError("--levels needs --layout adaptive");
+    if (kind != LayoutKind::Uniform && (r.sampling != "point" || r.invalidateBackface || r.method != "gather"))
+        throw ValueError("--layout bilevel/adaptive works with --method gather and --sampling point only");
+    if (given.refineDistance && kind == LayoutKind::Uniform)
+        throw ValueError("--refine-distance needs --layout bilevel or adaptive");
+    if (r.cullSolids && (kind == LayoutKind::Uniform || !sh2))
+        throw ValueError("--cull-solids needs --layout bilevel or adaptive and --basis sh2");
+    // Zero or negative values are refused here: unset is the default.
+    if (given.spacing && !(*given.spacing > 0))
+        throw ValueError("--spacing must be positive, got " + std::to_string(*given.spacing));
+    if (given.resolution && *given.resolution < 1)
+        throw ValueError("--resolution must be at least 1, got " + std::to_string(*given.resolution));
+    if (given.spacing && given.resolution) throw ValueError("--spacing and --resolution exclude each other");
+    if (r.method == "photons" && (r.sampling != "point" || !r.domain.empty() || r.invalidateBackface))
+        throw ValueError("--sampling, --domain and --invalidate-backface apply to --method gather only");
+    if (r.threads < 0) throw ValueError("--threads must be at least 0 (0 = all cores), got " + std::to_string(r.threads));
+
+    // The pass's own options, then options it does not take.
+    pass.validate(given);
+    std::vector<std::string> declared;
+    for (const PassOption& o : pass.options()) declared.push_back(o.name);
+    for (const Pass* other : passRegistry())
+        for (const PassOption& o : other->options()) {
+            if (o.needs.empty() || std::find(declared.begin(), declared.end(), o.name) != declared.end()) continue;
+            const bool given_ = (o.number && o.number(given)) || (o.word && o.word(given));
+            if (given_) throw ValueError(o.needs);
+        }
+    checkDirect(r, pass);
+    return pass;
+}
+
+}  // namespace vdblight

@@ -1,0 +1,184 @@
+// bakeVolume / bakeToFile (bake_volume.h): everything around a pass (pass.h) that makes a
+// bake's file, in one place, so that the command line and a library caller write the
+// same bytes.
+#include "vdblight/bake_volume.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <sstream>
+
+#include "pass_metadata.h"
+#include "pass_options.h"
+#include "vdblight/bake_depth.h"
+#include "vdblight/bake_direct.h"
+#include "vdblight/errors.h"
+#include "vdblight/node_budget.h"
+#include "vdblight/scene.h"
+#include "vdblight/scene_lights.h"
+#include "vdblight/sh_window.h"
+#include "vdblight/tiles.h"
+#include "vdblight/trace.h"
+#include "vdblight/world_frame.h"
+
+namespace vdblight {
+
+namespace {
+/// One tile of a bake being baked (bakeToFile).
+struct TileJob {
+    TileId id;
+    NodeMask mask;
+    std::string sameBake;  ///< the hash every stage of one bake shares (tiles.h, "Staged bakes")
+};
+
+/// Every stage of one bake has the same options but --stage (and maybe --tiles): their hash
+/// ties a stage file to the stages after it.
+std::string sameBakeHash(const Scene& scene, const BakeRequest& r) {
+    std::string others;
+    std::istringstream lines(r.tileParameters);
+    for (std::string line; std::getline(lines, line);)
+        if (line.compare(0, 8, "--stage=") != 0 && line.compare(0, 8, "--tiles=") != 0) others += line + "\n";
+    return tileParamsHash(scene.contentHash(), others);
+}
+
+std::string skyText(const Scene& scene, const BakeRequest& r) {
+    if (!r.sky.empty()) return r.sky;
+    if (scene.sky.map) return "map:" + scene.sky.map->path;
+    std::ostringstream s;
+    s << scene.sky.constant.x << "," << scene.sky.constant.y << "," << scene.sky.constant.z;
+    return s.str();
+}
+
+/// The direct-light options of a resolved request for its pass; automatic: occlusion where
+/// the pass takes it and the scene has lights (docs/methods.md, "Direct light out of the SH").
+DirectOptions directOptions(const Scene& scene, const BakeRequest& r, const Pass& pass) {
+    DirectOptions d;
+    d.maxLights = r.directLights;
+    d.seed = r.seed;
+    d.threads = r.threads;
+    if (!r.direct.empty()) {
+        d.mode = parseDirectMode(r.direct);
+    } else {
+        const bool applies = pass.takesDirectLight() && !r.shWindow;
+        d.mode = applies && !sceneLights(scene).empty() ? DirectMode::Occlusion : DirectMode::Baked;
+    }
+    return d;
+}
+
+Volume bakeImpl(const Scene& scene, const BakeRequest& given, Interrupter* interrupter, BakeReport& report,
+                TileJob* tile) {
+    const Pass& pass = checkBakeRequest(given);
+    const BakeRequest r = resolveBakeRequest(given);
+    if (r.tiles && !tile) throw ValueError("a tile of a bake is written by bakeToFile, not returned by bakeVolume");
+    report.pass = &pass;
+    report.resolved = r;
+
+    GridPlacement placement;
+    placement.spacing = r.spacing.value_or(0.0);
+    placement.resolution = (r.spacing || r.resolution || r.nodes) ? r.resolution.value_or(0) : 16;
+    if (r.bounds) placement.bounds = toLocalBounds(*r.bounds, scene.origin);
+    if (r.nodes) placement.spacing = spacingForNodeBudget(placement.bounds ? *placement.bounds : scene.bounds(), *r.nodes);
+    const GridSpec grid = placeUniformGrid(scene.bounds(), placement, pass.bytesPerNode(r));
+    report.grid = grid;
+
+    const Tracer tracer(scene);
+    const DirectOptions direct = directOptions(scene, r, pass);
+    report.direct = planDirectLight(scene, tracer, grid, direct);  // baked: an empty plan
+
+    BakeContext context{scene, tracer, r.transport, r.seed, r.threads, interrupter, {}, r.stage.value_or(-1), nullptr};
+    context.transport.skipAtReceiver = report.direct.filter;
+    // A staged bake (tiles.h): this pass only, from the merged tiles of the stage before.
+    Volume stageInput;
+    if (r.stage && *r.stage > 0) {
+        stageInput = readProbeStage(r.stageInput);
+        if (metaString(stageInput.meta, "probe_stage_params_hash") != tile->sameBake)
+            throw ValueError("'" + r.stageInput + "' is a stage of a bake with another scene or other options than --stage " +
+                             std::to_string(*r.stage) + " here");
+        context.stageInput = &stageInput;
+    }
+    report.lastStage = !r.stage || *r.stage == *r.probePasses;
+    if (tile)
+        context.selectTile = [tile, &r](const std::vector<LevelTopology>& levels) -> const NodeMask* {
+            tile->mask = tileNodeMask(volumeLevels(levels), *r.tiles, *r.tile);
+            return &tile->mask;
+        };
+
+    Volume volume = pass.run(context, r, grid, report);
+
+    const NodeMask* only = tile ? &tile->mask : nullptr;
+    if (direct.mode != DirectMode::Baked && report.lastStage)
+        bakeLightVisibility(scene, tracer, report.direct, direct, volume, interrupter, only);
+    if (*r.refineDistance > 0) bake_detail::PassMetadata(volume.meta).number("refine_distance", *r.refineDistance);
+    if (r.shWindow) applyShWindow(volume);
+    if (*r.depthMoments && !volume.hasDepth() && report.lastStage) {  // passes without the gather's hook (bake_depth.h)
+        DepthOptions depthOptions;
+        depthOptions.raysPerNode = r.depthRays.value_or(*r.rays);
+        depthOptions.seed = r.seed;
+        depthOptions.threads = r.threads;
+        depthOptions.only = only;
+        DepthStats depthStats;
+        bakeDepthMoments(tracer, volume, depthOptions, nullptr, &depthStats);
+        report.depth = depthStats;
+    }
+    placeVolumeInWorld(volume, scene.origin);  // baked in the scene's local frame (scene_origin.h)
+    bake_detail::PassMetadata(volume.meta).provenance(r.sceneFile.empty() ? std::string("(in memory)") : r.sceneFile,
+                                                      skyText(scene, r));
+    report.write.halfFloat = r.halfFloat;
+    report.write.reproducible = r.reproducible;
+    pass.finish(volume, report.write, r);
+    return volume;
+}
+}  // namespace
+
+Volume bakeVolume(const Scene& scene, const BakeRequest& request, Interrupter* interrupter, BakeReport* report) {
+    BakeReport local;
+    return bakeImpl(scene, request, interrupter, report ? *report : local, nullptr);
+}
+
+Volume bakeToFile(const Scene& scene, const BakeRequest& request, const std::string& path, Interrupter* interrupter,
+                  BakeReport* reportOut) {
+    BakeReport local;
+    BakeReport& report = reportOut ? *reportOut : local;
+    if (!request.tiles) {
+        Volume volume = bakeImpl(scene, request, interrupter, report, nullptr);
+        writeVolume(volume, path, report.write);
+        return volume;
+    }
+    checkBakeRequest(request);  // before reading anything
+    if (request.tileParameters.empty())
+        throw ValueError("a tile needs BakeRequest::tileParameters: the text of the options every tile of the bake shares");
+    TileJob tile;
+    tile.id.index = *request.tile;
+    tile.id.count = *request.tiles;
+    // A stage's tiles depend on the stage before's merged file: its content is a parameter.
+    const int stage = request.stage.value_or(-1);
+    const std::string input = stage > 0 ? "stage_input_sha256=" + fileContentHash(request.stageInput).sha256 + "\n" : "";
+    tile.id.paramsHash = tileParamsHash(scene.contentHash(), request.tileParameters + input);
+    if (stage >= 0) tile.sameBake = sameBakeHash(scene, request);
+    TileId onDisk;
+    bool done = false;
+    std::error_code ec;
+    try {  // an unreadable or foreign file there is simply baked over
+        done = std::filesystem::exists(path, ec) && readTileId(path, onDisk) && onDisk.index == tile.id.index &&
+               onDisk.count == tile.id.count && onDisk.paramsHash == tile.id.paramsHash &&
+               fileContentHash(path).uuidFromContent;  // and not damaged since
+    } catch (const Error&) {
+    }
+    if (done) {
+        report.skipped = true;
+        return {};
+    }
+    Volume volume = bakeImpl(scene, request, interrupter, report, &tile);
+    // The per-node errors of the uniform point gathers, for the merge's error summary.
+    TileNodeStats nodeStats;
+    if (volume.levels.size() == 1 && report.pass->name() != "bins") nodeStats.estimatedError = report.stats.estimatedError;
+    if (!report.lastStage) {
+        report.write.halfFloat = false;  // the next stage reads the reflected light exactly
+        bake_detail::PassMetadata(volume.meta).text("probe_stage_params_hash", tile.sameBake);
+    }
+    writeTile(volume, tile.mask, tile.id, path, report.write, &nodeStats);
+    report.tileNodes = 0;
+    for (const auto& l : tile.mask) report.tileNodes += uint64_t(std::count(l.begin(), l.end(), uint8_t(1)));
+    return volume;
+}
+
+}  // namespace vdblight

@@ -1,0 +1,86 @@
+// The point gather as a Pass (bake.h): SH order 2 at the nodes of a uniform grid, with
+// probe-to-probe passes, depth moments from its own first hits, direct light out of the SH
+// and, as an option, the engines' back-face invalidation (bake_antialiased.h).
+#include "passes.h"
+
+#include "pass_options.h"
+#include "vdblight/bake_antialiased.h"
+#include "vdblight/errors.h"
+#include "vdblight/sh.h"
+
+namespace vdblight::bake_detail {
+
+namespace {
+class GatherPass : public Pass {
+public:
+    std::string name() const override { return "gather"; }
+    std::string description() const override {
+        return "point gather: SH order 2 of the incident radiance at each node of a uniform grid (bake.h)";
+    }
+    std::vector<PassOption> options() const override;
+    void validate(const BakeRequest& request) const override;
+    std::size_t bytesPerNode(const BakeRequest& request) const override;
+    std::string untileable(const BakeRequest& request) const override;
+    bool takesDirectLight() const override { return true; }
+    bool takesShWindow() const override { return true; }
+    Volume run(const BakeContext& context, const BakeRequest& request, const GridSpec& grid,
+               BakeReport& report) const override;
+};
+}  // namespace
+
+std::vector<PassOption> GatherPass::options() const {
+    return {raysOption("Ray directions per node and pass: a fixed budget (--quality high samples to an error target "
+                       "instead; antialiased: rays per cell; bins: rounded up to a multiple of the bin count)"),
+            probePassesOption(),
+            numberOption("invalidate-backface",
+                         "nodes whose rays hit back-faces more than this fraction (0..1) are replaced by dilating "
+                         "valid neighbours (the engines' heuristic)",
+                         "off", 0, 1, &BakeRequest::invalidateBackface,
+                         "--invalidate-backface applies to --sampling point only", "in [0, 1]"),
+            depthMomentsOption(), depthRaysOption(), shWindowOption()};
+}
+
+void GatherPass::validate(const BakeRequest& request) const {
+    if (request.invalidateBackface && request.probePasses && *request.probePasses > 0)
+        throw ValueError("--probe-passes works with --method gather, --sampling point, --layout uniform and "
+                         "--basis sh2 only");
+    Pass::validate(request);
+}
+
+std::size_t GatherPass::bytesPerNode(const BakeRequest&) const {
+    // Float coefficients plus OpenVDB's copy while writing.
+    return 2 * sh::kCoeffs * 3 * sizeof(float);
+}
+
+std::string GatherPass::untileable(const BakeRequest& r) const { return pointGatherUntileable(r); }
+
+std::string pointGatherUntileable(const BakeRequest& r) {
+    if (r.invalidateBackface) return "--invalidate-backface cannot be tiled (its dilation crosses tile borders)";
+    if (r.shWindow) return "--sh-window cannot be tiled yet (the window would have to follow the seams at merge)";
+    // Each probe-to-probe pass reads every node of the pass before: one stage per pass.
+    const int passes = r.probePasses.value_or(0);
+    if (passes > 0 && !r.stage)
+        return "probe-to-probe passes are tiled in stages (each pass reads every node of the pass before): bake "
+               "every tile with --stage 0, merge them, then every tile with --stage 1 --stage-input STAGE0.vdb, ... up "
+               "to --stage " + std::to_string(passes) + ", and merge the last stage ('vdblight slurm' writes "
+               "this chain; docs/scaling.md), or add --probe-passes 0";
+    return "";
+}
+
+Volume GatherPass::run(const BakeContext& c, const BakeRequest& r, const GridSpec& grid, BakeReport& report) const {
+    GatherOptions options = gatherOptions(c, r);
+    LevelTopology shape;
+    shape.grid = grid;
+    options.only = selectTile(c, {shape});
+    if (r.invalidateBackface)
+        return bakeShGatherInvalidated(c.scene, c.tracer, grid, options, *r.invalidateBackface, c.interrupter,
+                                       &report.stats);
+    return bakeShGather(c.scene, c.tracer, grid, options, c.interrupter, &report.stats);
+}
+
+const Pass& gatherPass() {
+    static const GatherPass pass;
+    return pass;
+}
+
+}  // namespace vdblight::bake_detail

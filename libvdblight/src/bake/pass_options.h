@@ -1,0 +1,83 @@
+// Declaring a pass's options (PassOption, pass.h) in one line each: the BakeRequest field,
+// its range or words, and the refusal when another pass is given it. (Internal to the bake
+// module; the passes' files use it.)
+#pragma once
+
+#include <limits>
+#include <type_traits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "vdblight/bake_volume.h"
+#include "vdblight/errors.h"
+#include "vdblight/pass.h"
+
+namespace vdblight::bake_detail {
+
+constexpr double kNoMax = std::numeric_limits<double>::infinity();
+
+/// `text` as a number of type T for option `name` (ValueError: one line naming the option).
+double parseOptionNumber(const std::string& name, const std::string& text, bool integer);
+
+template <typename T>
+T parseOptionValue(const std::string& name, const std::string& text) {
+    const double v = parseOptionNumber(name, text, std::is_integral_v<T>);
+    if (std::is_unsigned_v<T> && v < 0)
+        throw ValueError("--" + name + " must not be negative, got " + text);
+    return T(v);
+}
+
+/// An option's description (name, help, default, range, refusal elsewhere), without the
+/// functions that reach its BakeRequest field yet.
+PassOption describeOption(std::string name, std::string help, std::string defaultValue, double min, double max,
+                          std::string needs = {}, std::string range = {});
+
+/// A number held in a std::optional field of BakeRequest (given = set).
+template <typename T>
+PassOption numberOption(std::string name, std::string help, std::string defaultValue, double min, double max,
+                        std::optional<T> BakeRequest::*field, std::string needs = {}, std::string range = {}) {
+    PassOption o = describeOption(std::move(name), std::move(help), std::move(defaultValue), min, max, std::move(needs),
+                                  std::move(range));
+    o.number = [field](const BakeRequest& r) -> std::optional<double> {
+        if (!(r.*field)) return std::nullopt;
+        return double(*(r.*field));
+    };
+    o.setNumber = [field](BakeRequest& r, double v) { r.*field = T(v); };
+    o.setText = [field, n = o.name](BakeRequest& r, const std::string& text) { r.*field = parseOptionValue<T>(n, text); };
+    return o;
+}
+
+/// An on/off flag (given = on).
+PassOption flagOption(std::string name, std::string help, bool BakeRequest::*field, std::string needs = {});
+PassOption flagOption(std::string name, std::string help, std::optional<bool> BakeRequest::*field, std::string needs = {});
+
+/// A word among `choices` held in a string field (given = non-empty).
+PassOption wordOption(std::string name, std::string help, std::string defaultValue, std::vector<std::string> choices,
+                      std::string BakeRequest::*field, std::string needs = {});
+
+/// The declared options every pass that gathers SH or bins at nodes shares.
+PassOption raysOption(const std::string& help);
+PassOption depthMomentsOption();
+PassOption depthRaysOption();
+PassOption shWindowOption();
+PassOption probePassesOption();
+
+/// The basis text names SH order 2 (bins.h parses it; ValueError for an unknown basis).
+bool isSh2(const std::string& basis);
+
+/// "a, b or c".
+std::string joinChoices(const std::vector<std::string>& words);
+
+/// The tile selection of a context as a function of the levels (null without tiles).
+inline const NodeMask* selectTile(const BakeContext& c, const std::vector<LevelTopology>& levels) {
+    return c.selectTile ? c.selectTile(levels) : nullptr;
+}
+
+/// The point gather's options from a resolved request (bake.h): shared by gather and levels.
+GatherOptions gatherOptions(const BakeContext& c, const BakeRequest& r);
+
+/// The multi-level placement of a resolved request (layout_levels.h).
+LevelsPlacement levelsPlacement(const BakeRequest& r);
+
+}  // namespace vdblight::bake_detail

@@ -1,0 +1,87 @@
+// The photon pass as a Pass (photons.h), with its memory formula and the compact form.
+#include "passes.h"
+
+#include "pass_options.h"
+#include "vdblight/errors.h"
+#include "vdblight/photons.h"
+#include "vdblight/volume_compact.h"
+
+namespace vdblight::bake_detail {
+
+namespace {
+class PhotonsPass : public Pass {
+public:
+    std::string name() const override { return "photons"; }
+    std::string description() const override {
+        return "photon pass (Pacanowski et al.): irradiance vectors from photons crossing the node lattice "
+               "(photons.h)";
+    }
+    std::vector<PassOption> options() const override;
+    void validate(const BakeRequest& request) const override;
+    std::size_t bytesPerNode(const BakeRequest& request) const override;
+    std::string untileable(const BakeRequest& request) const override;
+    bool takesDepthMoments() const override { return false; }
+    Volume run(const BakeContext& context, const BakeRequest& request, const GridSpec& grid,
+               BakeReport& report) const override;
+    void finish(Volume& volume, WriteOptions& write, const BakeRequest& request) const override;
+};
+}  // namespace
+
+std::vector<PassOption> PhotonsPass::options() const {
+    PassOption photons = describeOption("photons", "photons emitted in total", "1000000", 1, double(kMaxPhotons));
+    photons.number = [](const BakeRequest& r) -> std::optional<double> { return double(r.photons); };
+    photons.setNumber = [](BakeRequest& r, double v) { r.photons = uint64_t(v); };
+    photons.setText = [](BakeRequest& r, const std::string& text) {
+        r.photons = parseOptionValue<uint64_t>("photons", text);
+    };
+    return {photons, flagOption("compact",
+                                "write the compact colour + direction form (Pacanowski et al. 4.2; 12 half-float "
+                                "grids) instead of the 18 full grids",
+                                &BakeRequest::compact, "--compact applies to --method photons only")};
+}
+
+void PhotonsPass::validate(const BakeRequest& request) const {
+    try {
+        checkPhotonCount(request.photons);  // its message says how long too many would take
+    } catch (const ValueError& e) {
+        throw ValueError(std::string("--photons: ") + e.what());
+    }
+    Pass::validate(request);
+}
+
+std::size_t PhotonsPass::bytesPerNode(const BakeRequest&) const {
+    // 54 values per node: double totals, a float buffer per thread, the volume and OpenVDB's copy.
+    return 54 * (8 + 4 * 4);
+}
+
+std::string PhotonsPass::untileable(const BakeRequest&) const {
+    return "--method photons cannot be tiled yet (its photons cross every tile)";
+}
+
+Volume PhotonsPass::run(const BakeContext& c, const BakeRequest& r, const GridSpec& grid, BakeReport& report) const {
+    PhotonOptions options;
+    options.photons = r.photons;
+    options.seed = c.seed;
+    options.threads = c.threads;
+    options.transport = c.transport;
+    PhotonStats stats;
+    Volume volume = bakePhotons(c.scene, c.tracer, grid, options, c.interrupter, &stats);
+    report.stats.nodes = grid.nodeCount();
+    report.stats.rays = stats.rays;
+    report.stats.seconds = stats.seconds;
+    report.photons = stats;
+    return volume;
+}
+
+void PhotonsPass::finish(Volume& volume, WriteOptions& write, const BakeRequest& r) const {
+    if (!r.compact) return;
+    volume = iv::compact(volume);
+    write.halfFloat = true;
+}
+
+const Pass& photonsPass() {
+    static const PhotonsPass pass;
+    return pass;
+}
+
+}  // namespace vdblight::bake_detail
