@@ -397,18 +397,18 @@ std::vector<Config> configurations() {
     std::vector<Config> v;
     // What `vdblight bake SCENE -o OUT` does with no other option (cmd_bake.cpp, --quality
     // default; keep this in step with its qualityPreset): --direct occlusion (baked in a scene
-    // without lights), about 16384 nodes in the scene box (node_budget.h), 512 rays of full
-    // paths + one probe-to-probe pass of 512, depth moments from the gather's own first hits
+    // without lights), about 16384 nodes in the scene box (node_budget.h), 768 rays of full
+    // paths + one probe-to-probe pass of 768, depth moments from the gather's own first hits
     // and depth-weighted lookups. --quick: 1/8 of the nodes, 1/16 of the rays.
-    v.push_back({"default", "vdblight bake SCENE -o OUT (--quality default: ~16384 nodes, 512 rays + 1 probe pass, "
+    v.push_back({"default", "vdblight bake SCENE -o OUT (--quality default: ~16384 nodes, 768 rays + 1 probe pass, "
                             "depth moments, --direct occlusion)",
-                 [](const Ctx& c) { return tryBake(c, parseTry("nodes=16384,rays=512,passes=1,depth=1")); }, true});
+                 [](const Ctx& c) { return tryBake(c, parseTry("nodes=16384,rays=768,passes=1,depth=1")); }, true});
     // The default with the light visibility interpolated trilinearly (as before issue 15 item 2).
     v.push_back({"default_vis_trilinear", "the default bake, light visibility looked up trilinearly (not depth-weighted)",
                  [](const Ctx& c) {
                      const double t0 = bench::now();
                      std::string note;
-                     Volume vol = tryVolume(c, parseTry("nodes=16384,rays=512,passes=1,depth=1"), note);
+                     Volume vol = tryVolume(c, parseTry("nodes=16384,rays=768,passes=1,depth=1"), note);
                      const double t = bench::now() - t0;
                      const uint64_t nodes = vol.levels[0].grid.nodeCount();
                      return fromVolumeVisibilityTrilinear(std::move(vol), t, nodes);
