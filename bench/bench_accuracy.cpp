@@ -61,6 +61,7 @@
 #include "vdblight/layout_levels.h"
 #include "vdblight/photons.h"
 #include "vdblight/query.h"
+#include "vdblight/query_direct.h"
 #include "vdblight/reference.h"
 #include "vdblight/bake_direct.h"
 #include "vdblight/scene_lights.h"
@@ -133,6 +134,19 @@ Baked fromVolume(Volume v, double seconds, uint64_t nodes) {
     b.bytes = bytesOnDisk(v);
     auto volume = std::make_shared<Volume>(std::move(v));
     auto query = std::make_shared<IrradianceQuery>(*volume);
+    b.irradiance = [volume, query](const Vec3f& x, const Vec3f& n) { return query->irradiance(x, n); };
+    return b;
+}
+
+/// As fromVolume, but an occlusion volume's light visibility is interpolated trilinearly (the
+/// lookup before issue 15 item 2; the SH part keeps its depth weights): for comparison.
+Baked fromVolumeVisibilityTrilinear(Volume v, double seconds, uint64_t nodes) {
+    Baked b = fromVolume(Volume(v), seconds, nodes);
+    if (!v.direct.hasVisibility()) return b;
+    auto volume = std::make_shared<Volume>(std::move(v));
+    auto lookup = std::make_unique<OcclusionLookup>(std::make_unique<ShUniformLookup>(*volume, OutsidePolicy::Clamp), *volume);
+    lookup->setVisibilityDepthWeights(false);
+    auto query = std::make_shared<IrradianceQuery>(std::move(lookup), "sh2-uniform");
     b.irradiance = [volume, query](const Vec3f& x, const Vec3f& n) { return query->irradiance(x, n); };
     return b;
 }
@@ -325,17 +339,17 @@ GridSpec tryGrid(const Scene& s, const TrySpec& t, const Settings& st) {
     return placeUniformGrid(s.bounds(), p, 1);
 }
 
-Baked tryBake(const Ctx& c, const TrySpec& t) {
+/// The volume a TrySpec bakes (every bake of the command: plan, gather, visibility, depth);
+/// `note` gets the rays per node of error-targeted bakes.
+Volume tryVolume(const Ctx& c, const TrySpec& t, std::string& note) {
     DirectOptions d;
     d.mode = t.direct;
     d.seed = c.seed;
     d.threads = c.settings.threads;
     const GridSpec grid = tryGrid(c.scene, t, c.settings);
-    const double t0 = bench::now();
     if (d.mode != DirectMode::Baked && sceneLights(c.scene).empty()) d.mode = DirectMode::Baked;
     const DirectPlan plan = planDirectLight(c.scene, c.tracer, grid, d);
     Volume v;
-    std::string note;
     if (t.target > 0) {
         AdaptiveOptions a;
         a.targetError = t.target;
@@ -363,8 +377,16 @@ Baked tryBake(const Ctx& c, const TrySpec& t) {
         v = bakeShGather(c.scene, c.tracer, grid, g);
     }
     bakeLightVisibility(c.scene, c.tracer, plan, d, v);
+    return v;
+}
+
+Baked tryBake(const Ctx& c, const TrySpec& t) {
+    const double t0 = bench::now();
+    std::string note;
+    Volume v = tryVolume(c, t, note);
     const double secs = bench::now() - t0;
-    Baked b = fromVolume(std::move(v), secs, grid.nodeCount());
+    const uint64_t nodes = v.levels[0].grid.nodeCount();
+    Baked b = fromVolume(std::move(v), secs, nodes);
     b.note = note;
     return b;
 }
@@ -375,12 +397,22 @@ std::vector<Config> configurations() {
     std::vector<Config> v;
     // What `vdblight bake SCENE -o OUT` does with no other option (bake/bake_request.cpp, --quality
     // default; keep this in step with its qualityPreset): --direct occlusion (baked in a scene
-    // without lights), about 16384 nodes in the scene box (node_budget.h), 512 rays of full
-    // paths + one probe-to-probe pass of 512, depth moments from the gather's own first hits
+    // without lights), about 16384 nodes in the scene box (node_budget.h), 768 rays of full
+    // paths + one probe-to-probe pass of 768, depth moments from the gather's own first hits
     // and depth-weighted lookups. --quick: 1/8 of the nodes, 1/16 of the rays.
-    v.push_back({"default", "vdblight bake SCENE -o OUT (--quality default: ~16384 nodes, 512 rays + 1 probe pass, "
+    v.push_back({"default", "vdblight bake SCENE -o OUT (--quality default: ~16384 nodes, 768 rays + 1 probe pass, "
                             "depth moments, --direct occlusion)",
-                 [](const Ctx& c) { return tryBake(c, parseTry("nodes=16384,rays=512,passes=1,depth=1")); }, true});
+                 [](const Ctx& c) { return tryBake(c, parseTry("nodes=16384,rays=768,passes=1,depth=1")); }, true});
+    // The default with the light visibility interpolated trilinearly (as before issue 15 item 2).
+    v.push_back({"default_vis_trilinear", "the default bake, light visibility looked up trilinearly (not depth-weighted)",
+                 [](const Ctx& c) {
+                     const double t0 = bench::now();
+                     std::string note;
+                     Volume vol = tryVolume(c, parseTry("nodes=16384,rays=768,passes=1,depth=1"), note);
+                     const double t = bench::now() - t0;
+                     const uint64_t nodes = vol.levels[0].grid.nodeCount();
+                     return fromVolumeVisibilityTrilinear(std::move(vol), t, nodes);
+                 }});
     // The default before this choice (issue 15 merges): 16 nodes on the longest axis, 256 rays
     // + one probe pass, no depth moments.
     v.push_back({"default_16_256", "16 nodes, 256 rays + 1 probe pass, --direct occlusion (the default before)",
@@ -602,12 +634,13 @@ AtPoint projectAtPoint(const RadianceEstimator& est, const Vec3f& x, const Vec3f
         double w = radicalInverse(3, i) + lightOffset;
         w -= std::floor(w);
         LightSample s;
-        if (est.sampleEmissiveTriangles(x, u, v, w, s, count))
+        if (est.sampleEmissiveTriangles(x, u, v, w, s, count) && !est.skipsAtReceiver(s))
             add(s.direction, Rgbd(s.weight * misWeight(s.pdf, kSpherePdf)) / double(rays));
     }
     std::vector<LightSample> punctual;
     est.punctualLights(x, punctual, count);
-    for (const LightSample& s : punctual) add(s.direction, Rgbd(s.weight));
+    for (const LightSample& s : punctual)
+        if (!est.skipsAtReceiver(s)) add(s.direction, Rgbd(s.weight));
     return a;
 }
 
@@ -719,6 +752,224 @@ fs::path defaultCache(const char* argv0) {
     return exe.parent_path().parent_path() / "accuracy_cache";  // build/bin/.. = the build directory
 }
 
+// ---------------------------------------------------------------------------------------
+// --study: where the default bake's error comes from, per scene and region (issue 15).
+//
+// floor   the default's representation at each point itself: the SH2 of the light the default
+//         bake keeps in SH (its transport, with the chosen lights' direct light left out at the
+//         receiver) projected at the point (F/4 and F rays, noise extrapolated out), plus each
+//         chosen light's exact irradiance times its visibility from the point (256 samples);
+// bakes   the default's grid with {no probe pass, one probe pass} x {R, 4R rays}, looked up
+//         {depth-weighted, plain trilinear}; each against the truth and against the floor, with
+//         the noise extrapolated out of R and 4R (squared noise ~ 1/N). "interp" = the bake
+//         against the floor (what interpolation between nodes adds), "bias" = mean signed error.
+
+struct StudyBake {
+    std::string name;
+    std::vector<double> lo, hi;  ///< values at the points at R and 4R rays
+    double seconds = 0;
+};
+
+void printStudy(const char* region, const std::vector<std::size_t>& idx, const Truth& truth, const std::vector<double>& floorQ,
+                const std::vector<double>& floorF, const std::vector<double>& cosF, const std::vector<StudyBake>& bakes, FILE* csv,
+                const std::string& scene) {
+    auto pick = [&](const std::vector<double>& v) {
+        std::vector<double> o;
+        for (std::size_t i : idx) o.push_back(v[i]);
+        return o;
+    };
+    Truth t;
+    t.mean = truth.mean;
+    t.guard = truth.guard;
+    t.e = pick(truth.e);
+    t.se = pick(truth.se);
+    const Errors fq = summarise(relative(pick(floorQ), t.e, t)), ff = summarise(relative(pick(floorF), t.e, t));
+    // SH2 against the cosine-weighted E of the same samples: the representation alone (the
+    // samples' noise is common to both and mostly cancels).
+    const Errors rep = summarise(relative(pick(floorF), pick(cosF), t));
+    std::printf("    %-10s %3zu points: floor RMS %.1f %% (noise-free %.1f %%), bias %+.1f %%; SH2 vs the same samples' cosine-weighted "
+                "E: RMS %.1f %%, bias %+.1f %%\n", region, idx.size(), 100 * ff.rms, 100 * noiseFree(fq.rms, ff.rms), 100 * ff.bias,
+                100 * rep.rms, 100 * rep.bias);
+    Row fr{scene + (region[0] ? std::string(":") + region : ""), "study_floor", ff};
+    fr.note = "noise-free " + std::to_string(noiseFree(fq.rms, ff.rms));
+    writeCsvRow(csv, fr);
+    for (const StudyBake& b : bakes) {
+        const Errors lo = summarise(relative(pick(b.lo), t.e, t)), hi = summarise(relative(pick(b.hi), t.e, t));
+        // Bake at R against the floor at F/4, at 4R against the floor at F: both noises fall 4x in squares.
+        const Errors ilo = summarise(relative(pick(b.lo), pick(floorQ), t)), ihi = summarise(relative(pick(b.hi), pick(floorF), t));
+        const double nf = noiseFree(lo.rms, hi.rms), inf = noiseFree(ilo.rms, ihi.rms);
+        const double noiseR = std::sqrt(std::max(0.0, (lo.rms * lo.rms - nf * nf)));
+        std::printf("      %-24s truth: R %5.1f %% (%+.1f), 4R %5.1f %% (%+.1f), noise-free %5.1f %% (noise at R %4.1f %%); "
+                    "vs floor: 4R %5.1f %% (%+.1f), noise-free %5.1f %%\n",
+                    b.name.c_str(), 100 * lo.rms, 100 * lo.bias, 100 * hi.rms, 100 * hi.bias, 100 * nf, 100 * noiseR,
+                    100 * ihi.rms, 100 * ihi.bias, 100 * inf);
+        Row r{fr.scene, "study_" + b.name, hi};
+        r.seconds = b.seconds;
+        r.note = "noise-free " + std::to_string(nf) + " interp-noise-free " + std::to_string(inf);
+        writeCsvRow(csv, r);
+    }
+}
+
+void studyDefault(const bench::AccuracyScene& as, const Tracer& tracer, const Points& pts, const Truth& truth, const Settings& st,
+                  uint32_t rays, uint32_t floorRays, FILE* csv) {
+    const Scene& s = as.scene;
+    const double t0 = bench::now();
+    // The default's plan and transport.
+    const GridSpec grid = tryGrid(s, parseTry("nodes=16384"), st);
+    DirectOptions d;
+    d.mode = sceneLights(s).empty() ? DirectMode::Baked : DirectMode::Occlusion;
+    d.threads = st.threads;
+    const DirectPlan plan = planDirectLight(s, tracer, grid, d);
+    TransportOptions tr;
+    tr.skipAtReceiver = plan.filter;
+    const RadianceEstimator est(s, tracer, tr);
+    const std::size_t np = pts.x.size();
+    std::vector<double> floorQ(np), floorF(np), cosF(np);
+    tbb::parallel_for(std::size_t(0), np, [&](std::size_t i) {
+        const Vec3f n = normalize(pts.n[i]);
+        Rgb direct(0, 0, 0);
+        if (d.mode == DirectMode::Occlusion)
+            for (std::size_t l = 0; l < plan.lights.size(); ++l) {
+                RayCount rc;
+                const double vis = lightVisibility(s, tracer, plan.lights[l], pts.x[i], 256, hashCombine(4242, i * 31 + l), rc);
+                direct += exactIrradiance(plan.lights[l].light, Vec3d(pts.x[i]), Vec3d(n)) * float(vis);
+            }
+        for (int pass = 0; pass < 2; ++pass) {
+            const uint32_t r = pass ? floorRays : floorRays / 4;
+            const AtPoint a = projectAtPoint(est, pts.x[i], n, r, hashCombine(777 + pass, i));
+            Rgb c[sh::kCoeffs];
+            for (int j = 0; j < sh::kCoeffs; ++j) c[j] = Rgb(a.sh[j]);
+            (pass ? floorF : floorQ)[i] = luminance(sh::irradiance(c, n) + direct);
+            if (pass) cosF[i] = luminance(Rgb(a.e) + direct);
+        }
+    });
+    std::printf("  study of the default (grid %d x %d x %d, spacing %.3f; %zu chosen lights; floor %.1f s)\n", grid.nx, grid.ny,
+                grid.nz, grid.spacing, plan.lights.size(), bench::now() - t0);
+    std::vector<StudyBake> bakes;
+    Settings full = st;  // the study takes R as given (tryBake's rays scale with --quick)
+    full.quick = false;
+    for (const int passes : {0, 1}) {
+        const std::string kind = passes ? "probe" : "plain";
+        StudyBake on, off;
+        on.name = kind + " depth";
+        off.name = kind + " no-depth";
+        for (const uint32_t r : {rays, 4 * rays}) {
+            TrySpec ts = parseTry("nodes=16384,depth=1");
+            ts.rays = r;
+            ts.passes = passes;
+            const double t1 = bench::now();
+            std::string note;
+            const Volume v = tryVolume(Ctx{s, tracer, full, 1}, ts, note);
+            on.seconds = off.seconds = bench::now() - t1;
+            const IrradianceQuery qOn(v), qOff(v, OutsidePolicy::Clamp, false);
+            (r == rays ? on.lo : on.hi) = values([&](const Vec3f& x, const Vec3f& n) { return qOn.irradiance(x, n); }, pts);
+            (r == rays ? off.lo : off.hi) = values([&](const Vec3f& x, const Vec3f& n) { return qOff.irradiance(x, n); }, pts);
+            {
+                const std::vector<double>& a = r == rays ? on.lo : on.hi;
+                const std::vector<double>& b = r == rays ? off.lo : off.hi;
+                double dmax = 0;
+                for (std::size_t i = 0; i < a.size(); ++i) dmax = std::max(dmax, std::abs(a[i] - b[i]));
+                std::printf("    (%s %u rays: %.1f s, depth grids %zu, weighted %d/%d, largest on-off difference %.3g)\n", kind.c_str(), r,
+                            on.seconds, v.levels[0].depth.size(), int(qOn.depthWeighted()), int(qOff.depthWeighted()), dmax);
+            }
+        }
+        bakes.push_back(on);
+        bakes.push_back(off);
+    }
+    std::vector<std::size_t> all(np);
+    for (std::size_t i = 0; i < np; ++i) all[i] = i;
+    printStudy("all", all, truth, floorQ, floorF, cosF, bakes, csv, as.name);
+    for (const bench::AccuracyRegion& region : as.regions) {
+        std::vector<std::size_t> idx;
+        for (std::size_t i = 0; i < np; ++i)
+            if (region.contains(pts.x[i])) idx.push_back(i);
+        if (!idx.empty()) printStudy(region.name.c_str(), idx, truth, floorQ, floorF, cosF, bakes, csv, as.name);
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// --time-to E: time to accuracy (issue 15 item 2's target: in two_rooms, reach 9 % RMS at least
+// 5x faster than plain gathering, which took 8192 rays per node at 32 nodes, 21 s). Each ladder
+// doubles the rays per node on one grid until the RMS is at most E; the time to E of a ladder
+// is the bake time of its first step that reaches it (wall and CPU / threads; the machine may be
+// shared, so CPU / threads is the better estimate of two free cores).
+
+struct Rung {
+    uint32_t rays = 0;
+    Errors e;
+    double wall = 0, cpu = 0;
+};
+
+void timeToAccuracy(const bench::AccuracyScene& as, const Tracer& tracer, const Points& pts, const Truth& truth,
+                    const Settings& st, double target, FILE* csv) {
+    struct Ladder {
+        const char* name;
+        const char* spec;  ///< TrySpec without rays
+        std::vector<uint32_t> rays;
+    };
+    const std::vector<Ladder> ladders = {
+        {"plain, the issue's baseline (32 nodes, --direct baked, no depth)", "res=32,passes=0,direct=baked", {1024, 2048, 4096, 8192}},
+        {"plain on the default's grid and options (no probe pass)", "nodes=16384,passes=0,depth=1", {512, 1024, 2048, 4096}},
+        {"plain, 32 nodes, default's options (no probe pass)", "res=32,passes=0,depth=1", {1024, 2048, 4096, 8192}},
+        {"default variance reduction (one probe pass, default's grid)", "nodes=16384,passes=1,depth=1", {64, 128, 256, 512, 1024}},
+        {"one probe pass, 32 nodes", "res=32,passes=1,depth=1", {64, 128, 256, 512, 1024}},
+    };
+    std::printf("  time to %.1f %% RMS (rays per node doubled until reached; wall s, CPU s / %d threads)\n", 100 * target, st.threads);
+    std::vector<std::pair<std::string, const Rung*>> best;
+    std::vector<std::vector<Rung>> all(ladders.size());
+    for (std::size_t l = 0; l < ladders.size(); ++l) {
+        std::printf("    %s:\n", ladders[l].name);
+        const Rung* reached = nullptr;
+        for (const uint32_t r : ladders[l].rays) {
+            TrySpec t = parseTry(ladders[l].spec);
+            t.rays = r;
+            const double cpu0 = cpuSeconds();
+            const Baked b = tryBake(Ctx{as.scene, tracer, st, 1}, t);
+            Rung g;
+            g.rays = st.rays(r);
+            g.cpu = cpuSeconds() - cpu0;
+            g.wall = b.seconds;
+            g.e = summarise(relative(values(b.irradiance, pts), truth.e, truth));
+            all[l].push_back(g);
+            std::printf("      %5u rays: RMS %5.1f %% (bias %+.1f %%), %7.2f s wall, %7.2f s CPU / %d = %6.2f s%s\n", g.rays, 100 * g.e.rms,
+                        100 * g.e.bias, g.wall, g.cpu, st.threads, g.cpu / st.threads, g.e.rms <= target ? "  <- reached" : "");
+            Row row{as.name, std::string("tta:") + ladders[l].spec + "/rays=" + std::to_string(g.rays), g.e};
+            std::replace(row.config.begin(), row.config.end(), ',', '/');
+            row.seconds = g.wall;
+            row.cpu = g.cpu;
+            writeCsvRow(csv, row);
+            if (g.e.rms <= target) {
+                reached = &all[l].back();
+                break;
+            }
+        }
+        best.push_back({ladders[l].name, reached});
+    }
+    auto cpuOf = [&](std::size_t i) { return best[i].second ? best[i].second->cpu / st.threads : -1.0; };
+    std::printf("  time to %.1f %% RMS, CPU s / %d threads (- = not reached on the ladder):\n", 100 * target, st.threads);
+    for (std::size_t i = 0; i < best.size(); ++i)
+        if (best[i].second)
+            std::printf("    %-66s %7.2f s (%u rays, wall %.2f s)\n", best[i].first.c_str(), cpuOf(i), best[i].second->rays,
+                        best[i].second->wall);
+        else
+            std::printf("    %-66s %7s\n", best[i].first.c_str(), "-");
+    // Plain: the fastest plain ladder; variance reduction: the fastest probe ladder.
+    double plain = -1, probe = -1;
+    for (std::size_t i = 0; i < best.size(); ++i) {
+        const double c = cpuOf(i);
+        if (c < 0) continue;
+        double& slot = std::string(ladders[i].spec).find("passes=1") != std::string::npos ? probe : plain;
+        if (slot < 0 || c < slot) slot = c;
+    }
+    if (plain > 0 && probe > 0)
+        std::printf("  ratio, fastest plain / fastest probe pass: %.1fx (target >= 5x)\n", plain / probe);
+    else
+        std::printf("  ratio: not measured (a ladder did not reach %.1f %%)\n", 100 * target);
+    // The default bake's own variance reduction (ladder 3) against the fastest plain ladder.
+    if (plain > 0 && cpuOf(3) > 0)
+        std::printf("  ratio, fastest plain / the default's (one probe pass on its grid): %.1fx\n", plain / cpuOf(3));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -732,7 +983,10 @@ int main(int argc, char** argv) {
                                                       {"--worst", "N"},
                                                       {"--guard", "F"},
                                                       {"--try", "SPECS"},
-                                                      {"--no-decompose", ""}});
+                                                      {"--no-decompose", ""},
+                                                      {"--study", "R"},
+                                                      {"--study-floor", "F"},
+                                                      {"--time-to", "E"}});
     if (!args.parse(argc, argv)) return 1;
     std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress visible when redirected to a file
     Settings st;
@@ -848,6 +1102,9 @@ int main(int argc, char** argv) {
                 writeCsvRow(csv, rr);
             }
         }
+        if (args.given("--time-to")) timeToAccuracy(as, tracer, pts, truth, st, args.real("--time-to", 0.09), csv);
+        if (args.given("--study")) studyDefault(as, tracer, pts, truth, st, uint32_t(args.integer("--study", 512)),
+                                                  uint32_t(args.integer("--study-floor", 32768)), csv);
         if (!decompose) continue;
 
         // The decomposition.

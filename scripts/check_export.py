@@ -143,7 +143,7 @@ def irradiance_terms(manifest, textures, x, n, max_abs=False):
     uvw = x * np.array(manifest["uvw_scale"]) + np.array(manifest["uvw_bias"])
     if manifest.get("depth", {}).get("exported") and not max_abs:
         # Depth moments: the basis texels blended with the visibility-aware weights (the
-        # query's default); the visibility textures of listed lights stay trilinear.
+        # query's default); the visibility textures of listed lights too (direct_light).
         idx, w = depth_weights(manifest, textures, x)
         s = {name: sample_weighted(tex, idx, w) for name, tex in textures.items()}
     else:
@@ -263,8 +263,12 @@ def direct_light(manifest, textures, x, n):
     if direct["mode"] != "occlusion":
         return out
     uvw = x * np.array(manifest["uvw_scale"]) + np.array(manifest["uvw_bias"])
+    # With exported depth moments the visibility is blended with the same weights as the SH.
+    weighted = depth_weights(manifest, textures, x) if manifest.get("depth", {}).get("exported") else None
     for light in direct["lights"]:
-        vis = sample_trilinear(textures[light["visibility"]["texture"]], uvw)[:, "rgba".index(light["visibility"]["component"])]
+        tex = textures[light["visibility"]["texture"]]
+        sampled = sample_weighted(tex, *weighted) if weighted is not None else sample_trilinear(tex, uvw)
+        vis = sampled[:, "rgba".index(light["visibility"]["component"])]
         for i in range(len(x)):
             out[i] += vis[i] * exact_irradiance(light, x[i], n[i])
     return out

@@ -51,7 +51,7 @@ TEST(CliAdaptive, RefusesBadOptions) {
     }
 }
 
-// Issue 15: the default bake is 512 rays + one probe-to-probe pass with depth moments,
+// Issue 15: the default bake is 768 rays + one probe-to-probe pass with depth moments,
 // --quality preview the fixed 256 rays of full paths, high is error-targeted with two probe
 // passes; every point gather prints and stores its per-node noise; the default transport has no bounce cap in effect.
 TEST(CliQuality, PresetsAndNoiseSummary) {
@@ -59,14 +59,14 @@ TEST(CliQuality, PresetsAndNoiseSummary) {
     const std::string out = dir.file("q.vdb");
     std::string text;
     ASSERT_EQ(0, test::runCommand(kCli + " bake --resolution 3 -o " + out, &text)) << text;
-    // The default (issue 15, docs/methods.md "The default bake"): 512 rays + a probe pass and
+    // The default (issue 15, docs/methods.md "The default bake"): 768 rays + a probe pass and
     // depth moments (--resolution here replaces its node budget).
-    EXPECT_NE(text.find("with 512 rays per node (+ 1 probe-to-probe pass) and all bounces (Russian roulette)"),
+    EXPECT_NE(text.find("with 768 rays per node (+ 1 probe-to-probe pass) and all bounces (Russian roulette)"),
               std::string::npos) << text;
     EXPECT_NE(text.find("Depth moments: from the gather's own first hits"), std::string::npos) << text;
     EXPECT_NE(text.find("Noise per node"), std::string::npos) << text;
     ASSERT_EQ(0, test::runCommand(kCli + " info " + out, &text)) << text;
-    EXPECT_NE(text.find("rays_per_node = 512"), std::string::npos) << text;
+    EXPECT_NE(text.find("rays_per_node = 768"), std::string::npos) << text;
     EXPECT_NE(text.find("probe_passes = 1"), std::string::npos) << text;
     EXPECT_NE(text.find("estimated_error_worst_nodes"), std::string::npos) << text;
     EXPECT_NE(text.find("bounces = 1024"), std::string::npos) << text;

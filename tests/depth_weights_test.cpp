@@ -10,12 +10,14 @@
 #include "test_util.h"
 #include "vdblight/bake.h"
 #include "vdblight/bake_bins.h"
+#include "vdblight/bake_direct.h"
 #include "vdblight/bake_depth.h"
 #include "vdblight/bake_levels.h"
 #include "vdblight/depth_moments.h"
 #include "vdblight/export.h"
 #include "vdblight/layout_levels.h"
 #include "vdblight/query.h"
+#include "vdblight/query_direct.h"
 #include "vdblight/query_levels.h"
 #include "vdblight/sampling.h"
 #include "vdblight/scene_generators.h"
@@ -111,6 +113,54 @@ TEST_F(ThinWall, DarkSideGetsNoneOfTheLitSidesLightWithWeightsAndPlentyWithout) 
     EXPECT_LT(w.darkMax, 1e-3 * w.litMean) << "dark mean " << w.darkMean;
     // The same volume, the same points, weights off: trilinear interpolation leaks through.
     EXPECT_GT(p.darkMean, 0.1 * p.litMean);
+}
+
+// `--direct occlusion` (issue 15 item 2): the point light's visibility channel is 1 at the lit
+// side's nodes and 0 at the dark side's; a point just behind the wall must not get the light's
+// exact irradiance times a share of the lit nodes' visibility. With depth moments the
+// visibility is interpolated with the SH's weights; switched off (trilinear) it leaks.
+TEST_F(ThinWall, LightVisibilityDoesNotLeakThroughTheWallWithWeights) {
+    DirectOptions d;
+    d.mode = DirectMode::Occlusion;
+    const GridSpec grid = thinWallGrid();
+    const DirectPlan plan = planDirectLight(*scene_, *tracer_, grid, d);
+    ASSERT_EQ(plan.lights.size(), 1u);
+    GatherOptions o = fastGather();
+    o.transport.skipAtReceiver = plan.filter;
+    o.depthMoments = true;
+    Volume v = bakeShGather(*scene_, *tracer_, grid, o);
+    bakeLightVisibility(*scene_, *tracer_, plan, d, v);
+    const IrradianceQuery weighted(v), plain(v, OutsidePolicy::Clamp, false);
+    const auto* ow = dynamic_cast<const OcclusionLookup*>(&weighted.lookup());
+    const auto* op = dynamic_cast<const OcclusionLookup*>(&plain.lookup());
+    ASSERT_TRUE(ow && op);
+    ASSERT_TRUE(ow->visibilityDepthWeighted());
+    ASSERT_FALSE(op->visibilityDepthWeighted());
+    // The direct part alone at points on both sides within the cells that straddle the wall.
+    Rng rng(11, 5);
+    double litMean = 0, darkMax = 0, darkPlain = 0;
+    const int n = 400;
+    for (int i = 0; i < n; ++i) {
+        const float y = 0.2f + 1.6f * rng.uniform(), z = 0.2f + 1.6f * rng.uniform();
+        const Vec3f normal = uniformSphere(rng.uniform(), rng.uniform());
+        const double xl = 1.8 + (kWallLo - 1.8) * rng.uniform(), xd = kWallHi + 1e-3 + (2.2 - kWallHi - 1e-3) * rng.uniform();
+        litMean += luminance(ow->direct(Vec3d(xl, y, z), normal)) / n;
+        darkMax = std::max(darkMax, double(luminance(ow->direct(Vec3d(xd, y, z), normal))));
+        darkPlain += luminance(op->direct(Vec3d(xd, y, z), normal)) / n;
+    }
+    ASSERT_GT(litMean, 0.1);
+    EXPECT_LT(darkMax, 1e-3 * litMean);
+    EXPECT_GT(darkPlain, 0.1 * litMean);  // the same volume and points, trilinear visibility
+    // The whole answer (indirect + direct) on the dark side is dark too, and the SH part's
+    // weights alone (visibility trilinear) do not make it so.
+    const SideMeans w = measureSides(weighted);
+    EXPECT_LT(w.darkMax, 1e-3 * w.litMean);
+    // Switching the visibility's weights off alone.
+    auto lookup = std::make_unique<OcclusionLookup>(std::make_unique<ShUniformLookup>(v, OutsidePolicy::Clamp), v);
+    lookup->setVisibilityDepthWeights(false);
+    ASSERT_TRUE(lookup->depthWeighted());
+    const IrradianceQuery mixed(std::move(lookup), "sh2-uniform");
+    EXPECT_GT(measureSides(mixed).darkMean, 0.02 * w.litMean);  // 3.8 % measured
 }
 
 TEST_F(ThinWall, BilevelVolumeDoesNotLeakWithWeights) {

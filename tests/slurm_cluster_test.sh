@@ -24,7 +24,7 @@ slurm_local_start "$W" || fail "the one-node Slurm did not start"
 
 # The default bake's passes (uniform SH point gather, one probe-to-probe pass, --direct
 # occlusion, depth moments) with seed 3, at the earlier default's 16 nodes on the longest axis
-# and 256 rays (the default's ~16384 nodes x 512 rays would cost CI ~8x the time; the grid and
+# and 256 rays (the default's ~16384 nodes x 768 rays would cost CI ~12x the time; the grid and
 # ray count change no pass): a tile runs long enough (seconds) to be killed while it runs.
 OPTS="--seed 3 --resolution 16 --rays 256"
 SCENE="$SRC/data/cornell_box.obj"

@@ -313,7 +313,7 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
     cmd->add_option("--quality", c->quality,
                     "preview: 16 nodes on the longest axis, 256 rays per node of full paths (sub-second, noisy "
                     "where light is hard to reach); default: about 16384 nodes in the scene box (16..64 on its "
-                    "longest axis), 512 rays + one probe-to-probe pass of 512, depth moments (seconds; the "
+                    "longest axis), 768 rays + one probe-to-probe pass of 768, depth moments (seconds; the "
                     "measured most accurate within 30 s, docs/methods.md); high: default's grid, each node "
                     "sampled to a relative standard error of 3 % (64..2048 rays) + two probe passes. Presets "
                     "apply to --method gather, --sampling point, --layout uniform, --basis sh2; other passes "

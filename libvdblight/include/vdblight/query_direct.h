@@ -1,6 +1,9 @@
 // Lookups of volumes baked with `bake --direct occlusion` (direct_light.h): the stored
 // (indirect) light plus, for each listed light, its exact unshadowed irradiance for the
-// normal times its visibility interpolated trilinearly between the nodes.
+// normal times its visibility interpolated between the nodes: trilinearly, or, when the
+// volume has depth moments, with the same visibility-aware weights as the SH
+// (depth_moments.h), so that a node behind a wall or inside a solid does not darken (or
+// light) a point it cannot see.
 //
 // IrradianceQuery wraps the lookup of such a volume in an OcclusionLookup on its own, so
 // `IrradianceQuery::irradiance` is the complete answer for baked and occlusion volumes. For a
@@ -28,12 +31,19 @@ public:
     void shRadiance(const Vec3d& x, Rgb out[9]) const override { base_->shRadiance(x, out); }
     void irradianceVectors(const Vec3d& x, float out[54]) const override { base_->irradianceVectors(x, out); }
     void binValues(const Vec3d& x, float* out) const override { base_->binValues(x, out); }
-    // The indirect part's interpolation may be depth-weighted (depth_moments.h); the
-    // visibility channels stay trilinear.
-    void setDepthWeights(bool on) override { base_->setDepthWeights(on); }
+    // Both the indirect part and the visibility channels are depth-weighted when the volume
+    // has depth moments (depth_moments.h), unless switched off here.
+    void setDepthWeights(bool on) override {
+        base_->setDepthWeights(on);
+        depthWeights_ = on && !depth_.empty();
+    }
     bool depthWeighted() const override { return base_->depthWeighted(); }
+    /// The visibility channels alone back to plain trilinear (for measurements: the SH part
+    /// keeps its weights).
+    void setVisibilityDepthWeights(bool on) { depthWeights_ = on && !depth_.empty(); }
+    bool visibilityDepthWeighted() const { return depthWeights_; }
 
-    /// Visibility of every listed light at x (trilinear between nodes, x clamped to the box).
+    /// Visibility of every listed light at x (between the nodes as above, x clamped to the box).
     void visibility(const Vec3d& x, float* out) const;
     /// The direct part alone: sum over lights of exactIrradiance * visibility.
     Rgb direct(const Vec3d& x, const Vec3f& n) const;
@@ -44,6 +54,8 @@ private:
     std::vector<DirectLight> lights_;
     GridSpec grid_;
     std::vector<float> visibility_;  ///< node-major, lights_.size() per node
+    std::vector<float> depth_;       ///< level 0's depth moments (depth::kFloatsPerNode per node), or empty
+    bool depthWeights_ = false;
 };
 
 }  // namespace vdblight

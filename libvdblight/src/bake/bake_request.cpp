@@ -28,7 +28,7 @@ namespace {
 /// preset's. The presets apply where the point gather on a uniform SH grid runs; other
 /// passes take 16 nodes on the longest axis and a fixed 256 rays.
 constexpr uint64_t kDefaultNodes = 16384;
-constexpr uint32_t kDefaultRays = 512;
+constexpr uint32_t kDefaultRays = 768;
 constexpr uint32_t kPlainRays = 256;
 struct QualityPreset {
     double targetError;  ///< 0: fixed budget (rays)

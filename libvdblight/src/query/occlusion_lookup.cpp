@@ -2,6 +2,8 @@
 
 #include "vdblight/query_direct.h"
 
+#include "depth_weights.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -9,9 +11,12 @@ namespace vdblight {
 
 OcclusionLookup::OcclusionLookup(std::unique_ptr<VolumeLookup> base, const Volume& volume)
     : base_(std::move(base)), lights_(volume.direct.lights), grid_(volume.levels.at(0).grid),
-      visibility_(volume.levels[0].lightVisibility) {
+      visibility_(volume.levels[0].lightVisibility), depth_(volume.levels[0].depth) {
     if (!volume.direct.hasVisibility() || visibility_.size() != grid_.nodeCount() * lights_.size())
         throw FormatError("occlusion lookup: the volume has no light visibility channels");
+    if (!depth_.empty() && depth_.size() != grid_.nodeCount() * depth::kFloatsPerNode)
+        throw FormatError("occlusion lookup: the depth moments do not match the grid");
+    depthWeights_ = !depth_.empty();
 }
 
 void OcclusionLookup::visibility(const Vec3d& x, float* out) const {
@@ -26,14 +31,23 @@ void OcclusionLookup::visibility(const Vec3d& x, float* out) const {
         f[a] = dims[a] > 1 ? u - base[a] : 0.0;
     }
     for (std::size_t i = 0; i < m; ++i) out[i] = 0.0f;
+    std::size_t node[8];
+    float w[8];
+    const float* depth[8];
     for (int c = 0; c < 8; ++c) {
         const int di = c & 1, dj = (c >> 1) & 1, dk = (c >> 2) & 1;
-        const double w = (di ? f[0] : 1 - f[0]) * (dj ? f[1] : 1 - f[1]) * (dk ? f[2] : 1 - f[2]);
-        if (w == 0) continue;
+        w[c] = float((di ? f[0] : 1 - f[0]) * (dj ? f[1] : 1 - f[1]) * (dk ? f[2] : 1 - f[2]));
         const int i = std::min(base[0] + di, dims[0] - 1), j = std::min(base[1] + dj, dims[1] - 1),
                   k = std::min(base[2] + dk, dims[2] - 1);
-        const float* v = visibility_.data() + grid_.index(i, j, k) * m;
-        for (std::size_t l = 0; l < m; ++l) out[l] += float(w * v[l]);
+        node[c] = grid_.index(i, j, k);
+        if (depthWeights_) depth[c] = depth_.data() + node[c] * depth::kFloatsPerNode;
+    }
+    // The SH lookups' weights (depth_weights.h): corners the point cannot see drop out.
+    if (depthWeights_) query_detail::weightByDepth(w, depth, float(f[0]), float(f[1]), float(f[2]));
+    for (int c = 0; c < 8; ++c) {
+        if (w[c] == 0) continue;
+        const float* v = visibility_.data() + node[c] * m;
+        for (std::size_t l = 0; l < m; ++l) out[l] += w[c] * v[l];
     }
 }
 
