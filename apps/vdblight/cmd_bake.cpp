@@ -12,7 +12,9 @@
 #include "vdblight/bake_adaptive.h"
 #include "vdblight/bake_antialiased.h"
 #include "vdblight/bake_depth.h"
+#include "vdblight/bake_basis.h"
 #include "vdblight/bake_bins.h"
+#include "vdblight/basis.h"
 #include "vdblight/bake_direct.h"
 #include "vdblight/scene_lights.h"
 #include "vdblight/bins.h"
@@ -95,7 +97,7 @@ DirectOptions directFromOptions(const BakeCommand& c) {
     const char* other = c.method != "gather" ? "--method photons"
                         : c.sampling != "point" ? "--sampling antialiased"
                         : c.layout != "uniform" ? "--layout bilevel/adaptive"
-                        : c.basis != "sh2"      ? "--basis bins/moment"
+                        : c.basis != "sh2"      ? "--basis other than sh2"
                         : c.shWindow            ? "--sh-window"
                                                 : nullptr;
     if (other && automatic) {
@@ -286,9 +288,11 @@ void run(const BakeCommand& c) {
     // vectors of all 27 values per node (node_least_squares.h).
     const std::size_t lsq = c.fit == "least-squares" ? 27 + 7 * sh::kCoeffs * 3 : 0;
     const std::size_t extra = c.sampling == "antialiased" ? (sh::kCoeffs * 3 + 2 + lsq) * sizeof(double) : 0;
-    const bins::BasisSpec basisSpec = bins::parseBasisSpec(c.basis);
-    const bool binned = basisSpec.kind != bins::BasisSpec::Kind::Sh2;
-    const std::size_t channels = binned ? std::size_t(basisSpec.binCount()) : std::size_t(sh::kCoeffs);
+    const std::unique_ptr<Basis> basis = makeBasis(c.basis);  // the registry (basis.h)
+    bins::BasisSpec basisSpec;
+    const bool binned = bins::specFromVolume(basis->desc(), basisSpec);  // bins / moments: their own gather
+    const bool generic = !binned && c.basis != "sh2";                     // any other basis: the generic gather
+    const std::size_t channels = std::size_t(basis->channelCount());
     const GridSpec grid = placeUniformGrid(scene.bounds(), placement, 2 * channels * 3 * sizeof(float) + extra);
 
     const Tracer tracer(scene);
@@ -346,6 +350,17 @@ void run(const BakeCommand& c) {
                                        : placeLevels(grid, scene.positions, scene.indices, levels, 2 * channels * 3 * sizeof(float));
         bo.only = selectTile(layout.levels);
         volume = bakeBins(scene, tracer, layout, bo, &progress, &stats);
+    } else if (generic) {  // any other basis of the registry (bake_basis.h)
+        BasisBakeOptions bo;
+        bo.raysPerNode = c.rays;
+        bo.seed = c.seed;
+        bo.threads = c.threads;
+        bo.transport = options.transport;
+        const LevelLayout layout = levels.kind == LayoutKind::Uniform
+                                       ? uniformLayout(grid)
+                                       : placeLevels(grid, scene.positions, scene.indices, levels, 2 * channels * 3 * sizeof(float));
+        bo.only = selectTile(layout.levels);
+        volume = bakeBasis(scene, tracer, layout, *basis, bo, &progress, &stats);
     } else if (levels.kind == LayoutKind::Uniform) {
         LevelTopology shape;
         shape.grid = grid;
@@ -437,7 +452,7 @@ void run(const BakeCommand& c) {
         if (scene.stats.degenerateTrianglesSkipped)
             std::cout << ", " << scene.stats.degenerateTrianglesSkipped << " degenerate skipped";
         std::cout << ") with " << (c.targetError > 0 ? std::string("error-targeted")
-                                   : binned ? metaString(volume.meta, "rays_per_node") : std::to_string(c.rays))
+                                   : binned || generic ? metaString(volume.meta, "rays_per_node") : std::to_string(c.rays))
                   << " rays per node"
                   << (c.probePasses > 0 ? " (+ " + std::to_string(c.probePasses) + " probe-to-probe pass" +
                                               (c.probePasses > 1 ? "es" : "") + ")"
@@ -456,6 +471,9 @@ void run(const BakeCommand& c) {
         if (binned)
             std::cout << ". Wrote " << c.output << " (basis " << volume.basis.kind << ", " << channels << " Vec3f grids, "
                       << metaString(volume.meta, "samples_per_bin") << " samples per bin).\n";
+        else if (generic)
+            std::cout << ". Wrote " << c.output << " (basis " << volume.basis.kind << ": " << basis->describe() << ", "
+                      << channels << " Vec3f grids).\n";
         else
         std::cout << ". Wrote " << c.output << " (SH order 2 radiance, 9 Vec3f grids"
                   << (volume.levels[0].validity.empty() ? "" : " + validity") << ").\n";
@@ -567,9 +585,7 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
                   "gather: window the SH bands (1, 0.584, 0.135) so that irradiance is never negative (blurs; "
                   "docs/methods.md)");
     cmd->add_option("--basis", c->basis,
-                    "Directional basis: sh2, bins:R (Greger: 2 R^2 equal-area bins of irradiance) or moment:n[:R] "
-                    "(n-th moment, eq. 5, for glossy lookups with query --view; R = 17 by default); with bins, "
-                    "--rays is rounded up to a multiple of the bin count")
+                    "Directional basis (docs/format.md): " + basisChoices())
         ->capture_default_str();
     auto* refineDistance = cmd->add_option("--refine-distance", c->refineDistance,
                     "bilevel/adaptive: refine every cell within this distance (scene units, max-norm) of a "
@@ -627,7 +643,7 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
         // uniform SH grid runs; other passes take the fixed --rays (default 256).
         const bool targetable = c->method == "gather" && c->sampling == "point" && invalidate->count() == 0 &&
                                 parseLayoutKind(c->layout) == LayoutKind::Uniform &&
-                                bins::parseBasisSpec(c->basis).kind == bins::BasisSpec::Kind::Sh2;
+                                makeBasis(c->basis)->desc().kind == "sh2";
         if (target->count() == 0 && rays->count() == 0 && preset.targetError > 0 && targetable)
             c->targetError = preset.targetError;
         if (c->targetError > 0) {
@@ -669,7 +685,7 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
             throw ValueError(c->stage > 0 ? "--stage " + std::to_string(c->stage) + " needs --stage-input (the merged tiles of stage " +
                                                 std::to_string(c->stage - 1) + ")"
                                           : std::string("--stage-input needs --stage 1 or later"));
-        if (c->shWindow && (c->method != "gather" || bins::parseBasisSpec(c->basis).kind != bins::BasisSpec::Kind::Sh2))
+        if (c->shWindow && (c->method != "gather" || makeBasis(c->basis)->desc().kind != "sh2"))
             throw ValueError("--sh-window applies to --method gather with --basis sh2 only");
         if (probe->count() > 0 && c->probePasses > 0 && !targetable)
             throw ValueError("--probe-passes works with --method gather, --sampling point, --layout uniform and "
@@ -682,12 +698,14 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
                              "default/high without --rays)");
         if (target->count() > 0 && (c->method != "gather" || c->sampling != "point" || invalidate->count() > 0 ||
                                     parseLayoutKind(c->layout) != LayoutKind::Uniform ||
-                                    bins::parseBasisSpec(c->basis).kind != bins::BasisSpec::Kind::Sh2))
+                                    makeBasis(c->basis)->desc().kind != "sh2"))
             throw ValueError("--target-error works with --method gather, --sampling point, --layout uniform and --basis sh2 only");
         const LayoutKind kind = parseLayoutKind(c->layout);
-        if (bins::parseBasisSpec(c->basis).kind != bins::BasisSpec::Kind::Sh2 &&
+        if (makeBasis(c->basis)->desc().kind != "sh2" &&
             (c->method != "gather" || c->sampling != "point" || invalidate->count() > 0))
-            throw ValueError("--basis bins/moment works with --method gather and --sampling point only");
+            throw ValueError("--basis " + std::string(c->basis.rfind("bins:", 0) == 0 || c->basis.rfind("moment:", 0) == 0
+                                                          ? "bins/moment" : c->basis) +
+                             " works with --method gather and --sampling point only");
         if (c->refine < 2) throw ValueError("--refine must be at least 2, got " + std::to_string(c->refine));
         if (c->levels < 1) throw ValueError("--levels must be at least 1, got " + std::to_string(c->levels));
         if (c->levels > 16)
@@ -700,7 +718,7 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
             throw ValueError("--refine-distance must be a finite distance >= 0, got " + std::to_string(c->refineDistance));
         if (refineDistance->count() > 0 && kind == LayoutKind::Uniform)
             throw ValueError("--refine-distance needs --layout bilevel or adaptive");
-        if (c->cullSolids && (kind == LayoutKind::Uniform || bins::parseBasisSpec(c->basis).kind != bins::BasisSpec::Kind::Sh2))
+        if (c->cullSolids && (kind == LayoutKind::Uniform || makeBasis(c->basis)->desc().kind != "sh2"))
             throw ValueError("--cull-solids needs --layout bilevel or adaptive and --basis sh2");
         // Refuse explicit zero or negative values here: 0 would otherwise mean "default".
         if (spacing->count() > 0 && !(c->spacing > 0))

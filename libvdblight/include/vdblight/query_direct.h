@@ -27,7 +27,7 @@ public:
     Bounds bounds() const override { return base_->bounds(); }
     void shRadiance(const Vec3d& x, Rgb out[9]) const override { base_->shRadiance(x, out); }
     void irradianceVectors(const Vec3d& x, float out[54]) const override { base_->irradianceVectors(x, out); }
-    void binValues(const Vec3d& x, float* out) const override { base_->binValues(x, out); }
+    void channelValues(const Vec3d& x, float* out) const override { base_->channelValues(x, out); }
     // The indirect part's interpolation may be depth-weighted (depth_moments.h); the
     // visibility channels stay trilinear.
     void setDepthWeights(bool on) override { base_->setDepthWeights(on); }
