@@ -9,12 +9,14 @@ namespace vdblight {
 
 // Each kind lives in its own file (src/basis/<name>_basis.cpp).
 BasisKind sh2BasisKind();
+BasisKind shBasisKind();
 BasisKind binsBasisKind();
 BasisKind momentBasisKind();
 
 const std::vector<BasisKind>& basisKinds() {
     static const std::vector<BasisKind> kinds = {
         sh2BasisKind(),
+        shBasisKind(),
         binsBasisKind(),
         momentBasisKind(),
     };
