@@ -8,16 +8,20 @@
 
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <string>
 
 #include "grids.h"
 #include "test_util.h"
+#include "vdblight/bake.h"
 #include "vdblight/bake_basis.h"
 #include "vdblight/bake_bins.h"
 #include "vdblight/basis.h"
 #include "vdblight/bins.h"
 #include "vdblight/channel_lookup.h"
 #include "vdblight/errors.h"
+#include "vdblight/export.h"
+#include "vdblight/sh.h"
 #include "vdblight/irradiance_vectors.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
@@ -164,4 +168,38 @@ TEST(ChannelLookup, AtANodeEvaluatesTheBasisOnThatNode) {
         EXPECT_NEAR(e.x, want.x, 1e-5 * (1 + std::fabs(want.x)));
         EXPECT_NEAR(e.z, want.z, 1e-5 * (1 + std::fabs(want.z)));
     }
+}
+
+TEST(BasisExport, LayoutBasisWritesEveryChannelOfAnShTwoVolumeAtItsNodes) {
+    // sh2 is a registry basis too: its own layout is its nine coefficients as stored (the sh2
+    // lookups' channelValues), and the textures hold the node values at the nodes.
+    const Scene s = loadScene(defaultScenePath());
+    const Tracer tracer(s);
+    GridPlacement p;
+    p.resolution = 3;
+    GatherOptions o;
+    o.raysPerNode = 32;
+    o.transport.maxBounces = 1;
+    const Volume v = bakeShGather(s, tracer, placeUniformGrid(s.bounds(), p, 1), o);
+    test::TempDir dir;
+    ExportOptions e;
+    e.format = TextureFormat::Raw;
+    e.layout = ExportLayout::Basis;
+    e.halfFloat = false;
+    const ExportSummary summary = exportTextures(v, dir.file("tex"), e);
+    EXPECT_EQ(summary.files.size(), 10u);  // nine textures + manifest
+    const GridSpec& g = v.levels[0].grid;
+    for (int j : {0, 4, 8}) {
+        std::ifstream t(dir.file("tex") + "/" + sh::gridName(j) + ".raw", std::ios::binary);
+        std::vector<float> texels(g.nodeCount() * 4);
+        t.read(reinterpret_cast<char*>(texels.data()), std::streamsize(texels.size() * sizeof(float)));
+        ASSERT_TRUE(t) << sh::gridName(j);
+        for (std::size_t n = 0; n < g.nodeCount(); ++n)
+            for (int c = 0; c < 3; ++c) ASSERT_NEAR(texels[4 * n + c], v.levels[0].nodeData(n, 9)[3 * j + c], 1e-6) << n;
+    }
+    // An irradiance-vector volume is no registry basis: refused with the reason.
+    Volume iv = v;
+    iv.basis = iv::basis();
+    iv.levels[0].data.assign(g.nodeCount() * 54, 0.0f);
+    EXPECT_THROW(exportTextures(iv, dir.file("tex2"), e), FormatError);
 }

@@ -138,6 +138,8 @@ public:
     /// Nine interpolated radiance coefficients at x (RGB each).
     void radianceCoefficients(const Vec3f& x, Rgb out[9]) const;
     void shRadiance(const Vec3d& x, Rgb out[9]) const override;
+    /// shRadiance as the sh2 basis's channels (basis.h; export --layout basis).
+    void channelValues(const Vec3d& x, float* out) const override;
     void setDepthWeights(bool on) override { depthWeights_ = on && !depth_.empty(); }
     bool depthWeighted() const override { return depthWeights_; }
 
