@@ -291,7 +291,7 @@ void run(const BakeCommand& c) {
     const std::unique_ptr<Basis> basis = makeBasis(c.basis);  // the registry (basis.h)
     bins::BasisSpec basisSpec;
     const bool binned = bins::specFromVolume(basis->desc(), basisSpec);  // bins / moments: their own gather
-    const bool generic = !binned && c.basis != "sh2";                     // any other basis: the generic gather
+    const bool generic = !binned && basis->desc().kind != "sh2";        // any other basis: the generic gather
     const std::size_t channels = std::size_t(basis->channelCount());
     const GridSpec grid = placeUniformGrid(scene.bounds(), placement, 2 * channels * 3 * sizeof(float) + extra);
 
@@ -641,9 +641,12 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
             throw ValueError("--target-error and --rays exclude each other (an error target or a fixed budget)");
         // The quality's error target and probe passes apply where the point gather on a
         // uniform SH grid runs; other passes take the fixed --rays (default 256).
+        // --basis through the registry (basis.h): a bad spec is refused here, before anything runs.
+        const std::unique_ptr<Basis> basis = makeBasis(c->basis);
+        bins::BasisSpec binsSpec;
+        const bool sh2Basis = basis->desc().kind == "sh2", binsBasis = bins::specFromVolume(basis->desc(), binsSpec);
         const bool targetable = c->method == "gather" && c->sampling == "point" && invalidate->count() == 0 &&
-                                parseLayoutKind(c->layout) == LayoutKind::Uniform &&
-                                makeBasis(c->basis)->desc().kind == "sh2";
+                                parseLayoutKind(c->layout) == LayoutKind::Uniform && sh2Basis;
         if (target->count() == 0 && rays->count() == 0 && preset.targetError > 0 && targetable)
             c->targetError = preset.targetError;
         if (c->targetError > 0) {
@@ -685,7 +688,7 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
             throw ValueError(c->stage > 0 ? "--stage " + std::to_string(c->stage) + " needs --stage-input (the merged tiles of stage " +
                                                 std::to_string(c->stage - 1) + ")"
                                           : std::string("--stage-input needs --stage 1 or later"));
-        if (c->shWindow && (c->method != "gather" || makeBasis(c->basis)->desc().kind != "sh2"))
+        if (c->shWindow && (c->method != "gather" || !sh2Basis))
             throw ValueError("--sh-window applies to --method gather with --basis sh2 only");
         if (probe->count() > 0 && c->probePasses > 0 && !targetable)
             throw ValueError("--probe-passes works with --method gather, --sampling point, --layout uniform and "
@@ -698,13 +701,11 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
                              "default/high without --rays)");
         if (target->count() > 0 && (c->method != "gather" || c->sampling != "point" || invalidate->count() > 0 ||
                                     parseLayoutKind(c->layout) != LayoutKind::Uniform ||
-                                    makeBasis(c->basis)->desc().kind != "sh2"))
+                                    !sh2Basis))
             throw ValueError("--target-error works with --method gather, --sampling point, --layout uniform and --basis sh2 only");
         const LayoutKind kind = parseLayoutKind(c->layout);
-        if (makeBasis(c->basis)->desc().kind != "sh2" &&
-            (c->method != "gather" || c->sampling != "point" || invalidate->count() > 0))
-            throw ValueError("--basis " + std::string(c->basis.rfind("bins:", 0) == 0 || c->basis.rfind("moment:", 0) == 0
-                                                          ? "bins/moment" : c->basis) +
+        if (!sh2Basis && (c->method != "gather" || c->sampling != "point" || invalidate->count() > 0))
+            throw ValueError("--basis " + (binsBasis ? std::string("bins/moment") : c->basis) +
                              " works with --method gather and --sampling point only");
         if (c->refine < 2) throw ValueError("--refine must be at least 2, got " + std::to_string(c->refine));
         if (c->levels < 1) throw ValueError("--levels must be at least 1, got " + std::to_string(c->levels));
@@ -718,7 +719,7 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
             throw ValueError("--refine-distance must be a finite distance >= 0, got " + std::to_string(c->refineDistance));
         if (refineDistance->count() > 0 && kind == LayoutKind::Uniform)
             throw ValueError("--refine-distance needs --layout bilevel or adaptive");
-        if (c->cullSolids && (kind == LayoutKind::Uniform || makeBasis(c->basis)->desc().kind != "sh2"))
+        if (c->cullSolids && (kind == LayoutKind::Uniform || !sh2Basis))
             throw ValueError("--cull-solids needs --layout bilevel or adaptive and --basis sh2");
         // Refuse explicit zero or negative values here: 0 would otherwise mean "default".
         if (spacing->count() > 0 && !(c->spacing > 0))
