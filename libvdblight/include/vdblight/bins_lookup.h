@@ -21,11 +21,19 @@ public:
     /// Throws FormatError if the basis is not bins / moment or a refined cell misses a node.
     BinsLookup(const Volume& volume, OutsidePolicy outside, bool interpolateBins = kInterpolateBinsDefault);
     const bins::BasisSpec& spec() const { return spec_; }
+    /// ChannelLookup::irradiance without the virtual call into the basis (the bins are known).
+    Rgb irradiance(const Vec3f& x, const Vec3f& d) const override {
+        int channels[4];
+        float weights[4];
+        const int n = bins::lookupWeights(spec_.resolution, interpolate_, d, channels, weights);
+        return sumTerms(x, channels, weights, n);
+    }
 
     static bool accepts(const Volume& volume);
 
 private:
     bins::BasisSpec spec_;
+    bool interpolate_;
 };
 
 /// The simple lookup BinsLookup is tested against: the bin of d by bins::binOf (no blending

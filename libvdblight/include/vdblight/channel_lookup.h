@@ -36,6 +36,11 @@ public:
     /// Most terms a basis may return to this lookup.
     static constexpr int kMaxTerms = 64;
 
+protected:
+    /// sum over corners c and terms t of w_c * weights_t * channel_t of corner c at x (the
+    /// basis's terms already chosen: a subclass that knows its basis calls this directly).
+    Rgb sumTerms(const Vec3f& x, const int* channels, const float* weights, int terms) const;
+
 private:
     struct Level {
         std::vector<int32_t> child;   ///< per cell (level 0) or per brick cell: brick of the next level, -1

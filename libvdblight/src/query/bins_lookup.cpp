@@ -22,7 +22,7 @@ bool BinsLookup::accepts(const Volume& volume) {
 }
 
 BinsLookup::BinsLookup(const Volume& volume, OutsidePolicy outside, bool interpolateBins)
-    : ChannelLookup(volume, outside, bins::makeBinsBasis(binsSpec(volume), interpolateBins)), spec_(binsSpec(volume)) {}
+    : ChannelLookup(volume, outside, bins::makeBinsBasis(binsSpec(volume), interpolateBins)), spec_(binsSpec(volume)), interpolate_(interpolateBins) {}
 
 Rgbd referenceBinsLookup(const Volume& volume, const Vec3d& x, const Vec3f& d) {
     bins::BasisSpec spec;

@@ -115,15 +115,19 @@ const ChannelLookup::Level& ChannelLookup::locate(const T g[3], std::size_t corn
 }
 
 Rgb ChannelLookup::irradiance(const Vec3f& x, const Vec3f& d) const {
+    int channels[kMaxTerms];
+    float bw[kMaxTerms];
+    const int nb = basis_->terms(d, channels, bw);
+    return sumTerms(x, channels, bw, nb);
+}
+
+Rgb ChannelLookup::sumTerms(const Vec3f& x, const int* channels, const float* bw, int nb) const {
     const Vec3f gv = (x - origin_) * invSpacing_;
     query_detail::checkInside(gv, grid_, x, outside_);
     const float g[3] = {gv.x, gv.y, gv.z};
     std::size_t corner[8];
     float w[8];
     const Level& level = locate(g, corner, w);
-    int channels[kMaxTerms];
-    float bw[kMaxTerms];
-    const int nb = basis_->terms(d, channels, bw);
     Rgb e{0, 0, 0};
     for (int c = 0; c < 8; ++c) {
         const float* p = level.data.data() + corner[c] * floatsPerNode_;
