@@ -58,7 +58,7 @@ TEST(CliBins, BadBasesAreRefusedWithOneLineAndNoFile) {
     const std::string base = "bake --resolution 3 --rays 8";
     test::expectCleanFailureWithOutput(dir, base + " --basis bins:0", "at least 1");
     test::expectCleanFailureWithOutput(dir, base + " --basis bins:x", "positive integer");
-    test::expectCleanFailureWithOutput(dir, base + " --basis wavelets", "--basis must be sh2, bins:N or moment:N");
+    test::expectCleanFailureWithOutput(dir, base + " --basis wavelets", "--basis must be sh2, sh:N, bins:N or moment:N");
     test::expectCleanFailureWithOutput(dir, base + " --basis moment:0", "at least 1");
     test::expectCleanFailureWithOutput(dir, base + " --basis bins:4 --method photons", "--basis bins/moment works with --method gather");
     test::expectCleanFailureWithOutput(dir, base + " --basis bins:4 --sampling antialiased", "--basis bins/moment works with");

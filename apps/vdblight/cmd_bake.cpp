@@ -10,6 +10,7 @@
 #include "app_common.h"
 #include "commands.h"
 #include "vdblight/bake_volume.h"
+#include "vdblight/basis.h"
 #include "vdblight/bins.h"
 #include "vdblight/depth_moments.h"
 #include "vdblight/errors.h"
@@ -33,7 +34,7 @@ struct BakeCommand {
     std::string sampling = "point";  // point | antialiased (bake_antialiased.h)
     std::string layout = "uniform";
     std::string quality = "default";  // preview | default | high (resolveBakeRequest)
-    std::string basis = "sh2";  // sh2 | bins:R | moment:n[:R] (bins.h)
+    std::string basis = "sh2";  // a spec of the basis registry (basis.h): sh2, sh:N, bins:R, moment:n[:R]
     std::string direct;            // baked | runtime | occlusion (bake_direct.h); empty: the default
     int directLights = 4;          // --direct occlusion: lights with a visibility channel
     bool reproducible = true;   // leave run-specific metadata out of the file (vdb_io.h)
@@ -256,10 +257,13 @@ void printSummary(const BakeCommand& c, const Scene& scene, const SceneLoadRepor
     if (r.sampling == "antialiased") std::cout << " (sampling antialiased, domain " << metaString(volume.meta, "domain") << ")";
     if (volume.meta.count("nodes_dilated"))
         std::cout << "; " << metaString(volume.meta, "nodes_dilated") << " nodes filled by dilation";
-    if (binned)
+    if (binned && volume.meta.count("samples_per_bin"))
         std::cout << ". Wrote " << c.output << " (basis " << volume.basis.kind << ", "
-                  << bins::parseBasisSpec(r.basis).binCount() << " Vec3f grids, "
+                  << volume.basis.channelCount() << " Vec3f grids, "
                   << metaString(volume.meta, "samples_per_bin") << " samples per bin).\n";
+    else if (binned)  // a registry basis through the generic gather (basis.h)
+        std::cout << ". Wrote " << c.output << " (basis " << volume.basis.kind << ": " << makeBasis(r.basis)->describe()
+                  << ", " << volume.basis.channelCount() << " Vec3f grids).\n";
     else
         std::cout << ". Wrote " << c.output << " (SH order 2 radiance, 9 Vec3f grids"
                   << (volume.levels[0].validity.empty() ? "" : " + validity") << ").\n";
@@ -330,10 +334,7 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
         ->capture_default_str();
     cmd->add_option("--layout", c->layout, "Node layout: uniform, bilevel (Greger et al.) or adaptive (n levels)")
         ->capture_default_str();
-    cmd->add_option("--basis", c->basis,
-                    "Directional basis: sh2, bins:R (Greger: 2 R^2 equal-area bins of irradiance) or moment:n[:R] "
-                    "(n-th moment, eq. 5, for glossy lookups with query --view; R = 17 by default); with bins, "
-                    "--rays is rounded up to a multiple of the bin count")
+    cmd->add_option("--basis", c->basis, "Directional basis (docs/format.md): " + basisChoices())
         ->capture_default_str();
     cmd->add_option("--direct", c->direct,
                     "Direct light: baked (in the SH), runtime (SH holds indirect light; the file lists the lights for "

@@ -4,6 +4,7 @@
 
 #include "app_common.h"
 #include "commands.h"
+#include "vdblight/basis.h"
 #include "vdblight/errors.h"
 #include "vdblight/prt_io.h"
 #include "vdblight/tiles.h"
@@ -49,13 +50,12 @@ std::string vec(const Vec3d& v, bool json) {
     return o.str();
 }
 
-/// What the channels of a basis hold, for the human-readable listing.
-const char* describeChannels(const std::string& kind) {
-    if (kind == "sh2") return " RGB channels: radiance SH coefficients";
-    if (kind == "irradiance_vectors") return " channels: irradiance vectors per direction and colour";
-    if (kind == "irradiance_vectors_compact") return " channels: colour and direction per direction";
-    if (kind.rfind("bins:", 0) == 0) return " RGB channels: irradiance per equal-area bin";
-    if (kind.rfind("moment:", 0) == 0) return " RGB channels: moment per equal-area bin, query with --view";
+/// What the channels of a basis hold, for the human-readable listing: the registered basis's
+/// own phrase (basis.h), or the irradiance-vector kinds, which the registry does not hold.
+std::string describeChannels(const BasisDesc& basis) {
+    if (const std::unique_ptr<Basis> b = basisOf(basis)) return " RGB channels: " + b->describe();
+    if (basis.kind == "irradiance_vectors") return " channels: irradiance vectors per direction and colour";
+    if (basis.kind == "irradiance_vectors_compact") return " channels: colour and direction per direction";
     return " channels";
 }
 
@@ -63,7 +63,7 @@ void printHuman(const Volume& v, const FileInfo& f) {
     std::cout << f.path << ": " << formatBytes(double(f.fileBytes)) << " on disk\n"
               << "  content hash: sha256 " << f.hash.sha256 << " (header UUID " << f.hash.headerUuid
               << (f.hash.uuidFromContent ? ", derived from it" : ", random: not written by this version") << ")\n"
-              << "  basis: " << v.basis.kind << " (" << v.basis.channelCount() << describeChannels(v.basis.kind) << ")\n";
+              << "  basis: " << v.basis.kind << " (" << v.basis.channelCount() << describeChannels(v.basis) << ")\n";
     // bake --direct (docs/format.md, "Direct light").
     std::cout << "  direct light: " << directModeName(v.direct.mode);
     if (!v.direct.lights.empty())

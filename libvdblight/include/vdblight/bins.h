@@ -21,10 +21,12 @@
 // constant environment L gives pi L in every bin for every n.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "vdblight/math.h"
+#include "vdblight/basis.h"
 #include "vdblight/basis_desc.h"
 
 namespace vdblight {
@@ -73,6 +75,17 @@ inline double binSolidAngle(int resolution) { return 4.0 * kPi / (2.0 * resoluti
 /// Quadrature weights W (row-major, bins x bins; see the header comment): H_j = sum_i W[j * bins + i] Lbar_i.
 /// Each bin is integrated with `sub` x `sub` midpoint samples (0 = chosen from R).
 std::vector<float> quadratureWeights(const BasisSpec& spec, int sub = 0);
+
+/// Default of the lookups' bin blending (measured in bench_bins: see docs/methods.md).
+constexpr bool kInterpolateBinsDefault = true;
+/// The lookup's bins for unit direction d: with `interpolate`, the four bins whose centres
+/// surround d in the square, blended bilinearly (across the square's border into the other
+/// hemisphere, whose border bins share the equator), which makes the result continuous in d;
+/// otherwise the bin of d alone. Writes (channel, weight) pairs, returns their count (1 or 4).
+int lookupWeights(int resolution, bool interpolate, const Vec3f& d, int channels[4], float weights[4]);
+
+/// The Basis (basis.h) of a bins / moment spec; `interpolateBins` as for lookupWeights.
+std::unique_ptr<Basis> makeBinsBasis(const BasisSpec& spec, bool interpolateBins = kInterpolateBinsDefault);
 
 /// Mirror of the view vector v (pointing from the surface to the eye) about the unit
 /// normal n: the direction a moment volume is queried in (section 5.2).

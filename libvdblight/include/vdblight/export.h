@@ -38,11 +38,12 @@ enum class ExportLayout {
     Vectors,    ///< 18 textures iv_<dir>_<r|g|b>: an irradiance vector (world xyz) each, alpha 0
     Compact,    ///< 12 textures ivc_<dir>_colour / ivc_<dir>_dir: Pacanowski et al. section 4.2
     Bins,       ///< bins:R / moment:n volumes: 2 R^2 textures bin_h<h>_u<iu>_v<iv>, the bin's RGB, alpha 0
+    Basis,      ///< any registered basis (basis.h, e.g. sh:N): the basis's own textures (Basis::textures)
 };
 
 /// Parses "ktx2" | "dds" | "exr-atlas" | "raw" (ValueError listing the choices otherwise).
 TextureFormat parseTextureFormat(const std::string& name);
-/// Parses "sh2" | "sh2-packed" | "sh1" | "vectors" | "compact" | "bins" (ValueError listing the choices otherwise).
+/// Parses "sh2" | "sh2-packed" | "sh1" | "vectors" | "compact" | "bins" | "basis" (ValueError listing the choices otherwise).
 ExportLayout parseExportLayout(const std::string& name);
 const char* formatName(TextureFormat format);
 const char* layoutName(ExportLayout layout);

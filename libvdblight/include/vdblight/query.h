@@ -55,14 +55,17 @@ public:
         (void)out;
         throw FormatError("this volume kind stores no irradiance vectors");
     }
-    /// Every bin's stored RGB value (3 floats per bin, in channel order of bins.h) interpolated
-    /// trilinearly in space at x, with the lookup's own levels rule, for bins / moment kinds
-    /// (used by export; at a node position it returns that node's values). Default: throws FormatError.
-    virtual void binValues(const Vec3d& x, float* out) const {
+    /// Every channel's stored RGB value (3 floats per channel, in the basis's channel order)
+    /// interpolated in space at x with the lookup's own levels rule, for the kinds of the
+    /// basis registry (basis.h) read by ChannelLookup (used by export; at a node position it
+    /// returns that node's values). Default: throws FormatError.
+    virtual void channelValues(const Vec3d& x, float* out) const {
         (void)x;
         (void)out;
-        throw FormatError("this volume kind stores no directional bins");
+        throw FormatError("this volume kind exposes no channel values of a registered basis");
     }
+    /// The bins / moment name of channelValues (kept for callers written before basis.h).
+    void binValues(const Vec3d& x, float* out) const { channelValues(x, out); }
     /// Visibility-weighted interpolation (depth_moments.h): kinds that support it weight the
     /// corners by the volume's depth moments when it has them, unless switched off here
     /// (for comparison). Default: no depth weighting, nothing to switch.
@@ -112,7 +115,7 @@ public:
     /// True if lookups weight the corners by the volume's depth moments.
     bool depthWeighted() const { return lookup_->depthWeighted(); }
     /// True if the volume's basis stores a view-dependent quantity (moment volumes, bins.h):
-    /// look it up along bins::reflectView(view, n) instead of n.
+    /// look it up along Basis::lookupDirection(n, view) (the view mirrored about n) instead of n.
     bool viewDependent() const { return viewDependent_; }
     /// True if the lookup at x ends in a culled cell (VolumeLookup::inCulledCell).
     bool inCulledCell(const Vec3f& x) const { return lookup_->inCulledCell(x); }
@@ -135,6 +138,8 @@ public:
     /// Nine interpolated radiance coefficients at x (RGB each).
     void radianceCoefficients(const Vec3f& x, Rgb out[9]) const;
     void shRadiance(const Vec3d& x, Rgb out[9]) const override;
+    /// shRadiance as the sh2 basis's channels (basis.h; export --layout basis).
+    void channelValues(const Vec3d& x, float* out) const override;
     void setDepthWeights(bool on) override { depthWeights_ = on && !depth_.empty(); }
     bool depthWeighted() const override { return depthWeights_; }
 

@@ -30,7 +30,7 @@ public:
     Bounds bounds() const override { return base_->bounds(); }
     void shRadiance(const Vec3d& x, Rgb out[9]) const override { base_->shRadiance(x, out); }
     void irradianceVectors(const Vec3d& x, float out[54]) const override { base_->irradianceVectors(x, out); }
-    void binValues(const Vec3d& x, float* out) const override { base_->binValues(x, out); }
+    void channelValues(const Vec3d& x, float* out) const override { base_->channelValues(x, out); }
     // Both the indirect part and the visibility channels are depth-weighted when the volume
     // has depth moments (depth_moments.h), unless switched off here.
     void setDepthWeights(bool on) override {

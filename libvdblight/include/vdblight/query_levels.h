@@ -23,6 +23,8 @@ public:
     /// Located in double (snapped onto nodes within 1e-9 cells) and interpolated in double in
     /// the finest cell that contains x, so a node position returns that node (export).
     void shRadiance(const Vec3d& x, Rgb out[9]) const override;
+    /// shRadiance as the sh2 basis's channels (basis.h; export --layout basis).
+    void channelValues(const Vec3d& x, float* out) const override;
     /// Level whose cell the lookup at x interpolates in.
     int levelAt(const Vec3f& x) const;
     /// Culled volumes (solid_cull.h): true if the cell the lookup at x ends in has a culled

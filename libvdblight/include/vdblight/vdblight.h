@@ -5,8 +5,10 @@
 //   scene_load.h   loadScene: every format Assimp reads, plus our PLY reader (scene.h: Scene)
 //   trace.h        Tracer: the Embree BVH every pass traces through
 //   layout.h       placeUniformGrid: where the nodes go (layout_levels.h: bilevel/adaptive)
+//   basis.h        Basis: what a node stores; makeBasis("sh:3") from the registry
 //   bake_volume.h  bakeVolume / bakeToFile: the bake `vdblight bake` runs, from a BakeRequest
-//                  (pass.h: the passes behind it; bake.h, bake_*.h, photons.h: each pass alone)
+//                  (pass.h: the passes behind it; bake.h, bake_*.h, photons.h: each pass alone;
+//                  bake_basis.h: bakeBasis, the generic gather of any registered basis)
 //   vdb_io.h       writeVolume (atomic) / readVolume / inspectVolumeFile
 //   query.h        IrradianceQuery: irradiance(x, n) at run time
 //   export.h       exportTextures: dense textures + manifest for engines
@@ -23,8 +25,10 @@
 #include "vdblight/layout_levels.h"
 #include "vdblight/sh.h"
 #include "vdblight/volume.h"
+#include "vdblight/basis.h"
 #include "vdblight/bake.h"
 #include "vdblight/bake_volume.h"
+#include "vdblight/bake_basis.h"
 #include "vdblight/vdb_io.h"
 #include "vdblight/query.h"
 #include "vdblight/export.h"

@@ -115,7 +115,7 @@ void checkDirect(const BakeRequest& r, const Pass& pass) {
     const std::string other = r.method != "gather"           ? "--method photons"
                               : r.sampling != "point"        ? "--sampling antialiased"
                               : r.layout != "uniform"        ? "--layout bilevel/adaptive"
-                              : !bake_detail::isSh2(r.basis) ? "--basis bins/moment"
+                              : !bake_detail::isSh2(r.basis) ? "--basis other than sh2"
                               : r.shWindow                   ? "--sh-window"
                                                              : "pass " + pass.name();
     throw ValueError("--direct " + r.direct + " is implemented for the uniform SH point gather only, not with " + other);
@@ -160,7 +160,8 @@ const Pass& checkBakeRequest(const BakeRequest& given) {
     checkTiles(given, r, pass);
     if (r.shWindow && !pass.takesShWindow()) throw ValueError("--sh-window applies to --method gather with --basis sh2 only");
     if (!sh2 && (r.method != "gather" || r.sampling != "point" || r.invalidateBackface))
-        throw ValueError("--basis bins/moment works with --method gather and --sampling point only");
+        throw ValueError("--basis " + (bake_detail::isBinsOrMoment(given.basis) ? std::string("bins/moment") : given.basis) +
+                         " works with --method gather and --sampling point only");
     if (kind == LayoutKind::Uniform && given.refine) throw ValueError("--refine needs --layout bilevel or adaptive");
     if (kind != LayoutKind::Adaptive && given.levels) throw ValueError("--levels needs --layout adaptive");
     if (kind != LayoutKind::Uniform && (r.sampling != "point" || r.invalidateBackface || r.method != "gather"))

@@ -9,6 +9,7 @@
 
 #include "parallel_nodes.h"
 #include "pass_metadata.h"
+#include "stratified_sphere.h"
 #include "vdblight/tiles.h"
 #include "vdblight/bake_bins.h"
 #include "vdblight/errors.h"
@@ -17,12 +18,6 @@
 #include "vdblight/trace.h"
 
 namespace vdblight {
-
-namespace {
-enum Dimension : uint64_t { kDirection = 11, kLightPoint = 12, kLightChoice = 13, kPath = 14 };
-constexpr float kSpherePdf = float(1.0 / (4.0 * kPi));
-
-}  // namespace
 
 LevelLayout uniformLayout(const GridSpec& grid) {
     LevelLayout layout;
@@ -36,43 +31,16 @@ LevelLayout uniformLayout(const GridSpec& grid) {
 void gatherBinRadiance(const RadianceEstimator& estimator, const Vec3f& x, int resolution, uint32_t samplesPerBin,
                        uint64_t seed, uint64_t streamIndex, Rgbd* out, RayCount& count) {
     const int R = resolution, bins = 2 * R * R;
-    const uint64_t stream = hashCombine(seed, streamIndex);
-    Rng rng(stream, kPath);
-    const double lightOffset = toUnitDouble(hashCombine(stream, kLightChoice));
-    const uint64_t dirSeed = hashCombine(stream, kDirection), lightSeed = hashCombine(stream, kLightPoint);
-    const bool nee = estimator.hasEmissiveTriangles();
-    const double total = double(bins) * samplesPerBin;
-    const double scale = 4.0 * kPi / total;  // 1 / (pdf * samples): every sample is uniform on the sphere
     for (int b = 0; b < bins; ++b) out[b] = Rgbd(0, 0, 0);
-
-    for (int b = 0; b < bins; ++b) {
-        const int h = b / (R * R), iv = b % (R * R) / R, iu = b % R;
-        const uint64_t binSeed = hashCombine(dirSeed, uint64_t(b));
-        Rgbd acc(0, 0, 0);
-        for (uint32_t s = 0; s < samplesPerBin; ++s) {
-            float u, v;
-            sobol02(s, binSeed, u, v);  // stratified inside the bin
-            const Vec3f dir = bins::squareToDirection(h, (float(iu) + u) / float(R), (float(iv) + v) / float(R));
-            acc += Rgbd(estimator.gatherRadiance(x, dir, kSpherePdf, rng, count));
-        }
-        out[b] += acc * scale;
-    }
-    if (nee) {  // one NEE sample per direction sample, binned by where it comes from
-        const uint32_t n = uint32_t(total);
-        for (uint32_t i = 0; i < n; ++i) {
-            float u, v;
-            sobol02(i, lightSeed, u, v);
-            double w = radicalInverse(3, i) + lightOffset;
-            w -= std::floor(w);
-            LightSample s;
-            if (!estimator.sampleEmissiveTriangles(x, u, v, float(w), s, count)) continue;
-            const Rgb weight = s.weight * misWeight(s.pdf, kSpherePdf);
-            out[bins::binOf(R, s.direction)] += Rgbd(weight) / total;
-        }
-    }
-    std::vector<LightSample> punctual;  // deltas: all their light lands in one bin
-    estimator.punctualLights(x, punctual, count);
-    for (const LightSample& s : punctual) out[bins::binOf(R, s.direction)] += Rgbd(s.weight);
+    Rgbd acc(0, 0, 0);  // the current bin's radiance sum
+    bake_detail::sampleStratifiedSphere(
+        estimator, x, R, samplesPerBin, seed, streamIndex, count,
+        [&](int, const Vec3f&, const Rgb& radiance) { acc += Rgbd(radiance); },
+        [&](int b, double scale) {
+            out[b] += acc * scale;
+            acc = Rgbd(0, 0, 0);
+        },
+        [&](const Vec3f& direction, const Rgbd& value, double samples) { out[bins::binOf(R, direction)] += value / samples; });
 }
 
 Volume bakeBins(const Scene& scene, const Tracer& tracer, const LevelLayout& layout, const BinsBakeOptions& options,

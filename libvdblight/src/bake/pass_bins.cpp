@@ -1,10 +1,14 @@
-// Greger bins and moments as a Pass (bake_bins.h), on a uniform grid or on levels.
+// Every basis but sh2 as a Pass, on a uniform grid or on levels: Greger bins and moments
+// through their own gather (bake_bins.h, same bits as before the Basis interface), any other
+// registered basis (basis.h, e.g. sh:N) through the generic gather (bake_basis.h).
 #include "passes.h"
 
 #include <algorithm>
 
 #include "pass_options.h"
+#include "vdblight/bake_basis.h"
 #include "vdblight/bake_bins.h"
+#include "vdblight/basis.h"
 #include "vdblight/bins.h"
 #include "vdblight/layout_levels.h"
 #include "vdblight/scene.h"
@@ -16,8 +20,8 @@ class BinsPass : public Pass {
 public:
     std::string name() const override { return "bins"; }
     std::string description() const override {
-        return "Greger bins / moments: radiance sampled through every bin, one value per bin direction "
-               "(bake_bins.h)";
+        return "every --basis but sh2: Greger bins / moments (radiance sampled through every bin, one value "
+               "per bin direction, bake_bins.h) and any other registered basis such as sh:N (bake_basis.h)";
     }
     std::vector<PassOption> options() const override;
     void validate(const BakeRequest& request) const override;
@@ -42,13 +46,27 @@ void BinsPass::validate(const BakeRequest& request) const {
 }
 
 std::size_t BinsPass::bytesPerNode(const BakeRequest& r) const {
-    // One RGB float per bin, plus OpenVDB's copy while writing.
-    return 2 * std::size_t(bins::parseBasisSpec(r.basis).binCount()) * 3 * sizeof(float);
+    // One RGB float per channel (bin), plus OpenVDB's copy while writing.
+    return 2 * makeBasis(r.basis)->floatsPerNode() * sizeof(float);
 }
 
 std::string BinsPass::untileable(const BakeRequest&) const { return ""; }
 
 Volume BinsPass::run(const BakeContext& c, const BakeRequest& r, const GridSpec& grid, BakeReport& report) const {
+    const LevelsPlacement placement = levelsPlacement(r);
+    const LevelLayout layout = placement.kind == LayoutKind::Uniform
+                                   ? uniformLayout(grid)
+                                   : placeLevels(grid, c.scene.positions, c.scene.indices, placement, bytesPerNode(r));
+    if (!bake_detail::isBinsOrMoment(r.basis)) {  // any other basis of the registry
+        const std::unique_ptr<Basis> basis = makeBasis(r.basis);
+        BasisBakeOptions bo;
+        bo.raysPerNode = *r.rays;
+        bo.seed = c.seed;
+        bo.threads = c.threads;
+        bo.transport = c.transport;
+        bo.only = selectTile(c, layout.levels);
+        return bakeBasis(c.scene, c.tracer, layout, *basis, bo, c.interrupter, &report.stats);
+    }
     const bins::BasisSpec spec = bins::parseBasisSpec(r.basis);
     BinsBakeOptions bo;
     bo.basis = spec;
@@ -56,10 +74,6 @@ Volume BinsPass::run(const BakeContext& c, const BakeRequest& r, const GridSpec&
     bo.seed = c.seed;
     bo.threads = c.threads;
     bo.transport = c.transport;
-    const LevelsPlacement placement = levelsPlacement(r);
-    const LevelLayout layout = placement.kind == LayoutKind::Uniform
-                                   ? uniformLayout(grid)
-                                   : placeLevels(grid, c.scene.positions, c.scene.indices, placement, bytesPerNode(r));
     bo.only = selectTile(c, layout.levels);
     return bakeBins(c.scene, c.tracer, layout, bo, c.interrupter, &report.stats);
 }

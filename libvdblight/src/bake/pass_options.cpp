@@ -7,6 +7,7 @@
 #include <type_traits>
 
 #include "vdblight/bake.h"
+#include "vdblight/basis.h"
 #include "vdblight/bins.h"
 #include "vdblight/errors.h"
 #include "vdblight/layout_levels.h"
@@ -54,7 +55,12 @@ void Pass::finish(Volume&, WriteOptions&, const BakeRequest&) const {}
 
 namespace bake_detail {
 
-bool isSh2(const std::string& basis) { return bins::parseBasisSpec(basis).kind == bins::BasisSpec::Kind::Sh2; }
+bool isSh2(const std::string& basis) { return makeBasis(basis)->desc().kind == "sh2"; }  // the registry (basis.h)
+
+bool isBinsOrMoment(const std::string& basis) {
+    bins::BasisSpec spec;
+    return bins::specFromVolume(makeBasis(basis)->desc(), spec);
+}
 
 std::string joinChoices(const std::vector<std::string>& words) {
     std::string text;

@@ -65,6 +65,8 @@ PassOption probePassesOption();
 
 /// The basis text names SH order 2 (bins.h parses it; ValueError for an unknown basis).
 bool isSh2(const std::string& basis);
+/// Greger bins or moments (bins.h), which keep their own gather (bakeBins).
+bool isBinsOrMoment(const std::string& basis);
 
 /// "a, b or c".
 std::string joinChoices(const std::vector<std::string>& words);

@@ -146,6 +146,35 @@ int binOf(int resolution, const Vec3f& w) {
     return channel(resolution, h, std::max(iu, 0), std::max(iv, 0));
 }
 
+int lookupWeights(int R, bool interpolate, const Vec3f& d, int channels[4], float weights[4]) {
+    int h;
+    float u, v;
+    directionToSquare(d, h, u, v);
+    if (!interpolate) {
+        const int iu = std::max(0, std::min(int(u * float(R)), R - 1));
+        const int iv = std::max(0, std::min(int(v * float(R)), R - 1));
+        channels[0] = channel(R, h, iu, iv);
+        weights[0] = 1.0f;
+        return 1;
+    }
+    const float gu = u * float(R) - 0.5f, gv = v * float(R) - 0.5f;
+    const int iu0 = int(std::floor(gu)), iv0 = int(std::floor(gv));
+    const float fu = gu - float(iu0), fv = gv - float(iv0);
+    int count = 0;
+    for (int b = 0; b < 2; ++b)
+        for (int a = 0; a < 2; ++a) {
+            // Across an edge of the square (the equator) lies the other hemisphere's border bin
+            // at the mirrored position; across a corner, both edges: back to this hemisphere.
+            int iu = iu0 + a, iv = iv0 + b, hh = h;
+            if (iu < 0 || iu >= R) hh = 1 - hh, iu = std::max(0, std::min(iu, R - 1));
+            if (iv < 0 || iv >= R) hh = 1 - hh, iv = std::max(0, std::min(iv, R - 1));
+            channels[count] = channel(R, hh, iu, iv);
+            weights[count] = (a ? fu : 1.0f - fu) * (b ? fv : 1.0f - fv);
+            ++count;
+        }
+    return count;
+}
+
 Vec3d binCentre(int resolution, int c) {
     const int rr = resolution * resolution;
     const int h = c / rr, iv = c % rr / resolution, iu = c % resolution;

@@ -176,6 +176,16 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
                           "' volume" + (binsVolume ? " (it stores directional bins); use --layout bins"
                                                    : " (it stores no directional bins; bins fits bins:R and moment:n volumes)"));
     const int binResolution = binsVolume ? binSpec.resolution : 0;
+    // The basis of the registry the volume stores (basis.h), if any: the layouts 'bins' and
+    // 'basis' are its own textures, sampled from the lookup's channel values.
+    const std::unique_ptr<Basis> basis = basisOf(volume.basis);
+    const bool ownLayout = o.layout == ExportLayout::Basis || o.layout == ExportLayout::Bins;
+    if (o.layout == ExportLayout::Basis && !basis)
+        throw FormatError("layout 'basis' fits the volumes of a registered basis (sh2, sh:N, bins:N, moment:N); this one "
+                          "stores '" + volume.basis.kind + "' (try --layout vectors or compact)");
+    if (basis && !binsVolume && volume.basis.kind != "sh2" && !ownLayout)
+        throw FormatError(std::string("layout '") + layoutName(o.layout) + "' does not fit a '" + volume.basis.kind +
+                          "' volume; use --layout basis");
     const IrradianceQuery query(volume);
     double finest = 0;
     for (const VolumeLevel& level : volume.levels)
@@ -185,7 +195,7 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
     const TextureLattice& lattice = summary.lattice;
     checkFormatLimits(o.format, lattice);
 
-    std::vector<TextureDesc> descs = layoutTextures(o.layout, binResolution);
+    std::vector<TextureDesc> descs = ownLayout ? basisTextures(*basis) : layoutTextures(o.layout, binResolution);
     const std::size_t layoutCount = descs.size();
     const std::vector<TextureDesc> visibility = visibilityTextures(volume.direct);  // bake --direct occlusion
     descs.insert(descs.end(), visibility.begin(), visibility.end());
@@ -197,7 +207,8 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
                          "); lower --resolution");
     checkOutputDirectory(outDir);
 
-    std::vector<std::vector<float>> textures = sampleLayout(query, lattice, o.layout, binResolution);
+    std::vector<std::vector<float>> textures =
+        ownLayout ? sampleBasis(query, lattice, *basis) : sampleLayout(query, lattice, o.layout, binResolution);
     if (!visibility.empty()) {
         std::vector<std::vector<float>> v = sampleVisibility(query, lattice, volume.direct.lights.size());
         for (auto& t : v) textures.push_back(std::move(t));
@@ -224,6 +235,7 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
     manifest.basisKind = volume.basis.kind;
     manifest.binResolution = binResolution;
     manifest.momentOrder = binsVolume ? binSpec.order : 0;
+    if (basis) manifest.basisFormula = basis->formula();
     manifest.textures = descs;
     manifest.direct = &volume.direct;
     for (std::size_t t = layoutCount; t < layoutCount + visibility.size(); ++t) manifest.visibilityTextures.push_back(descs[t].name);

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "vdblight/basis.h"
 #include "vdblight/export.h"
 #include "vdblight/query.h"
 
@@ -20,6 +21,12 @@ struct TextureDesc {
 /// The textures a layout writes, in order (`binResolution`: R of a bins:R / moment volume,
 /// for the bins layout: 2 R^2 textures in channel order).
 std::vector<TextureDesc> layoutTextures(ExportLayout layout, int binResolution = 0);
+
+/// The textures of a basis's own layout (ExportLayout::Basis; Basis::textures).
+std::vector<TextureDesc> basisTextures(const Basis& basis);
+/// Samples a basis's own layout at every lattice point from the lookup's channel values
+/// (VolumeLookup::channelValues): one RGBA float array per texture, x fastest.
+std::vector<std::vector<float>> sampleBasis(const IrradianceQuery& query, const TextureLattice& lattice, const Basis& basis);
 
 /// Converts nine SH order-2 radiance coefficients into the layout's texels: 4 floats per
 /// texture, textures in layoutTextures order.
@@ -76,6 +83,7 @@ struct ManifestInput {
     std::string basisKind;   ///< the volume's vdblight:basis (e.g. "bins:4")
     int binResolution = 0;   ///< R of a bins / moment volume (bins layout)
     int momentOrder = 0;     ///< n of a bins / moment volume (1 for bins:R)
+    std::string basisFormula;  ///< the layout 'basis': how to evaluate its textures (Basis::formula)
     std::vector<TextureDesc> textures;
     std::vector<std::string> fileNames;  ///< file name of each texture, in order
     std::vector<uint64_t> dataOffsets;   ///< byte offset of the texels in each file

@@ -45,37 +45,44 @@ TextureLattice chooseLattice(const Bounds& bounds, double finestSpacing, int res
 
 namespace exporter {
 
-namespace {
-// The bins layout: texture c holds bin c's RGB (binValues), alpha 0.
-std::vector<std::vector<float>> sampleBins(const VolumeLookup& lookup, const TextureLattice& lattice,
-                                           std::size_t bins) {
-    std::vector<float> probe(3 * bins);
-    lookup.binValues(lattice.point(0, 0, 0), probe.data());  // FormatError before any allocation
+std::vector<std::vector<float>> sampleBasis(const IrradianceQuery& query, const TextureLattice& lattice, const Basis& basis) {
+    const VolumeLookup& lookup = query.lookup();
+    const std::vector<BasisTexture> layout = basis.textures();
+    std::vector<float> probe(basis.floatsPerNode());
+    try {
+        lookup.channelValues(lattice.point(0, 0, 0), probe.data());  // FormatError before any allocation
+    } catch (const FormatError&) {
+        throw FormatError("volume kind '" + std::string(query.kind()) + "' exposes no channel values of basis '" +
+                          basis.desc().kind + "'");
+    }
     const std::size_t count = lattice.texelCount();
-    std::vector<std::vector<float>> out(bins, std::vector<float>(count * 4));
+    std::vector<std::vector<float>> out(layout.size(), std::vector<float>(count * 4));
     const int nx = lattice.dims[0], ny = lattice.dims[1];
     tbb::parallel_for(tbb::blocked_range<int>(0, lattice.dims[2]), [&](const tbb::blocked_range<int>& r) {
-        std::vector<float> v(3 * bins);
+        std::vector<float> v(basis.floatsPerNode());
         for (int k = r.begin(); k < r.end(); ++k)
             for (int j = 0; j < ny; ++j)
                 for (int i = 0; i < nx; ++i) {
-                    lookup.binValues(lattice.point(i, j, k), v.data());
+                    lookup.channelValues(lattice.point(i, j, k), v.data());
                     const std::size_t t = (std::size_t(k) * ny + j) * nx + i;
-                    for (std::size_t b = 0; b < bins; ++b) {
-                        float* texel = out[b].data() + 4 * t;
-                        texel[0] = v[3 * b], texel[1] = v[3 * b + 1], texel[2] = v[3 * b + 2], texel[3] = 0.0f;
+                    for (std::size_t tex = 0; tex < layout.size(); ++tex) {
+                        float* texel = out[tex].data() + 4 * t;
+                        for (int c = 0; c < 4; ++c) {
+                            const int src = layout[tex].source[std::size_t(c)];
+                            texel[c] = src >= 0 ? v[std::size_t(src)] : 0.0f;
+                        }
                     }
                 }
     });
     return out;
 }
-}  // namespace
 
 std::vector<std::vector<float>> sampleLayout(const IrradianceQuery& query, const TextureLattice& lattice,
                                              ExportLayout layout, int binResolution) {
     const VolumeLookup& lookup = query.lookup();
+    if (layout == ExportLayout::Basis || layout == ExportLayout::Bins)
+        throw FormatError(std::string("layout '") + layoutName(layout) + "' is sampled through its basis (sampleBasis)");
     const std::size_t textures = layoutTextures(layout, binResolution).size();
-    if (layout == ExportLayout::Bins) return sampleBins(lookup, lattice, textures);
     const bool isSh = layoutIsSh(layout);
     // Probe once so that a layout that does not fit fails before any allocation.
     try {

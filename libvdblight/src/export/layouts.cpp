@@ -26,7 +26,8 @@ ExportLayout parseExportLayout(const std::string& name) {
     if (name == "vectors") return ExportLayout::Vectors;
     if (name == "compact") return ExportLayout::Compact;
     if (name == "bins") return ExportLayout::Bins;
-    throw ValueError("unknown export layout '" + name + "' (choose sh2, sh2-packed, sh1, vectors, compact or bins)");
+    if (name == "basis") return ExportLayout::Basis;
+    throw ValueError("unknown export layout '" + name + "' (choose sh2, sh2-packed, sh1, vectors, compact, bins or basis)");
 }
 
 const char* formatName(TextureFormat format) {
@@ -47,6 +48,7 @@ const char* layoutName(ExportLayout layout) {
         case ExportLayout::Vectors: return "vectors";
         case ExportLayout::Compact: return "compact";
         case ExportLayout::Bins: return "bins";
+        case ExportLayout::Basis: return "basis";
     }
     return "?";
 }
@@ -129,6 +131,8 @@ std::vector<TextureDesc> layoutTextures(ExportLayout layout, int binResolution) 
                 t.push_back({bins::channelName(binResolution, c), {what + " red", what + " green", what + " blue", "unused (0)"}});
             }
             break;
+        case ExportLayout::Basis:
+            throw FormatError("layout 'basis' takes its textures from the volume's basis (basisTextures)");
     }
     return t;
 }
@@ -162,7 +166,14 @@ void packTexel(ExportLayout layout, const Rgb L[9], float* out) {
 }
 
 bool layoutIsSh(ExportLayout layout) {
-    return layout != ExportLayout::Vectors && layout != ExportLayout::Compact && layout != ExportLayout::Bins;
+    return layout != ExportLayout::Vectors && layout != ExportLayout::Compact && layout != ExportLayout::Bins &&
+           layout != ExportLayout::Basis;
+}
+
+std::vector<TextureDesc> basisTextures(const Basis& basis) {
+    std::vector<TextureDesc> out;
+    for (const BasisTexture& t : basis.textures()) out.push_back({t.name, t.components});
+    return out;
 }
 
 void packVectorTexel(ExportLayout layout, const float v[54], float* out) {

@@ -65,6 +65,8 @@ const char* irradianceFormula(ExportLayout layout) {
             return "E(d).rgb = texture of the bin of direction d (bins.bin_of_direction; d = the normal n for bins:R, "
                    "the view vector mirrored about n for moment:n), or the bilinear blend of the four bins of "
                    "bins.blend (what vdblight query does)";
+        case ExportLayout::Basis:
+            return "";  // the basis's own (ManifestInput::basisFormula)
     }
     return "";
 }
@@ -161,7 +163,8 @@ std::string manifestJson(const ManifestInput& in) {
     s << "  \"sampler\": {\"filter\": \"linear\", \"address\": \"clamp-to-edge\", \"mipmaps\": false, \"srgb\": false},\n";
     s << "  \"texel_order\": \"RGBA per texel; x fastest, then y, then z (texel (i, j, k) at index i + dims[0] * (j + "
          "dims[1] * k))\",\n";
-    s << "  \"irradiance\": " << quote(irradianceFormula(o.layout)) << ",\n";
+    s << "  \"irradiance\": " << quote(o.layout == ExportLayout::Basis ? in.basisFormula : irradianceFormula(o.layout)) << ",\n";
+    if (o.layout == ExportLayout::Basis) s << "  \"basis\": " << quote(in.basisKind) << ",\n";
     s << "  \"units\": \"irradiance in W/m^2 (or the scene's radiometric unit times sr); positions in scene units\",\n";
     s << "  \"constants\": {\"A0\": " << num(sh::kCosineLobe[0]) << ", \"A1\": " << num(sh::kCosineLobe[1])
       << ", \"A2\": " << num(sh::kCosineLobe[2]) << ", \"c0\": " << num(0.5 / std::sqrt(kPi))

@@ -1,5 +1,6 @@
 // The kinds of volume that IrradianceQuery can read. A new kind adds one line here.
-#include "vdblight/bins.h"
+#include "vdblight/basis.h"
+#include "vdblight/channel_lookup.h"
 #include "vdblight/errors.h"
 #include "vdblight/query.h"
 #include "vdblight/vector_grid_lookup.h"
@@ -23,6 +24,8 @@ const std::vector<LookupKind>& lookupKinds() {
         {"irradiance-vectors-uniform", &VectorGridLookup::accepts, &make<VectorGridLookup>},
         {"sh2-levels", &ShLevelsLookup::accepts, &make<ShLevelsLookup>},
         {"bins", &BinsLookup::accepts, &make<BinsLookup>},
+        // Every other basis of the registry (basis.h), through the basis's own terms.
+        {"basis", &ChannelLookup::accepts, &make<ChannelLookup>},
     };
     return kinds;
 }
@@ -36,7 +39,8 @@ IrradianceQuery::IrradianceQuery(const Volume& volume, OutsidePolicy outside) {
         if (volume.direct.hasVisibility()) lookup_ = std::make_unique<OcclusionLookup>(std::move(lookup_), volume);
         bounds_ = lookup_->bounds();
         kind_ = kind.name;
-        viewDependent_ = bins::viewDependent(volume.basis);
+        const std::unique_ptr<Basis> basis = basisOf(volume.basis);
+        viewDependent_ = basis && basis->viewDependent();
         return;
     }
     throw FormatError("no lookup for volumes with basis '" + volume.basis.kind + "' and " +

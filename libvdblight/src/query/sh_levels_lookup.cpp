@@ -247,4 +247,10 @@ Rgbd referenceLevelsLookup(const Volume& volume, const Vec3d& x, const Vec3d& n,
     return e;
 }
 
+void ShLevelsLookup::channelValues(const Vec3d& x, float* out) const {
+    Rgb L[9];
+    shRadiance(x, L);
+    for (int j = 0; j < 9; ++j) out[3 * j] = L[j].x, out[3 * j + 1] = L[j].y, out[3 * j + 2] = L[j].z;
+}
+
 }  // namespace vdblight

@@ -34,7 +34,7 @@ public:
     }
     void shRadiance(const Vec3d& x, Rgb out[9]) const override { inner_->shRadiance(x - anchor_, out); }
     void irradianceVectors(const Vec3d& x, float out[54]) const override { inner_->irradianceVectors(x - anchor_, out); }
-    void binValues(const Vec3d& x, float* out) const override { inner_->binValues(x - anchor_, out); }
+    void channelValues(const Vec3d& x, float* out) const override { inner_->channelValues(x - anchor_, out); }
     void setDepthWeights(bool on) override { inner_->setDepthWeights(on); }
     bool depthWeighted() const override { return inner_->depthWeighted(); }
 

@@ -1,0 +1,82 @@
+// The generic point-gather pass (bake_basis.h): the bins gather's sampling, any basis's
+// accumulation.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "parallel_nodes.h"
+#include "pass_metadata.h"
+#include "stratified_sphere.h"
+#include "vdblight/bake_basis.h"
+#include "vdblight/errors.h"
+#include "vdblight/scene.h"
+#include "vdblight/tiles.h"
+#include "vdblight/trace.h"
+
+namespace vdblight {
+
+int basisGatherResolution(uint32_t raysPerNode) {
+    return std::max(1, int(std::lround(std::sqrt(double(raysPerNode) / 2.0))));
+}
+
+Volume bakeBasis(const Scene& scene, const Tracer& tracer, const LevelLayout& layout, const Basis& basis,
+                 const BasisBakeOptions& options, Interrupter* interrupter, LevelsBakeStats* stats) {
+    if (options.raysPerNode == 0) throw ValueError("rays per node must be at least 1");
+    if (options.threads < 0) throw ValueError("thread count must be positive (0 = all cores)");
+    if (layout.levels.empty()) throw ValueError("the layout has no levels");
+    const int R = basisGatherResolution(options.raysPerNode);
+    const std::size_t floats = basis.floatsPerNode(), accumulators = basis.accumulatorSize();
+    const double scale = 4.0 * kPi / (2.0 * R * R);  // 1 / (pdf * samples), one sample per cell
+
+    Volume volume;
+    volume.basis = basis.desc();
+    volume.levels = volumeLevels(layout.levels);
+    setTileWindows(volume.levels, options.only);  // a tile: only the nodes it spans (tiles.h)
+    for (VolumeLevel& l : volume.levels) l.data.assign(l.heldNodes() * floats, 0.0f);
+    volume.validate();
+
+    uint64_t seams = 0;
+    const std::vector<std::pair<int, std::size_t>> work = bake_detail::nodesToBake(volume, seams, options.only);
+    const RadianceEstimator estimator(scene, tracer, options.transport);
+    const bake_detail::ParallelRun run =
+        bake_detail::forEachItemInParallel(work.size(), options.threads, interrupter, [&](std::size_t w, RayCount& count) {
+            thread_local std::vector<Rgbd> acc;  // per-thread scratch, reused across nodes
+            acc.assign(accumulators, Rgbd(0, 0, 0));
+            VolumeLevel& level = volume.levels[std::size_t(work[w].first)];
+            const std::size_t n = work[w].second;
+            const uint64_t linear = level.sparse() ? level.activeNodes[n] : n;
+            const uint64_t stream = (uint64_t(work[w].first) << 56) | linear;
+            bake_detail::sampleStratifiedSphere(
+                estimator, Vec3f(level.grid.node(std::size_t(linear))), R, 1, options.seed, stream, count,
+                [&](int, const Vec3f& d, const Rgb& l) { basis.accumulate(d, Rgbd(l), scale, acc.data()); },
+                [](int, double) {},
+                [&](const Vec3f& d, const Rgbd& value, double samples) { basis.accumulate(d, value, 1.0 / samples, acc.data()); });
+            basis.finish(acc.data(), level.data.data() + level.held(n) * floats);
+        });
+    // A tile leaves its seam nodes at 0: they interpolate the coarser level, whose nodes may lie
+    // in other tiles, and the merge sets them (tiles.h).
+    if (volume.levels.size() > 1 && !options.only) applySeamConstraints(volume);
+
+    const uint32_t rays = uint32_t(2 * R * R);
+    bake_detail::PassMetadata(volume.meta)
+        .common(scene, options.transport, options.seed, layout.totalNodes(), run)
+        .method("gather", "point")
+        .count("rays_per_node", rays)
+        .count("strata_resolution", R)
+        .text("direction_sampling", "scrambled Sobol (0,2) point in each of 2 R^2 equal-area cells (bins.h) + NEE on "
+                                    "emissive triangles; punctual lights exact")
+        .text("projection", "generic gather: Basis::accumulate per sample, Basis::finish per node (bake_basis.h)")
+        .text("layout", layoutName(layout.kind))
+        .count("refine", layout.refine)
+        .count("nodes_seam", int64_t(seams));
+
+    if (stats) {
+        stats->nodes = layout.totalNodes();
+        stats->rays = run.rays;
+        stats->seconds = run.seconds;
+        stats->seamNodes = seams;
+    }
+    return volume;
+}
+
+}  // namespace vdblight

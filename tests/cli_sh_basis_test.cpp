@@ -1,0 +1,108 @@
+// End-to-end: `vdblight bake --basis sh:3` -> .vdb -> `info`, `query` (= the library lookup on
+// the file), `export --layout basis` (the node values in the raw textures), and bad sh:N
+// specs refused with one line, a non-zero exit and no file.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+
+#include "cli_util.h"
+#include "test_util.h"
+#include "vdblight/basis.h"
+#include "vdblight/query.h"
+#include "vdblight/vdb_io.h"
+
+using namespace vdblight;
+using test::CliRun;
+using test::runCli;
+
+TEST(CliShBasis, BakeInfoQueryAndExportOfShThree) {
+    test::TempDir dir;
+    const std::string file = dir.file("sh3.vdb");
+    CliRun r = runCli("bake -o " + file + " --resolution 4 --rays 128 --bounces 2 --basis sh:3");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("basis sh:3: radiance SH coefficients, bands 0..3, 16 Vec3f grids"), std::string::npos) << r.output;
+    const Volume v = readVolume(file);
+    EXPECT_EQ(v.basis.kind, "sh:3");
+    ASSERT_EQ(v.basis.channelCount(), 16);
+    EXPECT_EQ(v.basis.channelNames[9], "sh_l3m_neg3");
+    EXPECT_EQ(metaNumber(v.meta, "rays_per_node", 0), 128);  // 2 R^2 with R = 8
+
+    r = runCli("info " + file);
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("sh:3 (16 RGB channels: radiance SH coefficients, bands 0..3)"), std::string::npos) << r.output;
+
+    const IrradianceQuery q(v);
+    const Vec3f x(0.1f, 0.3f, -0.05f), n = normalize(Vec3f(0.3f, 1.0f, -0.2f));
+    const Rgb want = q.irradiance(x, n);
+    ASSERT_GT(want.x, 0.01f);
+    r = runCli("query " + file + " --at 0.1,0.3,-0.05 --normal 0.3,1,-0.2 --raw");
+    ASSERT_EQ(r.status, 0) << r.output;
+    const Rgbd got = test::firstIrradianceRgb(r.output);
+    EXPECT_NEAR(got.x, want.x, 1e-6 * (1 + want.x));
+    EXPECT_NEAR(got.z, want.z, 1e-6 * (1 + want.z));
+
+    // export --layout basis: one texture per channel at the nodes; texel = the node's values.
+    const std::string out = dir.file("tex");
+    r = runCli("export " + file + " -o " + out + " --format raw --float --layout basis");
+    ASSERT_EQ(r.status, 0) << r.output;
+    std::ifstream m(out + "/manifest.json");
+    std::stringstream manifest;
+    manifest << m.rdbuf();
+    EXPECT_NE(manifest.str().find("\"basis\": \"sh:3\""), std::string::npos) << manifest.str();
+    EXPECT_NE(manifest.str().find("l = 0..3"), std::string::npos);
+    const GridSpec& g = v.levels[0].grid;
+    std::ifstream t(out + "/sh_l2m1.raw", std::ios::binary);
+    std::vector<float> texels(g.nodeCount() * 4);
+    t.read(reinterpret_cast<char*>(texels.data()), std::streamsize(texels.size() * sizeof(float)));
+    ASSERT_TRUE(t);
+    for (std::size_t node = 0; node < g.nodeCount(); ++node)
+        for (int c = 0; c < 3; ++c) ASSERT_FLOAT_EQ(texels[4 * node + c], v.levels[0].nodeData(node, 16)[3 * 7 + c]);
+    // The SH order-2 layouts do not fit; the refusal names the layout that does.
+    r = runCli("export " + file + " -o " + dir.file("tex2") + " --format raw");
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.output.find("use --layout basis"), std::string::npos) << r.output;
+}
+
+TEST(CliShBasis, BadOrdersAreRefusedWithOneLineAndNoFile) {
+    test::TempDir dir;
+    const std::string base = "bake --resolution 3 --rays 8";
+    test::expectCleanFailuresWithOutput(dir, {{base + " --basis sh:0", "'sh:0': the SH order must be 1, 2, 3 or 4"},
+                                              {base + " --basis sh:5", "'sh:5': the SH order must be 1, 2, 3 or 4"},
+                                              {base + " --basis sh:x", "'sh:x': the SH order must be 1, 2, 3 or 4"},
+                                              {base + " --basis sh:3 --method photons", "--basis sh:3 works with --method gather"}});
+}
+
+namespace {
+std::string fileBytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+}  // namespace
+
+TEST(CliShBasis, TilesMergeToTheSingleBakeBilevelWithDepthMoments) {
+    // The generic gather honours tiles like the other point gathers (its node mask), on a
+    // bilevel layout; depth moments come from the separate depth pass; the lookup weights by them.
+    test::TempDir dir;
+    const std::string args = " --resolution 4 --rays 32 --bounces 1 --basis sh:2 --layout bilevel --refine 2 --depth-moments";
+    const std::string whole = dir.file("whole.vdb"), merged = dir.file("merged.vdb");
+    CliRun r = runCli("bake -q -o " + whole + " --threads 2" + args);
+    ASSERT_EQ(r.status, 0) << r.output;
+    for (int t = 0; t < 2; ++t) {
+        r = runCli("bake -q -o " + dir.file("t" + std::to_string(t) + ".vdb") + " --threads " + std::to_string(1 + t) +
+                   " --tiles 2 --tile " + std::to_string(t) + args);
+        ASSERT_EQ(r.status, 0) << r.output;
+    }
+    r = runCli("merge " + dir.file("t1.vdb") + " " + dir.file("t0.vdb") + " -o " + merged);
+    ASSERT_EQ(r.status, 0) << r.output;
+    const std::string a = fileBytes(whole), b = fileBytes(merged);
+    ASSERT_GT(a.size(), 1000u);
+    EXPECT_TRUE(a == b) << a.size() << " vs " << b.size() << " bytes";
+    const Volume v = readVolume(whole);
+    EXPECT_EQ(v.levels.size(), 2u);
+    EXPECT_TRUE(v.hasDepth());
+    EXPECT_TRUE(IrradianceQuery(v).depthWeighted());
+}
