@@ -106,9 +106,55 @@ TEST(Reproducible, TamperedFileNoLongerMatchesItsUuid) {
     bytes[bytes.size() - 1] ^= 1;  // the last byte of grid data
     std::ofstream(a, std::ios::binary | std::ios::trunc) << bytes;
     EXPECT_FALSE(fileContentHash(a).uuidFromContent);
+    EXPECT_TRUE(fileContentHash(a).damaged);
     test::writeTextFile(dir.file("x.vdb"), "not a vdb file at all, but long enough for a header........");
     EXPECT_THROW(fileContentHash(dir.file("x.vdb")), FormatError);
     EXPECT_THROW(fileContentHash(dir.file("missing.vdb")), IoError);
+}
+
+/// Writes `bytes` with the header UUID replaced by `uuid` (36 characters at byte 21).
+void writeWithUuid(std::string bytes, const std::string& uuid, const std::string& path) {
+    bytes.replace(21, 36, uuid);
+    std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+}
+
+TEST(Reproducible, ADamagedFileIsRefusedBeforeOpenVdbReadsItsData) {
+    test::TempDir dir;
+    const std::string a = dir.file("a.vdb");
+    writeVolume(smallVolume(), a);
+    std::string bytes = fileBytes(a);
+    bytes[bytes.size() / 2] ^= 0x40;  // a bad copy: one bit in the grid data
+    std::ofstream(a, std::ios::binary | std::ios::trunc) << bytes;
+    try {
+        (void)readVolume(a);
+        ADD_FAILURE() << "a damaged file was read";
+    } catch (const FormatError& e) {
+        EXPECT_NE(std::string(e.what()).find("is damaged"), std::string::npos) << e.what();
+    }
+    // info still lists it (it reads no node data) and says so.
+    EXPECT_TRUE(inspectVolumeFile(a).hash.damaged);
+    // A file whose UUID another writer chose at random (version 4) cannot be checked: it is
+    // read as before, and not called damaged.
+    writeWithUuid(fileBytes(a), "0f5d2a4e-1c3b-4a9e-8d7c-6b5a4f3e2d1c", a);
+    EXPECT_FALSE(fileContentHash(a).damaged);
+    writeVolume(smallVolume(), a);
+    writeWithUuid(fileBytes(a), "0f5d2a4e-1c3b-4a9e-8d7c-6b5a4f3e2d1c", a);
+    EXPECT_EQ(readVolume(a).levels.at(0).data, smallVolume().levels.at(0).data);
+}
+
+// The input on which OpenVDB 10 reads a leaf's blosc block past its buffer
+// (tests/fuzz/known_crashes.txt) carries a random UUID, so nothing can check it. Had this
+// writer written it (a content-derived UUID) and the file been damaged since, the check
+// refuses it before OpenVDB parses a leaf: under ASan, a missing check is a
+// heap-buffer-overflow report here.
+TEST(Reproducible, TheBloscOverflowInputIsRefusedWhenItsUuidIsContentDerived) {
+    test::TempDir dir;
+    const std::string input = std::string(VDBLIGHT_SOURCE_DIR) +
+                              "/tests/fuzz/known_inputs/fuzz_vdb/openvdb-blosc-heap-overflow.vdb";
+    const std::string a = dir.file("damaged.vdb");
+    writeWithUuid(fileBytes(input), "cbde310f-f8ee-8329-936a-b873e6704ff3", a);  // version 8
+    ASSERT_TRUE(fileContentHash(a).damaged);
+    EXPECT_THROW((void)readVolume(a), FormatError);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <cstdint>
 
 #include "fuzz_util.h"
+#include "../../libvdblight/src/volume/content_hash.h"  // internal: stampContentUuid
 #include "vdblight/errors.h"
 #include "vdblight/query.h"
 #include "vdblight/vdb_io.h"
@@ -19,6 +20,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
     // coverage counts libFuzzer keeps inputs for, so the same seed grew a different corpus.
     static tbb::global_control oneThread(tbb::global_control::max_allowed_parallelism, 1);
     const std::string& path = fuzz::writeInput(data, size, ".vdb");
+    // A mutated file would fail the content-hash check (readVolume refuses a file whose
+    // content-derived UUID its content does not give) before OpenVDB parses anything. Stamping
+    // the UUID its bytes give lets the fuzzer explore what a crafted file reaches behind that
+    // check; the check itself is tested in reproducible_test.cpp.
+    try {
+        vdb_detail::stampContentUuid(path);
+    } catch (const std::exception&) {  // no OpenVDB header: the reader refuses it below
+    }
     try {
         (void)inspectVolumeFile(path);
     } catch (const Error&) {

@@ -53,6 +53,9 @@ struct ContentHash {
     std::string sha256;       ///< 64 hex digits
     std::string headerUuid;   ///< the UUID in the file's header
     bool uuidFromContent = false;  ///< headerUuid is the one the hash gives (false: another writer)
+    /// headerUuid has the shape this writer derives from content (docs/format.md) but is not
+    /// the one this content gives: the file changed after it was written (damaged, truncated).
+    bool damaged = false;
 };
 
 /// Hashes a .vdb file. Throws IoError (unreadable) or FormatError (not an OpenVDB file).

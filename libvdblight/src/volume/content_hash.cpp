@@ -68,6 +68,12 @@ FileDigest digestVdbFile(const std::string& path) {
     return out;
 }
 
+bool looksContentDerived(const std::string& uuid) {
+    if (uuid.size() != std::size_t(kUuidChars)) return false;
+    const char variant = uuid[19];
+    return uuid[14] == '8' && (variant == '8' || variant == '9' || variant == 'a' || variant == 'b');
+}
+
 void stampContentUuid(const std::string& path) {
     const FileDigest digest = digestVdbFile(path);
     std::fstream out(path, std::ios::binary | std::ios::in | std::ios::out);

@@ -27,6 +27,11 @@ struct FileDigest {
 /// Hashes `path`. Throws std::runtime_error if it is not an OpenVDB file with the header above.
 FileDigest digestVdbFile(const std::string& path);
 
+/// True if `uuid` has the shape of one this writer derives from content (RFC 9562 version 8,
+/// variant 10). OpenVDB's own UUIDs are random (version 4), so a file with a version-8 UUID
+/// that its content does not give was changed after it was written: damaged or truncated.
+bool looksContentDerived(const std::string& uuid);
+
 /// Overwrites the header UUID of `path` with the one its content gives.
 void stampContentUuid(const std::string& path);
 

@@ -185,10 +185,30 @@ T requireMeta(const openvdb::MetaMap& meta, const std::string& key, const std::s
     return m->value();
 }
 
-OpenedFile openVolumeFile(const std::string& path, bool delayLoad = false) {
+/// How much of a file a reader will let OpenVDB parse.
+enum class OpenFor {
+    Data,      ///< every grid's node data: the content hash is checked first (checkNotDamaged)
+    Metadata,  ///< only the metadata and grid descriptors
+    Delayed,   ///< delayed loading (vdb_stream.h): hashing the whole file is what it avoids
+};
+
+/// Refuses a file whose header holds a content-derived UUID that its content does not give:
+/// it changed after it was written (a bad copy, a disk error, an edit). The check comes before
+/// OpenVDB parses any node data because OpenVDB 10 reads a corrupt leaf's blosc block past the
+/// end of its buffer (tests/fuzz/known_crashes.txt). It costs one SHA-256 pass over the file;
+/// a file with another writer's (random) UUID cannot be checked this way (docs/format.md).
+void checkNotDamaged(const std::string& path) {
+    if (fileContentHash(path).damaged)
+        formatError(path, "is damaged: its content no longer gives the UUID stamped in its header when it was "
+                          "written (changed or corrupted since; copy or bake it again)");
+}
+
+OpenedFile openVolumeFile(const std::string& path, OpenFor purpose) {
     initOpenVdb();
     checkReadable(path);
     checkNotTruncated(path);
+    if (purpose == OpenFor::Data) checkNotDamaged(path);
+    const bool delayLoad = purpose == OpenFor::Delayed;
     OpenedFile f;
     f.file = std::make_unique<openvdb::io::File>(path);
     try {
@@ -544,7 +564,7 @@ GridInfo describeGrid(openvdb::io::File& file, const openvdb::GridBase& grid) {
 
 /// readVolume, and readProbeStage with `stage`.
 static Volume readVolumeFile(const std::string& path, bool stage) {
-    OpenedFile f = openVolumeFile(path);
+    OpenedFile f = openVolumeFile(path, OpenFor::Data);
     const openvdb::MetaMap& meta = *f.meta;
     const auto probeStage = meta.getMetadata<openvdb::Int64Metadata>(kPrefix + "probe_stage");
     if (probeStage && !stage)
@@ -589,7 +609,7 @@ Volume readProbeStage(const std::string& path) {
 namespace vdb_detail {
 
 DelayedVolumeFile openDelayedVolume(const std::string& path) {
-    OpenedFile f = openVolumeFile(path, /*delayLoad=*/true);
+    OpenedFile f = openVolumeFile(path, OpenFor::Delayed);
     const openvdb::MetaMap& meta = *f.meta;
     if (meta.getMetadata<openvdb::Int64Metadata>(kPrefix + "tile_count"))
         formatError(path, "is a tile of a bake, not a complete volume: merge the tiles with 'vdblight merge'");
@@ -663,7 +683,7 @@ DelayedVolumeFile openDelayedVolume(const std::string& path) {
 }
 
 TileFile readTileFile(const std::string& path) {
-    OpenedFile f = openVolumeFile(path);
+    OpenedFile f = openVolumeFile(path, OpenFor::Data);
     const openvdb::MetaMap& meta = *f.meta;
     if (!meta.getMetadata<openvdb::Int64Metadata>(kPrefix + "tile_count"))
         formatError(path, "is not a tile (no vdblight:tile_count): a complete volume or another file");
@@ -737,7 +757,7 @@ TileFile readTileFile(const std::string& path) {
 }  // namespace vdb_detail
 
 bool readTileId(const std::string& path, TileId& id) {
-    OpenedFile f = openVolumeFile(path);
+    OpenedFile f = openVolumeFile(path, OpenFor::Metadata);
     const openvdb::MetaMap& meta = *f.meta;
     if (!meta.getMetadata<openvdb::Int64Metadata>(kPrefix + "tile_count")) return false;
     id.index = int(requireMeta<int64_t>(meta, kPrefix + "tile_index", path));
@@ -758,11 +778,12 @@ ContentHash fileContentHash(const std::string& path) {
     h.sha256 = d.sha256;
     h.headerUuid = d.headerUuid;
     h.uuidFromContent = d.headerUuid == d.contentUuid;
+    h.damaged = !h.uuidFromContent && vdb_detail::looksContentDerived(d.headerUuid);
     return h;
 }
 
 FileInfo inspectVolumeFile(const std::string& path) {
-    OpenedFile f = openVolumeFile(path);
+    OpenedFile f = openVolumeFile(path, OpenFor::Metadata);
     FileInfo info;
     info.path = path;
     info.hash = fileContentHash(path);
