@@ -32,7 +32,7 @@ struct Case {
 // Each case: the command line's options and the BakeRequest fields a library caller sets for
 // them. Small grids and ray counts keep the bakes short; every pass and the presets run.
 const Case kCases[] = {
-    // The default bake (--quality default: node budget, 512 rays, one probe pass, depth
+    // The default bake (--quality default: node budget, 768 rays, one probe pass, depth
     // moments, --direct occlusion) with fewer rays, so that the test stays short.
     {"default", "--rays 16", [](BakeRequest& r) { r.rays = 16; }},
     {"preview", "--quality preview", [](BakeRequest& r) { r.quality = "preview"; }},
@@ -60,6 +60,12 @@ const Case kCases[] = {
     {"basis bins:3", "--basis bins:3 --resolution 5 --rays 18",
      [](BakeRequest& r) {
          r.basis = "bins:3";
+         r.resolution = 5;
+         r.rays = 18;
+     }},
+    {"basis sh:3 (the generic gather of a registry basis)", "--basis sh:3 --resolution 5 --rays 18",
+     [](BakeRequest& r) {
+         r.basis = "sh:3";
          r.resolution = 5;
          r.rays = 18;
      }},
@@ -117,7 +123,7 @@ TEST(BakeVolume, SelectsThePassTheOptionsName) {
 TEST(BakeVolume, PresetsResolveAsTheCommandLineDocumentsThem) {
     BakeRequest r;
     BakeRequest d = resolveBakeRequest(r);
-    EXPECT_EQ(*d.rays, 512u);
+    EXPECT_EQ(*d.rays, 768u);
     EXPECT_EQ(*d.probePasses, 1);
     EXPECT_EQ(*d.nodes, 16384u);
     EXPECT_TRUE(*d.depthMoments);
