@@ -34,7 +34,8 @@ public:
 
 std::vector<PassOption> BinsPass::options() const {
     std::vector<PassOption> o = layoutOptions();
-    o.push_back(raysOption("rays per node, rounded up to a multiple of the bin count"));
+    o.push_back(raysOption("rays per node: bins and moments round it up to a multiple of the bin count, other "
+                           "bases to 2 R^2 with R = round(sqrt(rays / 2)) (bake_basis.h)"));
     o.push_back(depthMomentsOption());
     o.push_back(depthRaysOption());
     return o;

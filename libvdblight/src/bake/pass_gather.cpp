@@ -30,7 +30,8 @@ public:
 
 std::vector<PassOption> GatherPass::options() const {
     return {raysOption("Ray directions per node and pass: a fixed budget (--quality high samples to an error target "
-                       "instead; antialiased: rays per cell; bins: rounded up to a multiple of the bin count)"),
+                       "instead; antialiased: rays per cell; bins, moments: rounded up to a multiple of the bin count; "
+                       "other bases such as sh:N: to 2 R^2, R = round(sqrt(rays / 2)))"),
             probePassesOption(),
             numberOption("invalidate-backface",
                          "nodes whose rays hit back-faces more than this fraction (0..1) are replaced by dilating "
