@@ -77,8 +77,14 @@ TEST(Reproducible, SameVolumeSameBytesAndUuidFromContent) {
     EXPECT_NE(ha.headerUuid, hc.headerUuid);
     EXPECT_NE(fileBytes(a).find(ha.headerUuid), std::string::npos);
     EXPECT_EQ(inspectVolumeFile(a).hash.sha256, ha.sha256);
-    // The file still reads back, values intact.
-    EXPECT_EQ(readVolume(a).levels[0].data, smallVolume().levels[0].data);
+    // The file still reads back, values intact; the hash its damage check computed comes out
+    // with it (what `info` reuses instead of hashing the file twice) and is the file's own.
+    ContentHash read;
+    EXPECT_EQ(readVolume(a, &read).levels[0].data, smallVolume().levels[0].data);
+    EXPECT_EQ(read.sha256, ha.sha256);
+    EXPECT_EQ(read.headerUuid, ha.headerUuid);
+    EXPECT_TRUE(read.uuidFromContent);
+    EXPECT_EQ(inspectVolumeFile(a, &read).hash.sha256, ha.sha256);
 }
 
 TEST(Reproducible, RunSpecificMetadataOnlyOnRequest) {

@@ -208,6 +208,17 @@ TEST(Tiles, AProbeStageFileIsReadOnlyAsAStageInput) {
     EXPECT_EQ(back.levels[0].data, stage.levels[0].data);
     writeVolume(randomVolume(), dir.file("whole.vdb"));
     EXPECT_THROW(readProbeStage(dir.file("whole.vdb")), FormatError);
+    // A stage tile hashes its input once (its parameter hash) and hands that hash to the
+    // damage check: a known hash that says "damaged" is what refuses the file, not a second pass.
+    ContentHash known = fileContentHash(dir.file("stage0.vdb"));
+    EXPECT_EQ(readProbeStage(dir.file("stage0.vdb"), &known).levels[0].data, stage.levels[0].data);
+    known.damaged = true;
+    try {
+        readProbeStage(dir.file("stage0.vdb"), &known);
+        ADD_FAILURE() << "the known hash was not used";
+    } catch (const FormatError& e) {
+        EXPECT_NE(std::string(e.what()).find("is damaged"), std::string::npos) << e.what();
+    }
 }
 
 }  // namespace

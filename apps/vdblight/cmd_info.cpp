@@ -156,8 +156,9 @@ void addInfoCommand(CLI::App& app) {
         if (prt) return printPrtInfo(*path);
         TileId tile;
         if (readTileId(*path, tile)) return printTile(*path, tile, *json);
-        const Volume volume = readVolume(*path);
-        const FileInfo info = inspectVolumeFile(*path);
+        ContentHash hash;  // the damage check's, reused: the file is hashed once
+        const Volume volume = readVolume(*path, &hash);
+        const FileInfo info = inspectVolumeFile(*path, &hash);
         if (*json) printJson(volume, info);
         else printHuman(volume, info);
     });

@@ -108,7 +108,9 @@ void addEarlierStageSums(Metadata& tileMeta, const Metadata& stageInput);
 
 /// Reads a merged probe stage file (written by mergeTiles + writeVolume from stage tiles;
 /// vdblight:probe_stage set). Throws FormatError for any other file. readVolume refuses
-/// stage files: they hold reflected light, not a volume to look up.
-Volume readProbeStage(const std::string& path);
+/// stage files: they hold reflected light, not a volume to look up. `knownHash`: the file's
+/// content hash if the caller has computed it (a stage tile hashes its input for its parameter
+/// hash), so the check for damaged files does not hash the file again.
+Volume readProbeStage(const std::string& path, const ContentHash* knownHash = nullptr);
 
 }  // namespace vdblight

@@ -30,22 +30,6 @@ const std::vector<std::string>& runSpecificMetadataKeys();
 /// metadata key the writer sets itself: format_version, basis, channels, levels, level<k>_*).
 void writeVolume(const Volume& volume, const std::string& path, const WriteOptions& options = {});
 
-/// Reads a volume written by writeVolume. Throws IoError (missing/unreadable) or
-/// FormatError (truncated or corrupt file, not a vdblight volume, unsupported format
-/// version, missing or inconsistent grids). Volume::meta gets every vdblight: file metadata
-/// entry except the structural keys, prefix stripped.
-Volume readVolume(const std::string& path);
-
-/// What `vdblight info` prints about one grid of a file.
-struct GridInfo {
-    std::string name;
-    std::string valueType;     ///< OpenVDB type name, e.g. "vec3s"
-    uint64_t activeVoxels = 0;
-    uint64_t memoryBytes = 0;  ///< in-memory size reported by OpenVDB
-    int level = 0;
-    double voxelSize = 0;
-};
-
 /// The content hash of a .vdb file: SHA-256 of every byte except the 36-byte header UUID
 /// that OpenVDB fills in. writeVolume replaces that UUID by one derived from this hash, so
 /// equal hashes mean equal files (docs/format.md, "Reproducible files").
@@ -61,6 +45,23 @@ struct ContentHash {
 /// Hashes a .vdb file. Throws IoError (unreadable) or FormatError (not an OpenVDB file).
 ContentHash fileContentHash(const std::string& path);
 
+/// Reads a volume written by writeVolume. Throws IoError (missing/unreadable) or
+/// FormatError (truncated or corrupt file, not a vdblight volume, unsupported format
+/// version, missing or inconsistent grids). Volume::meta gets every vdblight: file metadata
+/// entry except the structural keys, prefix stripped. `hash`, if given, receives the file's
+/// content hash, which the check for damaged files computes anyway (so `info` hashes once).
+Volume readVolume(const std::string& path, ContentHash* hash = nullptr);
+
+/// What `vdblight info` prints about one grid of a file.
+struct GridInfo {
+    std::string name;
+    std::string valueType;     ///< OpenVDB type name, e.g. "vec3s"
+    uint64_t activeVoxels = 0;
+    uint64_t memoryBytes = 0;  ///< in-memory size reported by OpenVDB
+    int level = 0;
+    double voxelSize = 0;
+};
+
 struct FileInfo {
     std::string path;
     uint64_t fileBytes = 0;
@@ -69,6 +70,8 @@ struct FileInfo {
 };
 
 /// Lists the grids of a vdblight .vdb, by level then channel (same errors as readVolume).
-FileInfo inspectVolumeFile(const std::string& path);
+/// `knownHash`: the file's content hash if the caller has it already (readVolume's), else it
+/// is computed here.
+FileInfo inspectVolumeFile(const std::string& path, const ContentHash* knownHash = nullptr);
 
 }  // namespace vdblight

@@ -28,6 +28,7 @@ struct TileJob {
     TileId id;
     NodeMask mask;
     std::string sameBake;  ///< the hash every stage of one bake shares (tiles.h, "Staged bakes")
+    ContentHash stageInput;  ///< stage > 0: the stage input's content hash (hashed once: parameters, damage check)
 };
 
 /// Every stage of one bake has the same options but --stage (and maybe --tiles): their hash
@@ -89,7 +90,7 @@ Volume bakeImpl(const Scene& scene, const BakeRequest& given, Interrupter* inter
     // A staged bake (tiles.h): this pass only, from the merged tiles of the stage before.
     Volume stageInput;
     if (r.stage && *r.stage > 0) {
-        stageInput = readProbeStage(r.stageInput);
+        stageInput = readProbeStage(r.stageInput, tile ? &tile->stageInput : nullptr);
         if (metaString(stageInput.meta, "probe_stage_params_hash") != tile->sameBake)
             throw ValueError("'" + r.stageInput + "' is a stage of a bake with another scene or other options than --stage " +
                              std::to_string(*r.stage) + " here");
@@ -151,7 +152,8 @@ Volume bakeToFile(const Scene& scene, const BakeRequest& request, const std::str
     tile.id.count = *request.tiles;
     // A stage's tiles depend on the stage before's merged file: its content is a parameter.
     const int stage = request.stage.value_or(-1);
-    const std::string input = stage > 0 ? "stage_input_sha256=" + fileContentHash(request.stageInput).sha256 + "\n" : "";
+    if (stage > 0) tile.stageInput = fileContentHash(request.stageInput);
+    const std::string input = stage > 0 ? "stage_input_sha256=" + tile.stageInput.sha256 + "\n" : "";
     tile.id.paramsHash = tileParamsHash(scene.contentHash(), request.tileParameters + input);
     if (stage >= 0) tile.sameBake = sameBakeHash(scene, request);
     TileId onDisk;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include "levels_bake.h"
 #include "parallel_nodes.h"
 #include "pass_metadata.h"
 #include "stratified_sphere.h"
@@ -28,11 +29,7 @@ Volume bakeBasis(const Scene& scene, const Tracer& tracer, const LevelLayout& la
     const std::size_t floats = basis.floatsPerNode(), accumulators = basis.accumulatorSize();
     const double scale = 4.0 * kPi / (2.0 * R * R);  // 1 / (pdf * samples), one sample per cell
 
-    Volume volume;
-    volume.basis = basis.desc();
-    volume.levels = volumeLevels(layout.levels);
-    setTileWindows(volume.levels, options.only);  // a tile: only the nodes it spans (tiles.h)
-    for (VolumeLevel& l : volume.levels) l.data.assign(l.heldNodes() * floats, 0.0f);
+    Volume volume = bake_detail::emptyLevelsVolume(layout, basis.desc(), floats, options.only);
     volume.validate();
 
     uint64_t seams = 0;
@@ -42,20 +39,15 @@ Volume bakeBasis(const Scene& scene, const Tracer& tracer, const LevelLayout& la
         bake_detail::forEachItemInParallel(work.size(), options.threads, interrupter, [&](std::size_t w, RayCount& count) {
             thread_local std::vector<Rgbd> acc;  // per-thread scratch, reused across nodes
             acc.assign(accumulators, Rgbd(0, 0, 0));
-            VolumeLevel& level = volume.levels[std::size_t(work[w].first)];
-            const std::size_t n = work[w].second;
-            const uint64_t linear = level.sparse() ? level.activeNodes[n] : n;
-            const uint64_t stream = (uint64_t(work[w].first) << 56) | linear;
+            const bake_detail::LevelNode node = bake_detail::levelNode(volume, work[w]);
             bake_detail::sampleStratifiedSphere(
-                estimator, Vec3f(level.grid.node(std::size_t(linear))), R, 1, options.seed, stream, count,
+                estimator, node.position(), R, 1, options.seed, node.stream, count,
                 [&](int, const Vec3f& d, const Rgb& l) { basis.accumulate(d, Rgbd(l), scale, acc.data()); },
                 [](int, double) {},
                 [&](const Vec3f& d, const Rgbd& value, double samples) { basis.accumulate(d, value, 1.0 / samples, acc.data()); });
-            basis.finish(acc.data(), level.data.data() + level.held(n) * floats);
+            basis.finish(acc.data(), node.values(floats));
         });
-    // A tile leaves its seam nodes at 0: they interpolate the coarser level, whose nodes may lie
-    // in other tiles, and the merge sets them (tiles.h).
-    if (volume.levels.size() > 1 && !options.only) applySeamConstraints(volume);
+    bake_detail::finishLevelsBake(volume, layout, seams, run, options.only, stats);
 
     const uint32_t rays = uint32_t(2 * R * R);
     bake_detail::PassMetadata(volume.meta)
@@ -65,17 +57,7 @@ Volume bakeBasis(const Scene& scene, const Tracer& tracer, const LevelLayout& la
         .count("strata_resolution", R)
         .text("direction_sampling", "scrambled Sobol (0,2) point in each of 2 R^2 equal-area cells (bins.h) + NEE on "
                                     "emissive triangles; punctual lights exact")
-        .text("projection", "generic gather: Basis::accumulate per sample, Basis::finish per node (bake_basis.h)")
-        .text("layout", layoutName(layout.kind))
-        .count("refine", layout.refine)
-        .count("nodes_seam", int64_t(seams));
-
-    if (stats) {
-        stats->nodes = layout.totalNodes();
-        stats->rays = run.rays;
-        stats->seconds = run.seconds;
-        stats->seamNodes = seams;
-    }
+        .text("projection", "generic gather: Basis::accumulate per sample, Basis::finish per node (bake_basis.h)");
     return volume;
 }
 

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "levels_bake.h"
 #include "parallel_nodes.h"
 #include "pass_metadata.h"
 #include "stratified_sphere.h"
@@ -52,11 +53,7 @@ Volume bakeBins(const Scene& scene, const Tracer& tracer, const LevelLayout& lay
     const int R = options.basis.resolution, bins = options.basis.binCount();
     const std::size_t floats = std::size_t(bins) * 3;
 
-    Volume volume;
-    volume.basis = bins::basis(options.basis);
-    volume.levels = volumeLevels(layout.levels);
-    setTileWindows(volume.levels, options.only);  // a tile: only the nodes it spans (tiles.h)
-    for (VolumeLevel& l : volume.levels) l.data.assign(l.heldNodes() * floats, 0.0f);
+    Volume volume = bake_detail::emptyLevelsVolume(layout, bins::basis(options.basis), floats, options.only);
     volume.validate();
 
     // Transposed (column i contiguous), so that the product below is a sequence of axpys over
@@ -78,12 +75,9 @@ Volume bakeBins(const Scene& scene, const Tracer& tracer, const LevelLayout& lay
             thread_local std::vector<float> out;  // colour-major: out[c * bins + j]
             integral.resize(static_cast<std::size_t>(bins));
             out.resize(floats);
-            VolumeLevel& level = volume.levels[std::size_t(work[w].first)];
-            const std::size_t n = work[w].second;
-            const uint64_t linear = level.sparse() ? level.activeNodes[n] : n;
-            const uint64_t stream = (uint64_t(work[w].first) << 56) | linear;
-            gatherBinRadiance(estimator, Vec3f(level.grid.node(std::size_t(linear))), R, options.samplesPerBin,
-                              options.seed, stream, integral.data(), count);
+            const bake_detail::LevelNode node = bake_detail::levelNode(volume, work[w]);
+            gatherBinRadiance(estimator, node.position(), R, options.samplesPerBin, options.seed, node.stream,
+                              integral.data(), count);
             // Quadrature (eq. 4 / 5 with integrated weights): H_j = sum_i W_ji Lbar_i,
             // Lbar_i = I_i / Omega; summed over i in order for every j.
             const double invOmega = 1.0 / bins::binSolidAngle(R);
@@ -102,12 +96,10 @@ Volume bakeBins(const Scene& scene, const Tracer& tracer, const LevelLayout& lay
                     outB[j] += col[j] * lb;
                 }
             }
-            float* dst = level.data.data() + level.held(n) * floats;
+            float* dst = node.values(floats);
             for (int j = 0; j < bins; ++j) dst[3 * j] = outR[j], dst[3 * j + 1] = outG[j], dst[3 * j + 2] = outB[j];
         });
-    // A tile leaves its seam nodes at 0: they interpolate the coarser level, whose nodes may lie
-    // in other tiles, and the merge sets them (tiles.h).
-    if (volume.levels.size() > 1 && !options.only) applySeamConstraints(volume);
+    bake_detail::finishLevelsBake(volume, layout, seams, run, options.only, stats);
 
     bake_detail::PassMetadata(volume.meta)
         .common(scene, options.transport, options.seed, layout.totalNodes(), run)
@@ -119,17 +111,7 @@ Volume bakeBins(const Scene& scene, const Tracer& tracer, const LevelLayout& lay
         .count("rays_per_node", int64_t(uint64_t(bins) * options.samplesPerBin))
         .text("direction_sampling", "scrambled Sobol (0,2) stratified inside each equal-area bin + NEE on emissive "
                                     "triangles; punctual lights exact")
-        .text("quadrature", "eq. 5: (n+1)/2 * sum_i Lbar_i * integral over bin i of max(0, w . w_j)^n")
-        .text("layout", layoutName(layout.kind))
-        .count("refine", layout.refine)
-        .count("nodes_seam", int64_t(seams));
-
-    if (stats) {
-        stats->nodes = layout.totalNodes();
-        stats->rays = run.rays;
-        stats->seconds = run.seconds;
-        stats->seamNodes = seams;
-    }
+        .text("quadrature", "eq. 5: (n+1)/2 * sum_i Lbar_i * integral over bin i of max(0, w . w_j)^n");
     return volume;
 }
 

@@ -5,6 +5,7 @@
 #include <utility>
 #include <vector>
 
+#include "levels_bake.h"
 #include "parallel_nodes.h"
 #include "pass_metadata.h"
 #include "vdblight/tiles.h"
@@ -29,14 +30,9 @@ Volume bakeShGatherLevels(const Scene& scene, const Tracer& tracer, const LevelL
     if (options.threads < 0) throw ValueError("thread count must be positive (0 = all cores)");
     if (layout.levels.empty()) throw ValueError("the layout has no levels");
 
-    Volume volume;
-    volume.basis = BasisDesc::sh2();
-    volume.levels = volumeLevels(layout.levels);
-    setTileWindows(volume.levels, options.only);  // a tile: only the nodes it spans (tiles.h)
-    for (VolumeLevel& l : volume.levels) {
-        l.data.assign(l.heldNodes() * kFloats, 0.0f);
-        if (options.depthMoments) l.depth.assign(l.heldNodes() * depth::kFloatsPerNode, 0.0f);
-    }
+    Volume volume = bake_detail::emptyLevelsVolume(layout, BasisDesc::sh2(), kFloats, options.only);
+    if (options.depthMoments)
+        for (VolumeLevel& l : volume.levels) l.depth.assign(l.heldNodes() * depth::kFloatsPerNode, 0.0f);
     if (layout.culledNodes > 0) {  // solid_cull.h: inactive nodes inside closed solids
         bake_detail::PassMetadata(volume.meta).text("culling", "solid-regions").count("nodes_culled", int64_t(layout.culledNodes));
     }
@@ -47,25 +43,22 @@ Volume bakeShGatherLevels(const Scene& scene, const Tracer& tracer, const LevelL
     const RadianceEstimator estimator(scene, tracer, options.transport);
     const bake_detail::ParallelRun run =
         bake_detail::forEachItemInParallel(work.size(), options.threads, interrupter, [&](std::size_t w, RayCount& count) {
-            VolumeLevel& level = volume.levels[std::size_t(work[w].first)];
-            const std::size_t n = work[w].second;
-            const uint64_t linear = level.sparse() ? level.activeNodes[n] : n;
-            const uint64_t stream = (uint64_t(work[w].first) << 56) | linear;
+            const bake_detail::LevelNode node = bake_detail::levelNode(volume, work[w]);
+            VolumeLevel& level = node.level;
             Rgbd coeffs[sh::kCoeffs];
-            projectIncidentRadiance(estimator, Vec3f(level.grid.node(std::size_t(linear))), options.raysPerNode,
-                                    options.seed, stream, coeffs, count, nullptr, nullptr,
-                                    options.depthMoments ? level.depth.data() + level.held(n) * depth::kFloatsPerNode : nullptr,
+            projectIncidentRadiance(estimator, node.position(), options.raysPerNode, options.seed, node.stream, coeffs,
+                                    count, nullptr, nullptr,
+                                    options.depthMoments ? level.depth.data() + level.held(node.n) * depth::kFloatsPerNode
+                                                         : nullptr,
                                     level.grid.spacing);
-            float* dst = level.data.data() + level.held(n) * kFloats;
+            float* dst = node.values(kFloats);
             for (int j = 0; j < sh::kCoeffs; ++j) {
                 dst[3 * j + 0] = float(coeffs[j].x);
                 dst[3 * j + 1] = float(coeffs[j].y);
                 dst[3 * j + 2] = float(coeffs[j].z);
             }
         });
-    // Seam nodes interpolate the coarser level, whose nodes may lie in other tiles: a tile
-    // leaves its seam nodes at 0 and the merge sets them (tiles.h).
-    if (!options.only) applySeamConstraints(volume);
+    bake_detail::finishLevelsBake(volume, layout, seams, run, options.only, stats);
     RayCount seamDepthRays;
     if (options.depthMoments) {
         // Seam nodes take their radiance from the coarser level, but their depth belongs to
@@ -88,18 +81,8 @@ Volume bakeShGatherLevels(const Scene& scene, const Tracer& tracer, const LevelL
         .count("rays_per_node", options.raysPerNode)
         .text("direction_sampling", "scrambled Sobol (0,2) uniform sphere + NEE on emissive triangles; punctual lights exact");
     if (options.depthMoments) m.depthMoments(options.raysPerNode);
-    m.text("layout", layoutName(layout.kind))
-        .count("refine", layout.refine)
-        .count("nodes_seam", int64_t(seams))
-        .number("nodes_dense_equivalent", layout.denseEquivalentNodes());
-
-    if (stats) {
-        stats->nodes = layout.totalNodes();
-        stats->rays = run.rays;
-        stats->rays += seamDepthRays;
-        stats->seconds = run.seconds;
-        stats->seamNodes = seams;
-    }
+    m.number("nodes_dense_equivalent", layout.denseEquivalentNodes());
+    if (stats) stats->rays += seamDepthRays;
     return volume;
 }
 

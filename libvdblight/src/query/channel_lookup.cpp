@@ -6,7 +6,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "core/grid_index.h"
+#include "brick_tables.h"
 #include "depth_weights.h"
 #include "lattice_locate.h"
 #include "vdblight/errors.h"
@@ -55,31 +55,17 @@ ChannelLookup::ChannelLookup(const Volume& volume, OutsidePolicy outside, std::u
     for (std::size_t l = 0; l < volume.levels.size() && hasDepth_; ++l) levels_[l].depth = volume.levels[l].depth;
     if (volume.levels.size() == 1 || grid_.nx < 2 || grid_.ny < 2 || grid_.nz < 2) return;
 
-    const int K = K_, side = K + 1;
     levels_[0].child = query_detail::levelZeroChildren(grid_, l0.refinedCells);
     for (std::size_t l = 1; l < volume.levels.size(); ++l) {
-        const VolumeLevel& parent = volume.levels[l - 1];
-        const VolumeLevel& fine = volume.levels[l];
-        const GridSpec& pg = parent.grid;
+        query_detail::BrickTable t =
+            query_detail::brickTable(volume.levels[l - 1], volume.levels[l], K_, l + 1 < volume.levels.size());
         Level& out = levels_[l];
-        const std::size_t bricks = parent.refinedCells.size();
-        out.nodes.resize(bricks * std::size_t(side * side * side));
-        if (l + 1 < volume.levels.size()) out.child.resize(bricks * std::size_t(K * K * K));
-        for (std::size_t b = 0; b < bricks; ++b) {
-            const core::Index3 parentCell = core::unflatten(parent.refinedCells[b], uint64_t(pg.nx), uint64_t(pg.ny));
-            const int pi = parentCell.i, pj = parentCell.j, pk = parentCell.k;
-            for (int w = 0; w < side; ++w)
-                for (int v = 0; v < side; ++v)
-                    for (int u = 0; u < side; ++u) {
-                        const uint64_t linear = fine.grid.index(pi * K + u, pj * K + v, pk * K + w);
-                        const int64_t at = findNode(fine, linear);
-                        if (at < 0) throw FormatError("level " + std::to_string(l) + " misses a node of a refined cell");
-                        out.nodes[b * side * side * side + u + side * (v + side * std::size_t(w))] = uint32_t(at);
-                        if (out.child.empty() || u == K || v == K || w == K) continue;
-                        out.child[b * K * K * K + u + K * (v + K * std::size_t(w))] =
-                            int32_t(positionIn(fine.refinedCells, linear));
-                    }
+        out.nodes.resize(t.nodeAt.size());
+        for (std::size_t s = 0; s < t.nodeAt.size(); ++s) {
+            if (t.nodeAt[s] < 0) throw FormatError("level " + std::to_string(l) + " misses a node of a refined cell");
+            out.nodes[s] = uint32_t(t.nodeAt[s]);
         }
+        out.child = std::move(t.child);
     }
 }
 

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "core/grid_index.h"
+#include "brick_tables.h"
 #include "depth_weights.h"
 #include "lattice_locate.h"
 #include "sh_trilinear.h"
@@ -58,40 +58,33 @@ ShLevelsLookup::ShLevelsLookup(const Volume& volume, OutsidePolicy outside) : ou
                     if (!present[grid_.index(i + (c & 1), j + ((c >> 1) & 1), k + (c >> 2))]) child = kCulled;
             }
 
+    const bool culled = metaString(volume.meta, "culling") == "solid-regions";
     for (std::size_t l = 1; l < volume.levels.size(); ++l) {
-        const VolumeLevel& parent = volume.levels[l - 1];
         const VolumeLevel& fine = volume.levels[l];
-        const GridSpec& pg = parent.grid;
+        // A culled volume's finest level also needs a child table: for its kCulled markers.
+        query_detail::BrickTable t =
+            query_detail::brickTable(volume.levels[l - 1], fine, K, l + 1 < volume.levels.size() || culled);
         Level& out = levels_[l];
-        const std::size_t bricks = parent.refinedCells.size();
-        out.nodes.assign(bricks * std::size_t(side * side * side) * kFloats, 0.0f);
-        if (hasDepth_) out.depth.assign(bricks * std::size_t(side * side * side) * kDepth, 1.0f);
-        const bool culled = metaString(volume.meta, "culling") == "solid-regions";
-        if (l + 1 < volume.levels.size() || culled) out.child.assign(bricks * std::size_t(K * K * K), -1);
-        std::vector<char> brickPresent(std::size_t(side * side * side));
-        for (std::size_t b = 0; b < bricks; ++b) {
-            const core::Index3 parentCell = core::unflatten(parent.refinedCells[b], uint64_t(pg.nx), uint64_t(pg.ny));
-            const int pi = parentCell.i, pj = parentCell.j, pk = parentCell.k;
-            for (int w = 0; w < side; ++w)
-                for (int v = 0; v < side; ++v)
-                    for (int u = 0; u < side; ++u) {
-                        const int64_t at = findNode(fine, fine.grid.index(pi * K + u, pj * K + v, pk * K + w));
-                        if (at < 0 && !culled) throw FormatError("level " + std::to_string(l) + " misses a node of a refined cell");
-                        brickPresent[u + side * (v + side * std::size_t(w))] = at >= 0;
-                        const std::size_t slot = b * side * side * side + u + side * (v + side * std::size_t(w));
-                        if (at >= 0) copyFolded(fine.nodeData(std::size_t(at), sh::kCoeffs), &out.nodes[slot * kFloats]);
-                        if (at >= 0 && hasDepth_) std::copy_n(fine.nodeDepth(std::size_t(at)), kDepth, &out.depth[slot * kDepth]);
-                        if (out.child.empty() || u == K || v == K || w == K) continue;
-                        out.child[b * K * K * K + u + K * (v + K * std::size_t(w))] = int32_t(
-                            positionIn(fine.refinedCells, fine.grid.index(pi * K + u, pj * K + v, pk * K + w)));
-                    }
-            if (!culled) continue;
+        const std::size_t slots = t.nodeAt.size(), perBrick = std::size_t(side * side * side);
+        out.nodes.assign(slots * kFloats, 0.0f);
+        if (hasDepth_) out.depth.assign(slots * kDepth, 1.0f);
+        for (std::size_t s = 0; s < slots; ++s) {
+            const int64_t at = t.nodeAt[s];
+            if (at < 0 && !culled) throw FormatError("level " + std::to_string(l) + " misses a node of a refined cell");
+            if (at < 0) continue;
+            copyFolded(fine.nodeData(std::size_t(at), sh::kCoeffs), &out.nodes[s * kFloats]);
+            if (hasDepth_) std::copy_n(fine.nodeDepth(std::size_t(at)), kDepth, &out.depth[s * kDepth]);
+        }
+        out.child = std::move(t.child);
+        if (!culled) continue;
+        for (std::size_t b = 0; b < slots / perBrick; ++b) {
+            const int64_t* brick = &t.nodeAt[b * perBrick];
             for (int w = 0; w < K; ++w)
                 for (int v = 0; v < K; ++v)
                     for (int u = 0; u < K; ++u) {
                         int32_t& child = out.child[b * K * K * K + u + K * (v + K * std::size_t(w))];
                         for (int c = 0; c < 8 && child < 0; ++c)
-                            if (!brickPresent[(u + (c & 1)) + side * ((v + ((c >> 1) & 1)) + side * std::size_t(w + (c >> 2)))])
+                            if (brick[(u + (c & 1)) + side * ((v + ((c >> 1) & 1)) + side * std::size_t(w + (c >> 2)))] < 0)
                                 child = kCulled;
                     }
         }

@@ -37,6 +37,7 @@ struct OpenedFile {
     std::unique_ptr<openvdb::io::File> file;
     openvdb::MetaMap::Ptr meta;
     int64_t version = 0;
+    ContentHash hash;  ///< set when opened for Data: the hash the damage check computed (or was given)
 };
 
 [[noreturn]] void formatError(const std::string& path, const std::string& what) {
@@ -197,19 +198,23 @@ enum class OpenFor {
 /// OpenVDB parses any node data because OpenVDB 10 reads a corrupt leaf's blosc block past the
 /// end of its buffer (tests/fuzz/known_crashes.txt). It costs one SHA-256 pass over the file;
 /// a file with another writer's (random) UUID cannot be checked this way (docs/format.md).
-void checkNotDamaged(const std::string& path) {
-    if (fileContentHash(path).damaged)
+void checkNotDamaged(const std::string& path, const ContentHash& hash) {
+    if (hash.damaged)
         formatError(path, "is damaged: its content no longer gives the UUID stamped in its header when it was "
                           "written (changed or corrupted since; copy or bake it again)");
 }
 
-OpenedFile openVolumeFile(const std::string& path, OpenFor purpose) {
+/// `knownHash` (purpose Data): the file's content hash if the caller has it, else it is computed.
+OpenedFile openVolumeFile(const std::string& path, OpenFor purpose, const ContentHash* knownHash = nullptr) {
     initOpenVdb();
     checkReadable(path);
     checkNotTruncated(path);
-    if (purpose == OpenFor::Data) checkNotDamaged(path);
-    const bool delayLoad = purpose == OpenFor::Delayed;
     OpenedFile f;
+    if (purpose == OpenFor::Data) {
+        f.hash = knownHash ? *knownHash : fileContentHash(path);
+        checkNotDamaged(path, f.hash);
+    }
+    const bool delayLoad = purpose == OpenFor::Delayed;
     f.file = std::make_unique<openvdb::io::File>(path);
     try {
         // Delayed loading (vdb_stream.h) maps the file and must not copy it first (OpenVDB
@@ -562,9 +567,10 @@ GridInfo describeGrid(openvdb::io::File& file, const openvdb::GridBase& grid) {
 
 }  // namespace
 
-/// readVolume, and readProbeStage with `stage`.
-static Volume readVolumeFile(const std::string& path, bool stage) {
-    OpenedFile f = openVolumeFile(path, OpenFor::Data);
+/// readVolume, and readProbeStage with `stage`; `hash` receives the file's content hash.
+static Volume readVolumeFile(const std::string& path, bool stage, const ContentHash* knownHash, ContentHash* hash) {
+    OpenedFile f = openVolumeFile(path, OpenFor::Data, knownHash);
+    if (hash) *hash = f.hash;
     const openvdb::MetaMap& meta = *f.meta;
     const auto probeStage = meta.getMetadata<openvdb::Int64Metadata>(kPrefix + "probe_stage");
     if (probeStage && !stage)
@@ -597,10 +603,10 @@ static Volume readVolumeFile(const std::string& path, bool stage) {
     return volume;
 }
 
-Volume readVolume(const std::string& path) { return readVolumeFile(path, false); }
+Volume readVolume(const std::string& path, ContentHash* hash) { return readVolumeFile(path, false, nullptr, hash); }
 
-Volume readProbeStage(const std::string& path) {
-    Volume v = readVolumeFile(path, true);
+Volume readProbeStage(const std::string& path, const ContentHash* knownHash) {
+    Volume v = readVolumeFile(path, true, knownHash, nullptr);
     if (v.basis.kind != probeStageBasis().kind || v.levels.size() != 1)
         throw FormatError("'" + path + "' is a probe stage file of another kind (basis " + v.basis.kind + ")");
     return v;
@@ -782,11 +788,11 @@ ContentHash fileContentHash(const std::string& path) {
     return h;
 }
 
-FileInfo inspectVolumeFile(const std::string& path) {
+FileInfo inspectVolumeFile(const std::string& path, const ContentHash* knownHash) {
     OpenedFile f = openVolumeFile(path, OpenFor::Metadata);
     FileInfo info;
     info.path = path;
-    info.hash = fileContentHash(path);
+    info.hash = knownHash ? *knownHash : fileContentHash(path);
     info.fileBytes = uint64_t(fs::file_size(path));
     std::vector<std::pair<int64_t, GridInfo>> grids;  // (channel, info), to sort
     try {

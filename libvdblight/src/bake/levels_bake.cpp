@@ -1,0 +1,39 @@
+#include "levels_bake.h"
+
+#include "pass_metadata.h"
+#include "vdblight/tiles.h"
+
+namespace vdblight::bake_detail {
+
+Volume emptyLevelsVolume(const LevelLayout& layout, const BasisDesc& basis, std::size_t floatsPerNode,
+                         const NodeMask* only) {
+    Volume volume;
+    volume.basis = basis;
+    volume.levels = volumeLevels(layout.levels);
+    setTileWindows(volume.levels, only);
+    for (VolumeLevel& l : volume.levels) l.data.assign(l.heldNodes() * floatsPerNode, 0.0f);
+    return volume;
+}
+
+LevelNode levelNode(Volume& volume, const std::pair<int, std::size_t>& item) {
+    VolumeLevel& level = volume.levels[std::size_t(item.first)];
+    const uint64_t linear = level.sparse() ? level.activeNodes[item.second] : item.second;
+    return {level, item.second, linear, (uint64_t(item.first) << 56) | linear};
+}
+
+void finishLevelsBake(Volume& volume, const LevelLayout& layout, uint64_t seams, const ParallelRun& run,
+                      const NodeMask* only, LevelsBakeStats* stats) {
+    if (volume.levels.size() > 1 && !only) applySeamConstraints(volume);
+    PassMetadata(volume.meta)
+        .text("layout", layoutName(layout.kind))
+        .count("refine", layout.refine)
+        .count("nodes_seam", int64_t(seams));
+    if (stats) {
+        stats->nodes = layout.totalNodes();
+        stats->rays = run.rays;
+        stats->seconds = run.seconds;
+        stats->seamNodes = seams;
+    }
+}
+
+}  // namespace vdblight::bake_detail

@@ -1,0 +1,43 @@
+// What the node-by-node passes over a LevelLayout (uniform, bilevel, adaptive; the SH, bins and
+// generic basis gathers) share: the volume they fill, the node a work item names, and how such a
+// bake ends. (Internal to the bake module.)
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <utility>
+
+#include "parallel_nodes.h"
+#include "vdblight/bake_levels.h"
+#include "vdblight/layout_levels.h"
+#include "vdblight/math.h"
+
+namespace vdblight::bake_detail {
+
+/// A volume of `basis` on the levels of `layout`, `floatsPerNode` zeros per node; with `only`
+/// (a tile), only the window of nodes the tile spans is held (setTileWindows, tiles.h).
+Volume emptyLevelsVolume(const LevelLayout& layout, const BasisDesc& basis, std::size_t floatsPerNode,
+                         const NodeMask* only);
+
+/// The node that a work item of nodesToBake names.
+struct LevelNode {
+    VolumeLevel& level;
+    std::size_t n;    ///< among the level's stored nodes
+    uint64_t linear;  ///< index in the level's grid
+    /// (level << 56) | linear: the node's sample stream, the same in a tile as in the whole bake,
+    /// so that merged tiles give the single bake's bits.
+    uint64_t stream;
+
+    Vec3f position() const { return Vec3f(level.grid.node(std::size_t(linear))); }
+    /// Where the node's `floatsPerNode` values go in the level's data (a tile holds its window only).
+    float* values(std::size_t floatsPerNode) const { return level.data.data() + level.held(n) * floatsPerNode; }
+};
+LevelNode levelNode(Volume& volume, const std::pair<int, std::size_t>& item);
+
+/// The end of a levels bake: the seam nodes set from the coarser level, except in a tile (their
+/// coarse nodes may lie in other tiles: the merge sets them, tiles.h); the layout, refine and
+/// nodes_seam metadata; and `stats` (may be null) from the parallel run.
+void finishLevelsBake(Volume& volume, const LevelLayout& layout, uint64_t seams, const ParallelRun& run,
+                      const NodeMask* only, LevelsBakeStats* stats);
+
+}  // namespace vdblight::bake_detail
