@@ -169,18 +169,43 @@ def irradiance_terms(manifest, textures, x, n, max_abs=False):
         names = [t["name"] for t in manifest["textures"]]
         return np.array([a[j] * s[names[j]][:, :3] * y[j][:, None] for j in range(9)])
     if layout in ("vectors", "compact"):
-        # Pacanowski et al. 4.1: per axis a the vector of n_a's sign (pos for n_a >= 0), weight n_a^2.
+        # docs/format.md "Reconstruction" (the query's default: the quadratic blend, clamped to the
+        # bounds the vectors prove), per colour c:
+        # E = 1/2 sum_a V_a n_a + 1/4 sum_ab G_ab n_a n_b + 1/4 sum_a G_aa n_a^2,
+        # V_a = I_(a,pos)[a] + I_(a,neg)[a], G_ab = I_(a,pos)[b] - I_(a,neg)[b].
+        def vec(d, c):  # (points, 3): I_d for colour c
+            if layout == "vectors":
+                return s["iv_%s_%s" % (d, c)][:, :3]
+            # 4.2: I_c ~ colour.c * normalize(dir)
+            dv = s["ivc_%s_dir" % d][:, :3]
+            length = np.linalg.norm(dv, axis=1)
+            unit = np.where(length[:, None] > 0, dv / np.where(length > 0, length, 1)[:, None], 0.0)
+            return s["ivc_%s_colour" % d][:, "rgb".index(c)][:, None] * unit
         for a, axis in enumerate("xyz"):
-            w = n[:, a] * n[:, a]
-            for sign in ("pos", "neg"):
-                sel = (n[:, a] >= 0) if sign == "pos" else (n[:, a] < 0)
-                d = axis + sign
-                if layout == "vectors":
-                    cols = [np.sum(s["iv_%s_%s" % (d, c)][:, :3] * n, axis=1) for c in "rgb"]
-                else:  # 4.2: I_c ~ colour.c * dir
-                    along = np.sum(s["ivc_%s_dir" % d][:, :3] * n, axis=1)
-                    cols = [s["ivc_%s_colour" % d][:, c] * along for c in range(3)]
-                terms.append(np.column_stack(cols) * (w * sel)[:, None])
+            cols_v, cols_q = [], []
+            for c in "rgb":
+                pos, neg = vec(axis + "pos", c), vec(axis + "neg", c)
+                if max_abs:  # the error scale: magnitudes add, nothing cancels
+                    pos, neg = np.abs(pos), -np.abs(neg)
+                cols_v.append(0.5 * ((pos[:, a] - neg[:, a]) if max_abs else (pos[:, a] + neg[:, a])) * n[:, a])
+                g = pos - neg  # G_ab for b = 0..2
+                q = 0.25 * g[:, a] * n[:, a] * n[:, a]
+                for b in range(3):
+                    q = q + 0.25 * g[:, b] * n[:, a] * n[:, b]
+                cols_q.append(q)
+            terms.append(np.column_stack(cols_v))
+            terms.append(np.column_stack(cols_q))
+        if not max_abs:
+            # Clamped to what the vectors prove: max(0, max_d dot(I_d, n)) <= E <= sum_a |n_a| E_(a, sign n_a).
+            quad = np.sum(terms, axis=0)
+            lo, hi = np.zeros_like(quad), np.zeros_like(quad)
+            for ci, c in enumerate("rgb"):
+                for a, axis in enumerate("xyz"):
+                    for sign in ("pos", "neg"):
+                        lo[:, ci] = np.maximum(lo[:, ci], np.sum(vec(axis + sign, c) * n, axis=1))
+                    e_pos, e_neg = vec(axis + "pos", c)[:, a], -vec(axis + "neg", c)[:, a]
+                    hi[:, ci] += np.abs(n[:, a]) * np.where(n[:, a] < 0, e_neg, e_pos)
+            terms.append(np.maximum(lo, np.minimum(quad, hi)) - quad)
         return np.array(terms)
     if layout == "bins":
         # The four-bin blend of the manifest's bins.blend (what `vdblight query` does), per point.

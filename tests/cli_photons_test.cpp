@@ -1,5 +1,5 @@
-// End-to-end tests of `vdblight bake --method photons` and `query --interp`: a photon bake
-// that info and query read, and bad input (one line, non-zero exit, no file).
+// End-to-end tests of `vdblight bake --method photons` and `query --interp` / `--iv-blend`: a
+// photon bake that info and query read, and bad input (one line, non-zero exit, no file).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -13,6 +13,17 @@ using namespace vdblight::test;
 namespace fs = std::filesystem;
 
 namespace {
+/// E_r of a one-point query's CSV row.
+double firstIrradiance(const CliRun& q) {
+    const std::string row = q.output.substr(q.output.find('\n') + 1);
+    double vals[9] = {};
+    EXPECT_EQ(std::sscanf(row.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &vals[0], &vals[1], &vals[2], &vals[3],
+                          &vals[4], &vals[5], &vals[6], &vals[7], &vals[8]),
+              9)
+        << q.output;
+    return vals[6];
+}
+
 // Under the ceiling light, facing up: lit; both interpolations answer.
 void expectLitWithBothInterpolations(const std::string& volume) {
     for (const char* interp : {"trilinear", "tricubic"}) {
@@ -46,6 +57,15 @@ TEST(CliPhotons, BakeInfoQueryOnTheDefaultScene) {
     EXPECT_EQ(info.status, 0) << info.output;
     EXPECT_NE(info.output.find("iv_ypos_r"), std::string::npos) << info.output;
     ASSERT_NO_FATAL_FAILURE(expectLitWithBothInterpolations(out));
+
+    // --iv-blend: the default (quadratic) and the paper's n^2 blend agree for an axis normal;
+    // for a diagonal one the paper's, a lower bound of E, reads less.
+    const std::string at = "query " + out + " --at 0.28,0.3,0.25 ";
+    const CliRun qAxis = runCli(at + "--normal 0,1,0"), pAxis = runCli(at + "--normal 0,1,0 --iv-blend paper");
+    const CliRun qDiag = runCli(at + "--normal 1,1,1"), pDiag = runCli(at + "--normal 1,1,1 --iv-blend paper");
+    ASSERT_EQ(qAxis.status + pAxis.status + qDiag.status + pDiag.status, 0) << pDiag.output;
+    EXPECT_NEAR(firstIrradiance(pAxis), firstIrradiance(qAxis), 1e-5 * firstIrradiance(qAxis));
+    EXPECT_LT(firstIrradiance(pDiag), 0.95 * firstIrradiance(qDiag));
 }
 
 TEST(CliPhotons, CompactBakeIsSmallerAndReadable) {
@@ -83,4 +103,6 @@ TEST(CliPhotons, BadInputFailsCleanly) {
     ASSERT_EQ(runCli("bake --resolution 3 --rays 8 -q -o " + sh).status, 0);
     expectCleanFailure(dir, "query " + sh + " --at 0.3,0.3,0.3 --interp cubic", "--interp must be trilinear or tricubic");
     expectCleanFailure(dir, "query " + sh + " --at 0.3,0.3,0.3 --interp tricubic", "needs an irradiance-vector volume");
+    expectCleanFailure(dir, "query " + sh + " --at 0.3,0.3,0.3 --iv-blend paper", "needs an irradiance-vector volume");
+    expectCleanFailure(dir, "query " + sh + " --at 0.3,0.3,0.3 --iv-blend cubic", "--iv-blend");
 }

@@ -29,6 +29,7 @@ struct QueryCommand {
     std::string output;
     std::string outside = "clamp";
     std::string interp = "trilinear";
+    std::string ivBlend = iv::blendName(iv::kDefaultBlend);  // irradiance-vector volumes: E(n) from the six vectors
     std::string view;  // moment volumes: view vector, mirrored about the normal (bins.h)
     bool raw = false;  // keep negative irradiance (SH ringing) instead of clamping it to 0
     std::string scene;        // --direct runtime volumes: the scene whose lights are added with shadows
@@ -97,6 +98,8 @@ std::unique_ptr<RuntimeDirect> runtimeDirect(const QueryCommand& c, const Volume
 void run(const QueryCommand& c) {
     if (c.interp != "trilinear" && c.interp != "tricubic")
         throw ValueError("--interp must be trilinear or tricubic, got '" + c.interp + "'");
+    if (c.ivBlend != "bounded" && c.ivBlend != "quadratic" && c.ivBlend != "paper")
+        throw ValueError("--iv-blend must be bounded, quadratic or paper, got '" + c.ivBlend + "'");
     if (c.at.empty() == c.points.empty()) throw ValueError("give either --at x,y,z or --points FILE.csv");
     std::vector<ReferencePoint> points;
     std::vector<Vec3d> world;  // the points in double (volumes far from the origin need it)
@@ -131,12 +134,15 @@ void run(const QueryCommand& c) {
     if (!moment && !c.view.empty())
         throw ValueError("--view applies to moment volumes (bake --basis moment:N); this one is '" + volume.basis.kind + "'");
     const std::unique_ptr<RuntimeDirect> runtime = runtimeDirect(c, volume);
-    std::unique_ptr<VolumeLookup> cubic;  // --interp tricubic (irradiance-vector volumes)
-    if (c.interp == "tricubic") {
+    std::unique_ptr<VolumeLookup> cubic;  // --interp tricubic or another --iv-blend (irradiance-vector volumes)
+    const iv::Blend blend = iv::parseBlend(c.ivBlend);
+    if (c.interp == "tricubic" || blend != iv::kDefaultBlend) {
         if (!VectorGridLookup::accepts(volume))
-            throw ValueError("--interp tricubic needs an irradiance-vector volume (bake --method photons); this one is '" +
+            throw ValueError(std::string(c.interp == "tricubic" ? "--interp tricubic" : "--iv-blend") +
+                             " needs an irradiance-vector volume (bake --method photons); this one is '" +
                              volume.basis.kind + "'");
-        cubic = std::make_unique<VectorGridLookup>(volume, policy, Interpolation::Tricubic);
+        cubic = std::make_unique<VectorGridLookup>(
+            volume, policy, c.interp == "tricubic" ? Interpolation::Tricubic : Interpolation::Trilinear, blend);
     }
 
     std::ostringstream out;
@@ -200,6 +206,11 @@ void addQueryCommand(CLI::App& app) {
         ->check(CLI::IsMember({"clamp", "error"}))
         ->capture_default_str();
     cmd->add_option("--interp", c->interp, "Spatial interpolation: trilinear or tricubic (irradiance-vector volumes)")
+        ->capture_default_str();
+    cmd->add_option("--iv-blend", c->ivBlend,
+                    "Irradiance-vector volumes: E(n) from the six vectors: bounded (quadratic clamped to the "
+                    "bounds the vectors prove), quadratic (exact for SH bands 0-2, uniform light included) or "
+                    "paper (Pacanowski et al. 4.1 n^2 blend, a lower bound: 3/4 of uniform light on average)")
         ->capture_default_str();
     cmd->add_option("--view", c->view,
                     "Moment volumes (bake --basis moment:N): unit vector from the surface towards the eye; the "

@@ -10,8 +10,9 @@
 // Channel 2 d + 0 is the colour of direction d, channel 2 d + 1 its direction (d as in
 // irradiance_vectors.h: 0 = +x, 1 = -x, ..., 5 = -z); names "ivc_<axis><pos|neg>_rgb" and
 // "ivc_<axis><pos|neg>_dir". A lookup interpolates colour and direction separately
-// (trilinear or tricubic, VectorGridLookup), renormalises the direction, then blends by n^2
-// as the full form does. Compacting a whole volume: iv::compact in volume_compact.h.
+// (trilinear or tricubic, VectorGridLookup), renormalises the direction, rebuilds the vectors
+// and reconstructs E(n) as the full form does (irradiance_vectors.h, `Blend`). Compacting a
+// whole volume: iv::compact in volume_compact.h.
 #pragma once
 
 #include "vdblight/basis_desc.h"
@@ -30,13 +31,13 @@ BasisDesc compactBasis();
 /// Compacts one node: `full` holds kFloatsPerNode floats, `out` gets kCompactFloatsPerNode.
 void compactNode(const float* full, float* out);
 
-/// E(n) per colour channel from one node's (or one interpolated) compact values: the
-/// direction is renormalised, I_lambda = c_lambda d, then the n^2 blend of irradiance().
 /// Inverse of compactNode (exact where the node's three colour vectors were parallel):
 /// I_d,c = colour_d,c * direction_d, written as kFloatsPerNode floats in channel order.
 void expandNode(const float* compactValues, float* full);
 
-Rgb compactIrradiance(const float* v, const Vec3f& n);
+/// E(n) per colour channel from one node's (or one interpolated) compact values: each
+/// direction is renormalised, I_lambda = c_lambda d, then irradiance() with `blend`.
+Rgb compactIrradiance(const float* v, const Vec3f& n, Blend blend = kDefaultBlend);
 
 }  // namespace iv
 }  // namespace vdblight

@@ -1,7 +1,8 @@
 // Lookup of irradiance-vector volumes (basis "irradiance_vectors", one level): spatial
-// interpolation of the three vectors chosen by the signs of n's components, then the
-// directional blend I_n = I_x n_x^2 + I_y n_y^2 + I_z n_z^2, E = <I_n, n> (Pacanowski et al.
-// section 4.1; irradiance_vectors.h).
+// interpolation of the six vectors, then E(n) by the blend (irradiance_vectors.h): Bounded by
+// default (the quadratic blend, exact for SH bands 0-2 and uniform light, clamped to the
+// bounds the vectors prove), Quadratic, or Paper (Pacanowski et al. section 4.1: the three
+// vectors of n's signs blended by n^2, a lower bound of E; only those three are interpolated).
 //
 // Spatial interpolation is trilinear, or tricubic: per axis the Catmull-Rom cubic through
 // four nodes (one-sided at the box's faces by linear extrapolation of the end nodes), which
@@ -14,6 +15,7 @@
 
 #include <vector>
 
+#include "vdblight/irradiance_vectors.h"
 #include "vdblight/query.h"
 
 namespace vdblight {
@@ -22,7 +24,8 @@ enum class Interpolation { Trilinear, Tricubic };
 
 class VectorGridLookup final : public VolumeLookup {
 public:
-    VectorGridLookup(const Volume& volume, OutsidePolicy outside, Interpolation interp = Interpolation::Trilinear);
+    VectorGridLookup(const Volume& volume, OutsidePolicy outside, Interpolation interp = Interpolation::Trilinear,
+                     iv::Blend blend = iv::kDefaultBlend);
     Rgb irradiance(const Vec3f& x, const Vec3f& n) const override;
     Bounds bounds() const override { return grid_.nodeBounds(); }
     /// Trilinear in double (whatever the Interpolation), snapped onto nodes within 1e-9 cells.
@@ -37,6 +40,7 @@ private:
     GridSpec grid_;
     OutsidePolicy outside_;
     Interpolation interp_;
+    iv::Blend blend_;
     Vec3f origin_;
     float invSpacing_;
     bool compact_ = false;
@@ -46,7 +50,7 @@ private:
 };
 
 /// The simple lookup used to test VectorGridLookup: trilinear in double over the volume's
-/// own arrays, then the n^2 blend.
-Rgbd referenceVectorLookup(const Volume& volume, const Vec3d& x, const Vec3d& n);
+/// own arrays (full form), then iv::referenceIrradiance.
+Rgbd referenceVectorLookup(const Volume& volume, const Vec3d& x, const Vec3d& n, iv::Blend blend = iv::kDefaultBlend);
 
 }  // namespace vdblight

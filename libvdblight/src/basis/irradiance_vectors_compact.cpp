@@ -48,19 +48,19 @@ void expandNode(const float* compactValues, float* full) {
     }
 }
 
-Rgb compactIrradiance(const float* v, const Vec3f& n) {
-    Rgb e{0, 0, 0};
-    for (int a = 0; a < 3; ++a) {
-        const float w = n[a] * n[a];
-        if (w == 0.0f) continue;
-        const float* colour = v + 6 * direction(a, n[a] < 0.0f);
-        const Vec3f d(colour[3], colour[4], colour[5]);
-        const float len = length(d);
+Rgb compactIrradiance(const float* v, const Vec3f& n, Blend blend) {
+    float full[kFloatsPerNode] = {};
+    for (int d = 0; d < kDirections; ++d) {
+        // Paper reads only the directions of n's signs (the others stay zero, unread).
+        if (blend == Blend::Paper && d != direction(d / 2, n[d / 2] < 0.0f)) continue;
+        const float* colour = v + 6 * d;
+        const Vec3f dir(colour[3], colour[4], colour[5]);
+        const float len = length(dir);
         if (!(len > 0.0f)) continue;
-        const float cosine = dot(d, n) / len;
-        e += Rgb(colour[0], colour[1], colour[2]) * (cosine * w);
+        for (int c = 0; c < 3; ++c)
+            for (int k = 0; k < 3; ++k) full[9 * d + 3 * c + k] = colour[c] * (dir[k] / len);
     }
-    return e;
+    return irradiance(full, n, blend);
 }
 
 }  // namespace iv

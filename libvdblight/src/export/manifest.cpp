@@ -55,12 +55,16 @@ const char* irradianceFormula(ExportLayout layout) {
             return "E_c = dot(shAc, (n, 1)) for c in r, g, b and a unit normal n "
                    "(order-1 SH: the band-2 part of the volume's irradiance is left out)";
         case ExportLayout::Vectors:
-            return "E_c = sum over axes a of n_a^2 * dot(I_(a, sign n_a) c, n), I_(a, s) c = texture "
-                   "iv_<a><pos|neg>_<c>.rgb (Pacanowski et al. section 4.1), for c in r, g, b and a unit normal n";
+            return "E_c = clamp(Q_c, max(0, max over the six d of dot(I_d c, n)), sum_a |n_a| E_(a, sign n_a) c) with "
+                   "Q_c = 1/2 sum_a V_a n_a + 1/4 sum_a sum_b G_ab n_a n_b + 1/4 sum_a G_aa n_a^2, "
+                   "V_a = I_(a,pos) c[a] + I_(a,neg) c[a], G_ab = I_(a,pos) c[b] - I_(a,neg) c[b], "
+                   "E_(a,pos) c = I_(a,pos) c[a], E_(a,neg) c = -I_(a,neg) c[a], I_(a, s) c = texture "
+                   "iv_<a><pos|neg>_<c>.rgb (world x, y, z in r, g, b), for c in r, g, b and a unit normal n "
+                   "(the bounded blend of docs/format.md, what vdblight query does)";
         case ExportLayout::Compact:
-            return "E_c = sum over axes a of n_a^2 * ivc_<a><pos|neg>_colour.c * dot(ivc_<a><pos|neg>_dir.rgb, n), "
-                   "sign by n_a (Pacanowski et al. section 4.2: each vector I_c ~ |I_c| * d, lossy where the "
-                   "three colours' vectors differ in direction), for c in r, g, b and a unit normal n";
+            return "I_(a, s) c = ivc_<a><pos|neg>_colour.c * normalize(ivc_<a><pos|neg>_dir.rgb) (Pacanowski et al. "
+                   "section 4.2: lossy where the three colours' vectors differ in direction), then E_c as for the vectors "
+                   "layout (bounded blend), for c in r, g, b and a unit normal n";
         case ExportLayout::Bins:
             return "E(d).rgb = texture of the bin of direction d (bins.bin_of_direction; d = the normal n for bins:R, "
                    "the view vector mirrored about n for moment:n), or the bilinear blend of the four bins of "

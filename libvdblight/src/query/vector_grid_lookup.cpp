@@ -17,8 +17,8 @@ bool VectorGridLookup::accepts(const Volume& volume) {
            (volume.basis.kind == iv::compactBasis().kind && volume.basis.channelCount() == iv::kCompactChannels);
 }
 
-VectorGridLookup::VectorGridLookup(const Volume& volume, OutsidePolicy outside, Interpolation interp)
-    : outside_(outside), interp_(interp) {
+VectorGridLookup::VectorGridLookup(const Volume& volume, OutsidePolicy outside, Interpolation interp, iv::Blend blend)
+    : outside_(outside), interp_(interp), blend_(blend) {
     if (!accepts(volume)) throw FormatError("not a single-level irradiance-vector volume");
     compact_ = volume.basis.kind == iv::compactBasis().kind;
     stride_ = compact_ ? iv::kCompactFloatsPerNode : iv::kFloatsPerNode;
@@ -84,9 +84,12 @@ Rgb VectorGridLookup::irradiance(const Vec3f& x, const Vec3f& n) const {
     float w[3][4];
     int taps = 0;
     for (int a = 0; a < 3; ++a) taps = weightsAndNodes(a, idx[a], frac[a], nodes[a], w[a]);
-    // The three directions this normal reads, by the signs of its components.
-    int offset[3];
-    for (int a = 0; a < 3; ++a) offset[a] = perDirection_ * iv::direction(a, n[a] < 0.0f);
+    // The directions this normal reads: the three of its signs (Paper) or all six.
+    int offset[iv::kDirections];
+    int directions = 0;
+    for (int d = 0; d < iv::kDirections; ++d)
+        if (blend_ != iv::Blend::Paper || d == iv::direction(d / 2, n[d / 2] < 0.0f))
+            offset[directions++] = perDirection_ * d;
 
     float interp[iv::kFloatsPerNode] = {};
     for (int c = 0; c < taps; ++c)
@@ -97,33 +100,22 @@ Rgb VectorGridLookup::irradiance(const Vec3f& x, const Vec3f& n) const {
                 const float wt = w[0][a] * wbc;
                 if (wt == 0.0f) continue;
                 const float* p = data_.data() + grid_.index(nodes[0][a], nodes[1][b], nodes[2][c]) * stride_;
-                for (int d = 0; d < 3; ++d)
+                for (int d = 0; d < directions; ++d)
                     for (int f = 0; f < perDirection_; ++f) interp[offset[d] + f] += wt * p[offset[d] + f];
             }
         }
-    return compact_ ? iv::compactIrradiance(interp, n) : iv::irradiance(interp, n);
+    return compact_ ? iv::compactIrradiance(interp, n, blend_) : iv::irradiance(interp, n, blend_);
 }
 
-Rgbd referenceVectorLookup(const Volume& volume, const Vec3d& x, const Vec3d& nIn) {
+Rgbd referenceVectorLookup(const Volume& volume, const Vec3d& x, const Vec3d& nIn, iv::Blend blend) {
     const VolumeLevel& level = volume.levels.at(0);
-    const Vec3d n = normalize(nIn);
     const query_detail::TrilinearCorners t = query_detail::referenceCorners(level.grid, x);
-    Rgbd e{0, 0, 0};
+    double v[iv::kFloatsPerNode] = {};
     for (int corner = 0; corner < 8; ++corner) {
-        const double w = t.weight[corner];
         const float* p = level.nodeData(t.node[corner], iv::kChannels);
-        for (int a = 0; a < 3; ++a) {
-            const float* v = p + 9 * iv::direction(a, n[a] < 0.0);
-            for (int c = 0; c < 3; ++c) {
-                const double dotn = v[3 * c] * n.x + v[3 * c + 1] * n.y + v[3 * c + 2] * n.z;
-                const double s = w * n[a] * n[a] * dotn;
-                if (c == 0) e.x += s;
-                else if (c == 1) e.y += s;
-                else e.z += s;
-            }
-        }
+        for (int f = 0; f < iv::kFloatsPerNode; ++f) v[f] += t.weight[corner] * p[f];
     }
-    return e;
+    return iv::referenceIrradiance(v, normalize(nIn), blend);
 }
 
 }  // namespace vdblight
