@@ -47,6 +47,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include "../libvdblight/src/bake/surface_cache.h"  // --probe-study: the probe pass's own cache
 #include "accuracy_scenes.h"
 #include "bench_args.h"
 #include "bench_util.h"
@@ -975,23 +976,22 @@ void timeToAccuracy(const bench::AccuracyScene& as, const Tracer& tracer, const 
 // node's paths at their first hit p with a surface cache: the irradiance of pass 0's reflected
 // light at p. Here the probe estimator runs at each point itself (K cosine-sampled directions,
 // no SH at the point, no interpolation of the result) with the cache replaced in turn by:
-//   sh        the library's cache (VolumeSurfaceCache's lookup) of pass 0 at R0 rays per node;
-//   nodes     the same nodes, weights and visibility tests, each node's SH replaced by its exact
-//             reflected irradiance for the normal (M cosine-sampled paths from the node);
+//   library   the library's cache (bake/surface_cache.h) of pass 0 at R0 rays per node;
+//   nodes     the same nodes, weights and visibility tests, each node's stored light replaced by
+//             its exact reflected irradiance for the normal (M cosine-sampled paths from the node);
 //   exact     the exact reflected irradiance at p itself (M paths from p): an unbiased cache,
 //             so this is path tracing and checks the estimator's own bookkeeping;
-// and without a cache (plain paths). sh - nodes = SH2 truncation of the cached light;
-// nodes - exact = the nodes standing for p (their positions, weights); exact - truth = the rest.
+// and without a cache (plain paths). library - nodes = how the cache represents a node's light
+// (SH order 2 before issue 15's fourth session); nodes - exact = the nodes standing for p
+// (their positions, weights); exact - truth = the rest.
 
-enum class CacheKind { Sh, NodesExact, Exact };
+enum class CacheKind { NodesExact, Exact };
 
-/// A SurfaceIrradianceCache over pass 0's reflected SH (the library's lookup, surface_cache.cpp)
-/// or an exact variant of it (above).
+/// The exact variants of the library's cache (above), with its lookup's node weights and tests.
 class StudyCache : public SurfaceIrradianceCache {
 public:
-    StudyCache(const Tracer& tracer, const RadianceEstimator& plain, const GridSpec& grid, const float* coeffs, CacheKind kind,
-               int paths)
-        : tracer_(tracer), plain_(plain), grid_(grid), coeffs_(coeffs), kind_(kind), paths_(paths) {}
+    StudyCache(const Tracer& tracer, const RadianceEstimator& plain, const GridSpec& grid, CacheKind kind, int paths)
+        : tracer_(tracer), plain_(plain), grid_(grid), kind_(kind), paths_(paths) {}
 
     bool irradiance(const Vec3f& p, const Vec3f& n, Rgb& out, RayCount& rays) const override {
         Rng rng(hashOf(p, n), 9);
@@ -1007,8 +1007,6 @@ public:
             base[a] = std::min(int(u), std::max(0, dims[a] - 2));
             frac[a] = dims[a] > 1 ? float(u - base[a]) : 0.0f;
         }
-        float y[sh::kCoeffs];
-        sh::evalUnrolled(n, y);
         Rgb sum{0, 0, 0};
         float weight = 0;
         for (int c = 0; c < 8; ++c) {
@@ -1026,15 +1024,7 @@ public:
             if (!(dot(d, n) > 0)) continue;
             ++rays.occluded;
             if (tracer_.occluded(Ray{p, d, 0.0f, 1.0f})) continue;
-            Rgb e{0, 0, 0};
-            if (kind_ == CacheKind::Sh) {
-                const float* c27 = coeffs_ + grid_.index(idx[0], idx[1], idx[2]) * sh::kCoeffs * 3;
-                for (int j = 0; j < sh::kCoeffs; ++j)
-                    e += (Rgb(c27[3 * j], c27[3 * j + 1], c27[3 * j + 2]) * float(sh::kCosineLobe[sh::bandOf(j)])) * y[j];
-            } else {
-                e = exactReflected(node, n, rng, rays);
-            }
-            sum += e * w;
+            sum += exactReflected(node, n, rng, rays) * w;
             weight += w;
         }
         if (!(weight > 0)) return false;
@@ -1072,7 +1062,6 @@ private:
     const Tracer& tracer_;
     const RadianceEstimator& plain_;
     GridSpec grid_;
-    const float* coeffs_;
     CacheKind kind_;
     int paths_;
 };
@@ -1116,16 +1105,15 @@ void probeCacheStudy(const bench::AccuracyScene& as, const Tracer& tracer, const
     });
     struct Variant {
         const char* name;
-        std::unique_ptr<StudyCache> cache;
+        std::unique_ptr<SurfaceIrradianceCache> cache;
         std::vector<double> e;
         double seconds = 0;
     };
     std::vector<Variant> vars;
     vars.push_back({"plain (no cache)", nullptr, {}});
-    for (const auto& [kind, name] : {std::pair{CacheKind::Sh, "cache: pass-0 SH (library)"},
-                                     std::pair{CacheKind::NodesExact, "cache: nodes, exact E"},
-                                     std::pair{CacheKind::Exact, "cache: exact E at p"}})
-        vars.push_back({name, std::make_unique<StudyCache>(tracer, plain, grid, stage0.levels[0].data.data(), kind, paths), {}});
+    vars.push_back({"cache: library", std::make_unique<bake_detail::VolumeSurfaceCache>(tracer, grid, stage0.levels[0].data.data()), {}});
+    vars.push_back({"cache: nodes, exact E", std::make_unique<StudyCache>(tracer, plain, grid, CacheKind::NodesExact, paths), {}});
+    vars.push_back({"cache: exact E at p", std::make_unique<StudyCache>(tracer, plain, grid, CacheKind::Exact, paths), {}});
     for (Variant& v : vars) {
         RadianceEstimator est(s, tracer, tr);
         est.setSurfaceCache(v.cache.get());
