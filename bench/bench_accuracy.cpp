@@ -1038,8 +1038,9 @@ private:
         uint64_t h = 0x9b;
         for (int k = 0; k < 3; ++k) {
             uint32_t a, b;
-            std::memcpy(&a, &p[k], 4);
-            std::memcpy(&b, &n[k], 4);
+            const float pk = p[k], nk = n[k];
+            std::memcpy(&a, &pk, 4);
+            std::memcpy(&b, &nk, 4);
             h = hashCombine(hashCombine(h, a), b);
         }
         return h;
