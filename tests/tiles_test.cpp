@@ -194,8 +194,7 @@ TEST(Tiles, AProbeStageFileIsReadOnlyAsAStageInput) {
     // them (not a volume to look up), readProbeStage reads them, and nothing else.
     test::TempDir dir;
     Volume stage = randomVolume();
-    stage.basis = probeStageBasis();  // its own channel count: the data follow it
-    stage.levels[0].data.resize(stage.levels[0].grid.nodeCount() * stage.basis.channelNames.size() * 3, 0.5f);
+    stage.basis = probeStageBasis();
     stage.meta["probe_stage"] = int64_t(0);
     stage.meta["probe_passes"] = int64_t(1);
     writeVolume(stage, dir.file("stage0.vdb"));

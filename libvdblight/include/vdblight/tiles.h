@@ -98,9 +98,8 @@ const std::vector<std::string>& tileSummedKeys();
 // stage s + 1 reads (readProbeStage). The tiles of the last stage merge into the volume a
 // single-process bake gives. docs/scaling.md, "Staged bakes".
 
-/// The basis of a probe stage volume: per node, the RGB irradiance of the pass's reflected
-/// light and sky at 38 fixed normals, the probe cache's (kind "irradiance_reflected",
-/// channels reflected_irradiance_0..37; docs/format.md).
+/// The basis of a probe stage volume: nine RGB SH order-2 radiance coefficients per node of
+/// the pass's reflected light and sky (kind "sh2_reflected", channels reflected_sh_0..8).
 BasisDesc probeStageBasis();
 
 /// For a tile of stage s > 0: records the stage input's summed counts (tileSummedKeys) as

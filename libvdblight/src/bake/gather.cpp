@@ -46,8 +46,8 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     const std::size_t held = level.heldNodes();
     if (options.depthMoments) level.depth.assign(held * depth::kFloatsPerNode, 0.0f);
     std::vector<float> error(held, 0.0f);
-    std::vector<Rgb> reflected;  // per node, the irradiance at the cache directions: the next pass's cache
-    if (options.probePasses > 0) reflected.assign(held * bake_detail::cache_dirs::kDirections, Rgb(0, 0, 0));
+    std::vector<Rgb> reflected;  // per node, nine coefficients: the next pass's cache
+    if (options.probePasses > 0) reflected.assign(held * sh::kCoeffs, Rgb(0, 0, 0));
     RadianceEstimator estimator(scene, tracer, options.transport);
     // One stage of a staged bake (tiles.h) runs one pass, from the stage before's reflected light.
     const bake_detail::PassRange range =
@@ -68,7 +68,6 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
                     Rgbd coeffs[sh::kCoeffs];
                     // projectIncidentRadiance's sampling, keeping the sampler for its error estimate.
                     detail::NodeSampler sampler(estimator, Vec3f(grid.node(n)), pass.seed, n, options.raysPerNode);
-                    if (pass.keepReflected) sampler.keepReflected();
                     // Depth moments come from the first pass's own first hits (no extra rays).
                     depth::Accumulator depthAcc;
                     const bool recordDepth = options.depthMoments && pass.index == 0;
@@ -78,7 +77,7 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
                     if (recordDepth) depthAcc.finish(level.depth.data() + h * depth::kFloatsPerNode);
                     error[h] = float(std::min(sampler.relativeStandardError(count), 1e30));
                     bake_detail::storeNode(sampler, coeffs, level.data.data() + h * sh::kCoeffs * 3,
-                                           pass.keepReflected ? &reflected[h * bake_detail::cache_dirs::kDirections] : nullptr);
+                                           pass.keepReflected ? &reflected[h * sh::kCoeffs] : nullptr);
                 });
         });
 

@@ -50,8 +50,8 @@ Volume bakeShGatherAdaptive(const Scene& scene, const Tracer& tracer, const Grid
             if ((*o.only)[0][n]) selected.push_back(n);
     }
 
-    std::vector<Rgb> reflected;  // per node, the irradiance at the cache directions: the next pass's cache
-    if (o.probePasses > 0) reflected.assign(held * bake_detail::cache_dirs::kDirections, Rgb(0, 0, 0));
+    std::vector<Rgb> reflected;  // per node, nine coefficients: the next pass's cache
+    if (o.probePasses > 0) reflected.assign(held * sh::kCoeffs, Rgb(0, 0, 0));
     RadianceEstimator estimator(scene, tracer, o.transport);
     uint64_t samplesBefore = 0;  // samples of the passes before the last
     // One stage of a staged bake (tiles.h) runs one pass, from the stage before's reflected light.
@@ -68,7 +68,6 @@ Volume bakeShGatherAdaptive(const Scene& scene, const Tracer& tracer, const Grid
                 const std::size_t n = o.only ? selected[item] : item;
                 const std::size_t h = level.held(n);
                 detail::NodeSampler sampler(estimator, Vec3f(grid.node(n)), pass.seed, n, o.maxRays);
-                if (pass.keepReflected) sampler.keepReflected();
                 uint32_t taken = 0, next = o.minRays;
                 double err = 0;
                 bool previousMet = false;
@@ -87,7 +86,7 @@ Volume bakeShGatherAdaptive(const Scene& scene, const Tracer& tracer, const Grid
                 Rgbd coeffs[sh::kCoeffs];
                 sampler.coefficients(coeffs, count);
                 bake_detail::storeNode(sampler, coeffs, level.data.data() + h * sh::kCoeffs * 3,
-                                       pass.keepReflected ? &reflected[h * bake_detail::cache_dirs::kDirections] : nullptr);
+                                       pass.keepReflected ? &reflected[h * sh::kCoeffs] : nullptr);
                 raysUsed[h] = taken;
                 achieved[h] = float(std::min(err, 1e30));
             });

@@ -21,7 +21,6 @@
 #include "vdblight/sampling.h"
 #include "vdblight/sh.h"
 #include "vdblight/trace.h"
-#include "irradiance_directions.h"
 
 namespace vdblight::detail {
 
@@ -46,10 +45,6 @@ public:
         depth_ = acc;
         depthSpacing_ = spacing;
     }
-
-    /// Also keep the reflected light's irradiance at the cache directions (a pass a later
-    /// probe pass reads: reflectedIrradiance). Call before the first addSamples.
-    void keepReflected() { keepReflected_ = true; }
 
     /// Adds samples [first, last) (sample numbers of the node's stratified sequence; rounds
     /// must be consecutive starting at 0). Optional first-hit tracing as in bake.h.
@@ -88,7 +83,7 @@ public:
                 l = estimator_.gatherRadiance(x_, dir, kSpherePdf, rng_, count, nullptr, &emitted);
             }
             sh::evalUnrolled(dir, y);
-            addGathered(l, emitted, y, dir);
+            addGathered(l, emitted, y);
             double ebar = kPi * double(luminance(l));
             // Emissive triangles: one NEE sample per ray, stratified on the light too.
             if (nee) {
@@ -182,7 +177,7 @@ public:
             const uint32_t i = first + k;
             const Rgb l = paths_.radiance(k);
             sh::evalUnrolled(dirs[k], y);
-            addGathered(l, paths_.firstEmission(k), y, dirs[k]);
+            addGathered(l, paths_.firstEmission(k), y);
             double ebar = kPi * double(luminance(l));
             if (lightRay[k] != DeferredPaths::kNoShadowRay && !paths_.blocked(lightRay[k])) {
                 const LightSample& s = lights[k];
@@ -236,14 +231,13 @@ public:
                      Rgbd(lightAcc_[j][0], lightAcc_[j][1], lightAcc_[j][2]) * lightScale + exact_[j];
     }
 
-    /// The irradiance of the reflected light and sky alone (the gathered radiance less the
-    /// emission of directly hit emitters; no NEE, no punctual lights) for each normal of
-    /// cache_dirs (irradiance_directions.h), exact clamped cosine over the samples: what a
-    /// SurfaceIrradianceCache of this node holds (light.h, surface_cache.h). Needs keepReflected.
-    void reflectedIrradiance(Rgbd out[bake_detail::cache_dirs::kDirections]) const {
+    /// The SH coefficients of the reflected light and sky alone (the gathered radiance less
+    /// the emission of directly hit emitters; no NEE, no punctual lights): what a
+    /// SurfaceIrradianceCache of this node holds (light.h, surface_cache.h).
+    void reflectedCoefficients(Rgbd out[sh::kCoeffs]) const {
         const double dirScale = samples_ > 0 ? 4.0 * kPi / samples_ : 0.0;
-        for (int k = 0; k < bake_detail::cache_dirs::kDirections; ++k)
-            out[k] = Rgbd(reflected_[k][0], reflected_[k][1], reflected_[k][2]) * dirScale;
+        for (int j = 0; j < sh::kCoeffs; ++j)
+            out[j] = Rgbd(reflected_[j][0], reflected_[j][1], reflected_[j][2]) * dirScale;
     }
 
     uint32_t samples() const { return samples_; }
@@ -268,20 +262,15 @@ public:
     }
 
 private:
-    void addGathered(const Rgb& l, const Rgb& emitted, const float y[sh::kCoeffs], const Vec3f& dir) {
+    void addGathered(const Rgb& l, const Rgb& emitted, const float y[sh::kCoeffs]) {
+        const Rgb r = l - emitted;
         for (int j = 0; j < sh::kCoeffs; ++j) {
             acc_[j][0] += double(l.x) * y[j];
             acc_[j][1] += double(l.y) * y[j];
             acc_[j][2] += double(l.z) * y[j];
-        }
-        if (!keepReflected_) return;
-        const Rgb r = l - emitted;
-        const bake_detail::cache_dirs::Table& t = bake_detail::cache_dirs::table();
-        for (int k = 0; k < bake_detail::cache_dirs::kDirections; ++k) {
-            const double c = std::max(0.0f, dot(dir, t.dir[k]));
-            reflected_[k][0] += double(r.x) * c;
-            reflected_[k][1] += double(r.y) * c;
-            reflected_[k][2] += double(r.z) * c;
+            reflected_[j][0] += double(r.x) * y[j];
+            reflected_[j][1] += double(r.y) * y[j];
+            reflected_[j][2] += double(r.z) * y[j];
         }
     }
     void addLight(const Rgb& weight, const float y[sh::kCoeffs]) {
@@ -318,12 +307,11 @@ private:
     double lightOffset_, punctualOffset_;
     double acc_[sh::kCoeffs][3] = {};
     double lightAcc_[sh::kCoeffs][3] = {};
-    double reflected_[bake_detail::cache_dirs::kDirections][3] = {};  ///< with keepReflected_: irradiance sums
+    double reflected_[sh::kCoeffs][3] = {};
     double ebarSum_ = 0, ebarSquares_ = 0;
     Rgbd exact_[sh::kCoeffs] = {};
     double exactEbar_ = 0;
     bool exactDone_ = false;
-    bool keepReflected_ = false;
     uint32_t samples_ = 0;
     depth::Accumulator* depth_ = nullptr;
     double depthSpacing_ = 1.0;

@@ -23,10 +23,10 @@ struct ProbePass {
 
 /// Runs passes range.first .. range.last of a bake with passes 0 .. `passes` (all of them, or
 /// one stage of a staged bake: stagePasses, surface_cache.h). runPass(const ProbePass&) bakes
-/// the nodes (one forEachItemInParallel) and, with keepReflected, fills `reflected`
-/// (cache_dirs::kDirections irradiances per node of `grid`), which then becomes the estimator's surface cache for the
+/// the nodes (one forEachItemInParallel) and, with keepReflected, fills `reflected` (nine
+/// coefficients per node of `grid`), which then becomes the estimator's surface cache for the
 /// next pass of the range. A range starting after pass 0 reads `startReflected` (the previous
-/// stage's reflected light: the probe stage volume's data, 3 kDirections floats per node) as the cache of its first pass; otherwise it is
+/// stage's reflected light: the probe stage volume's data, 27 floats per node) as the cache of its first pass; otherwise it is
 /// ignored. Returns the ray counts and times of the passes run, summed.
 template <typename RunPass>
 ParallelRun runProbePasses(RadianceEstimator& estimator, const Tracer& tracer, const GridSpec& grid, uint64_t seed,
@@ -55,8 +55,7 @@ ParallelRun runProbePasses(RadianceEstimator& estimator, const Tracer& tracer, c
 }
 
 /// A node's nine RGB coefficients into its 27 floats of the volume and, for a pass a later
-/// one reads, its reflected light into `reflected` (cache_dirs::kDirections irradiances,
-/// irradiance_directions.h; null otherwise: the sampler then need not keep it).
+/// one reads, its reflected light into `reflected` (nine coefficients; null otherwise).
 inline void storeNode(const detail::NodeSampler& sampler, const Rgbd coeffs[sh::kCoeffs], float* dst, Rgb* reflected) {
     for (int j = 0; j < sh::kCoeffs; ++j) {
         dst[3 * j + 0] = float(coeffs[j].x);
@@ -64,9 +63,9 @@ inline void storeNode(const detail::NodeSampler& sampler, const Rgbd coeffs[sh::
         dst[3 * j + 2] = float(coeffs[j].z);
     }
     if (!reflected) return;
-    Rgbd r[cache_dirs::kDirections];
-    sampler.reflectedIrradiance(r);
-    for (int k = 0; k < cache_dirs::kDirections; ++k) reflected[k] = Rgb(r[k]);
+    Rgbd r[sh::kCoeffs];
+    sampler.reflectedCoefficients(r);
+    for (int j = 0; j < sh::kCoeffs; ++j) reflected[j] = Rgb(r[j]);
 }
 
 }  // namespace vdblight::bake_detail

@@ -2,9 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 
-#include "irradiance_directions.h"
 #include "pass_metadata.h"
 #include "vdblight/errors.h"
 #include "vdblight/tiles.h"
@@ -14,14 +12,16 @@ namespace vdblight {
 namespace bake_detail {
 
 VolumeSurfaceCache::VolumeSurfaceCache(const Tracer& tracer, const GridSpec& grid, const float* reflected)
-    : tracer_(tracer), grid_(grid), values_(reflected) {}
+    : tracer_(tracer), grid_(grid), coeffs_(reflected) {
+    for (int j = 0; j < sh::kCoeffs; ++j) lobe_[j] = float(sh::kCosineLobe[sh::bandOf(j)]);
+}
 
 VolumeSurfaceCache::VolumeSurfaceCache(const Tracer& tracer, const GridSpec& grid, const std::vector<Rgb>& reflected)
     : VolumeSurfaceCache(tracer, grid, nullptr) {
     own_.resize(reflected.size() * 3);
     for (std::size_t i = 0; i < reflected.size(); ++i)
         for (int c = 0; c < 3; ++c) own_[3 * i + std::size_t(c)] = reflected[i][c];
-    values_ = own_.data();
+    coeffs_ = own_.data();
 }
 
 bool VolumeSurfaceCache::irradiance(const Vec3f& p, const Vec3f& n, Rgb& out, RayCount& rays) const {
@@ -34,9 +34,8 @@ bool VolumeSurfaceCache::irradiance(const Vec3f& p, const Vec3f& n, Rgb& out, Ra
         base[a] = std::min(int(u), std::max(0, dims[a] - 2));
         frac[a] = dims[a] > 1 ? float(u - base[a]) : 0.0f;
     }
-    int dir[4];
-    float dirWeight[4];
-    cache_dirs::weights(n, dir, dirWeight);
+    float y[sh::kCoeffs];
+    sh::evalUnrolled(n, y);
     Rgb sum{0, 0, 0};
     float weight = 0;
     for (int c = 0; c < 8; ++c) {
@@ -54,15 +53,16 @@ bool VolumeSurfaceCache::irradiance(const Vec3f& p, const Vec3f& n, Rgb& out, Ra
         if (!(dot(d, n) > 0)) continue;  // behind the surface: the other side's light
         ++rays.occluded;
         if (tracer_.occluded(Ray{p, d, 0.0f, 1.0f})) continue;
-        const float* v = values_ + grid_.index(idx[0], idx[1], idx[2]) * cache_dirs::kDirections * 3;
+        const float* c27 = coeffs_ + grid_.index(idx[0], idx[1], idx[2]) * sh::kCoeffs * 3;
         Rgb e{0, 0, 0};
-        for (int k = 0; k < 4; ++k) e += Rgb(v[3 * dir[k]], v[3 * dir[k] + 1], v[3 * dir[k] + 2]) * dirWeight[k];
+        // (c A_l) y_l: the same float operations as multiplying by A_l first.
+        for (int j = 0; j < sh::kCoeffs; ++j) e += (Rgb(c27[3 * j], c27[3 * j + 1], c27[3 * j + 2]) * lobe_[j]) * y[j];
         sum += e * w;
         weight += w;
     }
     if (!(weight > 0)) return false;
     out = sum / weight;
-    out = Rgb(std::max(0.0f, out.x), std::max(0.0f, out.y), std::max(0.0f, out.z));  // rounding of l - emitted
+    out = Rgb(std::max(0.0f, out.x), std::max(0.0f, out.y), std::max(0.0f, out.z));  // SH ringing
     return true;
 }
 
@@ -77,9 +77,7 @@ PassRange stagePasses(int probePasses, int stage, const Volume* input, const Gri
                                    : std::string("stage 0 reads no stage input"));
     if (input) {
         const VolumeLevel* level = input->levels.size() == 1 ? &input->levels[0] : nullptr;
-        if (input->basis.kind != probeStageBasis().kind ||
-            input->basis.channelNames.size() != std::size_t(cache_dirs::kDirections) || !level || level->sparse() ||
-            level->grid.nx != grid.nx ||
+        if (input->basis.kind != probeStageBasis().kind || !level || level->sparse() || level->grid.nx != grid.nx ||
             level->grid.ny != grid.ny || level->grid.nz != grid.nz || std::abs(level->grid.spacing - grid.spacing) > 1e-9 * grid.spacing)
             throw ValueError("the stage input is not a probe stage volume of this grid");
         if (metaNumber(input->meta, "probe_stage", -1) != stage - 1 || metaNumber(input->meta, "probe_passes", -1) != probePasses)
@@ -96,9 +94,6 @@ Volume stageVolume(const VolumeLevel& shape, const std::vector<Rgb>& reflected, 
                    int stage, int probePasses) {
     Volume v;
     v.basis = probeStageBasis();
-    if (v.basis.channelNames.size() != std::size_t(cache_dirs::kDirections))  // volume/tiles.cpp keeps the count
-        throw std::logic_error("probeStageBasis() has " + std::to_string(v.basis.channelNames.size()) +
-                               " channels, the surface cache " + std::to_string(cache_dirs::kDirections));
     v.levels.resize(1);
     v.levels[0].grid = shape.grid;
     v.levels[0].windowFirst = shape.windowFirst;
@@ -112,8 +107,8 @@ Volume stageVolume(const VolumeLevel& shape, const std::vector<Rgb>& reflected, 
         .count("probe_stage", int64_t(stage))
         .count("probe_passes", int64_t(probePasses))
         .text("probe_stage_note",
-              "the irradiance of a probe-to-probe pass's reflected light and sky per node at fixed normals "
-              "(reflected_irradiance_*), read by the next stage's tiles; not a volume to look up");
+              "the reflected light and sky of a probe-to-probe pass per node (reflected_sh_*), read by the next stage's "
+              "tiles; not a volume to look up");
     return v;
 }
 

@@ -3,20 +3,17 @@
 // the bake module.)
 //
 // At a surface point p with normal n the irradiance is interpolated trilinearly from the
-// eight nodes of p's cell (position clamped into the node box), each node's irradiance of
-// reflected light and sky for n: exact at the cache directions (irradiance_directions.h: the
-// node's samples with the clamped cosine of each direction), bilinear between them. A node takes
+// eight nodes of p's cell (position clamped into the node box), each node's SH order-2
+// radiance of reflected light and sky convolved with the cosine lobe for n. A node takes
 // part only if it lies in front of the surface (dot(node - p, n) > 0) and p sees it (one
 // shadow ray each): nodes behind a wall, or inside it, would carry the other side's light.
 // The weights of the nodes that take part are renormalised; with none, the lookup fails and
 // the path continues (an unbiased fallback).
 //
 // What remains biased: the nodes' irradiance stands for p's (near-field occlusion at
-// corners, gradients across a cell), normals between the cache directions interpolate, and
+// corners, gradients across a cell), SH order 2 for the reflected light's directions, and
 // the earlier pass's own noise, which every later pass averages over many nodes instead of
-// removing. (Until issue 15's fourth session each node held SH order 2 of the reflected
-// radiance, whose ringing made the cache too bright at surfaces lit at grazing or head-on
-// angles: +1.2 % in the accuracy scenes' unlit room; irradiance_directions.h.)
+// removing.
 #pragma once
 
 #include <vector>
@@ -34,10 +31,10 @@ namespace bake_detail {
 
 class VolumeSurfaceCache : public SurfaceIrradianceCache {
 public:
-    /// `reflected`: per node of `grid` (node order), the RGB irradiance of the reflected light
-    /// and sky at the cache_dirs::kDirections normals (NodeSampler::reflectedIrradiance); copied.
+    /// `reflected`: per node of `grid` (node order), nine RGB SH radiance coefficients of the
+    /// reflected light and sky (NodeSampler::reflectedCoefficients); copied.
     VolumeSurfaceCache(const Tracer& tracer, const GridSpec& grid, const std::vector<Rgb>& reflected);
-    /// The same irradiances as 3 kDirections floats per node, read in place: a probe stage volume's data
+    /// The same coefficients as 27 floats per node, read in place: a probe stage volume's data
     /// (tiles.h), which must outlive the cache, so that a staged tile holds the whole pass
     /// before once, not twice.
     VolumeSurfaceCache(const Tracer& tracer, const GridSpec& grid, const float* reflected);
@@ -47,7 +44,8 @@ private:
     const Tracer& tracer_;
     GridSpec grid_;
     std::vector<float> own_;  ///< the copy of the first constructor
-    const float* values_;     ///< per node, 3 kDirections floats: RGB irradiance per cache direction
+    const float* coeffs_;     ///< per node, 27 floats: nine RGB coefficients
+    float lobe_[sh::kCoeffs];  ///< A_l of each coefficient's band, applied at lookup
 };
 
 /// Staged probe passes (tiles.h, "Staged bakes"): which passes a gather with `probePasses`

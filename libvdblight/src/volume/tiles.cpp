@@ -57,12 +57,9 @@ const std::vector<std::string>& tileSummedKeys() {
 }
 
 BasisDesc probeStageBasis() {
-    // The surface cache's irradiance at 38 fixed normals (bake/irradiance_directions.h,
-    // kDirections; the bake checks the count). Before issue 15's fourth session: SH order 2
-    // of the reflected radiance ("sh2_reflected", 9 channels), which a bake now refuses.
     BasisDesc b;
-    b.kind = "irradiance_reflected";
-    for (int j = 0; j < 38; ++j) b.channelNames.push_back("reflected_irradiance_" + std::to_string(j));
+    b.kind = "sh2_reflected";
+    for (int j = 0; j < 9; ++j) b.channelNames.push_back("reflected_sh_" + std::to_string(j));
     return b;
 }
 
