@@ -17,11 +17,11 @@ for bench in vdblight_bench vdblight_bench_photons vdblight_bench_antialiased vd
   "$ROOT/build/bin/$bench" --quick
 done
 stage_done benchmarks
-# Sanitizers (issue 8): the whole suite again under ASan + UBSan (build-sanitize/, any report
-# fails), then every libFuzzer harness (build-fuzz/, clang): each seed and regression input
-# replayed, then FUZZ_RUNS inputs from a fixed seed, so the verdict is the same on every run
-# (docs/fuzzing.md; exploratory, time-based fuzzing is scripts/fuzz_explore.sh).
+# Sanitizers (issue 8): the whole suite again under ASan + UBSan (build-sanitize/, clang, any
+# report fails), then every libFuzzer harness, built in the same tree: each seed and regression
+# input replayed, then FUZZ_RUNS inputs from a fixed seed, so the verdict is the same on every
+# run (docs/fuzzing.md; exploratory, time-based fuzzing is scripts/fuzz_explore.sh).
 "$ROOT/scripts/test_sanitize.sh" all
 stage_done sanitizers
-"$ROOT/scripts/fuzz.sh" "${FUZZ_RUNS:-1000}"
+FUZZ_BUILD_DIR="$ROOT/build-sanitize" "$ROOT/scripts/fuzz.sh" "${FUZZ_RUNS:-1000}"
 stage_done fuzz
