@@ -30,7 +30,6 @@
 //    the truth on average over normals).
 // Quadratic and Paper are linear in the vectors; Bounded is piecewise linear. All of them are
 // evaluated after the vectors are interpolated (what a GPU's filtering then a shader does).
-// Both are linear in the vectors: interpolating the vectors, then reconstructing, is exact.
 //
 // Channel c of a volume (docs/format.md) is direction d = c / 3 and colour c % 3; its three
 // floats are the vector's world x, y, z components. Direction d is axis d / 2, negative if d
