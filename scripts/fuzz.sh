@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The fuzz stage of the test command (scripts/test.sh, CI): the same verdict on every run of
 # the same commit, on any machine. Builds the libFuzzer harnesses of tests/fuzz with clang
-# (-fsanitize=fuzzer,address,undefined; only the modules they need) in build-fuzz/, then for
-# each harness
+# (-fsanitize=fuzzer,address,undefined; only the modules they need) in build-fuzz/, or, given
+# FUZZ_BUILD_DIR=build-sanitize (the test command), only links them in the sanitizer tree that
+# scripts/test_sanitize.sh built with them (scripts/fuzz_build.sh), then for each harness
 #   1. replays every seed and saved regression input of tests/fuzz/corpus/<harness>/ once;
 #   2. fuzzes from those seeds with fixed seeds (-seed=1, then 2, ... after each documented
 #      library finding) for a fixed number of inputs (RUNS, default 1000; FUZZ_RUNS), never
