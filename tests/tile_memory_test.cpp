@@ -45,6 +45,12 @@ double peakBytes(const std::string& args) {
 }
 
 TEST(TileMemory, ATileOfTheDefaultBakeHoldsAFractionOfTheWholeVolume) {
+#ifdef VDBLIGHT_SANITIZED
+    // Peak RSS under ASan is mostly its shadow memory and quarantine (freed blocks kept back),
+    // not the tile's arrays; the tile windows' code runs under ASan in the CLI tiles tests, and
+    // this measurement in the normal suite (26 bakes: 56 s of the sanitizer stage's CTest).
+    GTEST_SKIP() << "under AddressSanitizer: peak RSS measures its shadow memory and quarantine, not the tile";
+#endif
     const TempDir dir;
     const std::string scene = std::string(VDBLIGHT_SOURCE_DIR) + "/data/cornell_box.obj";
     // The default bake (a probe pass: stages 0 and 1, --direct occlusion, depth moments) on
