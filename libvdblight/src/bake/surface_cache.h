@@ -16,18 +16,57 @@
 // removing.
 #pragma once
 
+#include <algorithm>
+#include <cstddef>
 #include <vector>
 
 #include "vdblight/layout.h"
 #include "vdblight/light.h"
 #include "vdblight/sh.h"
+#include "vdblight/trace.h"
 #include "vdblight/volume.h"
 
 namespace vdblight {
-
-class Tracer;
-
 namespace bake_detail {
+
+/// The nodes a cache over a node grid blends for a read at p with normal n (above): the
+/// corners of p's cell (p clamped into the node box) with their trilinear weights, keeping
+/// those in front of the surface that p sees (one shadow ray each, counted in `rays`). Calls
+/// visit(node index, node position, weight) for each in corner order and returns the sum of
+/// their weights (0: none takes part). Shared by VolumeSurfaceCache and the benchmark's exact
+/// variants of it (bench_accuracy --probe-study), so both blend the same nodes.
+template <class Visit>
+float forEachVisibleNode(const Tracer& tracer, const GridSpec& grid, const Vec3f& p, const Vec3f& n, RayCount& rays,
+                         Visit&& visit) {
+    const int dims[3] = {grid.nx, grid.ny, grid.nz};
+    int base[3];
+    float frac[3];
+    for (int a = 0; a < 3; ++a) {
+        const double u = std::clamp((double(p[a]) - grid.origin[a]) / grid.spacing, 0.0, double(dims[a] - 1));
+        base[a] = std::min(int(u), std::max(0, dims[a] - 2));
+        frac[a] = dims[a] > 1 ? float(u - base[a]) : 0.0f;
+    }
+    float weight = 0;
+    for (int c = 0; c < 8; ++c) {
+        int idx[3];
+        float w = 1;
+        for (int a = 0; a < 3; ++a) {
+            const int bit = (c >> a) & 1;
+            if (bit && dims[a] < 2) { w = 0; break; }
+            idx[a] = base[a] + bit;
+            w *= bit ? frac[a] : 1.0f - frac[a];
+        }
+        if (!(w > 0)) continue;
+        const Vec3f node(grid.node(idx[0], idx[1], idx[2]));
+        const Vec3f d = node - p;
+        if (!(dot(d, n) > 0)) continue;  // behind the surface: the other side's light
+        ++rays.occluded;
+        if (tracer.occluded(Ray{p, d, 0.0f, 1.0f})) continue;
+        visit(std::size_t(grid.index(idx[0], idx[1], idx[2])), node, w);
+        weight += w;
+    }
+    return weight;
+}
 
 class VolumeSurfaceCache : public SurfaceIrradianceCache {
 public:
