@@ -53,6 +53,21 @@ TEST(CliSlurm, ScriptsRunByHandGiveTheSingleBake) {
     EXPECT_NE(status.output.find("3 of 3 tiles on disk"), std::string::npos) << status.output;
 }
 
+TEST(CliSlurm, PhotonBakesTileByBatchesAndGiveTheSingleBake) {
+    test::TempDir dir;
+    const std::string world = dir.file("world.vdb"), whole = dir.file("whole.vdb");
+    const std::string opts = " --method photons --photons 40000 --resolution 6 --seed 4";
+    ASSERT_EQ(runCli("bake " + kScene + " -q -o " + whole + opts).status, 0);
+    const test::CliRun w = runCli("slurm " + kScene + " -o " + world + " --tiles 3" + opts);
+    ASSERT_EQ(w.status, 0) << w.output;
+    const std::string d = world + ".tiles";
+    EXPECT_NE(fileBytes(d + "/tiles.sbatch").find("#SBATCH --array=0-2\n"), std::string::npos);
+    for (int t = 0; t < 3; ++t)
+        ASSERT_EQ(test::runCommand("SLURM_ARRAY_TASK_ID=" + std::to_string(t) + " sh " + d + "/tiles.sbatch"), 0);
+    ASSERT_EQ(test::runCommand("sh " + d + "/merge.sbatch"), 0);
+    EXPECT_TRUE(fileBytes(world) == fileBytes(whole)) << "merged photon world differs from the single bake";
+}
+
 TEST(CliSlurm, TheDefaultBakeIsAChainOfStagesThatGivesTheSingleBake) {
     // The default bake has a probe-to-probe pass: two job arrays, each followed by its merge,
     // the second array after the first merge (afterok), the second reading the merged stage 0.

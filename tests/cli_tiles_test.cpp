@@ -1,6 +1,7 @@
 // Tiles end to end (issue 17): `bake --tiles N --tile I` + `merge` give the bytes of a
-// single-process bake; bad sets of tiles are refused by name; passes that cannot be tiled
-// say so; a tile already on disk with the same parameters is skipped.
+// single-process bake (photon bakes too: tiles of photon batches); bad sets of tiles are
+// refused by name; passes that cannot be tiled say so; a tile already on disk with the same
+// parameters is skipped.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -135,6 +136,38 @@ TEST(CliTiles, CulledBilevelMergesToTheSingleBake) {
     expectMergeIdentical(dir, "--layout bilevel --refine 2 --cull-solids --resolution 8 --rays 8" + kTileable, 3);
 }
 
+TEST(CliTiles, PhotonBakesMergeToTheSingleBake) {
+    // A tile traces a run of the photon batches (40 000 photons: 10 batches of 4096) and
+    // holds the whole grid's exact sums; merges of 1, 2 and 3 tiles give the single bake.
+    for (int tiles : {1, 2, 3}) {
+        SCOPED_TRACE(tiles);
+        test::TempDir dir;
+        expectMergeIdentical(dir, "--method photons --photons 40000 --resolution 6 --seed 3", tiles);
+    }
+    test::TempDir dir;
+    expectMergeIdentical(dir, "--method photons --photons 40000 --resolution 6 --compact", 2);
+}
+
+TEST(CliTiles, BadSetsOfPhotonTilesAreRefusedByName) {
+    test::TempDir dir;
+    const std::string args = " --method photons --photons 40000 --resolution 6 -q --tiles 3 --tile ";
+    for (int t = 0; t < 3; ++t)
+        ASSERT_EQ(runCli("bake -o " + dir.file("t" + std::to_string(t) + ".vdb") + args + std::to_string(t)).status, 0);
+    ASSERT_EQ(runCli("bake -o " + dir.file("more.vdb") + " --seed 9" + args + "1").status, 0);
+    const std::string out = dir.file("out.vdb");
+    const std::string t0 = dir.file("t0.vdb"), t1 = dir.file("t1.vdb"), t2 = dir.file("t2.vdb");
+    test::expectRefusal("merge " + t0 + " " + t2 + " -o " + out, "tile 1 of 3 is missing", out, "missing");
+    test::expectRefusal("merge " + t0 + " " + t1 + " " + t2 + " " + t1 + " -o " + out, "are both tile 1 of 3", out,
+                        "duplicate");
+    test::expectRefusal("merge " + t0 + " " + dir.file("more.vdb") + " " + t2 + " -o " + out,
+                        "different scenes or parameters", out, "other seed");
+    test::expectRefusal("bake --method photons --photons 40000 --resolution 6 --tiles 11 --tile 0 -o " + out,
+                        "the photon batches of this bake", out, "more tiles than batches");
+    const test::CliRun info = runCli("info " + t1);
+    EXPECT_EQ(info.status, 0) << info.output;
+    EXPECT_NE(info.output.find("tile 1 of 3"), std::string::npos) << info.output;
+}
+
 TEST(CliTiles, BadSetsOfTilesAreRefusedByName) {
     test::TempDir dir;
     const std::string args = kTileable + " --layout bilevel --refine 2 --resolution 10 --rays 4 -q --tiles 3 --tile ";
@@ -162,7 +195,6 @@ TEST(CliTiles, PassesThatCannotBeTiledSaySo) {
     test::TempDir dir;
     const std::string out = dir.file("x.vdb"), tile = " --tiles 2 --tile 0 --layout bilevel --refine 2 --resolution 4 -o " + out;
     test::expectRefusal("bake --sampling antialiased" + tile, "cannot be tiled", out, "antialiased");
-    test::expectRefusal("bake --method photons" + tile, "cannot be tiled", out, "photons");
     test::expectRefusal("bake --invalidate-backface 0.1" + tile, "cannot be tiled", out, "invalidate");
     test::expectRefusal("bake --sh-window --resolution 4 --tiles 2 --tile 0 --probe-passes 0 -o " + out, "cannot be tiled", out,
                         "sh-window");

@@ -284,6 +284,16 @@ void run(const BakeCommand& c, const BakeRequest& request) {
                   << c.output << "): skipped.\n";
         return;
     }
+    if (report.photons && report.photonSums) {
+        const PhotonSums& sums = *report.photonSums;
+        std::cout << "Baked tile " << c.tile << " of " << c.tiles << ": photon batches " << sums.firstBatch << ".."
+                  << sums.endBatch - 1 << " of " << sums.batches << " (" << formatCount(double(report.photons->photons))
+                  << " of " << formatCount(double(report.resolved.photons)) << " photons), "
+                  << formatCount(double(report.photons->rays.total())) << " rays in "
+                  << formatSeconds(report.photons->seconds) << ". Wrote " << c.output
+                  << " (the whole grid's sums of these batches; merge the tiles with 'vdblight merge').\n";
+        return;
+    }
     if (report.photons) return printPhotonSummary(c, scene, read, report);
     printPassLines(report);
     const BakeRequest& r = report.resolved;
@@ -349,7 +359,8 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
                   "stores them as vdblight:bake_seconds and vdblight:threads");
     cmd->add_flag("-q,--quiet", c->quiet, "No progress bar and no summary");
     auto* tilesOpt = cmd->add_option("--tiles", c->tiles,
-                    "Split the bake into this many tiles (bricks of 8^3 nodes of every level, balanced by cost) and "
+                    "Split the bake into this many tiles (bricks of 8^3 nodes of every level, balanced by cost; "
+                    "--method photons: runs of the photon batches, at most as many as batches) and "
                     "bake only --tile I of them; 'vdblight merge' puts the tile files together (docs/scaling.md). "
                     "A tile file that exists with the same scene and parameters is skipped (resumable)");
     auto* tileOpt = cmd->add_option("--tile", c->tile, "With --tiles N: the tile to bake, 0 .. N-1");

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -124,6 +125,9 @@ struct BakeReport {
     bool skipped = false;      ///< the tile was on disk already, with the same scene and parameters
     uint64_t tileNodes = 0;    ///< nodes of the tile
     bool lastStage = true;     ///< false: a probe stage file for the next stage
+    /// A tile of a photon bake: the sums of its batches (photon_sums.h), which bakeToFile
+    /// writes with writePhotonTile; the returned volume then holds the grid and metadata only.
+    std::shared_ptr<PhotonSums> photonSums;
 };
 
 /// The request with the --quality preset and every default applied (optionals filled where

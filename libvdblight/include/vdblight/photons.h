@@ -19,9 +19,11 @@
 //    docs/methods.md and tests/photons_test.cpp).
 //
 // Determinism: photon i's random numbers depend only on (seed, i). Photons are processed in
-// fixed-size batches (the size depends only on the photon count), each batch accumulating
-// into its own buffer; buffers are added to the total in batch order. Same seed, same bits
-// for any thread count.
+// fixed-size batches (the size depends only on the photon count and the grid), each batch
+// accumulating into its own float buffer; each buffer is rounded once to 128-bit fixed point
+// and added to the total exactly (photon_sums.h). Same seed, same bits for any thread count,
+// and for any split of the batches into tiles (a tile traces a run of batches; the merge adds
+// the tiles' sums: tiles.h, docs/scaling.md).
 #pragma once
 
 #include <algorithm>
@@ -30,6 +32,7 @@
 
 #include "vdblight/layout.h"
 #include "vdblight/light.h"
+#include "vdblight/photon_sums.h"
 #include "vdblight/volume.h"
 
 namespace vdblight {
@@ -50,6 +53,10 @@ struct PhotonOptions {
     /// reflection (survival probability = the largest albedo component, at most
     /// kRouletteMaxSurvival).
     TransportOptions transport;
+    /// Tiles (tiles.h): tiles > 0 traces only the batches of tile `tile` of `tiles`
+    /// (photonTileBatches; tracePhotons only).
+    int tiles = 0;
+    int tile = 0;
 };
 
 /// Upper bound on PhotonOptions::photons (more is refused with a time estimate).
@@ -68,13 +75,22 @@ struct PhotonStats {
     uint64_t batchSize = 0;
 };
 
-/// Bakes an irradiance-vector volume on `grid` (at least 2 nodes along every axis).
-/// Throws ValueError (bad options or grid), SceneError (nothing emits), Cancelled.
+/// Bakes an irradiance-vector volume on `grid` (at least 2 nodes along every axis): the
+/// sums of every batch (tracePhotons), normalised by photonVolume.
+/// Throws ValueError (bad options or grid, options.tiles > 0), SceneError (nothing emits), Cancelled.
 Volume bakePhotons(const Scene& scene, const Tracer& tracer, const GridSpec& grid, const PhotonOptions& options,
                    Interrupter* interrupter = nullptr, PhotonStats* stats = nullptr);
 
+/// The exact sums (photon_sums.h) of the batches `options` selects (every batch, or a tile's
+/// run), and in `meta` the volume's metadata with the counts (rays, segments, crossings) of
+/// those batches. `stats->photons`: the photons traced. Throws as bakePhotons, and
+/// ValueError for a tile outside 0 .. batches - 1.
+PhotonSums tracePhotons(const Scene& scene, const Tracer& tracer, const GridSpec& grid, const PhotonOptions& options,
+                        Interrupter* interrupter = nullptr, PhotonStats* stats = nullptr, Metadata* meta = nullptr);
+
 /// Photons per batch for a photon count and grid size (never a function of threads): at
-/// least 1/256 of the photons and enough that adding a batch's buffer to the total costs
+/// least 1/256 of the photons (so at most 256 batches: the fixed-point range of
+/// photon_sums.h relies on it) and enough that adding a batch's buffer to the total costs
 /// little next to tracing it.
 uint64_t photonBatchSize(uint64_t photons, std::size_t nodes);
 

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "vdblight/photon_sums.h"
 #include "vdblight/vdb_io.h"
 #include "vdblight/volume.h"
 
@@ -68,6 +69,14 @@ struct TileNodeStats {
 void writeTile(const Volume& volume, const NodeMask& mask, const TileId& id, const std::string& path,
                const WriteOptions& options = {}, const TileNodeStats* stats = nullptr);
 
+/// Writes tile `id` of a photon bake (photons.h, photon_sums.h; partial .vdb, atomically as
+/// writeVolume): the whole grid's exact sums of the tile's batches (two Int64Grids per value,
+/// tile_photon_sum_<v>_hi / _lo, v = 0..53 the volume's float order), `meta` (the volume's
+/// metadata; the counts of the tile's batches) and tile_* keys; `compact`: the merge writes
+/// the compact form (bake --compact). Refuses sums that do not match their grid.
+void writePhotonTile(const PhotonSums& sums, const Metadata& meta, const TileId& id, const std::string& path,
+                     const WriteOptions& options, bool compact);
+
 /// Reads the identity of a tile file. Returns false for a .vdb that is no tile (a complete
 /// volume); throws as readVolume for unreadable files.
 bool readTileId(const std::string& path, TileId& id);
@@ -80,7 +89,8 @@ struct MergedTiles {
 
 /// Merges the tile files of one bake. Throws ValueError naming the files for a missing,
 /// duplicate or mismatched tile (other tile count or parameter hash), FormatError for files
-/// that are no tiles or overlap. Counts each tile measured for its own nodes
+/// that are no tiles or overlap. Photon tiles (writePhotonTile): their exact sums are added
+/// and normalised by photonVolume, as the single bake does. Counts each tile measured for its own nodes
 /// (tileSummedKeys) are summed in tile order; the error summary is recomputed from the
 /// tiles' per-node errors, the sample summary of error-targeted bakes from the summed counts.
 MergedTiles mergeTiles(const std::vector<std::string>& paths);

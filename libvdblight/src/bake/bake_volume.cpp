@@ -170,6 +170,12 @@ Volume bakeToFile(const Scene& scene, const BakeRequest& request, const std::str
         return {};
     }
     Volume volume = bakeImpl(scene, request, interrupter, report, &tile);
+    if (report.photonSums) {  // a photon tile: the whole grid's sums of its batches
+        report.photonSums->grid = volume.levels[0].grid;  // placed in the world like the volume
+        writePhotonTile(*report.photonSums, volume.meta, tile.id, path, report.write, report.resolved.compact);
+        report.tileNodes = volume.levels[0].grid.nodeCount();
+        return volume;
+    }
     // The per-node errors of the uniform point gathers, for the merge's error summary.
     TileNodeStats nodeStats;
     if (volume.levels.size() == 1 && report.pass->name() != "bins") nodeStats.estimatedError = report.stats.estimatedError;

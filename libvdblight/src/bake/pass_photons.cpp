@@ -3,6 +3,7 @@
 
 #include "pass_options.h"
 #include "vdblight/errors.h"
+#include "vdblight/irradiance_vectors.h"
 #include "vdblight/photons.h"
 #include "vdblight/volume_compact.h"
 
@@ -49,13 +50,15 @@ void PhotonsPass::validate(const BakeRequest& request) const {
     Pass::validate(request);
 }
 
-std::size_t PhotonsPass::bytesPerNode(const BakeRequest&) const {
-    // 54 values per node: double totals, a float buffer per thread, the volume and OpenVDB's copy.
-    return 54 * (8 + 4 * 4);
+std::size_t PhotonsPass::bytesPerNode(const BakeRequest& r) const {
+    // 54 values per node: 128-bit fixed-point totals (photon_sums.h), a float buffer per
+    // thread, the volume and OpenVDB's copy; a tile writes its totals as 128-bit integer
+    // grids instead of the volume.
+    return 54 * (16 + 4 * 4) + (r.tiles ? 54 * 16 : 0);
 }
 
 std::string PhotonsPass::untileable(const BakeRequest&) const {
-    return "--method photons cannot be tiled yet (its photons cross every tile)";
+    return "";  // a tile traces a run of the photon batches (photon_sums.h, tiles.h)
 }
 
 Volume PhotonsPass::run(const BakeContext& c, const BakeRequest& r, const GridSpec& grid, BakeReport& report) const {
@@ -65,7 +68,18 @@ Volume PhotonsPass::run(const BakeContext& c, const BakeRequest& r, const GridSp
     options.threads = c.threads;
     options.transport = c.transport;
     PhotonStats stats;
-    Volume volume = bakePhotons(c.scene, c.tracer, grid, options, c.interrupter, &stats);
+    Volume volume;
+    if (r.tiles) {  // the sums of the tile's batches, for bakeToFile's writePhotonTile
+        options.tiles = *r.tiles;
+        options.tile = *r.tile;
+        report.photonSums = std::make_shared<PhotonSums>(
+            tracePhotons(c.scene, c.tracer, grid, options, c.interrupter, &stats, &volume.meta));
+        volume.basis = iv::basis();
+        volume.levels.resize(1);
+        volume.levels[0].grid = grid;
+    } else {
+        volume = bakePhotons(c.scene, c.tracer, grid, options, c.interrupter, &stats);
+    }
     report.stats.nodes = grid.nodeCount();
     report.stats.rays = stats.rays;
     report.stats.seconds = stats.seconds;
@@ -74,7 +88,7 @@ Volume PhotonsPass::run(const BakeContext& c, const BakeRequest& r, const GridSp
 }
 
 void PhotonsPass::finish(Volume& volume, WriteOptions& write, const BakeRequest& r) const {
-    if (!r.compact) return;
+    if (!r.compact || r.tiles) return;  // a tile holds sums: the merge makes the compact form
     volume = iv::compact(volume);
     write.halfFloat = true;
 }

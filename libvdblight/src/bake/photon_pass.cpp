@@ -19,6 +19,7 @@
 #include "vdblight/interrupter.h"
 #include "vdblight/irradiance_vectors.h"
 #include "vdblight/photon_emitter.h"
+#include "vdblight/photon_sums.h"
 #include "vdblight/photons.h"
 #include "vdblight/radical_inverse_fast.h"
 #include "vdblight/sampling.h"
@@ -31,29 +32,9 @@ namespace {
 // Independent Cranley-Patterson shifts of the emission dimensions.
 enum Dimension : uint64_t { kChoose = 1, kPos1, kPos2, kDir1, kDir2, kPath };
 
-/// The per-batch sums are stored direction-major, and within a direction with the axis of
-/// that direction varying fastest: the crossings of one segment with the planes normal to
-/// axis a are then neighbours in memory (a stride of 9 floats), which keeps the walk in
-/// cache. normalise() turns this into the volume's node-major order.
-struct SumLayout {
-    std::size_t nodes = 0;
-    std::size_t stride[3][3];  ///< stride[a][b]: step in nodes of index b in the arrays of axis a
-
-    explicit SumLayout(const GridSpec& g) : nodes(g.nodeCount()) {
-        const std::size_t n[3] = {std::size_t(g.nx), std::size_t(g.ny), std::size_t(g.nz)};
-        for (int a = 0; a < 3; ++a) {
-            const int b = (a + 1) % 3, c = (a + 2) % 3;
-            stride[a][a] = 1;
-            stride[a][b] = n[a];
-            stride[a][c] = n[a] * n[b];
-        }
-    }
-    /// First float of (direction d, node (i, j, k)); 9 floats (colour-major vectors) follow.
-    std::size_t offset(int d, int i, int j, int k) const {
-        const int a = d / 2;
-        return (std::size_t(d) * nodes + i * stride[a][0] + j * stride[a][1] + k * stride[a][2]) * 9;
-    }
-};
+// The per-batch sums are in PhotonSumLayout order (photon_sums.h): direction-major, the
+// crossed axis fastest.
+using SumLayout = PhotonSumLayout;
 
 /// dst[0..8] += src[0..8] (src 16-byte aligned): the walk's innermost operation.
 inline void addNine(float* dst, const float* src) {
@@ -185,28 +166,6 @@ void checkOptions(const GridSpec& grid, const PhotonOptions& options) {
     if (!(grid.spacing > 0) || !std::isfinite(grid.spacing)) throw ValueError("grid spacing must be positive");
 }
 
-/// Divides the photon sums (SumLayout order) by the dual-face areas (halved on the node
-/// box's boundary) into node-major order.
-void normalise(const std::vector<double>& total, const GridSpec& g, std::vector<float>& out) {
-    out.resize(total.size());
-    const int dims[3] = {g.nx, g.ny, g.nz};
-    const SumLayout layout(g);
-    tbb::parallel_for(0, g.nz, [&](int k) {
-        for (int j = 0; j < g.ny; ++j)
-            for (int i = 0; i < g.nx; ++i) {
-                const int idx[3] = {i, j, k};
-                const std::size_t base = g.index(i, j, k) * iv::kFloatsPerNode;
-                for (int d = 0; d < iv::kDirections; ++d) {
-                    const int a = d / 2;
-                    double area = g.spacing * g.spacing;
-                    for (int b = 0; b < 3; ++b)
-                        if (b != a && (idx[b] == 0 || idx[b] == dims[b] - 1)) area *= 0.5;
-                    const double* src = total.data() + layout.offset(d, i, j, k);
-                    for (int f = 0; f < 9; ++f) out[base + 9 * d + f] = float(src[f] / area);
-                }
-            }
-    });
-}
 }  // namespace
 
 void checkPhotonCount(uint64_t photons) {
@@ -227,56 +186,73 @@ uint64_t photonBatchSize(uint64_t photons, std::size_t nodes) {
     return std::max<uint64_t>({byCount, byGrid, 4096});
 }
 
-Volume bakePhotons(const Scene& scene, const Tracer& tracer, const GridSpec& grid, const PhotonOptions& options,
-                   Interrupter* interrupter, PhotonStats* stats) {
+PhotonSums tracePhotons(const Scene& scene, const Tracer& tracer, const GridSpec& grid, const PhotonOptions& options,
+                        Interrupter* interrupter, PhotonStats* stats, Metadata* meta) {
     checkOptions(grid, options);
     const PhotonWalker walker(scene, tracer, grid, options);
     const std::size_t nodes = grid.nodeCount();
     const std::size_t floats = nodes * iv::kFloatsPerNode;
     const uint64_t batchSize = photonBatchSize(options.photons, nodes);
     const uint64_t batches = (options.photons + batchSize - 1) / batchSize;
+    // A tile traces its run of batches (photon_sums.h); the batches do not depend on it.
+    uint64_t firstBatch = 0, endBatch = batches;
+    if (options.tiles > 0) photonTileBatches(batches, options.tiles, options.tile, firstBatch, endBatch);
+    const uint64_t traced = std::min(options.photons, endBatch * batchSize) - firstBatch * batchSize;
+    const Rgb power = walker.emitter().totalPower();
+    PhotonSums out;
+    out.grid = grid;
+    out.exponent = photonSumExponent(double(maxComponent(power)));
+    out.firstBatch = firstBatch, out.endBatch = endBatch, out.batches = batches;
+    const double scale = std::ldexp(1.0, -out.exponent);
 
     const int threads = core::threadCount(options.threads);
     // Several batches per thread and round (memory permitting), so that a thread held up
     // by the machine's load does not leave the others waiting at every round's reduction.
+    const uint64_t runBatches = endBatch - firstBatch;
     const uint64_t bufferBytes = uint64_t(floats) * sizeof(float);
     const uint64_t affordable = std::max<uint64_t>(1, (uint64_t(256) << 20) / bufferBytes);
-    const uint64_t slots = std::min<uint64_t>(batches, std::max<uint64_t>(threads, std::min<uint64_t>(4 * threads, affordable)));
+    const uint64_t slots =
+        std::min<uint64_t>(runBatches, std::max<uint64_t>(threads, std::min<uint64_t>(4 * threads, affordable)));
     std::vector<std::vector<float>> buffers(slots, std::vector<float>(floats));
-    std::vector<double> total(floats, 0.0);
-    std::vector<Counters> batchCounts(batches);
+    std::vector<PhotonFixed>& total = out.values;
+    total.assign(floats, 0);
+    std::vector<Counters> batchCounts(runBatches);
 
     const auto start = std::chrono::steady_clock::now();
     {
-        core::TaskProgress progress(interrupter, "tracing photons", options.photons, "bake cancelled");
-        for (uint64_t first = 0; first < batches; first += slots) {
-            const uint64_t round = std::min(slots, batches - first);
+        core::TaskProgress progress(interrupter, "tracing photons", traced, "bake cancelled");
+        for (uint64_t first = 0; first < runBatches; first += slots) {
+            const uint64_t round = std::min(slots, runBatches - first);
             core::parallelFor(round, threads, [&](std::size_t s) {
-                const uint64_t b = first + s;
+                const uint64_t b = firstBatch + first + s;
                 float* sums = buffers[s].data();
                 std::memset(sums, 0, floats * sizeof(float));
                 const uint64_t end = std::min(options.photons, (b + 1) * batchSize);
-                for (uint64_t i = b * batchSize; i < end; ++i) walker.trace(i, sums, batchCounts[b]);
+                for (uint64_t i = b * batchSize; i < end; ++i) walker.trace(i, sums, batchCounts[b - firstBatch]);
             });
-            // Add the round's buffers in batch order (per element: same order, same bits).
+            // Each batch's float sums as fixed-point integers (photon_sums.h): exact in any
+            // order, so a merge of tiles gives the same totals.
             constexpr std::size_t kBlock = 4096;
+            std::atomic<bool> outOfRange{false};
             core::parallelFor((floats + kBlock - 1) / kBlock, threads, [&](std::size_t block) {
                 const std::size_t begin = block * kBlock, end = std::min(floats, begin + kBlock);
                 for (uint64_t s = 0; s < round; ++s) {
                     const float* src = buffers[s].data();
-                    for (std::size_t e = begin; e != end; ++e) total[e] += double(src[e]);
+                    for (std::size_t e = begin; e != end; ++e) {
+                        if (src[e] == 0.0f) continue;
+                        PhotonFixed v;
+                        if (toPhotonFixed(src[e], scale, v)) total[e] += v;
+                        else outOfRange = true;
+                    }
                 }
             });
-            progress.reportDone(std::min(options.photons, (first + round) * batchSize));
+            if (outOfRange)
+                throw ValueError("a photon batch's sum through one face is not finite or exceeds 2^37 times the scene's "
+                                 "emitted power (the fixed-point range of photon_sums.h)");
+            progress.reportDone(std::min(options.photons, (firstBatch + first + round) * batchSize) - firstBatch * batchSize);
             progress.throwIfCancelled();
         }
     }
-
-    Volume volume;
-    volume.basis = iv::basis();
-    volume.levels.resize(1);
-    volume.levels[0].grid = grid;
-    normalise(total, grid, volume.levels[0].data);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
     Counters sum;
@@ -285,32 +261,41 @@ Volume bakePhotons(const Scene& scene, const Tracer& tracer, const GridSpec& gri
         sum.crossings += c.crossings;
         sum.rays += c.rays;
     }
-    const Rgb power = walker.emitter().totalPower();
-    bake_detail::PassMetadata(volume.meta)
-        .scene(scene)
-        .run(nodes, sum.rays, seconds, threads)
-        .text("method", "photons")
-        .count("photons", int64_t(options.photons))
-        .count("photon_batch_size", int64_t(batchSize))
-        .text("photon_estimator", options.estimator == PhotonEstimator::Flux ? "flux" : "paper_cosine")
-        .count("photon_segments", int64_t(sum.segments))
-        .count("photon_face_crossings", int64_t(sum.crossings))
-        .text("emitted_power", std::to_string(power.x) + "," + std::to_string(power.y) + "," + std::to_string(power.z))
-        .count("lights", int64_t(walker.emitter().lightCount()))
-        .count("seed", int64_t(options.seed))
-        .count("bounces", options.transport.maxBounces)
-        .text("roulette", "from the first reflection, survival = max albedo component");
+    if (meta)
+        bake_detail::PassMetadata(*meta)
+            .scene(scene)
+            .run(nodes, sum.rays, seconds, threads)
+            .text("method", "photons")
+            .count("photons", int64_t(options.photons))
+            .count("photon_batch_size", int64_t(batchSize))
+            .text("photon_estimator", options.estimator == PhotonEstimator::Flux ? "flux" : "paper_cosine")
+            .count("photon_segments", int64_t(sum.segments))
+            .count("photon_face_crossings", int64_t(sum.crossings))
+            .text("emitted_power",
+                  std::to_string(power.x) + "," + std::to_string(power.y) + "," + std::to_string(power.z))
+            .count("lights", int64_t(walker.emitter().lightCount()))
+            .count("seed", int64_t(options.seed))
+            .count("bounces", options.transport.maxBounces)
+            .text("roulette", "from the first reflection, survival = max albedo component");
 
     if (stats) {
-        stats->photons = options.photons;
+        stats->photons = traced;
         stats->segments = sum.segments;
         stats->crossings = sum.crossings;
         stats->rays = sum.rays;
         stats->seconds = seconds;
-        stats->batches = batches;
+        stats->batches = runBatches;
         stats->batchSize = batchSize;
     }
-    return volume;
+    return out;
+}
+
+Volume bakePhotons(const Scene& scene, const Tracer& tracer, const GridSpec& grid, const PhotonOptions& options,
+                   Interrupter* interrupter, PhotonStats* stats) {
+    if (options.tiles > 0) throw ValueError("a tile of a photon bake holds sums (tracePhotons), not a volume");
+    Metadata meta;
+    const PhotonSums sums = tracePhotons(scene, tracer, grid, options, interrupter, stats, &meta);
+    return photonVolume(sums, std::move(meta));
 }
 
 }  // namespace vdblight

@@ -5,6 +5,10 @@
 // borders is applied here: the seam constraints of bilevel / adaptive layouts (a seam node
 // interpolates the coarser level, whose nodes may lie in other tiles). Metadata counts that
 // each tile measured for its own nodes (rays) are summed in tile order.
+//
+// Photon tiles are not nodes but runs of photon batches: each holds the whole grid's exact
+// sums of its batches (photon_sums.h), which the merge adds (integers: exact in any order)
+// and normalises as the single bake does.
 #include <algorithm>
 #include <map>
 #include <set>
@@ -13,7 +17,9 @@
 #include "vdblight/error_summary.h"
 #include "vdblight/errors.h"
 #include "vdblight/layout_levels.h"
+#include "vdblight/photon_sums.h"
 #include "vdblight/tiles.h"
+#include "vdblight/volume_compact.h"
 
 namespace vdblight {
 namespace {
@@ -51,6 +57,87 @@ void checkIdentities(const std::vector<TileFile>& tiles, const std::vector<std::
                          std::to_string(tiles.size()) + " given)");
 }
 
+/// The counts each tile measured for its own nodes or batches (tileSummedKeys), summed in tile
+/// order, plus (staged bakes) the earlier stages' once, into `meta` (a copy of the first tile's).
+void sumTileCounts(Metadata& meta, const std::vector<TileFile>& tiles, const std::vector<std::size_t>& order) {
+    const TileFile& first = tiles[order[0]];
+    for (const std::string& key : tileSummedKeys()) {
+        if (!meta.count(key)) continue;
+        const auto earlier = first.part.meta.find("tile_earlier_" + key);
+        if (std::holds_alternative<int64_t>(meta[key])) {
+            int64_t sum = 0;
+            for (std::size_t t : order) {
+                const auto it = tiles[t].part.meta.find(key);
+                if (it != tiles[t].part.meta.end() && std::holds_alternative<int64_t>(it->second))
+                    sum += std::get<int64_t>(it->second);
+            }
+            if (earlier != first.part.meta.end() && std::holds_alternative<int64_t>(earlier->second))
+                sum += std::get<int64_t>(earlier->second);
+            meta[key] = sum;
+        } else {
+            double sum = 0;
+            for (std::size_t t : order) sum += metaNumber(tiles[t].part.meta, key, 0);
+            sum += metaNumber(first.part.meta, "tile_earlier_" + key, 0);
+            meta[key] = sum;
+        }
+    }
+}
+
+/// The metadata of the first tile (in tile order) without the tile keys.
+Metadata mergedMetadata(const std::vector<TileFile>& tiles, const std::vector<std::size_t>& order) {
+    Metadata meta;
+    for (const auto& [key, value] : tiles[order[0]].part.meta)
+        if (key.compare(0, 5, "tile_") != 0) meta[key] = value;
+    sumTileCounts(meta, tiles, order);
+    return meta;
+}
+
+/// Photon tiles (writePhotonTile): each holds the whole grid's exact sums of a run of batches;
+/// their sum is the single bake's total (photon_sums.h), normalised by the same photonVolume.
+MergedTiles mergePhotonTiles(const std::vector<TileFile>& tiles, const std::vector<std::size_t>& order,
+                             const std::vector<std::string>& paths) {
+    const TileFile& first = tiles[order[0]];
+    const PhotonSums& a = *first.photon;
+    PhotonSums total;
+    total.grid = a.grid;
+    total.exponent = a.exponent;
+    total.batches = a.batches;
+    total.values.assign(a.values.size(), 0);
+    uint64_t next = 0;  // the tiles' runs of batches, in tile order, must cover 0 .. batches
+    for (std::size_t t : order) {
+        if (!tiles[t].photon)
+            throw FormatError(quoted(paths[t]) + " is no photon tile, but " + quoted(paths[order[0]]) + " is");
+        const PhotonSums& p = *tiles[t].photon;
+        if (p.exponent != a.exponent || p.batches != a.batches || p.grid.nx != a.grid.nx || p.grid.ny != a.grid.ny ||
+            p.grid.nz != a.grid.nz || p.grid.spacing != a.grid.spacing || p.grid.origin.x != a.grid.origin.x ||
+            p.grid.origin.y != a.grid.origin.y || p.grid.origin.z != a.grid.origin.z ||
+            tiles[t].photonCompact != first.photonCompact)
+            throw FormatError(quoted(paths[t]) + " and " + quoted(paths[order[0]]) + " differ in their photon grid or scale");
+        if (p.firstBatch != next)
+            throw FormatError(quoted(paths[t]) + " holds photon batches " + std::to_string(p.firstBatch) + ".." +
+                              std::to_string(p.endBatch) + ", expected batches from " + std::to_string(next));
+        next = p.endBatch;
+        // Exact integer sums (photon_sums.h: a valid bake cannot overflow; a damaged file may).
+        bool overflow = false;
+        for (std::size_t n = 0; n < total.values.size(); ++n)
+            overflow |= __builtin_add_overflow(total.values[n], p.values[n], &total.values[n]);
+        if (overflow) throw FormatError(quoted(paths[t]) + " holds photon sums out of range (damaged?)");
+    }
+    total.firstBatch = 0;
+    total.endBatch = next;
+    if (next != total.batches)
+        throw FormatError("the photon tiles hold batches 0.." + std::to_string(next) + " of " + std::to_string(total.batches));
+    MergedTiles out;
+    out.volume = photonVolume(total, mergedMetadata(tiles, order));
+    out.write.halfFloat = first.halfFloat;
+    out.write.reproducible = first.reproducible;
+    if (first.photonCompact) {  // as the pass's finish (bake --compact)
+        out.volume = iv::compact(out.volume);
+        out.write.halfFloat = true;
+    }
+    return out;
+}
+
 }  // namespace
 
 MergedTiles mergeTiles(const std::vector<std::string>& paths) {
@@ -62,11 +149,12 @@ MergedTiles mergeTiles(const std::vector<std::string>& paths) {
     for (std::size_t t = 0; t < tiles.size(); ++t) order[std::size_t(tiles[t].id.index)] = t;
 
     const TileFile& first = tiles[order[0]];
+    if (first.photon) return mergePhotonTiles(tiles, order, paths);
     const int channels = first.part.basis.channelCount();
     const std::size_t floats = std::size_t(channels) * 3;
     for (std::size_t i = 0; i < tiles.size(); ++i) {
         const TileFile& t = tiles[i];
-        if (t.depth != first.depth || t.visibility != first.visibility || t.error != first.error ||
+        if (t.photon || t.depth != first.depth || t.visibility != first.visibility || t.error != first.error ||
             t.part.direct.mode != first.part.direct.mode || t.part.direct.lights.size() != first.part.direct.lights.size())
             throw FormatError(quoted(paths[i]) + " and " + quoted(paths[order[0]]) + " differ in the grids or lights they carry");
     }
@@ -119,30 +207,7 @@ MergedTiles mergeTiles(const std::vector<std::string>& paths) {
         v.levels.push_back(std::move(level));
     }
     v.direct = first.part.direct;
-    for (const auto& [key, value] : first.part.meta)
-        if (key.compare(0, 5, "tile_") != 0) v.meta[key] = value;
-    // Counts each tile measured for its own nodes, in tile order, plus (staged bakes) the
-    // earlier stages' once.
-    for (const std::string& key : tileSummedKeys()) {
-        if (!v.meta.count(key)) continue;
-        const auto earlier = first.part.meta.find("tile_earlier_" + key);
-        if (std::holds_alternative<int64_t>(v.meta[key])) {
-            int64_t sum = 0;
-            for (std::size_t t : order) {
-                const auto it = tiles[t].part.meta.find(key);
-                if (it != tiles[t].part.meta.end() && std::holds_alternative<int64_t>(it->second))
-                    sum += std::get<int64_t>(it->second);
-            }
-            if (earlier != first.part.meta.end() && std::holds_alternative<int64_t>(earlier->second))
-                sum += std::get<int64_t>(earlier->second);
-            v.meta[key] = sum;
-        } else {
-            double sum = 0;
-            for (std::size_t t : order) sum += metaNumber(tiles[t].part.meta, key, 0);
-            sum += metaNumber(first.part.meta, "tile_earlier_" + key, 0);
-            v.meta[key] = sum;
-        }
-    }
+    v.meta = mergedMetadata(tiles, order);
     // Summaries of per-node statistics, by the code the bakes use (error_summary.h).
     if (first.error) addErrorSummary(v.meta, error, v.levels[0].grid);
     if (v.meta.count("samples_total") && v.meta.count("max_rays") && v.meta.count("rays_per_node_mean"))

@@ -1,6 +1,7 @@
 // Reading tile files (tiles.h), shared by vdb_read.cpp and merge.cpp. Internal.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,10 @@ struct TileFile {
     bool visibility = false;  ///< level 0 has light visibility (part.levels[0], tile nodes)
     bool error = false;       ///< estimatedError holds level 0's per-node errors
     std::vector<float> estimatedError;  ///< TileNodeStats, in the order of part.levels[0].activeNodes
+    /// A photon tile (writePhotonTile): the sums of its batches; part has the grid (level 0,
+    /// no nodes) and metadata only.
+    std::shared_ptr<PhotonSums> photon;
+    bool photonCompact = false;  ///< the merged file is the compact form
 };
 
 /// Reads a tile file. Throws FormatError if it is not one (or is corrupt), IoError if unreadable.

@@ -52,7 +52,7 @@ std::string tileParamsHash(const std::string& sceneHash, const std::string& para
 const std::vector<std::string>& tileSummedKeys() {
     static const std::vector<std::string> keys = {"rays_intersect",   "rays_occluded",     "bake_seconds",
                                                   "direct_visibility_rays", "samples_total", "nodes_at_max_rays",
-                                                  "probe_stage_samples"};
+                                                  "probe_stage_samples", "photon_segments", "photon_face_crossings"};
     return keys;
 }
 

@@ -125,6 +125,11 @@ inline std::string directLightKey(std::size_t i) { return "direct_light_" + std:
 /// Tile files (tiles.h): the FloatGrid of the tile's per-node estimated errors (level 0).
 const std::string kTileErrorName = "tile_estimated_error";
 using FloatLeafT = openvdb::FloatGrid::TreeType::LeafNodeType;
+/// Photon tiles (tiles.h, writePhotonTile): the Int64Grid of one 64-bit word of value v
+/// (0..53, the volume's float order) of every node's 128-bit photon sums.
+inline std::string photonSumGridName(int v, bool high) {
+    return "tile_photon_sum_" + std::to_string(v) + (high ? "_hi" : "_lo");
+}
 
 }  // namespace vdb_detail
 }  // namespace vdblight

@@ -22,6 +22,8 @@
 #include "vdb_conventions.h"
 #include "content_hash.h"
 #include "tile_io.h"
+#include "vdblight/irradiance_vectors.h"
+#include "vdblight/photon_sums.h"
 #include "vdb_delayed.h"
 
 namespace vdblight {
@@ -688,6 +690,61 @@ DelayedVolumeFile openDelayedVolume(const std::string& path) {
     return out;
 }
 
+namespace {
+/// The rest of a photon tile (writePhotonTile) after its identity: level 0's grid, the
+/// metadata and the 128-bit sums from their Int64Grids (every node an active voxel).
+void readPhotonTile(OpenedFile& f, TileFile& t, const std::string& path) {
+    const openvdb::MetaMap& meta = *f.meta;
+    Volume& v = t.part;
+    VolumeLevel level;
+    level.grid = readLevelSpec(meta, 0, path);
+    const GridSpec& g = level.grid;
+    if (g.nx <= 0 || g.ny <= 0 || g.nz <= 0 || !(g.spacing > 0) || !isFinite(g.origin))
+        formatError(path, "has invalid dimensions, spacing or origin for level 0");
+    v.levels.push_back(level);
+    v.meta = userMetadata(meta);
+    t.denseLevels = {1};
+    auto sums = std::make_shared<PhotonSums>();
+    sums->grid = g;
+    sums->exponent = int(requireMeta<int64_t>(meta, kPrefix + "tile_photon_exponent", path));
+    const int64_t first = requireMeta<int64_t>(meta, kPrefix + "tile_photon_first_batch", path);
+    const int64_t end = requireMeta<int64_t>(meta, kPrefix + "tile_photon_end_batch", path);
+    const int64_t batches = requireMeta<int64_t>(meta, kPrefix + "tile_photon_batches", path);
+    if (first < 0 || end <= first || batches < end) formatError(path, "has an invalid run of photon batches");
+    sums->firstBatch = uint64_t(first), sums->endBatch = uint64_t(end), sums->batches = uint64_t(batches);
+    t.photonCompact = requireMeta<int64_t>(meta, kPrefix + "tile_photon_compact", path) != 0;
+    const std::size_t count = g.nodeCount() * iv::kFloatsPerNode;
+    std::vector<uint64_t> words[2] = {std::vector<uint64_t>(count), std::vector<uint64_t>(count)};  // hi, lo
+    const PhotonSumLayout layout(g);
+    for (int w = 0; w < 2 * iv::kFloatsPerNode; ++w) {
+        const int value = w / 2, d = value / 9, component = value % 9;
+        const bool high = w % 2 == 0;
+        const std::string name = photonSumGridName(value, high);
+        if (!f.file->hasGrid(name)) formatError(path, "has no grid '" + name + "'");
+        const openvdb::GridBase::Ptr base = readGridChecked(f, name, path);
+        auto grid = openvdb::gridPtrCast<openvdb::Int64Grid>(base);
+        if (!grid) formatError(path, "grid '" + name + "' has type " + base->valueType() + ", expected int64");
+        if (!placedAt(grid->transform(), g.origin, g.spacing))
+            formatError(path, "grid '" + name + "' has a transform that does not match its level's origin and spacing");
+        grid->tree().voxelizeActiveTiles();
+        const openvdb::CoordBBox box = grid->evalActiveVoxelBoundingBox();
+        if (grid->activeVoxelCount() != g.nodeCount() || box.min() != Coord(0, 0, 0) ||
+            box.max() != Coord(g.nx - 1, g.ny - 1, g.nz - 1))
+            formatError(path, "grid '" + name + "' does not have exactly one active voxel per node");
+        std::vector<uint64_t>& out = words[high ? 0 : 1];
+        for (auto it = grid->cbeginValueOn(); it; ++it) {
+            const Coord c = it.getCoord();
+            out[layout.offset(d, c.x(), c.y(), c.z()) + std::size_t(component)] = uint64_t(*it);
+        }
+    }
+    // Two's complement words (writePhotonTile): value = hi * 2^64 + (unsigned) lo.
+    sums->values.resize(count);
+    for (std::size_t n = 0; n < count; ++n)
+        sums->values[n] = PhotonFixed(((unsigned __int128)words[0][n] << 64) | words[1][n]);
+    t.photon = std::move(sums);
+}
+}  // namespace
+
 TileFile readTileFile(const std::string& path) {
     OpenedFile f = openVolumeFile(path, OpenFor::Data);
     const openvdb::MetaMap& meta = *f.meta;
@@ -704,6 +761,10 @@ TileFile readTileFile(const std::string& path) {
     v.basis.channelNames = splitNames(requireMeta<std::string>(meta, kPrefix + "channels", path));
     const int64_t levels = requireMeta<int64_t>(meta, kPrefix + "levels", path);
     if (levels < 1 || levels > 64) formatError(path, "has an invalid level count " + std::to_string(levels));
+    if (meta.getMetadata<openvdb::Int64Metadata>(kPrefix + "tile_photon_sums")) {
+        readPhotonTile(f, t, path);
+        return t;
+    }
     const std::vector<std::string> dense = splitNames(requireMeta<std::string>(meta, kPrefix + "tile_dense_levels", path));
     if (dense.size() != std::size_t(levels)) formatError(path, "has a tile_dense_levels entry per level missing");
     const int channels = v.basis.channelCount();

@@ -16,6 +16,8 @@
 #include "vdblight/atomic_file.h"
 #include "vdblight/depth_moments.h"
 #include "vdblight/errors.h"
+#include "vdblight/irradiance_vectors.h"
+#include "vdblight/photon_sums.h"
 #include "vdblight/tiles.h"
 #include "vdb_conventions.h"
 #include "content_hash.h"
@@ -304,11 +306,12 @@ const std::vector<std::string>& runSpecificMetadataKeys() {
 
 namespace {
 /// `extra`: grids only a tile file carries (tiles.h), appended after the volume's.
+/// `channels`: false for a file without the volume's channel grids (a photon tile).
 void writeFile(const Volume& volume, const std::string& path, const WriteOptions& options, bool tile,
-               const openvdb::GridCPtrVec& extra = {}) {
+               const openvdb::GridCPtrVec& extra = {}, bool channels = true) {
     checkWritable(volume, options, tile);
     initOpenVdb();
-    openvdb::GridCPtrVec grids = buildGrids(volume, options, tile);
+    openvdb::GridCPtrVec grids = channels ? buildGrids(volume, options, tile) : openvdb::GridCPtrVec();
     grids.insert(grids.end(), extra.begin(), extra.end());
     const openvdb::MetaMap meta = fileMetadata(volume, options);
     writeFileAtomically(path, [&](const std::string& temp) {
@@ -401,6 +404,77 @@ void writeTile(const Volume& volume, const NodeMask& mask, const TileId& id, con
     WriteOptions full = options;
     full.halfFloat = false;
     writeFile(part, path, full, true, extra);
+}
+
+namespace {
+/// One 64-bit word of value v (0..53, the volume's float order 9 d + f) of every node's photon
+/// sums, as an Int64Grid whose voxels are all active (zeros included), like the channel grids.
+openvdb::Int64Grid::Ptr buildPhotonSumGrid(const PhotonSums& sums, const std::vector<Coord>& origins, int v, bool high) {
+    using Int64LeafT = openvdb::Int64Grid::TreeType::LeafNodeType;
+    const GridSpec& g = sums.grid;
+    const PhotonSumLayout layout(g);
+    const int d = v / 9, f = v % 9;
+    std::vector<std::unique_ptr<Int64LeafT>> leaves(origins.size());
+    tbb::parallel_for(std::size_t(0), origins.size(), [&](std::size_t n) {
+        const Coord o = origins[n];
+        auto leaf = std::make_unique<Int64LeafT>(o, openvdb::Int64(0), false);
+        for (int z = o.z(); z < std::min(o.z() + kLeafDim, g.nz); ++z)
+            for (int y = o.y(); y < std::min(o.y() + kLeafDim, g.ny); ++y)
+                for (int x = o.x(); x < std::min(o.x() + kLeafDim, g.nx); ++x) {
+                    // Two's complement words: the value is hi * 2^64 + (unsigned) lo.
+                    const unsigned __int128 u = (unsigned __int128)sums.values[layout.offset(d, x, y, z) + std::size_t(f)];
+                    const uint64_t word = high ? uint64_t(u >> 64) : uint64_t(u);
+                    leaf->setValueOn(Int64LeafT::coordToOffset(Coord(x, y, z)), openvdb::Int64(word));
+                }
+        leaves[n] = std::move(leaf);
+    });
+    auto grid = openvdb::Int64Grid::create(openvdb::Int64(0));
+    for (auto& leaf : leaves) grid->tree().addLeaf(leaf.release());
+    return grid;
+}
+}  // namespace
+
+void writePhotonTile(const PhotonSums& sums, const Metadata& meta, const TileId& id, const std::string& path,
+                     const WriteOptions& options, bool compact) {
+    if (id.count < 1 || id.index < 0 || id.index >= id.count || id.paramsHash.empty())
+        throw ValueError("invalid tile identity " + std::to_string(id.index) + " of " + std::to_string(id.count));
+    const GridSpec& g = sums.grid;
+    if (sums.values.size() != g.nodeCount() * iv::kFloatsPerNode || sums.firstBatch >= sums.endBatch ||
+        sums.endBatch > sums.batches)
+        throw ValueError("the photon tile's sums do not match their grid or batches");
+    Volume part;  // the metadata and level of the volume; the sums as extra grids
+    part.basis = iv::basis();
+    part.levels.resize(1);
+    part.levels[0].grid = g;
+    part.meta = meta;
+    part.meta["tile_index"] = int64_t(id.index);
+    part.meta["tile_count"] = int64_t(id.count);
+    part.meta["tile_params_hash"] = id.paramsHash;
+    part.meta["tile_dense_levels"] = std::string("1");
+    part.meta["tile_nodes"] = int64_t(g.nodeCount());
+    part.meta["tile_half_float"] = int64_t(options.halfFloat ? 1 : 0);
+    part.meta["tile_reproducible"] = int64_t(options.reproducible ? 1 : 0);
+    part.meta["tile_photon_sums"] = int64_t(1);
+    part.meta["tile_photon_exponent"] = int64_t(sums.exponent);
+    part.meta["tile_photon_first_batch"] = int64_t(sums.firstBatch);
+    part.meta["tile_photon_end_batch"] = int64_t(sums.endBatch);
+    part.meta["tile_photon_batches"] = int64_t(sums.batches);
+    part.meta["tile_photon_compact"] = int64_t(compact ? 1 : 0);
+    const std::vector<Coord> origins = leafOrigins(g);
+    std::vector<openvdb::Int64Grid::Ptr> built(std::size_t(2 * iv::kFloatsPerNode));
+    tbb::parallel_for(0, 2 * iv::kFloatsPerNode, [&](int w) {
+        built[std::size_t(w)] = buildPhotonSumGrid(sums, origins, w / 2, w % 2 == 0);
+    });
+    openvdb::GridCPtrVec grids;
+    for (int w = 0; w < 2 * iv::kFloatsPerNode; ++w) {
+        openvdb::Int64Grid::Ptr grid = built[std::size_t(w)];
+        grid->setName(photonSumGridName(w / 2, w % 2 == 0));
+        grid->setTransform(levelTransform(g));
+        grid->setGridClass(openvdb::GRID_UNKNOWN);
+        tagGrid(*grid, part, 0, -1);
+        grids.push_back(grid);
+    }
+    writeFile(part, path, options, true, grids, false);
 }
 
 }  // namespace vdblight
