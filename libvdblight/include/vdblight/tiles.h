@@ -8,6 +8,10 @@
 // mergeTiles puts the tiles back together, applies what crosses tile borders (seam
 // constraints of bilevel / adaptive layouts) and gives exactly the volume a single-process
 // bake gives, so that writing it gives the same bytes.
+//
+// The photon pass is tiled by photon batches instead (its photons cross every node): tile i
+// traces a run of the batches and writes the whole grid's exact sums of them
+// (writePhotonTile, photon_sums.h); the merge adds the tiles' sums.
 #pragma once
 
 #include <cstdint>
