@@ -213,6 +213,22 @@ TEST(PhotonTiles, FixedPointRoundsToNearestAndRefusesTheOutOfRange) {
     EXPECT_TRUE(v == 768);
     ASSERT_TRUE(toPhotonFixed(0x1p70f, 0x1p40, v));  // beyond 64 bits
     EXPECT_TRUE(v == PhotonFixed(1) << 110);
+    ASSERT_TRUE(toPhotonFixed(-0x1.8p65f, 1.0, v));
+    EXPECT_TRUE(v == -(PhotonFixed(3) << 64));
+    // The fast integer paths against the compiler's conversion and a rounding reference.
+    uint64_t state = 12345;
+    for (int i = 0; i < 100000; ++i) {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        const float f = std::ldexp(float(state >> 40) / float(1 << 24) + 0.5f, int(state % 140) - 40) *
+                        (state & (1ull << 20) ? -1.0f : 1.0f);
+        const double d = double(f) * scale;
+        if (std::abs(d) > 0x1p118) {
+            EXPECT_FALSE(toPhotonFixed(f, scale, v));
+            continue;
+        }
+        ASSERT_TRUE(toPhotonFixed(f, scale, v)) << f;
+        ASSERT_TRUE(v == PhotonFixed(std::round(d))) << f;  // nearest, ties away from zero
+    }
     EXPECT_FALSE(toPhotonFixed(0x1p80f, 0x1p40, v));  // 2^120 quanta > the per-batch 2^118
     EXPECT_FALSE(toPhotonFixed(std::numeric_limits<float>::infinity(), 1.0, v));
     EXPECT_FALSE(toPhotonFixed(std::numeric_limits<float>::quiet_NaN(), 1.0, v));

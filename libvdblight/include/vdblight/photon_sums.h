@@ -29,6 +29,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -88,8 +89,14 @@ int photonSumExponent(double maxPower);
 inline bool toPhotonFixed(float v, double scale, PhotonFixed& out) {
     const double d = double(v) * scale;
     if (!(std::abs(d) <= 0x1p118)) return false;  // NaN fails too
-    if (std::abs(d) >= 0x1p62) {                  // an integer already (>= 2^53), exact
-        out = PhotonFixed(d);
+    if (std::abs(d) >= 0x1p62) {
+        // An integer already (>= 2^53): mantissa << exponent, exact (and faster than the
+        // compiler's double -> 128-bit conversion, a library call).
+        uint64_t bits;
+        std::memcpy(&bits, &d, sizeof bits);
+        const int shift = int((bits >> 52) & 0x7ff) - 1075;  // >= 10 here
+        const PhotonFixed magnitude = PhotonFixed((bits & 0xfffffffffffffull) | (1ull << 52)) << shift;
+        out = (bits >> 63) ? -magnitude : magnitude;
         return true;
     }
     const int64_t t = int64_t(d);       // truncated; d - t is exact (the fraction of d)
