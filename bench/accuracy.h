@@ -185,6 +185,20 @@ void decompose(const bench::AccuracyScene& as, const Tracer& tracer, const Point
 
 // --- Studies ------------------------------------------------------------------------------
 
+/// The default bake's plan (accuracy_study.cpp): its grid, the lights it takes out of the SH
+/// (--direct occlusion; baked in a scene without lights) and the transport that leaves them
+/// out at the receiver.
+struct DefaultPlan {
+    GridSpec grid;
+    DirectMode mode = DirectMode::Baked;
+    DirectPlan lights;
+    TransportOptions transport;
+};
+DefaultPlan defaultPlan(const Scene& s, const Tracer& tracer, const Settings& st);
+/// What the default adds exactly at point i: each chosen light's irradiance for the point's
+/// normal times its visibility (256 samples); zero without chosen lights.
+Rgb exactDirectAt(const Scene& s, const Tracer& tracer, const DefaultPlan& p, const Points& pts, std::size_t i);
+
 void studyDefault(const bench::AccuracyScene& as, const Tracer& tracer, const Points& pts, const Truth& truth, const Settings& st,
                   uint32_t rays, uint32_t floorRays, FILE* csv);
 void timeToAccuracy(const bench::AccuracyScene& as, const Tracer& tracer, const Points& pts, const Truth& truth,

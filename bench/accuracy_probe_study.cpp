@@ -90,13 +90,9 @@ void probeCacheStudy(const bench::AccuracyScene& as, const Tracer& tracer, const
                      const Settings& st, uint32_t passZeroRays, uint32_t pointRays, int paths) {
     const Scene& s = as.scene;
     const double t0 = bench::now();
-    const GridSpec grid = tryGrid(s, parseTry("nodes=16384"), st);
-    DirectOptions d;
-    d.mode = sceneLights(s).empty() ? DirectMode::Baked : DirectMode::Occlusion;
-    d.threads = st.threads;
-    const DirectPlan plan = planDirectLight(s, tracer, grid, d);
-    TransportOptions tr;
-    tr.skipAtReceiver = plan.filter;
+    const DefaultPlan dp = defaultPlan(s, tracer, st);
+    const GridSpec& grid = dp.grid;
+    const TransportOptions& tr = dp.transport;
     // Pass 0 of the default's probe pass: stage 0 of a staged bake holds its reflected SH.
     GatherOptions g;
     g.raysPerNode = passZeroRays;
@@ -112,17 +108,7 @@ void probeCacheStudy(const bench::AccuracyScene& as, const Tracer& tracer, const
     const RadianceEstimator plain(s, tracer, tr);
     const std::size_t np = pts.x.size();
     std::vector<double> direct(np);
-    tbb::parallel_for(std::size_t(0), np, [&](std::size_t i) {
-        const Vec3f n = normalize(pts.n[i]);
-        Rgb e(0, 0, 0);
-        if (d.mode == DirectMode::Occlusion)
-            for (std::size_t l = 0; l < plan.lights.size(); ++l) {
-                RayCount rc;
-                const double vis = lightVisibility(s, tracer, plan.lights[l], pts.x[i], 256, hashCombine(4242, i * 31 + l), rc);
-                e += exactIrradiance(plan.lights[l].light, Vec3d(pts.x[i]), Vec3d(n)) * float(vis);
-            }
-        direct[i] = luminance(e);
-    });
+    tbb::parallel_for(std::size_t(0), np, [&](std::size_t i) { direct[i] = luminance(exactDirectAt(s, tracer, dp, pts, i)); });
     struct Variant {
         const char* name;
         std::unique_ptr<SurfaceIrradianceCache> cache;

@@ -68,30 +68,42 @@ void printStudy(const char* region, const std::vector<std::size_t>& idx, const T
 }
 }  // namespace
 
+DefaultPlan defaultPlan(const Scene& s, const Tracer& tracer, const Settings& st) {
+    DefaultPlan p;
+    p.grid = tryGrid(s, parseTry("nodes=16384"), st);
+    DirectOptions d;
+    d.mode = p.mode = sceneLights(s).empty() ? DirectMode::Baked : DirectMode::Occlusion;
+    d.threads = st.threads;
+    p.lights = planDirectLight(s, tracer, p.grid, d);
+    p.transport.skipAtReceiver = p.lights.filter;
+    return p;
+}
+
+Rgb exactDirectAt(const Scene& s, const Tracer& tracer, const DefaultPlan& p, const Points& pts, std::size_t i) {
+    const Vec3f n = normalize(pts.n[i]);
+    Rgb direct(0, 0, 0);
+    if (p.mode != DirectMode::Occlusion) return direct;
+    const std::vector<SceneLight>& lights = p.lights.lights;
+    for (std::size_t l = 0; l < lights.size(); ++l) {
+        RayCount rc;
+        const double vis = lightVisibility(s, tracer, lights[l], pts.x[i], 256, hashCombine(4242, i * 31 + l), rc);
+        direct += exactIrradiance(lights[l].light, Vec3d(pts.x[i]), Vec3d(n)) * float(vis);
+    }
+    return direct;
+}
+
 void studyDefault(const bench::AccuracyScene& as, const Tracer& tracer, const Points& pts, const Truth& truth, const Settings& st,
                   uint32_t rays, uint32_t floorRays, FILE* csv) {
     const Scene& s = as.scene;
     const double t0 = bench::now();
-    // The default's plan and transport.
-    const GridSpec grid = tryGrid(s, parseTry("nodes=16384"), st);
-    DirectOptions d;
-    d.mode = sceneLights(s).empty() ? DirectMode::Baked : DirectMode::Occlusion;
-    d.threads = st.threads;
-    const DirectPlan plan = planDirectLight(s, tracer, grid, d);
-    TransportOptions tr;
-    tr.skipAtReceiver = plan.filter;
-    const RadianceEstimator est(s, tracer, tr);
+    const DefaultPlan dp = defaultPlan(s, tracer, st);
+    const GridSpec& grid = dp.grid;
+    const RadianceEstimator est(s, tracer, dp.transport);
     const std::size_t np = pts.x.size();
     std::vector<double> floorQ(np), floorF(np), cosF(np);
     tbb::parallel_for(std::size_t(0), np, [&](std::size_t i) {
         const Vec3f n = normalize(pts.n[i]);
-        Rgb direct(0, 0, 0);
-        if (d.mode == DirectMode::Occlusion)
-            for (std::size_t l = 0; l < plan.lights.size(); ++l) {
-                RayCount rc;
-                const double vis = lightVisibility(s, tracer, plan.lights[l], pts.x[i], 256, hashCombine(4242, i * 31 + l), rc);
-                direct += exactIrradiance(plan.lights[l].light, Vec3d(pts.x[i]), Vec3d(n)) * float(vis);
-            }
+        const Rgb direct = exactDirectAt(s, tracer, dp, pts, i);
         for (int pass = 0; pass < 2; ++pass) {
             const uint32_t r = pass ? floorRays : floorRays / 4;
             const AtPoint a = projectAtPoint(est, pts.x[i], n, r, hashCombine(777 + pass, i));
@@ -102,7 +114,7 @@ void studyDefault(const bench::AccuracyScene& as, const Tracer& tracer, const Po
         }
     });
     std::printf("  study of the default (grid %d x %d x %d, spacing %.3f; %zu chosen lights; floor %.1f s)\n", grid.nx, grid.ny,
-                grid.nz, grid.spacing, plan.lights.size(), bench::now() - t0);
+                grid.nz, grid.spacing, dp.lights.lights.size(), bench::now() - t0);
     std::vector<StudyBake> bakes;
     Settings full = st;  // the study takes R as given (tryBake's rays scale with --quick)
     full.quick = false;
