@@ -76,6 +76,9 @@ std::vector<Config> configurations() {
                  [](const Ctx& c) { return photons(c, c.settings.res(16), c.settings.photons(1'000'000)); }});
     v.push_back({"photons_16k", "--method photons --photons 4000000 on the default's grid (~16384 nodes)",
                  [](const Ctx& c) { return photons(c, 0, c.settings.photons(4'000'000)); }, true});
+    v.push_back({"photons_16k_1M", "--method photons --photons 1000000 on the default's grid (~16384 nodes): "
+                                   "what `bake --method photons` does by default",
+                 [](const Ctx& c) { return photons(c, 0, c.settings.photons(1'000'000)); }, true});
     v.push_back({"photons_paper", "--method photons --photons 4000000, 16 nodes, read with query --iv-blend paper "
                                   "(the lookup before issue 15 item 5)",
                  [](const Ctx& c) { return photons(c, c.settings.res(16), c.settings.photons(4'000'000), 0, iv::Blend::Paper); }});
