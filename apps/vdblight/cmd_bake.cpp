@@ -288,7 +288,7 @@ void run(const BakeCommand& c, const BakeRequest& request) {
         const PhotonSums& sums = *report.photonSums;
         std::cout << "Baked tile " << c.tile << " of " << c.tiles << ": photon batches " << sums.firstBatch << ".."
                   << sums.endBatch - 1 << " of " << sums.batches << " (" << formatCount(double(report.photons->photons))
-                  << " of " << formatCount(double(report.resolved.photons)) << " photons), "
+                  << " of " << formatCount(double(report.resolved.photons.value_or(0))) << " photons), "
                   << formatCount(double(report.photons->rays.total())) << " rays in "
                   << formatSeconds(report.photons->seconds) << ". Wrote " << c.output
                   << " (the whole grid's sums of these batches; merge the tiles with 'vdblight merge').\n";
