@@ -2,6 +2,7 @@
 // (Internal to the query module.)
 #pragma once
 
+#include "lattice_locate.h"
 #include "vdblight/depth_moments.h"
 
 namespace vdblight::query_detail {
@@ -18,6 +19,19 @@ inline void weightByDepth(float w[8], const float* const depth[8], float fx, flo
     }
     const float inv = 1.0f / sum;
     for (int c = 0; c < 8; ++c) w[c] *= inv;
+}
+
+/// weightByDepth for the exact (double) corners of x (trilinearCorners): the weights go
+/// through float, as the fast lookups' do, with the fractions of locateExact.
+inline void weightCornersByDepth(TrilinearCorners& corners, const float* const depth[8], const GridSpec& grid, const Vec3d& x,
+                                 OutsidePolicy outside) {
+    int lo[3];
+    double frac[3];
+    locateExact(grid, x, outside, lo, frac);
+    float w[8];
+    for (int c = 0; c < 8; ++c) w[c] = float(corners.weight[c]);
+    weightByDepth(w, depth, float(frac[0]), float(frac[1]), float(frac[2]));
+    for (int c = 0; c < 8; ++c) corners.weight[c] = w[c];
 }
 
 }  // namespace vdblight::query_detail

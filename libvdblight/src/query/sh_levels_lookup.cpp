@@ -142,21 +142,9 @@ void ShLevelsLookup::shRadiance(const Vec3d& x, Rgb out[9]) const {
     // The same descent as descend(), in double, with coordinates within 1e-9 of a node
     // snapped onto it at every level, so that a lattice point on a node reads that node.
     const auto snap = [](double g) { return std::fabs(g - std::round(g)) < 1e-9 ? std::round(g) : g; };
-    const int dims[3] = {grid_.nx, grid_.ny, grid_.nz};
     int cell[3];
     double frac[3];
-    for (int a = 0; a < 3; ++a) {
-        double g = snap((x[a] - grid_.origin[a]) / grid_.spacing);
-        if (outside_ == OutsidePolicy::Throw && !(g >= -1e-4 && g <= dims[a] - 1 + 1e-4)) {
-            std::ostringstream s;
-            s << "point (" << x.x << ", " << x.y << ", " << x.z << ") is outside the volume";
-            throw ValueError(s.str());
-        }
-        if (!(g >= 0.0)) g = 0.0;  // also NaN
-        g = std::min(g, double(dims[a] - 1));
-        cell[a] = std::min(int(g), dims[a] - 2);
-        frac[a] = g - cell[a];
-    }
+    query_detail::locateExact(grid_, x, outside_, cell, frac);  // snapped onto nodes within 1e-9
     const float* base = levels_[0].nodes.data() + grid_.index(cell[0], cell[1], cell[2]) * kFloats;
     std::size_t sx = kFloats, sy = std::size_t(grid_.nx) * kFloats, sz = std::size_t(grid_.ny) * sy;
     int32_t brick = levels_[0].child[cell[0] + std::size_t(grid_.nx - 1) * (cell[1] + std::size_t(grid_.ny - 1) * cell[2])];

@@ -9,6 +9,7 @@
 
 #include "depth_weights.h"
 #include "lattice_locate.h"
+#include "sh_trilinear.h"
 #include "shifted_lookup.h"
 #include "vdblight/errors.h"
 #include "vdblight/world_frame.h"
@@ -49,25 +50,16 @@ public:
         const int di = grid_.nx > 1 ? 1 : 0, dj = grid_.ny > 1 ? 1 : 0, dk = grid_.nz > 1 ? 1 : 0;
         float p[8][kFloatsPerNode];
         float d[8][depth::kFloatsPerNode];
+        const float* corners[8];
         const float* depth[8];
         for (int c = 0; c < 8; ++c) {
             const int ci = (c & 1) * di, cj = ((c >> 1) & 1) * dj, ck = (c >> 2) * dk;
             node(i + ci, j + cj, k + ck, p[c]);
             if (depthWeights_) volume_->readDepth(i + ci, j + cj, k + ck, d[c]);
+            corners[c] = p[c];
             depth[c] = d[c];
         }
-        const float wx[2] = {1 - fx, fx}, wy[2] = {1 - fy, fy}, wz[2] = {1 - fz, fz};
-        float weights[8];
-        for (int c = 0; c < 8; ++c) weights[c] = wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2];
-        if (depthWeights_) query_detail::weightByDepth(weights, depth, fx, fy, fz);
-        float interp[kFloatsPerNode] = {};
-        for (int c = 0; c < 8; ++c) {
-            const float w = weights[c];
-            for (int f = 0; f < kFloatsPerNode; ++f) interp[f] += w * p[c][f];
-        }
-        Rgb e{0, 0, 0};
-        for (int c = 0; c < sh::kCoeffs; ++c) e += Rgb(interp[3 * c], interp[3 * c + 1], interp[3 * c + 2]) * y[c];
-        return e;
+        return query_detail::interpolateShCorners(corners, depthWeights_ ? depth : nullptr, fx, fy, fz, y);
     }
 
     void shRadiance(const Vec3d& x, Rgb out[9]) const override {
@@ -82,17 +74,9 @@ public:
             if (depthWeights_) volume_->readDepth(i, j, k, d[c]);
         }
         if (depthWeights_) {
-            int lo[3];
-            double frac[3];
-            query_detail::locateExact(grid_, x, outside_, lo, frac);
-            float w[8];
             const float* depth[8];
-            for (int c = 0; c < 8; ++c) {
-                w[c] = float(corners.weight[c]);
-                depth[c] = d[c];
-            }
-            query_detail::weightByDepth(w, depth, float(frac[0]), float(frac[1]), float(frac[2]));
-            for (int c = 0; c < 8; ++c) corners.weight[c] = w[c];
+            for (int c = 0; c < 8; ++c) depth[c] = d[c];
+            query_detail::weightCornersByDepth(corners, depth, grid_, x, outside_);
         }
         double sum[kFloatsPerNode] = {};
         for (int c = 0; c < 8; ++c) {
@@ -189,45 +173,23 @@ public:
         if (leafCulled(level, cell)) return Rgb(0, 0, 0);
         float p[8][kFloatsPerNode];
         float d[8][depth::kFloatsPerNode];
+        const float* corners[8];
         const float* depth[8];
         for (int c = 0; c < 8; ++c) {
             node(level, cell[0] + (c & 1), cell[1] + ((c >> 1) & 1), cell[2] + (c >> 2), p[c]);
             if (depthWeights_) volume_->readDepth(level, cell[0] + (c & 1), cell[1] + ((c >> 1) & 1), cell[2] + (c >> 2), d[c]);
+            corners[c] = p[c];
             depth[c] = d[c];
         }
-        // interpolate() of sh_levels_lookup.cpp.
-        const float fx = f[0], fy = f[1], fz = f[2];
-        const float wx[2] = {1 - fx, fx}, wy[2] = {1 - fy, fy}, wz[2] = {1 - fz, fz};
-        float weights[8];
-        for (int c = 0; c < 8; ++c) weights[c] = wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2];
-        if (depthWeights_) query_detail::weightByDepth(weights, depth, fx, fy, fz);
-        float interp[kFloatsPerNode] = {};
-        for (int c = 0; c < 8; ++c) {
-            const float w = weights[c];
-            for (int k = 0; k < kFloatsPerNode; ++k) interp[k] += w * p[c][k];
-        }
-        Rgb e{0, 0, 0};
-        for (int c = 0; c < sh::kCoeffs; ++c) e += Rgb(interp[3 * c], interp[3 * c + 1], interp[3 * c + 2]) * y[c];
-        return e;
+        // As ShLevelsLookup's interpolation (sh_levels_lookup.cpp).
+        return query_detail::interpolateShCorners(corners, depthWeights_ ? depth : nullptr, f[0], f[1], f[2], y);
     }
 
     void shRadiance(const Vec3d& x, Rgb out[9]) const override {
         const auto snap = [](double g) { return std::fabs(g - std::round(g)) < 1e-9 ? std::round(g) : g; };
-        const int dims[3] = {grid_.nx, grid_.ny, grid_.nz};
         int cell[3];
         double frac[3];
-        for (int a = 0; a < 3; ++a) {
-            double g = snap((x[a] - grid_.origin[a]) / grid_.spacing);
-            if (outside_ == OutsidePolicy::Throw && !(g >= -1e-4 && g <= dims[a] - 1 + 1e-4)) {
-                std::ostringstream s;
-                s << "point (" << x.x << ", " << x.y << ", " << x.z << ") is outside the volume";
-                throw ValueError(s.str());
-            }
-            if (!(g >= 0.0)) g = 0.0;
-            g = std::min(g, double(dims[a] - 1));
-            cell[a] = std::min(int(g), dims[a] - 2);
-            frac[a] = g - cell[a];
-        }
+        query_detail::locateExact(grid_, x, outside_, cell, frac);  // snapped onto nodes within 1e-9
         int level = 0;
         while (volume_->cellRefined(level, cell[0], cell[1], cell[2])) {
             ++level;

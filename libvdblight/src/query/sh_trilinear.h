@@ -1,4 +1,5 @@
-// The fast SH order-2 irradiance of a cell, shared by ShUniformLookup and ShLevelsLookup.
+// The fast SH order-2 irradiance of a cell, shared by ShUniformLookup, ShLevelsLookup and the
+// streamed lookups (sh_stream_lookup.cpp).
 // (Internal to the query module.)
 #pragma once
 
@@ -12,24 +13,17 @@ namespace vdblight::query_detail {
 
 constexpr int kShFloats = sh::kCoeffs * 3;
 
-/// Trilinear blend of the 8 nodes of a cell (base: the lower corner's 27 coefficients with the
-/// cosine-lobe constants folded in; sx, sy, sz: strides to the next node along x, y, z, in
-/// floats), then one 9-term dot product per channel with y = Y(n). `depthBase`: the lower
-/// corner's depth moments in an array of the same node order (depth::kFloatsPerNode floats
-/// per node) to weight the corners by (depth_weights.h), or null for plain trilinear.
-inline Rgb interpolateSh(const float* base, std::size_t sx, std::size_t sy, std::size_t sz, float fx, float fy, float fz,
-                         const float y[sh::kCoeffs], const float* depthBase = nullptr) {
-    const float* corners[8] = {base, base + sx, base + sy, base + sx + sy,
-                               base + sz, base + sx + sz, base + sy + sz, base + sx + sy + sz};
+/// Trilinear blend of the 8 corner nodes of a cell (corner c = x bit 0, y bit 1, z bit 2; each
+/// 27 coefficients with the cosine-lobe constants folded in), then one 9-term dot product per
+/// channel with y = Y(n). `depth`: the corners' depth moments (depth::kFloatsPerNode floats
+/// each) to weight them by (depth_weights.h), or null for plain trilinear. Every SH order-2
+/// lookup's fast path ends here, in memory or streamed, so all give the same bits.
+inline Rgb interpolateShCorners(const float* const corners[8], const float* const* depth, float fx, float fy, float fz,
+                                const float y[sh::kCoeffs]) {
     const float wx[2] = {1 - fx, fx}, wy[2] = {1 - fy, fy}, wz[2] = {1 - fz, fz};
     float weights[8];
     for (int c = 0; c < 8; ++c) weights[c] = wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2];
-    if (depthBase) {
-        const float* depth[8];
-        for (int c = 0; c < 8; ++c)
-            depth[c] = depthBase + std::size_t(corners[c] - base) / kShFloats * depth::kFloatsPerNode;
-        weightByDepth(weights, depth, fx, fy, fz);
-    }
+    if (depth) weightByDepth(weights, depth, fx, fy, fz);
     // Interpolate the 27 coefficients first, then one 9-term dot product per channel.
     float interp[kShFloats] = {};
     for (int c = 0; c < 8; ++c) {
@@ -40,6 +34,20 @@ inline Rgb interpolateSh(const float* base, std::size_t sx, std::size_t sy, std:
     Rgb e{0, 0, 0};
     for (int c = 0; c < sh::kCoeffs; ++c) e += Rgb(interp[3 * c], interp[3 * c + 1], interp[3 * c + 2]) * y[c];
     return e;
+}
+
+/// interpolateShCorners for a cell in a node array: base is the lower corner's coefficients,
+/// sx, sy, sz the strides to the next node along x, y, z, in floats. `depthBase`: the lower
+/// corner's depth moments in an array of the same node order, or null.
+inline Rgb interpolateSh(const float* base, std::size_t sx, std::size_t sy, std::size_t sz, float fx, float fy, float fz,
+                         const float y[sh::kCoeffs], const float* depthBase = nullptr) {
+    const float* corners[8] = {base, base + sx, base + sy, base + sx + sy,
+                               base + sz, base + sx + sz, base + sy + sz, base + sx + sy + sz};
+    const float* depth[8];
+    if (depthBase)
+        for (int c = 0; c < 8; ++c)
+            depth[c] = depthBase + std::size_t(corners[c] - base) / kShFloats * depth::kFloatsPerNode;
+    return interpolateShCorners(corners, depthBase ? depth : nullptr, fx, fy, fz, y);
 }
 
 }  // namespace vdblight::query_detail

@@ -75,17 +75,9 @@ void ShUniformLookup::shRadiance(const Vec3d& x, Rgb out[9]) const {
     // node's position returns exactly that node (export relies on it); accumulated in double.
     query_detail::TrilinearCorners corners = query_detail::trilinearCorners(grid_, x, outside_);
     if (depthWeights_) {
-        int lo[3];
-        double frac[3];
-        query_detail::locateExact(grid_, x, outside_, lo, frac);
-        float w[8];
         const float* depth[8];
-        for (int c = 0; c < 8; ++c) {
-            w[c] = float(corners.weight[c]);
-            depth[c] = depth_.data() + corners.node[c] * depth::kFloatsPerNode;
-        }
-        query_detail::weightByDepth(w, depth, float(frac[0]), float(frac[1]), float(frac[2]));
-        for (int c = 0; c < 8; ++c) corners.weight[c] = w[c];
+        for (int c = 0; c < 8; ++c) depth[c] = depth_.data() + corners.node[c] * depth::kFloatsPerNode;
+        query_detail::weightCornersByDepth(corners, depth, grid_, x, outside_);
     }
     double sum[kFloatsPerNode] = {};
     for (int c = 0; c < 8; ++c) {
