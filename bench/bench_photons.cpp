@@ -29,13 +29,14 @@
 #include "vdblight/query.h"
 #include "vdblight/reference.h"
 #include "vdblight/scene.h"
-#include "vdblight/scene_generators.h"
 #include "vdblight/trace.h"
 #include "vdblight/vector_grid_lookup.h"
 #include "vdblight/volume_compact.h"
 #include "bench_args.h"
 #include "bench_scenes.h"
 #include "bench_util.h"
+
+#include "support/scene_generators.h"
 
 using namespace vdblight;
 using bench::now;

@@ -17,10 +17,11 @@
 #include "vdblight/bake_levels.h"
 #include "vdblight/layout_levels.h"
 #include "vdblight/light.h"
-#include "vdblight/office_scene.h"
 #include "vdblight/sampling.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
+
+#include "support/office_scene.h"
 
 using namespace vdblight;
 

@@ -20,9 +20,10 @@
 #include "vdblight/radical_inverse_fast.h"
 #include "vdblight/sampling.h"
 #include "vdblight/scene.h"
-#include "vdblight/scene_generators.h"
 #include "vdblight/trace.h"
 #include "vdblight/vector_grid_lookup.h"
+
+#include "support/scene_generators.h"
 
 using namespace vdblight;
 
