@@ -48,6 +48,7 @@
 #include <unistd.h>
 
 #include "../libvdblight/src/bake/surface_cache.h"  // --probe-study: the probe pass's own cache
+#include "../libvdblight/src/query/sh_uniform_lookup.h"  // internal: ShUniformLookup
 #include "accuracy_scenes.h"
 #include "bench_args.h"
 #include "bench_util.h"

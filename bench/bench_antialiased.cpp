@@ -47,6 +47,7 @@
 #include "vdblight/sh.h"
 #include "vdblight/trace.h"
 #include "vdblight/vdb_io.h"
+#include "../libvdblight/src/bake/project_incident.h"  // internal: projectIncidentRadiance
 
 #include "support/leak_scenes.h"
 

@@ -39,6 +39,8 @@
 #include "vdblight/sh.h"
 #include "vdblight/solid_cull.h"
 #include "vdblight/trace.h"
+#include "../libvdblight/src/bake/bins_gather.h"  // internal: gatherBinRadiance
+#include "../libvdblight/src/bake/project_incident.h"  // internal: projectIncidentRadiance
 
 #include "support/office_scene.h"
 

@@ -34,6 +34,7 @@
 #include "vdblight/reference.h"
 #include "vdblight/sh.h"
 #include "vdblight/trace.h"
+#include "../libvdblight/src/bake/project_incident.h"  // internal: projectIncidentRadiance
 
 #include "support/leak_scenes.h"
 #include "support/scene_generators.h"

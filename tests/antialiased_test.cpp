@@ -17,6 +17,8 @@
 #include "vdblight/sh.h"
 #include "vdblight/trace.h"
 #include "vdblight/vdb_io.h"
+#include "../libvdblight/src/bake/domain_classification.h"  // internal: classifyCell
+#include "../libvdblight/src/bake/project_incident.h"  // internal: projectIncidentRadiance
 
 #include "support/leak_scenes.h"
 #include "support/scene_generators.h"

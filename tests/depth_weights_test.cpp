@@ -22,6 +22,7 @@
 #include "vdblight/sampling.h"
 #include "vdblight/trace.h"
 #include "vdblight/vdb_io.h"
+#include "../libvdblight/src/query/sh_uniform_lookup.h"  // internal: ShUniformLookup
 
 #include "support/scene_generators.h"
 

@@ -13,12 +13,20 @@ cmake --install "$BUILD" --prefix "$TMP/prefix" >"$TMP/install.log"
 test -f "$TMP/prefix/include/vdblight/vdblight.h" || { echo "FAIL: vdblight.h not installed"; exit 1; }
 test -f "$TMP/prefix/lib/cmake/vdblight/vdblightConfig.cmake" || { echo "FAIL: no package config installed"; exit 1; }
 # Test scenes and internals are not part of the installed API (docs/architecture.md).
-for h in leak_scenes.h office_scene.h scene_generators.h; do
+for h in leak_scenes.h office_scene.h scene_generators.h radical_inverse_fast.h node_least_squares.h pca.h \
+         face_crossing.h project_incident.h domain_classification.h bins_gather.h sh_uniform_lookup.h random_rays.h; do
   if [ -e "$TMP/prefix/include/vdblight/$h" ]; then echo "FAIL: $h is installed: not part of the public API"; exit 1; fi
 done
 if find "$TMP/prefix" -name '*test_scenes*' | grep -q .; then
   echo "FAIL: the test scenes' library is installed"; exit 1
 fi
+# ... nor are the internals that used to sit in public headers.
+for symbol in traceRandomRays forEachFaceCrossing projectIncidentRadiance classifyCell gatherBinRadiance \
+              lambertContour ShUniformLookup radicalInverseFast fitPca; do
+  if grep -rhw -- "$symbol" "$TMP/prefix/include/vdblight" | grep -qv '^ *//'; then  # comments may name them
+    echo "FAIL: the installed headers declare $symbol (internal)"; exit 1
+  fi
+done
 # The example must build from the installed prefix alone: no path into the source tree.
 cmake -S "$SRC/examples" -B "$TMP/examples" -DCMAKE_PREFIX_PATH="$TMP/prefix" -DCMAKE_BUILD_TYPE=Release >"$TMP/configure.log" \
     || { cat "$TMP/configure.log"; echo "FAIL: configuring examples/ against the installed package"; exit 1; }

@@ -9,7 +9,6 @@
 #include "prt_fixtures.h"
 #include "test_util.h"
 #include "vdblight/errors.h"
-#include "vdblight/pca.h"
 #include "vdblight/prt.h"
 #include "vdblight/prt_io.h"
 #include "vdblight/sampling.h"
@@ -17,6 +16,7 @@
 #include "vdblight/vdb_io.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
+#include "../libvdblight/src/prt/pca.h"  // internal: fitPca, pcaProject, pcaReconstruct
 
 #include "support/office_scene.h"
 #include "support/scene_generators.h"

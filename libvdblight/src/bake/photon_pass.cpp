@@ -14,13 +14,14 @@
 #include <vector>
 
 #include "core/parallel_for.h"
+#include "face_crossing.h"
 #include "pass_metadata.h"
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
 #include "vdblight/irradiance_vectors.h"
 #include "vdblight/photon_emitter.h"
 #include "vdblight/photons.h"
-#include "vdblight/radical_inverse_fast.h"
+#include "sampling/radical_inverse_fast.h"
 #include "vdblight/sampling.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
