@@ -70,7 +70,7 @@ struct BakeRequest {
     std::optional<double> invalidateBackface;  ///< point gather with back-face invalidation
     std::string domain;                    ///< antialiased: all | interior (default)
     std::string fit;                       ///< antialiased: projection (default) | least-squares
-    uint64_t photons = 1'000'000;          ///< photons: emitted in total
+    std::optional<uint64_t> photons;       ///< photons: emitted in total (default 4 M; --quality preview 1 M)
     bool compact = false;                  ///< photons: the compact colour + direction form
     bool shWindow = false;                 ///< SH passes: window the bands (sh_window.h)
 

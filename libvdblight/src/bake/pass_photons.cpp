@@ -28,8 +28,11 @@ public:
 }  // namespace
 
 std::vector<PassOption> PhotonsPass::options() const {
-    PassOption photons = describeOption("photons", "photons emitted in total", "1000000", 1, double(kMaxPhotons));
-    photons.number = [](const BakeRequest& r) -> std::optional<double> { return double(r.photons); };
+    PassOption photons = describeOption("photons", "photons emitted in total", "4000000 (--quality preview: 1000000)", 1,
+                                        double(kMaxPhotons));
+    photons.number = [](const BakeRequest& r) -> std::optional<double> {
+        return r.photons ? std::optional<double>(double(*r.photons)) : std::nullopt;
+    };
     photons.setNumber = [](BakeRequest& r, double v) { r.photons = uint64_t(v); };
     photons.setText = [](BakeRequest& r, const std::string& text) {
         r.photons = parseOptionValue<uint64_t>("photons", text);
@@ -42,7 +45,7 @@ std::vector<PassOption> PhotonsPass::options() const {
 
 void PhotonsPass::validate(const BakeRequest& request) const {
     try {
-        checkPhotonCount(request.photons);  // its message says how long too many would take
+        if (request.photons) checkPhotonCount(*request.photons);  // its message says how long too many would take
     } catch (const ValueError& e) {
         throw ValueError(std::string("--photons: ") + e.what());
     }
@@ -60,7 +63,7 @@ std::string PhotonsPass::untileable(const BakeRequest&) const {
 
 Volume PhotonsPass::run(const BakeContext& c, const BakeRequest& r, const GridSpec& grid, BakeReport& report) const {
     PhotonOptions options;
-    options.photons = r.photons;
+    options.photons = *r.photons;  // resolveBakeRequest sets the default
     options.seed = c.seed;
     options.threads = c.threads;
     options.transport = c.transport;

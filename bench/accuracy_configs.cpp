@@ -1,0 +1,90 @@
+// vdblight_bench_accuracy: the table of methods and modes it measures. A new method or mode
+// is one entry here.
+#include "accuracy.h"
+
+#include "vdblight/bake.h"
+
+namespace vdblight::accuracy {
+
+/// The table of methods and modes. Resolutions and budgets are the full run's; --quick
+/// scales them down (Settings::res / rays / photons).
+std::vector<Config> configurations() {
+    std::vector<Config> v;
+    // What `vdblight bake SCENE -o OUT` does with no other option (bake/bake_request.cpp, --quality
+    // default; keep this in step with its qualityPreset): --direct occlusion (baked in a scene
+    // without lights), about 16384 nodes in the scene box (node_budget.h), 768 rays of full
+    // paths + one probe-to-probe pass of 768, depth moments from the gather's own first hits
+    // and depth-weighted lookups. --quick: 1/8 of the nodes, 1/16 of the rays.
+    v.push_back({"default", "vdblight bake SCENE -o OUT (--quality default: ~16384 nodes, 768 rays + 1 probe pass, "
+                            "depth moments, --direct occlusion)",
+                 [](const Ctx& c) { return tryBake(c, parseTry("nodes=16384,rays=768,passes=1,depth=1")); }, true});
+    // The default with the light visibility interpolated trilinearly (as before issue 15 item 2).
+    v.push_back({"default_vis_trilinear", "the default bake, light visibility looked up trilinearly (not depth-weighted)",
+                 [](const Ctx& c) {
+                     const double t0 = bench::now();
+                     std::string note;
+                     Volume vol = tryVolume(c, parseTry("nodes=16384,rays=768,passes=1,depth=1"), note);
+                     const double t = bench::now() - t0;
+                     const uint64_t nodes = vol.levels[0].grid.nodeCount();
+                     return fromVolumeVisibilityTrilinear(std::move(vol), t, nodes);
+                 }});
+    // The default before this choice (issue 15 merges): 16 nodes on the longest axis, 256 rays
+    // + one probe pass, no depth moments.
+    v.push_back({"default_16_256", "16 nodes, 256 rays + 1 probe pass, --direct occlusion (the default before)",
+                 [](const Ctx& c) { return tryBake(c, parseTry("res=16,rays=256,passes=1")); }});
+    for (const auto& [mode, name] : {std::pair{DirectMode::Baked, "baked"}, std::pair{DirectMode::Runtime, "runtime"},
+                                     std::pair{DirectMode::Occlusion, "occlusion"}})
+        v.push_back({std::string("direct_") + name, std::string("--direct ") + name + ", 16 nodes, 256 rays",
+                     [mode = mode](const Ctx& c) { return directGather(c, c.settings.res(16), c.settings.rays(256), mode); }});
+    for (const uint32_t rays : {64u, 1024u})
+        v.push_back({"point_16_" + std::to_string(rays), "point gather, 16 nodes, " + std::to_string(rays) + " rays",
+                     [rays](const Ctx& c) { return pointGather(c, c.settings.res(16), c.settings.rays(rays)); },
+                     rays == 1024});
+    v.push_back({"point_16_1024_depth", "point gather, 16 nodes, 1024 rays, --depth-moments (weighted lookup)",
+                 [](const Ctx& c) { return pointGather(c, c.settings.res(16), c.settings.rays(1024), 0, true); }});
+    v.push_back({"point_32_256", "point gather, 32 nodes, 256 rays",
+                 [](const Ctx& c) { return pointGather(c, c.settings.res(32), c.settings.rays(256)); }});
+    v.push_back({"preview", "--quality preview: 16 nodes, 256 rays of full paths, no probe pass, no depth moments, "
+                            "--direct occlusion",
+                 [](const Ctx& c) { return tryBake(c, parseTry("res=16,rays=256,passes=0")); }});
+    v.push_back({"probe_32_128", "--resolution 32 --rays 128 --probe-passes 1 (issue 15)",
+                 [](const Ctx& c) {
+                     GatherOptions g;
+                     g.raysPerNode = c.settings.rays(128);
+                     g.probePasses = 1;
+                     g.seed = c.seed;
+                     g.threads = c.settings.threads;
+                     const double t0 = bench::now();
+                     Volume vol = bakeShGather(c.scene, c.tracer, gridFor(c.scene, c.settings.res(32)), g);
+                     const double t = bench::now() - t0;
+                     const uint64_t nodes = vol.levels[0].grid.nodeCount();
+                     return fromVolume(std::move(vol), t, nodes);
+                 }});
+    v.push_back({"antialiased", "--sampling antialiased (interior), 16 nodes, 256 rays/cell",
+                 [](const Ctx& c) { return antialiased(c, c.settings.res(16), c.settings.rays(256), NodeFit::Projection); }});
+    v.push_back({"antialiased_lsq", "--sampling antialiased --fit least-squares, 16 nodes, 256 rays/cell",
+                 [](const Ctx& c) { return antialiased(c, c.settings.res(16), c.settings.rays(256), NodeFit::LeastSquares); }});
+    v.push_back({"adaptive", "--layout adaptive --levels 3 --refine 2, 16 nodes, 128 rays",
+                 [](const Ctx& c) { return adaptiveLayout(c, c.settings.res(16), c.settings.rays(128), 3, 2); }});
+    v.push_back({"adaptive_depth", "--layout adaptive --levels 3 --refine 2 --depth-moments, 16 nodes, 128 rays",
+                 [](const Ctx& c) { return adaptiveLayout(c, c.settings.res(16), c.settings.rays(128), 3, 2, true); }});
+    v.push_back({"target_0.03", "--target-error 0.03 --max-rays 2048, 16 nodes",
+                 [](const Ctx& c) { return targetError(c, c.settings.res(16), 0.03, c.settings.rays(2048)); }});
+    v.push_back({"photons", "--method photons --photons 4000000, 16 nodes",
+                 [](const Ctx& c) { return photons(c, c.settings.res(16), c.settings.photons(4'000'000)); }, true});
+    v.push_back({"photons_1M", "--method photons --photons 1000000, 16 nodes",
+                 [](const Ctx& c) { return photons(c, c.settings.res(16), c.settings.photons(1'000'000)); }});
+    v.push_back({"photons_16k", "--method photons --photons 4000000 on the default's grid (~16384 nodes)",
+                 [](const Ctx& c) { return photons(c, 0, c.settings.photons(4'000'000)); }, true});
+    v.push_back({"photons_16k_1M", "--method photons --photons 1000000 on the default's grid (~16384 nodes): "
+                                   "what `bake --method photons` does by default",
+                 [](const Ctx& c) { return photons(c, 0, c.settings.photons(1'000'000)); }, true});
+    v.push_back({"photons_paper", "--method photons --photons 4000000, 16 nodes, read with query --iv-blend paper "
+                                  "(the lookup before issue 15 item 5)",
+                 [](const Ctx& c) { return photons(c, c.settings.res(16), c.settings.photons(4'000'000), 0, iv::Blend::Paper); }});
+    v.push_back({"bins_11", "--basis bins:11 (242 bins, 1 ray each), 16 nodes",
+                 [](const Ctx& c) { return binsBake(c, c.settings.res(16), c.settings.quick ? 3 : 11); }});
+    return v;
+}
+
+}  // namespace vdblight::accuracy
