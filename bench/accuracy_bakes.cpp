@@ -22,6 +22,8 @@
 #include "vdblight/vdb_io.h"
 #include "vdblight/vector_grid_lookup.h"
 
+#include "../libvdblight/src/query/sh_uniform_lookup.h"  // internal: ShUniformLookup
+
 namespace vdblight::accuracy {
 
 namespace {

@@ -15,9 +15,10 @@
 #include <string>
 #include <vector>
 
-#include "vdblight/office_scene.h"
 #include "vdblight/scene.h"
-#include "vdblight/scene_generators.h"
+
+#include "support/office_scene.h"
+#include "support/scene_generators.h"
 
 namespace vdblight::bench {
 

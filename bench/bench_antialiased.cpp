@@ -42,12 +42,14 @@
 
 #include "bench_args.h"
 #include "vdblight/bake_antialiased.h"
-#include "vdblight/leak_scenes.h"
 #include "vdblight/query.h"
 #include "vdblight/reference.h"
 #include "vdblight/sh.h"
 #include "vdblight/trace.h"
 #include "vdblight/vdb_io.h"
+#include "../libvdblight/src/bake/project_incident.h"  // internal: projectIncidentRadiance
+
+#include "support/leak_scenes.h"
 
 using namespace vdblight;
 

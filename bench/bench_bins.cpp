@@ -22,6 +22,7 @@
 #include "vdblight/sampling.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
+#include "../libvdblight/src/query/sh_uniform_lookup.h"  // internal: ShUniformLookup
 #include "bench_args.h"
 #include "bench_util.h"
 

@@ -28,11 +28,12 @@
 #include "vdblight/bake.h"
 #include "vdblight/bake_adaptive.h"
 #include "vdblight/scene.h"
-#include "vdblight/scene_generators.h"
 #include "vdblight/trace.h"
 #include "bench_args.h"
 #include "bench_scenes.h"
 #include "bench_util.h"
+
+#include "support/scene_generators.h"
 
 using namespace vdblight;
 

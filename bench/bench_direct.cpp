@@ -24,13 +24,14 @@
 #include "bench_util.h"
 #include "vdblight/bake.h"
 #include "vdblight/bake_direct.h"
-#include "vdblight/office_scene.h"
 #include "vdblight/query.h"
 #include "vdblight/reference.h"
 #include "vdblight/scene.h"
-#include "vdblight/scene_generators.h"
 #include "vdblight/scene_lights.h"
 #include "vdblight/trace.h"
+
+#include "support/office_scene.h"
+#include "support/scene_generators.h"
 
 using namespace vdblight;
 

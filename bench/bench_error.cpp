@@ -40,12 +40,13 @@
 #include "vdblight/bake_bins.h"
 #include "vdblight/bake_levels.h"
 #include "vdblight/layout_levels.h"
-#include "vdblight/leak_scenes.h"
 #include "vdblight/photons.h"
 #include "vdblight/query.h"
 #include "vdblight/reference.h"
 #include "vdblight/trace.h"
 #include "vdblight/vdb_io.h"
+
+#include "support/leak_scenes.h"
 
 using namespace vdblight;
 namespace fs = std::filesystem;

@@ -16,11 +16,13 @@
 #include "vdblight/bake.h"
 #include "vdblight/query.h"
 #include "vdblight/scene.h"
-#include "vdblight/scene_generators.h"
 #include "vdblight/trace.h"
+#include "../libvdblight/src/trace/random_rays.h"  // internal: traceRandomRays, the raw Embree probe
 #include "bench_args.h"
 #include "bench_scenes.h"
 #include "bench_util.h"
+
+#include "support/scene_generators.h"
 
 using namespace vdblight;
 using bench::now;
@@ -36,7 +38,7 @@ double rawRaysPerSecond(const Tracer& tracer, const Bounds& box, std::size_t tot
         const double t0 = now();
         arena.execute([&] {
             tbb::parallel_for(0, threads, [&](int w) {
-                hits += tracer.traceRandomRays(box, total / threads, uint64_t(r) * 1000 + w, occlusion);
+                hits += traceRandomRays(tracer, box, total / threads, uint64_t(r) * 1000 + w, occlusion);
             });
         });
         const double dt = now() - t0;

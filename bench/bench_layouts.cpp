@@ -32,7 +32,6 @@
 #include "vdblight/bins_lookup.h"
 #include "vdblight/light.h"
 #include "vdblight/errors.h"
-#include "vdblight/office_scene.h"
 #include "vdblight/query_levels.h"
 #include "vdblight/reference.h"
 #include "vdblight/sampling.h"
@@ -40,6 +39,10 @@
 #include "vdblight/sh.h"
 #include "vdblight/solid_cull.h"
 #include "vdblight/trace.h"
+#include "../libvdblight/src/bake/bins_gather.h"  // internal: gatherBinRadiance
+#include "../libvdblight/src/bake/project_incident.h"  // internal: projectIncidentRadiance
+
+#include "support/office_scene.h"
 
 using namespace vdblight;
 

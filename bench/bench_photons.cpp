@@ -29,13 +29,15 @@
 #include "vdblight/query.h"
 #include "vdblight/reference.h"
 #include "vdblight/scene.h"
-#include "vdblight/scene_generators.h"
 #include "vdblight/trace.h"
 #include "vdblight/vector_grid_lookup.h"
 #include "vdblight/volume_compact.h"
+#include "../libvdblight/src/trace/random_rays.h"  // internal: traceRandomRays, the raw Embree probe
 #include "bench_args.h"
 #include "bench_scenes.h"
 #include "bench_util.h"
+
+#include "support/scene_generators.h"
 
 using namespace vdblight;
 using bench::now;
@@ -58,7 +60,7 @@ Rate rawRaysPerSecond(const Tracer& tracer, const Bounds& box, std::size_t total
     std::atomic<std::size_t> hits{0};
     const double t0 = now(), c0 = cpuNow();
     arena.execute([&] {
-        tbb::parallel_for(0, threads, [&](int w) { hits += tracer.traceRandomRays(box, total / threads, uint64_t(w) + 1); });
+        tbb::parallel_for(0, threads, [&](int w) { hits += traceRandomRays(tracer, box, total / threads, uint64_t(w) + 1); });
     });
     const double dt = now() - t0, dc = cpuNow() - c0;
     if (hits == std::size_t(-1)) std::puts("");

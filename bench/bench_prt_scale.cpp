@@ -18,11 +18,12 @@
 #include <vector>
 
 #include "bench_args.h"
-#include "vdblight/office_scene.h"
 #include "vdblight/prt.h"
 #include "vdblight/prt_io.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
+
+#include "support/office_scene.h"
 
 using namespace vdblight;
 

@@ -5,7 +5,8 @@
 
 #include "vdblight/sampling.h"
 #include "vdblight/scene.h"
-#include "vdblight/scene_generators.h"
+
+#include "support/scene_generators.h"
 
 namespace vdblight::bench {
 

@@ -23,12 +23,13 @@
 #include "bench_util.h"
 #include "vdblight/bake.h"
 #include "vdblight/bake_adaptive.h"
-#include "vdblight/leak_scenes.h"
-#include "vdblight/office_scene.h"
 #include "vdblight/query.h"
 #include "vdblight/reference.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
+
+#include "support/leak_scenes.h"
+#include "support/office_scene.h"
 
 using namespace vdblight;
 namespace fs = std::filesystem;

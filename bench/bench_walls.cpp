@@ -30,12 +30,14 @@
 #include "vdblight/bake_depth.h"
 #include "vdblight/bake_levels.h"
 #include "vdblight/layout_levels.h"
-#include "vdblight/leak_scenes.h"
 #include "vdblight/query.h"
 #include "vdblight/reference.h"
-#include "vdblight/scene_generators.h"
 #include "vdblight/sh.h"
 #include "vdblight/trace.h"
+#include "../libvdblight/src/bake/project_incident.h"  // internal: projectIncidentRadiance
+
+#include "support/leak_scenes.h"
+#include "support/scene_generators.h"
 
 using namespace vdblight;
 namespace fs = std::filesystem;

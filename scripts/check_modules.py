@@ -15,12 +15,20 @@ Which file belongs to which module:
   - a public header libvdblight/include/vdblight/x.h: the one table row listing `x.h`.
 A module listed in the table with no CMake target is header-only (no sources allowed).
 
+Test-support libraries (tests/support/, e.g. the test scenes): a row of the same table, whose
+target is an `add_library(vdblight_<name> ...)` in tests/support/CMakeLists.txt (sources
+relative to that folder, links from its `target_link_libraries`) and whose headers are
+listed as included, `support/x.h` (relative to tests/). Their edges are checked like the
+library's; in addition no library module may include one of their headers or list one as a
+dependency (the library must not need its tests' scenes).
+
 The check fails (exit 1, one line per problem) on:
   - a cycle among the module edges found in the includes;
   - an edge found in the includes that the table does not list (with the file and line);
   - an edge the table lists that no include uses (the table must draw the real graph);
   - a public header in no row or in two rows, a listed header that does not exist, a source
     file in no module, a quoted include that resolves to no file;
+  - a library module that includes a test-support header or lists a test-support module;
   - a CMake target whose vdblight_* link dependencies differ from the table's edges to
     modules that have a target (each module links exactly what it may include; header-only
     modules need no link).
@@ -83,13 +91,20 @@ def split_cmake_calls(text, name):
     return calls
 
 
-def parse_cmake(cmake_path):
-    """Returns ({module: [source paths relative to libvdblight/]}, {module: set(link deps)})."""
+def parse_cmake(cmake_path, module_call="vdblight_module"):
+    """Returns ({module: [source paths relative to the file's folder]}, {module: set(link deps)}).
+
+    module_call: "vdblight_module" (libvdblight/CMakeLists.txt) or "add_library" (a
+    test-support library: `add_library(vdblight_<name> STATIC sources...)`)."""
     with open(cmake_path, encoding="utf-8") as f:
         text = f.read()
     sources, links = {}, {}
     keywords = {"SOURCES", "DEPS", "PUBLIC", "PRIVATE", "INTERFACE"}
-    for args in split_cmake_calls(text, "vdblight_module"):
+    for args in split_cmake_calls(text, module_call):
+        if module_call == "add_library":
+            if not args or not args[0].startswith("vdblight_"):
+                continue
+            args = [args[0][len("vdblight_"):], "SOURCES"] + [a for a in args[1:] if a not in ("STATIC", "OBJECT")]
         module, mode = args[0], None
         sources.setdefault(module, [])
         links.setdefault(module, set())
@@ -146,13 +161,25 @@ def find_cycle(edges):
 def check(root):
     """Returns (edges, errors): edges {(a, b): [(file, line), ...]} found in the includes."""
     errors = []
+    root = os.path.abspath(root)
     lib = os.path.join(root, "libvdblight")
     src = os.path.join(lib, "src")
     public = os.path.join(lib, "include", "vdblight")
+    support = os.path.join(root, "tests", "support")  # test-support libraries, included as "support/x.h"
     doc = os.path.join(root, "docs", "architecture.md")
     rows = parse_table(doc, errors)
     modules = set(rows)
     sources, links = parse_cmake(os.path.join(lib, "CMakeLists.txt"))
+    source_dir = {m: lib for m in sources}
+    test_support = set()
+    if os.path.isfile(os.path.join(support, "CMakeLists.txt")):
+        support_sources, support_links = parse_cmake(os.path.join(support, "CMakeLists.txt"), "add_library")
+        for m in support_sources:
+            if m in sources:
+                errors.append(f"tests/support/CMakeLists.txt: vdblight_{m} is also a target of libvdblight/CMakeLists.txt")
+                continue
+            test_support.add(m)
+            sources[m], links[m], source_dir[m] = support_sources[m], support_links[m], support
 
     # Allowed edges from the table.
     allowed = {m: set() for m in modules}
@@ -164,18 +191,25 @@ def check(root):
                 allowed[m].add(token)
             elif ticked:
                 errors.append(f"{doc}:{number}: '{m}' depends on `{token}`, which is no module of the table")
+            if token in test_support and m not in test_support:
+                errors.append(f"{doc}:{number}: library module '{m}' lists the test-support module '{token}'")
 
     owner = {}  # absolute path -> module
     for m, files in sources.items():
         if m not in modules:
             errors.append(f"libvdblight/CMakeLists.txt: target vdblight_{m} is not a module of docs/architecture.md's table")
         for rel in files:
-            owner[os.path.normpath(os.path.join(lib, rel))] = m
+            owner[os.path.normpath(os.path.join(source_dir[m], rel))] = m
     for m, row in rows.items():
         for h in row["headers"]:
-            path = os.path.normpath(os.path.join(public, h))
+            if m in test_support:
+                path = os.path.normpath(os.path.join(root, "tests", h))
+                where = "tests/ (a test-support header is listed as included: support/x.h)"
+            else:
+                path = os.path.normpath(os.path.join(public, h))
+                where = "libvdblight/include/vdblight/"
             if not os.path.isfile(path):
-                errors.append(f"{doc}:{row['line']}: module '{m}' lists `{h}`, which is not in libvdblight/include/vdblight/")
+                errors.append(f"{doc}:{row['line']}: module '{m}' lists `{h}`, which is not in {where}")
             elif path in owner:
                 errors.append(f"{doc}: public header {h} is listed by both '{owner[path]}' and '{m}'")
             else:
@@ -190,6 +224,10 @@ def check(root):
         for n in sorted(names):
             if n.endswith(HEADER_EXT):
                 files.append(os.path.normpath(os.path.join(d, n)))
+    for d, _, names in os.walk(support):
+        for n in sorted(names):
+            if n.endswith(SOURCE_EXT) or n.endswith(HEADER_EXT):
+                files.append(os.path.normpath(os.path.join(d, n)))
     files.sort()
     for path in files:
         rel = os.path.relpath(path, root)
@@ -197,6 +235,11 @@ def check(root):
             continue
         if path.startswith(public + os.sep):
             errors.append(f"{rel}: public header in no row of docs/architecture.md's module table")
+            continue
+        if path.startswith(support + os.sep):
+            errors.append(f"{rel}: " + ("compiled by no add_library(vdblight_<name> ...) in tests/support/CMakeLists.txt"
+                                        if path.endswith(SOURCE_EXT) else
+                                        "test-support header in no row of docs/architecture.md's module table"))
             continue
         folder = os.path.relpath(path, src).split(os.sep)[0]
         if path.endswith(SOURCE_EXT):
@@ -228,6 +271,8 @@ def check(root):
                 candidates = [os.path.join(lib, "include", name)]
                 if quote == '"':
                     candidates += [os.path.join(os.path.dirname(path), name), os.path.join(src, name)]
+                    if name.startswith("support/"):
+                        candidates.append(os.path.join(root, "tests", name))
                 target = next((os.path.normpath(c) for c in candidates if os.path.isfile(c)), None)
                 if target is None:
                     if quote == '"' or name.startswith("vdblight/"):
@@ -236,6 +281,9 @@ def check(root):
                 b = owner.get(target)
                 if b is None or b == a:
                     continue
+                if b in test_support and a not in test_support:
+                    errors.append(f"{os.path.relpath(path, root)}:{number}: library module '{a}' includes the "
+                                  f"test-support header \"{name}\" (test scenes are for tests and benchmarks only)")
                 edges.setdefault((a, b), []).append((os.path.relpath(path, root), number))
 
     found = {}
@@ -256,15 +304,18 @@ def check(root):
         for b in sorted(allowed[a]):
             if (a, b) not in edges:
                 errors.append(f"docs/architecture.md lists {a} -> {b}, but no file of {a} includes a header of {b}")
+    def cmake_name(m):
+        return "tests/support/CMakeLists.txt" if m in test_support else "libvdblight/CMakeLists.txt"
+
     for a in sorted(sources):
         if a not in allowed:
             continue
         want = {b for b in allowed[a] if b in sources}
         have = links.get(a, set())
         for b in sorted(have - want):
-            errors.append(f"libvdblight/CMakeLists.txt: vdblight_{a} links vdblight_{b}, an edge docs/architecture.md does not list")
+            errors.append(f"{cmake_name(a)}: vdblight_{a} links vdblight_{b}, an edge docs/architecture.md does not list")
         for b in sorted(want - have):
-            errors.append(f"libvdblight/CMakeLists.txt: vdblight_{a} does not link vdblight_{b} (docs/architecture.md: {a} depends on {b})")
+            errors.append(f"{cmake_name(a)}: vdblight_{a} does not link vdblight_{b} (docs/architecture.md: {a} depends on {b})")
     return edges, errors
 
 

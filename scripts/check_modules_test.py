@@ -3,7 +3,8 @@
 injected problem (a cycle, an edge docs/architecture.md does not list, a listed edge no
 include uses, a header in no row, a link CMake declares but the table does not, a source in
 no target) must make it fail with the matching message. Also: a `core` module with sources,
-listed in the table and linked, is accepted. Only the standard library."""
+listed in the table and linked, is accepted; the test scenes (tests/support) are checked like
+a module, and a library module that includes or lists them fails. Only the standard library."""
 import os
 import re
 import shutil
@@ -26,6 +27,7 @@ class ModuleCheck(unittest.TestCase):
         shutil.copy(os.path.join(ROOT, "libvdblight", "CMakeLists.txt"), os.path.join(self.tmp, "libvdblight"))
         for d in ("include", "src"):
             shutil.copytree(os.path.join(ROOT, "libvdblight", d), os.path.join(self.tmp, "libvdblight", d))
+        shutil.copytree(os.path.join(ROOT, "tests", "support"), os.path.join(self.tmp, "tests", "support"))
 
     def tearDown(self):
         shutil.rmtree(self.tmp)
@@ -135,6 +137,29 @@ class ModuleCheck(unittest.TestCase):
         # ... and core must not reach back up.
         self.append("libvdblight/src/core/atomic_file.cpp", '#include "vdblight/volume.h"\n')
         self.assertFailsWith(r"^cycle between modules: .*core.*volume|^cycle between modules: .*volume.*core")
+
+    def test_library_including_a_test_scene_fails(self):
+        # The test scenes (tests/support) are for tests and benchmarks: no library module may use them.
+        edges, errors = check_modules.check(self.tmp)
+        self.assertEqual(errors, [])
+        self.assertIn(("test_scenes", "scene"), edges)
+        self.append("libvdblight/src/scene/scene.cpp", '\n#include "support/office_scene.h"\n')
+        errors = self.assertFailsWith(r"src/scene/scene.cpp:\d+: library module 'scene' includes the test-support header")
+        self.assertTrue(any(e.startswith("cycle between modules") for e in errors), errors)  # scene <-> test_scenes
+
+    def test_library_listing_a_test_support_module_fails(self):
+        self.set_deps("bake", self.deps_cell("bake") + ", `test_scenes`")
+        self.assertFailsWith(r"library module 'bake' lists the test-support module 'test_scenes'")
+
+    def test_test_scenes_edges_are_checked(self):
+        # An include the row does not list fails, as in the library; so does a header in no row
+        # and a link that differs from the table.
+        self.append("tests/support/office_scene.cpp", '\n#include "vdblight/trace.h"\n')
+        self.assertFailsWith(r"^edge test_scenes -> trace is not listed .*tests/support/office_scene.cpp")
+        self.append("tests/support/new_scene.h", "#pragma once\n")
+        self.assertFailsWith(r"tests/support/new_scene.h: test-support header in no row")
+        self.edit("tests/support/CMakeLists.txt", "PUBLIC vdblight_core", "PUBLIC vdblight_core vdblight_bake")
+        self.assertFailsWith(r"tests/support/CMakeLists.txt: vdblight_test_scenes links vdblight_bake")
 
     def test_find_cycle_on_fake_edges(self):
         self.assertIsNone(check_modules.find_cycle({"a": {"b"}, "b": {"c"}, "c": set()}))

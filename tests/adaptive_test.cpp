@@ -14,6 +14,7 @@
 #include "vdblight/scene.h"
 #include "vdblight/sh.h"
 #include "vdblight/trace.h"
+#include "../libvdblight/src/bake/project_incident.h"  // internal: projectIncidentRadiance
 
 using namespace vdblight;
 

@@ -4,9 +4,10 @@
 
 #include "vdblight/bake_antialiased.h"
 #include "vdblight/scene.h"
-#include "vdblight/scene_generators.h"
 #include "vdblight/sh.h"
 #include "vdblight/trace.h"
+
+#include "support/scene_generators.h"
 
 using namespace vdblight;
 

@@ -12,13 +12,16 @@
 #include "test_util.h"
 #include "vdblight/bake_antialiased.h"
 #include "vdblight/errors.h"
-#include "vdblight/leak_scenes.h"
 #include "vdblight/query.h"
 #include "vdblight/reference.h"
-#include "vdblight/scene_generators.h"
 #include "vdblight/sh.h"
 #include "vdblight/trace.h"
 #include "vdblight/vdb_io.h"
+#include "../libvdblight/src/bake/domain_classification.h"  // internal: classifyCell
+#include "../libvdblight/src/bake/project_incident.h"  // internal: projectIncidentRadiance
+
+#include "support/leak_scenes.h"
+#include "support/scene_generators.h"
 
 using namespace vdblight;
 using vdblight::test::makeGrid;

@@ -18,6 +18,7 @@
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
 #include "vdblight/vdb_io.h"
+#include "../libvdblight/src/bake/bins_gather.h"  // internal: gatherBinRadiance
 
 using namespace vdblight;
 

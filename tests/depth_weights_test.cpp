@@ -20,9 +20,11 @@
 #include "vdblight/query_direct.h"
 #include "vdblight/query_levels.h"
 #include "vdblight/sampling.h"
-#include "vdblight/scene_generators.h"
 #include "vdblight/trace.h"
 #include "vdblight/vdb_io.h"
+#include "../libvdblight/src/query/sh_uniform_lookup.h"  // internal: ShUniformLookup
+
+#include "support/scene_generators.h"
 
 namespace vdblight {
 namespace {

@@ -11,10 +11,11 @@
 #include "vdblight/query_direct.h"
 #include "vdblight/reference.h"
 #include "vdblight/scene.h"
-#include "vdblight/scene_generators.h"
 #include "vdblight/scene_lights.h"
 #include "vdblight/trace.h"
 #include "vdblight/vdb_io.h"
+
+#include "support/scene_generators.h"
 
 using namespace vdblight;
 

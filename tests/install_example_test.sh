@@ -2,7 +2,7 @@
 # Issue 16: a user links the installed library. Installs BUILD into a temporary prefix,
 # builds examples/ against it with find_package(vdblight), runs the example on the bundled
 # Cornell box, and checks its summary line and that the volume it wrote opens in this
-# build's `vdblight info`.
+# build's `vdblight info`. Also checks that test scenes and internal headers are not installed.
 #
 #   install_example_test.sh BUILD_DIR SOURCE_DIR VDBLIGHT_CLI
 set -euo pipefail
@@ -12,6 +12,21 @@ trap 'rm -rf "$TMP"' EXIT
 cmake --install "$BUILD" --prefix "$TMP/prefix" >"$TMP/install.log"
 test -f "$TMP/prefix/include/vdblight/vdblight.h" || { echo "FAIL: vdblight.h not installed"; exit 1; }
 test -f "$TMP/prefix/lib/cmake/vdblight/vdblightConfig.cmake" || { echo "FAIL: no package config installed"; exit 1; }
+# Test scenes and internals are not part of the installed API (docs/architecture.md).
+for h in leak_scenes.h office_scene.h scene_generators.h radical_inverse_fast.h node_least_squares.h pca.h \
+         face_crossing.h project_incident.h domain_classification.h bins_gather.h sh_uniform_lookup.h random_rays.h; do
+  if [ -e "$TMP/prefix/include/vdblight/$h" ]; then echo "FAIL: $h is installed: not part of the public API"; exit 1; fi
+done
+if find "$TMP/prefix" -name '*test_scenes*' | grep -q .; then
+  echo "FAIL: the test scenes' library is installed"; exit 1
+fi
+# ... nor are the internals that used to sit in public headers.
+for symbol in traceRandomRays forEachFaceCrossing projectIncidentRadiance classifyCell gatherBinRadiance \
+              lambertContour ShUniformLookup radicalInverseFast fitPca; do
+  if grep -rhw -- "$symbol" "$TMP/prefix/include/vdblight" | grep -qv '^ *//'; then  # comments may name them
+    echo "FAIL: the installed headers declare $symbol (internal)"; exit 1
+  fi
+done
 # The example must build from the installed prefix alone: no path into the source tree.
 cmake -S "$SRC/examples" -B "$TMP/examples" -DCMAKE_PREFIX_PATH="$TMP/prefix" -DCMAKE_BUILD_TYPE=Release >"$TMP/configure.log" \
     || { cat "$TMP/configure.log"; echo "FAIL: configuring examples/ against the installed package"; exit 1; }

@@ -11,6 +11,7 @@
 #include "vdblight/reference.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
+#include "../libvdblight/src/bake/project_incident.h"  // internal: projectIncidentRadiance
 
 using namespace vdblight;
 

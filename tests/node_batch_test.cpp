@@ -17,10 +17,12 @@
 #include "vdblight/bake_levels.h"
 #include "vdblight/layout_levels.h"
 #include "vdblight/light.h"
-#include "vdblight/office_scene.h"
 #include "vdblight/sampling.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
+#include "../libvdblight/src/bake/project_incident.h"  // internal: projectIncidentRadiance
+
+#include "support/office_scene.h"
 
 using namespace vdblight;
 

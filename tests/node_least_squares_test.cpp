@@ -11,7 +11,7 @@
 #include "test_util.h"
 #include "vdblight/bake_antialiased.h"
 #include "vdblight/errors.h"
-#include "vdblight/node_least_squares.h"
+#include "../libvdblight/src/bake/node_least_squares.h"  // internal
 #include "vdblight/query.h"
 #include "vdblight/sampling.h"
 #include "vdblight/scene.h"

@@ -3,9 +3,10 @@
 #include <gtest/gtest.h>
 
 #include "vdblight/errors.h"
-#include "vdblight/office_scene.h"
 #include "vdblight/reference.h"
 #include "vdblight/trace.h"
+
+#include "support/office_scene.h"
 
 using namespace vdblight;
 

@@ -29,6 +29,7 @@
 #include "vdblight/trace.h"
 #include "vdblight/vector_grid_lookup.h"
 #include "vdblight/volume_compact.h"
+#include "../libvdblight/src/query/sh_uniform_lookup.h"  // internal: ShUniformLookup
 
 using namespace vdblight;
 

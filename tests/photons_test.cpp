@@ -17,12 +17,14 @@
 #include "vdblight/photon_emitter.h"
 #include "vdblight/photons.h"
 #include "vdblight/query.h"
-#include "vdblight/radical_inverse_fast.h"
+#include "../libvdblight/src/sampling/radical_inverse_fast.h"  // internal
 #include "vdblight/sampling.h"
 #include "vdblight/scene.h"
-#include "vdblight/scene_generators.h"
 #include "vdblight/trace.h"
 #include "vdblight/vector_grid_lookup.h"
+#include "../libvdblight/src/bake/face_crossing.h"  // internal: forEachFaceCrossing
+
+#include "support/scene_generators.h"
 
 using namespace vdblight;
 

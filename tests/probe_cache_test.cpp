@@ -22,13 +22,14 @@
 
 #include "../libvdblight/src/bake/surface_cache.h"
 #include "vdblight/bake.h"
-#include "vdblight/leak_scenes.h"
 #include "vdblight/light.h"
 #include "vdblight/reference.h"
 #include "vdblight/sampling.h"
 #include "vdblight/scene.h"
 #include "vdblight/sh.h"
 #include "vdblight/trace.h"
+
+#include "support/leak_scenes.h"
 
 using namespace vdblight;
 

@@ -17,9 +17,10 @@
 #include "vdblight/prt_io.h"
 #include "vdblight/vdb_io.h"
 #include "vdblight/scene.h"
-#include "vdblight/scene_generators.h"
 #include "vdblight/sh.h"
 #include "vdblight/trace.h"
+
+#include "support/scene_generators.h"
 
 namespace vdblight {
 namespace {

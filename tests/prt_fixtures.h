@@ -9,7 +9,8 @@
 
 #include "vdblight/prt.h"
 #include "vdblight/scene.h"
-#include "vdblight/scene_generators.h"
+
+#include "support/scene_generators.h"
 
 namespace vdblight::test {
 

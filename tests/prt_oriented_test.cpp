@@ -11,6 +11,7 @@
 #include "vdblight/prt.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
+#include "../libvdblight/src/prt/pca.h"  // internal: pcaProject, pcaReconstruct
 
 namespace vdblight {
 namespace {

@@ -14,8 +14,9 @@
 #include "vdblight/prt.h"
 #include "vdblight/sampling.h"
 #include "vdblight/scene.h"
-#include "vdblight/scene_generators.h"
 #include "vdblight/trace.h"
+
+#include "support/scene_generators.h"
 
 namespace vdblight {
 namespace {

@@ -9,16 +9,17 @@
 #include "prt_fixtures.h"
 #include "test_util.h"
 #include "vdblight/errors.h"
-#include "vdblight/office_scene.h"
-#include "vdblight/pca.h"
 #include "vdblight/prt.h"
 #include "vdblight/prt_io.h"
 #include "vdblight/sampling.h"
 #include "vdblight/sh.h"
 #include "vdblight/vdb_io.h"
 #include "vdblight/scene.h"
-#include "vdblight/scene_generators.h"
 #include "vdblight/trace.h"
+#include "../libvdblight/src/prt/pca.h"  // internal: fitPca, pcaProject, pcaReconstruct
+
+#include "support/office_scene.h"
+#include "support/scene_generators.h"
 
 namespace vdblight {
 namespace {

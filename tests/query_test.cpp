@@ -7,6 +7,7 @@
 #include "vdblight/query.h"
 #include "vdblight/sampling.h"
 #include "vdblight/sh.h"
+#include "../libvdblight/src/query/sh_uniform_lookup.h"  // internal: ShUniformLookup
 
 using namespace vdblight;
 

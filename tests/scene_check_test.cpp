@@ -5,11 +5,12 @@
 #include <set>
 
 #include "vdblight/errors.h"
-#include "vdblight/leak_scenes.h"
 #include "vdblight/scene.h"
 #include "vdblight/scene_check.h"
-#include "vdblight/scene_generators.h"
 #include "vdblight/trace.h"
+
+#include "support/leak_scenes.h"
+#include "support/scene_generators.h"
 
 using namespace vdblight;
 

@@ -26,6 +26,7 @@
 #include "vdblight/scene.h"
 #include "vdblight/sh.h"
 #include "vdblight/trace.h"
+#include "../libvdblight/src/query/sh_uniform_lookup.h"  // internal: ShUniformLookup
 
 using namespace vdblight;
 

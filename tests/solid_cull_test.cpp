@@ -16,10 +16,11 @@
 #include "vdblight/errors.h"
 #include "vdblight/query_levels.h"
 #include "vdblight/scene.h"
-#include "vdblight/scene_generators.h"
 #include "vdblight/solid_cull.h"
 #include "vdblight/trace.h"
 #include "vdblight/vdb_io.h"
+
+#include "support/scene_generators.h"
 
 using namespace vdblight;
 

@@ -19,11 +19,12 @@
 #include "vdblight/reference.h"
 #include "vdblight/scene.h"
 #include "vdblight/scene_origin.h"
-#include "vdblight/scene_generators.h"
 #include "vdblight/query.h"
 #include "vdblight/sh_window.h"
 #include "vdblight/trace.h"
 #include "vdblight/vdb_io.h"
+
+#include "support/scene_generators.h"
 
 using namespace vdblight;
 using vdblight::test::gridIn;

@@ -4,8 +4,6 @@
 
 #include <sstream>
 
-#include "vdblight/scene_generators.h"
-
 #include <array>
 #include <cstdio>
 #include <fstream>
@@ -13,6 +11,8 @@
 #include <stdexcept>
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include "support/scene_generators.h"
 
 namespace vdblight::test {
 

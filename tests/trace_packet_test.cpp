@@ -9,10 +9,11 @@
 #include <limits>
 #include <vector>
 
-#include "vdblight/office_scene.h"
 #include "vdblight/sampling.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
+
+#include "support/office_scene.h"
 
 using namespace vdblight;
 

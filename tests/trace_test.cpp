@@ -11,6 +11,7 @@
 #include "vdblight/sampling.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
+#include "../libvdblight/src/trace/random_rays.h"  // internal: traceRandomRays
 
 using namespace vdblight;
 
@@ -48,7 +49,7 @@ TEST(Tracer, ClosedBoxDoesNotLeakRandomRays) {
     Bounds inner;
     inner.lo = {-0.999, -0.999, -0.999};
     inner.hi = {0.999, 0.999, 0.999};
-    EXPECT_EQ(tracer.traceRandomRays(inner, 100000, 7), 100000u);
+    EXPECT_EQ(traceRandomRays(tracer, inner, 100000, 7), 100000u);
 }
 
 TEST(Tracer, RefusesAnEmptyScene) {

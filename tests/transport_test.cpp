@@ -13,12 +13,13 @@
 #include "test_util.h"
 #include "vdblight/bake.h"
 #include "vdblight/bake_adaptive.h"
-#include "vdblight/leak_scenes.h"
 #include "vdblight/query.h"
 #include "vdblight/reference.h"
 #include "vdblight/scene.h"
 #include "vdblight/sh.h"
 #include "vdblight/trace.h"
+
+#include "support/leak_scenes.h"
 
 using namespace vdblight;
 

@@ -93,25 +93,9 @@ Volume bakeShAntialiased(const Scene& scene, const Tracer& tracer, const GridSpe
                          const AntialiasedOptions& options, Interrupter* interrupter = nullptr,
                          BakeStats* stats = nullptr);
 
-/// One candidate sampling ray of a cell and its classification.
-struct CellSample {
-    Vec3f origin;
-    Vec3f direction;
-    bool accepted = false;  ///< origin taken to be in the domain of interest
-};
-
 /// Number of cells of `grid` along each axis (max(n - 1, 1)) and in total.
 void cellDims(const GridSpec& grid, int& cx, int& cy, int& cz);
 std::size_t cellCount(const GridSpec& grid);
-
-/// The candidate rays of cell `cell` (index cx-major like nodes) and, for
-/// DomainMode::Interior, their classification by Algorithm 2 followed by `fallback` (All
-/// accepts every origin). `hits` (optional) receives the first hit of each accepted sampling
-/// ray. `scene` is the one `tracer` was built from. This is the classification the bake
-/// uses; exposed for tests.
-std::vector<CellSample> classifyCell(const Scene& scene, const Tracer& tracer, const GridSpec& grid, std::size_t cell,
-                                     uint32_t rays, uint64_t seed, DomainMode domain, RayCount& count,
-                                     std::vector<Hit>* hits = nullptr, const DomainFallback& fallback = {});
 
 /// Point sampling with the engines' leak heuristic: after the point-gather pass, a node
 /// whose gathered rays hit back-faces in more than `maxBackfaceFraction` of cases is

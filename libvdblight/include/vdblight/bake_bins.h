@@ -34,9 +34,4 @@ LevelLayout uniformLayout(const GridSpec& grid);
 Volume bakeBins(const Scene& scene, const Tracer& tracer, const LevelLayout& layout, const BinsBakeOptions& options,
                 Interrupter* interrupter = nullptr, LevelsBakeStats* stats = nullptr);
 
-/// Per-bin integrated radiance I_b = integral over bin b of L (RGB, 2 R^2 values) at x,
-/// with the sampling of bakeBins for stream `streamIndex` (exposed for tests).
-void gatherBinRadiance(const RadianceEstimator& estimator, const Vec3f& x, int resolution, uint32_t samplesPerBin,
-                       uint64_t seed, uint64_t streamIndex, Rgbd* out, RayCount& count);
-
 }  // namespace vdblight

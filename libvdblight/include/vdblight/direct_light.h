@@ -76,11 +76,6 @@ Rgb exactIrradiance(const DirectLight& light, const Vec3d& x, const Vec3d& n);
 /// adds to a volume's mean irradiance at x (the importance of a light, shadows aside).
 Rgb meanIrradiance(const DirectLight& light, const Vec3d& x);
 
-/// Lambert's formula for one closed loop of vertices relative to the receiver (v_i = p_i - x),
-/// clipped to dot(n, v) >= 0: returns sum_i theta_i * dot(n, gamma_i) (signed; the loop's
-/// orientation as seen from x decides the sign). Exposed for tests.
-double lambertContour(const std::vector<Vec3d>& relative, const Vec3d& n);
-
 /// The lights of a volume (empty in baked mode). In occlusion mode light i has visibility
 /// channel i (VolumeLevel::lightVisibility).
 struct DirectLightSet {

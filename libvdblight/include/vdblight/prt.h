@@ -19,7 +19,6 @@
 
 #include "vdblight/layout.h"
 #include "vdblight/math.h"
-#include "vdblight/pca.h"
 #include "vdblight/volume.h"
 
 namespace vdblight {
@@ -27,6 +26,16 @@ namespace vdblight {
 struct Scene;
 class Tracer;
 class Interrupter;
+
+/// A per-cluster PCA basis: an orthonormal basis of `count` row vectors of dimension `dim`
+/// plus the mean row. Fitting and applying it are internal to the prt module (src/prt/pca.h).
+struct PcaBasis {
+    int dim = 0;
+    int count = 0;
+    std::vector<float> mean;     ///< dim values (eq. 7's mu)
+    std::vector<float> vectors;  ///< count x dim, row-major; rows are orthonormal (B of eq. 8)
+    std::vector<double> singularValues;  ///< all of them (min(n, dim)), largest first
+};
 
 struct PrtOptions {
     double sampleRadius = 0;       ///< Poisson-disk radius (scene units); 0: derived from `samples`

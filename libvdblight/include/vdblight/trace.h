@@ -57,12 +57,6 @@ public:
     /// incoherent mode): the same hits bit for bit (trace_packet_test), less per-ray overhead.
     void intersect(const Ray* rays, std::size_t count, Hit* hits) const;
 
-    /// Raw throughput probe for benchmarks: traces `count` random rays whose origins lie
-    /// uniformly in `box` with uniformly random directions, with plain single-ray
-    /// rtcIntersect1 (or rtcOccluded1 if `occlusion`) on the calling thread. Returns the
-    /// number of hits (so the work cannot be optimised out).
-    std::size_t traceRandomRays(const Bounds& box, std::size_t count, uint64_t seed, bool occlusion = false) const;
-
 private:
     struct Impl;
     std::unique_ptr<Impl> impl_;

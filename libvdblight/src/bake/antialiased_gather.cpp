@@ -11,14 +11,15 @@
 #include <string>
 #include <vector>
 
+#include "domain_classification.h"
 #include "core/grid_index.h"
 #include "parallel_nodes.h"
 #include "pass_metadata.h"
 #include "vdblight/bake_antialiased.h"
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
-#include "vdblight/node_least_squares.h"
-#include "vdblight/radical_inverse_fast.h"
+#include "node_least_squares.h"
+#include "sampling/radical_inverse_fast.h"
 #include "vdblight/scene.h"
 #include "vdblight/sh.h"
 #include "vdblight/trace.h"

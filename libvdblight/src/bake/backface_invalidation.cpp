@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "project_incident.h"
 #include "parallel_nodes.h"
 #include "pass_metadata.h"
 #include "vdblight/bake_antialiased.h"

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "bins_gather.h"
 #include "levels_bake.h"
 #include "parallel_nodes.h"
 #include "pass_metadata.h"

@@ -3,10 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "domain_classification.h"
 #include "vdblight/bake_antialiased.h"
 #include "core/grid_index.h"
 #include "vdblight/errors.h"
-#include "vdblight/radical_inverse_fast.h"
+#include "sampling/radical_inverse_fast.h"
 #include "vdblight/scene.h"
 #include "vdblight/sampling.h"
 #include "vdblight/trace.h"

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "project_incident.h"
 #include "pass_metadata.h"
 #include "probe_passes.h"
 #include "vdblight/bake.h"

@@ -5,6 +5,7 @@
 #include <utility>
 #include <vector>
 
+#include "project_incident.h"
 #include "levels_bake.h"
 #include "parallel_nodes.h"
 #include "pass_metadata.h"

@@ -1,6 +1,6 @@
 // Least-squares node values over the domain of interest (node_least_squares.h): the
 // 27-point Gram stencil and its Tikhonov-regularised solve by Jacobi-preconditioned CG.
-#include "vdblight/node_least_squares.h"
+#include "node_least_squares.h"
 
 #include <algorithm>
 #include <cmath>

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/parallel_for.h"
+#include "face_crossing.h"
 #include "pass_metadata.h"
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
@@ -21,7 +22,7 @@
 #include "vdblight/photon_emitter.h"
 #include "vdblight/photon_sums.h"
 #include "vdblight/photons.h"
-#include "vdblight/radical_inverse_fast.h"
+#include "sampling/radical_inverse_fast.h"
 #include "vdblight/sampling.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"

@@ -123,8 +123,9 @@ double sumOverLoops(const DirectLight& l, const Vec3d& x, F&& f) {
     return sum;
 }
 
-}  // namespace
-
+/// Lambert's formula for one closed loop of vertices relative to the receiver (v_i = p_i - x),
+/// clipped to dot(n, v) >= 0: returns sum_i theta_i * dot(n, gamma_i) (signed; the loop's
+/// orientation as seen from x decides the sign).
 double lambertContour(const std::vector<Vec3d>& relative, const Vec3d& n) {
     thread_local std::vector<Vec3d> clipped;
     clipToHemisphere(relative, n, clipped);
@@ -140,6 +141,8 @@ double lambertContour(const std::vector<Vec3d>& relative, const Vec3d& n) {
     }
     return sum;
 }
+
+}  // namespace
 
 Rgb exactIrradiance(const DirectLight& l, const Vec3d& x, const Vec3d& n) {
     switch (l.kind) {

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "pca.h"
 #include "prt_internal.h"
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"

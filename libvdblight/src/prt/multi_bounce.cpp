@@ -16,6 +16,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 
+#include "pca.h"
 #include "prt_internal.h"
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"

@@ -1,5 +1,5 @@
 // PCA by Eigen's divide-and-conquer SVD of the centred matrix (eq. 7).
-#include "vdblight/pca.h"
+#include "pca.h"
 
 #include <Eigen/Dense>
 #include <algorithm>

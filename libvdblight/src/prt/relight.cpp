@@ -6,6 +6,7 @@
 #include <xmmintrin.h>
 #endif
 
+#include "pca.h"
 #include "prt_internal.h"
 #include "vdblight/errors.h"
 

@@ -1,4 +1,5 @@
 // The kinds of volume that IrradianceQuery can read. A new kind adds one line here.
+#include "sh_uniform_lookup.h"
 #include "vdblight/basis.h"
 #include "vdblight/channel_lookup.h"
 #include "vdblight/errors.h"

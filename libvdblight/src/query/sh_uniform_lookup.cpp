@@ -1,3 +1,4 @@
+#include "sh_uniform_lookup.h"
 #include "depth_weights.h"
 #include "lattice_locate.h"
 #include "sh_trilinear.h"

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <string>
 
+#include "random_rays.h"
 #include "vdblight/errors.h"
 #include "vdblight/sampling.h"
 #include "vdblight/scene.h"
@@ -188,7 +189,7 @@ void Tracer::intersect(const Ray* rays, std::size_t count, Hit* hits) const {
     }
 }
 
-std::size_t Tracer::traceRandomRays(const Bounds& box, std::size_t count, uint64_t seed, bool occlusion) const {
+std::size_t traceRandomRays(const Tracer& tracer, const Bounds& box, std::size_t count, uint64_t seed, bool occlusion) {
     Rng rng(seed, 0x7261772d72617973ull);
     const Vec3f lo(box.lo), size(box.size());
     std::size_t hits = 0;
@@ -196,7 +197,7 @@ std::size_t Tracer::traceRandomRays(const Bounds& box, std::size_t count, uint64
         Ray r;
         r.origin = lo + size * Vec3f(rng.uniform(), rng.uniform(), rng.uniform());
         r.direction = uniformSphere(rng.uniform(), rng.uniform());
-        hits += (occlusion ? occluded(r) : intersect(r).hit()) ? 1 : 0;
+        hits += (occlusion ? tracer.occluded(r) : tracer.intersect(r).hit()) ? 1 : 0;
     }
     return hits;
 }

@@ -1,5 +1,6 @@
-// Procedural scene pieces for tests, benchmarks and examples: shapes whose lighting has a
-// closed form (disks, spheres, closed boxes) and large meshes for throughput measurements.
+// Procedural scene pieces for tests and benchmarks: shapes whose lighting has a closed form
+// (disks, spheres, closed boxes) and large meshes for throughput measurements. Part of the
+// test scenes (tests/support, vdblight_test_scenes), not of the installed library.
 #pragma once
 
 #include <cstdint>

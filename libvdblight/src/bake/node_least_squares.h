@@ -14,6 +14,8 @@
 // largest row sum of G (a node with full support). Nodes with little support in D follow the
 // prior, nodes with full support barely feel it. Solved per value column by conjugate
 // gradients with a Jacobi preconditioner, serially: the same bits for any thread count.
+//
+// Internal to the bake module (tests include it as "../libvdblight/src/bake/node_least_squares.h").
 #pragma once
 
 #include <cstddef>

@@ -1,12 +1,13 @@
 // The generated office scene (office_scene.h).
-#include "vdblight/office_scene.h"
+#include "support/office_scene.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "vdblight/errors.h"
 #include "vdblight/sampling.h"
-#include "vdblight/scene_generators.h"
+
+#include "support/scene_generators.h"
 
 namespace vdblight {
 

@@ -1,20 +1,15 @@
 // Principal component analysis of row vectors (Leonhardt & Bohn eq. 7-9), Eigen inside,
-// plain vectors outside so that callers do not need Eigen's headers.
+// plain vectors outside so that callers do not need Eigen's headers. Internal to the prt module
+// (tests include it as "../libvdblight/src/prt/pca.h"); the basis type a PrtData holds,
+// PcaBasis, is public in prt.h.
 #pragma once
 
-#include <cstdint>
+#include <cstddef>
 #include <vector>
 
-namespace vdblight {
+#include "vdblight/prt.h"
 
-/// An orthonormal basis of `count` row vectors of dimension `dim` plus the mean row.
-struct PcaBasis {
-    int dim = 0;
-    int count = 0;
-    std::vector<float> mean;     ///< dim values (eq. 7's mu)
-    std::vector<float> vectors;  ///< count x dim, row-major; rows are orthonormal (B of eq. 8)
-    std::vector<double> singularValues;  ///< all of them (min(n, dim)), largest first
-};
+namespace vdblight {
 
 /// PCA of the n x dim row-major matrix `rows`: the mean row and the first
 /// min(keep, n, dim) right singular vectors of the centred matrix (Eigen BDCSVD).

@@ -1,4 +1,4 @@
-#include "vdblight/scene_generators.h"
+#include "support/scene_generators.h"
 
 #include <array>
 #include <map>

@@ -5,6 +5,9 @@
 // at most 2048) per step from a table, and the reversed integer is divided once by B^n. For
 // i < 2^42 both are exact in double, so the result is the correctly rounded radical inverse,
 // where the digit-by-digit radicalInverse() accumulates rounding; the two agree to a few ulps.
+//
+// Internal to the library (the bake's passes include it as "sampling/radical_inverse_fast.h";
+// tests as "../libvdblight/src/sampling/radical_inverse_fast.h").
 #pragma once
 
 #include <array>

@@ -1,7 +1,8 @@
 // A generated office, like the one of Greger et al. (section 4, figures 10-12): a room with
 // desks, chairs, monitors, a yellow divider, book shelves, a plant, a ceiling light panel and a
 // desk lamp. The walls are tessellated so that the scene has tens of thousands of triangles
-// (about 53 000 at detail 1), as an office model from a modeller would.
+// (about 53 000 at detail 1), as an office model from a modeller would. A test scene
+// (tests/support), for tests and benchmarks; not part of the installed library.
 #pragma once
 
 #include "vdblight/scene.h"

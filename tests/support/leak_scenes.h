@@ -1,5 +1,6 @@
 // Generated scenes in which point sampling leaks darkness out of walls (Kontkanen & Laine,
-// section 8), with their exact domain of interest, for tests and the leak benchmark.
+// section 8), with their exact domain of interest, for tests and the leak benchmark (test
+// scenes, tests/support: not part of the installed library).
 //
 // Every solid is a closed axis-aligned box with front faces outwards; an enclosing room is
 // a closed box with front faces inwards. The domain of interest is then exactly: inside

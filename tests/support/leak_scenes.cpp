@@ -1,12 +1,13 @@
 // Generated leak scenes (leak_scenes.h): closed boxes as solids, closed rooms around them.
-#include "vdblight/leak_scenes.h"
+#include "support/leak_scenes.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "vdblight/errors.h"
 #include "vdblight/sampling.h"
-#include "vdblight/scene_generators.h"
+
+#include "support/scene_generators.h"
 
 namespace vdblight {
 

@@ -1,0 +1,41 @@
+// The fast lookup of single-level SH order-2 volumes, which IrradianceQuery picks for them
+// (registry.cpp). Internal to the query module (tests and benchmarks that time or compare it
+// directly include it as "../libvdblight/src/query/sh_uniform_lookup.h").
+#pragma once
+
+#include <vector>
+
+#include "vdblight/layout.h"
+#include "vdblight/query.h"
+
+namespace vdblight {
+
+/// The fast lookup for single-level SH order-2 volumes.
+class ShUniformLookup final : public VolumeLookup {
+public:
+    ShUniformLookup(const Volume& volume, OutsidePolicy outside);
+    Rgb irradiance(const Vec3f& x, const Vec3f& n) const override;
+    Bounds bounds() const override { return grid_.nodeBounds(); }
+    /// Nine interpolated radiance coefficients at x (RGB each).
+    void radianceCoefficients(const Vec3f& x, Rgb out[9]) const;
+    void shRadiance(const Vec3d& x, Rgb out[9]) const override;
+    /// shRadiance as the sh2 basis's channels (basis.h; export --layout basis).
+    void channelValues(const Vec3d& x, float* out) const override;
+    void setDepthWeights(bool on) override { depthWeights_ = on && !depth_.empty(); }
+    bool depthWeighted() const override { return depthWeights_; }
+
+    static bool accepts(const Volume& volume);
+
+private:
+    void locate(const Vec3f& x, int& i, int& j, int& k, float& fx, float& fy, float& fz) const;
+
+    GridSpec grid_;
+    OutsidePolicy outside_;
+    Vec3f origin_;
+    float invSpacing_;
+    std::vector<float> coeffs_;  ///< per node 27 floats: channel-major [c][rgb], A_l folded in
+    std::vector<float> depth_;   ///< per node depth::kFloatsPerNode floats, or empty
+    bool depthWeights_ = false;
+};
+
+}  // namespace vdblight
