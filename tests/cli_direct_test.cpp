@@ -49,7 +49,9 @@ TEST(CliDirect, ModesBakeQuerySliceExportAndOpenInOtherReaders) {
         const std::string manifest = readText(dir.file(mode + "_tex/manifest.json"));
         EXPECT_NE(manifest.find("\"mode\": \"" + mode + "\""), std::string::npos) << manifest;
         EXPECT_EQ(fs::exists(dir.file(mode + "_tex/light_visibility_0_0.raw")), mode == "occlusion");
-        if (mode == "occlusion") EXPECT_NE(manifest.find("\"visibility\": {\"texture\": \"light_visibility_0_0\""), std::string::npos);
+        if (mode == "occlusion") {
+            EXPECT_NE(manifest.find("\"visibility\": {\"texture\": \"light_visibility_0_0\""), std::string::npos);
+        }
         if (std::getenv("VDBLIGHT_SKIP_BLENDER")) continue;
         EXPECT_EQ(test::runCommand("blender -b --factory-startup --python " + kSource + "/scripts/check_blender.py -- " + vol, &out),
                   0)

@@ -76,7 +76,9 @@ void expectSameBits(const std::string& path, OutsidePolicy outside, bool depthWe
         ++compared;
     }
     EXPECT_GT(compared, 200);
-    if (levels) EXPECT_GT(finer, 40) << "too few probes in refined cells";
+    if (levels) {
+        EXPECT_GT(finer, 40) << "too few probes in refined cells";
+    }
 }
 
 TEST(QueryStream, SameBitsAsInMemoryLookup) {
