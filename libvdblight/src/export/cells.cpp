@@ -2,7 +2,6 @@
 // between neighbours, each sampled and written like a small whole-volume export.
 #include "vdblight/export_cells.h"
 
-#include <unistd.h>
 
 #include <filesystem>
 #include <sstream>
@@ -11,6 +10,7 @@
 #include <tbb/parallel_for.h>
 
 #include "export_internal.h"
+#include "staged_files.h"
 #include "vdblight/errors.h"
 
 namespace vdblight {
@@ -40,50 +40,6 @@ std::string ints3(const int v[3]) {
     return "[" + std::to_string(v[0]) + ", " + std::to_string(v[1]) + ", " + std::to_string(v[2]) + "]";
 }
 
-// Files written under temporary names and renamed by commit(); whatever is left (and the
-// directories made for it) is removed after an error.
-class Staging {
-public:
-    ~Staging() {
-        std::error_code ec;
-        for (const auto& f : files_) fs::remove(f.first, ec);
-        for (auto it = dirs_.rbegin(); it != dirs_.rend(); ++it) fs::remove(*it, ec);
-    }
-    void makeDirectory(const fs::path& dir) {
-        std::vector<fs::path> missing;
-        std::error_code ec;
-        for (fs::path p = fs::absolute(dir); !fs::exists(p, ec) && p != p.parent_path(); p = p.parent_path())
-            missing.push_back(p);
-        for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
-            if (!fs::create_directory(*it, ec) && !fs::is_directory(*it))
-                throw IoError("cannot create output directory '" + it->string() + "': " + ec.message());
-            dirs_.push_back(*it);
-        }
-        if (!fs::is_directory(dir, ec)) throw IoError("cannot write into '" + dir.string() + "': not a directory");
-    }
-    std::string stage(const fs::path& dir, const std::string& name) {
-        const fs::path tmp = dir / ("." + name + ".tmp-" + std::to_string(::getpid()));
-        files_.push_back({tmp, dir / name});
-        return tmp.string();
-    }
-    uint64_t commit() {
-        uint64_t bytes = 0;
-        for (const auto& f : files_) {
-            std::error_code ec;
-            fs::rename(f.first, f.second, ec);
-            if (ec) throw IoError("cannot rename into '" + f.second.string() + "': " + ec.message());
-            bytes += fs::file_size(f.second, ec);
-        }
-        files_.clear();
-        dirs_.clear();
-        return bytes;
-    }
-    std::size_t count() const { return files_.size(); }
-
-private:
-    std::vector<std::pair<fs::path, fs::path>> files_;
-    std::vector<fs::path> dirs_;
-};
 
 // The cell's texels: the whole lattice's points offset by `first`, sampled as sampleLayout
 // samples them (shRadiance at the point, then packTexel), one RGBA array per texture.
@@ -142,9 +98,9 @@ CellsSummary exportCells(const IrradianceQuery& query, const Volume& header, con
     for (int a = 0; a < 3; ++a) summary.cells[a] = whole.dims[a] > 1 ? (whole.dims[a] - 2) / cellSize + 1 : 1;
     const std::vector<TextureDesc> descs = layoutTextures(o.layout);
 
-    Staging staging;
+    StagedFiles staging;
     const fs::path root(outDir);
-    staging.makeDirectory(root);
+    staging.createDirectory(root);
     std::ostringstream index;
     index << "{\n  \"vdblight_cells_version\": 1,\n";
     index << "  \"volume_kind\": \"" << query.kind() << "\",\n";
@@ -173,7 +129,7 @@ CellsSummary exportCells(const IrradianceQuery& query, const Volume& header, con
                 std::copy_n(dims, 3, lattice.dims);
                 const std::string name = "cell_" + std::to_string(a) + "_" + std::to_string(b) + "_" + std::to_string(c);
                 const fs::path dir = root / name;
-                staging.makeDirectory(dir);
+                staging.createDirectory(dir);
                 std::vector<std::vector<float>> textures = sampleCell(query.lookup(), whole, first, dims, o.layout, descs.size());
                 ManifestInput manifest;
                 manifest.options = &o;
@@ -208,7 +164,7 @@ CellsSummary exportCells(const IrradianceQuery& query, const Volume& header, con
     const std::string text = index.str();
     writeBytes(staging.stage(root, "cells.json"), std::vector<uint8_t>(text.begin(), text.end()));
     summary.files = staging.count();
-    summary.bytes = staging.commit();
+    for (const std::string& f : staging.commit()) summary.bytes += fs::file_size(f);
     return summary;
 }
 

@@ -1,5 +1,6 @@
 // exportTextures: check everything, sample, then write all files under temporary names and
 // rename them into place at the end (an error leaves nothing half-written).
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 #include <sstream>
 
 #include "export_internal.h"
+#include "staged_files.h"
 #include "vdblight/atomic_file.h"
 #include "vdblight/bins.h"
 #include "vdblight/errors.h"
@@ -87,48 +89,6 @@ void checkOutputDirectory(const fs::path& dir) {
         throw IoError("cannot write into '" + dir.string() + "': '" + p.string() + "' is not writable");
 }
 
-// Files written under temporary names (atomic_file.h); commit() renames them all, the
-// destructor removes what is left (and the directories it created) after an error.
-class StagedFiles {
-public:
-    explicit StagedFiles(const fs::path& dir) : dir_(dir) {}
-    ~StagedFiles() {
-        files_.clear();  // removes the temporary files before their directories
-        std::error_code ec;
-        for (auto it = createdDirs_.rbegin(); it != createdDirs_.rend(); ++it) fs::remove(*it, ec);
-    }
-    void createDirectory() {
-        std::vector<fs::path> missing;
-        std::error_code ec;
-        for (fs::path p = fs::absolute(dir_); !fs::exists(p, ec) && p != p.parent_path(); p = p.parent_path())
-            missing.push_back(p);
-        for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
-            if (!fs::create_directory(*it, ec) && !fs::is_directory(*it))
-                throw IoError("cannot create output directory '" + it->string() + "': " + ec.message());
-            createdDirs_.push_back(*it);
-        }
-    }
-    /// The temporary path to write file `name` of the directory to.
-    std::string stage(const std::string& name) {
-        files_.emplace_back((dir_ / name).string());
-        return files_.back().tempPath();
-    }
-    std::vector<std::string> commit() {
-        std::vector<std::string> out;
-        for (AtomicFile& f : files_) {
-            f.commit();
-            out.push_back(f.path());
-        }
-        files_.clear();
-        createdDirs_.clear();
-        return out;
-    }
-
-private:
-    fs::path dir_;
-    std::vector<AtomicFile> files_;
-    std::vector<fs::path> createdDirs_;
-};
 }  // namespace
 
 std::vector<TextureDesc> exporter::visibilityTextures(const DirectLightSet& direct) {
@@ -226,8 +186,8 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
         }
     }
 
-    StagedFiles staged(outDir);
-    staged.createDirectory();
+    StagedFiles staged;
+    staged.createDirectory(outDir);
     ManifestInput manifest;
     manifest.options = &o;
     manifest.lattice = &lattice;
@@ -247,7 +207,7 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
         image.half = o.halfFloat;
         image.name = descs[t].name;
         const std::string file = descs[t].name + extension(o.format);
-        const std::string path = staged.stage(file);
+        const std::string path = staged.stage(outDir, file);
         uint64_t offset = 0;
         switch (o.format) {
             case TextureFormat::Ktx2: offset = writeKtx2(path, image); break;
@@ -259,7 +219,7 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
         manifest.dataOffsets.push_back(offset);
     }
     const std::string json = manifestJson(manifest);
-    writeBytes(staged.stage("manifest.json"), std::vector<uint8_t>(json.begin(), json.end()));
+    writeBytes(staged.stage(outDir, "manifest.json"), std::vector<uint8_t>(json.begin(), json.end()));
     summary.files = staged.commit();
     for (const std::string& f : summary.files) summary.bytes += fs::file_size(f);
     return summary;
