@@ -158,8 +158,10 @@ TEST(BakeVolume, PhotonsTakeTheDefaultGridUnlessTold) {
     EXPECT_EQ(*d.nodes, 16384u);
     EXPECT_EQ(*d.probePasses, 0);  // the gather's presets stay the gather's
     EXPECT_FALSE(*d.depthMoments);
+    EXPECT_EQ(*d.photons, 4'000'000u);
     r.quality = "preview";
     EXPECT_FALSE(resolveBakeRequest(r).nodes.has_value());
+    EXPECT_EQ(*resolveBakeRequest(r).photons, 1'000'000u);
     r.quality = "default";
     r.resolution = 6;
     d = resolveBakeRequest(r);

@@ -32,7 +32,6 @@ namespace {
 constexpr uint64_t kDefaultNodes = 16384;
 constexpr uint32_t kDefaultRays = 768;
 constexpr uint32_t kPlainRays = 256;
-constexpr uint64_t kDefaultPhotons = 4'000'000, kPreviewPhotons = 1'000'000;
 struct QualityPreset {
     double targetError;  ///< 0: fixed budget (rays)
     uint32_t minRays, maxRays;
@@ -40,11 +39,14 @@ struct QualityPreset {
     uint64_t nodes;      ///< 0: 16 nodes on the longest axis
     uint32_t rays;       ///< rays per node and pass of a fixed budget
     bool depthMoments;
+    uint64_t photons;    ///< the photon pass's count (1 M: 3.4 % noise on the default's grid, 13.1 %
+                         ///< RMS against 4 M's 9.5 % in the two rooms; vdblight_bench_accuracy
+                         ///< --config photons_16k)
 };
 QualityPreset qualityPreset(const std::string& quality) {
-    if (quality == "preview") return {0.0, 0, 0, 0, 0, 256, false};
-    if (quality == "default") return {0.0, 0, 0, 1, kDefaultNodes, kDefaultRays, true};
-    if (quality == "high") return {0.03, 64, 2048, 2, kDefaultNodes, kDefaultRays, true};
+    if (quality == "preview") return {0.0, 0, 0, 0, 0, 256, false, 1'000'000};
+    if (quality == "default") return {0.0, 0, 0, 1, kDefaultNodes, kDefaultRays, true, 4'000'000};
+    if (quality == "high") return {0.03, 64, 2048, 2, kDefaultNodes, kDefaultRays, true, 4'000'000};
     throw ValueError("--quality must be preview, default or high, got '" + quality + "'");
 }
 
@@ -139,10 +141,7 @@ BakeRequest resolveBakeRequest(const BakeRequest& given) {
     const bool photonGrid = selectPassName(r) == "photons";
     if ((presetApplies || photonGrid) && !r.spacing && !r.resolution && !r.nodes && preset.nodes > 0) r.nodes = preset.nodes;
     if (!r.rays) r.rays = presetApplies && !r.targetError ? preset.rays : kPlainRays;
-    // Photons: 4 M on the default's grid (1 M: 3.4 % noise there, 13.1 % RMS against 9.5 % in
-    // the two rooms; 4 M bake in 1-6 s on two cores, vdblight_bench_accuracy --config
-    // photons_16k), 1 M for a preview.
-    if (!r.photons) r.photons = r.quality == "preview" ? kPreviewPhotons : kDefaultPhotons;
+    if (!r.photons) r.photons = preset.photons;
     if (!r.depthMoments) r.depthMoments = presetApplies && preset.depthMoments;
     if (!r.refine) r.refine = 3;
     if (!r.levels) r.levels = 3;
