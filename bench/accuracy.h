@@ -108,6 +108,7 @@ struct TrySpec {
     int passes = 1;
     bool depth = false;
     DirectMode direct = DirectMode::Occlusion;
+    std::string basis = "sh2";  ///< the gather's stored basis (`basis=sh:4`; fixed budgets only)
 };
 
 TrySpec parseTry(const std::string& spec);

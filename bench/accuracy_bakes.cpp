@@ -2,6 +2,8 @@
 // bake` command does through the library, answering E(x, n) through the run-time lookup.
 #include "accuracy.h"
 
+#include "vdblight/basis.h"
+
 #include <cstring>
 #include <memory>
 
@@ -234,6 +236,7 @@ TrySpec parseTry(const std::string& spec) {
         else if (k == "passes") t.passes = std::stoi(v);
         else if (k == "depth") t.depth = v == "1";
         else if (k == "direct") t.direct = parseDirectMode(v);
+        else if (k == "basis") t.basis = v;
         else throw ValueError("--try: unknown key '" + k + "'");
     }
     return t;
@@ -285,6 +288,7 @@ Volume tryVolume(const Ctx& c, const TrySpec& t, std::string& note) {
         g.transport.skipAtReceiver = plan.filter;
         g.probePasses = t.passes;
         g.depthMoments = t.depth;
+        if (t.basis != "sh2") g.basis = makeBasis(t.basis);
         v = bakeShGather(c.scene, c.tracer, grid, g);
     }
     bakeLightVisibility(c.scene, c.tracer, plan, d, v);

@@ -1,6 +1,8 @@
 // End-to-end: `vdblight bake --basis sh:3` -> .vdb -> `info`, `query` (= the library lookup on
 // the file), `export --layout basis` (the node values in the raw textures), and bad sh:N
-// specs refused with one line, a non-zero exit and no file.
+// specs refused with one line, a non-zero exit and no file. `bake --basis sh:4` on a uniform
+// grid: the point gather with the default preset (rays, probe pass, depth moments, direct
+// light with visibility), whose SH order-2 export layouts hold its bands 0..2.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -29,7 +31,7 @@ TEST(CliShBasis, BakeInfoQueryAndExportOfShThree) {
     EXPECT_EQ(v.basis.kind, "sh:3");
     ASSERT_EQ(v.basis.channelCount(), 16);
     EXPECT_EQ(v.basis.channelNames[9], "sh_l3m_neg3");
-    EXPECT_EQ(metaNumber(v.meta, "rays_per_node", 0), 128);  // 2 R^2 with R = 8
+    EXPECT_EQ(metaNumber(v.meta, "rays_per_node", 0), 128);  // the point gather (uniform grid): as given
 
     r = runCli("info " + file);
     ASSERT_EQ(r.status, 0) << r.output;
@@ -61,10 +63,60 @@ TEST(CliShBasis, BakeInfoQueryAndExportOfShThree) {
     ASSERT_TRUE(t);
     for (std::size_t node = 0; node < g.nodeCount(); ++node)
         for (int c = 0; c < 3; ++c) ASSERT_FLOAT_EQ(texels[4 * node + c], v.levels[0].nodeData(node, 16)[3 * 7 + c]);
-    // The SH order-2 layouts do not fit; the refusal names the layout that does.
+    // Order 3 holds SH order 2 (its bands 0..2): the default SH order-2 layout fits. Order 1
+    // does not; the refusal names the layout that does.
     r = runCli("export " + file + " -o " + dir.file("tex2") + " --format raw");
+    EXPECT_EQ(r.status, 0) << r.output;
+    const std::string sh1 = dir.file("sh1.vdb");
+    r = runCli("bake -q -o " + sh1 + " --resolution 3 --rays 32 --bounces 1 --basis sh:1");
+    ASSERT_EQ(r.status, 0) << r.output;
+    r = runCli("export " + sh1 + " -o " + dir.file("tex3") + " --format raw");
     EXPECT_NE(r.status, 0);
     EXPECT_NE(r.output.find("use --layout basis"), std::string::npos) << r.output;
+}
+
+TEST(CliShBasis, ShFourTakesThePointGatherWithTheDefaultPresetAndExportsItsBandsZeroToTwo) {
+    test::TempDir dir;
+    const std::string file = dir.file("sh4.vdb");
+    CliRun r = runCli("bake -o " + file + " --resolution 4 --basis sh:4");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("768 rays per node (+ 1 probe-to-probe pass)"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("Direct light (occlusion)"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("basis sh:4: radiance SH coefficients, bands 0..4, 25 Vec3f grids"), std::string::npos) << r.output;
+    const Volume v = readVolume(file);
+    EXPECT_EQ(v.basis.kind, "sh:4");
+    EXPECT_EQ(v.direct.mode, DirectMode::Occlusion);
+    EXPECT_TRUE(v.direct.hasVisibility());
+    EXPECT_FALSE(v.levels[0].depth.empty());
+    EXPECT_EQ(metaNumber(v.meta, "rays_per_node", 0), 768);
+    EXPECT_EQ(metaNumber(v.meta, "probe_passes", 0), 1);
+
+    // query = the library lookup (the SH part plus the listed light's exact irradiance times its visibility).
+    const IrradianceQuery q(v);
+    const Rgb want = q.irradiance(Vec3f(0.2f, 0.3f, 0.25f), normalize(Vec3f(0.3f, 1.0f, -0.2f)));
+    ASSERT_GT(want.x, 0.01f);
+    r = runCli("query " + file + " --at 0.2,0.3,0.25 --normal 0.3,1,-0.2 --raw");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NEAR(test::firstIrradianceRgb(r.output).x, want.x, 1e-6 * (1 + want.x));
+
+    // export --layout sh2: the texel at each node is the node's first nine channels.
+    const std::string out = dir.file("tex");
+    r = runCli("export " + file + " -o " + out + " --format raw --float --layout sh2");
+    ASSERT_EQ(r.status, 0) << r.output;
+    const GridSpec& g = v.levels[0].grid;
+    const char* names[9] = {"l0m0", "l1m_neg1", "l1m0", "l1m1", "l2m_neg2", "l2m_neg1", "l2m0", "l2m1", "l2m2"};
+    for (int j = 0; j < 9; ++j) {
+        std::ifstream t(out + "/sh2_sh_" + names[j] + ".raw", std::ios::binary);
+        std::vector<float> texels(g.nodeCount() * 4);
+        t.read(reinterpret_cast<char*>(texels.data()), std::streamsize(texels.size() * sizeof(float)));
+        ASSERT_TRUE(t) << names[j];
+        for (std::size_t node = 0; node < g.nodeCount(); ++node)
+            for (int c = 0; c < 3; ++c)
+                ASSERT_FLOAT_EQ(texels[4 * node + c], v.levels[0].nodeData(node, 25)[3 * j + c]) << names[j] << " node " << node;
+    }
+    // The default engine layout (sh2-packed) fits too.
+    r = runCli("export " + file + " -o " + dir.file("packed"));
+    EXPECT_EQ(r.status, 0) << r.output;
 }
 
 TEST(CliShBasis, BadOrdersAreRefusedWithOneLineAndNoFile) {
@@ -73,7 +125,9 @@ TEST(CliShBasis, BadOrdersAreRefusedWithOneLineAndNoFile) {
     test::expectCleanFailuresWithOutput(dir, {{base + " --basis sh:0", "'sh:0': the SH order must be 1, 2, 3 or 4"},
                                               {base + " --basis sh:5", "'sh:5': the SH order must be 1, 2, 3 or 4"},
                                               {base + " --basis sh:x", "'sh:x': the SH order must be 1, 2, 3 or 4"},
-                                              {base + " --basis sh:3 --method photons", "--basis sh:3 works with --method gather"}});
+                                              {base + " --basis sh:3 --method photons", "--basis sh:3 works with --method gather"},
+                                              {base + " --basis sh:4 --tiles 2 --tile 0", "--basis sh:4 with the point gather cannot be tiled yet"},
+                                              {base + " --basis sh:4 --sh-window", "--sh-window applies to --basis sh2 only"}});
 }
 
 namespace {

@@ -261,7 +261,7 @@ void printSummary(const BakeCommand& c, const Scene& scene, const SceneLoadRepor
         std::cout << ". Wrote " << c.output << " (basis " << volume.basis.kind << ", "
                   << volume.basis.channelCount() << " Vec3f grids, "
                   << metaString(volume.meta, "samples_per_bin") << " samples per bin).\n";
-    else if (binned)  // a registry basis through the generic gather (basis.h)
+    else if (binned || volume.basis.kind != "sh2")  // a registry basis (basis.h): generic or point gather
         std::cout << ". Wrote " << c.output << " (basis " << volume.basis.kind << ": " << makeBasis(r.basis)->describe()
                   << ", " << volume.basis.channelCount() << " Vec3f grids).\n";
     else
@@ -330,8 +330,9 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
                     "longest axis), 768 rays + one probe-to-probe pass of 768, depth moments (seconds; the "
                     "measured most accurate within 30 s, docs/methods.md); high: default's grid, each node "
                     "sampled to a relative standard error of 3 % (64..2048 rays) + two probe passes. Presets "
-                    "apply to --method gather, --sampling point, --layout uniform, --basis sh2; other passes "
-                    "take 16 nodes on the longest axis and the fixed --rays (default 256)")
+                    "apply to --method gather, --sampling point, --layout uniform, --basis sh2 or sh:N (sh:N: no "
+                    "error target, high takes default's rays); other passes take 16 nodes on the longest axis and "
+                    "the fixed --rays (default 256)")
         ->capture_default_str();
     cmd->add_option("--seed", c->seed, "Random seed (same seed, same bits, any thread count)")->capture_default_str();
     cmd->add_option("--threads", c->threads, "Worker threads (0 = all cores)")->capture_default_str()->check(CLI::Range(0, 4096));

@@ -5,13 +5,15 @@
 //   L_j = integral of L(w) Y_j(w) dw
 // with the direction integral split as in light.h: reflected light and sky by `rays`
 // stratified (scrambled Sobol) directions uniform on the sphere, emissive triangles by as
-// many NEE samples, punctual lights exactly.
+// many NEE samples, punctual lights exactly. With GatherOptions::basis the same samples are
+// stored in another basis (real SH of order N, `--basis sh:N`), with everything else alike.
 //
 // Determinism: node n's samples depend only on (seed, n, sample number) and are summed in
 // sample order in double, so the volume has the same bits for any thread count.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -25,6 +27,7 @@ namespace vdblight {
 struct Scene;
 class Tracer;
 class Interrupter;
+class Basis;
 
 struct GatherOptions {
     uint32_t raysPerNode = 256;
@@ -49,6 +52,10 @@ struct GatherOptions {
     int stage = -1;
     /// Stage > 0: the merged probe stage volume of stage - 1 (readProbeStage), every node.
     const Volume* stageInput = nullptr;
+    /// Store the nodes in this basis (basis.h; a linear projection such as `sh:4`) instead of
+    /// SH order 2 (null). Same samples, probe passes (their reflected light stays SH order 2),
+    /// depth moments and error estimate; not with `only` or `stage` (tiles).
+    std::shared_ptr<const Basis> basis;
 };
 
 struct BakeStats {

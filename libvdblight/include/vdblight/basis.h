@@ -73,6 +73,11 @@ public:
     virtual int terms(const Vec3f& d, int* channels, float* weights) const = 0;
     /// E(d) of one node's channel values (3 floats per channel), from `terms`.
     Rgb evaluate(const float* values, const Vec3f& d) const;
+    /// How many leading channels are real SH radiance coefficients in sh.h's convention
+    /// (index l (l + 1) + m, bands 0..l): 9 for sh2, (N + 1)^2 for sh:N, 0 for bases that are
+    /// not SH. Truncating orthonormal SH is projecting onto fewer bands, so an sh:4 volume's
+    /// first nine channels are its SH order 2 (what the engines' L2 layouts export).
+    virtual int shCoefficients() const { return 0; }
 
     // --- Export ---------------------------------------------------------------------------
     /// The textures of the basis's own export layout (`export --layout basis`). Default: one

@@ -29,6 +29,10 @@ public:
     Bounds bounds() const override { return grid_.nodeBounds(); }
     /// All channels' RGB values (3 per channel) interpolated in space at x, no direction.
     void channelValues(const Vec3d& x, float* out) const override;
+    /// For real SH of order >= 2 (Basis::shCoefficients() >= 9): its first nine channels,
+    /// interpolated as channelValues (the SH order-2 part of the stored expansion).
+    /// Otherwise FormatError, as the base class.
+    void shRadiance(const Vec3d& x, Rgb out[9]) const override;
     void setDepthWeights(bool on) override { depthWeights_ = on && hasDepth_; }
     bool depthWeighted() const override { return depthWeights_; }
     const Basis& basis() const { return *basis_; }

@@ -50,16 +50,22 @@ QualityPreset qualityPreset(const std::string& quality) {
     throw ValueError("--quality must be preview, default or high, got '" + quality + "'");
 }
 
-/// The uniform SH point gather, where the presets' error target and probe passes apply.
+/// The uniform SH point gather (SH order 2, or real SH of another order: sh:N), where the
+/// presets' grid, rays, probe passes and depth moments apply (the error target: sh2 only, the
+/// error-targeted pass stores SH order 2).
 bool targetable(const BakeRequest& r) {
     return r.method == "gather" && r.sampling == "point" && !r.invalidateBackface &&
-           parseLayoutKind(r.layout) == LayoutKind::Uniform && bake_detail::isSh2(r.basis);
+           parseLayoutKind(r.layout) == LayoutKind::Uniform && bake_detail::isRealSh(r.basis);
 }
 
 std::string selectPassName(const BakeRequest& r) {
     if (!r.pass.empty()) return r.pass;
     if (r.method == "photons") return "photons";
-    if (!bake_detail::isSh2(r.basis)) return "bins";
+    // sh:N goes through the point gather where it can (uniform grid, point sampling, a fixed
+    // budget), every other basis and layout through the bins / generic basis gathers.
+    const bool pointGatherSh = bake_detail::isRealSh(r.basis) && parseLayoutKind(r.layout) == LayoutKind::Uniform &&
+                               r.sampling == "point" && !r.targetError;
+    if (!bake_detail::isSh2(r.basis) && !pointGatherSh) return "bins";
     if (parseLayoutKind(r.layout) != LayoutKind::Uniform) return "levels";
     if (r.targetError) return "adaptive";
     if (r.sampling == "antialiased") return "antialiased";
@@ -131,7 +137,8 @@ BakeRequest resolveBakeRequest(const BakeRequest& given) {
     BakeRequest r = given;
     const QualityPreset preset = qualityPreset(r.quality);
     const bool presetApplies = targetable(r);
-    if (!r.targetError && !r.rays && preset.targetError > 0 && presetApplies) r.targetError = preset.targetError;
+    if (!r.targetError && !r.rays && preset.targetError > 0 && presetApplies && bake_detail::isSh2(r.basis))
+        r.targetError = preset.targetError;
     if (r.targetError) {
         const QualityPreset caps = qualityPreset("high");
         if (!r.minRays) r.minRays = caps.minRays;

@@ -1,4 +1,5 @@
-// The point-gather pass: SH order-2 radiance at every node of a uniform grid.
+// The point-gather pass: SH order-2 radiance (or another basis's values) at every node of a
+// uniform grid.
 
 #include <algorithm>
 #include <vector>
@@ -7,6 +8,7 @@
 #include "pass_metadata.h"
 #include "probe_passes.h"
 #include "vdblight/bake.h"
+#include "vdblight/basis.h"
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
 #include "vdblight/scene.h"
@@ -32,6 +34,9 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     if (options.raysPerNode == 0) throw ValueError("rays per node must be at least 1");
     const std::size_t nodes = bake_detail::checkThreadsAndGrid(options.threads, grid);
 
+    const Basis* basis = options.basis.get();  // null: SH order 2
+    if (basis && (options.only || options.stage >= 0))
+        throw ValueError("a point gather in basis " + basis->desc().kind + " cannot be tiled yet (only sh2)");
     std::vector<std::size_t> selected;  // a tile's nodes (tiles.h); empty = all
     if (options.only) {
         if (options.only->size() != 1 || (*options.only)[0].size() != nodes) throw ValueError("the node mask does not match the grid");
@@ -44,6 +49,11 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     // array below is indexed by level.held(n).
     Volume volume = bake_detail::emptyShVolume(grid, options.only);
     VolumeLevel& level = volume.levels[0];
+    const std::size_t floats = basis ? basis->floatsPerNode() : std::size_t(sh::kCoeffs) * 3;
+    if (basis) {
+        volume.basis = basis->desc();
+        level.data.assign(level.heldNodes() * floats, 0.0f);
+    }
     const std::size_t held = level.heldNodes();
     if (options.depthMoments) level.depth.assign(held * depth::kFloatsPerNode, 0.0f);
     std::vector<float> error(held, 0.0f);
@@ -69,6 +79,7 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
                     Rgbd coeffs[sh::kCoeffs];
                     // projectIncidentRadiance's sampling, keeping the sampler for its error estimate.
                     detail::NodeSampler sampler(estimator, Vec3f(grid.node(n)), pass.seed, n, options.raysPerNode);
+                    sampler.projectAlsoInto(basis);
                     // Depth moments come from the first pass's own first hits (no extra rays).
                     depth::Accumulator depthAcc;
                     const bool recordDepth = options.depthMoments && pass.index == 0;
@@ -77,8 +88,10 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
                     sampler.coefficients(coeffs, count);
                     if (recordDepth) depthAcc.finish(level.depth.data() + h * depth::kFloatsPerNode);
                     error[h] = float(std::min(sampler.relativeStandardError(count), 1e30));
-                    bake_detail::storeNode(sampler, coeffs, level.data.data() + h * sh::kCoeffs * 3,
+                    float* values = level.data.data() + h * floats;
+                    bake_detail::storeNode(sampler, coeffs, basis ? nullptr : values,
                                            pass.keepReflected ? &reflected[h * sh::kCoeffs] : nullptr);
+                    if (basis) sampler.basisValues(values, count);
                 });
         });
 
@@ -101,6 +114,7 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
         .count("rays_per_node", options.raysPerNode)
         .text("direction_sampling", "scrambled Sobol (0,2) uniform sphere + NEE on emissive triangles; punctual lights exact")
         ;
+    if (basis) m.text("projection", "the point gather's samples through Basis::accumulate, Basis::finish per node (bake.h)");
     if (!options.only) m.errorSummary(error, grid);  // a tile's: the merge's, from every tile's errors
     if (options.probePasses > 0) {
         m.count("probe_passes", options.probePasses)

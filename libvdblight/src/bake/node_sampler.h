@@ -8,6 +8,10 @@
 // (luminance). Ebar is exactly the SH DC term's irradiance (pi * Y00 * L00), so it has no
 // SH truncation error, and its per-sample estimate is pi * lum(L_i) + lum(NEE_i) / 4
 // (+ lum(punctual_i) / 4 when punctual lights are sampled).
+//
+// A sampler may also project the same samples into another basis (projectAlsoInto, e.g.
+// sh:4 through the Basis interface): the SH order-2 sums stay, for the error estimate and
+// the probe passes' reflected light, and the stored values come from the other basis.
 #pragma once
 
 #include <algorithm>
@@ -16,6 +20,7 @@
 #include <vector>
 
 #include "vdblight/bake.h"
+#include "vdblight/basis.h"
 #include "vdblight/depth_moments.h"
 #include "vdblight/light.h"
 #include "vdblight/sampling.h"
@@ -44,6 +49,14 @@ public:
     void recordDepth(depth::Accumulator* acc, double spacing) {
         depth_ = acc;
         depthSpacing_ = spacing;
+    }
+
+    /// Also accumulate every sample into `basis` (basis.h; kept for the node's lifetime), whose
+    /// values basisValues() returns. Call before the first addSamples.
+    void projectAlsoInto(const Basis* basis) {
+        basis_ = basis;
+        if (!basis) return;
+        for (std::vector<Rgbd>* acc : {&basisDir_, &basisLight_, &basisExact_}) acc->assign(basis->accumulatorSize(), Rgbd(0, 0, 0));
     }
 
     /// Adds samples [first, last) (sample numbers of the node's stratified sequence; rounds
@@ -83,7 +96,7 @@ public:
                 l = estimator_.gatherRadiance(x_, dir, kSpherePdf, rng_, count, nullptr, &emitted);
             }
             sh::evalUnrolled(dir, y);
-            addGathered(l, emitted, y);
+            addGathered(dir, l, emitted, y);
             double ebar = kPi * double(luminance(l));
             // Emissive triangles: one NEE sample per ray, stratified on the light too.
             if (nee) {
@@ -96,7 +109,7 @@ public:
                     (++count.occluded, !estimator_.tracer().occluded(shadow))) {
                     sh::evalUnrolled(s.direction, y);
                     const Rgb weight = s.weight * misWeight(s.pdf, kSpherePdf);
-                    addLight(weight, y);
+                    addLight(s.direction, weight, y);
                     ebar += 0.25 * double(luminance(weight));
                 }
             }
@@ -107,7 +120,7 @@ public:
                 LightSample s;
                 if (estimator_.samplePunctualLight(x_, w, s, count) && !estimator_.skipsAtReceiver(s)) {
                     sh::evalUnrolled(s.direction, y);
-                    addLight(s.weight, y);
+                    addLight(s.direction, s.weight, y);
                     ebar += 0.25 * double(luminance(s.weight));
                 }
             }
@@ -177,13 +190,13 @@ public:
             const uint32_t i = first + k;
             const Rgb l = paths_.radiance(k);
             sh::evalUnrolled(dirs[k], y);
-            addGathered(l, paths_.firstEmission(k), y);
+            addGathered(dirs[k], l, paths_.firstEmission(k), y);
             double ebar = kPi * double(luminance(l));
             if (lightRay[k] != DeferredPaths::kNoShadowRay && !paths_.blocked(lightRay[k])) {
                 const LightSample& s = lights[k];
                 sh::evalUnrolled(s.direction, y);
                 const Rgb weight = s.weight * misWeight(s.pdf, kSpherePdf);
-                addLight(weight, y);
+                addLight(s.direction, weight, y);
                 ebar += 0.25 * double(luminance(weight));
             }
             if (sampledLights_) {  // one punctual light per sample, traced at once
@@ -192,7 +205,7 @@ public:
                 LightSample s;
                 if (estimator_.samplePunctualLight(x_, w, s, count) && !estimator_.skipsAtReceiver(s)) {
                     sh::evalUnrolled(s.direction, y);
-                    addLight(s.weight, y);
+                    addLight(s.direction, s.weight, y);
                     ebar += 0.25 * double(luminance(s.weight));
                 }
             }
@@ -214,6 +227,7 @@ public:
                 if (estimator_.skipsAtReceiver(s)) continue;
                 sh::evalUnrolled(s.direction, y);
                 for (int j = 0; j < sh::kCoeffs; ++j) exact_[j] += Rgbd(s.weight) * double(y[j]);
+                if (basis_) basis_->accumulate(s.direction, Rgbd(s.weight), 1.0, basisExact_.data());
                 exactEbar_ += 0.25 * double(luminance(s.weight));
             }
             exactDone_ = true;
@@ -229,6 +243,19 @@ public:
         for (int j = 0; j < sh::kCoeffs; ++j)
             out[j] = Rgbd(acc_[j][0], acc_[j][1], acc_[j][2]) * dirScale +
                      Rgbd(lightAcc_[j][0], lightAcc_[j][1], lightAcc_[j][2]) * lightScale + exact_[j];
+    }
+
+    /// The node's values in the basis of projectAlsoInto (basis.floatsPerNode() floats), from
+    /// the samples so far plus the exact punctual part, weighted as coefficients() weights them.
+    void basisValues(float* out, RayCount& count) {
+        exactEbar(count);
+        const double dirScale = samples_ > 0 ? 4.0 * kPi / samples_ : 0.0;
+        const double lightScale = samples_ > 0 ? 1.0 / samples_ : 0.0;
+        thread_local std::vector<Rgbd> sum;
+        sum.resize(basisDir_.size());
+        for (std::size_t j = 0; j < sum.size(); ++j)
+            sum[j] = basisDir_[j] * dirScale + basisLight_[j] * lightScale + basisExact_[j];
+        basis_->finish(sum.data(), out);
     }
 
     /// The SH coefficients of the reflected light and sky alone (the gathered radiance less
@@ -262,7 +289,8 @@ public:
     }
 
 private:
-    void addGathered(const Rgb& l, const Rgb& emitted, const float y[sh::kCoeffs]) {
+    void addGathered(const Vec3f& dir, const Rgb& l, const Rgb& emitted, const float y[sh::kCoeffs]) {
+        if (basis_) basis_->accumulate(dir, Rgbd(l), 1.0, basisDir_.data());
         const Rgb r = l - emitted;
         for (int j = 0; j < sh::kCoeffs; ++j) {
             acc_[j][0] += double(l.x) * y[j];
@@ -273,7 +301,8 @@ private:
             reflected_[j][2] += double(r.z) * y[j];
         }
     }
-    void addLight(const Rgb& weight, const float y[sh::kCoeffs]) {
+    void addLight(const Vec3f& dir, const Rgb& weight, const float y[sh::kCoeffs]) {
+        if (basis_) basis_->accumulate(dir, Rgbd(weight), 1.0, basisLight_.data());
         for (int j = 0; j < sh::kCoeffs; ++j) {
             lightAcc_[j][0] += double(weight.x) * y[j];
             lightAcc_[j][1] += double(weight.y) * y[j];
@@ -315,6 +344,8 @@ private:
     uint32_t samples_ = 0;
     depth::Accumulator* depth_ = nullptr;
     double depthSpacing_ = 1.0;
+    const Basis* basis_ = nullptr;  ///< projectAlsoInto's basis, or null
+    std::vector<Rgbd> basisDir_, basisLight_, basisExact_;  ///< its sums, weighted as acc_, lightAcc_, exact_
 };
 
 }  // namespace vdblight::detail

@@ -21,7 +21,8 @@ public:
     std::string name() const override { return "bins"; }
     std::string description() const override {
         return "every --basis but sh2: Greger bins / moments (radiance sampled through every bin, one value "
-               "per bin direction, bake_bins.h) and any other registered basis such as sh:N (bake_basis.h)";
+               "per bin direction, bake_bins.h) and any other registered basis (bake_basis.h): sh:N on bilevel / "
+               "adaptive layouts (on a uniform grid the point gather stores sh:N)";
     }
     std::vector<PassOption> options() const override;
     void validate(const BakeRequest& request) const override;

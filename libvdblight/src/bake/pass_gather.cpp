@@ -1,10 +1,12 @@
-// The point gather as a Pass (bake.h): SH order 2 at the nodes of a uniform grid, with
-// probe-to-probe passes, depth moments from its own first hits, direct light out of the SH
-// and, as an option, the engines' back-face invalidation (bake_antialiased.h).
+// The point gather as a Pass (bake.h): SH order 2 (or real SH of order N, `--basis sh:N`)
+// at the nodes of a uniform grid, with probe-to-probe passes, depth moments from its own
+// first hits, direct light out of the SH and, as an option (sh2), the engines' back-face
+// invalidation (bake_antialiased.h).
 #include "passes.h"
 
 #include "pass_options.h"
 #include "vdblight/bake_antialiased.h"
+#include "vdblight/basis.h"
 #include "vdblight/errors.h"
 #include "vdblight/sh.h"
 
@@ -15,7 +17,7 @@ class GatherPass : public Pass {
 public:
     std::string name() const override { return "gather"; }
     std::string description() const override {
-        return "point gather: SH order 2 of the incident radiance at each node of a uniform grid (bake.h)";
+        return "point gather: SH order 2 (or sh:N) of the incident radiance at each node of a uniform grid (bake.h)";
     }
     std::vector<PassOption> options() const override;
     void validate(const BakeRequest& request) const override;
@@ -31,7 +33,7 @@ public:
 std::vector<PassOption> GatherPass::options() const {
     return {raysOption("Ray directions per node and pass: a fixed budget (--quality high samples to an error target "
                        "instead; antialiased: rays per cell; bins, moments: rounded up to a multiple of the bin count; "
-                       "other bases such as sh:N: to 2 R^2, R = round(sqrt(rays / 2)))"),
+                       "other bases such as sh:N on bilevel/adaptive layouts: to 2 R^2, R = round(sqrt(rays / 2)))"),
             probePassesOption(),
             numberOption("invalidate-backface",
                          "nodes whose rays hit back-faces more than this fraction (0..1) are replaced by dilating "
@@ -44,16 +46,21 @@ std::vector<PassOption> GatherPass::options() const {
 void GatherPass::validate(const BakeRequest& request) const {
     if (request.invalidateBackface && request.probePasses && *request.probePasses > 0)
         throw ValueError("--probe-passes works with --method gather, --sampling point, --layout uniform and "
-                         "--basis sh2 only");
+                         "--basis sh2 or sh:N only");
+    if (request.shWindow && !isSh2(request.basis)) throw ValueError("--sh-window applies to --basis sh2 only");
     Pass::validate(request);
 }
 
-std::size_t GatherPass::bytesPerNode(const BakeRequest&) const {
-    // Float coefficients plus OpenVDB's copy while writing.
+std::size_t GatherPass::bytesPerNode(const BakeRequest& r) const {
+    // Float values plus OpenVDB's copy while writing (and, for sh:N, the probe passes' SH order-2 cache).
+    if (!isSh2(r.basis)) return (2 * makeBasis(r.basis)->floatsPerNode() + sh::kCoeffs * 3) * sizeof(float);
     return 2 * sh::kCoeffs * 3 * sizeof(float);
 }
 
-std::string GatherPass::untileable(const BakeRequest& r) const { return pointGatherUntileable(r); }
+std::string GatherPass::untileable(const BakeRequest& r) const {
+    if (!isSh2(r.basis)) return "--basis " + r.basis + " with the point gather cannot be tiled yet (sh2 can)";
+    return pointGatherUntileable(r);
+}
 
 std::string pointGatherUntileable(const BakeRequest& r) {
     if (r.invalidateBackface) return "--invalidate-backface cannot be tiled (its dilation crosses tile borders)";
@@ -70,6 +77,7 @@ std::string pointGatherUntileable(const BakeRequest& r) {
 
 Volume GatherPass::run(const BakeContext& c, const BakeRequest& r, const GridSpec& grid, BakeReport& report) const {
     GatherOptions options = gatherOptions(c, r);
+    if (!isSh2(r.basis)) options.basis = makeBasis(r.basis);
     LevelTopology shape;
     shape.grid = grid;
     options.only = selectTile(c, {shape});

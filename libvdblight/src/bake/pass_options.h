@@ -65,6 +65,9 @@ PassOption probePassesOption();
 
 /// The basis text names SH order 2 (bins.h parses it; ValueError for an unknown basis).
 bool isSh2(const std::string& basis);
+/// True for real SH of any order (sh2, sh:N): what the uniform point gather stores
+/// (GatherOptions::basis), probe passes, depth moments and direct light included.
+bool isRealSh(const std::string& basis);
 /// Greger bins or moments (bins.h), which keep their own gather (bakeBins).
 bool isBinsOrMoment(const std::string& basis);
 

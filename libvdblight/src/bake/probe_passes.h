@@ -54,10 +54,11 @@ ParallelRun runProbePasses(RadianceEstimator& estimator, const Tracer& tracer, c
     return run;
 }
 
-/// A node's nine RGB coefficients into its 27 floats of the volume and, for a pass a later
-/// one reads, its reflected light into `reflected` (nine coefficients; null otherwise).
+/// A node's nine RGB coefficients into its 27 floats of the volume (null: the volume stores
+/// another basis) and, for a pass a later one reads, its reflected light into `reflected`
+/// (nine coefficients; null otherwise).
 inline void storeNode(const detail::NodeSampler& sampler, const Rgbd coeffs[sh::kCoeffs], float* dst, Rgb* reflected) {
-    for (int j = 0; j < sh::kCoeffs; ++j) {
+    for (int j = 0; dst && j < sh::kCoeffs; ++j) {
         dst[3 * j + 0] = float(coeffs[j].x);
         dst[3 * j + 1] = float(coeffs[j].y);
         dst[3 * j + 2] = float(coeffs[j].z);

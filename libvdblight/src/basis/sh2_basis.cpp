@@ -25,6 +25,7 @@ public:
             for (int c = 0; c < 3; ++c) values[3 * j + c] = float(acc[j][c]);
     }
     int maxTerms() const override { return sh::kCoeffs; }
+    int shCoefficients() const override { return sh::kCoeffs; }
     int terms(const Vec3f& d, int* channels, float* weights) const override {
         sh::irradianceWeights(d, weights);
         for (int j = 0; j < sh::kCoeffs; ++j) channels[j] = j;

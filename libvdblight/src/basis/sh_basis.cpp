@@ -66,6 +66,7 @@ public:
     }
 
     int maxTerms() const override { return coeffs_; }
+    int shCoefficients() const override { return coeffs_; }
     int terms(const Vec3f& d, int* channels, float* weights) const override {
         double y[kMaxCoeffs];
         eval(Vec3d(d), y);

@@ -13,6 +13,7 @@
 #include "staged_files.h"
 #include "vdblight/atomic_file.h"
 #include "vdblight/bins.h"
+#include "vdblight/sh.h"
 #include "vdblight/errors.h"
 #include "vdblight/irradiance_vectors_compact.h"
 #include "vdblight/query_direct.h"
@@ -143,7 +144,9 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
     if (o.layout == ExportLayout::Basis && !basis)
         throw FormatError("layout 'basis' fits the volumes of a registered basis (sh2, sh:N, bins:N, moment:N); this one "
                           "stores '" + volume.basis.kind + "' (try --layout vectors or compact)");
-    if (basis && !binsVolume && volume.basis.kind != "sh2" && !ownLayout)
+    // Real SH of order >= 2 (sh:N) exports its bands 0..2 in the SH order-2 layouts: truncating
+    // orthonormal SH is the projection onto those bands (what an engine's L2 probes hold).
+    if (basis && !binsVolume && basis->shCoefficients() < sh::kCoeffs && !ownLayout)
         throw FormatError(std::string("layout '") + layoutName(o.layout) + "' does not fit a '" + volume.basis.kind +
                           "' volume; use --layout basis");
     const IrradianceQuery query(volume);

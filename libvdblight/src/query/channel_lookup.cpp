@@ -2,6 +2,8 @@
 // the basis's terms for the direction.
 #include "vdblight/channel_lookup.h"
 
+#include "vdblight/sh.h"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -11,6 +13,7 @@
 #include "lattice_locate.h"
 #include "vdblight/errors.h"
 #include "vdblight/layout_levels.h"
+#include "vdblight/sh.h"
 
 namespace vdblight {
 
@@ -137,6 +140,14 @@ void ChannelLookup::channelValues(const Vec3d& x, float* out) const {
         const float* p = level.data.data() + corner[c] * floatsPerNode_;
         for (std::size_t f = 0; f < floatsPerNode_; ++f) out[f] += w[c] * p[f];
     }
+}
+
+void ChannelLookup::shRadiance(const Vec3d& x, Rgb out[9]) const {
+    if (basis_->shCoefficients() < sh::kCoeffs) VolumeLookup::shRadiance(x, out);  // throws
+    thread_local std::vector<float> values;
+    values.resize(floatsPerNode_);
+    channelValues(x, values.data());
+    for (int j = 0; j < sh::kCoeffs; ++j) out[j] = Rgb(values[3 * j], values[3 * j + 1], values[3 * j + 2]);
 }
 
 }  // namespace vdblight
