@@ -163,6 +163,10 @@ inline double noiseFree(double eQuarter, double eFull) {
 /// sample of the emissive triangles per direction (MIS), punctual lights exactly.
 struct AtPoint {
     Rgbd sh[sh::kCoeffs] = {};
+    /// The same samples in real SH of order 4 (the `sh:4` basis, 25 coefficients): what a
+    /// higher order would leave of the representation error (band 3 adds nothing to
+    /// irradiance, band 4 is the next term of the clamped cosine).
+    Rgbd sh4[25] = {};
     double iv[iv::kFloatsPerNode] = {};
     Rgbd e{0, 0, 0};
 };
@@ -175,6 +179,8 @@ struct Floor {
 };
 
 AtPoint projectAtPoint(const RadianceEstimator& est, const Vec3f& x, const Vec3f& n, uint32_t rays, uint64_t stream);
+/// Irradiance for the unit normal n from AtPoint::sh4 (through the sh:4 basis's terms).
+Rgb sh4Irradiance(const AtPoint& a, const Vec3f& n);
 Floor floorAt(const Scene& s, const Tracer& tracer, const Points& p, uint32_t rays, int refBounces);
 /// An irradiance-vector volume whose nodes hold the six vectors projected at the node itself.
 Volume ivPointVolume(const Scene& s, const Tracer& tracer, int resolution, uint32_t rays, int bounces);

@@ -5,9 +5,27 @@
 
 #include <tbb/parallel_for.h>
 
+#include "vdblight/basis.h"
 #include "vdblight/vector_grid_lookup.h"
 
 namespace vdblight::accuracy {
+
+namespace {
+const Basis& sh4Basis() {
+    static const std::unique_ptr<Basis> basis = makeBasis("sh:4");
+    return *basis;
+}
+}  // namespace
+
+Rgb sh4Irradiance(const AtPoint& a, const Vec3f& n) {
+    const Basis& b = sh4Basis();
+    int channels[25];
+    float weights[25];
+    const int terms = b.terms(n, channels, weights);
+    Rgbd e{0, 0, 0};
+    for (int k = 0; k < terms; ++k) e += a.sh4[channels[k]] * double(weights[k]);
+    return Rgb(e);
+}
 
 AtPoint projectAtPoint(const RadianceEstimator& est, const Vec3f& x, const Vec3f& n, uint32_t rays, uint64_t stream) {
     AtPoint a;
@@ -15,6 +33,7 @@ AtPoint projectAtPoint(const RadianceEstimator& est, const Vec3f& x, const Vec3f
         float y[sh::kCoeffs];
         sh::evalUnrolled(d, y);
         for (int j = 0; j < sh::kCoeffs; ++j) a.sh[j] += w * double(y[j]);
+        sh4Basis().accumulate(d, w, 1.0, a.sh4);
         for (int axis = 0; axis < 3; ++axis) {
             const int dir = iv::direction(axis, d[axis] < 0.0f);
             for (int c = 0; c < 3; ++c)

@@ -28,7 +28,7 @@ struct StudyBake {
 };
 
 void printStudy(const char* region, const std::vector<std::size_t>& idx, const Truth& truth, const std::vector<double>& floorQ,
-                const std::vector<double>& floorF, const std::vector<double>& cosF, const std::vector<StudyBake>& bakes, FILE* csv,
+                const std::vector<double>& floorF, const std::vector<double>& cosF, const std::vector<double>& sh4F, const std::vector<StudyBake>& bakes, FILE* csv,
                 const std::string& scene) {
     auto pick = [&](const std::vector<double>& v) {
         std::vector<double> o;
@@ -44,9 +44,10 @@ void printStudy(const char* region, const std::vector<std::size_t>& idx, const T
     // SH2 against the cosine-weighted E of the same samples: the representation alone (the
     // samples' noise is common to both and mostly cancels).
     const Errors rep = summarise(relative(pick(floorF), pick(cosF), t));
+    const Errors rep4 = summarise(relative(pick(sh4F), pick(cosF), t));
     std::printf("    %-10s %3zu points: floor RMS %.1f %% (noise-free %.1f %%), bias %+.1f %%; SH2 vs the same samples' cosine-weighted "
-                "E: RMS %.1f %%, bias %+.1f %%\n", region, idx.size(), 100 * ff.rms, 100 * noiseFree(fq.rms, ff.rms), 100 * ff.bias,
-                100 * rep.rms, 100 * rep.bias);
+                "E: RMS %.1f %%, bias %+.1f %%; SH4 vs them: RMS %.1f %%, bias %+.1f %%\n", region, idx.size(), 100 * ff.rms,
+                100 * noiseFree(fq.rms, ff.rms), 100 * ff.bias, 100 * rep.rms, 100 * rep.bias, 100 * rep4.rms, 100 * rep4.bias);
     Row fr{scene + (region[0] ? std::string(":") + region : ""), "study_floor", ff};
     fr.note = "noise-free " + std::to_string(noiseFree(fq.rms, ff.rms));
     writeCsvRow(csv, fr);
@@ -100,7 +101,7 @@ void studyDefault(const bench::AccuracyScene& as, const Tracer& tracer, const Po
     const GridSpec& grid = dp.grid;
     const RadianceEstimator est(s, tracer, dp.transport);
     const std::size_t np = pts.x.size();
-    std::vector<double> floorQ(np), floorF(np), cosF(np);
+    std::vector<double> floorQ(np), floorF(np), cosF(np), sh4F(np);
     tbb::parallel_for(std::size_t(0), np, [&](std::size_t i) {
         const Vec3f n = normalize(pts.n[i]);
         const Rgb direct = exactDirectAt(s, tracer, dp, pts, i);
@@ -111,6 +112,7 @@ void studyDefault(const bench::AccuracyScene& as, const Tracer& tracer, const Po
             for (int j = 0; j < sh::kCoeffs; ++j) c[j] = Rgb(a.sh[j]);
             (pass ? floorF : floorQ)[i] = luminance(sh::irradiance(c, n) + direct);
             if (pass) cosF[i] = luminance(Rgb(a.e) + direct);
+            if (pass) sh4F[i] = luminance(sh4Irradiance(a, n) + direct);
         }
     });
     std::printf("  study of the default (grid %d x %d x %d, spacing %.3f; %zu chosen lights; floor %.1f s)\n", grid.nx, grid.ny,
@@ -148,12 +150,12 @@ void studyDefault(const bench::AccuracyScene& as, const Tracer& tracer, const Po
     }
     std::vector<std::size_t> all(np);
     for (std::size_t i = 0; i < np; ++i) all[i] = i;
-    printStudy("all", all, truth, floorQ, floorF, cosF, bakes, csv, as.name);
+    printStudy("all", all, truth, floorQ, floorF, cosF, sh4F, bakes, csv, as.name);
     for (const bench::AccuracyRegion& region : as.regions) {
         std::vector<std::size_t> idx;
         for (std::size_t i = 0; i < np; ++i)
             if (region.contains(pts.x[i])) idx.push_back(i);
-        if (!idx.empty()) printStudy(region.name.c_str(), idx, truth, floorQ, floorF, cosF, bakes, csv, as.name);
+        if (!idx.empty()) printStudy(region.name.c_str(), idx, truth, floorQ, floorF, cosF, sh4F, bakes, csv, as.name);
     }
 }
 

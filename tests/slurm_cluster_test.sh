@@ -48,16 +48,24 @@ T1=$(now)
 echo "single bake, 2 threads: $(secs $T0 $T1) s"
 
 # 1. Kill one tile's process, requeue another through Slurm: both run again, the chain goes on.
-"$B" slurm "$SCENE" -o "$W/world.vdb" --tiles 4 --submit $OPTS >/dev/null || fail "submit"
+# The jobs are submitted held and released once submitted: a tile bakes in under a second, and
+# on a loaded machine it could finish while `slurm --submit` was still submitting the later
+# stages, before the test watched for it.
+"$B" slurm "$SCENE" -o "$W/world.vdb" --tiles 4 --submit --sbatch "--hold" $OPTS >/dev/null || fail "submit"
 ID=$(cut -d' ' -f1 "$TILES/jobs")
+for j in $(cat "$TILES/jobs"); do scontrol release "$j" || fail "scontrol release $j"; done
 P1=$(bake_pid 1) || fail "stage-0 tile 1 never ran"
 kill -KILL "$P1"
 bake_pid 2 >/dev/null || fail "stage-0 tile 2 never ran"
 scontrol requeue "${ID}_2" || fail "scontrol requeue ${ID}_2"
 # Slurm holds a requeued job for 120 s (its BeginTime); start both as soon as they are back in
-# the queue, so that CI does not wait.
+# the queue, so that CI does not wait. But not within the second of the requeue: slurmd revokes
+# the old run's credential with a time stamp in whole seconds and refuses a restart whose
+# credential was made in that same second ("Job credential revoked": the task fails and the
+# chain never finishes).
 for t in 1 2; do
   for i in $(seq 300); do squeue -h -j "${ID}_$t" -o %T 2>/dev/null | grep -q PENDING && break; sleep 0.1; done
+  sleep 1.1
   scontrol update JobId="${ID}_$t" StartTime=now || fail "tile $t was not requeued"
 done
 slurm_local_wait || fail "jobs did not finish"
@@ -86,8 +94,9 @@ echo "resumed after losing 1 of 4 stage-1 tiles: $(secs $T3 $T4) s, 7 of 8 tiles
 
 # 2. Cancel a stage-0 tile mid-run: the chain waits forever (afterok never satisfied); re-submit.
 rm -rf "$W/world.vdb" "$TILES"
-"$B" slurm "$SCENE" -o "$W/world.vdb" --tiles 4 --submit $OPTS >/dev/null || fail "submit 2"
+"$B" slurm "$SCENE" -o "$W/world.vdb" --tiles 4 --submit --sbatch "--hold" $OPTS >/dev/null || fail "submit 2"
 ID=$(cut -d' ' -f1 "$TILES/jobs"); LATER=$(cut -d' ' -f2- "$TILES/jobs")
+for j in $(cat "$TILES/jobs"); do scontrol release "$j" || fail "scontrol release $j"; done
 bake_pid 2 >/dev/null || fail "stage-0 tile 2 never ran"
 scancel "${ID}_2"
 for i in $(seq 600); do [ -z "$(squeue -h -j "$ID" -o %i 2>/dev/null)" ] && break; sleep 0.2; done

@@ -5,7 +5,8 @@
 #   slurm_local_start DIR    munged (if not running), slurmctld and slurmd with state in DIR;
 #                            exports SLURM_CONF; returns non-zero if the node does not come up
 #   slurm_local_stop         stops what slurm_local_start started
-#   slurm_local_wait         until none of the cluster's jobs is pending or running (or 600 s)
+#   slurm_local_wait         until none of the cluster's jobs is pending or running (or 600 s;
+#                            fails at once if a job's dependency can never be satisfied)
 # Only one such cluster may run at a time (ports 6817/6818); the daemons carry "vdblight-slurm"
 # in their state directory's path, so that `pgrep -f vdblight-slurm` finds orphans.
 
@@ -70,5 +71,11 @@ slurm_local_stop() {
 }
 
 slurm_local_wait() {
-  for i in $(seq 3000); do [ -z "$(squeue -h -o %i 2>/dev/null)" ] && return 0; sleep 0.2; done; return 1
+  for i in $(seq 3000); do
+    q=$(squeue -h -o "%i %r" 2>/dev/null)
+    [ -z "$q" ] && return 0
+    # A job whose dependency failed waits forever: say so now rather than after 600 s.
+    case "$q" in *DependencyNeverSatisfied*) echo "$q"; return 1;; esac
+    sleep 0.2
+  done; return 1
 }

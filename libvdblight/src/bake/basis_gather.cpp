@@ -22,9 +22,7 @@ int basisGatherResolution(uint32_t raysPerNode) {
 
 Volume bakeBasis(const Scene& scene, const Tracer& tracer, const LevelLayout& layout, const Basis& basis,
                  const BasisBakeOptions& options, Interrupter* interrupter, LevelsBakeStats* stats) {
-    if (options.raysPerNode == 0) throw ValueError("rays per node must be at least 1");
-    if (options.threads < 0) throw ValueError("thread count must be positive (0 = all cores)");
-    if (layout.levels.empty()) throw ValueError("the layout has no levels");
+    bake_detail::checkLevelsBake(options.raysPerNode, "rays per node", options.threads, layout);
     const int R = basisGatherResolution(options.raysPerNode);
     const std::size_t floats = basis.floatsPerNode(), accumulators = basis.accumulatorSize();
     const double scale = 4.0 * kPi / (2.0 * R * R);  // 1 / (pdf * samples), one sample per cell

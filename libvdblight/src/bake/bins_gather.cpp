@@ -48,9 +48,7 @@ void gatherBinRadiance(const RadianceEstimator& estimator, const Vec3f& x, int r
 Volume bakeBins(const Scene& scene, const Tracer& tracer, const LevelLayout& layout, const BinsBakeOptions& options,
                 Interrupter* interrupter, LevelsBakeStats* stats) {
     if (options.basis.kind == bins::BasisSpec::Kind::Sh2) throw ValueError("bakeBins needs a bins or moment basis");
-    if (options.samplesPerBin == 0) throw ValueError("samples per bin must be at least 1");
-    if (options.threads < 0) throw ValueError("thread count must be positive (0 = all cores)");
-    if (layout.levels.empty()) throw ValueError("the layout has no levels");
+    bake_detail::checkLevelsBake(options.samplesPerBin, "samples per bin", options.threads, layout);
     const int R = options.basis.resolution, bins = options.basis.binCount();
     const std::size_t floats = std::size_t(bins) * 3;
 

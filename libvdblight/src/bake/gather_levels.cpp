@@ -27,9 +27,7 @@ constexpr int kFloats = sh::kCoeffs * 3;
 
 Volume bakeShGatherLevels(const Scene& scene, const Tracer& tracer, const LevelLayout& layout,
                           const GatherOptions& options, Interrupter* interrupter, LevelsBakeStats* stats) {
-    if (options.raysPerNode == 0) throw ValueError("rays per node must be at least 1");
-    if (options.threads < 0) throw ValueError("thread count must be positive (0 = all cores)");
-    if (layout.levels.empty()) throw ValueError("the layout has no levels");
+    bake_detail::checkLevelsBake(options.raysPerNode, "rays per node", options.threads, layout);
 
     Volume volume = bake_detail::emptyLevelsVolume(layout, BasisDesc::sh2(), kFloats, options.only);
     if (options.depthMoments)

@@ -1,9 +1,18 @@
 #include "levels_bake.h"
 
+#include <string>
+
 #include "pass_metadata.h"
+#include "vdblight/errors.h"
 #include "vdblight/tiles.h"
 
 namespace vdblight::bake_detail {
+
+void checkLevelsBake(uint64_t samples, const char* what, int threads, const LevelLayout& layout) {
+    if (samples == 0) throw ValueError(std::string(what) + " must be at least 1");
+    if (threads < 0) throw ValueError("thread count must be positive (0 = all cores)");
+    if (layout.levels.empty()) throw ValueError("the layout has no levels");
+}
 
 Volume emptyLevelsVolume(const LevelLayout& layout, const BasisDesc& basis, std::size_t floatsPerNode,
                          const NodeMask* only) {

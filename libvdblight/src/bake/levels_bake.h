@@ -14,6 +14,11 @@
 
 namespace vdblight::bake_detail {
 
+/// The checks every levels bake starts with (ValueError): at least one sample per node
+/// (`what` names the count: "rays per node"), a thread count >= 0 (0 = all cores), a layout
+/// with levels.
+void checkLevelsBake(uint64_t samples, const char* what, int threads, const LevelLayout& layout);
+
 /// A volume of `basis` on the levels of `layout`, `floatsPerNode` zeros per node; with `only`
 /// (a tile), only the window of nodes the tile spans is held (setTileWindows, tiles.h).
 Volume emptyLevelsVolume(const LevelLayout& layout, const BasisDesc& basis, std::size_t floatsPerNode,

@@ -1,0 +1,83 @@
+// Delayed loading of a vdblight .vdb (vdb_stream.h): the grids' topology is read and checked,
+// their leaf values stay in the mapped file until a voxel of the leaf is read.
+#include "vdb_delayed.h"
+#include "vdb_read_parts.h"
+#include "vdblight/depth_moments.h"
+
+namespace vdblight::vdb_detail {
+
+DelayedVolumeFile openDelayedVolume(const std::string& path) {
+    OpenedFile f = openVolumeFile(path, OpenFor::Delayed);
+    const openvdb::MetaMap& meta = *f.meta;
+    if (meta.getMetadata<openvdb::Int64Metadata>(kPrefix + "tile_count"))
+        formatError(path, "is a tile of a bake, not a complete volume: merge the tiles with 'vdblight merge'");
+    DelayedVolumeFile out;
+    Volume& v = out.header;
+    v.basis.kind = requireMeta<std::string>(meta, kPrefix + "basis", path);
+    v.basis.channelNames = splitNames(requireMeta<std::string>(meta, kPrefix + "channels", path));
+    const int64_t levels = requireMeta<int64_t>(meta, kPrefix + "levels", path);
+    if (levels < 1 || levels > 64) formatError(path, "has an invalid level count " + std::to_string(levels));
+    for (int l = 0; l < int(levels); ++l) {
+        VolumeLevel level;
+        level.grid = readLevelSpec(meta, l, path);
+        const GridSpec& g = level.grid;
+        if (g.nx <= 0 || g.ny <= 0 || g.nz <= 0 || !(g.spacing > 0) || !isFinite(g.origin))
+            formatError(path, "has invalid dimensions, spacing or origin for level " + std::to_string(l));
+        v.levels.push_back(std::move(level));
+    }
+    v.meta = userMetadata(meta);
+    readDirectLights(f, v, path);
+    if (v.direct.hasVisibility()) {  // the caller refuses this kind
+        out.file = std::move(f.file);
+        return out;
+    }
+    // Every level's grids: topology in memory, leaf values left in the mapped file until a
+    // voxel of the leaf is read. The checks of readLevel / readMask that need no values
+    // (active voxel counts, boxes and topologies come from the leaves' masks).
+    auto read = [&](const std::string& name) {
+        if (!f.file->hasGrid(name)) formatError(path, "has no grid '" + name + "'");
+        try {
+            return f.file->readGrid(name);
+        } catch (const std::exception& e) {
+            formatError(path, "grid '" + name + "' cannot be read (truncated or corrupt?): " + e.what());
+        }
+    };
+    for (int l = 0; l < int(levels); ++l) {
+        const GridSpec& g = v.levels[std::size_t(l)].grid;
+        DelayedLevel level;
+        Vec3SGrid::Ptr first;
+        bool sparse = l > 0;
+        for (std::size_t c = 0; c < v.basis.channelNames.size(); ++c) {
+            openvdb::GridBase::Ptr base = read(gridNameFor(v.basis.channelNames[c], l));
+            if (c == 0 && l == 0 && levels > 1) {
+                const auto typed = openvdb::gridPtrCast<Vec3SGrid>(base);
+                if (typed && typed->activeVoxelCount() < g.nodeCount()) sparse = true;  // culled
+            }
+            Vec3SGrid::Ptr grid = sparse ? checkSparseChannelGrid(base, g, first.get(), path) : checkChannelGrid(base, g, path);
+            if (c == 0) first = grid;
+            level.channels.push_back(grid);
+        }
+        if (f.file->hasGrid(gridNameFor(depth::channelName(0), l)))
+            for (int c = 0; c < depth::kChannels; ++c) {
+                openvdb::GridBase::Ptr base = read(gridNameFor(depth::channelName(c), l));
+                Vec3SGrid::Ptr grid = sparse ? checkSparseChannelGrid(base, g, first.get(), path) : checkChannelGrid(base, g, path);
+                level.depth.push_back(grid);
+            }
+        if (l + 1 < int(levels)) {
+            const std::string name = maskNameFor(l);
+            auto mask = openvdb::gridPtrCast<openvdb::BoolGrid>(read(name));
+            if (!mask) formatError(path, "grid '" + name + "' has type other than bool");
+            const double half = 0.5 * g.spacing;
+            if (!placedAt(mask->transform(), g.origin + Vec3d(half, half, half), g.spacing))
+                formatError(path, "grid '" + name + "' has a transform that does not match its level's cells");
+            if (!insideBox(mask->evalActiveVoxelBoundingBox(), g.nx - 1, g.ny - 1, g.nz - 1))
+                formatError(path, "grid '" + name + "' marks cells outside its level's cell range");
+            level.mask = mask;
+        }
+        out.levels.push_back(std::move(level));
+    }
+    out.file = std::move(f.file);
+    return out;
+}
+
+}  // namespace vdblight::vdb_detail
