@@ -6,16 +6,18 @@
 //     figures (45 k samples, 48 clusters, 4 h precomputation, 4.47 MB visibility + 21 MB).
 //  2. Relight at the samples (section 5) per light position, one thread, and its RMS relative
 //     error against the uncompressed multi-bounce iteration (exact shadow rays, same F).
-//  3. The relightable SH volume, complete (the light's direct radiance by shadow rays + the
-//     baked bounces), one thread, against a converged re-bake: the foundation's SH gather
+//  3. The relightable SH volume (a `--direct occlusion` volume: the baked bounces in the SH,
+//     the light's visibility channel by shadow rays), one thread, against a converged re-bake: the foundation's SH gather
 //     (bakeShGather, maxBounces = the PRT's bounces) of the scene with only that point light,
 //     at many rays per node on all cores. Then the same gather on one thread with rays per
 //     node doubled until its error against that reference is at most the relight's, and
 //     bisected down to the smallest count found with that error (equal error). Finally the
 //     relight and that re-bake are timed in alternating pairs, so that on a loaded machine
 //     both see the same load: medians, the ratio of medians and the range of per-pair
-//     ratios. Both volumes carry the same exact direct light, so equal error on the complete
-//     volume is equal error on its indirect part (also printed).
+//     ratios. The errors are of complete SH volumes: the relit SH plus the light's exact direct
+//     SH at the nodes (a maxBounces = 0 gather of the point light: I / d^2 Y(w) by shadow rays,
+//     the term the foundation's gather adds), which the re-bake carries too, so equal error on
+//     the complete volume is equal error on its indirect part (also printed).
 // `--relight-only [--prt FILE]` times only the relight phases (for profiling); with --prt it
 // relights FILE if it exists, else bakes and writes it there.
 // `--quick` shrinks the workload for a CI smoke run.
@@ -41,6 +43,13 @@ using namespace vdblight;
 
 namespace {
 double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+
+DirectLight pointLight(const Vec3f& p) {
+    DirectLight l;
+    l.position = Vec3d(p);
+    l.value = Rgb{1, 1, 1};
+    return l;
+}
 
 /// The scene as PRT sees it: no emissive triangles, black sky, one point light of unit
 /// intensity at `light`.
@@ -111,21 +120,25 @@ int main(int argc, char** argv) {
     {
         // Where a volume relight's time goes (one thread).
         double tDirect = 0, tTransfer = 0, tNodes = 0;
+        PrtRelightOptions one;
+        one.threads = 1;
         for (const Vec3f& l : lights) {
             for (int k = 0; k < reps; ++k) {
                 double t = now();
-                const std::vector<float> d = prtDirectLight(prt, PrtLight{l});
+                const std::vector<float> d = prtDirectLight(prt, pointLight(l));
                 tDirect += (now() - t) / reps / 5;
                 t = now();
                 const std::vector<Rgb> v = prtVolumeTransfer(prt, d);
                 tTransfer += (now() - t) / reps / 5;
                 t = now();
-                const std::vector<Rgb> n = lightsAtNodes(prt.volumeGrid, tracer, {PrtLight{l}});
-                tNodes += (now() - t) / reps / 5;
+                const Volume without = relightVolume(prt, {pointLight(l)}, nullptr, nullptr, one);
+                const double t1 = now();
+                const Volume with = relightVolume(prt, {pointLight(l)}, &scene, &tracer, one);
+                tNodes += ((now() - t1) - (t1 - t)) / reps / 5;
             }
         }
         std::printf("volume relight phases (one thread): direct at samples (compressed visibility) %.3f ms, projection + "
-                    "transfer %.3f ms, light's direct at nodes (shadow rays) %.3f ms\n",
+                    "transfer %.3f ms, light's visibility channel at nodes (shadow rays) %.3f ms\n",
                     tDirect * 1e3, tTransfer * 1e3, tNodes * 1e3);
         if (relightOnly) return 0;
     }
@@ -137,9 +150,9 @@ int main(int argc, char** argv) {
         for (const Vec3f& l : lights) {
             PrtLighting lit;
             const double t = now();
-            for (int k = 0; k < reps; ++k) lit = relightPrt(prt, {PrtLight{l}});
+            for (int k = 0; k < reps; ++k) lit = relightPrt(prt, {pointLight(l)});
             seconds += (now() - t) / reps / 5;
-            const std::vector<float> d = exactDirectUnit(prt.samples, tracer, l);
+            const std::vector<float> d = exactDirectUnit(prt.samples, scene, tracer, l);
             std::vector<Rgb> direct(d.size());
             for (std::size_t i = 0; i < d.size(); ++i) direct[i] = Rgb{d[i], d[i], d[i]};
             error += rmsRelativeError(lit.indirect, bounceIndirect(prt.samples, F, direct, prt.bounces)) / 5;
@@ -161,12 +174,23 @@ int main(int argc, char** argv) {
         po.visDirs = 16;
         po.visCoeffs = 4;
         const PrtData points = bakePrt(scene, tracer, po);
-        const PrtLight oneSided[5] = {
-            {Vec3f{0.28f, 0.40f, 0.28f}, Rgb{1, 1, 1}, 0.1f, 4, Vec3f{0, -1, 0}},
-            {Vec3f{0.12f, 0.50f, 0.40f}, Rgb{1, 1, 1}, 0.1f, 4, Vec3f{0, -1, 0}},
-            {Vec3f{0.05f, 0.30f, 0.30f}, Rgb{1, 1, 1}, 0.1f, 4, Vec3f{1, 0, 0}},
-            {Vec3f{0.45f, 0.40f, 0.12f}, Rgb{1, 1, 1}, 0.1f, 4, Vec3f{-0.5f, -0.5f, 0.7f}},
-            {Vec3f{0.08f, 0.06f, 0.50f}, Rgb{1, 1, 1}, 0.1f, 4, Vec3f{0.3f, 1, -0.3f}},
+        const DirectLight oneSided[5] = {
+            squareLight(Vec3d(Vec3f{0.28f, 0.40f, 0.28f}), {0, -1, 0}, 0.1, Rgb{1, 1, 1}),
+            squareLight(Vec3d(Vec3f{0.12f, 0.50f, 0.40f}), {0, -1, 0}, 0.1, Rgb{1, 1, 1}),
+            squareLight(Vec3d(Vec3f{0.05f, 0.30f, 0.30f}), {1, 0, 0}, 0.1, Rgb{1, 1, 1}),
+            squareLight(Vec3d(Vec3f{0.45f, 0.40f, 0.12f}), Vec3d(Vec3f{-0.5f, -0.5f, 0.7f}), 0.1, Rgb{1, 1, 1}),
+            squareLight(Vec3d(Vec3f{0.08f, 0.06f, 0.50f}), Vec3d(Vec3f{0.3f, 1, -0.3f}), 0.1, Rgb{1, 1, 1}),
+        };
+        // The same square as 4 x 4 isotropic points in the XZ plane (`prt relight --area-size`).
+        auto isotropicSquare = [&](const DirectLight& square) {
+            std::vector<float> sum(prt.samples.size(), 0.0f);
+            for (int a = 0; a < 16; ++a) {
+                const Vec3f p = Vec3f(square.position) + Vec3f{0.1f * ((float(a % 4) + 0.5f) / 4 - 0.5f), 0,
+                                                               0.1f * ((float(a / 4) + 0.5f) / 4 - 0.5f)};
+                const std::vector<float> d = exactDirectUnit(prt.samples, scene, tracer, p);
+                for (std::size_t i = 0; i < sum.size(); ++i) sum[i] += d[i] / 16;
+            }
+            return sum;
         };
         auto grey = [](const std::vector<float>& d) {
             std::vector<Rgb> out(d.size());
@@ -176,16 +200,14 @@ int main(int argc, char** argv) {
         double err[2][3] = {};  // [basis][one-sided, its isotropic square, point]
         double compressed = 0;  // default basis, one-sided, through the compressed visibility
         for (int i = 0; i < 5; ++i) {
-            PrtLight iso = oneSided[i];
-            iso.normal = Vec3f{0, 0, 0};
-            const std::vector<float> d[3] = {exactDirectLight(prt.samples, tracer, oneSided[i]),
-                                             exactDirectLight(prt.samples, tracer, iso),
-                                             exactDirectUnit(prt.samples, tracer, lights[i])};
+            const std::vector<float> d[3] = {exactDirectLight(prt.samples, scene, tracer, oneSided[i]),
+                                             isotropicSquare(oneSided[i]),
+                                             exactDirectUnit(prt.samples, scene, tracer, lights[i])};
             for (int k = 0; k < 3; ++k) {
                 const std::vector<Rgb> ref = bounceIndirect(prt.samples, F, grey(d[k]), prt.bounces);
                 err[0][k] += rmsRelativeError(prtTransfer(prt, d[k]), ref) / 5;
                 err[1][k] += rmsRelativeError(prtTransfer(points, d[k]), ref) / 5;
-                if (k == 0) compressed += rmsRelativeError(prtTransfer(prt, prtDirectLight(prt, oneSided[i])), ref) / 5;
+                if (k == 0) compressed += rmsRelativeError(prtTransfer(prt, prtDirectLight(prt, oneSided[i], 4)), ref) / 5;
             }
         }
         std::printf("one-sided area lights (5 squares of 10 cm, %d bounces, exact direct light in): indirect RMS relative "
@@ -215,7 +237,9 @@ int main(int argc, char** argv) {
         const double t = now();
         refs.push_back(volumeRgb(bakeShGather(lit[std::size_t(i)], *litTracers[std::size_t(i)], prt.volumeGrid, g)));
         refSeconds += now() - t;
-        directs.push_back(lightsAtNodes(prt.volumeGrid, tracer, {PrtLight{lights[i]}}));
+        g.raysPerNode = 4;  // the point light's direct SH alone: exact (one shadow ray per node)
+        g.transport.maxBounces = 0;
+        directs.push_back(volumeRgb(bakeShGather(lit[std::size_t(i)], *litTracers[std::size_t(i)], prt.volumeGrid, g)));
     }
     auto indirectError = [&](const std::vector<Rgb>& got, int i) {
         std::vector<Rgb> a(got.size()), b(got.size());
@@ -228,20 +252,25 @@ int main(int argc, char** argv) {
     std::printf("reference: SH gather, %u rays per node, %d bounces, all cores: %.1f s for 5 lights\n", refRays,
                 prt.bounces, refSeconds);
     double volSeconds = 0, volError = 0, volIndirectError = 0, directSeconds = 0;
+    PrtRelightOptions oneThread;
+    oneThread.threads = 1;
     for (int i = 0; i < 5; ++i) {
         Volume vol;
         double t = now();
-        for (int k = 0; k < reps; ++k) vol = relightVolume(prt, {PrtLight{lights[i]}}, &tracer);
-        volSeconds += (now() - t) / reps / 5;
+        for (int k = 0; k < reps; ++k) vol = relightVolume(prt, {pointLight(lights[i])}, &scene, &tracer, oneThread);
+        const double with = (now() - t) / reps;
         t = now();
-        for (int k = 0; k < reps; ++k) lightsAtNodes(prt.volumeGrid, tracer, {PrtLight{lights[i]}});
-        directSeconds += (now() - t) / reps / 5;
-        const std::vector<Rgb> got = volumeRgb(vol);
+        for (int k = 0; k < reps; ++k) relightVolume(prt, {pointLight(lights[i])}, nullptr, nullptr, oneThread);
+        volSeconds += with / 5;
+        directSeconds += (with - (now() - t) / reps) / 5;  // the visibility channel's share
+        std::vector<Rgb> got = volumeRgb(vol);  // the reflected light; the light's direct SH added:
+        for (std::size_t k = 0; k < got.size(); ++k) got[k] += directs[std::size_t(i)][k];
         volError += rmsRelativeError(got, refs[std::size_t(i)]) / 5;
         volIndirectError += indirectError(got, i) / 5;
     }
-    std::printf("volume relight (%d x %d x %d = %zu nodes, SH order 2, direct + %d bounces): %.3f ms per light (one "
-                "thread; of which direct light by shadow rays %.3f ms), RMS relative error %.4f (indirect part %.4f)\n",
+    std::printf("volume relight (%d x %d x %d = %zu nodes, SH order 2 of %d bounces + the light's visibility): %.3f ms "
+                "per light (one thread; of which visibility by shadow rays %.3f ms), RMS relative error with the exact "
+                "direct SH added %.4f (indirect part %.4f)\n",
                 prt.volumeGrid.nx, prt.volumeGrid.ny, prt.volumeGrid.nz, nodes, prt.bounces, volSeconds * 1e3,
                 directSeconds * 1e3, volError, volIndirectError);
 
@@ -294,7 +323,8 @@ int main(int argc, char** argv) {
             if ((half == 0) == (p % 2 == 0)) {
                 const double t = now();
                 for (int i = 0; i < 5; ++i)
-                    for (int k = 0; k < reps; ++k) relightVolume(prt, {PrtLight{lights[i]}}, &tracer);
+                    for (int k = 0; k < reps; ++k)
+                        relightVolume(prt, {pointLight(lights[i])}, &scene, &tracer, oneThread);
                 tr = (now() - t) / reps / 5 * 1e3;
             } else {
                 const double t = now();

@@ -82,7 +82,9 @@ int main(int argc, char** argv) {
         const Bounds b = scene.bounds();
         for (int k = 0; k < (quick ? 3 : 9); ++k) {
             const Vec3d f(0.3 + 0.05 * k, 0.6, 0.4 + 0.03 * k);
-            PrtLight light{Vec3f(b.lo + b.size() * f), Rgb{1, 1, 1}};
+            DirectLight light;  // a point light of unit intensity
+            light.position = b.lo + b.size() * f;
+            light.value = Rgb{1, 1, 1};
             const double t = now();
             const PrtLighting lit = relightPrt(prt, {light});
             times.push_back(now() - t);

@@ -1,6 +1,7 @@
 // End to end: vdblight prt bake / relight / info, and the refusals.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -109,6 +110,26 @@ TEST(CliPrt, BakeRelightInfo) {
     const CliRun q = runCli("query " + vol + " --at 0.1,0.3,0.3 --normal 1,0,0");
     ASSERT_EQ(q.status, 0) << q.output;
     EXPECT_NE(q.output.find("E_r"), std::string::npos) << q.output;
+    EXPECT_NE(vinfo.output.find("direct light: occlusion, 1 listed light"), std::string::npos) << vinfo.output;
+
+    // The scene's own lights (the Cornell box's ceiling panel, a polygon light): relit at the
+    // samples, and listed with their visibility in the volume, whose direct light `query` adds.
+    // Under the panel, facing it, the unshadowed exact irradiance is at most L A / d^2 = 0.446
+    // in blue (L = 4, A = 0.0137, d = 0.35); the interpolated visibility of this 4^3 volume
+    // (nodes inside the blocks are shadowed) lowers it, but some of it must be there.
+    const std::string sl = dir.file("scene_lights.vdb"), slIndirect = dir.file("scene_lights_indirect.vdb");
+    const CliRun slRun = runCli("prt relight " + prt + " --scene " + scene + " --scene-lights -o " + dir.file("sl.csv") +
+                                " --volume-out " + sl);
+    ASSERT_EQ(slRun.status, 0) << slRun.output;
+    EXPECT_NE(slRun.output.find("1 light(s)"), std::string::npos) << slRun.output;
+    ASSERT_EQ(runCli("prt relight " + prt + " --scene " + scene + " --scene-lights -q -o " + dir.file("sl.csv") +
+                     " --indirect-only --volume-out " + slIndirect).status, 0);
+    const CliRun slInfo = runCli("info " + sl);
+    EXPECT_NE(slInfo.output.find("direct light: occlusion, 1 listed light"), std::string::npos) << slInfo.output;
+    const double directBlue = irradiance(sl) - irradiance(slIndirect);
+    std::printf("--scene-lights volume: direct E_b %.3f under the panel\n", directBlue);
+    EXPECT_GT(directBlue, 0.1);
+    EXPECT_LT(directBlue, 0.45);
 
     const CliRun outside = runCli("prt relight " + prt + " --light 5,5,5 -q -o " + dir.file("far.csv"));
     EXPECT_EQ(outside.status, 0);
@@ -148,6 +169,7 @@ TEST(CliPrt, BadInput) {
     ASSERT_EQ(runCli("prt bake -q -o " + prt + kSmall).status, 0);
     expectCleanFailure(dir, "query " + prt + " --at 0.2,0.2,0.2", "not a vdblight volume");
     expectCleanFailure(dir, "prt relight " + prt + " --light 0.2,0.2", "--light");
+    expectCleanFailure(dir, "prt relight " + prt + " --scene-lights", "--scene-lights needs --scene");
     expectCleanFailure(dir, "prt relight " + prt + " --light 0.2,0.2,0.2 -o " + dir.file("x.csv") + " --volume-out " +
                                 dir.file("x.vdb"), "has no volume");
     expectCleanFailure(dir, "prt relight " + prt + " --light 0.2,0.2,0.2,-1,0,0", "negative");

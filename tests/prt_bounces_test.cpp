@@ -15,6 +15,7 @@
 #include "vdblight/errors.h"
 #include "vdblight/prt.h"
 #include "vdblight/prt_io.h"
+#include "vdblight/query.h"
 #include "vdblight/vdb_io.h"
 #include "vdblight/scene.h"
 #include "vdblight/sh.h"
@@ -25,11 +26,9 @@
 namespace vdblight {
 namespace {
 
-std::vector<Rgb> volumeRgb(const Volume& v) {
-    std::vector<Rgb> out(v.levels[0].data.size() / 3);
-    for (std::size_t i = 0; i < out.size(); ++i)
-        out[i] = Rgb{v.levels[0].data[i * 3], v.levels[0].data[i * 3 + 1], v.levels[0].data[i * 3 + 2]};
-    return out;
+float relativeDifference(const Rgb& a, const Rgb& b) {
+    const Rgb d = a - b;
+    return (std::abs(d.x) + std::abs(d.y) + std::abs(d.z)) / (std::abs(b.x) + std::abs(b.y) + std::abs(b.z) + 1e-6f);
 }
 
 TEST(PrtBounces, WhiteFurnaceGeometricSeries) {
@@ -91,7 +90,7 @@ TEST(PrtBounces, CompressedTransferMatchesUncompressedReference) {
     const PrtData prt = bakePrt(box().scene, box().tracer, options(4));
     EXPECT_EQ(prt.bounces, 4);
     const Vec3f light = trainingLightPositions(box().scene, box().tracer, 60)[11];
-    const std::vector<float> d = exactDirectUnit(prt.samples, box().tracer, light);
+    const std::vector<float> d = exactDirectUnit(prt.samples, box().scene, box().tracer, light);
     std::vector<Rgb> direct(d.size());
     for (std::size_t i = 0; i < d.size(); ++i) direct[i] = Rgb{d[i], d[i], d[i]};
     const std::vector<float> F = sampleFormFactors(prt.samples, box().tracer);
@@ -111,90 +110,112 @@ TEST(PrtBounces, CompressedTransferMatchesUncompressedReference) {
     EXPECT_GT(gain, 0.1);  // more bounces do change the answer in a Cornell box
 }
 
-TEST(PrtBounces, LightsAtNodesMatchTheFoundationGather) {
-    // The direct part of a relit volume equals a maxBounces = 0 gather of the scene with only
-    // that point light (same shadow rays, delta projected on SH): exact up to float sums.
-    const Vec3f light{0.28f, 0.40f, 0.28f};
-    Scene lit = box().scene;
-    for (Material& mat : lit.materials) mat.emission = Rgb{0, 0, 0};
-    lit.pointLights = {PointLight{light, Rgb{2, 1, 0.5f}}};
-    lit.spotLights.clear();
-    lit.directionalLights.clear();
-    lit.sky = Sky{};
-    const Tracer tracer(lit);
-    GridSpec grid;
-    grid.origin = {0.05, 0.05, 0.05};
-    grid.spacing = 0.1;
-    grid.nx = grid.ny = grid.nz = 5;
-    GatherOptions g;
-    g.raysPerNode = 4;
-    g.transport.maxBounces = 0;
-    const std::vector<Rgb> want = volumeRgb(bakeShGather(lit, tracer, grid, g));
-    PrtLight pl{light, Rgb{2, 1, 0.5f}};
-    const std::vector<Rgb> got = lightsAtNodes(grid, box().tracer, {pl});
-    const double err = rmsRelativeError(got, want);
-    std::printf("direct at nodes vs gather: %.2e\n", err);
-    EXPECT_LT(err, 1e-4);
-    double norm = 0;
-    for (const Rgb& v : got) norm += v.x;
-    EXPECT_GT(norm, 0.0);
-}
-
-TEST(PrtBounces, CompleteVolumeIsDirectPlusIndirect) {
+TEST(PrtBounces, RelitVolumeIsAnOcclusionVolume) {
+    // With the scene, the relit volume is a `--direct occlusion` volume: the SH is the
+    // reflected light alone (the same bits as without the scene), the lights are listed, and
+    // IrradianceQuery adds exactIrradiance times the visibility channel. At a node the channel
+    // is the node's own: 1 where a shadow ray to a point light is free, 0 where it is blocked
+    // (checked here with an independent ray), so the lookup there is the SH part plus the
+    // exact irradiance, or the SH part alone.
     const PrtData prt = bakePrt(box().scene, box().tracer, options(2));
-    const PrtLight light{Vec3f{0.3f, 0.3f, 0.3f}, Rgb{1, 2, 3}};
-    const std::vector<Rgb> indirect = volumeRgb(relightVolume(prt, {light}));
-    const std::vector<Rgb> complete = volumeRgb(relightVolume(prt, {light}, &box().tracer));
-    const std::vector<Rgb> direct = lightsAtNodes(prt.volumeGrid, box().tracer, {light});
-    for (std::size_t i = 0; i < complete.size(); ++i) {
-        const Rgb d = complete[i] - indirect[i] - direct[i];
-        EXPECT_LT(std::abs(d.x) + std::abs(d.y) + std::abs(d.z), 1e-4f * (1.0f + std::abs(complete[i].x)));
+    const DirectLight light = test::pointLight(Vec3f{0.2f, 0.45f, 0.2f}, Rgb{1, 2, 3});
+    const Volume indirect = relightVolume(prt, {light});
+    const Volume complete = relightVolume(prt, {light}, &box().scene, &box().tracer);
+    EXPECT_EQ(complete.levels[0].data, indirect.levels[0].data);
+    EXPECT_EQ(indirect.direct.mode, DirectMode::Baked);
+    ASSERT_EQ(complete.direct.mode, DirectMode::Occlusion);
+    ASSERT_EQ(complete.direct.lights.size(), 1u);
+    EXPECT_EQ(complete.direct.lights[0].position, light.position);  // origin 0: local is world
+    const GridSpec& grid = complete.levels[0].grid;
+    ASSERT_EQ(complete.levels[0].lightVisibility.size(), grid.nodeCount());
+    const IrradianceQuery withDirect(complete), without(indirect);
+    int seen = 0, blocked = 0;
+    for (std::size_t node = 0; node < grid.nodeCount(); ++node) {
+        const Vec3f x(grid.node(node));
+        const Vec3f toLight = Vec3f(light.position) - x;
+        const Vec3f n = normalize(toLight);  // facing the light: exact irradiance I / d^2
+        const bool free = !box().tracer.occluded(Ray{x, toLight, 0.0f, 1.0f - 1e-4f});
+        EXPECT_EQ(complete.levels[0].lightVisibility[node], free ? 1.0f : 0.0f) << node;
+        const Rgb e = exactIrradiance(light, Vec3d(x), Vec3d(n));
+        ASSERT_GT(e.x, 0.0f);
+        const Rgb want = without.irradiance(x, n) + (free ? e : Rgb{0, 0, 0});
+        const Rgb got = withDirect.irradiance(x, n);
+        EXPECT_LT(relativeDifference(got, want), 1e-4f) << "node " << node << (free ? " lit" : " shadowed");
+        (free ? seen : blocked) += 1;
     }
+    std::printf("occlusion volume: %d nodes see the light, %d are shadowed\n", seen, blocked);
+    EXPECT_GT(seen, 10);
+    EXPECT_GT(blocked, 3);
+    EXPECT_THROW(relightVolume(prt, {light}, &box().scene, nullptr), ValueError);
     EXPECT_THROW(bakePrt(box().scene, box().tracer, options(0)), ValueError);
 }
 
-TEST(PrtBounces, AreaLightAgainstShadowRays) {
-    // A small downward-facing square light under the ceiling: its direct light through the
-    // compressed visibility against shadow rays to the same points, and its indirect light
-    // through the basis against the uncompressed reference (prt_oriented_test compares the
-    // bases with and without one-sided examples).
+TEST(PrtBounces, PolygonLightIsItsPointsAndMatchesTheExactLight) {
+    // A downward square panel under the ceiling (DirectLight polygon, squareLight): through the
+    // compressed visibility it is exactly its 4 x 4 cell-centre points, each a cosine emitter
+    // of a sixteenth of the area (built here from prtDirectUnit of isotropic points); against
+    // the shared exact direct light (Lambert's formula times visibility by shadow rays) it is
+    // within the compressed visibility's error; given as a five-vertex loop (the general
+    // triangle path instead of the parallelogram grid) it is the same light within the
+    // discretisation's difference. Its indirect light goes through the basis as before
+    // (prt_oriented_test compares the bases with and without one-sided examples).
     PrtOptions o = options(1);
     o.transferCoeffs = 32;
     o.volumeResolution = 0;
     o.orientedTraining = PrtOptions{}.orientedTraining;  // the default basis
     const PrtData prt = bakePrt(box().scene, box().tracer, o);
-    PrtLight area{Vec3f{0.28f, 0.40f, 0.28f}, Rgb{1, 1, 1}, 0.1f, 4, Vec3f{0, -1, 0}};
-    const std::vector<float> exact = exactDirectLight(prt.samples, box().tracer, area);
-    const std::vector<float> got = prtDirectLight(prt, area);
-    std::vector<Rgb> a(got.size()), b(got.size());
-    for (std::size_t i = 0; i < got.size(); ++i) a[i] = Rgb{got[i], got[i], got[i]}, b[i] = Rgb{exact[i], exact[i], exact[i]};
-    const double directErr = rmsRelativeError(a, b);
-    const std::vector<Rgb> ind = prtTransfer(prt, got);
-    const std::vector<Rgb> ref = referenceIndirect(prt.samples, box().tracer, exact);
-    const double indErr = rmsRelativeError(ind, ref);
-    // Samples behind the emitting side get nothing: the floor is unlit by a downward light.
-    double up = 0;
-    for (std::size_t i = 0; i < got.size(); ++i)
-        if (prt.samples.position[i].y > 0.4f) up += got[i];
-    // The same square emitting isotropically and a point light at its centre, for scale.
-    PrtLight iso = area;
-    iso.normal = Vec3f{0, 0, 0};
-    const std::vector<float> isoExact = exactDirectLight(prt.samples, box().tracer, iso);
-    const double isoErr = rmsRelativeError(prtTransfer(prt, prtDirectLight(prt, iso)),
-                                           referenceIndirect(prt.samples, box().tracer, isoExact));
-    const std::vector<float> ptExact = exactDirectUnit(prt.samples, box().tracer, area.position);
-    const double ptErr = rmsRelativeError(prtTransfer(prt, prtDirectUnit(prt, area.position)),
-                                          referenceIndirect(prt.samples, box().tracer, ptExact));
-    std::printf("area light: direct error %.4f, indirect error %.4f (isotropic square %.4f, point %.4f)\n", directErr,
-                indErr, isoErr, ptErr);
-    // Direct light is as exact as the compressed visibility. The indirect light of the
-    // isotropic square is as good as a point light's; the one-sided square's was 0.53 with a
-    // basis of point lights only, 0.31 with the default one-sided examples.
+    const Vec3d centre(0.28, 0.40, 0.28);
+    const DirectLight panel = squareLight(centre, {0, -1, 0}, 0.1, Rgb{2, 2, 2});
+    EXPECT_NEAR(panel.value.x, 200.0f, 1e-3f);  // radiance = intensity / area
+    const std::vector<float> got = prtDirectLight(prt, panel, 4);
+    std::vector<float> points(got.size(), 0.0f);
+    const Vec3f corner = Vec3f(panel.loops[0][0]), e1 = Vec3f(panel.loops[0][1] - panel.loops[0][0]),
+                e3 = Vec3f(panel.loops[0][3] - panel.loops[0][0]);
+    for (int a = 0; a < 16; ++a) {
+        const Vec3f c = corner + e1 * ((float(a % 4) + 0.5f) / 4) + e3 * ((float(a / 4) + 0.5f) / 4);
+        const std::vector<float> unit = prtDirectUnit(prt, c);
+        for (std::size_t i = 0; i < got.size(); ++i) {
+            const float cosine = -normalize(prt.samples.position[i] - c).y;  // emitting downwards
+            if (cosine > 0) points[i] += unit[i] * cosine * 0.01f / 16;
+        }
+    }
+    const auto grey = [](const std::vector<float>& d) {
+        std::vector<Rgb> out(d.size());
+        for (std::size_t i = 0; i < d.size(); ++i) out[i] = Rgb{d[i], d[i], d[i]};
+        return out;
+    };
+    const double pointsErr = rmsRelativeError(grey(got), grey(points));
+    const std::vector<float> exact = exactDirectLight(prt.samples, box().scene, box().tracer, panel);
+    const double directErr = rmsRelativeError(grey(got), grey(exact));
+    DirectLight five = panel;  // the same square with a vertex in the middle of one edge
+    five.loops[0].insert(five.loops[0].begin() + 1, 0.5 * (panel.loops[0][0] + panel.loops[0][1]));
+    const std::vector<float> fiveGot = prtDirectLight(prt, five, 4);
+    const double shapeErr = rmsRelativeError(grey(fiveGot), grey(got));
+    const double fiveExactErr = rmsRelativeError(grey(exactDirectLight(prt.samples, box().scene, box().tracer, five)),
+                                                 grey(exact));
+    const double indErr = rmsRelativeError(prtTransfer(prt, got), referenceIndirect(prt.samples, box().tracer, exact));
+    std::printf("polygon light: its points %.2e, direct error vs exact %.4f, five-vertex loop vs square %.4f "
+                "(exact %.2e), indirect error %.4f\n", pointsErr, directErr, shapeErr, fiveExactErr, indErr);
+    EXPECT_LT(pointsErr, 1e-5);
     EXPECT_LT(directErr, 0.1);
-    EXPECT_LT(isoErr, ptErr * 1.2 + 0.02);
+    EXPECT_LT(shapeErr, 0.05);
+    EXPECT_LT(fiveExactErr, 1e-3);  // the exact reference does not depend on how the loop is drawn
     EXPECT_LT(indErr, 0.4);
+    // Samples behind the emitting side get nothing: above the panel nothing is lit.
+    double up = 0, lit = 0;
+    for (std::size_t i = 0; i < got.size(); ++i) {
+        if (prt.samples.position[i].y > 0.4f) up += got[i] + fiveGot[i] + exact[i];
+        lit += got[i];
+    }
     EXPECT_EQ(up, 0.0);
-    EXPECT_EQ(lightPoints(area).size(), 16u);
+    EXPECT_GT(lit, 0.0);
+    // relightPrt is the same light times its radiance; a directional light is refused.
+    const PrtLighting relit = relightPrt(prt, {panel}, PrtRelightOptions{4});
+    for (std::size_t i = 0; i < got.size(); i += 17) EXPECT_FLOAT_EQ(relit.direct[i].x, got[i] * 200.0f) << i;
+    DirectLight sun;
+    sun.kind = DirectLight::Kind::Directional;
+    sun.value = Rgb{1, 1, 1};
+    EXPECT_THROW(relightPrt(prt, {sun}), ValueError);
 }
 
 TEST(PrtBounces, FormatVersionWrittenAndUnknownVersionsRefused) {

@@ -28,6 +28,15 @@ inline PrtOptions smallPrtOptions() {
     return o;
 }
 
+/// A point light (DirectLight) at p of intensity `intensity` W/sr, for relighting.
+inline DirectLight pointLight(const Vec3f& p, const Rgb& intensity = Rgb{1, 1, 1}) {
+    DirectLight l;
+    l.kind = DirectLight::Kind::Point;
+    l.position = Vec3d(p);
+    l.value = intensity;
+    return l;
+}
+
 /// The box [0, 1]^3, faces inward, one material "grey" of albedo 0.5.
 inline Scene greyUnitBox() {
     Scene scene;

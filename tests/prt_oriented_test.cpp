@@ -12,6 +12,7 @@
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
 #include "../libvdblight/src/prt/pca.h"  // internal: pcaProject, pcaReconstruct
+#include "../libvdblight/src/prt/prt_internal.h"  // internal: trainingLights
 
 namespace vdblight {
 namespace {
@@ -39,16 +40,16 @@ PrtOptions options(float oriented) {
     return o;
 }
 
-/// One-sided squares (10 cm, 4 x 4 points) of the Cornell box (0.556 x 0.549 x 0.559): two
+/// One-sided squares (10 cm, 4 x 4 points through the compressed visibility) of the Cornell box (0.556 x 0.549 x 0.559): two
 /// under the ceiling facing down, one on the left wall facing +x, one tilted in the air, one
 /// near the floor facing up and tilted. None is a training light (those are Halton points),
 /// none is inside a solid (tested below).
-const PrtLight kOneSided[5] = {
-    {Vec3f{0.28f, 0.40f, 0.28f}, Rgb{1, 1, 1}, 0.1f, 4, Vec3f{0, -1, 0}},
-    {Vec3f{0.12f, 0.50f, 0.40f}, Rgb{1, 1, 1}, 0.1f, 4, Vec3f{0, -1, 0}},
-    {Vec3f{0.05f, 0.30f, 0.30f}, Rgb{1, 1, 1}, 0.1f, 4, Vec3f{1, 0, 0}},
-    {Vec3f{0.45f, 0.40f, 0.12f}, Rgb{1, 1, 1}, 0.1f, 4, Vec3f{-0.5f, -0.5f, 0.7f}},
-    {Vec3f{0.08f, 0.06f, 0.50f}, Rgb{1, 1, 1}, 0.1f, 4, Vec3f{0.3f, 1, -0.3f}},
+const DirectLight kOneSided[5] = {
+    squareLight(Vec3d(Vec3f{0.28f, 0.40f, 0.28f}), {0, -1, 0}, 0.1, Rgb{1, 1, 1}),
+    squareLight(Vec3d(Vec3f{0.12f, 0.50f, 0.40f}), {0, -1, 0}, 0.1, Rgb{1, 1, 1}),
+    squareLight(Vec3d(Vec3f{0.05f, 0.30f, 0.30f}), {1, 0, 0}, 0.1, Rgb{1, 1, 1}),
+    squareLight(Vec3d(Vec3f{0.45f, 0.40f, 0.12f}), Vec3d(Vec3f{-0.5f, -0.5f, 0.7f}), 0.1, Rgb{1, 1, 1}),
+    squareLight(Vec3d(Vec3f{0.08f, 0.06f, 0.50f}), Vec3d(Vec3f{0.3f, 1, -0.3f}), 0.1, Rgb{1, 1, 1}),
 };
 const Vec3f kPoints[5] = {{0.28f, 0.40f, 0.28f}, {0.12f, 0.30f, 0.45f}, {0.45f, 0.48f, 0.10f},
                           {0.30f, 0.15f, 0.05f}, {0.50f, 0.20f, 0.15f}};
@@ -61,11 +62,11 @@ struct Errors {
 Errors measure(const PrtData& prt) {
     Errors e;
     for (int i = 0; i < 5; ++i) {
-        const std::vector<float> exact = exactDirectLight(prt.samples, box().tracer, kOneSided[i]);
-        e.oneSided[i] = rmsRelativeError(prtTransfer(prt, prtDirectLight(prt, kOneSided[i])),
+        const std::vector<float> exact = exactDirectLight(prt.samples, box().scene, box().tracer, kOneSided[i]);
+        e.oneSided[i] = rmsRelativeError(prtTransfer(prt, prtDirectLight(prt, kOneSided[i], 4)),
                                          referenceIndirect(prt.samples, box().tracer, exact));
         e.oneSidedMean += e.oneSided[i] / 5;
-        const std::vector<float> pt = exactDirectUnit(prt.samples, box().tracer, kPoints[i]);
+        const std::vector<float> pt = exactDirectUnit(prt.samples, box().scene, box().tracer, kPoints[i]);
         e.pointMean += rmsRelativeError(prtTransfer(prt, prtDirectUnit(prt, kPoints[i])),
                                         referenceIndirect(prt.samples, box().tracer, pt)) / 5;
     }
@@ -123,7 +124,7 @@ TEST(PrtOriented, OneSidedLightsImproveAndPointLightsDoNot) {
             }
     }
     for (const Vec3f& l : kPoints) {
-        const std::vector<float> d = exactDirectUnit(mixed.samples, box().tracer, l);
+        const std::vector<float> d = exactDirectUnit(mixed.samples, box().scene, box().tracer, l);
         for (std::size_t c = 0; c < mixed.samples.clusters(); ++c) {
             double err[2];
             for (int which = 0; which < 2; ++which) {
@@ -138,7 +139,7 @@ TEST(PrtOriented, OneSidedLightsImproveAndPointLightsDoNot) {
             EXPECT_LE(err[1], err[0] * (1 + 1e-4) + 1e-12) << "cluster " << c;
         }
     }
-    for (const PrtLight& l : kOneSided) ASSERT_FALSE(insideSolid(box().tracer, l.position));
+    for (const DirectLight& l : kOneSided) ASSERT_FALSE(insideSolid(box().tracer, Vec3f(l.position)));
     const Errors a = measure(points), b = measure(mixed);
     for (int i = 0; i < 5; ++i)
         std::printf("one-sided light %d: indirect RMS relative error %.4f (point-light basis) -> %.4f\n", i,

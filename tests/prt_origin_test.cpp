@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "prt_fixtures.h"
 #include "test_util.h"
 #include "vdblight/prt.h"
 #include "vdblight/prt_io.h"
@@ -58,13 +59,13 @@ TEST(PrtOrigin, FarSceneRelitVolumeLandsAtWorldPositions) {
 
     // The same physical light, given in world coordinates of each scene.
     const Vec3d light(0.28, 0.40, 0.28);
-    const PrtLight nearLight{prtLocal(basePrt, light), Rgb{1, 0.8f, 0.6f}};
-    const PrtLight farLight{prtLocal(farPrt, light + offset), Rgb{1, 0.8f, 0.6f}};
-    EXPECT_LT(length(farLight.position - nearLight.position), 1e-6f);
-    const Volume nearV = relightVolume(basePrt, {nearLight}, &baseTracer);
-    const Volume farV = relightVolume(farPrt, {farLight}, &farTracer);
+    const DirectLight nearLight = test::pointLight(prtLocal(basePrt, light), Rgb{1, 0.8f, 0.6f});
+    const DirectLight farLight = test::pointLight(prtLocal(farPrt, light + offset), Rgb{1, 0.8f, 0.6f});
+    EXPECT_LT(length(farLight.position - nearLight.position), 1e-6);
+    const Volume nearV = relightVolume(basePrt, {nearLight}, &base, &baseTracer);
+    const Volume farV = relightVolume(farPrt, {farLight}, &far, &farTracer);
     // Read back (16-bit storage), the far file relights to the same volume within quantisation.
-    const Volume readV = relightVolume(read, {farLight}, &farTracer);
+    const Volume readV = relightVolume(read, {farLight}, &far, &farTracer);
     EXPECT_EQ(readV.levels[0].grid.origin, farV.levels[0].grid.origin);
     std::vector<Rgb> a(farV.levels[0].data.size() / 3), b(a.size());
     for (std::size_t i = 0; i < a.size(); ++i) {
@@ -79,8 +80,12 @@ TEST(PrtOrigin, FarSceneRelitVolumeLandsAtWorldPositions) {
     for (int a = 0; a < 3; ++a) EXPECT_NEAR(gf.origin[a], gn.origin[a] + offset[a], 1e-9) << a;
     EXPECT_EQ(gf.spacing, gn.spacing);
 
-    // The light lands on the same local point, so the relit values are the same bits.
+    // The light lands on the same local point, so the relit values and the light's visibility
+    // channel are the same bits, and the listed light is in the world.
     EXPECT_EQ(farV.levels[0].data, nearV.levels[0].data);
+    ASSERT_TRUE(farV.direct.hasVisibility());
+    EXPECT_EQ(farV.levels[0].lightVisibility, nearV.levels[0].lightVisibility);
+    EXPECT_LT(length(farV.direct.lights[0].position - (light + offset)), 1e-6);
 
     // Query both at the same physical points (nodes and points between them) in world
     // coordinates: the shifted lookup of the far volume must read what the near one reads.

@@ -129,7 +129,7 @@ TEST(PrtSampled, BakeAgreesWithTheDensePairMatrix) {
     ASSERT_EQ(dense.samples.position, sampled.samples.position);
     double denseError = 0, sampledError = 0;
     for (const Vec3f light : {Vec3f(0.28f, 0.45f, 0.25f), Vec3f(0.1f, 0.3f, 0.4f), Vec3f(0.45f, 0.2f, 0.1f)}) {
-        const std::vector<float> d = exactDirectUnit(dense.samples, tracer, light);
+        const std::vector<float> d = exactDirectUnit(dense.samples, scene, tracer, light);
         const double samples = rmsRelativeError(prtTransfer(sampled, d), prtTransfer(dense, d));
         const double nodes = rmsRelativeError(prtVolumeTransfer(sampled, d), prtVolumeTransfer(dense, d));
         {  // the truth: a converged 4-bounce gather of the light minus its direct part

@@ -212,7 +212,7 @@ TEST(Prt, TrainingLightIsExactWithAllCoefficients) {
     o.orientedTraining = 0;            // (the isotropic training lights only)
     const PrtData prt = bakePrt(box().scene, box().tracer, o);
     const Vec3f light = trainingLightPositions(box().scene, box().tracer, o.trainLights)[7];
-    const std::vector<float> direct = exactDirectUnit(prt.samples, box().tracer, light);
+    const std::vector<float> direct = exactDirectUnit(prt.samples, box().scene, box().tracer, light);
     const std::vector<Rgb> ref = referenceIndirect(prt.samples, box().tracer, direct);
     const double err = rmsRelativeError(prtTransfer(prt, direct), ref);
     std::printf("training light, all coefficients: RMS relative indirect error %.2e\n", err);
@@ -228,7 +228,7 @@ TEST(Prt, HeldOutLightsErrorBoundedAndFallsWithCoefficients) {
         double pe = 0, ie = 0;
         for (const Vec3f& light : kHeldOut) {
             ASSERT_FALSE(insideSolid(box().tracer, light));
-            const std::vector<float> direct = exactDirectUnit(prt.samples, box().tracer, light);
+            const std::vector<float> direct = exactDirectUnit(prt.samples, box().scene, box().tracer, light);
             const std::vector<Rgb> ref = referenceIndirect(prt.samples, box().tracer, direct);
             ie += rmsRelativeError(prtTransfer(prt, direct), ref) / 5;
             // Projection error of the direct light itself (nested subspaces: monotonic).
@@ -271,7 +271,7 @@ TEST(Prt, CompressedVisibilityAgreesWithShadowRays) {
         const Vec3f p(Vec3d{b.lo.x + 0.1 + 0.35 * rng.uniform(), b.lo.y + 0.05 + 0.45 * rng.uniform(),
                             b.lo.z + 0.05 + 0.45 * rng.uniform()});
         if (insideSolid(box().tracer, p)) continue;
-        const std::vector<float> exact = exactDirectUnit(prt.samples, box().tracer, p);
+        const std::vector<float> exact = exactDirectUnit(prt.samples, box().scene, box().tracer, p);
         const std::vector<float> pcaDirect = prtDirectUnit(prt, p);
         for (std::size_t i = 0; i < exact.size(); ++i) {
             const Vec3f w = p - prt.samples.position[i];
@@ -293,8 +293,8 @@ TEST(Prt, RelightEndToEndAgainstReference) {
     const PrtData prt = bakePrt(box().scene, box().tracer, smallOptions());
     double worst = 0;
     for (const Vec3f& light : kHeldOut) {
-        const PrtLighting lit = relightPrt(prt, {PrtLight{light, Rgb{1, 0.5f, 0.25f}}});
-        const std::vector<float> direct = exactDirectUnit(prt.samples, box().tracer, light);
+        const PrtLighting lit = relightPrt(prt, {test::pointLight(light, Rgb{1, 0.5f, 0.25f})});
+        const std::vector<float> direct = exactDirectUnit(prt.samples, box().scene, box().tracer, light);
         std::vector<Rgb> refDirect(direct.size());
         for (std::size_t i = 0; i < direct.size(); ++i) refDirect[i] = Rgb{1, 0.5f, 0.25f} * direct[i];
         std::vector<Rgb> ref = referenceIndirect(prt.samples, box().tracer, direct);
@@ -318,7 +318,7 @@ TEST(Prt, RelightableVolumeAgainstReference) {
     const std::size_t nodes = full.volumeGrid.nodeCount();
     // Complete basis + training light: exact.
     const Vec3f train = trainingLightPositions(box().scene, box().tracer, o.trainLights)[3];
-    std::vector<float> direct = exactDirectUnit(full.samples, box().tracer, train);
+    std::vector<float> direct = exactDirectUnit(full.samples, box().scene, box().tracer, train);
     double err = rmsRelativeError(prtVolumeTransfer(full, direct), referenceVolume(full.samples, full.volumeGrid, box().tracer, direct));
     std::printf("volume, training light, all coefficients: RMS relative error %.2e\n", err);
     EXPECT_LT(err, 1e-3);
@@ -327,9 +327,9 @@ TEST(Prt, RelightableVolumeAgainstReference) {
     const PrtData prt = bakePrt(box().scene, box().tracer, o);
     double worst = 0;
     for (const Vec3f& light : kHeldOut) {
-        const Volume vol = relightVolume(prt, {PrtLight{light}});
+        const Volume vol = relightVolume(prt, {test::pointLight(light)});
         ASSERT_EQ(vol.levels[0].data.size(), nodes * sh::kCoeffs * 3);
-        direct = exactDirectUnit(prt.samples, box().tracer, light);
+        direct = exactDirectUnit(prt.samples, box().scene, box().tracer, light);
         const std::vector<Rgb> ref = referenceVolume(prt.samples, prt.volumeGrid, box().tracer, direct);
         std::vector<Rgb> got(ref.size());
         for (std::size_t i = 0; i < got.size(); ++i)
@@ -345,8 +345,8 @@ TEST(Prt, RelightableVolumeAgainstReference) {
     const PrtData back = readPrt(dir.file("v.vdb"));
     ASSERT_TRUE(back.hasVolume());
     EXPECT_EQ(back.volumeGrid.nx, prt.volumeGrid.nx);
-    const Volume a = relightVolume(prt, {PrtLight{kHeldOut[0]}});
-    const Volume b = relightVolume(back, {PrtLight{kHeldOut[0]}});
+    const Volume a = relightVolume(prt, {test::pointLight(kHeldOut[0])});
+    const Volume b = relightVolume(back, {test::pointLight(kHeldOut[0])});
     std::vector<Rgb> va(nodes * 9), vb(nodes * 9);
     for (std::size_t i = 0; i < va.size(); ++i) {
         va[i] = Rgb{a.levels[0].data[i * 3], a.levels[0].data[i * 3 + 1], a.levels[0].data[i * 3 + 2]};
@@ -355,7 +355,7 @@ TEST(Prt, RelightableVolumeAgainstReference) {
     EXPECT_LT(rmsRelativeError(vb, va), 5e-3);
     writeVolume(b, dir.file("relit.vdb"));
     EXPECT_EQ(readVolume(dir.file("relit.vdb")).levels[0].grid.nodeCount(), nodes);
-    EXPECT_THROW(relightVolume(bakePrt(box().scene, box().tracer, smallOptions()), {PrtLight{kHeldOut[0]}}), ValueError);
+    EXPECT_THROW(relightVolume(bakePrt(box().scene, box().tracer, smallOptions()), {test::pointLight(kHeldOut[0])}), ValueError);
 }
 
 TEST(Prt, OfficeRelightEndToEndAgainstReference) {
@@ -381,12 +381,12 @@ TEST(Prt, OfficeRelightEndToEndAgainstReference) {
     double worstSamples = 0, worstVolume = 0, meanSamples = 0, meanVolume = 0;
     for (const Vec3f& light : lights) {
         ASSERT_FALSE(insideSolid(tracer, light));
-        const std::vector<float> direct = exactDirectUnit(prt.samples, tracer, light);
+        const std::vector<float> direct = exactDirectUnit(prt.samples, office, tracer, light);
         std::vector<Rgb> ref = referenceIndirect(prt.samples, tracer, direct);
         for (Rgb& v : ref) v = v * colour;
-        const PrtLighting lit = relightPrt(prt, {PrtLight{light, colour}});
+        const PrtLighting lit = relightPrt(prt, {test::pointLight(light, colour)});
         const double es = rmsRelativeError(lit.indirect, ref);
-        const Volume vol = relightVolume(prt, {PrtLight{light, colour}});
+        const Volume vol = relightVolume(prt, {test::pointLight(light, colour)});
         std::vector<Rgb> refVol = referenceVolume(prt.samples, prt.volumeGrid, tracer, direct);
         for (Rgb& v : refVol) v = v * colour;
         std::vector<Rgb> got(refVol.size());
@@ -431,7 +431,7 @@ TEST(Prt, FileRoundTripAndQuantisation) {
     test::TempDir dir;
     const PrtData prt = bakePrt(box().scene, box().tracer, smallOptions());
     const Vec3f light = kHeldOut[0];
-    const PrtLighting ref = relightPrt(prt, {PrtLight{light}});
+    const PrtLighting ref = relightPrt(prt, {test::pointLight(light)});
     PrtWriteOptions exact;
     exact.quantize = false;
     writePrt(prt, dir.file("f32.vdb"), exact);
@@ -441,9 +441,9 @@ TEST(Prt, FileRoundTripAndQuantisation) {
     ASSERT_EQ(f32.samples.size(), prt.samples.size());
     EXPECT_EQ(f32.visCoeffs, prt.visCoeffs);
     for (std::size_t c = 0; c < prt.transfer.size(); ++c) EXPECT_TRUE(f32.transfer[c] == prt.transfer[c]);
-    const PrtLighting a = relightPrt(f32, {PrtLight{light}});
+    const PrtLighting a = relightPrt(f32, {test::pointLight(light)});
     EXPECT_LT(rmsRelativeError(a.indirect, ref.indirect), 1e-4);
-    const PrtLighting q = relightPrt(readPrt(dir.file("q16.vdb")), {PrtLight{light}});
+    const PrtLighting q = relightPrt(readPrt(dir.file("q16.vdb")), {test::pointLight(light)});
     const double eq = rmsRelativeError(q.indirect, ref.indirect);
     std::printf("16-bit storage: indirect RMS relative change %.2e\n", eq);
     EXPECT_LT(eq, 5e-3);

@@ -1,4 +1,4 @@
-// vdblight prt bake|relight|info: precomputed radiance transfer for moving point lights
+// vdblight prt bake|relight|info: precomputed radiance transfer for moving lights
 // (Leonhardt & Bohn). Options are parsed into structs; the work is in vdblight/prt.h.
 #include <algorithm>
 #include <chrono>
@@ -15,6 +15,7 @@
 #include "vdblight/prt.h"
 #include "vdblight/prt_io.h"
 #include "vdblight/scene.h"
+#include "vdblight/scene_lights.h"
 #include "vdblight/trace.h"
 #include "vdblight/vdb_io.h"
 
@@ -37,6 +38,7 @@ struct PrtRelightCommand {
     std::vector<std::string> lights;
     std::vector<std::string> areaLights;
     std::string scene;  ///< the baked scene: lights' direct light in the volume, inside-solid test
+    bool sceneLights = false;  ///< relight with the lights of --scene (sceneLights)
     bool indirectOnly = false;
     float areaSize = 0;
     int areaSamples = 5;
@@ -101,47 +103,54 @@ std::vector<double> parseNumbers(const std::string& text, const std::string& opt
     return v;
 }
 
-/// The optional r,g,b at v[first..first+2] (W/sr, not negative) into l.intensity.
-void parseIntensity(const std::vector<double>& v, std::size_t first, const std::string& option,
-                    const std::string& text, PrtLight& l) {
-    if (v.size() < first + 3) return;
+/// The optional r,g,b at v[first..first+2] (W/sr, not negative); white without them.
+Rgb parseIntensity(const std::vector<double>& v, std::size_t first, const std::string& option, const std::string& text) {
+    if (v.size() < first + 3) return Rgb{1, 1, 1};
     if (v[first] < 0 || v[first + 1] < 0 || v[first + 2] < 0) {
         throw ValueError(option + " '" + text + "': intensity must not be negative");
     }
-    l.intensity = Rgb(Vec3d{v[first], v[first + 1], v[first + 2]});
+    return Rgb(Vec3d{v[first], v[first + 1], v[first + 2]});
 }
 
-/// A parsed light: its position as given (world, double) is moved into the PRT file's local
-/// frame once the file is read (prtLocal).
+/// A parsed light: given in world coordinates (double), its lights (DirectLight) are moved into
+/// the PRT file's local frame once the file is read (prtLocal).
 struct ParsedLight {
-    PrtLight light;
-    Vec3d world;
+    std::vector<DirectLight> lights;  ///< world frame
+    Vec3d world;                      ///< the position given (for warnings)
 };
 
-/// --area-light x,y,z,nx,ny,nz,size[,r,g,b]: a square emitting on the side of the normal.
-ParsedLight parseAreaLight(const std::string& text, int samples) {
+/// --area-light x,y,z,nx,ny,nz,size[,r,g,b]: a square emitting on the side of the normal, the
+/// intensity along the normal (a polygon light: squareLight).
+ParsedLight parseAreaLight(const std::string& text) {
     const std::vector<double> v =
         parseNumbers(text, "--area-light", "x,y,z,nx,ny,nz,size or x,y,z,nx,ny,nz,size,r,g,b", {7, 10});
-    PrtLight l;
-    l.position = Vec3f(Vec3d{v[0], v[1], v[2]});
-    l.normal = Vec3f(Vec3d{v[3], v[4], v[5]});
-    if (!(length(Vec3d{v[3], v[4], v[5]}) > 0)) throw ValueError("--area-light '" + text + "': the normal must not be zero");
+    const Vec3d centre{v[0], v[1], v[2]}, normal{v[3], v[4], v[5]};
+    if (!(length(normal) > 0)) throw ValueError("--area-light '" + text + "': the normal must not be zero");
     if (!(v[6] > 0)) throw ValueError("--area-light '" + text + "': size must be positive");
-    l.size = float(v[6]);
-    parseIntensity(v, 7, "--area-light", text, l);
-    l.areaSamples = samples;
-    return {l, Vec3d{v[0], v[1], v[2]}};
+    return {{squareLight(centre, normal, v[6], parseIntensity(v, 7, "--area-light", text))}, centre};
 }
 
-/// --light x,y,z[,r,g,b]: a point light, or an isotropic square of side `size` if > 0.
+/// --light x,y,z[,r,g,b]: a point light, or, with --area-size > 0, an isotropic square of that
+/// side in the XZ plane: samples x samples point lights at its cell centres sharing the intensity.
 ParsedLight parseLight(const std::string& text, float size, int samples) {
     const std::vector<double> v = parseNumbers(text, "--light", "x,y,z or x,y,z,r,g,b", {3, 6});
-    PrtLight l;
-    l.position = Vec3f(Vec3d{v[0], v[1], v[2]});
-    parseIntensity(v, 3, "--light", text, l);
-    l.size = size;
-    l.areaSamples = samples;
-    return {l, Vec3d{v[0], v[1], v[2]}};
+    const Vec3d centre{v[0], v[1], v[2]};
+    DirectLight point;
+    point.kind = DirectLight::Kind::Point;
+    point.value = parseIntensity(v, 3, "--light", text);
+    if (!(size > 0)) {
+        point.position = centre;
+        return {{point}, centre};
+    }
+    ParsedLight out{{}, centre};
+    const int m = std::max(1, samples);
+    point.value = Rgb(Rgbd(point.value) / double(m * m));
+    for (int a = 0; a < m * m; ++a) {
+        const double u = size * ((double(a % m) + 0.5) / m - 0.5), w = size * ((double(a / m) + 0.5) / m - 0.5);
+        point.position = centre + Vec3d{u, 0, w};
+        out.lights.push_back(point);
+    }
+    return out;
 }
 
 std::string formatLighting(const PrtData& prt, const PrtLighting& lit, bool ply) {
@@ -177,23 +186,25 @@ std::string formatLighting(const PrtData& prt, const PrtLighting& lit, bool ply)
 }
 
 void runRelight(const PrtRelightCommand& c) {
-    if (c.lights.empty() && c.areaLights.empty()) {
-        throw ValueError("give at least one --light x,y,z[,r,g,b] or --area-light");
+    if (c.sceneLights && c.scene.empty()) throw ValueError("--scene-lights needs --scene (the scene whose lights to use)");
+    if (c.lights.empty() && c.areaLights.empty() && !c.sceneLights) {
+        throw ValueError("give at least one --light x,y,z[,r,g,b], --area-light or --scene-lights");
     }
     std::vector<ParsedLight> parsed;
     for (const std::string& t : c.lights) parsed.push_back(parseLight(t, c.areaSize, c.areaSamples));
-    for (const std::string& t : c.areaLights) parsed.push_back(parseAreaLight(t, c.areaSamples));
+    for (const std::string& t : c.areaLights) parsed.push_back(parseAreaLight(t));
     bool ply = c.format == "ply";
     if (c.format.empty()) ply = c.output.size() > 4 && c.output.substr(c.output.size() - 4) == ".ply";
     else if (c.format != "csv" && c.format != "ply") throw ValueError("--format must be csv or ply");
     if (!c.output.empty()) checkOutputWritable(c.output);
     if (!c.volumeOutput.empty()) checkOutputWritable(c.volumeOutput);
     const PrtData prt = readPrt(c.input);
-    std::vector<PrtLight> lights;  // in the file's local frame (the scene's, scene_origin.h)
-    for (ParsedLight& p : parsed) {
-        p.light.position = prtLocal(prt, p.world);
-        lights.push_back(p.light);
-    }
+    std::vector<DirectLight> lights;  // in the file's local frame (the scene's, scene_origin.h)
+    for (const ParsedLight& p : parsed)
+        for (DirectLight l : p.lights) {
+            l.translate(Vec3d(0, 0, 0) - prt.origin);
+            lights.push_back(l);
+        }
     if (!c.volumeOutput.empty() && !prt.hasVolume()) {
         throw ValueError("'" + c.input + "' has no volume: bake it with --volume-resolution to use --volume-out");
     }
@@ -210,21 +221,29 @@ void runRelight(const PrtRelightCommand& c) {
         }
         tracer = std::make_unique<Tracer>(*scene);
     }
-    for (std::size_t i = 0; i < lights.size(); ++i) {
-        const PrtLight& l = lights[i];
+    if (c.sceneLights) {  // the scene's own lights, already in its local frame
+        const std::size_t before = lights.size();
+        for (const SceneLight& l : sceneLights(*scene)) lights.push_back(l.light);
+        if (lights.size() == before) throw ValueError("--scene-lights: '" + c.scene + "' has no lights");
+    }
+    for (std::size_t i = 0; i < parsed.size(); ++i) {
         std::ostringstream name;
         name.precision(10);
         name << "light " << i + 1 << " at " << parsed[i].world.x << "," << parsed[i].world.y << "," << parsed[i].world.z;
-        if (!prt.bounds.contains(Vec3d(l.position))) {
+        const Vec3f local = prtLocal(prt, parsed[i].world);
+        if (!prt.bounds.contains(Vec3d(local))) {
             std::cerr << "vdblight: warning: " << name.str()
                       << " is outside the scene bounds (lit as given; the basis was trained inside)\n";
-        } else if (tracer ? insideSolid(*tracer, l.position) : prtInsideSolid(prt, l.position)) {
+        } else if (tracer ? insideSolid(*tracer, local) : prtInsideSolid(prt, local)) {
             std::cerr << "vdblight: warning: " << name.str() << " is inside a solid (lit as given"
                       << (tracer ? "" : "; judged from the samples, give --scene for the exact test") << ")\n";
         }
     }
+    PrtRelightOptions options;
+    options.areaSamples = c.areaSamples;
+    options.threads = c.threads;
     const double t0 = seconds();
-    const PrtLighting lit = relightPrt(prt, lights);
+    const PrtLighting lit = relightPrt(prt, lights, options);
     const double t1 = seconds();
     if (!c.quiet) {
         std::cerr << "prt relight: " << prt.samples.size() << " samples, " << lights.size() << " light(s) in "
@@ -238,9 +257,9 @@ void runRelight(const PrtRelightCommand& c) {
         }
         const Tracer tracer(scene);
         std::vector<Rgb> direct(prt.samples.size(), Rgb{0, 0, 0});
-        for (const PrtLight& l : lights) {
-            const std::vector<float> d = exactDirectLight(prt.samples, tracer, l, c.threads);
-            for (std::size_t i = 0; i < d.size(); ++i) direct[i] += l.intensity * d[i];
+        for (const DirectLight& l : lights) {
+            const std::vector<float> d = exactDirectLight(prt.samples, scene, tracer, l, c.threads);
+            for (std::size_t i = 0; i < d.size(); ++i) direct[i] += l.value * d[i];
         }
         // Uncompressed bounces with the bake's form factors (closure-normalised as baked).
         const std::vector<float> F = sampleFormFactors(prt.samples, tracer, c.threads, nullptr, prt.closureNormalise);
@@ -250,7 +269,9 @@ void runRelight(const PrtRelightCommand& c) {
     }
     if (!c.volumeOutput.empty()) {
         const double v0 = seconds();
-        const Volume volume = relightVolume(prt, lights, c.indirectOnly ? nullptr : tracer.get());
+        const bool direct = !c.indirectOnly && scene;
+        const Volume volume = relightVolume(prt, lights, direct ? scene.get() : nullptr, direct ? tracer.get() : nullptr,
+                                            options);
         const double v1 = seconds();
         writeVolume(volume, c.volumeOutput);
         if (!c.quiet) {
@@ -307,7 +328,7 @@ void printPrtInfo(const std::string& path) {
 }
 
 void addPrtCommand(CLI::App& app) {
-    CLI::App* prt = app.add_subcommand("prt", "Precomputed radiance transfer for moving point lights (Leonhardt & Bohn)");
+    CLI::App* prt = app.add_subcommand("prt", "Precomputed radiance transfer for moving lights (Leonhardt & Bohn)");
     prt->require_subcommand(1);
 
     auto b = std::make_shared<PrtBakeCommand>();
@@ -358,21 +379,26 @@ void addPrtCommand(CLI::App& app) {
                         "Square area light x,y,z,nx,ny,nz,size[,r,g,b]: centre, emitting side, side length, "
                         "intensity along the normal (repeatable)");
     relight->add_option("--scene", r->scene,
-                        "The baked scene: adds the lights' direct light to --volume-out (shadow rays) and tests "
-                        "light positions exactly");
+                        "The baked scene: the lights' visibility in --volume-out (a --direct occlusion volume) and "
+                        "the exact inside-a-solid test");
+    relight->add_flag("--scene-lights", r->sceneLights,
+                      "Relight with the lights of --scene too (emissive polygons, point and spot lights; a "
+                      "directional light is refused)");
     addSceneFrameOptions(*relight, r->frame);  // load --scene and --reference as the bake did
     relight->add_flag("--indirect-only", r->indirectOnly, "--volume-out holds only the reflected light (no --scene needed)");
     relight->add_option("--area-size", r->areaSize, "Make every --light an isotropic square of this side (XZ plane)");
-    relight->add_option("--area-samples", r->areaSamples, "Points per side of an area light")
+    relight->add_option("--area-samples", r->areaSamples,
+                        "Points per side of an area light (--area-light, --area-size, polygon lights of the scene)")
         ->check(CLI::Range(1, 64))->capture_default_str();
     relight->add_option("-o,--output", r->output, "Write CSV or PLY here instead of stdout");
     relight->add_option("--format", r->format, "csv or ply (default: from the extension, else csv)");
     relight->add_option("--reference", r->referenceScene,
                         "Scene to compute the exact direct and uncompressed one-bounce light from; prints the errors");
     relight->add_option("--volume-out", r->volumeOutput,
-                        "Write the relit SH volume (.vdb: the lights' direct + reflected radiance; needs a bake with "
-                        "--volume-resolution and --scene or --indirect-only)");
-    relight->add_option("--threads", r->threads, "Worker threads for --reference (0 = all cores)");
+                        "Write the relit SH volume (.vdb: reflected radiance in the SH, the lights' direct light as "
+                        "in a --direct occlusion bake; needs a bake with --volume-resolution and --scene or "
+                        "--indirect-only)");
+    relight->add_option("--threads", r->threads, "Worker threads for --reference and the visibility of --volume-out (0 = all cores)");
     relight->add_flag("-q,--quiet", r->quiet, "No timing line");
     relight->callback([r] { runRelight(*r); });
 

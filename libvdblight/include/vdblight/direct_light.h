@@ -59,6 +59,13 @@ struct DirectLight {
     double area() const;
 };
 
+/// A one-sided square panel: centre `centre`, emitting on the side of `normal` (any length
+/// but zero), side `size`, as a Lambertian emitter of `intensity` W/sr along its normal (its
+/// radiance is intensity / size^2, so the intensity at angle a off the normal is intensity *
+/// cos a). One loop, counter-clockwise around the normal, along the tangents of
+/// orthonormalBasis(normal). Throws ValueError for a zero normal or a size that is not positive.
+DirectLight squareLight(const Vec3d& centre, const Vec3d& normal, double size, const Rgb& intensity);
+
 /// The glTF spot falloff the radiance estimator uses: squared linear ramp of the cosine
 /// between the outer and the inner cone; `fromLight` is the unit direction light -> receiver.
 double spotFalloff(const DirectLight& spot, const Vec3d& fromLight);

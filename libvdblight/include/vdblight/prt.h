@@ -8,6 +8,8 @@
 // computed sample to sample with ray-traced visibility, for `bounces` diffuse bounces (the
 // paper has one; more by iterating the form-factor matrix on the basis, multi_bounce.cpp).
 // Relight (section 5): visibility -> direct light -> projection -> transfer -> indirect.
+// The lights are the library's DirectLight (direct_light.h), the same description a volume
+// lists; the method evaluates each as point emitters through the compressed visibility.
 //
 // Quantities: direct and indirect values are irradiance (W/m^2) at a sample on its front
 // side; a sample's outgoing radiance is albedo / pi * (direct + indirect).
@@ -17,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "vdblight/direct_light.h"
 #include "vdblight/layout.h"
 #include "vdblight/math.h"
 #include "vdblight/volume.h"
@@ -122,19 +125,17 @@ Vec3f visibilityDirection(int g, int index);
 /// bilinear weights in the concentric square (paper figure 2). Returns how many (4).
 int visibilityNeighbours(int g, const Vec3f& localDir, int index[4], float weight[4]);
 
-/// One light for relighting: a point light (with a `normal`: a one-sided cosine emitter),
-/// or a small square area light (`size` > 0) of
-/// `areaSamples` x `areaSamples` points (cell centres) sharing `intensity`. With a `normal`
-/// the square is perpendicular to it and emits on that side only, as a Lambertian emitter
-/// (each point's intensity falls off with the cosine to the normal; `intensity` is the total
-/// along the normal); without one (zero) it lies in the XZ plane and its points are isotropic.
-/// Every point is lit through the trained basis (the lighting is projected once per light).
-struct PrtLight {
-    Vec3f position;
-    Rgb intensity{1, 1, 1};  ///< W/sr (area light: total intensity along its normal)
-    float size = 0;
+/// How relighting evaluates lights (relightPrt, relightVolume, prtDirectLight).
+struct PrtRelightOptions {
+    /// A polygon or mesh light is areaSamples^2 point emitters through the compressed
+    /// visibility (pointEmitters in src/prt: a parallelogram's grid of cell centres, other
+    /// shapes stratified over their area), each a cosine emitter of its share of the area.
     int areaSamples = 5;
-    Vec3f normal{0, 0, 0};
+    /// relightVolume with a scene: shadow rays per node and polygon light for the visibility
+    /// channels (bakeLightVisibility, as `bake --direct occlusion`), and their seed.
+    uint32_t visibilitySamples = 64;
+    uint64_t seed = 1;
+    int threads = 0;  ///< relightVolume's visibility channels (0: all cores)
 };
 
 /// The baked data (what a _prt.vdb holds).
@@ -169,7 +170,7 @@ struct PrtData {
     bool hasVolume() const { return !volumeTransfer.empty(); }
     Bounds bounds;               ///< of the scene, in its local frame
     /// World position of the scene's local frame (Scene::origin): samples, bounds, volume
-    /// nodes and PrtLight positions are local (float); prtLocal converts a world point.
+    /// nodes and relit lights are local; prtLocal converts a world point.
     Vec3d origin{0, 0, 0};
     std::string sceneName, sceneHash;
     uint64_t seed = 1;
@@ -208,19 +209,30 @@ struct PrtLighting {
     std::vector<Rgb> indirect;
 };
 
-/// Direct irradiance per unit intensity (scalar) from a point at `p` using the compressed
-/// visibility.
+/// Direct irradiance per unit value of `light` (scalar: multiply by light.value) at every
+/// sample through the compressed visibility: a point or spot light as one point emitter, a
+/// polygon or mesh light as PrtRelightOptions::areaSamples^2 of them. Throws ValueError for a
+/// directional light: the compressed visibility holds, per sample, the depth of the first hit
+/// along its hemisphere directions, which answers whether a point at distance d is seen, and
+/// the direct-light basis was trained with lights inside the scene; neither describes a light
+/// at infinity. prtDirectUnit: an isotropic point of unit intensity at p.
+std::vector<float> prtDirectLight(const PrtData& prt, const DirectLight& light, int areaSamples = 5);
 std::vector<float> prtDirectUnit(const PrtData& prt, const Vec3f& p);
 
-/// Direct irradiance per unit intensity of a whole light (its lightPoints, cosine emitters
-/// weighted) with the compressed visibility; exactDirectLight: with shadow rays.
-std::vector<float> prtDirectLight(const PrtData& prt, const PrtLight& light);
-std::vector<float> exactDirectLight(const SurfaceSamples& s, const Tracer& tracer, const PrtLight& light,
-                                    int threads = 0);
+/// The reference for prtDirectLight, uncompressed and exact: exactIrradiance per unit value
+/// times the shadowed fraction by rays (shadowedIrradiance of scene_lights.h, the light as a
+/// freeLight: `samples` stratified points of a polygon, one ray to a point light), at every
+/// sample. `scene` is the one `tracer` was built from. exactDirectUnit: an isotropic point of
+/// unit intensity at p.
+std::vector<float> exactDirectLight(const SurfaceSamples& s, const Scene& scene, const Tracer& tracer,
+                                    const DirectLight& light, int threads = 0, uint32_t samples = 256);
+std::vector<float> exactDirectUnit(const SurfaceSamples& s, const Scene& scene, const Tracer& tracer, const Vec3f& p,
+                                   int threads = 0);
 
 /// Section 5: direct from the compressed visibility, then projection onto each cluster's
-/// basis and the transfer matrices. Lights add linearly.
-PrtLighting relightPrt(const PrtData& prt, const std::vector<PrtLight>& lights);
+/// basis and the transfer matrices. Lights add linearly (lights of one colour share one
+/// projection and transfer). Positions in the PRT data's local frame (prtLocal).
+PrtLighting relightPrt(const PrtData& prt, const std::vector<DirectLight>& lights, const PrtRelightOptions& options = {});
 
 /// Indirect irradiance from a given per-sample direct unit irradiance `direct` (scalar),
 /// through projection and transfer (eq. 10) only.
@@ -234,42 +246,19 @@ std::vector<Rgb> prtVolumeTransfer(const PrtData& prt, const std::vector<float>&
 /// user for a scene far from the origin (scene_origin.h).
 inline Vec3f prtLocal(const PrtData& prt, const Vec3d& world) { return Vec3f(world - prt.origin); }
 
-/// Relights the volume: an `sh2` Volume (one dense level) holding the radiance that reaches
-/// each node after 1..prt.bounces diffuse reflections off the surfaces, plus, if `tracer`
-/// (of the baked scene) is given, the lights' own direct radiance (lightsAtNodes: exact
-/// shadow rays), so that it is a complete lighting volume like a `bake` with those lights.
-/// `query` and `export` read it like any baked volume. It is placed in the world: its grid
-/// origin is prt.volumeGrid's plus prt.origin (placeVolumeInWorld). Throws ValueError if the
-/// PRT data has no volume.
-Volume relightVolume(const PrtData& prt, const std::vector<PrtLight>& lights, const Tracer* tracer = nullptr);
-
-/// The lights' direct SH radiance at the nodes of `grid` (9 per node, node-major): a point
-/// light of intensity I at distance d adds I / d^2 * Y(direction to the light) if a shadow ray
-/// from the node reaches it (as the foundation's gather, radiance_estimator.cpp); an area
-/// light adds its points (lightPoints) the same way.
-std::vector<Rgb> lightsAtNodes(const GridSpec& grid, const Tracer& tracer, const std::vector<PrtLight>& lights);
-
-/// The isotropic point lights a PrtLight stands for: itself, or its areaSamples^2 points.
-struct PrtPointLight {
-    Vec3f position;
-    Vec3f normal;     ///< emitting side (cosine emitter); zero: isotropic
-    float weight;     ///< share of the light's intensity (1 / points)
-};
-std::vector<PrtPointLight> lightPoints(const PrtLight& light);
-
-/// The example lights of the direct-light basis: trainingLightPositions(count + extra) with
-/// extra = round(count * orientedFraction); the first `count` are isotropic points (the
-/// paper's), the rest one-sided cosine emitters (unit intensity along the normal) facing away
-/// from the nearest surface hit by the six axis rays from the position (a lamp on a wall or a
-/// ceiling), or along the Halton (bases 7, 11) sphere direction if no axis ray hits.
-std::vector<PrtPointLight> trainingLights(const Scene& scene, const Tracer& tracer, uint32_t count,
-                                          float orientedFraction);
+/// Relights the volume: an `sh2` Volume (one dense level) whose SH holds the radiance that
+/// reaches each node after 1..prt.bounces diffuse reflections off the surfaces. With the baked
+/// scene and its tracer (both or neither) it is a `--direct occlusion` volume like a bake's
+/// (direct_light.h): Volume::direct lists the lights and level 0 holds their visibility
+/// channels (bakeLightVisibility of bake_direct.h with the lights as freeLights), so `query`
+/// and `export` add each light's exact irradiance times its interpolated visibility, as for a
+/// baked occlusion volume. Without them it holds the reflected light only (metadata
+/// `direct_light` = false). Placed in the world: its grid origin (and the listed lights) are
+/// moved by prt.origin (placeVolumeInWorld). Throws ValueError if the PRT data has no volume.
+Volume relightVolume(const PrtData& prt, const std::vector<DirectLight>& lights, const Scene* scene = nullptr,
+                     const Tracer* tracer = nullptr, const PrtRelightOptions& options = {});
 
 // --- References (uncompressed, for tests and error reports) ------------------------------
-
-/// Exact direct irradiance per unit intensity at each sample from a point at `p`: cos / d^2
-/// with visibility by a shadow ray.
-std::vector<float> exactDirectUnit(const SurfaceSamples& s, const Tracer& tracer, const Vec3f& p, int threads = 0);
 
 /// Uncompressed one-bounce indirect irradiance: every sample j reflects albedo_j / pi *
 /// direct_j towards every receiver through the form factor below, visibility by ray

@@ -28,7 +28,33 @@ struct SceneLight {
     /// Point / spot / directional: the index in the order points, spots, directionals
     /// (LightSample::source of the estimator's punctual samples); -1 for polygons.
     int32_t punctual = -1;
+    /// Polygon / mesh not made of scene triangles (freeLight): its loops split into triangles,
+    /// three vertices each, with the sign of each (-1: a triangle that cancels area, inside a
+    /// hole or a concave corner). triangleCdf is then over these triangles' absolute areas.
+    std::vector<Vec3f> ownTriangles;
+    std::vector<float> ownSign;
+    /// Polygon / mesh: the total (absolute) area the sample points are drawn over.
+    double sampledArea = 0;
 };
+
+/// A light that is not part of the scene's triangles (one placed by a user, e.g. to relight a
+/// PRT file): point, spot and directional lights as they are; a polygon's or mesh's loops
+/// split into a fan of triangles each, whose signed areas sum to the light's region (holes and
+/// non-convex loops included), so that lightVisibility and samplePolygonLight draw points on
+/// the light itself. Its shadow rays stop short of the light as for a scene light.
+SceneLight freeLight(const DirectLight& light);
+
+/// A point on a polygon or mesh light for the unit-square point (u, v), as lightVisibility
+/// draws them: u picks a triangle by area and is rescaled to [0, 1) inside it (a stratified
+/// set of (u, v) stays stratified over the whole light), then (u, v) is a uniform point of
+/// that triangle. `normal`: the light's front normal there; `sign`: -1 on a triangle of a free
+/// light that cancels area, else 1. `scene` is read only for a light made of scene triangles.
+struct PolygonLightPoint {
+    Vec3f position;
+    Vec3f normal;
+    float sign = 1;
+};
+PolygonLightPoint samplePolygonLight(const SceneLight& light, const Scene* scene, float u, float v);
 
 /// Every light of the scene, in a fixed order: polygons (by smallest triangle index), then
 /// point, spot and directional lights in scene order. The sky is not a light here: it stays
@@ -44,10 +70,17 @@ std::vector<SceneLight> sceneLights(const Scene& scene);
 double lightVisibility(const Scene& scene, const Tracer& tracer, const SceneLight& light, const Vec3f& x, uint32_t samples,
                        uint64_t stream, RayCount& rays, const Vec3f* normal = nullptr);
 
+/// Direct irradiance at x for the unit normal n from one light with its shadows:
+/// exactIrradiance times lightVisibility with the receiver's cosine (`samples` shadow rays for
+/// a polygon light, one for a point, spot or directional light; none where the light does not
+/// reach the normal's side). `onSurface`: x lies on a surface facing n, so the shadow rays
+/// start just off it (offsetRayOrigin) rather than at x. x and n in the scene's local frame.
+Rgb shadowedIrradiance(const Scene& scene, const Tracer& tracer, const SceneLight& light, const Vec3f& x, const Vec3f& n,
+                       uint32_t samples, uint64_t stream, RayCount& rays, bool onSurface = false);
+
 /// Direct irradiance at x for the unit normal n from `lights` with their shadows, as a run
-/// time adds it to a `--direct runtime` volume: per light, exactIrradiance times
-/// lightVisibility with the receiver's cosine (`samples` shadow rays per polygon light, one per
-/// point, spot or directional light). x and n in the scene's local frame.
+/// time adds it to a `--direct runtime` volume: shadowedIrradiance summed over the lights
+/// (light i with stream hashCombine(stream, i)). x and n in the scene's local frame.
 Rgb runtimeDirectIrradiance(const Scene& scene, const Tracer& tracer, const std::vector<SceneLight>& lights,
                             const Vec3f& x, const Vec3f& n, uint32_t samples, uint64_t stream, RayCount& rays);
 

@@ -50,6 +50,21 @@ double DirectLight::area() const {
     return a;
 }
 
+DirectLight squareLight(const Vec3d& centre, const Vec3d& normal, double size, const Rgb& intensity) {
+    if (!(length(normal) > 0)) throw ValueError("a square light's normal must not be zero");
+    if (!(size > 0)) throw ValueError("a square light's size must be positive");
+    DirectLight l;
+    l.kind = DirectLight::Kind::Polygon;
+    l.normal = normalize(normal);
+    l.value = Rgb(Rgbd(intensity) / (size * size));
+    Vec3f t1, t2;  // float tangents: the frame every user of a normal-only square shares
+    orthonormalBasis(Vec3f(l.normal), t1, t2);
+    const Vec3d a = Vec3d(t1) * (0.5 * size), b = Vec3d(t2) * (0.5 * size);
+    l.loops = {{centre - a - b, centre + a - b, centre + a + b, centre - a + b}};
+    l.position = centre;
+    return l;
+}
+
 double spotFalloff(const DirectLight& s, const Vec3d& fromLight) {
     // The estimator's rule (radiance_estimator.cpp), in double.
     const double cosOuter = std::cos(s.outerCone), cosInner = std::cos(s.innerCone);

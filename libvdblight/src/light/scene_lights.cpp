@@ -9,6 +9,7 @@
 #include <numeric>
 
 #include "core/union_find.h"
+#include "vdblight/errors.h"
 #include "vdblight/sampling.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
@@ -92,7 +93,14 @@ SceneLight polygonLight(const Scene& s, const std::vector<uint32_t>& tris, const
     }
     for (double& c : out.triangleCdf) c /= total;
     out.triangleCdf.back() = 1.0;
+    out.sampledArea = total;
     return out;
+}
+
+/// Vertex k (0..2) of triangle `index` of a polygon light: a scene triangle or one of its own.
+Vec3f lightVertex(const SceneLight& sl, const Scene* scene, std::size_t index, int k) {
+    if (sl.triangles.empty()) return sl.ownTriangles[index * 3 + std::size_t(k)];
+    return scene->vertex(sl.triangles[index], k);
 }
 
 }  // namespace
@@ -159,6 +167,58 @@ std::vector<SceneLight> sceneLights(const Scene& scene) {
     return out;
 }
 
+SceneLight freeLight(const DirectLight& light) {
+    SceneLight out;
+    out.light = light;
+    if (light.kind != DirectLight::Kind::Polygon && light.kind != DirectLight::Kind::Mesh) return out;
+    // A fan from each loop's first vertex: the triangles' signed areas (around the polygon's
+    // normal; a mesh loop around its own) sum to the loop's, whatever its shape.
+    double total = 0;
+    for (const auto& loop : light.loops) {
+        if (loop.size() < 3) continue;
+        Vec3d loopNormal = light.normal;
+        if (light.kind == DirectLight::Kind::Mesh) {
+            Vec3d v;
+            for (std::size_t i = 0; i < loop.size(); ++i) v += cross(loop[i], loop[(i + 1) % loop.size()]);
+            if (!(length(v) > 0)) continue;
+            loopNormal = normalize(v);
+        }
+        for (std::size_t i = 1; i + 1 < loop.size(); ++i) {
+            const Vec3d c = cross(loop[i] - loop[0], loop[i + 1] - loop[0]);
+            const double signedArea = 0.5 * dot(c, loopNormal);
+            if (signedArea == 0) continue;
+            for (const Vec3d& p : {loop[0], loop[i], loop[i + 1]}) out.ownTriangles.push_back(Vec3f(p));
+            out.ownSign.push_back(signedArea > 0 ? 1.0f : -1.0f);
+            total += std::abs(signedArea);
+            out.triangleCdf.push_back(total);
+        }
+    }
+    if (out.triangleCdf.empty()) throw ValueError("a polygon light has no area");
+    for (double& c : out.triangleCdf) c /= total;
+    out.triangleCdf.back() = 1.0;
+    out.sampledArea = total;
+    return out;
+}
+
+PolygonLightPoint samplePolygonLight(const SceneLight& sl, const Scene* scene, float u, float v) {
+    const std::size_t count = sl.triangles.empty() ? sl.ownSign.size() : sl.triangles.size();
+    if (count == 0 || sl.triangleCdf.size() != count) throw ValueError("the light has no triangles to sample");
+    if (!sl.triangles.empty() && !scene) throw ValueError("a light made of scene triangles needs its scene");
+    const std::size_t k = std::min<std::size_t>(
+        std::upper_bound(sl.triangleCdf.begin(), sl.triangleCdf.end(), double(u)) - sl.triangleCdf.begin(), count - 1);
+    const double lo = k ? sl.triangleCdf[k - 1] : 0.0, hi = sl.triangleCdf[k];
+    u = hi > lo ? float(std::min(0.99999994, (double(u) - lo) / (hi - lo))) : 0.5f;
+    float b1, b2;
+    uniformTriangle(u, v, b1, b2);
+    const Vec3f a = lightVertex(sl, scene, k, 0), b = lightVertex(sl, scene, k, 1), c = lightVertex(sl, scene, k, 2);
+    PolygonLightPoint out;
+    out.position = a + (b - a) * b1 + (c - a) * b2;
+    out.sign = sl.triangles.empty() ? sl.ownSign[k] : 1.0f;
+    // A cancelling triangle runs the other way round: its own normal times its sign is the light's.
+    out.normal = normalize(cross(b - a, c - a)) * out.sign;
+    return out;
+}
+
 double lightVisibility(const Scene& scene, const Tracer& tracer, const SceneLight& sl, const Vec3f& x, uint32_t samples, uint64_t stream,
                        RayCount& rays, const Vec3f* normal) {
     const DirectLight& l = sl.light;
@@ -172,52 +232,48 @@ double lightVisibility(const Scene& scene, const Tracer& tracer, const SceneLigh
         ++rays.occluded;
         return tracer.occluded(Ray{x, toLight, 0.0f, kShadowEnd}) ? 0.0 : 1.0;
     }
-    // Polygon or mesh: stratified points over its area. One 2-D Sobol point per sample: u picks
-    // the triangle by area and is then rescaled to [0, 1) inside it, so the points stay
-    // stratified over the whole light (choosing the triangle with another sequence leaves
-    // each triangle's subset of points uneven: 0.46 for a half-blocked quad at 256 samples).
+    // Polygon or mesh: stratified points over its area (samplePolygonLight). One 2-D Sobol
+    // point per sample: choosing the triangle with another sequence leaves each triangle's
+    // subset of points uneven (0.46 for a half-blocked quad at 256 samples). A free light's
+    // cancelling triangles (freeLight) weigh negatively, so the sums stay over its region.
     double seen = 0, total = 0;
     const uint64_t scramble = hashCombine(stream, 0x5eed);
     for (uint32_t i = 0; i < samples; ++i) {
         float u, v;
         sobol02(i, scramble, u, v);
-        const std::size_t k = std::min<std::size_t>(
-            std::upper_bound(sl.triangleCdf.begin(), sl.triangleCdf.end(), double(u)) - sl.triangleCdf.begin(),
-            sl.triangles.size() - 1);
-        const double lo = k ? sl.triangleCdf[k - 1] : 0.0, hi = sl.triangleCdf[k];
-        u = hi > lo ? float(std::min(0.99999994, (double(u) - lo) / (hi - lo))) : 0.5f;
-        const uint32_t t = sl.triangles[k];
-        float b1, b2;
-        uniformTriangle(u, v, b1, b2);
-        const Vec3f a = scene.vertex(t, 0);
-        const Vec3f q = a + (scene.vertex(t, 1) - a) * b1 + (scene.vertex(t, 2) - a) * b2;
-        const Vec3f toLight = q - x;
+        const PolygonLightPoint p = samplePolygonLight(sl, &scene, u, v);
+        const Vec3f toLight = p.position - x;
         const float dist2 = dot(toLight, toLight);
         if (!(dist2 > 0)) continue;
         const Vec3f wi = toLight / std::sqrt(dist2);
         // The sample's share of the light's solid angle from x; 0 from behind a one-sided face.
-        const Vec3f ng = normalize(cross(scene.vertex(t, 1) - a, scene.vertex(t, 2) - a));
-        float cosLight = -dot(ng, wi);
+        float cosLight = -dot(p.normal, wi);
         if (l.twoSided) cosLight = std::abs(cosLight);
         double weight = std::max(0.0f, cosLight) / dist2;
         if (normal) weight *= std::max(0.0f, dot(*normal, wi));
         if (!(weight > 0)) continue;
+        weight *= p.sign;
         ++rays.occluded;
         total += weight;
         if (!tracer.occluded(Ray{x, toLight, 0.0f, kShadowEnd})) seen += weight;
     }
-    return total > 0 ? seen / total : 1.0;
+    return total > 0 ? std::clamp(seen / total, 0.0, 1.0) : 1.0;
+}
+
+Rgb shadowedIrradiance(const Scene& scene, const Tracer& tracer, const SceneLight& light, const Vec3f& x, const Vec3f& n,
+                       uint32_t samples, uint64_t stream, RayCount& rays, bool onSurface) {
+    const Rgb e = exactIrradiance(light.light, Vec3d(x), normalize(Vec3d(n)));
+    if (maxComponent(e) <= 0) return Rgb(0, 0, 0);  // no light for this normal: no shadow rays
+    // Off the surface towards its front: the side every lit direction leaves from.
+    const Vec3f from = onSurface ? offsetRayOrigin(x, n, n) : x;
+    return e * float(lightVisibility(scene, tracer, light, from, samples, stream, rays, &n));
 }
 
 Rgb runtimeDirectIrradiance(const Scene& scene, const Tracer& tracer, const std::vector<SceneLight>& lights,
                             const Vec3f& x, const Vec3f& n, uint32_t samples, uint64_t stream, RayCount& rays) {
     Rgb sum(0, 0, 0);
-    const Vec3d nd = normalize(Vec3d(n));
-    for (std::size_t i = 0; i < lights.size(); ++i) {
-        const Rgb e = exactIrradiance(lights[i].light, Vec3d(x), nd);
-        if (maxComponent(e) <= 0) continue;  // no light for this normal: no shadow rays
-        sum += e * float(lightVisibility(scene, tracer, lights[i], x, samples, hashCombine(stream, i), rays, &n));
-    }
+    for (std::size_t i = 0; i < lights.size(); ++i)
+        sum += shadowedIrradiance(scene, tracer, lights[i], x, n, samples, hashCombine(stream, i), rays);
     return sum;
 }
 

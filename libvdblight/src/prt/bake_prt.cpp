@@ -9,6 +9,7 @@
 #include "vdblight/interrupter.h"
 #include "vdblight/sampling.h"
 #include "vdblight/scene.h"
+#include "vdblight/scene_lights.h"
 
 namespace vdblight {
 
@@ -131,9 +132,20 @@ void bakeLightBasis(PrtData& prt, const Scene& scene, const Tracer& tracer, cons
     if (in) in->start("direct-light basis", l);
     for (std::size_t k = 0; k < l; ++k) {
         checkCancel(in);
-        const std::vector<float> row =
-            exactDirectLight(s, tracer, PrtLight{lights[k].position, Rgb{1, 1, 1}, 0.0f, 1, lights[k].normal}, o.threads);
-        std::copy(row.begin(), row.end(), direct.begin() + std::ptrdiff_t(k * n));
+        // The example's exact direct light: a unit point's (the shared shadowedIrradiance)
+        // times the emitter's cosine for a one-sided example.
+        const PrtPointLight& example = lights[k];
+        DirectLight point;
+        point.position = Vec3d(example.position);
+        point.value = Rgb(1, 1, 1);
+        const SceneLight light = freeLight(point);
+        float* row = direct.data() + k * n;
+        parallelFor(n, o.threads, [&](std::size_t i) {
+            const float cosine = example.emission(normalize(s.position[i] - example.position));
+            if (!(cosine > 0.0f)) return;
+            RayCount rays;
+            row[i] = cosine * shadowedIrradiance(scene, tracer, light, s.position[i], s.normal[i], 1, 0, rays, true).x;
+        });
         if (in) in->progress(k + 1);
     }
     if (in) in->end();

@@ -10,9 +10,6 @@
 
 namespace vdblight::prt_detail {
 
-/// Shadow rays to a point light end just short of it (as radiance_estimator.cpp).
-constexpr float kShadowEnd = 1.0f - 1e-4f;
-
 /// f(i) for i in [0, n) on `threads` threads, each i writing only its own outputs (core/parallel_for.h).
 using core::parallelFor;
 using core::threadCount;
@@ -25,15 +22,8 @@ inline bool visibleBetween(const Tracer& tracer, const Vec3f& p, const Vec3f& np
     return !tracer.occluded(ray);
 }
 
-/// True if a point light at `l` reaches the surface point (p, n) (n faces it).
-inline bool visibleToLight(const Tracer& tracer, const Vec3f& p, const Vec3f& n, const Vec3f& l) {
-    const Vec3f a = offsetRayOrigin(p, n, l - p);
-    Ray ray{a, l - a, 0.0f, 0.9999f};
-    return !tracer.occluded(ray);
-}
-
 /// Direct irradiance per unit intensity from a point at l (cos / d^2, no visibility), or 0
-/// behind the surface. Also the local direction and distance if asked.
+/// behind the surface, as the compressed path evaluates it (float). Also the distance if asked.
 inline float unshadowedUnit(const Vec3f& p, const Vec3f& n, const Vec3f& l, float* dist = nullptr) {
     const Vec3f w = l - p;
     const float d2 = dot(w, w);
@@ -106,6 +96,42 @@ SparseRows sampledNodeGather(const SurfaceSamples& s, const Tracer& tracer, cons
 }  // namespace vdblight::prt_detail
 
 namespace vdblight {
+/// One point emitter of the PRT's relighting: a light as the compressed visibility sees it.
+/// Intensity towards a receiver in unit direction w (light -> receiver) per unit light value:
+/// weight, times dot(normal, w) for a cosine emitter (|.| if twoSided; 0 behind a one-sided
+/// one), times spotFalloff for a spot.
+struct PrtPointLight {
+    Vec3f position;
+    Vec3f normal{0, 0, 0};   ///< cosine emitter's front; zero: isotropic
+    float weight = 1.0f;     ///< point, spot: 1; polygon point: its signed share of the area
+    bool twoSided = false;
+    const DirectLight* spot = nullptr;  ///< a spot light: its falloff (outlives this point)
+    /// The intensity factor towards w (unit, from the light); 0: none.
+    float emission(const Vec3f& w) const;
+};
+
+/// The PRT discretisation of a light, in one place: a point or spot light is one point; a
+/// polygon or mesh areaSamples^2 cosine emitters (twoSided as the light), each weighted by
+/// its share of the area: the cell centres of an areaSamples x areaSamples grid on a
+/// parallelogram (a square panel: squareLight), else stratified points of the light's
+/// triangles (samplePolygonLight of scene_lights.h with the grid's cell centres; a free
+/// light's cancelling triangles weigh negatively). Throws ValueError for a directional light.
+std::vector<PrtPointLight> pointEmitters(const DirectLight& light, int areaSamples);
+
+/// The compressed direct unit irradiance (prtDirectLight) of the lights, summed per light
+/// colour (DirectLight::value, in order of first appearance): lights of one colour share one
+/// projection and transfer (relight.cpp).
+std::vector<std::pair<Rgb, std::vector<float>>> directByColour(const PrtData& prt, const std::vector<DirectLight>& lights,
+                                                                 int areaSamples);
+
+/// The example lights of the direct-light basis: trainingLightPositions(count + extra) with
+/// extra = round(count * orientedFraction); the first `count` are isotropic points (the
+/// paper's), the rest one-sided cosine emitters (unit intensity along the normal) facing away
+/// from the nearest surface hit by the six axis rays from the position (a lamp on a wall or a
+/// ceiling), or along the Halton (bases 7, 11) sphere direction if no axis ray hits.
+std::vector<PrtPointLight> trainingLights(const Scene& scene, const Tracer& tracer, uint32_t count,
+                                          float orientedFraction);
+
 /// The light-basis coefficients of every cluster for a direct unit irradiance (stride values
 /// per cluster, [0] = 1 for the mean vector, 0 if the mean is zero) (relight.cpp).
 void projectLightBases(const PrtData& prt, const std::vector<float>& direct, std::vector<float>& coeffs);

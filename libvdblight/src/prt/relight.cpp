@@ -9,6 +9,7 @@
 #include "pca.h"
 #include "prt_internal.h"
 #include "vdblight/errors.h"
+#include "vdblight/scene_lights.h"
 
 namespace vdblight {
 
@@ -49,19 +50,19 @@ inline void reconstructFour(const float* r0, const float* r1, const float* r2, c
 #endif
 }
 
-/// Adds weight * emitter cosine * compressed direct unit irradiance of a point at l to out.
+/// Adds weight * emission * compressed direct unit irradiance of a point emitter to out.
 void addDirectPoint(const PrtData& prt, const PrtPointLight& pl, float* out) {
     const SurfaceSamples& s = prt.samples;
     const int g = prt.visGrid;
     const Vec3f& l = pl.position;
-    const bool cosine = dot(pl.normal, pl.normal) > 0.0f;
+    const bool isotropic = !(dot(pl.normal, pl.normal) > 0.0f) && !pl.spot;
     for (std::size_t i = 0; i < s.size(); ++i) {
         float dist = 0;
         float e = unshadowedUnit(s.position[i], s.normal[i], l, &dist);
         if (e <= 0.0f) continue;
         const Vec3f w = (l - s.position[i]) / dist;
-        if (cosine) {
-            const float ce = -dot(pl.normal, w);
+        if (!isotropic) {
+            const float ce = pl.emission(w * -1.0f);
             if (ce <= 0.0f) continue;
             e *= ce;
         }
@@ -148,33 +149,69 @@ void prepareRelight(PrtData& prt) {
     }
 }
 
-std::vector<PrtPointLight> lightPoints(const PrtLight& light) {
-    Vec3f n{0, 0, 0}, t1{1, 0, 0}, t2{0, 0, 1};
-    if (dot(light.normal, light.normal) > 0.0f) {
-        n = normalize(light.normal);
-        orthonormalBasis(n, t1, t2);
+float PrtPointLight::emission(const Vec3f& w) const {
+    float e = 1.0f;
+    if (dot(normal, normal) > 0.0f) {
+        e = dot(normal, w);
+        if (twoSided) e = std::abs(e);
+        if (e <= 0.0f) return 0.0f;
     }
-    if (!(light.size > 0)) return {PrtPointLight{light.position, n, 1.0f}};
-    const int m = std::max(1, light.areaSamples);
+    if (spot) e *= float(spotFalloff(*spot, Vec3d(w)));
+    return e;
+}
+
+std::vector<PrtPointLight> pointEmitters(const DirectLight& light, int areaSamples) {
+    using Kind = DirectLight::Kind;
+    if (light.kind == Kind::Directional)
+        throw ValueError("PRT relighting takes point, spot, polygon and mesh lights, not directional ones: its "
+                         "compressed visibility knows the depth to points at a finite distance, not to infinity");
+    PrtPointLight p;
+    p.position = Vec3f(light.position);
+    if (light.kind == Kind::Spot) p.spot = &light;
+    if (light.kind == Kind::Point || light.kind == Kind::Spot) return {p};
+    const int m = std::max(1, areaSamples);
+    const float cells = float(m * m);
     std::vector<PrtPointLight> out;
-    for (int a = 0; a < m * m; ++a) {
-        const float u = light.size * ((float(a % m) + 0.5f) / float(m) - 0.5f);
-        const float v = light.size * ((float(a / m) + 0.5f) / float(m) - 0.5f);
-        out.push_back(PrtPointLight{light.position + t1 * u + t2 * v, n, 1.0f / float(m * m)});
+    p.twoSided = light.twoSided;
+    if (light.kind == Kind::Polygon && light.loops.size() == 1 && light.loops[0].size() == 4) {
+        // A parallelogram (a square panel): the cell centres of an m x m grid on it.
+        const std::vector<Vec3d>& q = light.loops[0];
+        const Vec3d e1 = q[1] - q[0], e3 = q[3] - q[0];
+        const double area = dot(cross(e1, e3), light.normal);
+        if (length(q[0] + q[2] - q[1] - q[3]) <= 1e-9 * (length(e1) + length(e3)) && area > 0) {
+            p.normal = Vec3f(light.normal);
+            p.weight = float(area / double(cells));
+            for (int a = 0; a < m * m; ++a) {
+                p.position = Vec3f(q[0] + e1 * ((double(a % m) + 0.5) / m) + e3 * ((double(a / m) + 0.5) / m));
+                out.push_back(p);
+            }
+            return out;
+        }
     }
+    // Any other shape: the grid's cell centres through the light's own sampling map.
+    const SceneLight free = freeLight(light);
+    for (int a = 0; a < m * m; ++a) {
+        const PolygonLightPoint lp =
+            samplePolygonLight(free, nullptr, (float(a % m) + 0.5f) / float(m), (float(a / m) + 0.5f) / float(m));
+        p.position = lp.position;
+        p.normal = lp.normal;
+        p.weight = float(double(lp.sign) * free.sampledArea / double(cells));
+        out.push_back(p);
+    }
+    return out;
+}
+
+std::vector<float> prtDirectLight(const PrtData& prt, const DirectLight& light, int areaSamples) {
+    std::vector<float> out(prt.samples.size(), 0.0f);
+    for (const PrtPointLight& p : pointEmitters(light, areaSamples)) addDirectPoint(prt, p, out.data());
     return out;
 }
 
 std::vector<float> prtDirectUnit(const PrtData& prt, const Vec3f& l) {
-    std::vector<float> out(prt.samples.size(), 0.0f);
-    addDirectPoint(prt, PrtPointLight{l, Vec3f{0, 0, 0}, 1.0f}, out.data());
-    return out;
-}
-
-std::vector<float> prtDirectLight(const PrtData& prt, const PrtLight& light) {
-    std::vector<float> out(prt.samples.size(), 0.0f);
-    for (const PrtPointLight& p : lightPoints(light)) addDirectPoint(prt, p, out.data());
-    return out;
+    DirectLight point;
+    point.position = Vec3d(l);
+    point.value = Rgb(1, 1, 1);
+    return prtDirectLight(prt, point);
 }
 
 std::vector<Rgb> prtTransfer(const PrtData& prt, const std::vector<float>& direct) {
@@ -197,50 +234,59 @@ std::vector<Rgb> prtTransfer(const PrtData& prt, const std::vector<float>& direc
     return out;
 }
 
-PrtLighting relightPrt(const PrtData& prt, const std::vector<PrtLight>& lights) {
+std::vector<std::pair<Rgb, std::vector<float>>> directByColour(const PrtData& prt, const std::vector<DirectLight>& lights,
+                                                                 int areaSamples) {
+    std::vector<std::pair<Rgb, std::vector<float>>> groups;
+    for (const DirectLight& light : lights) {
+        const std::vector<float> direct = prtDirectLight(prt, light, areaSamples);
+        auto same = std::find_if(groups.begin(), groups.end(), [&](const auto& g) { return g.first == light.value; });
+        if (same == groups.end()) {
+            groups.push_back({light.value, direct});
+        } else {
+            for (std::size_t i = 0; i < direct.size(); ++i) same->second[i] += direct[i];
+        }
+    }
+    return groups;
+}
+
+PrtLighting relightPrt(const PrtData& prt, const std::vector<DirectLight>& lights, const PrtRelightOptions& options) {
     const std::size_t n = prt.samples.size();
     PrtLighting out;
     out.direct.assign(n, Rgb{0, 0, 0});
     out.indirect.assign(n, Rgb{0, 0, 0});
-    for (const PrtLight& light : lights) {
-        const std::vector<float> direct = prtDirectLight(prt, light);
+    for (const auto& [colour, direct] : directByColour(prt, lights, options.areaSamples)) {
         const std::vector<Rgb> ind = prtTransfer(prt, direct);
         for (std::size_t i = 0; i < n; ++i) {
-            out.direct[i] += light.intensity * direct[i];
-            out.indirect[i] += light.intensity * ind[i];
+            out.direct[i] += colour * direct[i];
+            out.indirect[i] += colour * ind[i];
         }
     }
     return out;
 }
 
-std::vector<float> exactDirectLight(const SurfaceSamples& s, const Tracer& tracer, const PrtLight& light, int threads) {
-    const std::vector<PrtPointLight> points = lightPoints(light);
+namespace {
+constexpr uint64_t kExactStream = 0x9e7d1ec7ull;  // shadow-ray points of the exact reference
+}  // namespace
+
+std::vector<float> exactDirectLight(const SurfaceSamples& s, const Scene& scene, const Tracer& tracer,
+                                    const DirectLight& light, int threads, uint32_t samples) {
+    DirectLight unit = light;
+    unit.value = Rgb(1, 1, 1);
+    const SceneLight free = freeLight(unit);
     std::vector<float> out(s.size(), 0.0f);
     parallelFor(s.size(), threads, [&](std::size_t i) {
-        float acc = 0;
-        for (const PrtPointLight& pl : points) {
-            float dist = 0;
-            float e = unshadowedUnit(s.position[i], s.normal[i], pl.position, &dist);
-            if (e <= 0.0f) continue;
-            if (dot(pl.normal, pl.normal) > 0.0f) {
-                const float ce = -dot(pl.normal, (pl.position - s.position[i]) / dist);
-                if (ce <= 0.0f) continue;
-                e *= ce;
-            }
-            if (visibleToLight(tracer, s.position[i], s.normal[i], pl.position)) acc += pl.weight * e;
-        }
-        out[i] = acc;
+        RayCount rays;
+        out[i] = shadowedIrradiance(scene, tracer, free, s.position[i], s.normal[i], samples, hashCombine(kExactStream, i),
+                                    rays, true).x;
     });
     return out;
 }
 
-std::vector<float> exactDirectUnit(const SurfaceSamples& s, const Tracer& tracer, const Vec3f& l, int threads) {
-    std::vector<float> out(s.size(), 0.0f);
-    parallelFor(s.size(), threads, [&](std::size_t i) {
-        const float e = unshadowedUnit(s.position[i], s.normal[i], l);
-        if (e > 0.0f && visibleToLight(tracer, s.position[i], s.normal[i], l)) out[i] = e;
-    });
-    return out;
+std::vector<float> exactDirectUnit(const SurfaceSamples& s, const Scene& scene, const Tracer& tracer, const Vec3f& l,
+                                   int threads) {
+    DirectLight point;
+    point.position = Vec3d(l);
+    return exactDirectLight(s, scene, tracer, point, threads, 1);
 }
 
 std::vector<Rgb> referenceIndirect(const SurfaceSamples& s, const Tracer& tracer, const std::vector<float>& direct,

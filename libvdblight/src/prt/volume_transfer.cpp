@@ -1,8 +1,8 @@
 // Relightable SH volumes (beyond the paper): the nodes of a uniform grid are receivers of the
 // same multi-bounce transfer as the samples (baked in multi_bounce.cpp), in SH order 2
 // (radiance coefficients, the foundation's basis), so a new light position gives a new volume
-// without a re-bake. The lights' direct radiance at the nodes is added at relight time with
-// one exact shadow ray per node and light point.
+// without a re-bake. The lights' direct light is not in the SH: a relit volume with the scene
+// is a `--direct occlusion` volume (visibility channels by the shared bake_direct.h).
 #include <atomic>
 #include <cstdint>
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -11,7 +11,9 @@
 #include <cmath>
 
 #include "prt_internal.h"
+#include "vdblight/bake_direct.h"
 #include "vdblight/errors.h"
+#include "vdblight/scene_lights.h"
 #include "vdblight/scene_origin.h"
 #include "vdblight/sh.h"
 
@@ -128,67 +130,11 @@ std::vector<Rgb> prtVolumeTransfer(const PrtData& prt, const std::vector<float>&
     return out;
 }
 
-namespace {
-
-/// Adds the lights' direct SH radiance to out (9 Rgb per node). Light point by light point,
-/// the nodes' shadow rays go in blocks of consecutive nodes (coherent 16-ray packets); each
-/// node still adds its points in the same order, so the result does not depend on the blocks.
-void addLightsAtNodes(const GridSpec& grid, const Tracer& tracer, const std::vector<PrtLight>& lights, Rgb* out) {
-    std::vector<std::pair<PrtPointLight, Rgb>> points;
-    for (const PrtLight& l : lights)
-        for (const PrtPointLight& p : lightPoints(l)) points.push_back({p, l.intensity * p.weight});
-    constexpr std::size_t kBlock = 256;
-    Ray rays[kBlock];
-    bool blocked[kBlock];
-    uint32_t which[kBlock];
-    float scales[kBlock];
-    float y[sh::kCoeffs];
-    const std::size_t nodes = grid.nodeCount();
-    for (const auto& [p, intensity] : points) {
-        const bool cosine = dot(p.normal, p.normal) > 0.0f;
-        for (std::size_t n0 = 0; n0 < nodes; n0 += kBlock) {
-            const std::size_t n1 = std::min(nodes, n0 + kBlock);
-            std::size_t count = 0;
-            for (std::size_t node = n0; node < n1; ++node) {
-                const Vec3f x(grid.node(node));
-                const Vec3f toLight = p.position - x;
-                const float d2 = dot(toLight, toLight);
-                if (!(d2 > 0.0f)) continue;
-                float scale = 1.0f / d2;
-                if (cosine) {
-                    const float ce = -dot(p.normal, toLight / std::sqrt(d2));
-                    if (ce <= 0.0f) continue;
-                    scale *= ce;
-                }
-                rays[count] = Ray{x, toLight, 0.0f, kShadowEnd};
-                which[count] = uint32_t(node - n0);
-                scales[count] = scale;
-                ++count;
-            }
-            tracer.occluded(rays, count, blocked);
-            for (std::size_t i = 0; i < count; ++i) {
-                if (blocked[i]) continue;
-                const Vec3f& toLight = rays[i].direction;
-                const Vec3f w = toLight / std::sqrt(dot(toLight, toLight));
-                sh::evalUnrolled(w, y);
-                const Rgb e = intensity * scales[i];
-                Rgb* o = out + (n0 + which[i]) * sh::kCoeffs;
-                for (int m = 0; m < sh::kCoeffs; ++m) o[m] += e * y[m];
-            }
-        }
-    }
-}
-
-}  // namespace
-
-std::vector<Rgb> lightsAtNodes(const GridSpec& grid, const Tracer& tracer, const std::vector<PrtLight>& lights) {
-    std::vector<Rgb> out(grid.nodeCount() * sh::kCoeffs, Rgb{0, 0, 0});
-    addLightsAtNodes(grid, tracer, lights, out.data());
-    return out;
-}
-
-Volume relightVolume(const PrtData& prt, const std::vector<PrtLight>& lights, const Tracer* tracer) {
+Volume relightVolume(const PrtData& prt, const std::vector<DirectLight>& lights, const Scene* scene,
+                     const Tracer* tracer, const PrtRelightOptions& options) {
     if (!prt.hasVolume()) throw ValueError("this PRT file has no volume (bake with --volume-resolution)");
+    if ((scene == nullptr) != (tracer == nullptr))
+        throw ValueError("relightVolume: give both the baked scene and its tracer, or neither");
     const std::size_t count = prt.volumeGrid.nodeCount() * sh::kCoeffs;
     Volume vol;
     vol.basis = BasisDesc::sh2();
@@ -197,9 +143,7 @@ Volume relightVolume(const PrtData& prt, const std::vector<PrtLight>& lights, co
     level.data.assign(count * 3, 0.0f);
     static_assert(sizeof(Rgb) == 3 * sizeof(float), "Rgb is three packed floats");
     Rgb* total = reinterpret_cast<Rgb*>(level.data.data());
-    for (const PrtLight& light : lights) {
-        const std::vector<float> direct = prtDirectLight(prt, light);
-        const Rgb& I = light.intensity;
+    for (const auto& [I, direct] : directByColour(prt, lights, options.areaSamples)) {
         if (I.x == I.y && I.y == I.z) {
             addVolumeTransfer(prt, direct, I.x, total);  // grey light: straight into the volume
         } else {
@@ -207,17 +151,30 @@ Volume relightVolume(const PrtData& prt, const std::vector<PrtLight>& lights, co
             for (std::size_t i = 0; i < count; ++i) total[i] += I * v[i];
         }
     }
-    if (tracer) addLightsAtNodes(prt.volumeGrid, *tracer, lights, total);
     vol.levels.push_back(std::move(level));
-    placeVolumeInWorld(vol, prt.origin);  // relit in the scene's local frame (scene_origin.h)
+    if (scene) {
+        // The lights' direct light as a baked occlusion volume holds it: listed, with per-node
+        // visibility channels from the shared visibility code (bake_direct.h).
+        DirectPlan plan;
+        plan.mode = DirectMode::Occlusion;
+        for (const DirectLight& l : lights) plan.lights.push_back(freeLight(l));
+        DirectOptions direct;
+        direct.mode = DirectMode::Occlusion;
+        direct.visibilitySamples = options.visibilitySamples;
+        direct.seed = options.seed;
+        direct.threads = options.threads;
+        bakeLightVisibility(*scene, *tracer, plan, direct, vol);
+    }
+    placeVolumeInWorld(vol, prt.origin);  // relit in the scene's local frame (scene_origin.h); lights too
     vol.meta["method"] = std::string("prt_relight");
     const std::string bounces = std::to_string(prt.bounces) + (prt.bounces == 1 ? " bounce" : " bounces");
-    vol.meta["content"] = tracer ? std::string("direct radiance of the lights (shadow rays) + indirect radiance of ") +
-                                       bounces + " from the PRT samples"
-                                 : std::string("indirect radiance of ") + bounces +
-                                       " from the PRT samples; no direct light";
+    vol.meta["content"] = scene ? "indirect radiance of " + bounces +
+                                      " from the PRT samples; the lights' direct light is added at lookup (direct "
+                                      "occlusion: exact irradiance times the visibility channels)"
+                                : std::string("indirect radiance of ") + bounces +
+                                      " from the PRT samples; no direct light";
     vol.meta["bounces"] = int64_t(prt.bounces);
-    vol.meta["direct_light"] = tracer != nullptr;
+    vol.meta["direct_light"] = scene != nullptr;
     vol.meta["scene"] = prt.sceneName;
     vol.meta["scene_hash"] = prt.sceneHash;
     vol.meta["lights"] = int64_t(lights.size());
