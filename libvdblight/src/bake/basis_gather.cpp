@@ -31,13 +31,11 @@ Volume bakeBasis(const Scene& scene, const Tracer& tracer, const LevelLayout& la
     volume.validate();
 
     uint64_t seams = 0;
-    const std::vector<std::pair<int, std::size_t>> work = bake_detail::nodesToBake(volume, seams, options.only);
     const RadianceEstimator estimator(scene, tracer, options.transport);
-    const bake_detail::ParallelRun run =
-        bake_detail::forEachItemInParallel(work.size(), options.threads, interrupter, [&](std::size_t w, RayCount& count) {
+    const bake_detail::ParallelRun run = bake_detail::forEachLevelNode(
+        volume, options.only, options.threads, interrupter, seams, [&](const bake_detail::LevelNode& node, RayCount& count) {
             thread_local std::vector<Rgbd> acc;  // per-thread scratch, reused across nodes
             acc.assign(accumulators, Rgbd(0, 0, 0));
-            const bake_detail::LevelNode node = bake_detail::levelNode(volume, work[w]);
             bake_detail::sampleStratifiedSphere(
                 estimator, node.position(), R, 1, options.seed, node.stream, count,
                 [&](int, const Vec3f& d, const Rgb& l) { basis.accumulate(d, Rgbd(l), scale, acc.data()); },

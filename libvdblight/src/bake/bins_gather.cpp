@@ -65,16 +65,14 @@ Volume bakeBins(const Scene& scene, const Tracer& tracer, const LevelLayout& lay
         return t;
     }();
     uint64_t seams = 0;
-    const std::vector<std::pair<int, std::size_t>> work = bake_detail::nodesToBake(volume, seams, options.only);
     const RadianceEstimator estimator(scene, tracer, options.transport);
-    const bake_detail::ParallelRun run =
-        bake_detail::forEachItemInParallel(work.size(), options.threads, interrupter, [&](std::size_t w, RayCount& count) {
+    const bake_detail::ParallelRun run = bake_detail::forEachLevelNode(
+        volume, options.only, options.threads, interrupter, seams, [&](const bake_detail::LevelNode& node, RayCount& count) {
             // Per-thread scratch, reused across nodes (no allocation per node once sized).
             thread_local std::vector<Rgbd> integral;
             thread_local std::vector<float> out;  // colour-major: out[c * bins + j]
             integral.resize(static_cast<std::size_t>(bins));
             out.resize(floats);
-            const bake_detail::LevelNode node = bake_detail::levelNode(volume, work[w]);
             gatherBinRadiance(estimator, node.position(), R, options.samplesPerBin, options.seed, node.stream,
                               integral.data(), count);
             // Quadrature (eq. 4 / 5 with integrated weights): H_j = sum_i W_ji Lbar_i,

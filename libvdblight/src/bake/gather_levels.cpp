@@ -38,6 +38,7 @@ Volume bakeShGatherLevels(const Scene& scene, const Tracer& tracer, const LevelL
     volume.validate();
 
     uint64_t seams = 0;
+    // The nodes it samples (not forEachLevelNode: the seam nodes' depth moments below need the list).
     const std::vector<std::pair<int, std::size_t>> work = bake_detail::nodesToBake(volume, seams, options.only);
     const RadianceEstimator estimator(scene, tracer, options.transport);
     const bake_detail::ParallelRun run =

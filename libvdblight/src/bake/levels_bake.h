@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <utility>
+#include <vector>
 
 #include "parallel_nodes.h"
 #include "vdblight/bake_levels.h"
@@ -38,6 +39,16 @@ struct LevelNode {
     float* values(std::size_t floatsPerNode) const { return level.data.data() + level.held(n) * floatsPerNode; }
 };
 LevelNode levelNode(Volume& volume, const std::pair<int, std::size_t>& item);
+
+/// Runs fn(const LevelNode&, RayCount&) in parallel for every node a levels bake samples
+/// (nodesToBake: seam nodes left out and counted in `seams`; with `only`, a tile's nodes).
+template <typename Fn>
+ParallelRun forEachLevelNode(Volume& volume, const NodeMask* only, int threads, Interrupter* interrupter, uint64_t& seams,
+                             Fn&& fn) {
+    const std::vector<std::pair<int, std::size_t>> work = nodesToBake(volume, seams, only);
+    return forEachItemInParallel(work.size(), threads, interrupter,
+                                 [&](std::size_t w, RayCount& count) { fn(levelNode(volume, work[w]), count); });
+}
 
 /// The end of a levels bake: the seam nodes set from the coarser level, except in a tile (their
 /// coarse nodes may lie in other tiles: the merge sets them, tiles.h); the layout, refine and

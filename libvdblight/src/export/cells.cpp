@@ -19,15 +19,6 @@ namespace fs = std::filesystem;
 using namespace exporter;
 
 namespace {
-const char* extension(TextureFormat f) {
-    switch (f) {
-        case TextureFormat::Ktx2: return ".ktx2";
-        case TextureFormat::Dds: return ".dds";
-        case TextureFormat::ExrAtlas: return ".exr";
-        case TextureFormat::Raw: return ".raw";
-    }
-    return "";
-}
 
 std::string vec3(const Vec3d& v) {
     std::ostringstream s;
@@ -89,9 +80,7 @@ CellsSummary exportCells(const IrradianceQuery& query, const Volume& header, con
         throw FormatError(std::string("layout '") + layoutName(o.layout) + "' does not fit volume kind '" + query.kind() +
                           "' (it stores no SH order-2 coefficients)");
     }
-    double finest = 0;
-    for (const VolumeLevel& level : header.levels)
-        finest = finest > 0 ? std::min(finest, level.grid.spacing) : level.grid.spacing;
+    const double finest = finestSpacing(header.levels);
     CellsSummary summary;
     summary.lattice = chooseLattice(query.bounds(), finest, o.resolution);
     const TextureLattice& whole = summary.lattice;
@@ -149,7 +138,7 @@ CellsSummary exportCells(const IrradianceQuery& query, const Volume& header, con
                     std::copy_n(dims, 3, image.dims);
                     image.half = o.halfFloat;
                     image.name = descs[t].name;
-                    const std::string file = descs[t].name + extension(o.format);
+                    const std::string file = descs[t].name + textureExtension(o.format);
                     manifest.fileNames.push_back(file);
                     manifest.dataOffsets.push_back(writeTexture(o.format, staging.stage(dir, file), image));
                 }

@@ -24,15 +24,6 @@ namespace fs = std::filesystem;
 using namespace exporter;
 
 namespace {
-std::string extension(TextureFormat f) {
-    switch (f) {
-        case TextureFormat::Ktx2: return ".ktx2";
-        case TextureFormat::Dds: return ".dds";
-        case TextureFormat::ExrAtlas: return ".exr";
-        case TextureFormat::Raw: return ".raw";
-    }
-    return "";
-}
 
 std::string gib(double bytes) {
     char buf[64];
@@ -150,9 +141,7 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
         throw FormatError(std::string("layout '") + layoutName(o.layout) + "' does not fit a '" + volume.basis.kind +
                           "' volume; use --layout basis");
     const IrradianceQuery query(volume);
-    double finest = 0;
-    for (const VolumeLevel& level : volume.levels)
-        finest = finest > 0 ? std::min(finest, level.grid.spacing) : level.grid.spacing;
+    const double finest = finestSpacing(volume.levels);
     ExportSummary summary;
     summary.lattice = chooseLattice(query.bounds(), finest, o.resolution);
     const TextureLattice& lattice = summary.lattice;
@@ -209,7 +198,7 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
         std::copy_n(lattice.dims, 3, image.dims);
         image.half = o.halfFloat;
         image.name = descs[t].name;
-        const std::string file = descs[t].name + extension(o.format);
+        const std::string file = descs[t].name + textureExtension(o.format);
         const std::string path = staged.stage(outDir, file);
         uint64_t offset = 0;
         switch (o.format) {

@@ -62,6 +62,12 @@ std::vector<uint8_t> encodeTexels(const float* values, std::size_t count, bool h
 /// Writes `bytes` to `path` (throws IoError).
 void writeBytes(const std::string& path, const std::vector<uint8_t>& bytes);
 
+/// The smallest node spacing of the levels (the texture lattice's default resolution).
+double finestSpacing(const std::vector<VolumeLevel>& levels);
+
+/// The file extension of a texture format (".ktx2", ".dds", ".exr", ".raw").
+const char* textureExtension(TextureFormat format);
+
 /// The writers return the byte offset of the texel data in the file (0 for EXR, which
 /// has its own structure).
 uint64_t writeKtx2(const std::string& path, const TextureImage& image);

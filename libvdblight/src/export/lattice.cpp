@@ -120,5 +120,11 @@ std::vector<std::vector<float>> sampleLayout(const IrradianceQuery& query, const
     return out;
 }
 
+double finestSpacing(const std::vector<VolumeLevel>& levels) {
+    double finest = 0;
+    for (const VolumeLevel& level : levels) finest = finest > 0 ? std::min(finest, level.grid.spacing) : level.grid.spacing;
+    return finest;
+}
+
 }  // namespace exporter
 }  // namespace vdblight

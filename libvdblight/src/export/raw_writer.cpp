@@ -31,6 +31,16 @@ std::vector<uint8_t> encodeTexels(const float* values, std::size_t count, bool h
     return out;
 }
 
+const char* textureExtension(TextureFormat f) {
+    switch (f) {
+        case TextureFormat::Ktx2: return ".ktx2";
+        case TextureFormat::Dds: return ".dds";
+        case TextureFormat::ExrAtlas: return ".exr";
+        case TextureFormat::Raw: return ".raw";
+    }
+    return "";
+}
+
 void writeBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
     std::FILE* f = std::fopen(path.c_str(), "wb");
     if (!f) throw IoError("cannot write '" + path + "': " + std::strerror(errno));

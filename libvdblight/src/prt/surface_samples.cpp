@@ -22,6 +22,22 @@ namespace vdblight {
 
 namespace {
 
+/// A point drawn uniformly by area over the scene's triangles (`cdf`: 0, then their cumulative areas,
+/// `area` the total) from its own random stream: the triangle, the point and its normal.
+struct AreaPoint {
+    std::size_t triangle;
+    Vec3f p, n;
+};
+AreaPoint areaPoint(const Scene& scene, const std::vector<double>& cdf, double area, Rng& rng) {
+    const double u = toUnitDouble((uint64_t(rng.next()) << 32) | rng.next()) * area;
+    std::size_t t = std::size_t(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin());
+    t = std::min(std::max<std::size_t>(t, 1), cdf.size() - 1) - 1;  // cdf has one entry per triangle + 1
+    float b1, b2;
+    uniformTriangle(rng.uniform(), rng.uniform(), b1, b2);
+    const Vec3f a = scene.vertex(t, 0), b = scene.vertex(t, 1), c = scene.vertex(t, 2);
+    return {t, a * (1.0f - b1 - b2) + b * b1 + c * b2, normalize(cross(b - a, c - a))};
+}
+
 struct Candidate {
     Vec3f p, n;
     uint32_t tri;
@@ -90,14 +106,9 @@ SurfaceSamples generateSurfaceSamples(const Scene& scene, double radius, uint32_
     std::vector<Candidate> accepted;
     for (std::size_t k = 0; k < candidates; ++k) {
         Rng rng(seed, k);
-        const double u = toUnitDouble((uint64_t(rng.next()) << 32) | rng.next()) * area;
-        std::size_t t = std::size_t(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin());
-        t = std::min(std::max<std::size_t>(t, 1), tris) - 1;
-        float b1, b2;
-        uniformTriangle(rng.uniform(), rng.uniform(), b1, b2);
-        const Vec3f a = scene.vertex(t, 0), b = scene.vertex(t, 1), c = scene.vertex(t, 2);
-        const Vec3f p = a * (1.0f - b1 - b2) + b * b1 + c * b2;
-        const Vec3f n = normalize(cross(b - a, c - a));
+        const AreaPoint drawn = areaPoint(scene, cdf, area, rng);
+        const Vec3f p = drawn.p, n = drawn.n;
+        const std::size_t t = drawn.triangle;
         const int cx = int(std::floor(p.x / cell)), cy = int(std::floor(p.y / cell)), cz = int(std::floor(p.z / cell));
         bool free = true;
         for (int dz = -1; dz <= 1 && free; ++dz)
@@ -127,14 +138,8 @@ SurfaceSamples generateSurfaceSamples(const Scene& scene, double radius, uint32_
     double assigned = 0;
     for (std::size_t k = 0; k < areaPoints; ++k) {
         Rng rng(hashCombine(seed, 0x5eedu), k);
-        const double u = toUnitDouble((uint64_t(rng.next()) << 32) | rng.next()) * area;
-        std::size_t t = std::size_t(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin());
-        t = std::min(std::max<std::size_t>(t, 1), tris) - 1;
-        float b1, b2;
-        uniformTriangle(rng.uniform(), rng.uniform(), b1, b2);
-        const Vec3f a = scene.vertex(t, 0), b = scene.vertex(t, 1), c = scene.vertex(t, 2);
-        const Vec3f p = a * (1.0f - b1 - b2) + b * b1 + c * b2;
-        const uint32_t owner = owners.nearestFacing(p, normalize(cross(b - a, c - a)));
+        const AreaPoint drawn = areaPoint(scene, cdf, area, rng);
+        const uint32_t owner = owners.nearestFacing(drawn.p, drawn.n);
         if (owner == SampleGrid::kNone) continue;
         areaCount[owner] += 1.0;
         assigned += 1.0;
