@@ -7,7 +7,7 @@
 //   truncated expansion of a cone of constant radiance (Funk-Hecke, A_0..A_4), which is much
 //   closer to the exact pi L sin^2(alpha) than SH order 2's (the doorway's case in the two
 //   rooms, docs/methods.md);
-// - the same bits for 1 and 2 threads, with a probe-to-probe pass.
+// - the same bits for 1 and 2 threads, with a probe-to-probe pass (tiles: cli_sh_basis_test).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -145,23 +145,4 @@ TEST(ShPointGather, SameBitsForOneAndTwoThreadsWithAProbePass) {
     ASSERT_EQ(a.levels[0].data.size(), b.levels[0].data.size());
     EXPECT_EQ(0, std::memcmp(a.levels[0].data.data(), b.levels[0].data.data(), a.levels[0].data.size() * sizeof(float)));
     EXPECT_EQ(a.levels[0].depth, b.levels[0].depth);
-}
-
-TEST(ShPointGather, TilesAreRefusedWithOneLine) {
-    const Scene s = loadScene(defaultScenePath());
-    GridPlacement p;
-    p.resolution = 2;
-    const GridSpec g = placeUniformGrid(s.bounds(), p, 1);
-    const Tracer tracer(s);
-    GatherOptions o;
-    o.raysPerNode = 8;
-    o.basis = makeBasis("sh:4");
-    const NodeMask only = {std::vector<uint8_t>(g.nodeCount(), 1)};
-    o.only = &only;
-    try {
-        bakeShGather(s, tracer, g, o);
-        FAIL() << "a tile of an sh:4 point gather was baked";
-    } catch (const ValueError& e) {
-        EXPECT_NE(std::string(e.what()).find("cannot be tiled yet"), std::string::npos) << e.what();
-    }
 }

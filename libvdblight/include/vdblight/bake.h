@@ -54,7 +54,7 @@ struct GatherOptions {
     const Volume* stageInput = nullptr;
     /// Store the nodes in this basis (basis.h; a linear projection such as `sh:4`) instead of
     /// SH order 2 (null). Same samples, probe passes (their reflected light stays SH order 2),
-    /// depth moments and error estimate; not with `only` or `stage` (tiles).
+    /// depth moments, error estimate, tiles and stages.
     std::shared_ptr<const Basis> basis;
 };
 

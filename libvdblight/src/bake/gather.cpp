@@ -35,8 +35,6 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     const std::size_t nodes = bake_detail::checkThreadsAndGrid(options.threads, grid);
 
     const Basis* basis = options.basis.get();  // null: SH order 2
-    if (basis && (options.only || options.stage >= 0))
-        throw ValueError("a point gather in basis " + basis->desc().kind + " cannot be tiled yet (only sh2)");
     std::vector<std::size_t> selected;  // a tile's nodes (tiles.h); empty = all
     if (options.only) {
         if (options.only->size() != 1 || (*options.only)[0].size() != nodes) throw ValueError("the node mask does not match the grid");

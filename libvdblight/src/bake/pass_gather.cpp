@@ -58,7 +58,6 @@ std::size_t GatherPass::bytesPerNode(const BakeRequest& r) const {
 }
 
 std::string GatherPass::untileable(const BakeRequest& r) const {
-    if (!isSh2(r.basis)) return "--basis " + r.basis + " with the point gather cannot be tiled yet (sh2 can)";
     return pointGatherUntileable(r);
 }
 
