@@ -1,5 +1,7 @@
 #include "test_util.h"
 
+#include <gtest/gtest.h>
+
 #include "vdblight/scene.h"
 
 #include <sstream>
@@ -123,6 +125,18 @@ std::string writeMovedCornell(const TempDir& dir, const std::string& name, doubl
     m << mtl.rdbuf();
     writeTextFile(dir.file("cornell_box.mtl"), m.str());
     return dir.file(name + ".obj");
+}
+
+void expectWhiteFurnace(const std::vector<Vec3f>& points, const std::function<Rgb(const Vec3f&, const Vec3f&)>& irradiance,
+                        const Rgb& emission, float albedo, double tolerance) {
+    for (std::size_t i = 0; i < points.size(); ++i)
+        for (const Vec3f n : {Vec3f(0, 0, 1), Vec3f(-1, 0, 0), normalize(Vec3f(1, -2, 3))}) {
+            const Rgb e = irradiance(points[i], n);
+            for (int c = 0; c < 3; ++c) {
+                const double want = kPi * emission[c] / (1.0 - albedo);
+                EXPECT_NEAR(e[c], want, tolerance * want) << "point " << i << " channel " << c;
+            }
+        }
 }
 
 }  // namespace vdblight::test

@@ -3,7 +3,9 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
+#include <vector>
 
 #include "vdblight/scene.h"
 
@@ -45,6 +47,12 @@ Scene makeEmissiveSphere(float radius, const Rgb& radiance, int subdivisions, fl
 /// A closed axis-aligned box [lo, hi] whose every face emits `emission` inwards and reflects
 /// `albedo` (white furnace: E = pi Le / (1 - rho) everywhere inside).
 Scene makeFurnaceBox(const Vec3f& lo, const Vec3f& hi, const Rgb& emission, const Rgb& albedo);
+
+/// The furnace's answer at each of `points` for three normals (+z, -x and an oblique one):
+/// every channel of irradiance(x, n) within `tolerance` (relative) of pi Le / (1 - albedo).
+/// Constant radiance is band-limited, so an SH volume of any order has no truncation error.
+void expectWhiteFurnace(const std::vector<Vec3f>& points, const std::function<Rgb(const Vec3f&, const Vec3f&)>& irradiance,
+                        const Rgb& emission, float albedo, double tolerance);
 
 /// A constant sky of radiance L and one tiny, far, black triangle (a scene needs a triangle):
 /// no ray of a bake near the origin can hit it (solid angle ~1e-14 sr), so E = pi L.

@@ -45,13 +45,9 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     }
     // A tile holds only the window of nodes it spans (tiles.h, setTileWindows): every per-node
     // array below is indexed by level.held(n).
-    Volume volume = bake_detail::emptyShVolume(grid, options.only);
+    Volume volume = bake_detail::emptyShVolume(grid, options.only, basis);
     VolumeLevel& level = volume.levels[0];
-    const std::size_t floats = basis ? basis->floatsPerNode() : std::size_t(sh::kCoeffs) * 3;
-    if (basis) {
-        volume.basis = basis->desc();
-        level.data.assign(level.heldNodes() * floats, 0.0f);
-    }
+    const std::size_t floats = volume.basis.channelCount() * std::size_t(3);
     const std::size_t held = level.heldNodes();
     if (options.depthMoments) level.depth.assign(held * depth::kFloatsPerNode, 0.0f);
     std::vector<float> error(held, 0.0f);

@@ -238,8 +238,7 @@ public:
     /// The SH coefficients from the samples so far plus the exact punctual part.
     void coefficients(Rgbd out[sh::kCoeffs], RayCount& count) {
         exactEbar(count);
-        const double dirScale = samples_ > 0 ? 4.0 * kPi / samples_ : 0.0;  // 1 / uniform-sphere pdf / N
-        const double lightScale = samples_ > 0 ? 1.0 / samples_ : 0.0;
+        const double dirScale = directionScale(), lightScale = lightSampleScale();
         for (int j = 0; j < sh::kCoeffs; ++j)
             out[j] = Rgbd(acc_[j][0], acc_[j][1], acc_[j][2]) * dirScale +
                      Rgbd(lightAcc_[j][0], lightAcc_[j][1], lightAcc_[j][2]) * lightScale + exact_[j];
@@ -249,8 +248,7 @@ public:
     /// the samples so far plus the exact punctual part, weighted as coefficients() weights them.
     void basisValues(float* out, RayCount& count) {
         exactEbar(count);
-        const double dirScale = samples_ > 0 ? 4.0 * kPi / samples_ : 0.0;
-        const double lightScale = samples_ > 0 ? 1.0 / samples_ : 0.0;
+        const double dirScale = directionScale(), lightScale = lightSampleScale();
         thread_local std::vector<Rgbd> sum;
         sum.resize(basisDir_.size());
         for (std::size_t j = 0; j < sum.size(); ++j)
@@ -262,7 +260,7 @@ public:
     /// the emission of directly hit emitters; no NEE, no punctual lights): what a
     /// SurfaceIrradianceCache of this node holds (light.h, surface_cache.h).
     void reflectedCoefficients(Rgbd out[sh::kCoeffs]) const {
-        const double dirScale = samples_ > 0 ? 4.0 * kPi / samples_ : 0.0;
+        const double dirScale = directionScale();
         for (int j = 0; j < sh::kCoeffs; ++j)
             out[j] = Rgbd(reflected_[j][0], reflected_[j][1], reflected_[j][2]) * dirScale;
     }
@@ -289,6 +287,11 @@ public:
     }
 
 private:
+    /// Weights of the sums: a gathered direction 1 / (uniform-sphere pdf * N), an NEE or sampled
+    /// punctual light 1 / N (its weight already divides by its pdf); 0 before any sample.
+    double directionScale() const { return samples_ > 0 ? 4.0 * kPi / samples_ : 0.0; }
+    double lightSampleScale() const { return samples_ > 0 ? 1.0 / samples_ : 0.0; }
+
     void addGathered(const Vec3f& dir, const Rgb& l, const Rgb& emitted, const float y[sh::kCoeffs]) {
         if (basis_) basis_->accumulate(dir, Rgbd(l), 1.0, basisDir_.data());
         const Rgb r = l - emitted;

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "vdblight/bake.h"
+#include "vdblight/basis.h"
 #include "vdblight/error_summary.h"
 #include "vdblight/layout_levels.h"
 #include "vdblight/sh.h"
@@ -33,13 +34,14 @@ std::size_t checkThreadsAndGrid(int threads, const GridSpec& grid) {
     return nodes;
 }
 
-Volume emptyShVolume(const GridSpec& grid, const NodeMask* only) {
+Volume emptyShVolume(const GridSpec& grid, const NodeMask* only, const Basis* basis) {
     Volume volume;
-    volume.basis = BasisDesc::sh2();
+    volume.basis = basis ? basis->desc() : BasisDesc::sh2();
     volume.levels.resize(1);
     volume.levels[0].grid = grid;
     setTileWindows(volume.levels, only);
-    volume.levels[0].data.assign(volume.levels[0].heldNodes() * sh::kCoeffs * 3, 0.0f);
+    const std::size_t floats = basis ? basis->floatsPerNode() : std::size_t(sh::kCoeffs) * 3;
+    volume.levels[0].data.assign(volume.levels[0].heldNodes() * floats, 0.0f);
     return volume;
 }
 

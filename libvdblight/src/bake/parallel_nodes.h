@@ -20,6 +20,7 @@
 
 namespace vdblight {
 
+class Basis;
 class Tracer;
 
 namespace bake_detail {
@@ -54,9 +55,9 @@ ParallelRun forEachItemInParallel(std::size_t count, int threads, Interrupter* i
 /// What every pass on a uniform grid checks first: ValueError for threads < 0 or a grid
 /// without nodes. Returns the node count.
 std::size_t checkThreadsAndGrid(int threads, const GridSpec& grid);
-/// A volume of one SH order-2 level on `grid`, every coefficient 0; with `only` (a tile), only
-/// the window of nodes the tile spans (setTileWindows, tiles.h).
-Volume emptyShVolume(const GridSpec& grid, const NodeMask* only = nullptr);
+/// A volume of one SH order-2 level (or, with `basis`, of that basis) on `grid`, every value
+/// 0; with `only` (a tile), only the window of nodes the tile spans (setTileWindows, tiles.h).
+Volume emptyShVolume(const GridSpec& grid, const NodeMask* only = nullptr, const Basis* basis = nullptr);
 
 /// Depth moments (nodeDepthMoments, bake_depth.h) of the (level, position) items of `work`, in
 /// parallel: each node's rays seeded by (level << 56) | its linear index, written into the
