@@ -112,6 +112,10 @@ struct TrySpec {
 };
 
 TrySpec parseTry(const std::string& spec);
+/// What `vdblight bake SCENE -o OUT` bakes: resolveBakeRequest of an empty request.
+TrySpec defaultTry();
+/// One line for the report ("~16384 nodes, 1024 rays + 1 probe pass, depth moments, basis sh:4").
+std::string describeTry(const TrySpec& t);
 GridSpec tryGrid(const Scene& s, const TrySpec& t, const Settings& st);
 /// The volume `vdblight bake` makes for the spec (a note says what it did, e.g. no lights).
 Volume tryVolume(const Ctx& c, const TrySpec& t, std::string& note);

@@ -16,6 +16,8 @@
 #include "vdblight/bake_depth.h"
 #include "vdblight/bake_direct.h"
 #include "vdblight/bake_levels.h"
+#include "vdblight/bake_volume.h"
+#include "vdblight/channel_lookup.h"
 #include "vdblight/layout_levels.h"
 #include "vdblight/node_budget.h"
 #include "vdblight/photons.h"
@@ -57,9 +59,15 @@ Baked fromVolumeVisibilityTrilinear(Volume v, double seconds, uint64_t nodes) {
     Baked b = fromVolume(Volume(v), seconds, nodes);
     if (!v.direct.hasVisibility()) return b;
     auto volume = std::make_shared<Volume>(std::move(v));
-    auto lookup = std::make_unique<OcclusionLookup>(std::make_unique<ShUniformLookup>(*volume, OutsidePolicy::Clamp), *volume);
+    // The SH part as the registry reads it: SH order 2's own lookup, sh:N (the default) the
+    // generic one.
+    const bool sh2 = volume->basis.kind == "sh2";
+    std::unique_ptr<VolumeLookup> sh;
+    if (sh2) sh = std::make_unique<ShUniformLookup>(*volume, OutsidePolicy::Clamp);
+    else sh = std::make_unique<ChannelLookup>(*volume, OutsidePolicy::Clamp);
+    auto lookup = std::make_unique<OcclusionLookup>(std::move(sh), *volume);
     lookup->setVisibilityDepthWeights(false);
-    auto query = std::make_shared<IrradianceQuery>(std::move(lookup), "sh2-uniform");
+    auto query = std::make_shared<IrradianceQuery>(std::move(lookup), sh2 ? "sh2-uniform" : "basis");
     b.irradiance = [volume, query](const Vec3f& x, const Vec3f& n) { return query->irradiance(x, n); };
     return b;
 }
@@ -240,6 +248,27 @@ TrySpec parseTry(const std::string& spec) {
         else throw ValueError("--try: unknown key '" + k + "'");
     }
     return t;
+}
+
+TrySpec defaultTry() {
+    const BakeRequest r = resolveBakeRequest(BakeRequest{});
+    if (r.pass != "gather" || r.targetError || !r.nodes)
+        throw ValueError("the default bake is no longer a fixed-budget point gather on a node budget: update defaultTry");
+    TrySpec t;
+    t.nodes = *r.nodes;
+    t.rays = *r.rays;
+    t.passes = *r.probePasses;
+    t.depth = *r.depthMoments;
+    t.basis = r.basis;
+    return t;
+}
+
+std::string describeTry(const TrySpec& t) {
+    std::string s = t.nodes ? "~" + std::to_string(t.nodes) + " nodes" : std::to_string(t.res) + " nodes on the longest axis";
+    s += ", " + std::to_string(t.rays) + " rays";
+    if (t.passes) s += " + " + std::to_string(t.passes) + " probe pass" + (t.passes > 1 ? "es" : "");
+    if (t.depth) s += ", depth moments";
+    return s + ", basis " + t.basis;
 }
 
 /// The grid of a TrySpec: `nodes` > 0 is spacingForNodeBudget (the default bake's rule).

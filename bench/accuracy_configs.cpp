@@ -3,6 +3,7 @@
 #include "accuracy.h"
 
 #include "vdblight/bake.h"
+#include "vdblight/sh_truncate.h"
 
 namespace vdblight::accuracy {
 
@@ -10,24 +11,41 @@ namespace vdblight::accuracy {
 /// scales them down (Settings::res / rays / photons).
 std::vector<Config> configurations() {
     std::vector<Config> v;
-    // What `vdblight bake SCENE -o OUT` does with no other option (bake/bake_request.cpp, --quality
-    // default; keep this in step with its qualityPreset): --direct occlusion (baked in a scene
-    // without lights), about 16384 nodes in the scene box (node_budget.h), 768 rays of full
-    // paths + one probe-to-probe pass of 768, depth moments from the gather's own first hits
-    // and depth-weighted lookups. --quick: 1/8 of the nodes, 1/16 of the rays.
-    v.push_back({"default", "vdblight bake SCENE -o OUT (--quality default: ~16384 nodes, 768 rays + 1 probe pass, "
-                            "depth moments, --direct occlusion)",
-                 [](const Ctx& c) { return tryBake(c, parseTry("nodes=16384,rays=768,passes=1,depth=1")); }, true});
+    // What `vdblight bake SCENE -o OUT` does with no other option: the library's own resolution
+    // of an empty request (bake_request.cpp, --quality default), so that this row cannot drift
+    // from it: --direct occlusion (baked in a scene without lights), about 16384 nodes in the
+    // scene box (node_budget.h), 1024 rays of full paths + one probe-to-probe pass, depth moments
+    // from the gather's own first hits and depth-weighted lookups, SH order 4 stored.
+    // --quick: 1/8 of the nodes, 1/16 of the rays.
+    const TrySpec def = defaultTry();
+    v.push_back({"default", "vdblight bake SCENE -o OUT (" + describeTry(def) + ", --direct occlusion)",
+                 [def](const Ctx& c) { return tryBake(c, def); }, true});
     // The default with the light visibility interpolated trilinearly (as before issue 15 item 2).
     v.push_back({"default_vis_trilinear", "the default bake, light visibility looked up trilinearly (not depth-weighted)",
-                 [](const Ctx& c) {
+                 [def](const Ctx& c) {
                      const double t0 = bench::now();
                      std::string note;
-                     Volume vol = tryVolume(c, parseTry("nodes=16384,rays=768,passes=1,depth=1"), note);
+                     Volume vol = tryVolume(c, def, note);
                      const double t = bench::now() - t0;
                      const uint64_t nodes = vol.levels[0].grid.nodeCount();
                      return fromVolumeVisibilityTrilinear(std::move(vol), t, nodes);
                  }});
+    // What an engine's L2 probes hold of the default: its bands 0..2 (export sh2 / sh2-packed,
+    // query --sh-order 2; sh_truncate.h). Measured with noise, as the default.
+    v.push_back({"default_l2", "the default's bands 0..2 (what export's SH order-2 layouts and an engine's L2 probes hold)",
+                 [def](const Ctx& c) {
+                     const double t0 = bench::now();
+                     std::string note;
+                     Volume vol = truncateSh(tryVolume(c, def, note), 2);
+                     const double t = bench::now() - t0;
+                     const uint64_t nodes = vol.levels[0].grid.nodeCount();
+                     return fromVolume(std::move(vol), t, nodes);
+                 },
+                 true});
+    // The default before SH order 4 (issue 15, tenth session): SH order 2, 768 rays.
+    v.push_back({"default_sh2_768", "the default before it stored SH order 4: ~16384 nodes, 768 rays + 1 probe pass, "
+                                    "depth moments, SH order 2",
+                 [](const Ctx& c) { return tryBake(c, parseTry("nodes=16384,rays=768,passes=1,depth=1")); }, true});
     // The default before this choice (issue 15 merges): 16 nodes on the longest axis, 256 rays
     // + one probe pass, no depth moments.
     v.push_back({"default_16_256", "16 nodes, 256 rays + 1 probe pass, --direct occlusion (the default before)",

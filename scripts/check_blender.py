@@ -1,12 +1,13 @@
-"""Checks that Blender imports a vdblight .vdb as nine RGB vector grids.
+"""Checks that Blender imports a vdblight .vdb as RGB vector grids (its SH bands 0..2: nine).
 
 Usage: blender -b --factory-startup --python scripts/check_blender.py -- FILE.vdb [--expect r,g,b]
 
 Blender 3.4's Python API exposes, per grid: name, data_type, channels, matrix_object (index
 to object space) and load(); it exposes neither voxel values nor the file metadata. So the
 script checks, through Blender: the volume imports and loads without error, the nine SH
-grids exist with data_type 'VECTOR_FLOAT' and 3 channels, each grid loads, and every grid
-puts voxel (i, j, k) at origin + spacing * (i, j, k) of level 0 (the same for all nine).
+grids of bands 0..2 exist, they and every other SH grid in the file (bands 3..4 of the
+default's SH order 4) have data_type 'VECTOR_FLOAT' and 3 channels, each grid loads, and
+every grid puts voxel (i, j, k) at origin + spacing * (i, j, k) of level 0 (the same for all).
 Metadata (format version, basis, origin, spacing) and the sh_l0m0 value (--expect) are
 checked with pyopenvdb inside Blender's Python when it can be imported (Debian's Blender
 runs the system Python 3.11, which has it); the origin/spacing from the metadata are then
@@ -51,7 +52,8 @@ def check_with_blender(path):
         raise common.CheckError("Blender cannot load the file: %s" % grids.error_message)
     by_name = {g.name: g for g in grids}
     placements = set()
-    for name in common.SH_GRIDS:
+    names = common.SH_GRIDS + sorted(n for n in by_name if n.startswith("sh_l") and n not in common.SH_GRIDS)
+    for name in names:
         grid = by_name.get(name)
         if grid is None:
             raise common.CheckError("Blender sees no grid %s (grids: %s)" % (name, ", ".join(sorted(by_name))))
@@ -62,15 +64,15 @@ def check_with_blender(path):
             raise common.CheckError("Blender cannot load the voxels of grid %s: %s" % (name, grids.error_message))
         placements.add(level0_placement(grid))
     if len(placements) != 1:
-        raise common.CheckError("the nine SH grids have different transforms: %s" % placements)
-    return placements.pop()
+        raise common.CheckError("the SH grids have different transforms: %s" % placements)
+    return placements.pop(), len(names)
 
 
 def main():
     args = blender_args()
     try:
-        origin, spacing = check_with_blender(args.file)
-        summary = "Blender: 9 VECTOR_FLOAT grids, voxel (0,0,0) at %s, spacing %g" % (tuple(origin), spacing)
+        (origin, spacing), count = check_with_blender(args.file)
+        summary = "Blender: %d VECTOR_FLOAT grids, voxel (0,0,0) at %s, spacing %g" % (count, tuple(origin), spacing)
         try:
             import pyopenvdb as vdb
         except ImportError:

@@ -375,6 +375,9 @@ def main():
 
     # Runtime volumes: the textures hold the indirect light, which the query gives with --indirect-only.
     extra = ["--indirect-only"] if manifest.get("direct", {}).get("mode") == "runtime" else []
+    # An sh:N volume in an SH order-2 layout holds its bands 0..2: the query answers with those.
+    if "truncated_from" in manifest:
+        extra += ["--sh-order", "2"]
     moment = manifest["layout"] == "bins" and manifest["bins"]["basis"].startswith("moment:")
     # A moment volume is queried with the view vector (0, 0, 1) mirrored about n.
     d = n

@@ -3,9 +3,10 @@
 
 Usage: /usr/bin/python3 scripts/check_pyopenvdb.py FILE.vdb [--expect r,g,b] [--depth]
 
-Checks that the file metadata has vdblight:format_version and vdblight:basis == "sh2",
-that the nine SH grids exist as Vec3 float grids in the order of vdblight:channels, that
-their voxel (0, 0, 0) is active and sits at the level-0 origin with the level-0 spacing,
+Checks that the file metadata has vdblight:format_version and a real-SH vdblight:basis
+("sh2", or "sh:N" with N = 1..4: the default bake stores "sh:4"), that the basis's SH grids
+((N + 1)^2 of them, named sh_l<l>m<m>) exist as Vec3 float grids in the order of
+vdblight:channels, that their voxel (0, 0, 0) is active and sits at the level-0 origin with the level-0 spacing,
 and that sh_l0m0 at voxel (0, 0, 0) is finite (and equals --expect within 1e-5 relative).
 With --depth, also that the four depth-moment grids (docs/format.md) are vec3s grids with
 voxel (0, 0, 0) active and every component in [0, 1].
@@ -16,8 +17,14 @@ import argparse
 import math
 import sys
 
-SH_GRIDS = ["sh_l0m0", "sh_l1m_neg1", "sh_l1m0", "sh_l1m1",
-            "sh_l2m_neg2", "sh_l2m_neg1", "sh_l2m0", "sh_l2m1", "sh_l2m2"]
+def sh_grid_names(order):
+    """The grids of real SH bands 0..order, in channel order (docs/format.md)."""
+    return ["sh_l%dm%s%d" % (l, "_neg" if m < 0 else "", abs(m)) for l in range(order + 1) for m in range(-l, l + 1)]
+
+
+# Bands 0..2: every real-SH volume of order 2 or more has these nine (Blender checks them).
+SH_GRIDS = sh_grid_names(2)
+SH_ORDERS = {"sh2": 2, "sh:1": 1, "sh:2": 2, "sh:3": 3, "sh:4": 4}
 SUPPORTED_FORMAT_VERSION = 1
 
 
@@ -65,9 +72,11 @@ def check_with_pyopenvdb(path, expect=None, depth=False):
         raise CheckError("no integer vdblight:format_version metadata (not a vdblight volume)")
     if not 1 <= version <= SUPPORTED_FORMAT_VERSION:
         raise CheckError("unsupported vdblight:format_version %d" % version)
-    if meta.get("vdblight:basis") != "sh2":
-        raise CheckError("vdblight:basis is %r, expected 'sh2'" % meta.get("vdblight:basis"))
-    if meta.get("vdblight:channels", "").split(",") != SH_GRIDS:
+    basis = meta.get("vdblight:basis")
+    if basis not in SH_ORDERS:
+        raise CheckError("vdblight:basis is %r, expected real SH (%s)" % (basis, ", ".join(SH_ORDERS)))
+    sh_grids = sh_grid_names(SH_ORDERS[basis])
+    if meta.get("vdblight:channels", "").split(",") != sh_grids:
         raise CheckError("vdblight:channels is %r" % meta.get("vdblight:channels"))
     origin = meta.get("vdblight:level0_origin")
     spacing = meta.get("vdblight:level0_spacing")
@@ -75,7 +84,7 @@ def check_with_pyopenvdb(path, expect=None, depth=False):
         raise CheckError("no vdblight:level0_origin / vdblight:level0_spacing metadata")
 
     types = {g.name: g.valueTypeName for g in vdb.readAllGridMetadata(path)}
-    for name in SH_GRIDS:
+    for name in sh_grids:
         if name not in types:
             raise CheckError("grid %s is missing (grids: %s)" % (name, ", ".join(sorted(types))))
         if types[name] != "vec3s":
@@ -96,8 +105,8 @@ def check_with_pyopenvdb(path, expect=None, depth=False):
         raise CheckError("sh_l0m0 at voxel (0,0,0) is %s, expected %s" % (value, expect))
     if depth:
         check_depth(vdb, path, types)
-    return "format_version %d, 9 vec3s SH grids%s, sh_l0m0(0,0,0) = (%.6g, %.6g, %.6g)" % (
-        (version, " + 4 depth grids" if depth else "") + tuple(value))
+    return "format_version %d, basis %s, %d vec3s SH grids%s, sh_l0m0(0,0,0) = (%.6g, %.6g, %.6g)" % (
+        (version, basis, len(sh_grids), " + 4 depth grids" if depth else "") + tuple(value))
 
 
 def main(argv):

@@ -32,13 +32,19 @@ struct Case {
 // Each case: the command line's options and the BakeRequest fields a library caller sets for
 // them. Small grids and ray counts keep the bakes short; every pass and the presets run.
 const Case kCases[] = {
-    // The default bake (--quality default: node budget, 768 rays, one probe pass, depth
-    // moments, --direct occlusion) with fewer rays, so that the test stays short.
+    // The default bake (--quality default: node budget, 1024 rays, one probe pass, depth
+    // moments, --direct occlusion, SH order 4) with fewer rays, so that the test stays short.
     {"default", "--rays 16", [](BakeRequest& r) { r.rays = 16; }},
     {"preview", "--quality preview", [](BakeRequest& r) { r.quality = "preview"; }},
-    {"high, error-targeted", "--quality high --resolution 5 --min-rays 8 --max-rays 32",
+    {"high", "--quality high --resolution 3 --rays 24",
      [](BakeRequest& r) {
          r.quality = "high";
+         r.resolution = 3;
+         r.rays = 24;
+     }},
+    {"error-targeted", "--target-error 0.03 --resolution 5 --min-rays 8 --max-rays 32",
+     [](BakeRequest& r) {
+         r.targetError = 0.03;
          r.resolution = 5;
          r.minRays = 8;
          r.maxRays = 32;
@@ -112,8 +118,8 @@ TEST(BakeVolume, SelectsThePassTheOptionsName) {
         return checkBakeRequest(r).name();
     };
     EXPECT_EQ(selected([](BakeRequest&) {}), "gather");
-    EXPECT_EQ(selected([](BakeRequest& r) { r.quality = "high"; }), "adaptive");
-    EXPECT_EQ(selected([](BakeRequest& r) { r.quality = "high"; r.rays = 64; }), "gather");  // a fixed budget
+    EXPECT_EQ(selected([](BakeRequest& r) { r.quality = "high"; }), "gather");
+    EXPECT_EQ(selected([](BakeRequest& r) { r.quality = "high"; r.targetError = 0.03; }), "adaptive");
     EXPECT_EQ(selected([](BakeRequest& r) { r.sampling = "antialiased"; }), "antialiased");
     EXPECT_EQ(selected([](BakeRequest& r) { r.layout = "bilevel"; }), "levels");
     EXPECT_EQ(selected([](BakeRequest& r) { r.basis = "moment:2"; r.layout = "adaptive"; }), "bins");
@@ -123,28 +129,68 @@ TEST(BakeVolume, SelectsThePassTheOptionsName) {
 TEST(BakeVolume, PresetsResolveAsTheCommandLineDocumentsThem) {
     BakeRequest r;
     BakeRequest d = resolveBakeRequest(r);
-    EXPECT_EQ(*d.rays, 768u);
+    EXPECT_EQ(*d.rays, 1024u);
     EXPECT_EQ(*d.probePasses, 1);
     EXPECT_EQ(*d.nodes, 16384u);
     EXPECT_TRUE(*d.depthMoments);
+    EXPECT_EQ(d.basis, "sh:4");
+    EXPECT_EQ(d.pass, "gather");
     r.quality = "preview";
     d = resolveBakeRequest(r);
     EXPECT_EQ(*d.rays, 256u);
     EXPECT_EQ(*d.probePasses, 0);
     EXPECT_FALSE(d.nodes.has_value());
     EXPECT_FALSE(*d.depthMoments);
+    EXPECT_EQ(d.basis, "sh2");
     r.quality = "high";
     d = resolveBakeRequest(r);
-    EXPECT_DOUBLE_EQ(*d.targetError, 0.03);
+    EXPECT_FALSE(d.targetError.has_value());
+    EXPECT_EQ(*d.rays, 2048u);
+    EXPECT_EQ(*d.probePasses, 1);
+    EXPECT_EQ(*d.nodes, 16384u);
+    EXPECT_TRUE(*d.depthMoments);
+    EXPECT_EQ(d.basis, "sh:4");
+    r.targetError = 0.03;  // an error target: the adaptive pass, SH order 2, its own ray caps
+    d = resolveBakeRequest(r);
+    EXPECT_EQ(d.pass, "adaptive");
+    EXPECT_EQ(d.basis, "sh2");
     EXPECT_EQ(*d.minRays, 64u);
     EXPECT_EQ(*d.maxRays, 2048u);
-    EXPECT_EQ(*d.probePasses, 2);
+    EXPECT_EQ(*d.probePasses, 1);
+    r.targetError.reset();
     r.quality = "default";
     r.sampling = "antialiased";  // presets apply to the uniform SH point gather only
     d = resolveBakeRequest(r);
     EXPECT_EQ(*d.rays, 256u);
     EXPECT_EQ(*d.probePasses, 0);
     EXPECT_FALSE(d.nodes.has_value());
+    EXPECT_EQ(d.basis, "sh2");
+}
+
+// No --basis: SH order 4 only where the default's point gather runs with a fixed budget; every
+// option that needs SH order 2 (or another pass) keeps it, and an explicit basis wins.
+TEST(BakeVolume, TheDefaultBasisIsShFourOnlyForThePointGather) {
+    const auto basisOf = [](void (*fill)(BakeRequest&)) {
+        BakeRequest r;
+        fill(r);
+        return resolveBakeRequest(r).basis;
+    };
+    EXPECT_EQ(basisOf([](BakeRequest&) {}), "sh:4");
+    EXPECT_EQ(basisOf([](BakeRequest& r) { r.rays = 64; r.resolution = 8; }), "sh:4");
+    EXPECT_EQ(basisOf([](BakeRequest& r) { r.targetError = 0.05; }), "sh2");
+    EXPECT_EQ(basisOf([](BakeRequest& r) { r.shWindow = true; }), "sh2");
+    EXPECT_EQ(basisOf([](BakeRequest& r) { r.layout = "bilevel"; }), "sh2");
+    EXPECT_EQ(basisOf([](BakeRequest& r) { r.sampling = "antialiased"; }), "sh2");
+    EXPECT_EQ(basisOf([](BakeRequest& r) { r.method = "photons"; }), "sh2");
+    EXPECT_EQ(basisOf([](BakeRequest& r) { r.invalidateBackface = 0.1; }), "sh2");
+    EXPECT_EQ(basisOf([](BakeRequest& r) { r.quality = "preview"; }), "sh2");
+    EXPECT_EQ(basisOf([](BakeRequest& r) { r.basis = "sh2"; }), "sh2");
+    EXPECT_EQ(basisOf([](BakeRequest& r) { r.basis = "sh:3"; }), "sh:3");
+    // An explicit sh2 keeps the preset's rays: only the basis is the caller's.
+    BakeRequest r;
+    r.basis = "sh2";
+    EXPECT_EQ(*resolveBakeRequest(r).rays, 1024u);
+    EXPECT_EQ(&checkBakeRequest(r), &checkBakeRequest(BakeRequest{}));
 }
 
 // Photon volumes take the default's grid (on 16 nodes their interpolation dominated the error,

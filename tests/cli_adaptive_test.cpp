@@ -51,7 +51,7 @@ TEST(CliAdaptive, RefusesBadOptions) {
     }
 }
 
-// Issue 15: the default bake is 768 rays + one probe-to-probe pass with depth moments,
+// Issue 15: the default bake is 1024 rays + one probe-to-probe pass with depth moments and SH order 4,
 // --quality preview the fixed 256 rays of full paths, high is error-targeted with two probe
 // passes; every point gather prints and stores its per-node noise; the default transport has no bounce cap in effect.
 TEST(CliQuality, PresetsAndNoiseSummary) {
@@ -59,31 +59,39 @@ TEST(CliQuality, PresetsAndNoiseSummary) {
     const std::string out = dir.file("q.vdb");
     std::string text;
     ASSERT_EQ(0, test::runCommand(kCli + " bake --resolution 3 -o " + out, &text)) << text;
-    // The default (issue 15, docs/methods.md "The default bake"): 768 rays + a probe pass and
-    // depth moments (--resolution here replaces its node budget).
-    EXPECT_NE(text.find("with 768 rays per node (+ 1 probe-to-probe pass) and all bounces (Russian roulette)"),
+    // The default (issue 15, docs/methods.md "The default bake"): 1024 rays + a probe pass,
+    // depth moments and SH order 4 (--resolution here replaces its node budget).
+    EXPECT_NE(text.find("with 1024 rays per node (+ 1 probe-to-probe pass) and all bounces (Russian roulette)"),
               std::string::npos) << text;
+    EXPECT_NE(text.find("(basis sh:4: radiance SH coefficients, bands 0..4, 25 Vec3f grids)"), std::string::npos) << text;
     EXPECT_NE(text.find("Depth moments: from the gather's own first hits"), std::string::npos) << text;
     EXPECT_NE(text.find("Noise per node"), std::string::npos) << text;
     ASSERT_EQ(0, test::runCommand(kCli + " info " + out, &text)) << text;
-    EXPECT_NE(text.find("rays_per_node = 768"), std::string::npos) << text;
+    EXPECT_NE(text.find("rays_per_node = 1024"), std::string::npos) << text;
     EXPECT_NE(text.find("probe_passes = 1"), std::string::npos) << text;
     EXPECT_NE(text.find("estimated_error_worst_nodes"), std::string::npos) << text;
     EXPECT_NE(text.find("bounces = 1024"), std::string::npos) << text;
 
     ASSERT_EQ(0, test::runCommand(kCli + " bake --resolution 3 --quality preview -o " + out, &text)) << text;
     EXPECT_NE(text.find("with 256 rays per node and all bounces"), std::string::npos) << text;
+    EXPECT_NE(text.find("(SH order 2 radiance, 9 Vec3f grids"), std::string::npos) << text;  // preview keeps SH order 2
     EXPECT_NE(text.find("Noise per node"), std::string::npos) << text;
     ASSERT_EQ(0, test::runCommand(kCli + " info " + out, &text)) << text;
     EXPECT_NE(text.find("rays_per_node = 256"), std::string::npos) << text;
     EXPECT_NE(text.find("estimated_error_p95"), std::string::npos) << text;
     EXPECT_EQ(text.find("probe_passes"), std::string::npos) << text;
 
-    ASSERT_EQ(0, test::runCommand(kCli + " bake --resolution 2 --quality high --max-rays 256 -o " + out, &text)) << text;
+    // high: the default with twice the rays (SH order 4, one probe pass).
+    ASSERT_EQ(0, test::runCommand(kCli + " bake --resolution 2 --quality high -o " + out, &text)) << text;
+    EXPECT_NE(text.find("with 2048 rays per node (+ 1 probe-to-probe pass)"), std::string::npos) << text;
+    EXPECT_NE(text.find("basis sh:4"), std::string::npos) << text;
+    // An error target (SH order 2, the adaptive pass) is an option of any preset.
+    ASSERT_EQ(0, test::runCommand(kCli + " bake --resolution 2 --target-error 0.03 --max-rays 256 -o " + out, &text)) << text;
     EXPECT_NE(text.find("Error-targeted: relative standard error"), std::string::npos) << text;
     ASSERT_EQ(0, test::runCommand(kCli + " info " + out, &text)) << text;
     EXPECT_NE(text.find("target_error = 0.03"), std::string::npos) << text;
-    EXPECT_NE(text.find("probe_passes = 2"), std::string::npos) << text;
+    EXPECT_NE(text.find("probe_passes = 1"), std::string::npos) << text;
+    EXPECT_NE(text.find("basis: sh2"), std::string::npos) << text;
 }
 
 TEST(CliShWindow, RecordsTheWindowAndRefusesPhotons) {

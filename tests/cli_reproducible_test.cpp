@@ -30,7 +30,8 @@ const Pass kPasses[] = {
     // The default bake's passes (issue 15): --direct occlusion (light list + visibility), one
     // probe-to-probe pass, depth moments; only the node budget and rays are made small.
     {"default quality", "--resolution 6 --rays 32 --quality default"},
-    {"default quality, error-targeted", "--resolution 5 --quality high --min-rays 8 --max-rays 32"},
+    {"default quality, error-targeted, two probe passes",
+     "--resolution 5 --target-error 0.03 --probe-passes 2 --min-rays 8 --max-rays 32"},
     {"adaptive layout", "--layout adaptive --levels 2 --refine 2 --resolution 5 --rays 16"},
     {"antialiased", "--sampling antialiased --resolution 5 --rays 16"},
     {"back-face invalidation", "--invalidate-backface 0.1 --resolution 5 --rays 16"},
@@ -57,7 +58,8 @@ TEST(CliReproducible, OneAndTwoThreadsGiveIdenticalFilesForEveryPass) {
             const Volume v = readVolume(a);
             EXPECT_TRUE(v.hasDepth());
             EXPECT_TRUE(v.direct.hasVisibility());
-            EXPECT_EQ(std::get<int64_t>(v.meta.at("probe_passes")), std::string(p.name) == "default quality" ? 1 : 2);  // high: 2
+            EXPECT_EQ(std::get<int64_t>(v.meta.at("probe_passes")), std::string(p.name) == "default quality" ? 1 : 2);
+            EXPECT_EQ(v.basis.kind, std::string(p.name) == "default quality" ? "sh:4" : "sh2");  // an error target: sh2
         }
         const ContentHash h = fileContentHash(a);
         EXPECT_TRUE(h.uuidFromContent);

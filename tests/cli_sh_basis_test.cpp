@@ -1,8 +1,9 @@
 // End-to-end: `vdblight bake --basis sh:3` -> .vdb -> `info`, `query` (= the library lookup on
 // the file), `export --layout basis` (the node values in the raw textures), and bad sh:N
-// specs refused with one line, a non-zero exit and no file. `bake --basis sh:4` on a uniform
-// grid: the point gather with the default preset (rays, probe pass, depth moments, direct
-// light with visibility), whose SH order-2 export layouts hold its bands 0..2.
+// specs refused with one line, a non-zero exit and no file. The default bake (sh:4 on a
+// uniform grid): the point gather with the default preset (rays, probe pass, depth moments,
+// direct light with visibility), whose SH order-2 export layouts hold its bands 0..2, as
+// `query --sh-order 2` does.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,6 +15,7 @@
 #include "cli_util.h"
 #include "test_util.h"
 #include "vdblight/basis.h"
+#include "vdblight/sh_truncate.h"
 #include "vdblight/query.h"
 #include "vdblight/vdb_io.h"
 
@@ -82,12 +84,13 @@ TEST(CliShBasis, BakeInfoQueryAndExportOfShThree) {
     EXPECT_NE(r.output.find("use --layout basis"), std::string::npos) << r.output;
 }
 
+// The default bake stores SH order 4 (no --basis): the point gather with the default preset.
 TEST(CliShBasis, ShFourTakesThePointGatherWithTheDefaultPresetAndExportsItsBandsZeroToTwo) {
     test::TempDir dir;
     const std::string file = dir.file("sh4.vdb");
-    CliRun r = runCli("bake -o " + file + " --resolution 4 --basis sh:4");
+    CliRun r = runCli("bake -o " + file + " --resolution 4");
     ASSERT_EQ(r.status, 0) << r.output;
-    EXPECT_NE(r.output.find("768 rays per node (+ 1 probe-to-probe pass)"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("1024 rays per node (+ 1 probe-to-probe pass)"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("Direct light (occlusion)"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("basis sh:4: radiance SH coefficients, bands 0..4, 25 Vec3f grids"), std::string::npos) << r.output;
     const Volume v = readVolume(file);
@@ -95,7 +98,7 @@ TEST(CliShBasis, ShFourTakesThePointGatherWithTheDefaultPresetAndExportsItsBands
     EXPECT_EQ(v.direct.mode, DirectMode::Occlusion);
     EXPECT_TRUE(v.direct.hasVisibility());
     EXPECT_FALSE(v.levels[0].depth.empty());
-    EXPECT_EQ(metaNumber(v.meta, "rays_per_node", 0), 768);
+    EXPECT_EQ(metaNumber(v.meta, "rays_per_node", 0), 1024);
     EXPECT_EQ(metaNumber(v.meta, "probe_passes", 0), 1);
 
     // query = the library lookup (the SH part plus the listed light's exact irradiance times its visibility).
@@ -121,9 +124,25 @@ TEST(CliShBasis, ShFourTakesThePointGatherWithTheDefaultPresetAndExportsItsBands
             for (int c = 0; c < 3; ++c)
                 ASSERT_FLOAT_EQ(texels[4 * node + c], v.levels[0].nodeData(node, 25)[3 * j + c]) << names[j] << " node " << node;
     }
-    // The default engine layout (sh2-packed) fits too.
+    // The default engine layout (sh2-packed) fits too; its manifest says it holds bands 0..2.
     r = runCli("export " + file + " -o " + dir.file("packed"));
     EXPECT_EQ(r.status, 0) << r.output;
+    const std::string manifest = test::readTextFile(dir.file("packed/manifest.json"));
+    EXPECT_NE(manifest.find("\"truncated_from\": {\"basis\": \"sh:4\""), std::string::npos) << manifest;
+
+    // query --sh-order 2 answers with those bands (truncateSh), which differ from all five.
+    const Volume l2 = truncateSh(v, 2);
+    EXPECT_EQ(l2.basis.kind, "sh2");
+    const Rgb band2 = IrradianceQuery(l2).irradiance(Vec3f(0.2f, 0.3f, 0.25f), normalize(Vec3f(0.3f, 1.0f, -0.2f)));
+    r = runCli("query " + file + " --at 0.2,0.3,0.25 --normal 0.3,1,-0.2 --raw --sh-order 2");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NEAR(test::firstIrradianceRgb(r.output).x, band2.x, 1e-6 * (1 + band2.x));
+    EXPECT_GT(std::fabs(band2.x - want.x), 1e-4 * want.x);
+    for (const char* bad : {"--sh-order 5", "--sh-order 0", "--sh-order 2 --stream on"}) {
+        r = runCli("query " + file + " --at 0.2,0.3,0.25 " + bad);
+        EXPECT_NE(r.status, 0) << bad;
+        EXPECT_EQ(test::countLines(r.output), 1) << bad << ": " << r.output;
+    }
 }
 
 TEST(CliShBasis, ShFourPointGatherTilesInStagesMergeToTheSingleBake) {

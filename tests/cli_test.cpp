@@ -46,8 +46,10 @@ TEST(Cli, BakeQueryInfoReferenceOnTheDefaultScene) {
 
     const CliRun info = runCli("info --json " + out);
     ASSERT_EQ(info.status, 0) << info.output;
-    EXPECT_NE(info.output.find("\"basis\": \"sh2\""), std::string::npos) << info.output;
+    // The default stores SH order 4 (docs/methods.md, "SH order 4 in the point gather").
+    EXPECT_NE(info.output.find("\"basis\": \"sh:4\""), std::string::npos) << info.output;
     EXPECT_NE(info.output.find("\"sh_l2m2\""), std::string::npos);
+    EXPECT_NE(info.output.find("\"sh_l4m4\""), std::string::npos);
     EXPECT_NE(info.output.find("\"scene_hash\""), std::string::npos);
     EXPECT_NE(runCli("info " + out).output.find("nodes"), std::string::npos);
 

@@ -110,10 +110,11 @@ TEST(CliTiles, DefaultBakeTiledInStagesMergesToTheSingleBake) {
 }
 
 TEST(CliTiles, ErrorTargetedBakeWithTwoProbePassesMergesToTheSingleBake) {
-    // --quality high: every node to an error target, two probe passes (three stages);
-    // depth moments from their own pass.
+    // Every node to an error target, two probe passes (three stages); depth moments from
+    // their own pass.
     test::TempDir dir;
-    expectStagedMergeIdentical(dir, "--quality high --max-rays 64 --resolution 10 --depth-moments --half", 2, 2);
+    expectStagedMergeIdentical(dir, "--target-error 0.03 --probe-passes 2 --max-rays 64 --resolution 10 --depth-moments --half",
+                               2, 2);
 }
 
 TEST(CliTiles, UniformBinsMergeToTheSingleBake) {

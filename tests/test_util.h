@@ -28,6 +28,8 @@ private:
 
 /// Writes `text` to `path` (throws on failure).
 void writeTextFile(const std::string& path, const std::string& text);
+/// The whole file at `path` (throws if it cannot be read).
+std::string readTextFile(const std::string& path);
 
 /// Runs a shell command, returns its exit status; stdout+stderr are captured in `output`.
 int runCommand(const std::string& command, std::string* output = nullptr);

@@ -205,7 +205,7 @@ TEST(Transport, ProbePassesAreDeterministic) {
     plain.raysPerNode = 32;
     EXPECT_NE(bakeShGather(s, tracer, g, plain).levels[0].data, first);  // the passes change something
 
-    // The error-targeted gather with probe passes (--quality high).
+    // The error-targeted gather with probe passes (--target-error).
     std::vector<float> adaptiveFirst;
     for (int threads : {1, 2}) {
         AdaptiveOptions a;

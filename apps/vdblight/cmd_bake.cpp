@@ -34,7 +34,7 @@ struct BakeCommand {
     std::string sampling = "point";  // point | antialiased (bake_antialiased.h)
     std::string layout = "uniform";
     std::string quality = "default";  // preview | default | high (resolveBakeRequest)
-    std::string basis = "sh2";  // a spec of the basis registry (basis.h): sh2, sh:N, bins:R, moment:n[:R]
+    std::string basis;  // a spec of the basis registry (basis.h): sh2, sh:N, bins:R, moment:n[:R]; empty: the preset's
     std::string direct;            // baked | runtime | occlusion (bake_direct.h); empty: the default
     int directLights = 4;          // --direct occlusion: lights with a visibility channel
     bool reproducible = true;   // leave run-specific metadata out of the file (vdb_io.h)
@@ -325,19 +325,19 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
     cmd->add_option("--bounds", c->bounds,
                     "Node box x0,y0,z0,x1,y1,z1 (default: scene bounds inset by half a spacing)");
     cmd->add_option("--quality", c->quality,
-                    "preview: 16 nodes on the longest axis, 256 rays per node of full paths (sub-second, noisy "
-                    "where light is hard to reach); default: about 16384 nodes in the scene box (16..64 on its "
-                    "longest axis), 768 rays + one probe-to-probe pass of 768, depth moments (seconds; the "
-                    "measured most accurate within 30 s, docs/methods.md); high: default's grid, each node "
-                    "sampled to a relative standard error of 3 % (64..2048 rays) + two probe passes. Presets "
-                    "apply to --method gather, --sampling point, --layout uniform, --basis sh2 or sh:N (sh:N: no "
-                    "error target, high takes default's rays); other passes take 16 nodes on the longest axis and "
-                    "the fixed --rays (default 256)")
+                    "preview: 16 nodes on the longest axis, 256 rays per node of full paths, SH order 2 "
+                    "(sub-second, noisy where light is hard to reach); default: about 16384 nodes in the scene "
+                    "box (16..64 on its longest axis), 1024 rays + one probe-to-probe pass of 1024, depth "
+                    "moments, SH order 4 stored (seconds; the measured most accurate within 30 s, "
+                    "docs/methods.md); high: the default with 2048 rays. Presets apply to --method gather, "
+                    "--sampling point, --layout uniform, --basis sh2 or sh:N; other passes take 16 nodes on the "
+                    "longest axis and the fixed --rays (default 256); --target-error replaces the rays by an "
+                    "error target (SH order 2)")
         ->capture_default_str();
     cmd->add_option("--seed", c->seed, "Random seed (same seed, same bits, any thread count)")->capture_default_str();
     cmd->add_option("--threads", c->threads, "Worker threads (0 = all cores)")->capture_default_str()->check(CLI::Range(0, 4096));
     cmd->add_flag("--half", c->half, "Store the grids as 16-bit floats");
-    cmd->add_option("--method", c->method, "gather (SH order 2 at each node) or photons (irradiance vectors, Pacanowski et al.)")
+    cmd->add_option("--method", c->method, "gather (SH radiance at each node; --basis for others) or photons (irradiance vectors, Pacanowski et al.)")
         ->capture_default_str();
     cmd->add_option("--sampling", c->sampling,
                     "point: project at the nodes; antialiased: trilinear-weighted origins over each cell "
@@ -345,8 +345,10 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
         ->capture_default_str();
     cmd->add_option("--layout", c->layout, "Node layout: uniform, bilevel (Greger et al.) or adaptive (n levels)")
         ->capture_default_str();
-    cmd->add_option("--basis", c->basis, "Directional basis (docs/format.md): " + basisChoices())
-        ->capture_default_str();
+    cmd->add_option("--basis", c->basis,
+                    "Directional basis (docs/format.md): " + basisChoices() +
+                        ". Default: sh:4 where --quality default's point gather runs (SH order 4: holds a bright "
+                        "opening seen from a dark room, docs/methods.md), sh2 for every other pass and preset");
     cmd->add_option("--direct", c->direct,
                     "Direct light: baked (in the SH), runtime (SH holds indirect light; the file lists the lights for "
                     "the run time to add) or occlusion (plus per-node visibility of the --direct-lights most important "

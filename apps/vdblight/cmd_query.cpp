@@ -8,6 +8,7 @@
 #include "vdblight/bins.h"
 #include "vdblight/errors.h"
 #include "vdblight/query.h"
+#include "vdblight/sh_truncate.h"
 #include "vdblight/scene.h"
 #include "vdblight/scene_lights.h"
 #include "vdblight/scene_origin.h"
@@ -18,10 +19,13 @@
 #include "vdblight/vdb_stream.h"
 
 #include <filesystem>
+#include <limits>
 
 namespace vdblight::app {
 
 namespace {
+constexpr int kNotGiven = std::numeric_limits<int>::min();
+
 struct QueryCommand {
     std::string volume;
     std::string at, normal = "0,1,0";
@@ -38,6 +42,7 @@ struct QueryCommand {
     bool noDepthWeights = false;  // plain trilinear even if the volume has depth moments
     std::string stream = "auto";  // delayed loading: auto (files >= kStreamAboveBytes), on, off
     bool streamReport = false;    // print how many leaves streaming read
+    int shOrder = kNotGiven;      // bands 0..shOrder of a real-SH volume (what an engine's L2 probe holds)
 };
 
 /// The volume as a query reads it: streamed (only the leaves looked up are read; vdb_stream.h)
@@ -51,7 +56,9 @@ struct OpenedVolume {
 
 OpenedVolume openForQuery(const QueryCommand& c) {
     OpenedVolume v;
-    if (c.stream != "off") {
+    // --sh-order cuts the volume in memory (sh_truncate.h); streaming reads it as stored.
+    if (c.shOrder != kNotGiven && c.stream == "on") throw ValueError("--sh-order reads the whole volume: leave out --stream on");
+    if (c.stream != "off" && c.shOrder == kNotGiven) {
         std::error_code ec;
         const uint64_t bytes = std::filesystem::file_size(c.volume, ec);
         if (c.stream == "on" || (!ec && bytes >= kStreamAboveBytes)) {
@@ -121,7 +128,8 @@ void run(const QueryCommand& c) {
     }
     if (!c.output.empty()) checkOutputWritable(c.output);
 
-    const OpenedVolume opened = openForQuery(c);
+    OpenedVolume opened = openForQuery(c);
+    if (c.shOrder != kNotGiven) opened.whole = truncateSh(std::move(opened.whole), c.shOrder);
     const Volume& volume = opened.header();
     const OutsidePolicy policy = c.outside == "error" ? OutsidePolicy::Throw : OutsidePolicy::Clamp;
     if (c.noDepthWeights && !opened.hasDepth())
@@ -231,6 +239,9 @@ void addQueryCommand(CLI::App& app) {
                   "Print (stderr) how many leaves of the file were read (streamed) or that all of it was");
     cmd->add_option("--scene", c->scene,
                     "--direct runtime volumes: the scene baked; its lights' direct light is added with shadow rays");
+    cmd->add_option("--sh-order", c->shOrder,
+                    "Real-SH volumes: evaluate bands 0..N only (e.g. 2 for a volume baked with SH order 4, the "
+                    "default: what export's sh2 / sh2-packed layouts and an engine's L2 probes hold)");
     cmd->add_flag("--indirect-only", c->indirectOnly, "--direct runtime volumes: print the stored indirect light only");
     cmd->add_option("--shadow-rays", c->shadowRays, "With --scene: shadow rays per polygon light and point")
         ->capture_default_str()

@@ -43,7 +43,9 @@ struct BakeRequest {
     std::string method = "gather";    ///< gather | photons
     std::string sampling = "point";   ///< point | antialiased
     std::string layout = "uniform";   ///< uniform | bilevel | adaptive
-    std::string basis = "sh2";        ///< sh2 | bins:R | moment:n[:R] (bins.h)
+    /// sh2 | sh:N | bins:R | moment:n[:R] (basis.h); empty: the --quality preset's (sh:4 for
+    /// the point gather at `default`, sh2 for every other pass and preset).
+    std::string basis;
     /// preview | default | high: node budget, rays, error target, probe passes and depth
     /// moments of the uniform SH point gather (docs/methods.md, "The default bake").
     std::string quality = "default";

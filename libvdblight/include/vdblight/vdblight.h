@@ -11,6 +11,7 @@
 //                  bake_basis.h: bakeBasis, the generic gather of any registered basis)
 //   vdb_io.h       writeVolume (atomic) / readVolume / inspectVolumeFile
 //   query.h        IrradianceQuery: irradiance(x, n) at run time
+//   sh_truncate.h  truncateSh: fewer SH bands (what an engine's L2 probe holds of an sh:4 bake)
 //   export.h       exportTextures: dense textures + manifest for engines
 //   errors.h       the typed exceptions every call may throw (catch vdblight::Error once)
 // Smaller programs may include only the headers they use.
@@ -31,4 +32,5 @@
 #include "vdblight/bake_basis.h"
 #include "vdblight/vdb_io.h"
 #include "vdblight/query.h"
+#include "vdblight/sh_truncate.h"
 #include "vdblight/export.h"

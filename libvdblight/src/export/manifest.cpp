@@ -169,6 +169,13 @@ std::string manifestJson(const ManifestInput& in) {
          "dims[1] * k))\",\n";
     s << "  \"irradiance\": " << quote(o.layout == ExportLayout::Basis ? in.basisFormula : irradianceFormula(o.layout)) << ",\n";
     if (o.layout == ExportLayout::Basis) s << "  \"basis\": " << quote(in.basisKind) << ",\n";
+    // An sh:N volume (N > 2; the default bake stores sh:4) in an SH order-2 layout: its bands
+    // 0..2 (sh_truncate.h), which `vdblight query --sh-order 2` answers with.
+    const bool shLayout = o.layout == ExportLayout::Sh2 || o.layout == ExportLayout::Sh2Packed || o.layout == ExportLayout::Sh1;
+    if (shLayout && in.basisKind.rfind("sh:", 0) == 0 && in.basisKind != "sh:2")
+        s << "  \"truncated_from\": {\"basis\": " << quote(in.basisKind)
+          << ", \"kept\": \"bands 0..2 of the volume's SH (the projection onto them); vdblight query --sh-order 2 "
+             "gives the same irradiance; export --layout basis holds every band\"},\n";
     s << "  \"units\": \"irradiance in W/m^2 (or the scene's radiometric unit times sr); positions in scene units\",\n";
     s << "  \"constants\": {\"A0\": " << num(sh::kCosineLobe[0]) << ", \"A1\": " << num(sh::kCosineLobe[1])
       << ", \"A2\": " << num(sh::kCosineLobe[2]) << ", \"c0\": " << num(0.5 / std::sqrt(kPi))
