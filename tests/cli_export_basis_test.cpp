@@ -7,7 +7,8 @@
 // - exports in raw / ktx2 / dds, half and float, read back by scripts/check_export.py from
 //   manifest.json and the doc's polynomials alone (numpy, not the library), match `vdblight
 //   query` (the full query: bands 0..4), with the direct light of `--direct occlusion` and the
-//   depth-weighted blend of depth moments (the Cornell box's defaults), and without them;
+//   depth-weighted blend of depth moments (the Cornell box's defaults), and without them; the
+//   npm package ktx-parse reads and rewrites every KTX2 file byte for byte;
 // - negative controls: the script fails on a manifest that claims fewer bands and on swapped
 //   band-2 or band-4 textures (swapped band-3 textures pass: A_3 = 0, nobody reads them), and
 //   refuses a basis-layout manifest of a basis that is not real SH (export gives bins volumes
@@ -207,6 +208,10 @@ TEST_F(CliExportBasis, Sh4RoundTripThroughTheManifestMatchesQuery) {
             std::string log;
             EXPECT_EQ(checkExport(file("sh4.vdb"), where, &log), 0) << format << " " << precision << ": " << log;
             EXPECT_NE(log.find(std::string(format) + " basis float"), std::string::npos) << log;
+            if (std::string(format) == "ktx2") {  // 25 SH + 1 visibility + 3 depth textures
+                EXPECT_EQ(checkKtx2(where, &log), 0) << log;
+                EXPECT_NE(log.find("pass"), std::string::npos) << log;
+            }
         }
     // The default bake: the script adds the listed lights times visibility and blends every
     // texture with the depth-moment weights.
