@@ -18,7 +18,10 @@ of a direction found by the formulas of `bins.bin_of_direction`; a moment volume
 with --view 0,0,1) are matched against the query. compact (Pacanowski et al. section 4.2) is lossy: with
 --vectors-export DIR (a float `vectors` export of the same volume) every compact texel is
 checked against the section 4.2 encoding of the vectors texels; its error against the query
-is printed, and checked only with --compact-tolerance.
+is printed, and checked only with --compact-tolerance. basis (`export --layout basis`) of a real-SH
+volume (manifest `basis` sh2 or sh:N, N = 1..4): E = sum_j A_l L_j Y_j(n) with the explicit
+polynomials of docs/engines.md ("Shaders for sh:N"), evaluated here, against the full query;
+the basis layout of other bases (bins:R, moment:n) is refused with exit status 2.
 """
 import argparse
 import json
@@ -228,7 +231,66 @@ def irradiance_terms(manifest, textures, x, n, max_abs=False):
                 w = (fu if a else 1 - fu) * (fv if b else 1 - fv)
                 terms.append(values[channel, rows] * w[:, None])
         return np.array(terms)
+    if layout == "basis":
+        return sh_basis_terms(manifest, s, n)
     raise ValueError("unknown layout " + layout)
+
+
+# docs/engines.md "Shaders for sh:N": (l, m, constant, polynomial in the unit normal's x, y, z)
+# of every real SH Y_lm up to band 4, orthonormal, without the Condon-Shortley phase.
+SH_POLYNOMIALS = [
+    (0, 0, 0.282094792, lambda x, y, z: np.ones_like(x)),
+    (1, -1, 0.488602512, lambda x, y, z: y),
+    (1, 0, 0.488602512, lambda x, y, z: z),
+    (1, 1, 0.488602512, lambda x, y, z: x),
+    (2, -2, 1.092548431, lambda x, y, z: x * y),
+    (2, -1, 1.092548431, lambda x, y, z: y * z),
+    (2, 0, 0.315391565, lambda x, y, z: 3 * z * z - 1),
+    (2, 1, 1.092548431, lambda x, y, z: x * z),
+    (2, 2, 0.546274215, lambda x, y, z: x * x - y * y),
+    (3, -3, 0.590043590, lambda x, y, z: y * (3 * x * x - y * y)),
+    (3, -2, 2.890611443, lambda x, y, z: x * y * z),
+    (3, -1, 0.457045799, lambda x, y, z: y * (5 * z * z - 1)),
+    (3, 0, 0.373176333, lambda x, y, z: z * (5 * z * z - 3)),
+    (3, 1, 0.457045799, lambda x, y, z: x * (5 * z * z - 1)),
+    (3, 2, 1.445305721, lambda x, y, z: z * (x * x - y * y)),
+    (3, 3, 0.590043590, lambda x, y, z: x * (x * x - 3 * y * y)),
+    (4, -4, 2.503342942, lambda x, y, z: x * y * (x * x - y * y)),
+    (4, -3, 1.770130770, lambda x, y, z: y * z * (3 * x * x - y * y)),
+    (4, -2, 0.946174696, lambda x, y, z: x * y * (7 * z * z - 1)),
+    (4, -1, 0.669046544, lambda x, y, z: y * z * (7 * z * z - 3)),
+    (4, 0, 0.105785547, lambda x, y, z: 35 * z ** 4 - 30 * z * z + 3),
+    (4, 1, 0.669046544, lambda x, y, z: x * z * (7 * z * z - 3)),
+    (4, 2, 0.473087348, lambda x, y, z: (x * x - y * y) * (7 * z * z - 1)),
+    (4, 3, 1.770130770, lambda x, y, z: x * z * (x * x - 3 * y * y)),
+    (4, 4, 0.625835735, lambda x, y, z: x ** 4 - 6 * x * x * y * y + y ** 4),
+]
+SH_COSINE_LOBE = [math.pi, 2 * math.pi / 3, math.pi / 4, 0.0, -math.pi / 24]  # A_0..A_4
+
+
+def sh_order_of_basis(basis):
+    """The SH order N of a manifest basis `sh2` or `sh:N` (N = 1..4); None for other bases."""
+    if basis == "sh2":
+        return 2
+    if basis.startswith("sh:") and basis[3:] in ("1", "2", "3", "4"):
+        return int(basis[3:])
+    return None
+
+
+def sh_basis_terms(manifest, s, n):
+    """layout basis of an sh2 / sh:N volume: A_l L_j Y_j(n) for every j with A_l != 0, the
+    texture of channel j found by its name sh_l<l>m<m> (m_neg<|m|> for m < 0)."""
+    order = sh_order_of_basis(manifest["basis"])
+    if order is None:
+        raise ValueError("layout basis of basis %s is not checked (real SH only)" % manifest["basis"])
+    x, y, z = n[:, 0], n[:, 1], n[:, 2]
+    terms = []
+    for l, m, constant, poly in SH_POLYNOMIALS:
+        if l > order or SH_COSINE_LOBE[l] == 0.0:  # band 3: A_3 = 0, not read (docs/engines.md)
+            continue
+        name = "sh_l%dm%s%d" % (l, "_neg" if m < 0 else "", abs(m))
+        terms.append(SH_COSINE_LOBE[l] * constant * s[name][:, :3] * poly(x, y, z)[:, None])
+    return np.array(terms)
 
 
 def lambert_contour(rel, n):
@@ -361,6 +423,10 @@ def main():
 
     with open(os.path.join(args.export, "manifest.json")) as f:
         manifest = json.load(f)
+    if manifest["layout"] == "basis" and sh_order_of_basis(manifest.get("basis", "")) is None:
+        print("layout basis of basis %s: not checked by this script (real SH only: sh2, sh:1..sh:4; "
+              "export bins:R and moment:n volumes with --layout bins)" % manifest.get("basis"))
+        return 2
     textures = load_textures(manifest, args.export)
     rng = np.random.default_rng(args.seed)
     lo, hi = np.array(manifest["bounds_min"]), np.array(manifest["bounds_max"])
