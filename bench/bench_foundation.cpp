@@ -14,6 +14,7 @@
 #include <string>
 
 #include "vdblight/bake.h"
+#include "vdblight/basis.h"
 #include "vdblight/query.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
@@ -48,7 +49,8 @@ double rawRaysPerSecond(const Tracer& tracer, const Bounds& box, std::size_t tot
     return best;
 }
 
-void benchScene(const Scene& scene, int threads, bool quick) {
+/// `basis`: what the gather stores (null: SH order 2; "sh:4": the default bake's basis).
+void benchScene(const Scene& scene, int threads, bool quick, const char* basis = nullptr) {
     const Tracer tracer(scene);
     Bounds box = scene.bounds();
     // Origins strictly inside the scene bounds (the room), as a bake's nodes are.
@@ -61,6 +63,7 @@ void benchScene(const Scene& scene, int threads, bool quick) {
     GatherOptions options;
     options.raysPerNode = quick ? 64 : 512;
     options.threads = threads;
+    if (basis) options.basis = makeBasis(basis);
 
     // Raw and bake measurements are interleaved and the best of each kept, so that a
     // transient load on the machine does not distort the ratio.
@@ -80,19 +83,22 @@ void benchScene(const Scene& scene, int threads, bool quick) {
     const double mixTime = double(stats.rays.intersect) / rawIntersect + double(stats.rays.occluded) / rawOccluded;
     const double rawMix = double(stats.rays.total()) / mixTime;
 
-    std::printf("%-22s %9zu tris %2d thr | raw rtcIntersect1 %7.2f M/s  rtcOccluded1 %7.2f M/s | bake %7.2f M/s "
+    std::printf("%-22s %-4s %9zu tris %2d thr | raw rtcIntersect1 %7.2f M/s  rtcOccluded1 %7.2f M/s | bake %7.2f M/s "
                 "(%zu nodes x %u rays, %.1f%% shadow rays, %.2f s) | bake/raw intersect %.2f  bake/raw same mix %.2f\n",
-                scene.name.c_str(), scene.triangleCount(), threads, rawIntersect / 1e6, rawOccluded / 1e6, bake / 1e6,
+                scene.name.c_str(), basis ? basis : "sh2", scene.triangleCount(), threads, rawIntersect / 1e6,
+                rawOccluded / 1e6, bake / 1e6,
                 grid.nodeCount(), options.raysPerNode, 100.0 * double(stats.rays.occluded) / double(stats.rays.total()),
                 stats.seconds, bake / rawIntersect, bake / rawMix);
 }
 
-void benchQuery(bool quick) {
+/// `basis` as in benchScene: sh:4 (the default bake's) is read by the generic lookup.
+void benchQuery(bool quick, const char* basis = nullptr) {
     const Scene scene = loadScene(defaultScenePath());
     const Tracer tracer(scene);
     const GridSpec grid = bench::uniformGrid(scene.bounds(), 32);
     GatherOptions options;
     options.raysPerNode = 1;  // values do not matter for lookup speed
+    if (basis) options.basis = makeBasis(basis);
     const Volume volume = bakeShGather(scene, tracer, grid, options);
     const IrradianceQuery query(volume);
 
@@ -100,8 +106,8 @@ void benchQuery(bool quick) {
     const bench::LookupInputs in = bench::randomLookups(grid.nodeBounds(), quick ? 200'000 : 2'000'000);
     Rgb sink{0, 0, 0};
     const double best = bench::lookupRate(query, in, quick ? 1 : 5, sink);
-    std::printf("query (32^3 nodes, 1 thread): %.2f M lookups/s per thread (target >= 5)  [checksum %.3g]\n",
-                best / 1e6, double(sink.x));
+    std::printf("query %-4s (32^3 nodes, 1 thread, lookup %s): %.2f M lookups/s per thread (target >= 5)  [checksum %.3g]\n",
+                basis ? basis : "sh2", query.kind(), best / 1e6, double(sink.x));
 }
 }  // namespace
 
@@ -114,7 +120,11 @@ int main(int argc, char** argv) {
     try {
         benchScene(loadScene(defaultScenePath()), threads, quick);
         benchScene(bench::cornellWithSpheres(6, 6), threads, quick);
+        // The default bake stores SH order 4: the same gather projecting into 25 coefficients.
+        benchScene(loadScene(defaultScenePath()), threads, quick, "sh:4");
+        benchScene(bench::cornellWithSpheres(6, 6), threads, quick, "sh:4");
         benchQuery(quick);
+        benchQuery(quick, "sh:4");
     } catch (const std::exception& e) {
         std::fprintf(stderr, "vdblight_bench: error: %s\n", e.what());
         return 1;

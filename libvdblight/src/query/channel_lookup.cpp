@@ -117,13 +117,17 @@ Rgb ChannelLookup::sumTerms(const Vec3f& x, const int* channels, const float* bw
     std::size_t corner[8];
     float w[8];
     const Level& level = locate(g, corner, w);
+    const float* p[8];
+    for (int c = 0; c < 8; ++c) p[c] = level.data.data() + corner[c] * floatsPerNode_;
+    // Each term's channel blended over the corners first: nb short sums that do not depend on
+    // each other, instead of one chain of 8 * nb additions (the lookup's latency with sh:4's
+    // 18 terms; vdblight_bench "query sh:4").
     Rgb e{0, 0, 0};
-    for (int c = 0; c < 8; ++c) {
-        const float* p = level.data.data() + corner[c] * floatsPerNode_;
-        for (int b = 0; b < nb; ++b) {
-            const float* q = p + 3 * channels[b];
-            e += Rgb(q[0], q[1], q[2]) * (w[c] * bw[b]);
-        }
+    for (int b = 0; b < nb; ++b) {
+        const int f = 3 * channels[b];
+        Rgb t{0, 0, 0};
+        for (int c = 0; c < 8; ++c) t += Rgb(p[c][f], p[c][f + 1], p[c][f + 2]) * w[c];
+        e += t * bw[b];
     }
     return e;
 }
