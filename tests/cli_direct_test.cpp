@@ -17,13 +17,6 @@ namespace fs = std::filesystem;
 
 namespace {
 const std::string kSource = VDBLIGHT_SOURCE_DIR;
-
-std::string readText(const std::string& path) {
-    std::ifstream in(path);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 }  // namespace
 
 TEST(CliDirect, ModesBakeQuerySliceExportAndOpenInOtherReaders) {
@@ -46,7 +39,7 @@ TEST(CliDirect, ModesBakeQuerySliceExportAndOpenInOtherReaders) {
         EXPECT_EQ(s.status, 0) << s.output;
         const auto e = runCli("export " + vol + " -o " + dir.file(mode + "_tex") + " --format raw");
         ASSERT_EQ(e.status, 0) << e.output;
-        const std::string manifest = readText(dir.file(mode + "_tex/manifest.json"));
+        const std::string manifest = test::readTextFile(dir.file(mode + "_tex/manifest.json"));
         EXPECT_NE(manifest.find("\"mode\": \"" + mode + "\""), std::string::npos) << manifest;
         EXPECT_EQ(fs::exists(dir.file(mode + "_tex/light_visibility_0_0.raw")), mode == "occlusion");
         if (mode == "occlusion") {

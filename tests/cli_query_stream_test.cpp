@@ -120,11 +120,6 @@ void writePoints(const std::string& path, const std::vector<Point>& pts) {
     for (const Point& p : pts) out << p.x.x << ',' << p.x.y << ',' << p.x.z << ',' << p.n.x << ',' << p.n.y << ',' << p.n.z << '\n';
 }
 
-std::string readText(const std::string& path) {
-    std::ifstream in(path);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
 double seconds(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -165,7 +160,7 @@ TEST(CliQueryStream, LargerThanItsMemoryLimit) {
                                             dir.file("streamed.csv") + " 2>&1", &log);
     std::printf("streamed query of %zu points under the limit: %.2f s, %s", pts.size(), seconds(t0), log.c_str());
     ASSERT_EQ(status, 0) << log;
-    std::istringstream rows(readText(dir.file("streamed.csv")));
+    std::istringstream rows(test::readTextFile(dir.file("streamed.csv")));
     std::string line;
     std::getline(rows, line);
     std::size_t checked = 0;

@@ -405,11 +405,6 @@ std::vector<float> readFloats(const std::string& path) {
     return out;
 }
 
-std::string readText(const std::string& path) {
-    std::ifstream in(path);
-    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
 TEST(DepthWeightedLookup, ExportWritesTheDepthTexturesAtTheNodes) {
     Volume v;
     v.basis = BasisDesc::sh2();
@@ -436,12 +431,12 @@ TEST(DepthWeightedLookup, ExportWritesTheDepthTexturesAtTheNodes) {
             EXPECT_EQ(t[n * 4 + 3], d[depth::kSigmaNegative * 3 + a]);
         }
     }
-    const std::string manifest = readText(dir.file("out") + "/manifest.json");
+    const std::string manifest = test::readTextFile(dir.file("out") + "/manifest.json");
     EXPECT_NE(manifest.find("\"depth\": {\"exported\": true"), std::string::npos);
     // Resampled (--resolution): depth cannot follow, and the manifest says so.
     o.resolution = 9;
     exportTextures(v, dir.file("res"), o);
-    EXPECT_NE(readText(dir.file("res") + "/manifest.json").find("\"exported\": false"), std::string::npos);
+    EXPECT_NE(test::readTextFile(dir.file("res") + "/manifest.json").find("\"exported\": false"), std::string::npos);
     EXPECT_FALSE(std::ifstream(dir.file("res") + "/depth_x.raw").good());
 }
 
