@@ -45,9 +45,6 @@ public:
             for (int m = -l; m <= l; ++m) {
                 desc_.channelNames.push_back("sh_l" + std::to_string(l) + "m" + (m < 0 ? "_neg" : "") +
                                              std::to_string(std::abs(m)));
-                const int am = std::abs(m);
-                const double k = std::sqrt((2.0 * l + 1.0) * factorial(l - am) / (4.0 * kPi * factorial(l + am)));
-                norm_[l * (l + 1) + m] = m == 0 ? k : std::sqrt(2.0) * k;
                 lobe_[l * (l + 1) + m] = cosineLobe(l);
             }
     }
@@ -56,9 +53,9 @@ public:
 
     std::size_t accumulatorSize() const override { return std::size_t(coeffs_); }
     void accumulate(const Vec3f& w, const Rgbd& radiance, double weight, Rgbd* acc) const override {
-        double y[kMaxCoeffs];
-        eval(Vec3d(w), y);
-        for (int j = 0; j < coeffs_; ++j) acc[j] += radiance * (weight * y[j]);
+        float y[kMaxCoeffs];
+        evalPolynomials(w, y);  // in float, as the SH order-2 gather's sh::evalUnrolled
+        for (int j = 0; j < coeffs_; ++j) acc[j] += radiance * (weight * double(y[j]));
     }
     void finish(const Rgbd* acc, float* values) const override {
         for (int j = 0; j < coeffs_; ++j)
@@ -68,13 +65,14 @@ public:
     int maxTerms() const override { return coeffs_; }
     int shCoefficients() const override { return coeffs_; }
     int terms(const Vec3f& d, int* channels, float* weights) const override {
-        double y[kMaxCoeffs];
-        eval(Vec3d(d), y);
+        // The lookup's hot path (ChannelLookup, every query of the default's sh:4 volumes).
+        float y[kMaxCoeffs];
+        evalPolynomials(d, y);
         int n = 0;
         for (int j = 0; j < coeffs_; ++j) {
             if (lobe_[j] == 0.0) continue;  // odd bands above 1: no irradiance
             channels[n] = j;
-            weights[n++] = float(lobe_[j] * y[j]);
+            weights[n++] = float(lobe_[j]) * y[j];
         }
         return n;
     }
@@ -85,38 +83,37 @@ public:
     }
 
 private:
-    /// Y_j(d) for j < (order + 1)^2: Y_lm = norm * Pt_l^|m|(z) * (Re or Im of (x + i y)^|m|), where
-    /// Pt_l^m = P_l^m / sin^m(theta) by the three-term recurrence in l (no square roots, no angles).
-    void eval(const Vec3d& d, double* y) const {
-        double cm = 1.0, sm = 0.0;  // Re, Im of (x + i y)^m
-        double pmm = 1.0;           // Pt_m^m = (2m - 1)!!
-        for (int m = 0; m <= order_; ++m) {
-            if (m > 0) {
-                const double c = cm * d.x - sm * d.y, s = cm * d.y + sm * d.x;
-                cm = c, sm = s;
-                pmm *= 2.0 * m - 1.0;
-            }
-            double p2 = 0.0, p1 = pmm;  // Pt_{l-2}^m, Pt_{l-1}^m
-            for (int l = m; l <= order_; ++l) {
-                double p = p1;
-                if (l == m + 1) p = (2.0 * m + 1.0) * d.z * pmm;
-                else if (l > m + 1) p = ((2.0 * l - 1.0) * d.z * p1 - (l + m - 1.0) * p2) / (l - m);
-                if (l > m) p2 = p1, p1 = p;
-                const int j = l * (l + 1);
-                if (m == 0) {
-                    y[j] = norm_[j] * p;
-                } else {
-                    y[j + m] = norm_[j + m] * p * cm;
-                    y[j - m] = norm_[j - m] * p * sm;
-                }
-            }
-        }
+    /// Y_j(d) for j < (order + 1)^2 as the explicit polynomials of bands 0..4 (docs/engines.md,
+    /// "Shaders for sh:N"; the constants are docs/format.md's K_l^|m|, times sqrt(2) for
+    /// m != 0, with the polynomial's own factors folded in, to 9 digits), in float: the bake
+    /// projects every sample and the lookup weighs every term with them. sh_basis_test checks
+    /// them against sh::evalGeneric (the Legendre recurrence in double). Band 3 is evaluated
+    /// too (terms() skips it).
+    void evalPolynomials(const Vec3f& d, float* y) const {
+        const float x = d.x, yy = d.y, z = d.z;
+        y[0] = 0.282094792f;
+        if (order_ < 1) return;
+        y[1] = 0.488602512f * yy, y[2] = 0.488602512f * z, y[3] = 0.488602512f * x;
+        if (order_ < 2) return;
+        const float x2 = x * x, y2 = yy * yy, z2 = z * z;
+        y[4] = 1.092548431f * x * yy, y[5] = 1.092548431f * yy * z, y[6] = 0.315391565f * (3 * z2 - 1);
+        y[7] = 1.092548431f * x * z, y[8] = 0.546274215f * (x2 - y2);
+        if (order_ < 3) return;
+        y[9] = 0.590043590f * yy * (3 * x2 - y2), y[10] = 2.890611443f * x * yy * z;
+        y[11] = 0.457045799f * yy * (5 * z2 - 1), y[12] = 0.373176333f * z * (5 * z2 - 3);
+        y[13] = 0.457045799f * x * (5 * z2 - 1), y[14] = 1.445305721f * z * (x2 - y2);
+        y[15] = 0.590043590f * x * (x2 - 3 * y2);
+        if (order_ < 4) return;
+        y[16] = 2.503342942f * x * yy * (x2 - y2), y[17] = 1.770130770f * yy * z * (3 * x2 - y2);
+        y[18] = 0.946174696f * x * yy * (7 * z2 - 1), y[19] = 0.669046544f * yy * z * (7 * z2 - 3);
+        y[20] = 0.105785547f * (35 * z2 * z2 - 30 * z2 + 3), y[21] = 0.669046544f * x * z * (7 * z2 - 3);
+        y[22] = 0.473087348f * (x2 - y2) * (7 * z2 - 1), y[23] = 1.770130770f * x * z * (x2 - 3 * y2);
+        y[24] = 0.625835735f * (x2 * x2 - 6 * x2 * y2 + y2 * y2);
     }
 
     int order_;
     int coeffs_;
     BasisDesc desc_;
-    double norm_[kMaxCoeffs] = {};
     double lobe_[kMaxCoeffs] = {};
 };
 
