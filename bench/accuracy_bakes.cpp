@@ -17,7 +17,7 @@
 #include "vdblight/bake_direct.h"
 #include "vdblight/bake_levels.h"
 #include "vdblight/bake_volume.h"
-#include "vdblight/channel_lookup.h"
+#include "vdblight/errors.h"
 #include "vdblight/layout_levels.h"
 #include "vdblight/node_budget.h"
 #include "vdblight/photons.h"
@@ -26,7 +26,6 @@
 #include "vdblight/vdb_io.h"
 #include "vdblight/vector_grid_lookup.h"
 
-#include "../libvdblight/src/query/sh_uniform_lookup.h"  // internal: ShUniformLookup
 
 namespace vdblight::accuracy {
 
@@ -59,15 +58,15 @@ Baked fromVolumeVisibilityTrilinear(Volume v, double seconds, uint64_t nodes) {
     Baked b = fromVolume(Volume(v), seconds, nodes);
     if (!v.direct.hasVisibility()) return b;
     auto volume = std::make_shared<Volume>(std::move(v));
-    // The SH part as the registry reads it: SH order 2's own lookup, sh:N (the default) the
-    // generic one.
-    const bool sh2 = volume->basis.kind == "sh2";
-    std::unique_ptr<VolumeLookup> sh;
-    if (sh2) sh = std::make_unique<ShUniformLookup>(*volume, OutsidePolicy::Clamp);
-    else sh = std::make_unique<ChannelLookup>(*volume, OutsidePolicy::Clamp);
-    auto lookup = std::make_unique<OcclusionLookup>(std::move(sh), *volume);
+    // The SH part as IrradianceQuery reads it: the first lookup of the registry that accepts
+    // the volume (SH order 2's own, or the generic one for sh:N, the default).
+    const LookupKind* kind = nullptr;
+    for (const LookupKind& k : lookupKinds())
+        if (!kind && k.accepts(*volume)) kind = &k;
+    if (!kind) throw FormatError("no lookup for volume basis '" + volume->basis.kind + "'");
+    auto lookup = std::make_unique<OcclusionLookup>(kind->create(*volume, OutsidePolicy::Clamp), *volume);
     lookup->setVisibilityDepthWeights(false);
-    auto query = std::make_shared<IrradianceQuery>(std::move(lookup), sh2 ? "sh2-uniform" : "basis");
+    auto query = std::make_shared<IrradianceQuery>(std::move(lookup), kind->name);
     b.irradiance = [volume, query](const Vec3f& x, const Vec3f& n) { return query->irradiance(x, n); };
     return b;
 }

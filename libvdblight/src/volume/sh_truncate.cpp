@@ -12,10 +12,10 @@
 namespace vdblight {
 
 int storedShOrder(const Volume& volume) {
-    if (volume.basis.kind == "sh2") return 2;
+    // Basis::shCoefficients: (N + 1)^2 for sh2 and sh:N, 0 for every other basis.
     const std::unique_ptr<Basis> basis = basisOf(volume.basis);
-    if (!basis || volume.basis.kind.rfind("sh:", 0) != 0) return -1;
-    const int coeffs = basis->channelCount();
+    const int coeffs = basis ? basis->shCoefficients() : 0;
+    if (coeffs == 0) return -1;
     int order = 0;
     while ((order + 1) * (order + 1) < coeffs) ++order;
     return order;
