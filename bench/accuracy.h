@@ -119,7 +119,9 @@ std::string describeTry(const TrySpec& t);
 GridSpec tryGrid(const Scene& s, const TrySpec& t, const Settings& st);
 /// The volume `vdblight bake` makes for the spec (a note says what it did, e.g. no lights).
 Volume tryVolume(const Ctx& c, const TrySpec& t, std::string& note);
-Baked tryBake(const Ctx& c, const TrySpec& t);
+/// tryVolume, timed, then `answer` (fromVolume: the library's lookup; or another reading of the
+/// same volume, e.g. fromVolumeVisibilityTrilinear).
+Baked tryBake(const Ctx& c, const TrySpec& t, Baked (*answer)(Volume, double, uint64_t) = &fromVolume);
 
 /// The table of methods and modes (accuracy_configs.cpp). Resolutions and budgets are the full
 /// run's; --quick scales them down (Settings::res / rays / photons).

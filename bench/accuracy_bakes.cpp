@@ -323,13 +323,13 @@ Volume tryVolume(const Ctx& c, const TrySpec& t, std::string& note) {
     return v;
 }
 
-Baked tryBake(const Ctx& c, const TrySpec& t) {
+Baked tryBake(const Ctx& c, const TrySpec& t, Baked (*answer)(Volume, double, uint64_t)) {
     const double t0 = bench::now();
     std::string note;
     Volume v = tryVolume(c, t, note);
     const double secs = bench::now() - t0;
     const uint64_t nodes = v.levels[0].grid.nodeCount();
-    Baked b = fromVolume(std::move(v), secs, nodes);
+    Baked b = answer(std::move(v), secs, nodes);
     b.note = note;
     return b;
 }

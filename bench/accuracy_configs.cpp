@@ -22,24 +22,14 @@ std::vector<Config> configurations() {
                  [def](const Ctx& c) { return tryBake(c, def); }, true});
     // The default with the light visibility interpolated trilinearly (as before issue 15 item 2).
     v.push_back({"default_vis_trilinear", "the default bake, light visibility looked up trilinearly (not depth-weighted)",
-                 [def](const Ctx& c) {
-                     const double t0 = bench::now();
-                     std::string note;
-                     Volume vol = tryVolume(c, def, note);
-                     const double t = bench::now() - t0;
-                     const uint64_t nodes = vol.levels[0].grid.nodeCount();
-                     return fromVolumeVisibilityTrilinear(std::move(vol), t, nodes);
-                 }});
+                 [def](const Ctx& c) { return tryBake(c, def, &fromVolumeVisibilityTrilinear); }});
     // What an engine's L2 probes hold of the default: its bands 0..2 (export sh2 / sh2-packed,
     // query --sh-order 2; sh_truncate.h). Measured with noise, as the default.
     v.push_back({"default_l2", "the default's bands 0..2 (what export's SH order-2 layouts and an engine's L2 probes hold)",
                  [def](const Ctx& c) {
-                     const double t0 = bench::now();
-                     std::string note;
-                     Volume vol = truncateSh(tryVolume(c, def, note), 2);
-                     const double t = bench::now() - t0;
-                     const uint64_t nodes = vol.levels[0].grid.nodeCount();
-                     return fromVolume(std::move(vol), t, nodes);
+                     return tryBake(c, def, [](Volume vol, double seconds, uint64_t nodes) {
+                         return fromVolume(truncateSh(std::move(vol), 2), seconds, nodes);
+                     });
                  },
                  true});
     // The default before SH order 4 (issue 15, tenth session): SH order 2, 768 rays.
