@@ -4,8 +4,10 @@
 //  - raw Embree throughput: random rays inside the scene, plain rtcIntersect1 (and
 //    rtcOccluded1), on the same number of threads as the bake;
 //  - the bake's own rays/s (closest-hit + shadow rays) and the ratios to the raw figures;
-// and, once, the query throughput per thread (random points and normals).
+// and, once, the query throughput per thread (random points and normals), for SH order 2 and
+// the default's SH order 4, each without and with depth moments (the default bakes them).
 // `--quick` shrinks every workload for a CI smoke run; the figures are then noisy.
+// `--only query` runs the query rows alone (`--only bake`: the scenes alone).
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -91,14 +93,16 @@ void benchScene(const Scene& scene, int threads, bool quick, const char* basis =
                 stats.seconds, bake / rawIntersect, bake / rawMix);
 }
 
-/// `basis` as in benchScene: sh:4 (the default bake's) is read by the generic lookup.
-void benchQuery(bool quick, const char* basis = nullptr) {
+/// `basis` as in benchScene; `depth`: the volume carries depth moments (GatherOptions::
+/// depthMoments), which the lookup then weights its corners by, as the default bake's.
+void benchQuery(bool quick, const char* basis, bool depth) {
     const Scene scene = loadScene(defaultScenePath());
     const Tracer tracer(scene);
     const GridSpec grid = bench::uniformGrid(scene.bounds(), 32);
     GatherOptions options;
     options.raysPerNode = 1;  // values do not matter for lookup speed
     if (basis) options.basis = makeBasis(basis);
+    options.depthMoments = depth;
     const Volume volume = bakeShGather(scene, tracer, grid, options);
     const IrradianceQuery query(volume);
 
@@ -106,25 +110,35 @@ void benchQuery(bool quick, const char* basis = nullptr) {
     const bench::LookupInputs in = bench::randomLookups(grid.nodeBounds(), quick ? 200'000 : 2'000'000);
     Rgb sink{0, 0, 0};
     const double best = bench::lookupRate(query, in, quick ? 1 : 5, sink);
-    std::printf("query %-4s (32^3 nodes, 1 thread, lookup %s): %.2f M lookups/s per thread (target >= 5)  [checksum %.3g]\n",
-                basis ? basis : "sh2", query.kind(), best / 1e6, double(sink.x));
+    std::printf("query %-4s %-6s (32^3 nodes, 1 thread, lookup %s): %.2f M lookups/s per thread (target >= 5)  [checksum %.9g]\n",
+                basis ? basis : "sh2", depth ? "+depth" : "", query.kind(), best / 1e6, double(sink.x));
 }
 }  // namespace
 
 int main(int argc, char** argv) {
-    bench::BenchArgs args("vdblight_bench", {{"--threads", "N"}});
+    bench::BenchArgs args("vdblight_bench", {{"--threads", "N"}, {"--only", "query|bake"}});
     if (!args.parse(argc, argv)) return 2;
+    const std::string only = args.text("--only");
+    if (!only.empty() && only != "query" && only != "bake") {
+        std::fprintf(stderr, "vdblight_bench: --only takes query or bake, not '%s'\n", only.c_str());
+        return 2;
+    }
     const bool quick = args.quick();
     const int threads = args.integer("--threads", tbb::this_task_arena::max_concurrency());
     std::printf("vdblight_bench%s: %d threads\n", quick ? " (quick smoke run, noisy figures)" : "", threads);
     try {
-        benchScene(loadScene(defaultScenePath()), threads, quick);
-        benchScene(bench::cornellWithSpheres(6, 6), threads, quick);
-        // The default bake stores SH order 4: the same gather projecting into 25 coefficients.
-        benchScene(loadScene(defaultScenePath()), threads, quick, "sh:4");
-        benchScene(bench::cornellWithSpheres(6, 6), threads, quick, "sh:4");
-        benchQuery(quick);
-        benchQuery(quick, "sh:4");
+        if (only != "query") {
+            benchScene(loadScene(defaultScenePath()), threads, quick);
+            benchScene(bench::cornellWithSpheres(6, 6), threads, quick);
+            // The default bake stores SH order 4: the same gather projecting into 25 coefficients.
+            benchScene(loadScene(defaultScenePath()), threads, quick, "sh:4");
+            benchScene(bench::cornellWithSpheres(6, 6), threads, quick, "sh:4");
+        }
+        if (only != "bake")
+            for (const bool depth : {false, true}) {
+                benchQuery(quick, nullptr, depth);
+                benchQuery(quick, "sh:4", depth);
+            }
     } catch (const std::exception& e) {
         std::fprintf(stderr, "vdblight_bench: error: %s\n", e.what());
         return 1;
