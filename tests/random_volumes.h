@@ -1,5 +1,5 @@
 // Volumes with random node values, for tests of lookups and exports against the reference
-// lookups: one uniform SH level, or a small bilevel / adaptive layout of any basis.
+// lookups: one uniform level or a small bilevel / adaptive layout, of any basis.
 #pragma once
 
 #include <cstdint>
@@ -12,11 +12,11 @@
 
 namespace vdblight::test {
 
-/// One SH order-2 level of nx x ny x nz nodes `spacing` apart from (-0.5, 0.25, 1.0), every
-/// value drawn uniformly from [-0.5, 1.5) by Rng(seed).
-inline Volume randomShVolume(int nx, int ny, int nz, double spacing, uint64_t seed) {
+/// One level of `basis` (basis.channelCount() RGB values per node) of nx x ny x nz nodes
+/// `spacing` apart from (-0.5, 0.25, 1.0), every value drawn uniformly from [-0.5, 1.5) by Rng(seed).
+inline Volume randomUniformVolume(const BasisDesc& basis, int nx, int ny, int nz, double spacing, uint64_t seed) {
     Volume v;
-    v.basis = BasisDesc::sh2();
+    v.basis = basis;
     VolumeLevel level;
     level.grid.origin = {-0.5, 0.25, 1.0};
     level.grid.spacing = spacing;
@@ -24,10 +24,15 @@ inline Volume randomShVolume(int nx, int ny, int nz, double spacing, uint64_t se
     level.grid.ny = ny;
     level.grid.nz = nz;
     Rng rng(seed);
-    level.data.resize(level.grid.nodeCount() * 27);
+    level.data.resize(level.grid.nodeCount() * std::size_t(basis.channelCount()) * 3);
     for (float& f : level.data) f = rng.uniform() * 2.0f - 0.5f;
     v.levels.push_back(level);
     return v;
+}
+
+/// randomUniformVolume of SH order 2.
+inline Volume randomShVolume(int nx, int ny, int nz, double spacing, uint64_t seed) {
+    return randomUniformVolume(BasisDesc::sh2(), nx, ny, nz, spacing, seed);
 }
 
 /// Levels (refine 2) over a 5^3 lattice of spacing 0.225 from (0.05, 0.05, 0.05), refined

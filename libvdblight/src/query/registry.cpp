@@ -1,5 +1,6 @@
 // The kinds of volume that IrradianceQuery can read. A new kind adds one line here.
 #include "sh_uniform_lookup.h"
+#include "sh4_uniform_lookup.h"
 #include "vdblight/basis.h"
 #include "vdblight/channel_lookup.h"
 #include "vdblight/errors.h"
@@ -22,6 +23,7 @@ std::unique_ptr<VolumeLookup> make(const Volume& volume, OutsidePolicy outside) 
 const std::vector<LookupKind>& lookupKinds() {
     static const std::vector<LookupKind> kinds = {
         {"sh2-uniform", &ShUniformLookup::accepts, &make<ShUniformLookup>},
+        {"sh4-uniform", &ShFourUniformLookup::accepts, &make<ShFourUniformLookup>},  // the default bake's
         {"irradiance-vectors-uniform", &VectorGridLookup::accepts, &make<VectorGridLookup>},
         {"sh2-levels", &ShLevelsLookup::accepts, &make<ShLevelsLookup>},
         {"bins", &BinsLookup::accepts, &make<BinsLookup>},

@@ -1,0 +1,63 @@
+// The fast lookup of single-level SH order-4 volumes (`sh:4`, the default bake's basis), which
+// IrradianceQuery picks for them before the generic ChannelLookup (registry.cpp). It gives
+// ChannelLookup's answers, every interface method included (same locate, same weights, same
+// summation order: the same bits), from a layout made for the irradiance:
+// - the 18 coefficients that carry irradiance (bands 0, 1, 2 and 4; A_3 = 0) of a node are
+//   54 contiguous floats, colour-planar (18 red, 18 green, 18 blue), so a lookup blends the
+//   eight corners' 54 floats in one vectorisable loop, then evaluates three 18-term dot
+//   products of plain floats (no RGB triples in the inner loop);
+// - band 3 (7 RGB coefficients) sits in its own array, read only by channelValues /
+//   shRadiance (export), so the irradiance path does not pull it through the cache.
+// Memory is ChannelLookup's: 75 floats per node. Internal to the query module (tests and
+// benchmarks include it as "../libvdblight/src/query/sh4_uniform_lookup.h").
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "vdblight/layout.h"
+#include "vdblight/query.h"
+
+namespace vdblight {
+
+class ShFourUniformLookup final : public VolumeLookup {
+public:
+    /// True for an `sh:4` volume (the registered basis's channels) of one dense level.
+    static bool accepts(const Volume& volume);
+    /// FormatError if the volume is not one that accepts() takes or its arrays do not match its grid.
+    ShFourUniformLookup(const Volume& volume, OutsidePolicy outside);
+
+    Rgb irradiance(const Vec3f& x, const Vec3f& n) const override;
+    Bounds bounds() const override { return grid_.nodeBounds(); }
+    /// The 25 stored RGB coefficients interpolated at x (ChannelLookup::channelValues: located
+    /// in double, exact at a node; clamped into the box whatever the outside policy).
+    void channelValues(const Vec3d& x, float* out) const override;
+    /// The first nine of channelValues (the volume's SH order-2 part).
+    void shRadiance(const Vec3d& x, Rgb out[9]) const override;
+    void setDepthWeights(bool on) override { depthWeights_ = on && !depth_.empty(); }
+    bool depthWeighted() const override { return depthWeights_; }
+
+    /// Stored coefficients per colour (bands 0..4) and those that carry irradiance (A_l != 0).
+    static constexpr int kCoeffs = 25;
+    static constexpr int kLitCoeffs = 18;
+    static constexpr int kLitFloats = kLitCoeffs * 3;
+    static constexpr int kDarkFloats = (kCoeffs - kLitCoeffs) * 3;
+
+private:
+    /// The eight corner nodes around the lattice coordinate g (clamped into the node box) and
+    /// their weights, trilinear or depth-weighted, as ChannelLookup::locate on a single level.
+    template <class T>
+    void locate(const T g[3], std::size_t corner[8], float weight[8]) const;
+
+    GridSpec grid_;
+    OutsidePolicy outside_;
+    Vec3f origin_;
+    float invSpacing_ = 1;
+    float lobe_[kLitCoeffs] = {};  ///< float(A_l) of each lit coefficient, as ShBasis::terms rounds it
+    std::vector<float> lit_;       ///< per node kLitFloats: [colour][lit coefficient], as stored (no A_l)
+    std::vector<float> dark_;      ///< per node kDarkFloats: band 3, [coefficient][colour] as stored
+    std::vector<float> depth_;     ///< per node depth::kFloatsPerNode floats, or empty
+    bool depthWeights_ = false;
+};
+
+}  // namespace vdblight
