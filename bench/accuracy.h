@@ -98,7 +98,7 @@ Baked directGather(const Ctx& c, int resolution, uint32_t rays, DirectMode mode,
 ///   res=N      nodes on the longest axis (16); nodes=N: the spacing that gives about N nodes
 ///   rays=N     rays per node and pass (256); target=E, min=N, max=N: error-targeted instead
 ///   passes=N   probe-to-probe passes (1); depth=1: depth moments, weighted lookups
-///   direct=baked|runtime|occlusion (occlusion)
+///   direct=baked|runtime|occlusion (occlusion); cache=nodes|surface: the probe pass's cache
 /// Every bake of the command is reproduced (bake_direct.h plan, gather, visibility, depth).
 struct TrySpec {
     int res = 16;
@@ -109,6 +109,7 @@ struct TrySpec {
     bool depth = false;
     DirectMode direct = DirectMode::Occlusion;
     std::string basis = "sh2";  ///< the gather's stored basis (`basis=sh:4`; fixed budgets only)
+    bool surfaceCache = false;  ///< `cache=surface`: --probe-cache surface (fixed budgets only)
 };
 
 TrySpec parseTry(const std::string& spec);

@@ -244,6 +244,7 @@ TrySpec parseTry(const std::string& spec) {
         else if (k == "depth") t.depth = v == "1";
         else if (k == "direct") t.direct = parseDirectMode(v);
         else if (k == "basis") t.basis = v;
+        else if (k == "cache") t.surfaceCache = v == "surface";
         else throw ValueError("--try: unknown key '" + k + "'");
     }
     return t;
@@ -267,6 +268,7 @@ std::string describeTry(const TrySpec& t) {
     s += ", " + std::to_string(t.rays) + " rays";
     if (t.passes) s += " + " + std::to_string(t.passes) + " probe pass" + (t.passes > 1 ? "es" : "");
     if (t.depth) s += ", depth moments";
+    if (t.surfaceCache) s += ", surface probe cache";
     return s + ", basis " + t.basis;
 }
 
@@ -316,6 +318,7 @@ Volume tryVolume(const Ctx& c, const TrySpec& t, std::string& note) {
         g.transport.skipAtReceiver = plan.filter;
         g.probePasses = t.passes;
         g.depthMoments = t.depth;
+        g.surfaceProbeCache = t.surfaceCache;
         if (t.basis != "sh2") g.basis = makeBasis(t.basis);
         v = bakeShGather(c.scene, c.tracer, grid, g);
     }

@@ -20,6 +20,12 @@ std::vector<Config> configurations() {
     const TrySpec def = defaultTry();
     v.push_back({"default", "vdblight bake SCENE -o OUT (" + describeTry(def) + ", --direct occlusion)",
                  [def](const Ctx& c) { return tryBake(c, def); }, true});
+    // The default with --probe-cache surface: the probe pass reads irradiance samples taken at
+    // the surfaces by pass 0's own paths instead of the nodes (bake/surface_bins.h).
+    TrySpec surface = def;
+    surface.surfaceCache = true;
+    v.push_back({"default_surface_cache", "the default bake with --probe-cache surface",
+                 [surface](const Ctx& c) { return tryBake(c, surface); }, true});
     // The default with the light visibility interpolated trilinearly (as before issue 15 item 2).
     v.push_back({"default_vis_trilinear", "the default bake, light visibility looked up trilinearly (not depth-weighted)",
                  [def](const Ctx& c) { return tryBake(c, def, &fromVolumeVisibilityTrilinear); }});

@@ -204,6 +204,10 @@ TEST(CliTiles, PassesThatCannotBeTiledSaySo) {
     test::expectRefusal("bake" + uniformTile, "tiled in stages", out, "default without --stage");
     test::expectRefusal("bake --stage 2" + uniformTile, "--stage must be between 0 and 1", out, "stage range");
     test::expectRefusal("bake --stage 1" + uniformTile, "needs --stage-input", out, "no stage input");
+    test::expectRefusal("bake --probe-cache surface --stage 0" + uniformTile, "--probe-cache surface cannot be tiled yet", out,
+                        "surface probe cache");
+    test::expectRefusal("bake --probe-cache surface --quality preview --resolution 4 -o " + out, "needs exactly one probe pass",
+                        out, "surface probe cache without a probe pass");
     test::expectRefusal("bake --stage 0 --stage-input " + out + uniformTile, "--stage-input needs --stage 1", out, "input at 0");
     test::expectRefusal("bake --stage 0 --resolution 4 -o " + out, "--stage needs --tiles", out, "stage without tiles");
     test::expectRefusal("bake --stage 0 --quality preview" + uniformTile, "--stage needs probe-to-probe passes", out, "no passes");

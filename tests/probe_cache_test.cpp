@@ -249,3 +249,30 @@ TEST(ProbeCache, AProbePassGivesTheClosedFormAboveAFloor) {
         for (int k = 0; k < 3; ++k) EXPECT_NEAR(got[k], want[k], 0.03 * want[k]) << "node " << node << " channel " << k;
     }
 }
+
+// The same probe pass with --probe-cache surface (bake/surface_bins.h): the first hit reads
+// irradiance samples that pass 0's paths took at the floor itself, not the nodes' SH order 2,
+// so the node facing the floor gets the floor's true irradiance, pi L sin^2(10 deg) x albedo,
+// where the node cache gives SH2's 1.63 times it (the test above).
+TEST(ProbeCache, TheSurfaceCacheGivesTheFloorsTrueIrradiance) {
+    const Scene scene = horizonBandScene();
+    const Tracer tracer(scene);
+    GatherOptions o;
+    o.raysPerNode = 1 << 14;
+    o.probePasses = 1;
+    o.surfaceProbeCache = true;
+    const GridSpec g = floorGrid();
+    const Volume v = bakeShGather(scene, tracer, g, o);
+    const double s = std::sin(kBandTop);
+    for (const int node : {int(g.index(4, 0, 4)), int(g.index(2, 0, 6))}) {
+        const float* c = v.levels[0].data.data() + std::size_t(node) * sh::kCoeffs * 3;
+        Rgb coeffs[sh::kCoeffs];
+        for (int j = 0; j < sh::kCoeffs; ++j) coeffs[j] = Rgb(c[3 * j], c[3 * j + 1], c[3 * j + 2]);
+        const Rgb got = sh::irradiance(coeffs, {0, -1, 0});
+        const Rgb exact = kBand * float(kAlbedo * kPi * s * s + shKernelIntegral(-s, 0));
+        const Rgb nodeCache = kBand * float(kAlbedo * shKernelIntegral(0, s) + shKernelIntegral(-s, 0));
+        std::printf("  node %d, normal down: %.5f, with the floor's true irradiance %.5f (%+.2f %%); the node cache's %.5f\n",
+                    node, luminance(got), luminance(exact), 100 * (luminance(got) / luminance(exact) - 1), luminance(nodeCache));
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(got[k], exact[k], 0.03 * exact[k]) << "node " << node << " channel " << k;
+    }
+}

@@ -40,6 +40,10 @@ struct GatherOptions {
     /// there. 0 = plain path tracing. Trades the variance of long paths (light through a door)
     /// for the bias of the volume's representation at surfaces (docs/methods.md).
     int probePasses = 0;
+    /// The probe pass's cache: false = the nodes' reflected light (DDGI-style); true = bins of
+    /// irradiance samples taken at the surfaces by pass 0's own paths (`--probe-cache surface`;
+    /// bake/surface_bins.h, docs/methods.md). Whole bakes with one probe pass only (not staged).
+    bool surfaceProbeCache = false;
     /// Also record per-node depth moments from the gather's own first hits (depth_moments.h,
     /// VolumeLevel::depth), for lookups that do not interpolate across walls. No extra rays.
     bool depthMoments = false;

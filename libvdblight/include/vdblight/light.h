@@ -142,6 +142,16 @@ public:
     /// The i-th path's directly hit emission (gatherRadiance's firstEmission).
     const Rgb& firstEmission(std::size_t i) const { return firstEmission_[i]; }
 
+    /// With recordFirstVertices(true) (before the paths are added), each path that goes on
+    /// past its first surface hit also keeps that vertex, so that after trace()
+    /// firstVertexIrradiance gives an unbiased one-sample estimate of the irradiance of
+    /// reflected light and sky there: pi x the radiance its continuation brought back (less
+    /// the emission of an emitter it hits directly: NEE and MIS at the vertex take that), per
+    /// unit albedo. What a SurfaceIrradianceCache holds, sampled where the surface is.
+    void recordFirstVertices(bool on) { recordFirst_ = on; }
+    /// False if path i kept no first vertex (no hit, no continuation, or not recorded).
+    bool firstVertexIrradiance(std::size_t i, Vec3f& p, Vec3f& n, Rgb& irradiance) const;
+
 private:
     friend class RadianceEstimator;
     struct Term {
@@ -150,7 +160,16 @@ private:
         uint32_t shadow; ///< direct: shadow ray index, kNoShadowRay if the sample gave nothing
         bool direct;
     };
+    /// A path's first surface vertex: its continuation is terms [from, path end) but `skip`.
+    struct FirstVertex {
+        Vec3f p, n;
+        Rgb albedo;
+        uint32_t from = kNoShadowRay, skip = kNoShadowRay;  ///< kNoShadowRay: none
+    };
+    Rgb termValue(const Term& t) const;
     std::vector<Term> terms_;
+    std::vector<FirstVertex> first_;  ///< per path, with recordFirst_
+    bool recordFirst_ = false;
     std::vector<uint32_t> pathEnd_;  ///< end of each path's terms
     std::vector<Rgb> firstEmission_; ///< per path
     std::vector<Ray> rays_;
@@ -174,6 +193,15 @@ public:
     /// unit normal n, on the side rays arrive from). False if the cache has nothing valid
     /// there: the path then continues as without a cache (unbiased fallback).
     virtual bool irradiance(const Vec3f& p, const Vec3f& n, Rgb& out, RayCount& rays) const = 0;
+};
+
+/// Receives one-sample estimates of the irradiance of reflected light and sky at surface
+/// points (DeferredPaths::firstVertexIrradiance): a cache built where the surfaces are.
+/// Called from many threads at once.
+class SurfaceSampleSink {
+public:
+    virtual ~SurfaceSampleSink() = default;
+    virtual void add(const Vec3f& p, const Vec3f& n, const Rgb& irradiance) = 0;
 };
 
 class RadianceEstimator {

@@ -195,6 +195,8 @@ const Pass& checkBakeRequest(const BakeRequest& given) {
                          "weight by depth yet)");
     if (given.depthRays && !*r.depthMoments) throw ValueError("--depth-rays needs --depth-moments");
     checkTiles(asked, r, pass);
+    if (r.probeCache == "surface" && *r.probePasses != 1)  // after the preset's passes (preview: 0)
+        throw ValueError("--probe-cache surface needs exactly one probe pass (--probe-passes 1, the default's)");
     if (r.shWindow && !pass.takesShWindow()) throw ValueError("--sh-window applies to --method gather with --basis sh2 only");
     if (!sh2 && (r.method != "gather" || r.sampling != "point" || r.invalidateBackface))
         throw ValueError("--basis " + (bake_detail::isBinsOrMoment(r.basis) ? std::string("bins/moment") : r.basis) +

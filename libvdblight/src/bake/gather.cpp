@@ -2,6 +2,7 @@
 // uniform grid.
 
 #include <algorithm>
+#include <memory>
 #include <vector>
 
 #include "project_incident.h"
@@ -62,6 +63,12 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
         const auto from = in.begin() + std::ptrdiff_t(level.windowFirst * depth::kFloatsPerNode);
         level.depth.assign(from, from + std::ptrdiff_t(held * depth::kFloatsPerNode));
     }
+    std::unique_ptr<bake_detail::SurfaceBins> bins;
+    if (options.surfaceProbeCache) {
+        if (options.probePasses != 1 || options.stage >= 0 || options.only)
+            throw ValueError("the surface probe cache needs one probe pass and a whole bake (not staged or tiled)");
+        bins = std::make_unique<bake_detail::SurfaceBins>(grid, bake_detail::radianceScale(scene, grid.spacing));
+    }
     const bake_detail::ParallelRun run = bake_detail::runProbePasses(
         estimator, tracer, grid, options.seed, options.probePasses, range,
         range.first > 0 ? options.stageInput->levels[0].data.data() : nullptr, reflected,
@@ -78,6 +85,7 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
                     depth::Accumulator depthAcc;
                     const bool recordDepth = options.depthMoments && pass.index == 0;
                     if (recordDepth) sampler.recordDepth(&depthAcc, grid.spacing);
+                    if (bins && pass.index == 0) sampler.recordSurface(bins.get());
                     sampler.addSamples(0, options.raysPerNode, count);
                     sampler.coefficients(coeffs, count);
                     if (recordDepth) depthAcc.finish(level.depth.data() + h * depth::kFloatsPerNode);
@@ -87,7 +95,7 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
                                            pass.keepReflected ? &reflected[h * sh::kCoeffs] : nullptr);
                     if (basis) sampler.basisValues(values, count);
                 });
-        });
+        }, bins.get());
 
     bake_detail::PassMetadata m(volume.meta);
     m.common(scene, options.transport, options.seed, nodes, run);
@@ -116,6 +124,10 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
                   "passes after the first end gathered paths at their first hit with the previous pass's reflected light "
                   "(trilinear over the visible nodes in front of the surface; DDGI-style); error_estimate excludes the "
                   "previous passes' noise");
+        if (bins)
+            m.text("probe_cache",
+                   "surface: the first hit reads bins (node cells x 6 normal axes) of irradiance samples that pass 0's "
+                   "paths took at their first surface vertex, instead of the nodes (docs/methods.md)");
     }
 
     if (stats) {

@@ -51,6 +51,10 @@ public:
         depthSpacing_ = spacing;
     }
 
+    /// Also give every path's first-vertex irradiance sample to `sink` (light.h; packeted
+    /// sampling only). The rays are the ones traced anyway.
+    void recordSurface(SurfaceSampleSink* sink) { surface_ = sink; }
+
     /// Also accumulate every sample into `basis` (basis.h; kept for the node's lifetime), whose
     /// values basisValues() returns. Call before the first addSamples.
     void projectAlsoInto(const Basis* basis) {
@@ -163,6 +167,7 @@ public:
 
         thread_local DeferredPaths paths_;  // reused: no allocations per node
         paths_.clear();
+        paths_.recordFirstVertices(surface_ != nullptr);
         // The node's own NEE samples (no random numbers from rng_: any order is the same).
         LightSample* lights = scratch.lights.data();
         uint32_t* lightRay = scratch.lightRay.data();
@@ -184,6 +189,12 @@ public:
         for (uint32_t k = 0; k < n; ++k)
             estimator_.gatherRadianceDeferred(x_, dirs[k], kSpherePdf, rng_, count, hits[k], paths_);
         paths_.trace(estimator_.tracer());
+        if (surface_) {
+            Vec3f p, nrm;
+            Rgb e;
+            for (uint32_t k = 0; k < n; ++k)
+                if (paths_.firstVertexIrradiance(k, p, nrm, e)) surface_->add(p, nrm, e);
+        }
 
         float y[sh::kCoeffs];
         for (uint32_t k = 0; k < n; ++k) {
@@ -340,6 +351,7 @@ private:
     double acc_[sh::kCoeffs][3] = {};
     double lightAcc_[sh::kCoeffs][3] = {};
     double reflected_[sh::kCoeffs][3] = {};
+    SurfaceSampleSink* surface_ = nullptr;
     double ebarSum_ = 0, ebarSquares_ = 0;
     Rgbd exact_[sh::kCoeffs] = {};
     double exactEbar_ = 0;

@@ -35,6 +35,12 @@ std::vector<PassOption> GatherPass::options() const {
                        "instead; antialiased: rays per cell; bins, moments: rounded up to a multiple of the bin count; "
                        "other bases such as sh:N on bilevel/adaptive layouts: to 2 R^2, R = round(sqrt(rays / 2)))"),
             probePassesOption(),
+            wordOption("probe-cache",
+                       "what the probe pass reads at a path's first hit: nodes = the nodes' reflected light around "
+                       "it (DDGI-style), surface = irradiance samples that the first pass's own paths took at the "
+                       "surfaces (less bias near walls and openings; not tiled yet; docs/methods.md)",
+                       "nodes", {"nodes", "surface"}, &BakeRequest::probeCache,
+                       "--probe-cache works with --method gather --sampling point only"),
             numberOption("invalidate-backface",
                          "nodes whose rays hit back-faces more than this fraction (0..1) are replaced by dilating "
                          "valid neighbours (the engines' heuristic)",
@@ -64,6 +70,8 @@ std::string GatherPass::untileable(const BakeRequest& r) const {
 std::string pointGatherUntileable(const BakeRequest& r) {
     if (r.invalidateBackface) return "--invalidate-backface cannot be tiled (its dilation crosses tile borders)";
     if (r.shWindow) return "--sh-window cannot be tiled yet (the window would have to follow the seams at merge)";
+    if (r.probeCache == "surface")
+        return "--probe-cache surface cannot be tiled yet (its bins sum the paths of every tile's nodes)";
     // Each probe-to-probe pass reads every node of the pass before: one stage per pass.
     const int passes = r.probePasses.value_or(0);
     if (passes > 0 && !r.stage)

@@ -206,6 +206,7 @@ GatherOptions gatherOptions(const BakeContext& c, const BakeRequest& r) {
     o.threads = c.threads;
     o.transport = c.transport;
     o.probePasses = *r.probePasses;
+    o.surfaceProbeCache = r.probeCache == "surface";
     // The point gather records depth moments from its own first rays (no extra rays).
     o.depthMoments = *r.depthMoments && (!r.depthRays || *r.depthRays == *r.rays);
     o.stage = c.stage;

@@ -10,6 +10,7 @@
 
 #include "node_sampler.h"
 #include "parallel_nodes.h"
+#include "surface_bins.h"
 #include "surface_cache.h"
 #include "vdblight/sampling.h"
 
@@ -31,7 +32,7 @@ struct ProbePass {
 template <typename RunPass>
 ParallelRun runProbePasses(RadianceEstimator& estimator, const Tracer& tracer, const GridSpec& grid, uint64_t seed,
                            int passes, const PassRange& range, const float* startReflected,
-                           const std::vector<Rgb>& reflected, RunPass&& runPass) {
+                           const std::vector<Rgb>& reflected, RunPass&& runPass, SurfaceBins* bins = nullptr) {
     std::unique_ptr<VolumeSurfaceCache> cache;
     if (range.first > 0) {
         cache = std::make_unique<VolumeSurfaceCache>(tracer, grid, startReflected);  // read in place, not copied
@@ -46,8 +47,12 @@ ParallelRun runProbePasses(RadianceEstimator& estimator, const Tracer& tracer, c
         run.threads = passRun.threads;
         if (pass.keepReflected && p < range.last) {
             estimator.setSurfaceCache(nullptr);
-            cache = std::make_unique<VolumeSurfaceCache>(tracer, grid, reflected);
-            estimator.setSurfaceCache(cache.get());
+            if (bins) {
+                estimator.setSurfaceCache(bins);
+            } else {
+                cache = std::make_unique<VolumeSurfaceCache>(tracer, grid, reflected);
+                estimator.setSurfaceCache(cache.get());
+            }
         }
     }
     estimator.setSurfaceCache(nullptr);  // the cache ends here

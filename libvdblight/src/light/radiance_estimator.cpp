@@ -320,6 +320,7 @@ struct ImmediateSink {
 struct RadianceEstimator::DeferredSink {
     DeferredPaths& paths;
     Rgb emitted{0, 0, 0};
+    DeferredPaths::FirstVertex first;
     void add(const Rgb& term) { paths.terms_.push_back({term, Rgb(), DeferredPaths::kNoShadowRay, false}); }
 };
 
@@ -346,6 +347,8 @@ void RadianceEstimator::walkPath(const Vec3f& origin, const Vec3f& dir, float di
             const float lightPdf = emitterPdf(hit.triangle, hit.t, ray.direction, &ray.origin);
             const Rgb e = throughput * emittedRadiance(hit.triangle, ray.direction) * misWeight(pdf, lightPdf);
             if (reflection == 1) sink.emitted = e;
+            if constexpr (!std::is_same_v<Sink, ImmediateSink>)
+                if (reflection == 2) sink.first.skip = uint32_t(sink.paths.terms_.size());
             sink.add(e);
         }
         if (reflection > options_.maxBounces) break;
@@ -401,6 +404,14 @@ void RadianceEstimator::walkPath(const Vec3f& origin, const Vec3f& dir, float di
             sink.add(throughput * cached * float(kInvPi));
             break;
         }
+        if constexpr (!std::is_same_v<Sink, ImmediateSink>) {
+            if (reflection == 1 && sink.paths.recordFirst_) {  // DeferredPaths::firstVertexIrradiance
+                sink.first.p = p;
+                sink.first.n = n;
+                sink.first.albedo = m.albedo;
+                sink.first.from = uint32_t(sink.paths.terms_.size());
+            }
+        }
         if (reflection >= options_.rouletteStart) {
             const float q = std::min(kRouletteMaxSurvival, maxComponent(throughput));
             if (rng.uniform() >= q) break;
@@ -428,10 +439,12 @@ void RadianceEstimator::gatherRadianceDeferred(const Vec3f& origin, const Vec3f&
     walkPath(origin, dir, dirPdf, rng, rays, &firstHit, sink);
     out.pathEnd_.push_back(uint32_t(out.terms_.size()));
     out.firstEmission_.push_back(sink.emitted);
+    if (out.recordFirst_) out.first_.push_back(sink.first);
 }
 
 void DeferredPaths::clear() {
     terms_.clear();
+    first_.clear();
     pathEnd_.clear();
     firstEmission_.clear();
     rays_.clear();
@@ -450,22 +463,35 @@ void DeferredPaths::trace(const Tracer& tracer) {
     tracer.occluded(rays_.data(), rays_.size(), blocked_.get());
 }
 
+Rgb DeferredPaths::termValue(const Term& t) const {
+    // gatherRadiance's arithmetic: a direct term is throughput * directAtSurface(...) / pi
+    // with directAtSurface = 0 + (weight if unblocked).
+    if (!t.direct) return t.value;
+    Rgb e{0, 0, 0};
+    const bool lit = t.shadow != kNoShadowRay && !blocked_[t.shadow];
+    e += lit ? t.value : Rgb(0, 0, 0);  // 0 + 0 = 0: the bits of not adding; no branch
+    return t.throughput * e * float(kInvPi);
+}
+
 Rgb DeferredPaths::radiance(std::size_t i) const {
-    // The terms in gatherRadiance's order and arithmetic: a direct term is
-    // throughput * directAtSurface(...) / pi with directAtSurface = 0 + (weight if unblocked).
+    // The terms in gatherRadiance's order and arithmetic.
     Rgb radiance{0, 0, 0};
-    for (uint32_t k = i == 0 ? 0 : pathEnd_[i - 1]; k < pathEnd_[i]; ++k) {
-        const Term& t = terms_[k];
-        if (!t.direct) {
-            radiance += t.value;
-        } else {
-            Rgb e{0, 0, 0};
-            const bool lit = t.shadow != kNoShadowRay && !blocked_[t.shadow];
-            e += lit ? t.value : Rgb(0, 0, 0);  // 0 + 0 = 0: the bits of not adding; no branch
-            radiance += t.throughput * e * float(kInvPi);
-        }
-    }
+    for (uint32_t k = i == 0 ? 0 : pathEnd_[i - 1]; k < pathEnd_[i]; ++k) radiance += termValue(terms_[k]);
     return radiance;
+}
+
+bool DeferredPaths::firstVertexIrradiance(std::size_t i, Vec3f& p, Vec3f& n, Rgb& irradiance) const {
+    if (i >= first_.size() || first_[i].from == kNoShadowRay) return false;
+    const FirstVertex& v = first_[i];
+    Rgb sum{0, 0, 0};
+    for (uint32_t k = v.from; k < pathEnd_[i]; ++k)
+        if (k != v.skip) sum += termValue(terms_[k]);
+    // The continuation's terms carry the first vertex's albedo (and roulette's 1/q, which
+    // stays: a path roulette ends adds 0, so the mean is right).
+    for (int c = 0; c < 3; ++c) irradiance[c] = v.albedo[c] > 0 ? float(kPi) * sum[c] / v.albedo[c] : 0.0f;
+    p = v.p;
+    n = v.n;
+    return true;
 }
 
 }  // namespace vdblight

@@ -1,0 +1,122 @@
+#include "surface_bins.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace vdblight::bake_detail {
+
+namespace {
+/// The signed axis of n's largest component: 2a for +axis a, 2a + 1 for -axis a.
+int faceOf(const Vec3f& n) {
+    const float ax = std::abs(n.x), ay = std::abs(n.y), az = std::abs(n.z);
+    const int a = ax >= ay && ax >= az ? 0 : (ay >= az ? 1 : 2);
+    return 2 * a + (n[a] < 0 ? 1 : 0);
+}
+
+constexpr double kStepsPerScale = 1073741824.0;  // 2^30
+constexpr double kMaxSteps = 1099511627776.0;    // 2^40: a sample's clamp, 2^10 radianceScale
+}  // namespace
+
+SurfaceBins::SurfaceBins(const GridSpec& grid, double radianceScale)
+    : grid_(grid), unit_(radianceScale / kStepsPerScale) {
+    cells_[0] = std::max(1, grid.nx - 1);
+    cells_[1] = std::max(1, grid.ny - 1);
+    cells_[2] = std::max(1, grid.nz - 1);
+    size_ = std::size_t(cells_[0]) * std::size_t(cells_[1]) * std::size_t(cells_[2]) * 6;
+    bins_.reset(new Bin[size_]);
+    for (std::size_t b = 0; b < size_; ++b) {
+        for (auto& s : bins_[b].sum) s.store(0, std::memory_order_relaxed);
+        bins_[b].count.store(0, std::memory_order_relaxed);
+    }
+}
+
+std::size_t SurfaceBins::binIndex(int i, int j, int k, int face) const {
+    i = std::clamp(i, 0, cells_[0] - 1);
+    j = std::clamp(j, 0, cells_[1] - 1);
+    k = std::clamp(k, 0, cells_[2] - 1);
+    return ((std::size_t(k) * std::size_t(cells_[1]) + std::size_t(j)) * std::size_t(cells_[0]) + std::size_t(i)) * 6 +
+           std::size_t(face);
+}
+
+void SurfaceBins::add(const Vec3f& p, const Vec3f& n, const Rgb& irradiance) {
+    int c[3];
+    for (int a = 0; a < 3; ++a) {
+        const double u = std::floor((double(p[a]) - grid_.origin[a]) / grid_.spacing);
+        c[a] = int(std::clamp(u, -1.0, 1e9));
+    }
+    Bin& bin = bins_[binIndex(c[0], c[1], c[2], faceOf(n))];
+    for (int ch = 0; ch < 3; ++ch) {
+        const double steps = double(irradiance[ch]) / unit_;
+        // !(x > 0) also takes NaN: radiance is never negative.
+        const uint64_t q = steps > 0 ? uint64_t(std::llround(std::min(steps, kMaxSteps))) : 0;
+        bin.sum[ch].fetch_add(q, std::memory_order_relaxed);
+    }
+    bin.count.fetch_add(1, std::memory_order_relaxed);
+}
+
+uint64_t SurfaceBins::samples() const {
+    uint64_t total = 0;
+    for (std::size_t b = 0; b < size_; ++b) total += bins_[b].count.load(std::memory_order_relaxed);
+    return total;
+}
+
+Rgb SurfaceBins::meanIrradiance() const {
+    double sum[3] = {0, 0, 0};
+    for (std::size_t b = 0; b < size_; ++b)
+        for (int ch = 0; ch < 3; ++ch) sum[ch] += double(bins_[b].sum[ch].load(std::memory_order_relaxed));
+    const double n = double(std::max<uint64_t>(1, samples()));
+    return Rgb(float(sum[0] * unit_ / n), float(sum[1] * unit_ / n), float(sum[2] * unit_ / n));
+}
+
+bool SurfaceBins::irradiance(const Vec3f& p, const Vec3f& n, Rgb& out, RayCount&) const {
+    const int face = faceOf(n);
+    const int axis = face / 2;
+    int base[3];
+    double frac[3];
+    for (int a = 0; a < 3; ++a) {
+        const double u = (double(p[a]) - grid_.origin[a]) / grid_.spacing;
+        if (a == axis) {  // the cell row along the normal that holds p
+            base[a] = int(std::clamp(std::floor(u), -1.0, 1e9));
+            frac[a] = 0;
+            continue;
+        }
+        // Cell centres sit at half-integers: blend the two nearest along each tangent axis.
+        const double v = std::clamp(u - 0.5, 0.0, double(cells_[a] - 1));
+        base[a] = std::min(int(v), std::max(0, cells_[a] - 2));
+        frac[a] = cells_[a] > 1 ? v - base[a] : 0.0;
+    }
+    double sum[3] = {0, 0, 0}, count = 0;
+    for (int corner = 0; corner < 4; ++corner) {
+        int idx[3] = {base[0], base[1], base[2]};
+        double w = 1;
+        int bit = 0;
+        for (int a = 0; a < 3; ++a) {
+            if (a == axis) continue;
+            const int step = (corner >> bit++) & 1;
+            idx[a] += step;
+            w *= step ? frac[a] : 1.0 - frac[a];
+        }
+        if (!(w > 0)) continue;
+        const Bin& bin = bins_[binIndex(idx[0], idx[1], idx[2], face)];
+        for (int ch = 0; ch < 3; ++ch) sum[ch] += w * double(bin.sum[ch].load(std::memory_order_relaxed));
+        count += w * double(bin.count.load(std::memory_order_relaxed));
+    }
+    if (!(count >= 1.0)) return false;  // (almost) no path came here: the path goes on
+    out = Rgb(float(sum[0] * unit_ / count), float(sum[1] * unit_ / count), float(sum[2] * unit_ / count));
+    return true;
+}
+
+double radianceScale(const Scene& scene, double spacing) {
+    double s = 0;
+    for (const Material& m : scene.materials) s = std::max(s, double(maxComponent(m.emission)));
+    s = std::max(s, double(maxComponent(scene.sky.constant)));
+    if (scene.sky.map)
+        for (const Rgb& t : scene.sky.map->texels) s = std::max(s, double(maxComponent(t)));
+    const double area = spacing * spacing;
+    for (const PointLight& l : scene.pointLights) s = std::max(s, double(maxComponent(l.intensity)) / area);
+    for (const SpotLight& l : scene.spotLights) s = std::max(s, double(maxComponent(l.intensity)) / area);
+    for (const DirectionalLight& l : scene.directionalLights) s = std::max(s, double(maxComponent(l.irradiance)) / kPi);
+    return std::isfinite(s) && s > 0 ? s : 1.0;
+}
+
+}  // namespace vdblight::bake_detail

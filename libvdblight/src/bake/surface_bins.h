@@ -1,0 +1,60 @@
+// A cache of the irradiance of reflected light and sky at the surfaces themselves, built from
+// pass 0's own paths (DeferredPaths::firstVertexIrradiance): `bake --probe-cache surface`,
+// issue 15. The node cache (surface_cache.h) lets the nodes around a surface point stand for
+// it, which biases the probe pass high where nearby geometry closes the point's hemisphere
+// (docs/methods.md, "The probe pass's bias, isolated", point 4); these bins hold samples taken
+// at the surfaces. (Internal to the bake module.)
+//
+// Bins: the cells of the node grid, six per cell, one per signed axis of the surface normal
+// (its largest component). A read at p with normal n blends the bins of n's axis in the row of
+// cells along n that holds p, bilinearly over the two other axes (cell centres), each bin
+// weighted by its sample count too, so that a bin few paths reached counts little; a read
+// where no path came returns false (the path then goes on: unbiased).
+//
+// Deterministic for any thread count and order: the sums are integers (fixed point, unit
+// radianceScale x 2^-30, each sample clamped to 2^10 radianceScale), which add exactly.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+
+#include "vdblight/layout.h"
+#include "vdblight/light.h"
+#include "vdblight/scene.h"
+
+namespace vdblight::bake_detail {
+
+class SurfaceBins final : public SurfaceSampleSink, public SurfaceIrradianceCache {
+public:
+    /// Bins over the cells of `grid`; `radianceScale` (> 0): the scene's brightest radiance
+    /// (radianceScale(), below), which sets the fixed point's unit.
+    SurfaceBins(const GridSpec& grid, double radianceScale);
+    void add(const Vec3f& p, const Vec3f& n, const Rgb& irradiance) override;
+    bool irradiance(const Vec3f& p, const Vec3f& n, Rgb& out, RayCount& rays) const override;
+    /// Samples in all bins, and their mean (tests).
+    uint64_t samples() const;
+    Rgb meanIrradiance() const;
+    /// Bytes held per cell of the grid.
+    static constexpr std::size_t kBytesPerCell = 6 * 4 * sizeof(uint64_t);
+
+private:
+    struct Bin {
+        std::atomic<uint64_t> sum[3];
+        std::atomic<uint64_t> count;
+    };
+    std::size_t binIndex(int i, int j, int k, int face) const;  ///< cell coordinates clamped
+
+    GridSpec grid_;
+    int cells_[3];
+    double unit_;  ///< irradiance per integer step
+    std::unique_ptr<Bin[]> bins_;
+    std::size_t size_ = 0;
+};
+
+/// The brightest radiance a scene's lights give, as the unit of SurfaceBins: emissive
+/// materials, the sky, punctual intensities at `spacing`, directional irradiance / pi; 1 for
+/// a scene without light.
+double radianceScale(const Scene& scene, double spacing);
+
+}  // namespace vdblight::bake_detail
