@@ -131,6 +131,14 @@ double shKernelIntegral(double a, double b) {
 }
 
 /// Nodes at heights 0.5 and 25.5 over the floor.
+/// A node's stored SH order-2 irradiance for the normal pointing down (at the floor).
+Rgb irradianceFacingDown(const Volume& v, int node) {
+    const float* c = v.levels[0].data.data() + std::size_t(node) * sh::kCoeffs * 3;
+    Rgb coeffs[sh::kCoeffs];
+    for (int j = 0; j < sh::kCoeffs; ++j) coeffs[j] = Rgb(c[3 * j], c[3 * j + 1], c[3 * j + 2]);
+    return sh::irradiance(coeffs, {0, -1, 0});
+}
+
 GridSpec floorGrid() {
     GridSpec g;
     g.origin = {-100.0, 0.5, -100.0};
@@ -237,10 +245,7 @@ TEST(ProbeCache, AProbePassGivesTheClosedFormAboveAFloor) {
     const Volume v = bakeShGather(scene, tracer, g, o);
     const double s = std::sin(kBandTop);
     for (const int node : {int(g.index(4, 0, 4)), int(g.index(2, 0, 6))}) {
-        const float* c = v.levels[0].data.data() + std::size_t(node) * sh::kCoeffs * 3;
-        Rgb coeffs[sh::kCoeffs];
-        for (int j = 0; j < sh::kCoeffs; ++j) coeffs[j] = Rgb(c[3 * j], c[3 * j + 1], c[3 * j + 2]);
-        const Rgb got = sh::irradiance(coeffs, {0, -1, 0});
+        const Rgb got = irradianceFacingDown(v, node);
         // The band lies at mu in [-s, 0) for the normal pointing down.
         const Rgb want = kBand * float(kAlbedo * shKernelIntegral(0, s) + shKernelIntegral(-s, 0));
         const Rgb exact = kBand * float(kAlbedo * kPi * s * s + shKernelIntegral(-s, 0));  // with a true cache
@@ -265,10 +270,7 @@ TEST(ProbeCache, TheSurfaceCacheGivesTheFloorsTrueIrradiance) {
     const Volume v = bakeShGather(scene, tracer, g, o);
     const double s = std::sin(kBandTop);
     for (const int node : {int(g.index(4, 0, 4)), int(g.index(2, 0, 6))}) {
-        const float* c = v.levels[0].data.data() + std::size_t(node) * sh::kCoeffs * 3;
-        Rgb coeffs[sh::kCoeffs];
-        for (int j = 0; j < sh::kCoeffs; ++j) coeffs[j] = Rgb(c[3 * j], c[3 * j + 1], c[3 * j + 2]);
-        const Rgb got = sh::irradiance(coeffs, {0, -1, 0});
+        const Rgb got = irradianceFacingDown(v, node);
         const Rgb exact = kBand * float(kAlbedo * kPi * s * s + shKernelIntegral(-s, 0));
         const Rgb nodeCache = kBand * float(kAlbedo * shKernelIntegral(0, s) + shKernelIntegral(-s, 0));
         std::printf("  node %d, normal down: %.5f, with the floor's true irradiance %.5f (%+.2f %%); the node cache's %.5f\n",
