@@ -24,12 +24,24 @@ inline Rgb interpolateShCorners(const float* const corners[8], const float* cons
     float weights[8];
     for (int c = 0; c < 8; ++c) weights[c] = wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2];
     if (depth) weightByDepth(weights, depth, fx, fy, fz);
-    // Interpolate the 27 coefficients first, then one 9-term dot product per channel.
-    float interp[kShFloats] = {};
-    for (int c = 0; c < 8; ++c) {
-        const float w = weights[c];
-        const float* p = corners[c];
-        for (int f = 0; f < kShFloats; ++f) interp[f] += w * p[f];
+    // Interpolate the 27 coefficients first, then one 9-term dot product per channel. One pass
+    // over the floats with the eight corners inside, as ShFourUniformLookup blends: GCC 12
+    // vectorises it (-fopt-info-vec), where it left the loop over the floats of one corner at a
+    // time scalar; 8.7 -> 17-18 M lookups/s in vdblight_bench --only query.
+    // Each float is still summed over the corners in order c = 0..7; starting from the first
+    // product instead of from +0 changes at most the sign of an all-zero sum, which the dot
+    // product below (from +0) cannot show: the same bits as before.
+    float interp[kShFloats];
+    for (int f = 0; f < kShFloats; ++f) {
+        float s = weights[0] * corners[0][f];
+        s += weights[1] * corners[1][f];
+        s += weights[2] * corners[2][f];
+        s += weights[3] * corners[3][f];
+        s += weights[4] * corners[4][f];
+        s += weights[5] * corners[5][f];
+        s += weights[6] * corners[6][f];
+        s += weights[7] * corners[7][f];
+        interp[f] = s;
     }
     Rgb e{0, 0, 0};
     for (int c = 0; c < sh::kCoeffs; ++c) e += Rgb(interp[3 * c], interp[3 * c + 1], interp[3 * c + 2]) * y[c];
