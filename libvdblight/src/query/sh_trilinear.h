@@ -27,7 +27,7 @@ inline Rgb interpolateShCorners(const float* const corners[8], const float* cons
     // Interpolate the 27 coefficients first, then one 9-term dot product per channel. One pass
     // over the floats with the eight corners inside, as ShFourUniformLookup blends: GCC 12
     // vectorises it (-fopt-info-vec), where it left the loop over the floats of one corner at a
-    // time scalar; 8.7 -> 17-18 M lookups/s in vdblight_bench --only query.
+    // time scalar: sh2 about 9 -> 15-19 M lookups/s in vdblight_bench --only query (README).
     // Each float is still summed over the corners in order c = 0..7; starting from the first
     // product instead of from +0 changes at most the sign of an all-zero sum, which the dot
     // product below (from +0) cannot show: the same bits as before.
