@@ -19,6 +19,7 @@
 #include "vdblight/light.h"
 #include "vdblight/errors.h"
 #include "vdblight/query.h"
+#include "vdblight/scene.h"
 #include "vdblight/trace.h"
 #include "test_util.h"
 
@@ -42,7 +43,7 @@ TEST(SurfaceBins, HoldTheFurnacesReflectedIrradiance) {
         const Tracer tracer(box);
         const RadianceEstimator estimator(box, tracer);
         const GridSpec g = boxGrid();
-        bake_detail::SurfaceBins bins(g, bake_detail::radianceScale(box, g.spacing));
+        bake_detail::SurfaceBins bins(tracer, g, bake_detail::radianceScale(box, g.spacing));
         RayCount count;
         for (std::size_t n = 0; n < g.nodeCount(); ++n) {
             detail::NodeSampler sampler(estimator, Vec3f(g.node(n)), 7, uint64_t(n), 512);
@@ -105,4 +106,40 @@ TEST(SurfaceBins, RefuseWhatTheyCannotDo) {
     o.probePasses = 1;
     o.stage = 0;
     EXPECT_THROW(bakeShGather(box, tracer, boxGrid(), o), ValueError) << "a stage";
+}
+
+// A wall thinner than a cell stands in the middle of a floor cell: that cell's floor bin holds
+// both sides' samples (bright on the left, dark on the right). A floor point on the dark side
+// must read only the dark side's light: the mixed bin's centroid lies at the wall, which the
+// point does not see, so only the next cell's bin (dark samples alone) takes part. Without the
+// visibility test it would read about 4 (0.7 of the mixed bin's 5.5 and 0.3 of the dark 1).
+TEST(SurfaceBins, AReadDoesNotTakeLightFromBehindAThinWall) {
+    Scene s;
+    Material m;
+    m.name = "wall";
+    m.albedo = {0.5f, 0.5f, 0.5f};
+    const uint32_t wall = addMaterial(s, m);
+    addTriangle(s, {0.02f, -0.5f, -1}, {0.02f, 1, -1}, {0.02f, 1, 1}, wall);
+    addTriangle(s, {0.02f, -0.5f, -1}, {0.02f, 1, 1}, {0.02f, -0.5f, 1}, wall);
+    const Tracer tracer(s);
+    GridSpec g;
+    g.origin = Vec3d(-0.3, 0.1, -0.3);  // cells [-0.1, 0.1] and [0.1, 0.3] along x
+    g.spacing = 0.2;
+    g.nx = g.ny = g.nz = 4;
+    bake_detail::SurfaceBins bins(tracer, g, 10.0);
+    const Vec3f up{0, 1, 0};
+    for (int k = 0; k < 64; ++k) {
+        const float z = -0.05f + 0.1f * float(k % 8) / 8.0f;
+        bins.add({-0.05f, 0.001f, z}, up, {10, 10, 10});  // left of the wall, the straddled cell
+        bins.add({0.06f, 0.001f, z}, up, {1, 1, 1});      // right of it, the same cell
+        bins.add({0.2f, 0.001f, z}, up, {1, 1, 1});       // right, the next cell
+    }
+    RayCount rays;
+    Rgb e;
+    ASSERT_TRUE(bins.irradiance({0.06f, 0.001f, 0.0f}, up, e, rays));
+    EXPECT_NEAR(e.x, 1.0f, 1e-3f) << "light from behind the wall";
+    EXPECT_GT(rays.occluded, 0u);
+    // On the bright side the straddled bin's centroid is seen: it takes part (mixed 5.5).
+    ASSERT_TRUE(bins.irradiance({-0.05f, 0.001f, 0.0f}, up, e, rays));
+    EXPECT_GT(e.x, 2.0f);
 }

@@ -67,7 +67,7 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     if (options.surfaceProbeCache) {
         if (options.probePasses != 1 || options.stage >= 0 || options.only)
             throw ValueError("the surface probe cache needs one probe pass and a whole bake (not staged or tiled)");
-        bins = std::make_unique<bake_detail::SurfaceBins>(grid, bake_detail::radianceScale(scene, grid.spacing));
+        bins = std::make_unique<bake_detail::SurfaceBins>(tracer, grid, bake_detail::radianceScale(scene, grid.spacing));
     }
     const bake_detail::ParallelRun run = bake_detail::runProbePasses(
         estimator, tracer, grid, options.seed, options.probePasses, range,

@@ -5,6 +5,7 @@
 #include "passes.h"
 
 #include "pass_options.h"
+#include "surface_bins.h"
 #include "vdblight/bake_antialiased.h"
 #include "vdblight/basis.h"
 #include "vdblight/errors.h"
@@ -58,9 +59,11 @@ void GatherPass::validate(const BakeRequest& request) const {
 }
 
 std::size_t GatherPass::bytesPerNode(const BakeRequest& r) const {
-    // Float values plus OpenVDB's copy while writing (and, for sh:N, the probe passes' SH order-2 cache).
-    if (!isSh2(r.basis)) return (2 * makeBasis(r.basis)->floatsPerNode() + sh::kCoeffs * 3) * sizeof(float);
-    return 2 * sh::kCoeffs * 3 * sizeof(float);
+    // Float values plus OpenVDB's copy while writing (and, for sh:N, the probe passes' SH order-2
+    // cache), and --probe-cache surface's bins (about one cell per node).
+    const std::size_t bins = r.probeCache == "surface" ? SurfaceBins::kBytesPerCell : 0;
+    if (!isSh2(r.basis)) return (2 * makeBasis(r.basis)->floatsPerNode() + sh::kCoeffs * 3) * sizeof(float) + bins;
+    return 2 * sh::kCoeffs * 3 * sizeof(float) + bins;
 }
 
 std::string GatherPass::untileable(const BakeRequest& r) const {

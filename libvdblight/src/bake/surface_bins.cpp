@@ -15,10 +15,14 @@ int faceOf(const Vec3f& n) {
 
 constexpr double kStepsPerScale = 1073741824.0;  // 2^30
 constexpr double kMaxSteps = 1099511627776.0;    // 2^40: a sample's clamp, 2^10 radianceScale
+// Sample positions: cell units shifted by one cell (so that a point a little outside the node
+// box is positive), 2^20 steps per cell.
+constexpr double kPosSteps = 1048576.0;
+constexpr double kPosShift = 1.0;
 }  // namespace
 
-SurfaceBins::SurfaceBins(const GridSpec& grid, double radianceScale)
-    : grid_(grid), unit_(radianceScale / kStepsPerScale) {
+SurfaceBins::SurfaceBins(const Tracer& tracer, const GridSpec& grid, double radianceScale)
+    : grid_(grid), tracer_(tracer), unit_(radianceScale / kStepsPerScale) {
     cells_[0] = std::max(1, grid.nx - 1);
     cells_[1] = std::max(1, grid.ny - 1);
     cells_[2] = std::max(1, grid.nz - 1);
@@ -26,6 +30,7 @@ SurfaceBins::SurfaceBins(const GridSpec& grid, double radianceScale)
     bins_.reset(new Bin[size_]);
     for (std::size_t b = 0; b < size_; ++b) {
         for (auto& s : bins_[b].sum) s.store(0, std::memory_order_relaxed);
+        for (auto& s : bins_[b].pos) s.store(0, std::memory_order_relaxed);
         bins_[b].count.store(0, std::memory_order_relaxed);
     }
 }
@@ -52,6 +57,10 @@ void SurfaceBins::add(const Vec3f& p, const Vec3f& n, const Rgb& irradiance) {
         bin.sum[ch].fetch_add(q, std::memory_order_relaxed);
     }
     bin.count.fetch_add(1, std::memory_order_relaxed);
+    for (int a = 0; a < 3; ++a) {
+        const double u = std::clamp((double(p[a]) - grid_.origin[a]) / grid_.spacing + kPosShift, 0.0, 1e6);
+        bin.pos[a].fetch_add(uint64_t(std::llround(u * kPosSteps)), std::memory_order_relaxed);
+    }
 }
 
 uint64_t SurfaceBins::samples() const {
@@ -68,7 +77,7 @@ Rgb SurfaceBins::meanIrradiance() const {
     return Rgb(float(sum[0] * unit_ / n), float(sum[1] * unit_ / n), float(sum[2] * unit_ / n));
 }
 
-bool SurfaceBins::irradiance(const Vec3f& p, const Vec3f& n, Rgb& out, RayCount&) const {
+bool SurfaceBins::irradiance(const Vec3f& p, const Vec3f& n, Rgb& out, RayCount& rays) const {
     const int face = faceOf(n);
     const int axis = face / 2;
     int base[3];
@@ -98,8 +107,23 @@ bool SurfaceBins::irradiance(const Vec3f& p, const Vec3f& n, Rgb& out, RayCount&
         }
         if (!(w > 0)) continue;
         const Bin& bin = bins_[binIndex(idx[0], idx[1], idx[2], face)];
+        const double samples = double(bin.count.load(std::memory_order_relaxed));
+        if (samples < 1) continue;
+        // The bin's samples' centroid, lifted off the surface a little: a bin whose centroid p
+        // does not see holds another surface's light (a floor cell that a thin wall crosses
+        // holds both rooms' floor).
+        Vec3f centroid;
+        for (int a = 0; a < 3; ++a)
+            centroid[a] = float(grid_.origin[a] +
+                                (double(bin.pos[a].load(std::memory_order_relaxed)) / kPosSteps / samples - kPosShift) *
+                                    grid_.spacing);
+        const Vec3f d = centroid + n * float(0.02 * grid_.spacing) - p;
+        if (dot(d, d) > 1e-12f) {
+            ++rays.occluded;
+            if (tracer_.occluded(Ray{p, d, 0.0f, 1.0f})) continue;
+        }
         for (int ch = 0; ch < 3; ++ch) sum[ch] += w * double(bin.sum[ch].load(std::memory_order_relaxed));
-        count += w * double(bin.count.load(std::memory_order_relaxed));
+        count += w * samples;
     }
     if (!(count >= 1.0)) return false;  // (almost) no path came here: the path goes on
     out = Rgb(float(sum[0] * unit_ / count), float(sum[1] * unit_ / count), float(sum[2] * unit_ / count));

@@ -11,8 +11,9 @@
 // weighted by its sample count too, so that a bin few paths reached counts little; a read
 // where no path came returns false (the path then goes on: unbiased).
 //
-// Deterministic for any thread count and order: the sums are integers (fixed point, unit
-// radianceScale x 2^-30, each sample clamped to 2^10 radianceScale), which add exactly.
+// Deterministic for any thread count and order: the sums are integers (fixed point: irradiance
+// in units of radianceScale x 2^-30, each sample clamped to 2^10 radianceScale; positions in
+// 2^-20 of a cell), which add exactly.
 #pragma once
 
 #include <atomic>
@@ -22,30 +23,34 @@
 #include "vdblight/layout.h"
 #include "vdblight/light.h"
 #include "vdblight/scene.h"
+#include "vdblight/trace.h"
 
 namespace vdblight::bake_detail {
 
 class SurfaceBins final : public SurfaceSampleSink, public SurfaceIrradianceCache {
 public:
-    /// Bins over the cells of `grid`; `radianceScale` (> 0): the scene's brightest radiance
-    /// (radianceScale(), below), which sets the fixed point's unit.
-    SurfaceBins(const GridSpec& grid, double radianceScale);
+    /// Bins over the cells of `grid`; `tracer`: the scene's, for the reads' visibility tests;
+    /// `radianceScale` (> 0): the scene's brightest radiance (radianceScale(), below), which
+    /// sets the fixed point's unit.
+    SurfaceBins(const Tracer& tracer, const GridSpec& grid, double radianceScale);
     void add(const Vec3f& p, const Vec3f& n, const Rgb& irradiance) override;
     bool irradiance(const Vec3f& p, const Vec3f& n, Rgb& out, RayCount& rays) const override;
     /// Samples in all bins, and their mean (tests).
     uint64_t samples() const;
     Rgb meanIrradiance() const;
     /// Bytes held per cell of the grid.
-    static constexpr std::size_t kBytesPerCell = 6 * 4 * sizeof(uint64_t);
+    static constexpr std::size_t kBytesPerCell = 6 * 7 * sizeof(uint64_t);
 
 private:
     struct Bin {
         std::atomic<uint64_t> sum[3];
         std::atomic<uint64_t> count;
+        std::atomic<uint64_t> pos[3];  ///< sample positions, fixed point in the grid's cells
     };
     std::size_t binIndex(int i, int j, int k, int face) const;  ///< cell coordinates clamped
 
     GridSpec grid_;
+    const Tracer& tracer_;
     int cells_[3];
     double unit_;  ///< irradiance per integer step
     std::unique_ptr<Bin[]> bins_;
