@@ -320,7 +320,7 @@ struct ImmediateSink {
 struct RadianceEstimator::DeferredSink {
     DeferredPaths& paths;
     Rgb emitted{0, 0, 0};
-    DeferredPaths::FirstVertex first;
+    DeferredPaths::FirstVertex first{};
     void add(const Rgb& term) { paths.terms_.push_back({term, Rgb(), DeferredPaths::kNoShadowRay, false}); }
 };
 
