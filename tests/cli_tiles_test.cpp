@@ -88,6 +88,21 @@ void expectStagedMergeIdentical(const test::TempDir& dir, const std::string& arg
     EXPECT_TRUE(a == b) << "merged file differs from the single bake (" << a.size() << " vs " << b.size() << " bytes)";
 }
 
+// --probe-cache surface: stage 1 reads bins of every tile's stage-0 paths, which each stage-0
+// tile writes as integer sums and the merge adds (bake/surface_bins.h): the staged bake has the
+// single bake's bytes. A stage-1 tile refuses a stage input baked without the surface cache.
+TEST(CliTiles, SurfaceProbeCacheTiledInStagesMergesToTheSingleBake) {
+    test::TempDir dir;
+    expectStagedMergeIdentical(dir, "--probe-cache surface --resolution 10 --rays 32 --seed 4", 3, 1);
+    const std::string nodes = dir.file("nodes0.vdb"), tile = dir.file("t.vdb");
+    ASSERT_EQ(runCli("bake -q -o " + nodes + " --tiles 1 --tile 0 --stage 0 --resolution 10 --rays 32 --seed 4").status, 0);
+    const std::string mergedNodes = dir.file("nodes_stage0.vdb");
+    ASSERT_EQ(runCli("merge -q " + nodes + " -o " + mergedNodes).status, 0);
+    test::expectRefusal("bake -o " + tile + " --tiles 1 --tile 0 --stage 1 --stage-input " + mergedNodes +
+                            " --probe-cache surface --resolution 10 --rays 32 --seed 4",
+                        "other options", tile, "a stage input without surface bins");
+}
+
 TEST(CliTiles, DefaultBakeTiledInStagesMergesToTheSingleBake) {
     // The default bake (one probe-to-probe pass, --direct occlusion, the per-node error
     // summary) at a small size, plus depth moments: stage 0, merge, stage 1, merge.
@@ -204,8 +219,6 @@ TEST(CliTiles, PassesThatCannotBeTiledSaySo) {
     test::expectRefusal("bake" + uniformTile, "tiled in stages", out, "default without --stage");
     test::expectRefusal("bake --stage 2" + uniformTile, "--stage must be between 0 and 1", out, "stage range");
     test::expectRefusal("bake --stage 1" + uniformTile, "needs --stage-input", out, "no stage input");
-    test::expectRefusal("bake --probe-cache surface --stage 0" + uniformTile, "--probe-cache surface cannot be tiled yet", out,
-                        "surface probe cache");
     test::expectRefusal("bake --probe-cache surface --quality preview --resolution 4 -o " + out, "needs exactly one probe pass",
                         out, "surface probe cache without a probe pass");
     test::expectRefusal("bake --stage 0 --stage-input " + out + uniformTile, "--stage-input needs --stage 1", out, "input at 0");

@@ -92,7 +92,32 @@ TEST(SurfaceBins, AProbePassWithThemPassesTheFurnaceWithTheSameBitsOnAnyThreads)
     EXPECT_NEAR(mean, want, 0.005 * want);
 }
 
-// The cache refuses what it cannot do: more or fewer probe passes, a staged or tiled bake.
+// Staged (tiles.h): stage 0 carries the bins' integer sums in its stage volume, and stage 1
+// reading them gives the whole bake's bits; a stage input without them is refused.
+TEST(SurfaceBins, AStagedBakeCarriesThemFromStageZeroToStageOne) {
+    const float rho = 0.5f;
+    const Scene box = test::makeFurnaceBox({-1, -1, -1}, {1, 1, 1}, kLe, {rho, rho, rho});
+    const Tracer tracer(box);
+    GatherOptions o;
+    o.raysPerNode = 64;
+    o.probePasses = 1;
+    o.surfaceProbeCache = true;
+    const Volume whole = bakeShGather(box, tracer, boxGrid(), o);
+    o.stage = 0;
+    const Volume stage0 = bakeShGather(box, tracer, boxGrid(), o);
+    ASSERT_TRUE(stage0.surfaceBins);
+    o.stage = 1;
+    o.stageInput = &stage0;
+    const Volume staged = bakeShGather(box, tracer, boxGrid(), o);
+    ASSERT_EQ(whole.levels[0].data.size(), staged.levels[0].data.size());
+    EXPECT_EQ(0, std::memcmp(whole.levels[0].data.data(), staged.levels[0].data.data(), whole.levels[0].data.size() * 4));
+    Volume noBins = stage0;
+    noBins.surfaceBins.reset();
+    o.stageInput = &noBins;
+    EXPECT_THROW(bakeShGather(box, tracer, boxGrid(), o), ValueError);
+}
+
+// The cache refuses what it cannot do: more or fewer probe passes.
 TEST(SurfaceBins, RefuseWhatTheyCannotDo) {
     const Scene box = test::makeFurnaceBox({-1, -1, -1}, {1, 1, 1}, kLe, {0.5f, 0.5f, 0.5f});
     const Tracer tracer(box);
@@ -103,9 +128,6 @@ TEST(SurfaceBins, RefuseWhatTheyCannotDo) {
         o.probePasses = passes;
         EXPECT_THROW(bakeShGather(box, tracer, boxGrid(), o), ValueError) << passes << " probe passes";
     }
-    o.probePasses = 1;
-    o.stage = 0;
-    EXPECT_THROW(bakeShGather(box, tracer, boxGrid(), o), ValueError) << "a stage";
 }
 
 // A wall thinner than a cell stands in the middle of a floor cell: that cell's floor bin holds

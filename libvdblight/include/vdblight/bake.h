@@ -42,7 +42,8 @@ struct GatherOptions {
     int probePasses = 0;
     /// The probe pass's cache: false = the nodes' reflected light (DDGI-style); true = bins of
     /// irradiance samples taken at the surfaces by pass 0's own paths (`--probe-cache surface`;
-    /// bake/surface_bins.h, docs/methods.md). Whole bakes with one probe pass only (not staged).
+    /// bake/surface_bins.h, docs/methods.md). One probe pass only; staged, stage 0 returns the
+    /// bins' sums in Volume::surfaceBins and stage 1 reads them from the stage input.
     bool surfaceProbeCache = false;
     /// Also record per-node depth moments from the gather's own first hits (depth_moments.h,
     /// VolumeLevel::depth), for lookups that do not interpolate across walls. No extra rays.

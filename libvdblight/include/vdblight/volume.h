@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <string>
 #include <variant>
 #include <vector>
@@ -58,12 +59,27 @@ struct VolumeLevel : LevelTopology {
     const float* nodeDepth(std::size_t node) const { return depth.data() + held(node) * depth::kFloatsPerNode; }
 };
 
+/// `bake --probe-cache surface`'s bins (bake/surface_bins.h) as exact integer sums, which a
+/// probe stage volume carries from stage 0 through the merge to stage 1 (tiles.h, "Staged
+/// bakes"): integers add exactly in any order, so the merge of the tiles' sums is the whole
+/// bake's. Per cell of the node grid (cell (i, j, k) spans nodes i..i+1, ...; x fastest) six
+/// bins (the normal's signed axis), per bin kValuesPerBin values: the irradiance sums r, g, b in
+/// units of `unit`, the sample count, the position sums x, y, z (SurfaceBins' fixed point).
+struct SurfaceBinSums {
+    static constexpr int kValuesPerBin = 7;
+    static constexpr int kBinsPerCell = 6;
+    double unit = 0;
+    std::vector<uint64_t> values;
+};
+
 struct Volume {
     BasisDesc basis;
     std::vector<VolumeLevel> levels;  ///< level 0 is the coarsest (a uniform volume has one)
     Metadata meta;
     /// How direct light is stored (`bake --direct`): mode and listed lights (direct_light.h).
     DirectLightSet direct;
+    /// A probe stage volume of a bake with --probe-cache surface: its bins' sums (else null).
+    std::shared_ptr<const SurfaceBinSums> surfaceBins;
 
     /// Throws FormatError if levels, grids and data sizes are inconsistent, or if the level
     /// structure of a multi-level volume is (validateLevelStructure below).

@@ -65,9 +65,14 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     }
     std::unique_ptr<bake_detail::SurfaceBins> bins;
     if (options.surfaceProbeCache) {
-        if (options.probePasses != 1 || options.stage >= 0 || options.only)
-            throw ValueError("the surface probe cache needs one probe pass and a whole bake (not staged or tiled)");
-        bins = std::make_unique<bake_detail::SurfaceBins>(tracer, grid, bake_detail::radianceScale(scene, grid.spacing));
+        if (options.probePasses != 1) throw ValueError("the surface probe cache needs exactly one probe pass");
+        if (range.first > 0) {  // stage 1: the bins of every tile's stage-0 paths, merged
+            if (!options.stageInput->surfaceBins)
+                throw ValueError("the stage input has no surface bins: its stage 0 was baked without --probe-cache surface");
+            bins = std::make_unique<bake_detail::SurfaceBins>(tracer, grid, *options.stageInput->surfaceBins);
+        } else {
+            bins = std::make_unique<bake_detail::SurfaceBins>(tracer, grid, bake_detail::radianceScale(scene, grid.spacing));
+        }
     }
     const bake_detail::ParallelRun run = bake_detail::runProbePasses(
         estimator, tracer, grid, options.seed, options.probePasses, range,
@@ -104,6 +109,8 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     if (range.last < options.probePasses) {  // a stage before the last: its reflected light
         volume = bake_detail::stageVolume(level, reflected, std::move(level.depth), std::move(volume.meta), range.last,
                                           options.probePasses);
+        // A tile's bins hold its own nodes' samples; the merge adds every tile's (integers).
+        if (bins) volume.surfaceBins = std::make_shared<SurfaceBinSums>(bins->sums());
         if (stats) {
             stats->nodes = nodes;
             stats->rays = run.rays;

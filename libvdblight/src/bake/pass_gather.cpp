@@ -39,7 +39,7 @@ std::vector<PassOption> GatherPass::options() const {
             wordOption("probe-cache",
                        "what the probe pass reads at a path's first hit: nodes = the nodes' reflected light around "
                        "it (DDGI-style), surface = irradiance samples that the first pass's own paths took at the "
-                       "surfaces (less bias near walls and openings; not tiled yet; docs/methods.md)",
+                       "surfaces (less bias near walls and openings; every tile of a staged bake holds the whole grid's bins; docs/methods.md)",
                        "nodes", {"nodes", "surface"}, &BakeRequest::probeCache,
                        "--probe-cache works with --method gather --sampling point only"),
             numberOption("invalidate-backface",
@@ -73,8 +73,6 @@ std::string GatherPass::untileable(const BakeRequest& r) const {
 std::string pointGatherUntileable(const BakeRequest& r) {
     if (r.invalidateBackface) return "--invalidate-backface cannot be tiled (its dilation crosses tile borders)";
     if (r.shWindow) return "--sh-window cannot be tiled yet (the window would have to follow the seams at merge)";
-    if (r.probeCache == "surface")
-        return "--probe-cache surface cannot be tiled yet (its bins sum the paths of every tile's nodes)";
     // Each probe-to-probe pass reads every node of the pass before: one stage per pass.
     const int passes = r.probePasses.value_or(0);
     if (passes > 0 && !r.stage)

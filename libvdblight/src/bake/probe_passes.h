@@ -34,7 +34,9 @@ ParallelRun runProbePasses(RadianceEstimator& estimator, const Tracer& tracer, c
                            int passes, const PassRange& range, const float* startReflected,
                            const std::vector<Rgb>& reflected, RunPass&& runPass, SurfaceBins* bins = nullptr) {
     std::unique_ptr<VolumeSurfaceCache> cache;
-    if (range.first > 0) {
+    if (range.first > 0 && bins) {
+        estimator.setSurfaceCache(bins);  // the stage input's bins (surface_bins.h)
+    } else if (range.first > 0) {
         cache = std::make_unique<VolumeSurfaceCache>(tracer, grid, startReflected);  // read in place, not copied
         estimator.setSurfaceCache(cache.get());
     }

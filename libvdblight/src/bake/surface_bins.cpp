@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "vdblight/errors.h"
+
 namespace vdblight::bake_detail {
 
 namespace {
@@ -33,6 +35,32 @@ SurfaceBins::SurfaceBins(const Tracer& tracer, const GridSpec& grid, double radi
         for (auto& s : bins_[b].pos) s.store(0, std::memory_order_relaxed);
         bins_[b].count.store(0, std::memory_order_relaxed);
     }
+}
+
+SurfaceBins::SurfaceBins(const Tracer& tracer, const GridSpec& grid, const SurfaceBinSums& sums)
+    : SurfaceBins(tracer, grid, 1.0) {
+    if (sums.values.size() != size_ * SurfaceBinSums::kValuesPerBin || !(sums.unit > 0) || !std::isfinite(sums.unit))
+        throw ValueError("the stage input's surface bins do not fit this grid");
+    unit_ = sums.unit;
+    const uint64_t* v = sums.values.data();
+    for (std::size_t b = 0; b < size_; ++b, v += SurfaceBinSums::kValuesPerBin) {
+        for (int ch = 0; ch < 3; ++ch) bins_[b].sum[ch].store(v[ch], std::memory_order_relaxed);
+        bins_[b].count.store(v[3], std::memory_order_relaxed);
+        for (int a = 0; a < 3; ++a) bins_[b].pos[a].store(v[4 + a], std::memory_order_relaxed);
+    }
+}
+
+SurfaceBinSums SurfaceBins::sums() const {
+    SurfaceBinSums s;
+    s.unit = unit_;
+    s.values.resize(size_ * SurfaceBinSums::kValuesPerBin);
+    uint64_t* v = s.values.data();
+    for (std::size_t b = 0; b < size_; ++b, v += SurfaceBinSums::kValuesPerBin) {
+        for (int ch = 0; ch < 3; ++ch) v[ch] = bins_[b].sum[ch].load(std::memory_order_relaxed);
+        v[3] = bins_[b].count.load(std::memory_order_relaxed);
+        for (int a = 0; a < 3; ++a) v[4 + a] = bins_[b].pos[a].load(std::memory_order_relaxed);
+    }
+    return s;
 }
 
 std::size_t SurfaceBins::binIndex(int i, int j, int k, int face) const {

@@ -24,6 +24,7 @@
 #include "vdblight/light.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
+#include "vdblight/volume.h"
 
 namespace vdblight::bake_detail {
 
@@ -33,6 +34,11 @@ public:
     /// `radianceScale` (> 0): the scene's brightest radiance (radianceScale(), below), which
     /// sets the fixed point's unit.
     SurfaceBins(const Tracer& tracer, const GridSpec& grid, double radianceScale);
+    /// Bins holding `sums` (a stage input's: every tile's stage-0 samples, merged); ValueError
+    /// if they do not fit the grid.
+    SurfaceBins(const Tracer& tracer, const GridSpec& grid, const SurfaceBinSums& sums);
+    /// The bins' integer sums (a stage-0 tile's, for the merge).
+    SurfaceBinSums sums() const;
     void add(const Vec3f& p, const Vec3f& n, const Rgb& irradiance) override;
     bool irradiance(const Vec3f& p, const Vec3f& n, Rgb& out, RayCount& rays) const override;
     /// Samples in all bins, and their mean (tests).

@@ -155,6 +155,7 @@ MergedTiles mergeTiles(const std::vector<std::string>& paths) {
     for (std::size_t i = 0; i < tiles.size(); ++i) {
         const TileFile& t = tiles[i];
         if (t.photon || t.depth != first.depth || t.visibility != first.visibility || t.error != first.error ||
+            bool(t.part.surfaceBins) != bool(first.part.surfaceBins) ||
             t.part.direct.mode != first.part.direct.mode || t.part.direct.lights.size() != first.part.direct.lights.size())
             throw FormatError(quoted(paths[i]) + " and " + quoted(paths[order[0]]) + " differ in the grids or lights they carry");
     }
@@ -207,6 +208,19 @@ MergedTiles mergeTiles(const std::vector<std::string>& paths) {
         v.levels.push_back(std::move(level));
     }
     v.direct = first.part.direct;
+    // --probe-cache surface, stage 0: every tile's bins hold its own nodes' samples; their
+    // integer sums add exactly, in any order, to the whole bake's bins.
+    if (first.part.surfaceBins) {
+        auto sums = std::make_shared<SurfaceBinSums>(*first.part.surfaceBins);
+        for (std::size_t t : order) {
+            if (t == order[0]) continue;
+            const SurfaceBinSums* b = tiles[t].part.surfaceBins.get();
+            if (!b || b->values.size() != sums->values.size() || b->unit != sums->unit)
+                throw FormatError(quoted(paths[t]) + " and " + quoted(paths[order[0]]) + " differ in their surface bins");
+            for (std::size_t i = 0; i < sums->values.size(); ++i) sums->values[i] += b->values[i];
+        }
+        v.surfaceBins = std::move(sums);
+    }
     v.meta = mergedMetadata(tiles, order);
     // Summaries of per-node statistics, by the code the bakes use (error_summary.h).
     if (first.error) addErrorSummary(v.meta, error, v.levels[0].grid);

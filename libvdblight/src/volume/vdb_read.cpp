@@ -64,6 +64,7 @@ static Volume readVolumeFile(const std::string& path, bool stage, const ContentH
         for (int l = 0; l + 1 < int(levels); ++l) readMask(f, volume.levels[std::size_t(l)], l, path);
     volume.meta = userMetadata(meta);
     readDirect(f, volume, path);
+    if (stage) readSurfaceBins(f, volume, path);
     try {
         volume.validate();
     } catch (const FormatError& e) {

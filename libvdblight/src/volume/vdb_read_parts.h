@@ -91,6 +91,8 @@ std::vector<float> readSparseScalar(OpenedFile& f, const std::string& name, cons
                                     const std::string& path);
 /// The direct-light mode and light list (docs/format.md, "Direct light").
 void readDirectLights(OpenedFile& f, Volume& volume, const std::string& path);
+/// A probe stage volume's surface bins (SurfaceBinSums), if the file has them (vdb_write.cpp).
+void readSurfaceBins(OpenedFile& f, Volume& volume, const std::string& path);
 /// readDirectLights plus level 0's visibility channels.
 void readDirect(OpenedFile& f, Volume& volume, const std::string& path);
 /// Level `level`'s depth moments.

@@ -137,6 +137,7 @@ TileFile readTileFile(const std::string& path) {
         }
     }
     if (t.error && !level0.activeNodes.empty()) t.estimatedError = readSparseScalar(f, kTileErrorName, level0, path);
+    readSurfaceBins(f, v, path);  // a stage-0 tile of --probe-cache surface: its bins' sums
     return t;
 }
 
