@@ -6,6 +6,9 @@
 // interpolates the coarser level, whose nodes may lie in other tiles). Metadata counts that
 // each tile measured for its own nodes (rays) are summed in tile order.
 //
+// Stage-0 tiles of `--probe-cache surface` also hold the whole grid's bins of their nodes'
+// paths as integer sums (SurfaceBinSums, volume.h), which the merge adds (exact in any order).
+//
 // Photon tiles are not nodes but runs of photon batches: each holds the whole grid's exact
 // sums of its batches (photon_sums.h), which the merge adds (integers: exact in any order)
 // and normalises as the single bake does.
