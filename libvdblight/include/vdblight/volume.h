@@ -5,6 +5,8 @@
 // public API); vdb_io.h turns a Volume into OpenVDB grids and back (docs/format.md).
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -70,6 +72,21 @@ struct SurfaceBinSums {
     static constexpr int kBinsPerCell = 6;
     double unit = 0;
     std::vector<uint64_t> values;
+
+    /// The cells of `grid` along each axis (at least one).
+    static std::array<int, 3> cells(const GridSpec& grid) {
+        return {std::max(1, grid.nx - 1), std::max(1, grid.ny - 1), std::max(1, grid.nz - 1)};
+    }
+    /// The bins of all cells.
+    static std::size_t binCount(const std::array<int, 3>& cells) {
+        return std::size_t(cells[0]) * std::size_t(cells[1]) * std::size_t(cells[2]) * kBinsPerCell;
+    }
+    /// The bin `face` of cell (i, j, k), which must lie inside `cells`; its values start at
+    /// kValuesPerBin times this.
+    static std::size_t binIndex(const std::array<int, 3>& cells, int i, int j, int k, int face) {
+        return ((std::size_t(k) * std::size_t(cells[1]) + std::size_t(j)) * std::size_t(cells[0]) + std::size_t(i)) *
+                   kBinsPerCell + std::size_t(face);
+    }
 };
 
 struct Volume {

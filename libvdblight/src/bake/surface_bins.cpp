@@ -24,11 +24,8 @@ constexpr double kPosShift = 1.0;
 }  // namespace
 
 SurfaceBins::SurfaceBins(const Tracer& tracer, const GridSpec& grid, double radianceScale)
-    : grid_(grid), tracer_(tracer), unit_(radianceScale / kStepsPerScale) {
-    cells_[0] = std::max(1, grid.nx - 1);
-    cells_[1] = std::max(1, grid.ny - 1);
-    cells_[2] = std::max(1, grid.nz - 1);
-    size_ = std::size_t(cells_[0]) * std::size_t(cells_[1]) * std::size_t(cells_[2]) * 6;
+    : grid_(grid), tracer_(tracer), cells_(SurfaceBinSums::cells(grid)), unit_(radianceScale / kStepsPerScale) {
+    size_ = SurfaceBinSums::binCount(cells_);
     bins_.reset(new Bin[size_]);
     for (std::size_t b = 0; b < size_; ++b) {
         for (auto& s : bins_[b].sum) s.store(0, std::memory_order_relaxed);
@@ -67,8 +64,7 @@ std::size_t SurfaceBins::binIndex(int i, int j, int k, int face) const {
     i = std::clamp(i, 0, cells_[0] - 1);
     j = std::clamp(j, 0, cells_[1] - 1);
     k = std::clamp(k, 0, cells_[2] - 1);
-    return ((std::size_t(k) * std::size_t(cells_[1]) + std::size_t(j)) * std::size_t(cells_[0]) + std::size_t(i)) * 6 +
-           std::size_t(face);
+    return SurfaceBinSums::binIndex(cells_, i, j, k, face);
 }
 
 void SurfaceBins::add(const Vec3f& p, const Vec3f& n, const Rgb& irradiance) {

@@ -16,6 +16,7 @@
 // 2^-20 of a cell), which add exactly.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -45,7 +46,8 @@ public:
     uint64_t samples() const;
     Rgb meanIrradiance() const;
     /// Bytes held per cell of the grid.
-    static constexpr std::size_t kBytesPerCell = 6 * 7 * sizeof(uint64_t);
+    static constexpr std::size_t kBytesPerCell =
+        SurfaceBinSums::kBinsPerCell * SurfaceBinSums::kValuesPerBin * sizeof(uint64_t);
 
 private:
     struct Bin {
@@ -57,7 +59,7 @@ private:
 
     GridSpec grid_;
     const Tracer& tracer_;
-    int cells_[3];
+    std::array<int, 3> cells_;
     double unit_;  ///< irradiance per integer step
     std::unique_ptr<Bin[]> bins_;
     std::size_t size_ = 0;

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "vdb_read_parts.h"
+#include "vdb_surface_bins.h"
 #include "vdblight/tiles.h"
 #include "vdblight/vdb_io.h"
 

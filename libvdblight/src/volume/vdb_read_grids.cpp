@@ -205,42 +205,19 @@ std::vector<float> readSparseScalar(OpenedFile& f, const std::string& name, cons
     return values;
 }
 
-/// The direct-light mode and light list (files without them: baked).
-void readSurfaceBins(OpenedFile& f, Volume& volume, const std::string& path) {
-    if (!f.file->hasGrid(surfaceBinGridName(0))) return;
-    const GridSpec& g = volume.levels.at(0).grid;
-    const int cells[3] = {std::max(1, g.nx - 1), std::max(1, g.ny - 1), std::max(1, g.nz - 1)};
-    constexpr int kValues = SurfaceBinSums::kValuesPerBin, kBins = SurfaceBinSums::kBinsPerCell;
-    auto sums = std::make_shared<SurfaceBinSums>();
-    sums->values.assign(std::size_t(cells[0]) * std::size_t(cells[1]) * std::size_t(cells[2]) * kBins * kValues, 0);
-    for (int v = 0; v < kBins * kValues; ++v) {
-        const std::string name = surfaceBinGridName(v);
-        if (!f.file->hasGrid(name)) formatError(path, "has no grid '" + name + "'");
-        const openvdb::GridBase::Ptr base = readGridChecked(f, name, path);
-        auto grid = openvdb::gridPtrCast<openvdb::Int64Grid>(base);
-        if (!grid) formatError(path, "grid '" + name + "' has type " + base->valueType() + ", expected int64");
-        if (!placedAt(grid->transform(), g.origin, g.spacing))
-            formatError(path, "grid '" + name + "' has a transform that does not match level 0's origin and spacing");
-        if (v == 0) {
-            const auto unit = grid->getMetadata<openvdb::DoubleMetadata>(kPrefix + kSurfaceBinUnitKey);
-            if (!unit || !(unit->value() > 0) || !std::isfinite(unit->value()))
-                formatError(path, "grid '" + name + "' has no valid surface bin unit");
-            sums->unit = unit->value();
-        }
-        grid->tree().voxelizeActiveTiles();
-        const int face = v / kValues, value = v % kValues;
-        for (auto it = grid->cbeginValueOn(); it; ++it) {
-            const Coord c = it.getCoord();
-            if (c.x() < 0 || c.y() < 0 || c.z() < 0 || c.x() >= cells[0] || c.y() >= cells[1] || c.z() >= cells[2])
-                formatError(path, "grid '" + name + "' has active voxels outside level 0's cells");
-            const std::size_t cell =
-                (std::size_t(c.z()) * std::size_t(cells[1]) + std::size_t(c.y())) * std::size_t(cells[0]) + std::size_t(c.x());
-            sums->values[(cell * kBins + std::size_t(face)) * kValues + std::size_t(value)] = uint64_t(*it);
-        }
-    }
-    volume.surfaceBins = std::move(sums);
+openvdb::Int64Grid::Ptr readPlacedInt64Grid(OpenedFile& f, const std::string& name, const GridSpec& g,
+                                            const std::string& path) {
+    if (!f.file->hasGrid(name)) formatError(path, "has no grid '" + name + "'");
+    const openvdb::GridBase::Ptr base = readGridChecked(f, name, path);
+    auto grid = openvdb::gridPtrCast<openvdb::Int64Grid>(base);
+    if (!grid) formatError(path, "grid '" + name + "' has type " + base->valueType() + ", expected int64");
+    if (!placedAt(grid->transform(), g.origin, g.spacing))
+        formatError(path, "grid '" + name + "' has a transform that does not match its level's origin and spacing");
+    grid->tree().voxelizeActiveTiles();
+    return grid;
 }
 
+/// The direct-light mode and light list (files without them: baked).
 void readDirectLights(OpenedFile& f, Volume& volume, const std::string& path) {
     const openvdb::MetaMap& meta = *f.meta;
     const auto mode = meta.getMetadata<openvdb::StringMetadata>(kPrefix + "direct");

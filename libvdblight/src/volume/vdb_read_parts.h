@@ -5,7 +5,7 @@
 // size and content hash; vdb_read_grids.cpp checks and copies one level's grids;
 // vdb_read.cpp reads complete volumes and lists a file's grids (`vdblight info`);
 // vdb_read_delayed.cpp maps a volume for delayed loading (vdb_stream.h); vdb_read_tiles.cpp
-// reads the tiles of a split bake (tiles.h).
+// reads the tiles of a split bake (tiles.h); vdb_surface_bins.cpp a probe stage's surface bins.
 #pragma once
 
 #include <cstdint>
@@ -91,8 +91,10 @@ std::vector<float> readSparseScalar(OpenedFile& f, const std::string& name, cons
                                     const std::string& path);
 /// The direct-light mode and light list (docs/format.md, "Direct light").
 void readDirectLights(OpenedFile& f, Volume& volume, const std::string& path);
-/// A probe stage volume's surface bins (SurfaceBinSums), if the file has them (vdb_write.cpp).
-void readSurfaceBins(OpenedFile& f, Volume& volume, const std::string& path);
+/// Int64Grid `name` of the file, placed on `g`'s nodes, its active tiles voxelized; FormatError
+/// naming the file if it is missing, of another type or placed elsewhere.
+openvdb::Int64Grid::Ptr readPlacedInt64Grid(OpenedFile& f, const std::string& name, const GridSpec& g,
+                                            const std::string& path);
 /// readDirectLights plus level 0's visibility channels.
 void readDirect(OpenedFile& f, Volume& volume, const std::string& path);
 /// Level `level`'s depth moments.

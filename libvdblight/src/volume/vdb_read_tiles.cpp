@@ -2,6 +2,7 @@
 // tile's nodes) and photon tiles (128-bit fixed-point sums, photon_sums.h).
 #include "tile_io.h"
 #include "vdb_read_parts.h"
+#include "vdb_surface_bins.h"
 #include "vdblight/irradiance_vectors.h"
 #include "vdblight/photon_sums.h"
 #include "vdblight/tiles.h"
@@ -39,13 +40,7 @@ void readPhotonTile(OpenedFile& f, TileFile& t, const std::string& path) {
         const int value = w / 2, d = value / 9, component = value % 9;
         const bool high = w % 2 == 0;
         const std::string name = photonSumGridName(value, high);
-        if (!f.file->hasGrid(name)) formatError(path, "has no grid '" + name + "'");
-        const openvdb::GridBase::Ptr base = readGridChecked(f, name, path);
-        auto grid = openvdb::gridPtrCast<openvdb::Int64Grid>(base);
-        if (!grid) formatError(path, "grid '" + name + "' has type " + base->valueType() + ", expected int64");
-        if (!placedAt(grid->transform(), g.origin, g.spacing))
-            formatError(path, "grid '" + name + "' has a transform that does not match its level's origin and spacing");
-        grid->tree().voxelizeActiveTiles();
+        const openvdb::Int64Grid::Ptr grid = readPlacedInt64Grid(f, name, g, path);
         const openvdb::CoordBBox box = grid->evalActiveVoxelBoundingBox();
         if (grid->activeVoxelCount() != g.nodeCount() || box.min() != Coord(0, 0, 0) ||
             box.max() != Coord(g.nx - 1, g.ny - 1, g.nz - 1))

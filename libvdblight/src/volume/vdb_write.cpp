@@ -20,6 +20,7 @@
 #include "vdblight/photon_sums.h"
 #include "vdblight/tiles.h"
 #include "vdb_conventions.h"
+#include "vdb_surface_bins.h"
 #include "content_hash.h"
 
 namespace vdblight {
@@ -225,33 +226,6 @@ void checkWritable(const Volume& volume, const WriteOptions& options, bool tile)
         for (std::size_t l = 0; l + 1 < volume.levels.size(); ++l)
             if (!names.insert(maskNameFor(int(l))).second)
                 throw ValueError("grid name '" + maskNameFor(int(l)) + "' would appear twice");
-}
-
-/// A probe stage volume's surface bins (SurfaceBinSums): one Int64Grid per value, active at the
-/// cells whose bin has samples (the bits of the unsigned sums as int64).
-void appendSurfaceBinGrids(const SurfaceBinSums& sums, const GridSpec& g, openvdb::GridCPtrVec& grids) {
-    const int cells[3] = {std::max(1, g.nx - 1), std::max(1, g.ny - 1), std::max(1, g.nz - 1)};
-    constexpr int kValues = SurfaceBinSums::kValuesPerBin, kBins = SurfaceBinSums::kBinsPerCell;
-    const std::size_t cellCount = std::size_t(cells[0]) * std::size_t(cells[1]) * std::size_t(cells[2]);
-    if (sums.values.size() != cellCount * kBins * kValues) throw ValueError("the surface bins do not fit the volume's grid");
-    for (int v = 0; v < kBins * kValues; ++v) {
-        const int face = v / kValues, value = v % kValues;
-        openvdb::Int64Grid::Ptr grid = openvdb::Int64Grid::create(0);
-        auto acc = grid->getAccessor();
-        std::size_t cell = 0;
-        for (int k = 0; k < cells[2]; ++k)
-            for (int j = 0; j < cells[1]; ++j)
-                for (int i = 0; i < cells[0]; ++i, ++cell) {
-                    const uint64_t* bin = sums.values.data() + (cell * kBins + std::size_t(face)) * kValues;
-                    if (bin[3] == 0) continue;  // no samples
-                    acc.setValue(Coord(i, j, k), int64_t(bin[value]));
-                }
-        grid->setName(surfaceBinGridName(v));
-        grid->setTransform(levelTransform(g));
-        grid->setGridClass(openvdb::GRID_UNKNOWN);
-        if (v == 0) grid->insertMeta(kPrefix + kSurfaceBinUnitKey, openvdb::DoubleMetadata(sums.unit));
-        grids.push_back(grid);
-    }
 }
 
 openvdb::GridCPtrVec buildGrids(const Volume& volume, const WriteOptions& options, bool tile) {
