@@ -260,6 +260,7 @@ TrySpec defaultTry() {
     t.passes = *r.probePasses;
     t.depth = *r.depthMoments;
     t.basis = r.basis;
+    t.surfaceCache = r.probeCache == "surface";
     return t;
 }
 

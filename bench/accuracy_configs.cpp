@@ -14,18 +14,20 @@ std::vector<Config> configurations() {
     // What `vdblight bake SCENE -o OUT` does with no other option: the library's own resolution
     // of an empty request (bake_request.cpp, --quality default), so that this row cannot drift
     // from it: --direct occlusion (baked in a scene without lights), about 16384 nodes in the
-    // scene box (node_budget.h), 1024 rays of full paths + one probe-to-probe pass, depth moments
-    // from the gather's own first hits and depth-weighted lookups, SH order 4 stored.
+    // scene box (node_budget.h), 1024 rays of full paths + one probe-to-probe pass that reads the
+    // surface probe cache, depth moments from the gather's own first hits and depth-weighted
+    // lookups, SH order 4 stored.
     // --quick: 1/8 of the nodes, 1/16 of the rays.
     const TrySpec def = defaultTry();
     v.push_back({"default", "vdblight bake SCENE -o OUT (" + describeTry(def) + ", --direct occlusion)",
                  [def](const Ctx& c) { return tryBake(c, def); }, true});
-    // The default with --probe-cache surface: the probe pass reads irradiance samples taken at
-    // the surfaces by pass 0's own paths instead of the nodes (bake/surface_bins.h).
-    TrySpec surface = def;
-    surface.surfaceCache = true;
-    v.push_back({"default_surface_cache", "the default bake with --probe-cache surface",
-                 [surface](const Ctx& c) { return tryBake(c, surface); }, true});
+    // The default with --probe-cache nodes (the default before issue 15's twelfth session): the
+    // probe pass reads the nodes' reflected light around a path's first hit, not the surface
+    // bins (bake/surface_bins.h).
+    TrySpec nodes = def;
+    nodes.surfaceCache = false;
+    v.push_back({"default_node_cache", "the default bake with --probe-cache nodes (the default before)",
+                 [nodes](const Ctx& c) { return tryBake(c, nodes); }, true});
     // The default with the light visibility interpolated trilinearly (as before issue 15 item 2).
     v.push_back({"default_vis_trilinear", "the default bake, light visibility looked up trilinearly (not depth-weighted)",
                  [def](const Ctx& c) { return tryBake(c, def, &fromVolumeVisibilityTrilinear); }});

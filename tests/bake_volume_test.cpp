@@ -193,6 +193,30 @@ TEST(BakeVolume, TheDefaultBasisIsShFourOnlyForThePointGather) {
     EXPECT_EQ(&checkBakeRequest(r), &checkBakeRequest(BakeRequest{}));
 }
 
+// The probe pass reads the surface bins by default where the bake runs exactly one probe pass
+// in the point gather (the presets'); elsewhere the nodes, and an explicit choice wins.
+TEST(BakeVolume, TheDefaultProbeCacheIsTheSurfaceBinsWithOneProbePass) {
+    const auto cacheOf = [](void (*fill)(BakeRequest&)) {
+        BakeRequest r;
+        fill(r);
+        return resolveBakeRequest(r).probeCache;
+    };
+    EXPECT_EQ(cacheOf([](BakeRequest&) {}), "surface");
+    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.quality = "high"; }), "surface");
+    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.basis = "sh2"; r.rays = 64; }), "surface");
+    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.quality = "preview"; }), "nodes");  // no probe pass
+    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.probePasses = 2; }), "nodes");
+    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.targetError = 0.05; }), "nodes");  // the adaptive pass
+    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.method = "photons"; }), "nodes");
+    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.probeCache = "nodes"; }), "nodes");
+    BakeRequest r;
+    EXPECT_NO_THROW(checkBakeRequest(r));
+    r.quality = "preview";
+    EXPECT_NO_THROW(checkBakeRequest(r));
+    r.probeCache = "surface";  // asked for, without a probe pass
+    EXPECT_THROW(checkBakeRequest(r), ValueError);
+}
+
 // Photon volumes take the default's grid (on 16 nodes their interpolation dominated the error,
 // issue 15 item 5); preview and an explicit grid keep theirs.
 TEST(BakeVolume, PhotonsTakeTheDefaultGridUnlessTold) {

@@ -165,3 +165,87 @@ TEST(SurfaceBins, AReadDoesNotTakeLightFromBehindAThinWall) {
     ASSERT_TRUE(bins.irradiance({-0.05f, 0.001f, 0.0f}, up, e, rays));
     EXPECT_GT(e.x, 2.0f);
 }
+
+// The bins are sparse: only cells where samples land hold bins. In the furnace box the samples
+// lie on the walls, which the grid's outermost cells hold (points outside the node box go to
+// the nearest cell), so every cell held is on the grid's shell and the inside holds nothing.
+// Their sums survive a round trip through a stage volume's SurfaceBinSums exactly.
+TEST(SurfaceBins, HoldOnlyTheCellsWhereSamplesLand) {
+    const Scene box = test::makeFurnaceBox({-1, -1, -1}, {1, 1, 1}, kLe, {0.5f, 0.5f, 0.5f});
+    const Tracer tracer(box);
+    const RadianceEstimator estimator(box, tracer);
+    GridSpec g;
+    g.origin = Vec3d(-0.9375, -0.9375, -0.9375);
+    g.spacing = 0.125;
+    g.nx = g.ny = g.nz = 16;
+    bake_detail::SurfaceBins bins(tracer, g, bake_detail::radianceScale(box, g.spacing));
+    RayCount count;
+    for (std::size_t n = 0; n < g.nodeCount(); n += 7) {
+        detail::NodeSampler sampler(estimator, Vec3f(g.node(n)), 7, uint64_t(n), 64);
+        sampler.recordSurface(&bins);
+        sampler.addSamples(0, 64, count);
+    }
+    const std::array<int, 3> cells = SurfaceBinSums::cells(g);
+    const SurfaceBinSums sums = bins.sums();
+    ASSERT_NO_THROW(sums.validate(cells));
+    const std::size_t shell = 15 * 15 * 15 - 13 * 13 * 13;
+    std::printf("  %zu of %llu cells hold bins (shell %zu)\n", bins.cellsHeld(),
+                (unsigned long long)SurfaceBinSums::cellCount(cells), shell);
+    EXPECT_EQ(bins.cellsHeld(), sums.cellIndices.size());
+    EXPECT_GT(bins.cellsHeld(), shell / 2);
+    for (const uint64_t index : sums.cellIndices) {
+        const std::array<int, 3> c = SurfaceBinSums::cellCoord(cells, index);
+        const bool onShell = c[0] == 0 || c[1] == 0 || c[2] == 0 || c[0] == 14 || c[1] == 14 || c[2] == 14;
+        EXPECT_TRUE(onShell) << "cell " << c[0] << ' ' << c[1] << ' ' << c[2] << " holds bins";
+        EXPECT_EQ(SurfaceBinSums::cellIndex(cells, c[0], c[1], c[2]), index);
+    }
+    const bake_detail::SurfaceBins again(tracer, g, sums);
+    const SurfaceBinSums back = again.sums();
+    EXPECT_EQ(back.unit, sums.unit);
+    EXPECT_EQ(back.cellIndices, sums.cellIndices);
+    EXPECT_EQ(back.values, sums.values);
+}
+
+namespace {
+/// Sums over cells `indices` of a grid of 4^3 cells, each value of cell c equal to c + base.
+SurfaceBinSums someSums(const std::vector<uint64_t>& indices, uint64_t base, double unit = 0.5) {
+    SurfaceBinSums s;
+    s.unit = unit;
+    s.cellIndices = indices;
+    for (const uint64_t c : indices) s.values.insert(s.values.end(), SurfaceBinSums::kValuesPerCell, c + base);
+    return s;
+}
+}  // namespace
+
+// The merge of stage-0 tiles adds their sparse sums: the union of their cells, a cell in both
+// with the sum of its values, in either order.
+TEST(SurfaceBinSums, AddTheUnionOfTheirCellsExactly) {
+    const SurfaceBinSums a = someSums({1, 5, 9}, 100), b = someSums({0, 5, 10, 63}, 1000);
+    SurfaceBinSums ab = a, ba = b;
+    ab.add(b);
+    ba.add(a);
+    EXPECT_EQ(ab.cellIndices, (std::vector<uint64_t>{0, 1, 5, 9, 10, 63}));
+    EXPECT_EQ(ab.cellIndices, ba.cellIndices);
+    EXPECT_EQ(ab.values, ba.values);
+    ASSERT_NO_THROW(ab.validate({4, 4, 4}));
+    const auto valueOf = [&](std::size_t listed) { return ab.values[listed * SurfaceBinSums::kValuesPerCell + 6]; };
+    EXPECT_EQ(valueOf(0), 1000u);                  // cell 0: b only
+    EXPECT_EQ(valueOf(1), 101u);                   // cell 1: a only
+    EXPECT_EQ(valueOf(2), 105u + 1005u);           // cell 5: both
+    EXPECT_EQ(valueOf(5), 1063u);                  // cell 63: b only
+    SurfaceBinSums empty;
+    empty.add(a);
+    EXPECT_EQ(empty.values, a.values);
+    EXPECT_THROW(ab.add(someSums({2}, 0, 0.25)), ValueError) << "different units";
+}
+
+TEST(SurfaceBinSums, RefuseCellsThatDoNotFitTheGrid) {
+    EXPECT_NO_THROW(someSums({0, 63}, 0).validate({4, 4, 4}));
+    EXPECT_THROW(someSums({0, 64}, 0).validate({4, 4, 4}), ValueError) << "outside";
+    EXPECT_THROW(someSums({5, 3}, 0).validate({4, 4, 4}), ValueError) << "not ascending";
+    EXPECT_THROW(someSums({5, 5}, 0).validate({4, 4, 4}), ValueError) << "twice";
+    SurfaceBinSums shortValues = someSums({1, 2}, 0);
+    shortValues.values.pop_back();
+    EXPECT_THROW(shortValues.validate({4, 4, 4}), ValueError);
+    EXPECT_THROW(someSums({1}, 0, 0.0).validate({4, 4, 4}), ValueError) << "unit";
+}

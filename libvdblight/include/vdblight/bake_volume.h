@@ -70,7 +70,8 @@ struct BakeRequest {
     std::optional<double> targetError;     ///< error-targeted gather (bake_adaptive.h)
     std::optional<uint32_t> minRays, maxRays;
     std::optional<int> probePasses;        ///< probe-to-probe passes (GatherOptions)
-    std::string probeCache;                ///< nodes (default) | surface (GatherOptions::surfaceProbeCache)
+    std::string probeCache;                ///< nodes | surface (GatherOptions::surfaceProbeCache); unset:
+                                           ///< surface with exactly one probe pass, nodes otherwise
     std::optional<double> invalidateBackface;  ///< point gather with back-face invalidation
     std::string domain;                    ///< antialiased: all | interior (default)
     std::string fit;                       ///< antialiased: projection (default) | least-squares

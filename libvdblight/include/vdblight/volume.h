@@ -19,6 +19,7 @@
 #include "vdblight/depth_moments.h"
 #include "vdblight/level_topology.h"
 #include "vdblight/math.h"
+#include "vdblight/surface_bin_sums.h"
 
 namespace vdblight {
 
@@ -59,34 +60,6 @@ struct VolumeLevel : LevelTopology {
     const float* nodeData(std::size_t node, int channels) const { return data.data() + held(node) * channels * 3; }
     bool hasDepth() const { return !depth.empty(); }
     const float* nodeDepth(std::size_t node) const { return depth.data() + held(node) * depth::kFloatsPerNode; }
-};
-
-/// `bake --probe-cache surface`'s bins (bake/surface_bins.h) as exact integer sums, which a
-/// probe stage volume carries from stage 0 through the merge to stage 1 (tiles.h, "Staged
-/// bakes"): integers add exactly in any order, so the merge of the tiles' sums is the whole
-/// bake's. Per cell of the node grid (cell (i, j, k) spans nodes i..i+1, ...; x fastest) six
-/// bins (the normal's signed axis), per bin kValuesPerBin values: the irradiance sums r, g, b in
-/// units of `unit`, the sample count, the position sums x, y, z (SurfaceBins' fixed point).
-struct SurfaceBinSums {
-    static constexpr int kValuesPerBin = 7;
-    static constexpr int kBinsPerCell = 6;
-    double unit = 0;
-    std::vector<uint64_t> values;
-
-    /// The cells of `grid` along each axis (at least one).
-    static std::array<int, 3> cells(const GridSpec& grid) {
-        return {std::max(1, grid.nx - 1), std::max(1, grid.ny - 1), std::max(1, grid.nz - 1)};
-    }
-    /// The bins of all cells.
-    static std::size_t binCount(const std::array<int, 3>& cells) {
-        return std::size_t(cells[0]) * std::size_t(cells[1]) * std::size_t(cells[2]) * kBinsPerCell;
-    }
-    /// The bin `face` of cell (i, j, k), which must lie inside `cells`; its values start at
-    /// kValuesPerBin times this.
-    static std::size_t binIndex(const std::array<int, 3>& cells, int i, int j, int k, int face) {
-        return ((std::size_t(k) * std::size_t(cells[1]) + std::size_t(j)) * std::size_t(cells[0]) + std::size_t(i)) *
-                   kBinsPerCell + std::size_t(face);
-    }
 };
 
 struct Volume {

@@ -168,6 +168,9 @@ BakeRequest resolveBakeRequest(const BakeRequest& given) {
     if (!r.rays) r.rays = presetApplies && !r.targetError ? preset.rays : kPlainRays;
     if (!r.photons) r.photons = preset.photons;
     if (!r.depthMoments) r.depthMoments = presetApplies && preset.depthMoments;
+    // The probe pass's cache: the surface bins where the bake runs exactly one probe pass (the
+    // presets' point gather), the nodes otherwise (docs/methods.md, "The surface probe cache").
+    if (r.probeCache.empty()) r.probeCache = *r.probePasses == 1 && selectPassName(r) == "gather" ? "surface" : "nodes";
     if (!r.refine) r.refine = 3;
     if (!r.levels) r.levels = 3;
     if (!r.refineDistance) r.refineDistance = 0.0;

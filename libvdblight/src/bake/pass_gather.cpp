@@ -39,8 +39,9 @@ std::vector<PassOption> GatherPass::options() const {
             wordOption("probe-cache",
                        "what the probe pass reads at a path's first hit: nodes = the nodes' reflected light around "
                        "it (DDGI-style), surface = irradiance samples that the first pass's own paths took at the "
-                       "surfaces (less bias near walls and openings; every tile of a staged bake holds the whole grid's bins; docs/methods.md)",
-                       "nodes", {"nodes", "surface"}, &BakeRequest::probeCache,
+                       "surfaces (less bias near walls and openings; docs/methods.md). Default: surface with exactly "
+                       "one probe pass (the presets'), nodes otherwise",
+                       "surface", {"nodes", "surface"}, &BakeRequest::probeCache,
                        "--probe-cache works with --method gather --sampling point only"),
             numberOption("invalidate-backface",
                          "nodes whose rays hit back-faces more than this fraction (0..1) are replaced by dilating "
@@ -60,8 +61,9 @@ void GatherPass::validate(const BakeRequest& request) const {
 
 std::size_t GatherPass::bytesPerNode(const BakeRequest& r) const {
     // Float values plus OpenVDB's copy while writing (and, for sh:N, the probe passes' SH order-2
-    // cache), and --probe-cache surface's bins (about one cell per node).
-    const std::size_t bins = r.probeCache == "surface" ? SurfaceBins::kBytesPerCell : 0;
+    // cache), and --probe-cache surface's bins (about one cell per node: a pointer each, and at
+    // most the bins themselves; they are allocated only where samples land, on surfaces).
+    const std::size_t bins = r.probeCache == "surface" ? SurfaceBins::kBytesPerGridCell + SurfaceBins::kBytesPerCell : 0;
     if (!isSh2(r.basis)) return (2 * makeBasis(r.basis)->floatsPerNode() + sh::kCoeffs * 3) * sizeof(float) + bins;
     return 2 * sh::kCoeffs * 3 * sizeof(float) + bins;
 }

@@ -25,46 +25,72 @@ constexpr double kPosShift = 1.0;
 
 SurfaceBins::SurfaceBins(const Tracer& tracer, const GridSpec& grid, double radianceScale)
     : grid_(grid), tracer_(tracer), cells_(SurfaceBinSums::cells(grid)), unit_(radianceScale / kStepsPerScale) {
-    size_ = SurfaceBinSums::binCount(cells_);
-    bins_.reset(new Bin[size_]);
-    for (std::size_t b = 0; b < size_; ++b) {
-        for (auto& s : bins_[b].sum) s.store(0, std::memory_order_relaxed);
-        for (auto& s : bins_[b].pos) s.store(0, std::memory_order_relaxed);
-        bins_[b].count.store(0, std::memory_order_relaxed);
-    }
+    cellCount_ = std::size_t(SurfaceBinSums::cellCount(cells_));
+    cellPtrs_.reset(new std::atomic<Cell*>[cellCount_]);
+    for (std::size_t c = 0; c < cellCount_; ++c) cellPtrs_[c].store(nullptr, std::memory_order_relaxed);
 }
 
 SurfaceBins::SurfaceBins(const Tracer& tracer, const GridSpec& grid, const SurfaceBinSums& sums)
     : SurfaceBins(tracer, grid, 1.0) {
-    if (sums.values.size() != size_ * SurfaceBinSums::kValuesPerBin || !(sums.unit > 0) || !std::isfinite(sums.unit))
-        throw ValueError("the stage input's surface bins do not fit this grid");
+    sums.validate(cells_);
     unit_ = sums.unit;
     const uint64_t* v = sums.values.data();
-    for (std::size_t b = 0; b < size_; ++b, v += SurfaceBinSums::kValuesPerBin) {
-        for (int ch = 0; ch < 3; ++ch) bins_[b].sum[ch].store(v[ch], std::memory_order_relaxed);
-        bins_[b].count.store(v[3], std::memory_order_relaxed);
-        for (int a = 0; a < 3; ++a) bins_[b].pos[a].store(v[4 + a], std::memory_order_relaxed);
+    for (const uint64_t index : sums.cellIndices) {
+        Cell& cell = cellForAdd(std::size_t(index));
+        for (Bin& bin : cell) {
+            for (int ch = 0; ch < 3; ++ch) bin.sum[ch].store(v[ch], std::memory_order_relaxed);
+            bin.count.store(v[3], std::memory_order_relaxed);
+            for (int a = 0; a < 3; ++a) bin.pos[a].store(v[4 + a], std::memory_order_relaxed);
+            v += SurfaceBinSums::kValuesPerBin;
+        }
     }
+}
+
+SurfaceBins::~SurfaceBins() {
+    for (std::size_t c = 0; c < cellCount_; ++c) delete cellPtrs_[c].load(std::memory_order_relaxed);
 }
 
 SurfaceBinSums SurfaceBins::sums() const {
     SurfaceBinSums s;
     s.unit = unit_;
-    s.values.resize(size_ * SurfaceBinSums::kValuesPerBin);
-    uint64_t* v = s.values.data();
-    for (std::size_t b = 0; b < size_; ++b, v += SurfaceBinSums::kValuesPerBin) {
-        for (int ch = 0; ch < 3; ++ch) v[ch] = bins_[b].sum[ch].load(std::memory_order_relaxed);
-        v[3] = bins_[b].count.load(std::memory_order_relaxed);
-        for (int a = 0; a < 3; ++a) v[4 + a] = bins_[b].pos[a].load(std::memory_order_relaxed);
+    s.cellIndices.reserve(cellsHeld());
+    s.values.reserve(cellsHeld() * SurfaceBinSums::kValuesPerCell);
+    for (std::size_t c = 0; c < cellCount_; ++c) {  // ascending: the sums' order
+        const Cell* cell = cellPtrs_[c].load(std::memory_order_acquire);
+        if (!cell) continue;
+        s.cellIndices.push_back(c);
+        for (const Bin& bin : *cell) {
+            for (int ch = 0; ch < 3; ++ch) s.values.push_back(bin.sum[ch].load(std::memory_order_relaxed));
+            s.values.push_back(bin.count.load(std::memory_order_relaxed));
+            for (int a = 0; a < 3; ++a) s.values.push_back(bin.pos[a].load(std::memory_order_relaxed));
+        }
     }
     return s;
 }
 
-std::size_t SurfaceBins::binIndex(int i, int j, int k, int face) const {
+std::size_t SurfaceBins::cellsHeld() const {
+    std::size_t held = 0;
+    for (std::size_t c = 0; c < cellCount_; ++c) held += cellPtrs_[c].load(std::memory_order_relaxed) != nullptr;
+    return held;
+}
+
+std::size_t SurfaceBins::cellIndex(int i, int j, int k) const {
     i = std::clamp(i, 0, cells_[0] - 1);
     j = std::clamp(j, 0, cells_[1] - 1);
     k = std::clamp(k, 0, cells_[2] - 1);
-    return SurfaceBinSums::binIndex(cells_, i, j, k, face);
+    return std::size_t(SurfaceBinSums::cellIndex(cells_, i, j, k));
+}
+
+SurfaceBins::Cell& SurfaceBins::cellForAdd(std::size_t index) {
+    std::atomic<Cell*>& ptr = cellPtrs_[index];
+    Cell* cell = ptr.load(std::memory_order_acquire);
+    if (cell) return *cell;
+    // First sample here: allocate; if another thread won the race, use its cell. Which thread
+    // allocates does not change the sums (integer additions).
+    auto fresh = std::make_unique<Cell>();
+    if (ptr.compare_exchange_strong(cell, fresh.get(), std::memory_order_acq_rel, std::memory_order_acquire))
+        return *fresh.release();
+    return *cell;
 }
 
 void SurfaceBins::add(const Vec3f& p, const Vec3f& n, const Rgb& irradiance) {
@@ -73,7 +99,7 @@ void SurfaceBins::add(const Vec3f& p, const Vec3f& n, const Rgb& irradiance) {
         const double u = std::floor((double(p[a]) - grid_.origin[a]) / grid_.spacing);
         c[a] = int(std::clamp(u, -1.0, 1e9));
     }
-    Bin& bin = bins_[binIndex(c[0], c[1], c[2], faceOf(n))];
+    Bin& bin = cellForAdd(cellIndex(c[0], c[1], c[2]))[std::size_t(faceOf(n))];
     for (int ch = 0; ch < 3; ++ch) {
         const double steps = double(irradiance[ch]) / unit_;
         // !(x > 0) also takes NaN: radiance is never negative.
@@ -89,14 +115,18 @@ void SurfaceBins::add(const Vec3f& p, const Vec3f& n, const Rgb& irradiance) {
 
 uint64_t SurfaceBins::samples() const {
     uint64_t total = 0;
-    for (std::size_t b = 0; b < size_; ++b) total += bins_[b].count.load(std::memory_order_relaxed);
+    for (std::size_t c = 0; c < cellCount_; ++c)
+        if (const Cell* cell = cellPtrs_[c].load(std::memory_order_acquire))
+            for (const Bin& bin : *cell) total += bin.count.load(std::memory_order_relaxed);
     return total;
 }
 
 Rgb SurfaceBins::meanIrradiance() const {
     double sum[3] = {0, 0, 0};
-    for (std::size_t b = 0; b < size_; ++b)
-        for (int ch = 0; ch < 3; ++ch) sum[ch] += double(bins_[b].sum[ch].load(std::memory_order_relaxed));
+    for (std::size_t c = 0; c < cellCount_; ++c)
+        if (const Cell* cell = cellPtrs_[c].load(std::memory_order_acquire))
+            for (const Bin& bin : *cell)
+                for (int ch = 0; ch < 3; ++ch) sum[ch] += double(bin.sum[ch].load(std::memory_order_relaxed));
     const double n = double(std::max<uint64_t>(1, samples()));
     return Rgb(float(sum[0] * unit_ / n), float(sum[1] * unit_ / n), float(sum[2] * unit_ / n));
 }
@@ -130,7 +160,9 @@ bool SurfaceBins::irradiance(const Vec3f& p, const Vec3f& n, Rgb& out, RayCount&
             w *= step ? frac[a] : 1.0 - frac[a];
         }
         if (!(w > 0)) continue;
-        const Bin& bin = bins_[binIndex(idx[0], idx[1], idx[2], face)];
+        const Cell* cell = cellPtrs_[cellIndex(idx[0], idx[1], idx[2])].load(std::memory_order_acquire);
+        if (!cell) continue;  // no sample in this cell
+        const Bin& bin = (*cell)[std::size_t(face)];
         const double samples = double(bin.count.load(std::memory_order_relaxed));
         if (samples < 1) continue;
         // The bin's samples' centroid, lifted off the surface a little: a bin whose centroid p

@@ -14,6 +14,10 @@
 // Deterministic for any thread count and order: the sums are integers (fixed point: irradiance
 // in units of radianceScale x 2^-30, each sample clamped to 2^10 radianceScale; positions in
 // 2^-20 of a cell), which add exactly.
+//
+// Sparse: a cell's bins are allocated when its first sample comes. The samples lie on surfaces,
+// so a bake fills a thin shell of its cells, and a stage-0 tile only the cells its own nodes'
+// paths reach: 8 B per cell of the grid plus kBytesPerCell per cell that holds samples.
 #pragma once
 
 #include <array>
@@ -38,31 +42,39 @@ public:
     /// Bins holding `sums` (a stage input's: every tile's stage-0 samples, merged); ValueError
     /// if they do not fit the grid.
     SurfaceBins(const Tracer& tracer, const GridSpec& grid, const SurfaceBinSums& sums);
-    /// The bins' integer sums (a stage-0 tile's, for the merge).
+    ~SurfaceBins() override;
+    SurfaceBins(const SurfaceBins&) = delete;
+    SurfaceBins& operator=(const SurfaceBins&) = delete;
+    /// The bins' integer sums, the cells that hold samples (a stage-0 tile's, for the merge).
     SurfaceBinSums sums() const;
     void add(const Vec3f& p, const Vec3f& n, const Rgb& irradiance) override;
     bool irradiance(const Vec3f& p, const Vec3f& n, Rgb& out, RayCount& rays) const override;
     /// Samples in all bins, and their mean (tests).
     uint64_t samples() const;
     Rgb meanIrradiance() const;
-    /// Bytes held per cell of the grid.
-    static constexpr std::size_t kBytesPerCell =
-        SurfaceBinSums::kBinsPerCell * SurfaceBinSums::kValuesPerBin * sizeof(uint64_t);
+    /// Bytes held per cell that holds samples, and per cell of the grid.
+    static constexpr std::size_t kBytesPerCell = SurfaceBinSums::kValuesPerCell * sizeof(uint64_t);
+    static constexpr std::size_t kBytesPerGridCell = sizeof(void*);
+    /// Cells that hold samples.
+    std::size_t cellsHeld() const;
 
 private:
     struct Bin {
-        std::atomic<uint64_t> sum[3];
-        std::atomic<uint64_t> count;
-        std::atomic<uint64_t> pos[3];  ///< sample positions, fixed point in the grid's cells
+        std::atomic<uint64_t> sum[3]{};
+        std::atomic<uint64_t> count{};
+        std::atomic<uint64_t> pos[3]{};  ///< sample positions, fixed point in the grid's cells
     };
-    std::size_t binIndex(int i, int j, int k, int face) const;  ///< cell coordinates clamped
+    using Cell = std::array<Bin, SurfaceBinSums::kBinsPerCell>;
+    std::size_t cellIndex(int i, int j, int k) const;  ///< cell coordinates clamped
+    Cell& cellForAdd(std::size_t index);               ///< allocated on first use
 
     GridSpec grid_;
     const Tracer& tracer_;
     std::array<int, 3> cells_;
     double unit_;  ///< irradiance per integer step
-    std::unique_ptr<Bin[]> bins_;
-    std::size_t size_ = 0;
+    std::size_t cellCount_ = 0;
+    /// One pointer per cell, null until a sample comes (owned: freed by the destructor).
+    std::unique_ptr<std::atomic<Cell*>[]> cellPtrs_;
 };
 
 /// The brightest radiance a scene's lights give, as the unit of SurfaceBins: emissive

@@ -6,8 +6,8 @@
 // interpolates the coarser level, whose nodes may lie in other tiles). Metadata counts that
 // each tile measured for its own nodes (rays) are summed in tile order.
 //
-// Stage-0 tiles of `--probe-cache surface` also hold the whole grid's bins of their nodes'
-// paths as integer sums (SurfaceBinSums, volume.h), which the merge adds (exact in any order).
+// Stage-0 tiles of `--probe-cache surface` also hold the bins of their nodes' paths as sparse
+// integer sums (SurfaceBinSums, surface_bin_sums.h), which the merge adds (exact in any order).
 //
 // Photon tiles are not nodes but runs of photon batches: each holds the whole grid's exact
 // sums of its batches (photon_sums.h), which the merge adds (integers: exact in any order)
@@ -218,9 +218,9 @@ MergedTiles mergeTiles(const std::vector<std::string>& paths) {
         for (std::size_t t : order) {
             if (t == order[0]) continue;
             const SurfaceBinSums* b = tiles[t].part.surfaceBins.get();
-            if (!b || b->values.size() != sums->values.size() || b->unit != sums->unit)
+            if (!b || b->unit != sums->unit)
                 throw FormatError(quoted(paths[t]) + " and " + quoted(paths[order[0]]) + " differ in their surface bins");
-            for (std::size_t i = 0; i < sums->values.size(); ++i) sums->values[i] += b->values[i];
+            sums->add(*b);
         }
         v.surfaceBins = std::move(sums);
     }

@@ -131,7 +131,7 @@ inline std::string photonSumGridName(int v, bool high) {
     return "tile_photon_sum_" + std::to_string(v) + (high ? "_hi" : "_lo");
 }
 
-/// Probe stage volumes of `--probe-cache surface` (SurfaceBinSums, volume.h): the Int64Grid of
+/// Probe stage volumes of `--probe-cache surface` (SurfaceBinSums, surface_bin_sums.h): the Int64Grid of
 /// value v (0..41: bin face v / 7, value v % 7) of every cell with samples in that bin; the
 /// bins' unit is metadata of grid 0.
 inline std::string surfaceBinGridName(int v) { return "surface_bins_" + std::to_string(v); }

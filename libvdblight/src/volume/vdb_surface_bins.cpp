@@ -1,6 +1,8 @@
 #include "vdb_surface_bins.h"
 
+#include <array>
 #include <cmath>
+#include <map>
 #include <memory>
 
 #include "vdblight/errors.h"
@@ -15,19 +17,17 @@ constexpr int kCountValue = 3;                                  // a bin's sampl
 
 void appendSurfaceBinGrids(const SurfaceBinSums& sums, const GridSpec& g, openvdb::GridCPtrVec& grids) {
     const std::array<int, 3> cells = SurfaceBinSums::cells(g);
-    if (sums.values.size() != SurfaceBinSums::binCount(cells) * kValues)
-        throw ValueError("the surface bins do not fit the volume's grid");
+    sums.validate(cells);
     for (int v = 0; v < kGrids; ++v) {
         const int face = v / kValues, value = v % kValues;
         openvdb::Int64Grid::Ptr grid = openvdb::Int64Grid::create(0);
         auto acc = grid->getAccessor();
-        for (int k = 0; k < cells[2]; ++k)
-            for (int j = 0; j < cells[1]; ++j)
-                for (int i = 0; i < cells[0]; ++i) {
-                    const uint64_t* bin = sums.values.data() + SurfaceBinSums::binIndex(cells, i, j, k, face) * kValues;
-                    if (bin[kCountValue] == 0) continue;  // no samples
-                    acc.setValue(openvdb::Coord(i, j, k), int64_t(bin[value]));
-                }
+        for (std::size_t c = 0; c < sums.cellIndices.size(); ++c) {
+            const uint64_t* bin = sums.values.data() + c * SurfaceBinSums::kValuesPerCell + std::size_t(face) * kValues;
+            if (bin[kCountValue] == 0) continue;  // no samples
+            const std::array<int, 3> ijk = SurfaceBinSums::cellCoord(cells, sums.cellIndices[c]);
+            acc.setValue(openvdb::Coord(ijk[0], ijk[1], ijk[2]), int64_t(bin[value]));
+        }
         grid->setName(surfaceBinGridName(v));
         grid->setTransform(levelTransform(g));
         grid->setGridClass(openvdb::GRID_UNKNOWN);
@@ -41,7 +41,8 @@ void readSurfaceBins(OpenedFile& f, Volume& volume, const std::string& path) {
     const GridSpec& g = volume.levels.at(0).grid;
     const std::array<int, 3> cells = SurfaceBinSums::cells(g);
     auto sums = std::make_shared<SurfaceBinSums>();
-    sums->values.assign(SurfaceBinSums::binCount(cells) * kValues, 0);
+    // Cells in ascending linear order (the sums' order), whatever order the grids iterate in.
+    std::map<uint64_t, std::array<uint64_t, SurfaceBinSums::kValuesPerCell>> byCell;
     for (int v = 0; v < kGrids; ++v) {
         const std::string name = surfaceBinGridName(v);
         const openvdb::Int64Grid::Ptr grid = readPlacedInt64Grid(f, name, g, path);
@@ -51,14 +52,19 @@ void readSurfaceBins(OpenedFile& f, Volume& volume, const std::string& path) {
                 formatError(path, "grid '" + name + "' has no valid surface bin unit");
             sums->unit = unit->value();
         }
-        const int face = v / kValues, value = v % kValues;
         for (auto it = grid->cbeginValueOn(); it; ++it) {
             const openvdb::Coord c = it.getCoord();
             if (c.x() < 0 || c.y() < 0 || c.z() < 0 || c.x() >= cells[0] || c.y() >= cells[1] || c.z() >= cells[2])
                 formatError(path, "grid '" + name + "' has active voxels outside level 0's cells");
-            sums->values[SurfaceBinSums::binIndex(cells, c.x(), c.y(), c.z(), face) * kValues + std::size_t(value)] =
-                uint64_t(*it);
+            auto slot = byCell.try_emplace(SurfaceBinSums::cellIndex(cells, c.x(), c.y(), c.z())).first;
+            slot->second[std::size_t(v)] = uint64_t(*it);  // grid v: bin face v / 7, value v % 7
         }
+    }
+    sums->cellIndices.reserve(byCell.size());
+    sums->values.reserve(byCell.size() * SurfaceBinSums::kValuesPerCell);
+    for (const auto& [index, cellValues] : byCell) {
+        sums->cellIndices.push_back(index);
+        sums->values.insert(sums->values.end(), cellValues.begin(), cellValues.end());
     }
     volume.surfaceBins = std::move(sums);
 }

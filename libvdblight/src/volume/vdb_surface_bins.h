@@ -1,4 +1,4 @@
-// `--probe-cache surface`'s bins in a probe stage file (SurfaceBinSums, volume.h;
+// `--probe-cache surface`'s bins in a probe stage file (SurfaceBinSums, surface_bin_sums.h;
 // docs/format.md): written by vdb_write.cpp's grids, read by the stage and tile readers.
 // Internal to the volume module.
 #pragma once
