@@ -11,356 +11,45 @@
 // the best refined / uniform ratio per budget and basis with a bootstrap range.
 //
 // `--quick` shrinks every workload for a CI smoke run; the figures are then noisy.
+//
+// Its parts (layouts.h): layouts_probe.cpp (layouts, error metric, bakes and floors per
+// basis) and layouts_sweep.cpp (the sweep); this file holds the table at one node budget, the
+// paper's configuration, the lookup speed and main.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <functional>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include <tbb/parallel_for.h>
 
 #include "bench_util.h"
+#include "layouts.h"
 #include "vdblight/bake.h"
-#include "vdblight/bake_bins.h"
 #include "vdblight/bake_levels.h"
-#include "vdblight/bins.h"
-#include "vdblight/bins_lookup.h"
 #include "vdblight/light.h"
-#include "vdblight/errors.h"
 #include "vdblight/query_levels.h"
 #include "vdblight/reference.h"
 #include "vdblight/sampling.h"
 #include "vdblight/scene.h"
 #include "vdblight/sh.h"
-#include "vdblight/solid_cull.h"
 #include "vdblight/trace.h"
-#include "../libvdblight/src/bake/bins_gather.h"  // internal: gatherBinRadiance
 #include "../libvdblight/src/bake/project_incident.h"  // internal: projectIncidentRadiance
 
 #include "support/office_scene.h"
 
 using namespace vdblight;
+using namespace vdblight::bench_layouts;
 
 namespace {
 
 using bench::freeSpace;
 using bench::now;
 
-struct Config {
-    const char* name;
-    LevelLayout layout;
-};
-
-/// A layout for a first-level resolution (throws ValueError if it cannot be placed).
-using LayoutMaker = std::function<LevelLayout(int resolution)>;
-
-LevelLayout makeLayout(const Scene& scene, LayoutKind kind, int resolution, int refine, int levels,
-                       double refineDistanceInH0 = 0.0) {
-    GridPlacement p;
-    p.resolution = resolution;
-    const GridSpec g0 = placeUniformGrid(scene.bounds(), p, 1);
-    LevelsPlacement lp;
-    lp.kind = kind;
-    lp.refine = refine;
-    lp.levels = levels;
-    lp.refineDistance = refineDistanceInH0 * g0.spacing;
-    return placeLevels(g0, scene.positions, scene.indices, lp, 1);
-}
-
-/// The same, then solid culling (solid_cull.h): totalNodes() counts only the kept nodes.
-LevelLayout makeCulledLayout(const Scene& scene, const Tracer& tracer, LayoutKind kind, int resolution, int refine,
-                             int levels) {
-    GridPlacement p;
-    p.resolution = resolution;
-    const GridSpec g0 = placeUniformGrid(scene.bounds(), p, 1);
-    LevelsPlacement lp;
-    lp.kind = kind;
-    lp.refine = refine;
-    lp.levels = levels;
-    lp.keepFinestGeometry = true;
-    LevelLayout layout = placeLevels(g0, scene.positions, scene.indices, lp, 1);
-    cullSolidNodes(layout, tracer);
-    return layout;
-}
-
-/// The layout whose (baked, i.e. kept) node count is closest to `target`, over first-level resolutions.
-LevelLayout closestLayout(const LayoutMaker& make, uint64_t target) {
-    LevelLayout best;
-    double bestGap = 1e300;
-    for (int r = 2; r <= 64; ++r) {
-        LevelLayout l;
-        try {
-            l = make(r);
-        } catch (const ValueError&) {  // too few first-level nodes on a short axis
-            continue;
-        }
-        const double gap = std::abs(std::log(double(l.totalNodes()) / double(target)));
-        if (gap < bestGap) bestGap = gap, best = std::move(l);
-        if (l.totalNodes() > 4 * target) break;
-    }
-    return best;
-}
-
-LevelLayout closestLayout(const Scene& scene, LayoutKind kind, int refine, int levels, uint64_t target) {
-    return closestLayout([&](int r) { return makeLayout(scene, kind, r, refine, levels); }, target);
-}
-
-struct ErrorStats {
-    double rms = 0, max = 0;
-    int count = 0;
-    void add(double e) { rms += e * e, max = std::max(max, e), ++count; }
-    double rmsValue() const { return count ? std::sqrt(rms / count) : 0.0; }
-};
-
-/// Noise-free RMS extrapolated from RMS errors at N and 4N rays per node, assuming the
-/// Monte Carlo part of the squared error falls as 1/N: e_N^2 = b^2 + n^2, e_4N^2 = b^2 + n^2/4.
-double noiseFree(double eN, double e4N) { return std::sqrt(std::max(0.0, (4 * e4N * e4N - eN * eN) / 3)); }
-
-struct LayoutBenchOptions {
-    int firstLevel = 0;   ///< first-level resolution of the bilevel layout that sets the node budget (0 = default)
-    uint32_t rays = 0;    ///< rays per node (0 = default)
-    bool decompose = true;  ///< also bake at 4x rays and project SH at the points (noise / interpolation split)
-    int binsResolution = 0;  ///< R of the low-floor basis bins:R compared beside SH2 (0 = none; main sets the default)
-    std::vector<int> sweep;  ///< first-level resolutions of the node-budget sweep (empty = no sweep)
-    bool sweepOnly = false;  ///< skip the tables at the --first-level budget (same points and reference)
-};
-
-/// A directional basis the layouts are compared in: SH order 2 (bakeShGatherLevels, read by
-/// IrradianceQuery) or Greger bins (bakeBins, read by BinsLookup with blended bins, its
-/// default). The layout, i.e. where the nodes go, does not depend on it.
-struct BasisChoice {
-    std::string name;
-    bool sh = true;
-    bins::BasisSpec spec;  ///< for bins
-    /// Samples per bin for about `rays` rays per node (at least one per bin).
-    uint32_t samplesPerBin(uint32_t rays) const {
-        const uint32_t b = uint32_t(spec.binCount());
-        return std::max<uint32_t>(1, (rays + b - 1) / b);
-    }
-    uint32_t raysPerNode(uint32_t rays) const { return sh ? rays : samplesPerBin(rays) * uint32_t(spec.binCount()); }
-};
-
-BasisChoice shBasis() { return {"sh2", true, {}}; }
-BasisChoice binsBasis(int resolution) {
-    BasisChoice b{"bins:" + std::to_string(resolution), false, bins::parseBasisSpec("bins:" + std::to_string(resolution))};
-    return b;
-}
-
-/// The random free-space points, their reference irradiance and the error metric shared by
-/// every table of one scene (relative error of luminance against max(E_ref, 5 % of the mean)).
-struct Probe {
-    const Scene& scene;
-    const Tracer& tracer;
-    std::vector<ReferencePoint> points;
-    std::vector<ReferenceResult> ref;
-    double meanRef = 0;
-    double relError(std::size_t i, const Rgb& e) const {
-        const double r = luminance(Rgb(ref[i].irradiance));
-        return std::abs(double(luminance(e)) - r) / std::max(r, 0.05 * meanRef);
-    }
-};
-
-/// Which points are "near geometry": in cells that `bilevel` refines.
-std::vector<char> nearPoints(const Probe& probe, const LevelLayout& bilevel) {
-    Volume v;
-    v.basis = BasisDesc::sh2();
-    v.levels = volumeLevels(bilevel.levels);
-    for (VolumeLevel& l : v.levels) l.data.assign(l.storedNodes() * 27, 0.0f);
-    const ShLevelsLookup mask(v, OutsidePolicy::Clamp);
-    std::vector<char> near(probe.points.size());
-    for (std::size_t i = 0; i < near.size(); ++i) near[i] = mask.levelAt(probe.points[i].position) > 0;
-    return near;
-}
-
-/// RMS of the relative error over the near points.
-double rmsNearOf(const Probe& probe, const std::vector<Rgb>& e, const std::vector<char>& near, double* maxNear = nullptr,
-               double* rmsAll = nullptr) {
-    ErrorStats all, n;
-    for (std::size_t i = 0; i < e.size(); ++i) {
-        const double rel = probe.relError(i, e[i]);
-        all.add(rel);
-        if (near[i]) n.add(rel);
-    }
-    if (maxNear) *maxNear = n.max;
-    if (rmsAll) *rmsAll = all.rmsValue();
-    return n.rmsValue();
-}
-
-/// 5 % and 95 % quantiles of the ratio RMS(b) / RMS(a) over the near points, by a bootstrap
-/// (2000 resamples of the near points with replacement, fixed seed): how much of a ratio is
-/// the luck of the 1000 random points (a few points near walls carry most of the RMS).
-std::pair<double, double> bootstrapRatio(const Probe& probe, const std::vector<Rgb>& a, const std::vector<Rgb>& b,
-                                         const std::vector<char>& near) {
-    std::vector<double> ea, eb;
-    for (std::size_t i = 0; i < near.size(); ++i)
-        if (near[i]) ea.push_back(probe.relError(i, a[i])), eb.push_back(probe.relError(i, b[i]));
-    if (ea.empty()) return {0.0, 0.0};
-    Rng rng(77);
-    std::vector<double> ratios(2000);
-    for (double& r : ratios) {
-        double sa = 0, sb = 0;
-        for (std::size_t k = 0; k < ea.size(); ++k) {
-            const std::size_t j = std::min(ea.size() - 1, std::size_t(rng.uniform() * double(ea.size())));
-            sa += ea[j] * ea[j], sb += eb[j] * eb[j];
-        }
-        r = sa > 0 ? std::sqrt(sb / sa) : 0.0;
-    }
-    std::sort(ratios.begin(), ratios.end());
-    return {ratios[100], ratios[1899]};
-}
-
-/// Bakes `layout` in `basis` with about `rays` rays per node and returns E(x, n) at the probe points.
-std::vector<Rgb> bakeAndQuery(const Probe& probe, const LevelLayout& layout, const BasisChoice& basis, uint32_t rays,
-                              int threads, double* seconds) {
-    LevelsBakeStats stats;
-    std::vector<Rgb> e(probe.points.size());
-    if (basis.sh) {
-        GatherOptions o;
-        o.raysPerNode = rays;
-        o.threads = threads;
-        const Volume v = bakeShGatherLevels(probe.scene, probe.tracer, layout, o, nullptr, &stats);
-        const IrradianceQuery q(v);
-        for (std::size_t i = 0; i < e.size(); ++i) e[i] = q.irradiance(probe.points[i].position, probe.points[i].normal);
-    } else {
-        BinsBakeOptions o;
-        o.basis = basis.spec;
-        o.samplesPerBin = basis.samplesPerBin(rays);
-        o.threads = threads;
-        const Volume v = bakeBins(probe.scene, probe.tracer, layout, o, nullptr, &stats);
-        const BinsLookup q(v, OutsidePolicy::Clamp);
-        for (std::size_t i = 0; i < e.size(); ++i) e[i] = q.irradiance(probe.points[i].position, probe.points[i].normal);
-    }
-    if (seconds) *seconds = stats.seconds;
-    return e;
-}
-
-/// E(x, n) of the basis projected at each probe point itself (no spatial interpolation):
-/// what a layout with a node exactly at every query point would return, i.e. the floor of
-/// the basis (truncation / bin discretisation + Monte Carlo noise at this ray count). SH2:
-/// projectIncidentRadiance at x. Bins: the bake's gather and quadrature at x, stored in a
-/// 2 x 2 x 2 volume whose eight nodes all hold those values and read by the same BinsLookup
-/// (blended bins) as a baked volume, so the direction lookup is the real one.
-std::vector<Rgb> projectAtPoints(const Probe& probe, const BasisChoice& basis, uint32_t rays) {
-    const RadianceEstimator estimator(probe.scene, probe.tracer, TransportOptions{});
-    const uint64_t seed = GatherOptions{}.seed;
-    std::vector<Rgb> e(probe.points.size());
-    if (basis.sh) {
-        tbb::parallel_for(std::size_t(0), e.size(), [&](std::size_t i) {
-            Rgbd c[sh::kCoeffs];
-            RayCount count;
-            projectIncidentRadiance(estimator, probe.points[i].position, rays, seed, 1'000'000 + i, c, count);
-            Rgb f[sh::kCoeffs];
-            for (int j = 0; j < sh::kCoeffs; ++j) f[j] = Rgb(c[j]);
-            e[i] = sh::irradiance(f, probe.points[i].normal);
-        });
-        return e;
-    }
-    const int bins = basis.spec.binCount(), R = basis.spec.resolution;
-    const std::vector<float> w = bins::quadratureWeights(basis.spec);
-    const uint32_t samples = basis.samplesPerBin(rays);
-    tbb::parallel_for(std::size_t(0), e.size(), [&](std::size_t i) {
-        std::vector<Rgbd> integral(static_cast<std::size_t>(bins));
-        RayCount count;
-        const Vec3f x = probe.points[i].position;
-        gatherBinRadiance(estimator, x, R, samples, seed, 1'000'000 + i, integral.data(), count);
-        // The quadrature of bakeBins: H_j = sum_i W_ji Lbar_i, in float, summed over i in order.
-        const double invOmega = 1.0 / bins::binSolidAngle(R);
-        std::vector<float> node(std::size_t(bins) * 3, 0.0f);
-        for (int b = 0; b < bins; ++b) {
-            const Rgbd& I = integral[std::size_t(b)];
-            const float l[3] = {float(I.x * invOmega), float(I.y * invOmega), float(I.z * invOmega)};
-            if (l[0] == 0.0f && l[1] == 0.0f && l[2] == 0.0f) continue;
-            for (int j = 0; j < bins; ++j)
-                for (int c = 0; c < 3; ++c) node[std::size_t(j) * 3 + c] += w[std::size_t(j) * bins + b] * l[c];
-        }
-        Volume v;
-        v.basis = bins::basis(basis.spec);
-        v.levels.resize(1);
-        GridSpec& g = v.levels[0].grid;
-        g.spacing = 1e-3;
-        g.origin = Vec3d(x) - Vec3d(0.5e-3, 0.5e-3, 0.5e-3);
-        g.nx = g.ny = g.nz = 2;
-        for (int n = 0; n < 8; ++n) v.levels[0].data.insert(v.levels[0].data.end(), node.begin(), node.end());
-        e[i] = BinsLookup(v, OutsidePolicy::Clamp).irradiance(x, probe.points[i].normal);
-    });
-    return e;
-}
-
-/// Node-budget sweep: for each first-level resolution r, the budget is the node count of the
-/// bilevel K=3 layout on an r-grid (as in the table); uniform and the refined layouts are
-/// matched to it, "near" is re-evaluated for that bilevel, and for each basis the best
-/// refined layout's RMS near geometry is printed against uniform's, with the basis' point
-/// floor (projection at the query points, same near set) for comparison. Same points,
-/// reference and metric as the table.
-void benchSweep(const Probe& probe, const LayoutBenchOptions& lo, uint32_t rays, int threads, bool quick) {
-    const Scene& scene = probe.scene;
-    std::vector<BasisChoice> bases = {shBasis()};
-    if (lo.binsResolution > 0) bases.push_back(binsBasis(lo.binsResolution));
-    std::vector<std::vector<Rgb>> pointE;  // per basis: projection at the points, N rays
-    for (const BasisChoice& b : bases) pointE.push_back(projectAtPoints(probe, b, rays));
-    std::printf("  node-budget sweep (%s, %u rays per node in sh2%s; best of the refined layouts vs uniform, near "
-                "geometry; target <= 0.70x; [5%%-95%%] of the ratio by bootstrap over the near points):\n",
-                scene.name.c_str(), rays,
-                lo.binsResolution > 0
-                    ? (", " + std::to_string(bases[1].raysPerNode(rays)) + " in " + bases[1].name).c_str()
-                    : "");
-    for (const int r : lo.sweep) {
-        LevelLayout bilevel;
-        try {
-            bilevel = makeLayout(scene, LayoutKind::Bilevel, r, 3, 2);
-        } catch (const ValueError& e) {
-            std::printf("    first level %d: skipped (%s)\n", r, e.what());
-            continue;
-        }
-        const uint64_t target = bilevel.totalNodes();
-        std::vector<Config> configs = {{"uniform", closestLayout(scene, LayoutKind::Uniform, 2, 1, target)},
-                                       {"bilevel K=3", bilevel}};
-        if (!quick) {
-            configs.push_back({"bilevel K=2", closestLayout(scene, LayoutKind::Bilevel, 2, 2, target)});
-            configs.push_back({"adaptive K=2 L=3", closestLayout(scene, LayoutKind::Adaptive, 2, 3, target)});
-            configs.push_back({"adaptive K=2 L=3 D", closestLayout([&](int q) {
-                                   return makeLayout(scene, LayoutKind::Adaptive, q, 2, 3, 0.5);
-                               }, target)});
-        }
-        const std::vector<char> near = nearPoints(probe, bilevel);
-        int nearCount = 0;
-        for (const char n : near) nearCount += n;
-        for (std::size_t bi = 0; bi < bases.size(); ++bi) {
-            const BasisChoice& b = bases[bi];
-            std::vector<double> rms;
-            std::vector<std::vector<Rgb>> e;
-            for (const Config& c : configs) {
-                e.push_back(bakeAndQuery(probe, c.layout, b, rays, threads, nullptr));
-                rms.push_back(rmsNearOf(probe, e.back(), near));
-            }
-            std::size_t best = 1;
-            for (std::size_t c = 1; c < configs.size(); ++c)
-                if (rms[c] < rms[best]) best = c;
-            const double floor = rmsNearOf(probe, pointE[bi], near);
-            const std::pair<double, double> ci = bootstrapRatio(probe, e[0], e[best], near);
-            std::printf("    first level %2d, %6llu nodes, %4d near  %-7s uniform %6llu nodes %6.2f%%; best %-18s "
-                        "%6llu nodes %6.2f%% = %.2fx [%.2f-%.2f]  %-7s (point floor %6.2f%% = %.2fx uniform)\n",
-                        r, (unsigned long long)target, nearCount, b.name.c_str(),
-                        (unsigned long long)configs[0].layout.totalNodes(), 100 * rms[0], configs[best].name,
-                        (unsigned long long)configs[best].layout.totalNodes(), 100 * rms[best], rms[best] / rms[0],
-                        ci.first, ci.second, rms[best] <= 0.70 * rms[0] ? "MET" : "NOT met", 100 * floor,
-                        floor / rms[0]);
-            if (configs.size() > 2) {  // every refined layout, not only the best (the best of several is optimistic)
-                std::printf("      %-7s all vs uniform:", b.name.c_str());
-                for (std::size_t c = 1; c < configs.size(); ++c)
-                    std::printf("%s %s (%llu) %.2fx", c > 1 ? "," : "", configs[c].name,
-                                (unsigned long long)configs[c].layout.totalNodes(), rms[c] / rms[0]);
-                std::printf("\n");
-            }
-        }
-    }
-}
-
+/// One scene's tables at the node budget of the bilevel layout on the --first-level grid: every
+/// layout in SH2, then in bins:R if asked, then the sweep if asked (or only the sweep).
 void benchLayouts(const Scene& scene, int threads, bool quick, const LayoutBenchOptions& lo = {}) {
     const Tracer tracer(scene);
     const uint32_t rays = lo.rays ? lo.rays : (quick ? 64 : 256);

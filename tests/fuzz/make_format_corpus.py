@@ -45,8 +45,8 @@ faces = struct.pack("<H", 2) + struct.pack("<8H", 0, 1, 2, 0, 0, 2, 3, 0)
 mesh = chunk(0x4100, chunk(0x4110, verts) + chunk(0x4120, faces))
 out("fuzz_scene_3ds", "quad.3ds", chunk(0x4D4D, chunk(0x3D3D, chunk(0x4000, b"Quad\0" + mesh))))
 
-# The hand-written ASCII FBX of tests/scene_formats_test.cpp (Blender writes binary only).
-with open(os.path.join(ROOT, "tests", "scene_formats_test.cpp")) as f:
+# The hand-written ASCII FBX of tests/scene_formats_handwritten_test.cpp (Blender writes binary only).
+with open(os.path.join(ROOT, "tests", "scene_formats_handwritten_test.cpp")) as f:
     ascii_fbx = re.search(r'R"FBX\((.*?)\)FBX"', f.read(), re.S).group(1)
 out("fuzz_scene_fbx", "quad_ascii.fbx", ascii_fbx)
 out("fuzz_scene_fbx", "regression-mem-ascii-array-count.fbx", ascii_fbx.replace("Vertices: *12", "Vertices: *900000000"))

@@ -1,5 +1,5 @@
 // See assimp_formats.h. The facts about Assimp 5.2.5 this relies on were checked against files
-// written by Blender 3.4 (tests/scene_formats_test.cpp):
+// written by Blender 3.4 (tests/scene_formats_blender_test.cpp):
 //  - FBX: coordinates are left in the file's unit and axes; GlobalSettings (UpAxis, UpAxisSign,
 //    FrontAxis, FrontAxisSign, CoordAxis, CoordAxisSign, UnitScaleFactor in centimetres) is in
 //    the scene metadata. Light colour is Color x Intensity / 100; spot angles are full angles.
