@@ -16,7 +16,9 @@ configs=$(tail -n +2 "$csv" | cut -d, -f2 | awk '!seen[$0]++' | grep -v -e '^ref
 {
   printf 'config'; for s in $scenes; do printf ' %s' "$s"; done; printf '\n'
   for c in $configs; do
-    printf '%s' "$c"
+    # Labels stay readable: a --try spec loses its "try:" prefix and is cut to 32 characters.
+    label="${c#try:}"
+    printf '%s' "${label:0:32}"
     for s in $scenes; do
       v=$(awk -F, -v s="$s" -v c="$c" '$1 == s && $2 == c {printf "%.4f", 100 * $3; found = 1} END {if (!found) printf "NaN"}' "$csv")
       printf ' %s' "$v"
@@ -26,7 +28,7 @@ configs=$(tail -n +2 "$csv" | cut -d, -f2 | awk '!seen[$0]++' | grep -v -e '^ref
 } > "$tmp/bars.dat"
 n=$(echo $scenes | wc -w)
 {
-  echo "set terminal pngcairo size 1000,520 noenhanced"
+  echo "set terminal pngcairo size 1600,760 noenhanced"
   echo "set output '$out/accuracy_rms.png'"
   echo "set style data histograms"
   echo "set style histogram clustered gap 1"
@@ -35,8 +37,9 @@ n=$(echo $scenes | wc -w)
   echo "set yrange [0.5:*]"
   echo "set ylabel 'RMS relative irradiance error (%), log scale'"
   echo "set title 'accuracy against reference (256 bounces) at free-space points'"
-  echo "set xtics rotate by -35 scale 0"
-  echo "set key top left"
+  echo "set xtics rotate by -55 scale 0 font ',9'"
+  echo "set bmargin 14"
+  echo "set key outside top center horizontal"
   echo "set grid ytics"
   printf "plot '%s' using 2:xtic(1) title columnheader(2)" "$tmp/bars.dat"
   for ((i = 3; i <= n + 1; ++i)); do printf ", '' using %d title columnheader(%d)" "$i" "$i"; done
