@@ -128,13 +128,15 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     if (options.probePasses > 0) {
         m.count("probe_passes", options.probePasses)
             .text("probe_bounces",
-                  "passes after the first end gathered paths at their first hit with the previous pass's reflected light "
-                  "(trilinear over the visible nodes in front of the surface; DDGI-style); error_estimate excludes the "
-                  "previous passes' noise");
-        if (bins)
-            m.text("probe_cache",
-                   "surface: the first hit reads bins (node cells x 6 normal axes) of irradiance samples that pass 0's "
-                   "paths took at their first surface vertex, instead of the nodes (docs/methods.md)");
+                  bins ? "the second pass ends gathered paths at their first hit with the surface probe cache "
+                         "(probe_cache); error_estimate excludes the first pass's noise"
+                       : "passes after the first end gathered paths at their first hit with the previous pass's "
+                         "reflected light (trilinear over the visible nodes in front of the surface; DDGI-style); "
+                         "error_estimate excludes the previous passes' noise")
+            .text("probe_cache",
+                  bins ? "surface: the first hit reads bins (node cells x 6 normal axes) of irradiance samples that pass "
+                         "0's paths took at their first surface vertex, instead of the nodes (docs/methods.md)"
+                       : "nodes: the previous pass's reflected light at the nodes around the first hit");
     }
 
     if (stats) {
