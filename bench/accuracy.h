@@ -118,10 +118,12 @@ TrySpec defaultTry();
 /// One line for the report ("~16384 nodes, 1024 rays + 1 probe pass, depth moments, basis sh:4").
 std::string describeTry(const TrySpec& t);
 GridSpec tryGrid(const Scene& s, const TrySpec& t, const Settings& st);
-/// The volume `vdblight bake` makes for the spec (a note says what it did, e.g. no lights).
-Volume tryVolume(const Ctx& c, const TrySpec& t, std::string& note);
+/// The volume `vdblight bake` makes for the spec (a note says what it did, e.g. no lights);
+/// `runtimeLights`, if given, gets the lights a --direct runtime lookup must add (else empty).
+Volume tryVolume(const Ctx& c, const TrySpec& t, std::string& note, std::vector<SceneLight>* runtimeLights = nullptr);
 /// tryVolume, timed, then `answer` (fromVolume: the library's lookup; or another reading of the
-/// same volume, e.g. fromVolumeVisibilityTrilinear).
+/// same volume, e.g. fromVolumeVisibilityTrilinear); for `direct=runtime`, plus the direct light
+/// with shadow rays at each lookup (as directGather).
 Baked tryBake(const Ctx& c, const TrySpec& t, Baked (*answer)(Volume, double, uint64_t) = &fromVolume);
 
 /// The table of methods and modes (accuracy_configs.cpp). Resolutions and budgets are the full

@@ -184,6 +184,26 @@ Baked binsBake(const Ctx& c, int resolution, int binResolution) {
     return fromVolume(std::move(v), bench::now() - t0, st.nodes);
 }
 
+/// What a runtime answer adds to the volume's (indirect) light: every listed light's direct
+/// light with shadow rays at each lookup (what `vdblight query --scene` does, 256 rays per
+/// polygon light).
+void addRuntimeDirect(const Ctx& c, const std::vector<SceneLight>& planned, Baked& b) {
+    auto lights = std::make_shared<std::vector<SceneLight>>(planned);
+    const Scene* scene = &c.scene;
+    const Tracer* tracer = &c.tracer;
+    auto stored = b.irradiance;
+    b.irradiance = [stored, lights, scene, tracer](const Vec3f& x, const Vec3f& n) {
+        uint32_t bits[3];
+        std::memcpy(bits, &x.x, 4);
+        std::memcpy(bits + 1, &x.y, 4);
+        std::memcpy(bits + 2, &x.z, 4);
+        RayCount rays;  // shadow-ray stream from the point: deterministic for any thread order
+        const uint64_t stream = hashCombine(hashCombine(bits[0], bits[1]), bits[2]);
+        return stored(x, n) + runtimeDirectIrradiance(*scene, *tracer, *lights, x, n, 256, stream, rays);
+    };
+    b.note = "+ direct with shadow rays at lookup";
+}
+
 /// Point gather with `bake --direct MODE` (bake_direct.h): runtime answers add every light's
 /// direct light with shadow rays at each lookup (what `vdblight query --scene` does, 256 rays
 /// per polygon light); occlusion volumes answer through IrradianceQuery (exact direct x baked
@@ -204,22 +224,7 @@ Baked directGather(const Ctx& c, int resolution, uint32_t rays, DirectMode mode,
     bakeLightVisibility(c.scene, c.tracer, plan, d, v);
     const double t = bench::now() - t0;
     Baked b = fromVolume(std::move(v), t, grid.nodeCount());
-    if (d.mode == DirectMode::Runtime) {
-        auto lights = std::make_shared<std::vector<SceneLight>>(plan.lights);
-        const Scene* scene = &c.scene;
-        const Tracer* tracer = &c.tracer;
-        auto stored = b.irradiance;
-        b.irradiance = [stored, lights, scene, tracer](const Vec3f& x, const Vec3f& n) {
-            uint32_t bits[3];
-            std::memcpy(bits, &x.x, 4);
-            std::memcpy(bits + 1, &x.y, 4);
-            std::memcpy(bits + 2, &x.z, 4);
-            RayCount rays;  // shadow-ray stream from the point: deterministic for any thread order
-            const uint64_t stream = hashCombine(hashCombine(bits[0], bits[1]), bits[2]);
-            return stored(x, n) + runtimeDirectIrradiance(*scene, *tracer, *lights, x, n, 256, stream, rays);
-        };
-        b.note = "+ direct with shadow rays at lookup";
-    }
+    if (d.mode == DirectMode::Runtime) addRuntimeDirect(c, plan.lights, b);
     return b;
 }
 
@@ -286,7 +291,7 @@ GridSpec tryGrid(const Scene& s, const TrySpec& t, const Settings& st) {
 
 /// The volume a TrySpec bakes (every bake of the command: plan, gather, visibility, depth);
 /// `note` gets the rays per node of error-targeted bakes.
-Volume tryVolume(const Ctx& c, const TrySpec& t, std::string& note) {
+Volume tryVolume(const Ctx& c, const TrySpec& t, std::string& note, std::vector<SceneLight>* runtimeLights) {
     DirectOptions d;
     d.mode = t.direct;
     d.seed = c.seed;
@@ -324,17 +329,21 @@ Volume tryVolume(const Ctx& c, const TrySpec& t, std::string& note) {
         v = bakeShGather(c.scene, c.tracer, grid, g);
     }
     bakeLightVisibility(c.scene, c.tracer, plan, d, v);
+    if (runtimeLights) *runtimeLights = d.mode == DirectMode::Runtime ? plan.lights : std::vector<SceneLight>{};
     return v;
 }
 
 Baked tryBake(const Ctx& c, const TrySpec& t, Baked (*answer)(Volume, double, uint64_t)) {
     const double t0 = bench::now();
     std::string note;
-    Volume v = tryVolume(c, t, note);
+    std::vector<SceneLight> runtimeLights;
+    Volume v = tryVolume(c, t, note, &runtimeLights);
     const double secs = bench::now() - t0;
     const uint64_t nodes = v.levels[0].grid.nodeCount();
     Baked b = answer(std::move(v), secs, nodes);
-    b.note = note;
+    // --direct runtime: the volume holds indirect light only; the lookup adds the direct.
+    if (t.direct == DirectMode::Runtime && !runtimeLights.empty()) addRuntimeDirect(c, runtimeLights, b);
+    b.note = note.empty() ? b.note : note + (b.note.empty() ? "" : ", " + b.note);
     return b;
 }
 

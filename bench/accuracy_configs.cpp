@@ -28,6 +28,13 @@ std::vector<Config> configurations() {
     nodes.surfaceCache = false;
     v.push_back({"default_node_cache", "the default bake with --probe-cache nodes (the default before)",
                  [nodes](const Ctx& c) { return tryBake(c, nodes); }, true});
+    // The default with --direct runtime: the volume holds indirect light only and each lookup
+    // adds every light's direct light with shadow rays (an engine's real-time lights): what the
+    // interpolated visibility of --direct occlusion costs (outdoor: the sun's shadow edges).
+    TrySpec runtime = def;
+    runtime.direct = DirectMode::Runtime;
+    v.push_back({"default_direct_runtime", "the default bake with --direct runtime (direct light with shadow rays at lookup)",
+                 [runtime](const Ctx& c) { return tryBake(c, runtime); }});
     // The default with the light visibility interpolated trilinearly (as before issue 15 item 2).
     v.push_back({"default_vis_trilinear", "the default bake, light visibility looked up trilinearly (not depth-weighted)",
                  [def](const Ctx& c) { return tryBake(c, def, &fromVolumeVisibilityTrilinear); }});
