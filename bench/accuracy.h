@@ -89,7 +89,9 @@ Baked antialiased(const Ctx& c, int resolution, uint32_t rays, NodeFit fit);
 Baked adaptiveLayout(const Ctx& c, int resolution, uint32_t rays, int levels, int refine, bool depth = false);
 Baked targetError(const Ctx& c, int resolution, double target, uint32_t maxRays);
 /// `resolution` 0: the default bake's grid (about 16384 nodes).
-Baked photons(const Ctx& c, int resolution, uint64_t count, int bounces = 0, iv::Blend blend = iv::kDefaultBlend);
+/// depthRays > 0: also depth moments from that many first-hit rays per node (weighted lookup).
+Baked photons(const Ctx& c, int resolution, uint64_t count, int bounces = 0, iv::Blend blend = iv::kDefaultBlend,
+              uint32_t depthRays = 0);
 Baked binsBake(const Ctx& c, int resolution, int binResolution);
 Baked directGather(const Ctx& c, int resolution, uint32_t rays, DirectMode mode, int probePasses = 0);
 

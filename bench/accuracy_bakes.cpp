@@ -147,7 +147,7 @@ Baked targetError(const Ctx& c, int resolution, double target, uint32_t maxRays)
 
 /// `resolution` nodes on the longest axis, or (resolution 0) the default bake's grid of about
 /// 16 384 nodes (as tryGrid's nodes=16384).
-Baked photons(const Ctx& c, int resolution, uint64_t count, int bounces, iv::Blend blend) {
+Baked photons(const Ctx& c, int resolution, uint64_t count, int bounces, iv::Blend blend, uint32_t depthRays) {
     PhotonOptions p;
     if (bounces > 0) p.transport.maxBounces = bounces;
     p.photons = count;
@@ -163,6 +163,13 @@ Baked photons(const Ctx& c, int resolution, uint64_t count, int bounces, iv::Ble
     }
     const double t0 = bench::now();
     Volume v = bakePhotons(c.scene, c.tracer, grid, p);
+    if (depthRays > 0) {  // bake --method photons --depth-moments: first-hit rays from the nodes
+        DepthOptions d;
+        d.raysPerNode = depthRays;
+        d.seed = c.seed;
+        d.threads = c.settings.threads;
+        bakeDepthMoments(c.tracer, v, d);
+    }
     const double t = bench::now() - t0;
     // The library's default lookup reads the quadratic blend; another blend reads through its own.
     std::shared_ptr<VectorGridLookup> other;

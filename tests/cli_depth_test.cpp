@@ -67,7 +67,7 @@ TEST(CliDepth, BadDepthOptionsFailCleanly) {
         // Depth moments are on by default (--quality default), off with preview or --no-depth-moments.
         {"bake --depth-rays 64 --no-depth-moments", "--depth-rays needs --depth-moments"},
         {"bake --depth-rays 64 --quality preview", "--depth-rays needs --depth-moments"},
-        {"bake --depth-moments --method photons", "--depth-moments works with --method gather"},
+        {"bake --depth-moments --method photons --photons 20000 --tiles 2 --tile 0", "does not tile"},
     });
     const std::string plain = dir.file("plain.vdb");
     ASSERT_EQ(runCli("bake -o " + plain + " --resolution 3 --rays 8 --bounces 1 -q --no-depth-moments").status, 0);
@@ -90,4 +90,13 @@ TEST(CliDepth, OnByDefaultOffWithPreviewOrNoDepthMoments) {
     const std::string photons = dir.file("photons.vdb");
     ASSERT_EQ(runCli("bake -o " + photons + " --method photons --photons 20000 --resolution 4 -q").status, 0);
     EXPECT_FALSE(readVolume(photons).hasDepth());
+    // Asked for, the photon volume has them too (full and compact), and query weights by them.
+    for (const std::string form : {"", " --compact"}) {
+        const std::string withDepth = dir.file("photons_depth.vdb");
+        ASSERT_EQ(runCli("bake -o " + withDepth + " --method photons --photons 20000 --resolution 4 -q --depth-moments" + form)
+                      .status,
+                  0);
+        EXPECT_TRUE(readVolume(withDepth).hasDepth()) << form;
+        EXPECT_EQ(runCli("query " + withDepth + " --at 0.2,0.2,0.2 --no-depth-weights").status, 0) << form;
+    }
 }

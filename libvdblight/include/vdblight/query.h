@@ -139,4 +139,9 @@ Rgbd referenceLookup(const Volume& volume, const Vec3d& x, const Vec3d& n);
 /// out again here, weights, renormalises and convolves with the generic SH code.
 Rgbd referenceDepthWeightedLookup(const Volume& volume, const Vec3d& x, const Vec3d& n);
 
+/// The reference lookups' visibility of a node with depth values d (depth::kFloatsPerNode) from
+/// a point at offset o from it, in cells: per axis the face on o's side, Chebyshev's one-sided
+/// bound past mean + bias, the product cubed (depth_moments.h, in double).
+double referenceNodeVisibility(const float* d, const double o[3]);
+
 }  // namespace vdblight

@@ -8,6 +8,12 @@
 // four nodes (one-sided at the box's faces by linear extrapolation of the end nodes), which
 // reproduces linear fields exactly and is C1 across cells.
 //
+// Depth moments (depth_moments.h, `bake --method photons --depth-moments`): where the volume
+// has them, the trilinear weights are multiplied by each corner's visibility from the point,
+// as in the SH lookups (query/depth_weights.h), so that a point behind a thin wall does not
+// read the nodes on the other side. Tricubic interpolation ignores them (its sixty-four taps
+// have no visibility test): depthWeighted() says which applies.
+//
 // It also reads the compact colour + direction form (basis "irradiance_vectors_compact",
 // irradiance_vectors_compact.h): colour and direction are interpolated the same way, then
 // decoded by iv::compactIrradiance.
@@ -28,7 +34,10 @@ public:
                      iv::Blend blend = iv::kDefaultBlend);
     Rgb irradiance(const Vec3f& x, const Vec3f& n) const override;
     Bounds bounds() const override { return grid_.nodeBounds(); }
-    /// Trilinear in double (whatever the Interpolation), snapped onto nodes within 1e-9 cells.
+    void setDepthWeights(bool on) override { depthWeights_ = on && !depth_.empty() && interp_ == Interpolation::Trilinear; }
+    bool depthWeighted() const override { return depthWeights_; }
+    /// Trilinear in double (whatever the Interpolation), snapped onto nodes within 1e-9 cells,
+    /// depth-weighted as irradiance() is.
     void irradianceVectors(const Vec3d& x, float out[54]) const override;
 
     static bool accepts(const Volume& volume);
@@ -47,10 +56,14 @@ private:
     int stride_ = 0;           ///< floats per node
     int perDirection_ = 0;     ///< floats per direction delta (9 full, 6 compact)
     std::vector<float> data_;  ///< the volume's level 0, stride_ floats per node
+    std::vector<float> depth_;  ///< depth::kFloatsPerNode per node, or empty
+    bool depthWeights_ = false;
 };
 
 /// The simple lookup used to test VectorGridLookup: trilinear in double over the volume's
-/// own arrays (full form), then iv::referenceIrradiance.
-Rgbd referenceVectorLookup(const Volume& volume, const Vec3d& x, const Vec3d& n, iv::Blend blend = iv::kDefaultBlend);
+/// own arrays (full form), then iv::referenceIrradiance. With depthWeights and a volume with
+/// depth moments, the corners are weighted by referenceNodeVisibility (query.h).
+Rgbd referenceVectorLookup(const Volume& volume, const Vec3d& x, const Vec3d& n, iv::Blend blend = iv::kDefaultBlend,
+                           bool depthWeights = true);
 
 }  // namespace vdblight

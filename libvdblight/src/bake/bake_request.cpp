@@ -194,8 +194,7 @@ const Pass& checkBakeRequest(const BakeRequest& given) {
     if (given.targetError && given.rays)
         throw ValueError("--target-error and --rays exclude each other (an error target or a fixed budget)");
     if (given.depthMoments.value_or(false) && !pass.takesDepthMoments())
-        throw ValueError("--depth-moments works with --method gather only (the irradiance-vector lookup does not "
-                         "weight by depth yet)");
+        throw ValueError("--depth-moments does not apply to pass " + pass.name());
     if (given.depthRays && !*r.depthMoments) throw ValueError("--depth-rays needs --depth-moments");
     checkTiles(asked, r, pass);
     if (r.probeCache == "surface" && *r.probePasses != 1)  // after the preset's passes (preview: 0)

@@ -165,13 +165,11 @@ PassOption depthMomentsOption() {
                       "also store per-node depth moments, so that lookups do not interpolate across walls "
                       "(docs/methods.md, visibility-aware interpolation). Default: on with --quality default and high "
                       "where the preset applies, off otherwise",
-                      &BakeRequest::depthMoments,
-                      "--depth-moments works with --method gather only (the irradiance-vector lookup does not weight "
-                      "by depth yet)");
+                      &BakeRequest::depthMoments, "--depth-moments does not apply to this pass");
 }
 
 PassOption depthRaysOption() {
-    return numberOption("depth-rays", "--depth-moments: first-hit rays per node", "as many as --rays", 1, double(1u << 20),
+    return numberOption("depth-rays", "--depth-moments: first-hit rays per node", "as many as --rays (256 with --method photons)", 1, double(1u << 20),
                         &BakeRequest::depthRays, "--depth-rays needs --depth-moments");
 }
 

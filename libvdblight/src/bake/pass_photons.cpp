@@ -21,7 +21,6 @@ public:
     void validate(const BakeRequest& request) const override;
     std::size_t bytesPerNode(const BakeRequest& request) const override;
     std::string untileable(const BakeRequest& request) const override;
-    bool takesDepthMoments() const override { return false; }
     Volume run(const BakeContext& context, const BakeRequest& request, const GridSpec& grid,
                BakeReport& report) const override;
     void finish(Volume& volume, WriteOptions& write, const BakeRequest& request) const override;
@@ -41,7 +40,8 @@ std::vector<PassOption> PhotonsPass::options() const {
     return {photons, flagOption("compact",
                                 "write the compact colour + direction form (Pacanowski et al. 4.2; 12 half-float "
                                 "grids) instead of the 18 full grids",
-                                &BakeRequest::compact, "--compact applies to --method photons only")};
+                                &BakeRequest::compact, "--compact applies to --method photons only"),
+            depthMomentsOption(), depthRaysOption()};
 }
 
 void PhotonsPass::validate(const BakeRequest& request) const {
@@ -60,8 +60,11 @@ std::size_t PhotonsPass::bytesPerNode(const BakeRequest& r) const {
     return 54 * (16 + 4 * 4) + (r.tiles ? 54 * 16 : 0);
 }
 
-std::string PhotonsPass::untileable(const BakeRequest&) const {
-    return "";  // a tile traces a run of the photon batches (photon_sums.h, tiles.h)
+std::string PhotonsPass::untileable(const BakeRequest& r) const {
+    // A tile traces a run of the photon batches (photon_sums.h, tiles.h) over every node; its
+    // file holds sums only, so depth moments (per node, not per photon) have no place in it.
+    if (r.depthMoments.value_or(false)) return "--depth-moments with --method photons does not tile (bake it whole)";
+    return "";
 }
 
 Volume PhotonsPass::run(const BakeContext& c, const BakeRequest& r, const GridSpec& grid, BakeReport& report) const {

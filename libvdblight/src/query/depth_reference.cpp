@@ -10,10 +10,7 @@
 
 namespace vdblight {
 
-namespace {
-/// One node's visibility from the query point at offset o (cells): per axis the face on the
-/// side of o, Chebyshev's one-sided bound past mean + bias, the product cubed.
-double nodeVisibility(const float* d, const double o[3]) {
+double referenceNodeVisibility(const float* d, const double o[3]) {
     double product = 1.0;
     for (int axis = 0; axis < 3; ++axis) {
         const int meanAt = (o[axis] < 0.0 ? 3 : 0) + axis;  // depth_mean_pos / _neg component
@@ -26,7 +23,6 @@ double nodeVisibility(const float* d, const double o[3]) {
     }
     return product * product * product;
 }
-}  // namespace
 
 Rgbd referenceDepthWeightedLookup(const Volume& volume, const Vec3d& x, const Vec3d& n) {
     if (volume.basis.kind != "sh2") throw FormatError("referenceDepthWeightedLookup reads SH order-2 volumes");
@@ -49,7 +45,7 @@ Rgbd referenceDepthWeightedLookup(const Volume& volume, const Vec3d& x, const Ve
         const int64_t at = findNode(level, level.grid.index(idx[0], idx[1], idx[2]));
         if (at < 0) throw FormatError("lookup would read a node of level " + std::to_string(l) + " that was not baked");
         data[corner] = level.nodeData(std::size_t(at), volume.basis.channelCount());
-        const double vis = level.hasDepth() ? nodeVisibility(level.nodeDepth(std::size_t(at)), offset) : 1.0;
+        const double vis = level.hasDepth() ? referenceNodeVisibility(level.nodeDepth(std::size_t(at)), offset) : 1.0;
         weight[corner] = w * (vis + double(depth::kDepthFloor));
         sum += weight[corner];
     }

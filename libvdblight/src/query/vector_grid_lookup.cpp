@@ -1,5 +1,7 @@
-#include "lattice_locate.h"
 #include "vdblight/vector_grid_lookup.h"
+
+#include "depth_weights.h"
+#include "lattice_locate.h"
 
 #include <algorithm>
 #include <cmath>
@@ -27,6 +29,10 @@ VectorGridLookup::VectorGridLookup(const Volume& volume, OutsidePolicy outside, 
     origin_ = Vec3f(grid_.origin);
     invSpacing_ = float(1.0 / grid_.spacing);
     data_ = volume.levels[0].data;
+    depth_ = volume.levels[0].depth;
+    if (!depth_.empty() && depth_.size() != grid_.nodeCount() * depth::kFloatsPerNode)
+        throw FormatError("irradiance-vector lookup: the depth moments do not match the grid");
+    setDepthWeights(true);
 }
 
 void VectorGridLookup::locate(const Vec3f& x, int idx[3], float frac[3]) const {
@@ -92,6 +98,23 @@ Rgb VectorGridLookup::irradiance(const Vec3f& x, const Vec3f& n) const {
             offset[directions++] = perDirection_ * d;
 
     float interp[iv::kFloatsPerNode] = {};
+    if (depthWeights_) {  // trilinear, each corner weighted by its visibility (depth_weights.h)
+        float weight[8];
+        const float* depth[8];
+        std::size_t node[8];
+        for (int c = 0; c < 8; ++c) {
+            node[c] = grid_.index(nodes[0][c & 1], nodes[1][(c >> 1) & 1], nodes[2][c >> 2]);
+            weight[c] = w[0][c & 1] * w[1][(c >> 1) & 1] * w[2][c >> 2];
+            depth[c] = depth_.data() + node[c] * depth::kFloatsPerNode;
+        }
+        query_detail::weightByDepth(weight, depth, frac[0], frac[1], frac[2]);
+        for (int c = 0; c < 8; ++c) {
+            const float* p = data_.data() + node[c] * stride_;
+            for (int d = 0; d < directions; ++d)
+                for (int f = 0; f < perDirection_; ++f) interp[offset[d] + f] += weight[c] * p[offset[d] + f];
+        }
+        return compact_ ? iv::compactIrradiance(interp, n, blend_) : iv::irradiance(interp, n, blend_);
+    }
     for (int c = 0; c < taps; ++c)
         for (int b = 0; b < taps; ++b) {
             const float wbc = w[1][b] * w[2][c];
@@ -107,9 +130,26 @@ Rgb VectorGridLookup::irradiance(const Vec3f& x, const Vec3f& n) const {
     return compact_ ? iv::compactIrradiance(interp, n, blend_) : iv::irradiance(interp, n, blend_);
 }
 
-Rgbd referenceVectorLookup(const Volume& volume, const Vec3d& x, const Vec3d& nIn, iv::Blend blend) {
+Rgbd referenceVectorLookup(const Volume& volume, const Vec3d& x, const Vec3d& nIn, iv::Blend blend, bool depthWeights) {
     const VolumeLevel& level = volume.levels.at(0);
-    const query_detail::TrilinearCorners t = query_detail::referenceCorners(level.grid, x);
+    query_detail::TrilinearCorners t = query_detail::referenceCorners(level.grid, x);
+    if (depthWeights && level.hasDepth()) {
+        // The point's offset from each corner in cells, from the corners' own positions.
+        const Vec3d lattice = (x - level.grid.origin) / level.grid.spacing;
+        const int dims[3] = {level.grid.nx, level.grid.ny, level.grid.nz};
+        double sum = 0.0;
+        for (int corner = 0; corner < 8; ++corner) {
+            const std::size_t node = t.node[corner];
+            const int idx[3] = {int(node % std::size_t(dims[0])), int(node / std::size_t(dims[0]) % std::size_t(dims[1])),
+                                int(node / (std::size_t(dims[0]) * std::size_t(dims[1])))};
+            double o[3];
+            for (int a = 0; a < 3; ++a) o[a] = std::min(std::max(lattice[a], 0.0), double(dims[a] - 1)) - idx[a];
+            t.weight[corner] *= referenceNodeVisibility(level.depth.data() + node * depth::kFloatsPerNode, o) +
+                                double(depth::kDepthFloor);
+            sum += t.weight[corner];
+        }
+        for (double& w : t.weight) w /= sum;
+    }
     double v[iv::kFloatsPerNode] = {};
     for (int corner = 0; corner < 8; ++corner) {
         const float* p = level.nodeData(t.node[corner], iv::kChannels);
@@ -124,7 +164,12 @@ namespace vdblight {
 
 void VectorGridLookup::irradianceVectors(const Vec3d& x, float out[54]) const {
     static_assert(iv::kFloatsPerNode == 54, "54 floats per node");
-    const query_detail::TrilinearCorners corners = query_detail::trilinearCorners(grid_, x, outside_);
+    query_detail::TrilinearCorners corners = query_detail::trilinearCorners(grid_, x, outside_);
+    if (depthWeights_) {
+        const float* depth[8];
+        for (int c = 0; c < 8; ++c) depth[c] = depth_.data() + corners.node[c] * depth::kFloatsPerNode;
+        query_detail::weightCornersByDepth(corners, depth, grid_, x, outside_);
+    }
     double sum[iv::kFloatsPerNode] = {};
     for (int c = 0; c < 8; ++c) {
         const double w = corners.weight[c];

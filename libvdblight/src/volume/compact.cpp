@@ -21,6 +21,7 @@ Volume compact(const Volume& full) {
     VolumeLevel& level = out.levels[0];
     level.grid = full.levels[0].grid;
     level.validity = full.levels[0].validity;
+    level.depth = full.levels[0].depth;  // the lookup's depth weights do not depend on the form
     const std::size_t nodes = full.levels[0].storedNodes();
     level.data.resize(nodes * kCompactFloatsPerNode);
     for (std::size_t n = 0; n < nodes; ++n)
