@@ -59,29 +59,40 @@ def read_dds(data, dtype):
     return texels.reshape(d, h, w, 4), dxgi
 
 
+# Each texture's "format" (manifest version 2): numpy type, bytes per texel, VkFormat, DXGI_FORMAT.
+TEXEL_FORMATS = {
+    "rgba16_sfloat": ("<f2", 8, 97, 10),
+    "rgba32_sfloat": ("<f4", 16, 109, 2),
+    "rgba8_unorm": ("u1", 4, 37, 28),
+}
+
+
 def load_textures(manifest, directory):
-    dtype = "<f2" if manifest["component_type"] == "float16" else "<f4"
     nx, ny, nz = manifest["dims"]
     fmt = manifest["format"]
     out = {}
     for tex in manifest["textures"]:
+        dtype, texel_bytes, vk_format, dxgi_format = TEXEL_FORMATS[tex["format"]]
+        if tex["bytes_per_texel"] != texel_bytes:
+            raise ValueError("%s: bytes_per_texel %d for %s" % (tex["file"], tex["bytes_per_texel"], tex["format"]))
         with open(os.path.join(directory, tex["file"]), "rb") as f:
             data = f.read()
         if fmt == "raw":
             arr = np.frombuffer(data, dtype=dtype).reshape(nz, ny, nx, 4)
         elif fmt == "ktx2":
             arr, vk = read_ktx2(data, dtype)
-            if vk != manifest["ktx2"]["vkFormat"]:
-                raise ValueError("vkFormat %d differs from the manifest" % vk)
+            if vk != vk_format or vk != tex["vkFormat"]:
+                raise ValueError("%s: vkFormat %d, manifest format %s" % (tex["file"], vk, tex["format"]))
         elif fmt == "dds":
             arr, dxgi = read_dds(data, dtype)
-            if dxgi != manifest["dds"]["dxgiFormat"]:
-                raise ValueError("dxgiFormat %d differs from the manifest" % dxgi)
+            if dxgi != dxgi_format or dxgi != tex["dxgiFormat"]:
+                raise ValueError("%s: dxgiFormat %d, manifest format %s" % (tex["file"], dxgi, tex["format"]))
         else:
             raise ValueError("format %s is not read by this script (the EXR atlas is checked with OpenEXR)" % fmt)
         if arr.shape != (nz, ny, nx, 4):
             raise ValueError("%s has shape %s, manifest says %s" % (tex["file"], arr.shape, (nz, ny, nx, 4)))
-        out[tex["name"]] = arr.astype(np.float64)
+        # An unorm texture samples as byte / 255 (what a GPU returns for it).
+        out[tex["name"]] = arr.astype(np.float64) / 255.0 if dtype == "u1" else arr.astype(np.float64)
     return out
 
 

@@ -5,9 +5,11 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 
 #include "cli_util.h"
 #include "test_util.h"
+#include "vdblight/depth_moments.h"
 #include "vdblight/vdb_io.h"
 
 using namespace vdblight;
@@ -43,7 +45,23 @@ TEST(CliDepth, BakeWithDepthMomentsQueriesAndExports) {
     ASSERT_EQ(runCli("bake -o " + uniform + " --resolution 5 --rays 16 --bounces 1 --depth-moments -q").status, 0);
     const CliRun ex = runCli("export " + uniform + " -o " + dir.file("ex") + " --format raw");
     ASSERT_EQ(ex.status, 0) << ex.output;
-    EXPECT_TRUE(std::ifstream(dir.file("ex") + "/depth_x.raw").good());
+    // The depth textures are RGBA8 unorm (the lighting ones half): every byte / 255 is the
+    // bake's stored value exactly.
+    const Volume baked = readVolume(uniform);
+    const VolumeLevel& level = baked.levels.at(0);
+    const int channel[4] = {depth::kMeanPositive, depth::kMeanNegative, depth::kSigmaPositive, depth::kSigmaNegative};
+    for (int a = 0; a < 3; ++a) {
+        const std::string name = std::string("depth_") + "xyz"[a];
+        std::ifstream in(dir.file("ex") + "/" + name + ".raw", std::ios::binary);
+        const std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        ASSERT_EQ(bytes.size(), level.grid.nodeCount() * 4) << name;
+        for (std::size_t n = 0; n < level.grid.nodeCount(); ++n)
+            for (int c = 0; c < 4; ++c)
+                EXPECT_EQ(float(uint8_t(bytes[n * 4 + std::size_t(c)]) / 255.0), level.nodeDepth(n)[channel[c] * 3 + a])
+                    << name << " node " << n << " component " << c;
+    }
+    const std::string manifest = test::readTextFile(dir.file("ex") + "/manifest.json");
+    EXPECT_NE(manifest.find("\"format\": \"rgba8_unorm\", \"bytes_per_node\": 12"), std::string::npos) << manifest;
 }
 
 TEST(CliDepth, FileWithDepthOpensInPyopenvdbAndBlender) {

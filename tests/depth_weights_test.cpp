@@ -1,11 +1,10 @@
 // Visibility-aware interpolation (issue 15, item 4): depth moments per node (bake_depth.h,
 // depth_moments.h) and the lookups that weight corners by them (query.h, query_levels.h).
+// Their export as textures: export_depth_test.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 
 #include "test_util.h"
 #include "vdblight/bake.h"
@@ -14,7 +13,6 @@
 #include "vdblight/bake_depth.h"
 #include "vdblight/bake_levels.h"
 #include "vdblight/depth_moments.h"
-#include "vdblight/export.h"
 #include "vdblight/layout_levels.h"
 #include "vdblight/query.h"
 #include "vdblight/query_direct.h"
@@ -350,49 +348,6 @@ TEST(DepthWeightedLookup, InvalidDepthIsRefused) {
     EXPECT_THROW(v.validate(), FormatError);
     v.levels[0].depth[3] = 0.5f;
     EXPECT_NO_THROW(v.validate());
-}
-
-std::vector<float> readFloats(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    std::vector<float> out(bytes.size() / 4);
-    std::memcpy(out.data(), bytes.data(), out.size() * 4);
-    return out;
-}
-
-TEST(DepthWeightedLookup, ExportWritesTheDepthTexturesAtTheNodes) {
-    Volume v;
-    v.basis = BasisDesc::sh2();
-    v.levels.resize(1);
-    v.levels[0].grid = GridSpec{Vec3d(-1, 0.5, 2), 0.3, 4, 3, 5};
-    v.levels[0].data.resize(v.levels[0].grid.nodeCount() * 27);
-    randomData(v, 12);
-    randomDepth(v, 13);
-    test::TempDir dir;
-    ExportOptions o;
-    o.format = TextureFormat::Raw;
-    o.halfFloat = false;
-    exportTextures(v, dir.file("out"), o);
-    const GridSpec& g = v.levels[0].grid;
-    const char* names[3] = {"depth_x", "depth_y", "depth_z"};
-    for (int a = 0; a < 3; ++a) {
-        const std::vector<float> t = readFloats(dir.file("out") + "/" + names[a] + ".raw");
-        ASSERT_EQ(t.size(), g.nodeCount() * 4) << names[a];
-        for (std::size_t n = 0; n < g.nodeCount(); ++n) {
-            const float* d = v.levels[0].nodeDepth(n);
-            EXPECT_EQ(t[n * 4 + 0], d[depth::kMeanPositive * 3 + a]);
-            EXPECT_EQ(t[n * 4 + 1], d[depth::kMeanNegative * 3 + a]);
-            EXPECT_EQ(t[n * 4 + 2], d[depth::kSigmaPositive * 3 + a]);
-            EXPECT_EQ(t[n * 4 + 3], d[depth::kSigmaNegative * 3 + a]);
-        }
-    }
-    const std::string manifest = test::readTextFile(dir.file("out") + "/manifest.json");
-    EXPECT_NE(manifest.find("\"depth\": {\"exported\": true"), std::string::npos);
-    // Resampled (--resolution): depth cannot follow, and the manifest says so.
-    o.resolution = 9;
-    exportTextures(v, dir.file("res"), o);
-    EXPECT_NE(test::readTextFile(dir.file("res") + "/manifest.json").find("\"exported\": false"), std::string::npos);
-    EXPECT_FALSE(std::ifstream(dir.file("res") + "/depth_x.raw").good());
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // Reads vdblight KTX2 exports with the npm package ktx-parse (pinned in package.json) and
-// checks vkFormat, size, depth and that write(read(file)) reproduces the file byte for byte,
-// which catches alignment and padding errors that its reader does not check.
+// checks vkFormat and typeSize against each texture's manifest entry, size, depth and that
+// write(read(file)) reproduces the file byte for byte, which catches alignment and padding
+// errors that its reader does not check.
 //
 //   node scripts/ktx/check_ktx2.mjs EXPORT_DIR
 // Exit status 0 when every texture of EXPORT_DIR/manifest.json passes.
@@ -16,7 +17,9 @@ for (const tex of manifest.textures) {
   const bytes = new Uint8Array(readFileSync(join(dir, tex.file)));
   const c = read(bytes);
   const problems = [];
-  if (c.vkFormat !== manifest.ktx2.vkFormat) problems.push(`vkFormat ${c.vkFormat}`);
+  if (c.vkFormat !== tex.vkFormat) problems.push(`vkFormat ${c.vkFormat}, manifest ${tex.vkFormat}`);
+  // typeSize: bytes of one component (the four components of every exported format are equal).
+  if (c.typeSize * 4 !== tex.bytes_per_texel) problems.push(`typeSize ${c.typeSize}`);
   if (c.pixelWidth !== nx || c.pixelHeight !== ny || c.pixelDepth !== nz)
     problems.push(`size ${c.pixelWidth} x ${c.pixelHeight} x ${c.pixelDepth}`);
   if (c.levels.length !== 1) problems.push(`${c.levels.length} levels`);

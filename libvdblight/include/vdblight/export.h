@@ -3,8 +3,9 @@
 // Export samples the volume through IrradianceQuery on a dense lattice of texels (texel
 // (i, j, k) <-> lattice point lo + spacing * (i, j, k)), so that every kind of volume exports
 // the same way; by default the lattice is the volume's finest node spacing over its bounds,
-// so a uniform volume exports its nodes. Each texture is RGBA (half or float); a layout says
-// what the components mean; `manifest.json` beside the textures states all of it, and
+// so a uniform volume exports its nodes. Each texture is RGBA (half or float; the depth
+// textures of a volume with depth moments are 8-bit unorm, except in the EXR atlas); a
+// layout says what the components mean; `manifest.json` beside the textures states all of it, and
 // docs/engines.md gives the shader code.
 //
 //   ExportOptions o;
@@ -24,10 +25,10 @@ namespace vdblight {
 
 /// The container written for each texture.
 enum class TextureFormat {
-    Ktx2,      ///< KTX 2.0 3-D texture, vkFormat 97 (RGBA16F) or 109 (RGBA32F)
-    Dds,       ///< DDS + DX10 header, TEXTURE3D, DXGI format 10 (RGBA16F) or 2 (RGBA32F)
-    ExrAtlas,  ///< OpenEXR 2-D atlas of z slices (columns x rows of tiles, z = 0 top left)
-    Raw,       ///< little-endian RGBA arrays, x fastest, no header
+    Ktx2,      ///< KTX 2.0 3-D texture, vkFormat 97 (RGBA16F) or 109 (RGBA32F); depth: 37 (RGBA8 unorm)
+    Dds,       ///< DDS + DX10 header, TEXTURE3D, DXGI format 10 (RGBA16F) or 2 (RGBA32F); depth: 28 (RGBA8 unorm)
+    ExrAtlas,  ///< OpenEXR 2-D atlas of z slices (columns x rows of tiles, z = 0 top left); depth: half / float
+    Raw,       ///< little-endian RGBA arrays, x fastest, no header; depth: 1 byte per component
 };
 
 /// What the four components of each texture hold (docs/engines.md).
@@ -51,7 +52,7 @@ const char* layoutName(ExportLayout layout);
 struct ExportOptions {
     TextureFormat format = TextureFormat::Ktx2;
     ExportLayout layout = ExportLayout::Sh2Packed;
-    bool halfFloat = true;                  ///< 16-bit floats (default) or 32-bit
+    bool halfFloat = true;                  ///< 16-bit floats (default) or 32-bit (not the 8-bit depth textures)
     int resolution = 0;                     ///< texels along the longest axis; 0: finest node spacing
     uint64_t maxBytes = 4ull << 30;         ///< refuse exports needing more memory than this
 };

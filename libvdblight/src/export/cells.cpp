@@ -136,10 +136,11 @@ CellsSummary exportCells(const IrradianceQuery& query, const Volume& header, con
                     TextureImage image;
                     image.rgba = textures[t].data();
                     std::copy_n(dims, 3, image.dims);
-                    image.half = o.halfFloat;
+                    image.format = lightingTexelFormat(o.halfFloat);
                     image.name = descs[t].name;
                     const std::string file = descs[t].name + textureExtension(o.format);
                     manifest.fileNames.push_back(file);
+                    manifest.texelFormats.push_back(image.format);
                     manifest.dataOffsets.push_back(writeTexture(o.format, staging.stage(dir, file), image));
                 }
                 const std::string json = manifestJson(manifest);

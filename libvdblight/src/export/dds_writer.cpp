@@ -19,7 +19,7 @@ constexpr uint32_t kResourceDimensionTexture3D = 4;
 }  // namespace
 
 uint64_t writeDds(const std::string& path, const TextureImage& image) {
-    const uint32_t texelBytes = image.half ? 8 : 16;
+    const uint32_t texelBytes = uint32_t(4 * componentBytes(image.format));
     const uint64_t texels = uint64_t(image.dims[0]) * image.dims[1] * image.dims[2];
     std::vector<uint8_t> out = {'D', 'D', 'S', ' '};
     put32(out, 124);  // dwSize
@@ -39,13 +39,13 @@ uint64_t writeDds(const std::string& path, const TextureImage& image) {
     put32(out, 0);                                     // dwCaps3
     put32(out, 0);                                     // dwCaps4
     put32(out, 0);                                     // dwReserved2
-    put32(out, image.half ? kDxgiR16G16B16A16Float : kDxgiR32G32B32A32Float);  // dxgiFormat
+    put32(out, dxgiFormatOf(image.format));            // dxgiFormat
     put32(out, kResourceDimensionTexture3D);           // resourceDimension
     put32(out, 0);                                     // miscFlag
     put32(out, 1);                                     // arraySize
     put32(out, 0);                                     // miscFlags2 (alpha mode unknown)
     const uint64_t dataOffset = out.size();  // 4 + 124 + 20 = 148
-    const std::vector<uint8_t> data = encodeTexels(image.rgba, texels * 4, image.half);
+    const std::vector<uint8_t> data = encodeTexels(image.rgba, texels * 4, image.format);
     out.insert(out.end(), data.begin(), data.end());
     writeBytes(path, out);
     return dataOffset;

@@ -166,8 +166,11 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
         for (auto& t : v) textures.push_back(std::move(t));
     }
     if (o.halfFloat) checkHalfRange(textures, descs);
+    std::vector<TexelFormat> formats(descs.size(), lightingTexelFormat(o.halfFloat));
     // Depth moments (depth_moments.h) go along as three more textures when the texels are the
-    // nodes; values k/255 in [0, 1] are exact in half floats to 2^-11.
+    // nodes. They are multiples of 1/255, so 8-bit unorm holds them exactly (12 B per node
+    // against 24 in half); the EXR atlas has no 8-bit type and keeps half or float (half
+    // rounds k/255 by up to 2^-12).
     int depthExport = 0;
     if (volume.hasDepth()) {
         std::vector<std::vector<float>> depth = depthTextures(volume, lattice);
@@ -175,6 +178,7 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
         if (!depth.empty()) {
             for (TextureDesc& d : depthTextureDescs()) descs.push_back(std::move(d));
             for (std::vector<float>& t : depth) textures.push_back(std::move(t));
+            formats.resize(descs.size(), depthTexelFormat(o.format, o.halfFloat));
         }
     }
 
@@ -196,7 +200,7 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
         TextureImage image;
         image.rgba = textures[t].data();
         std::copy_n(lattice.dims, 3, image.dims);
-        image.half = o.halfFloat;
+        image.format = formats[t];
         image.name = descs[t].name;
         const std::string file = descs[t].name + textureExtension(o.format);
         const std::string path = staged.stage(outDir, file);
@@ -208,6 +212,7 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
             case TextureFormat::Raw: offset = writeRaw(path, image); break;
         }
         manifest.fileNames.push_back(file);
+        manifest.texelFormats.push_back(formats[t]);
         manifest.dataOffsets.push_back(offset);
     }
     const std::string json = manifestJson(manifest);

@@ -43,11 +43,32 @@ void packVectorTexel(ExportLayout layout, const float v[54], float* out);
 std::vector<std::vector<float>> sampleLayout(const IrradianceQuery& query, const TextureLattice& lattice,
                                              ExportLayout layout, int binResolution = 0);
 
+/// How a texture's four components are stored (texel_format.cpp).
+enum class TexelFormat {
+    Float16,  ///< IEEE half (the lighting textures with --half)
+    Float32,  ///< IEEE float (--float)
+    Unorm8,   ///< byte = round(value * 255); reads back as byte / 255 (the depth textures)
+};
+/// Bytes per component (2, 4, 1) and the manifest's name ("rgba16_sfloat", "rgba32_sfloat",
+/// "rgba8_unorm"); the texel is four components.
+int componentBytes(TexelFormat format);
+const char* texelFormatName(TexelFormat format);
+/// The VkFormat (KTX2) and DXGI_FORMAT (DDS) of a texel format.
+uint32_t vkFormatOf(TexelFormat format);
+uint32_t dxgiFormatOf(TexelFormat format);
+/// The lighting textures' format (layout and light visibility): half or float.
+TexelFormat lightingTexelFormat(bool half);
+/// The depth textures' format: Unorm8 (exact for depth moments, which are k/255), except in
+/// an EXR atlas, which has no 8-bit type and keeps the lighting format.
+TexelFormat depthTexelFormat(TextureFormat container, bool half);
+/// One component as 8-bit unorm: round(clamp(v, 0, 1) * 255); NaN gives 0.
+uint8_t unorm8(float v);
+
 /// One texture ready to be written.
 struct TextureImage {
     const float* rgba = nullptr;  ///< 4 floats per texel, x fastest, then y, then z
     int dims[3] = {0, 0, 0};
-    bool half = true;
+    TexelFormat format = TexelFormat::Float16;
     std::string name;
 };
 
@@ -57,8 +78,8 @@ struct AtlasGrid {
 };
 AtlasGrid atlasGrid(int depth);
 
-/// Texel data as little-endian bytes (IEEE half or float per component).
-std::vector<uint8_t> encodeTexels(const float* values, std::size_t count, bool half);
+/// Texel data as little-endian bytes in `format` (`count` components).
+std::vector<uint8_t> encodeTexels(const float* values, std::size_t count, TexelFormat format);
 /// Writes `bytes` to `path` (throws IoError).
 void writeBytes(const std::string& path, const std::vector<uint8_t>& bytes);
 
@@ -78,8 +99,10 @@ uint64_t writeRaw(const std::string& path, const TextureImage& image);
 /// Format constants that the manifest reports.
 constexpr uint32_t kVkR16G16B16A16Sfloat = 97;
 constexpr uint32_t kVkR32G32B32A32Sfloat = 109;
+constexpr uint32_t kVkR8G8B8A8Unorm = 37;
 constexpr uint32_t kDxgiR16G16B16A16Float = 10;
 constexpr uint32_t kDxgiR32G32B32A32Float = 2;
+constexpr uint32_t kDxgiR8G8B8A8Unorm = 28;
 
 /// Everything the manifest describes.
 struct ManifestInput {
@@ -92,6 +115,7 @@ struct ManifestInput {
     std::string basisFormula;  ///< the layout 'basis': how to evaluate its textures (Basis::formula)
     std::vector<TextureDesc> textures;
     std::vector<std::string> fileNames;  ///< file name of each texture, in order
+    std::vector<TexelFormat> texelFormats;  ///< texel format of each texture, in order
     std::vector<uint64_t> dataOffsets;   ///< byte offset of the texels in each file
     /// The volume's direct-light mode and lights (bake --direct); in occlusion mode light i's
     /// visibility is component i % 4 of texture visibilityTextures[i / 4].

@@ -64,8 +64,12 @@ void writeAtlas(const std::string& path, const TextureImage& image, Imf::PixelTy
 }  // namespace
 
 uint64_t writeExrAtlas(const std::string& path, const TextureImage& image) {
-    if (image.half) writeAtlas<Imath::half>(path, image, Imf::HALF);
-    else writeAtlas<float>(path, image, Imf::FLOAT);
+    switch (image.format) {
+        case TexelFormat::Float16: writeAtlas<Imath::half>(path, image, Imf::HALF); break;
+        case TexelFormat::Float32: writeAtlas<float>(path, image, Imf::FLOAT); break;
+        case TexelFormat::Unorm8:  // depthTexelFormat keeps half / float for the atlas
+            throw ValueError("texture '" + image.name + "': OpenEXR has no 8-bit channel type");
+    }
     return 0;
 }
 

@@ -148,7 +148,8 @@ std::string manifestJson(const ManifestInput& in) {
     }
     std::ostringstream s;
     s << "{\n";
-    s << "  \"vdblight_export_version\": 1,\n";
+    // Version 2: every texture states its own texel format (the depth textures are 8-bit unorm).
+    s << "  \"vdblight_export_version\": 2,\n";
     s << "  \"volume_kind\": " << quote(in.volumeKind) << ",\n";
     s << "  \"format\": " << quote(formatName(o.format)) << ",\n";
     s << "  \"layout\": " << quote(layoutName(o.layout)) << ",\n";
@@ -204,9 +205,16 @@ std::string manifestJson(const ManifestInput& in) {
     if (in.depth != 0) {
         s << "  \"depth\": {\"exported\": " << (in.depth > 0 ? "true" : "false");
         if (in.depth > 0) {
-            s << ", \"textures\": [\"depth_x\", \"depth_y\", \"depth_z\"], \"bias\": " << numFloat(depth::kDepthBias)
+            const TexelFormat f = in.texelFormats.back();  // the depth textures come last
+            s << ", \"textures\": [\"depth_x\", \"depth_y\", \"depth_z\"], \"format\": " << quote(texelFormatName(f))
+              << ", \"bytes_per_node\": " << 3 * 4 * componentBytes(f) << ", \"bias\": " << numFloat(depth::kDepthBias)
               << ", \"min_sigma\": " << numFloat(depth::kDepthMinSigma) << ", \"floor\": " << numFloat(depth::kDepthFloor)
               << ",\n    \"units\": \"cells: distances divided by texel_spacing (the node spacing), clamped to 1\",\n"
+              << "    \"values\": " << quote(f == TexelFormat::Unorm8
+                                           ? "multiples of 1/255 stored exactly as 8-bit unorm: a texture fetch returns byte / 255, "
+                                             "the value in cells"
+                                           : "multiples of 1/255 (no 8-bit type in this container; half rounds them by up to 2^-12)")
+              << ",\n"
               << "    \"components\": \"depth_a.rgba = (mean of the +a face, mean of the -a face, sigma of +a, sigma of -a): "
                  "the axial depth along a of the first hits of the node's rays whose dominant axis is +a or -a\",\n"
               << "    \"lookup\": \"fetch the 8 corner texels (no hardware filtering); corner offset o = (x - corner) / "
@@ -222,11 +230,11 @@ std::string manifestJson(const ManifestInput& in) {
     if (in.direct) s << directJson(*in.direct, in.visibilityTextures);
     switch (o.format) {
         case TextureFormat::Ktx2:
-            s << "  \"ktx2\": {\"vkFormat\": " << (o.halfFloat ? kVkR16G16B16A16Sfloat : kVkR32G32B32A32Sfloat)
+            s << "  \"ktx2\": {\"vkFormat\": " << vkFormatOf(lightingTexelFormat(o.halfFloat))
               << ", \"KTXorientation\": \"ruo\", \"levels\": 1},\n";
             break;
         case TextureFormat::Dds:
-            s << "  \"dds\": {\"dxgiFormat\": " << (o.halfFloat ? kDxgiR16G16B16A16Float : kDxgiR32G32B32A32Float)
+            s << "  \"dds\": {\"dxgiFormat\": " << dxgiFormatOf(lightingTexelFormat(o.halfFloat))
               << ", \"resourceDimension\": \"TEXTURE3D\", \"arraySize\": 1, \"mipLevels\": 1},\n";
             break;
         case TextureFormat::ExrAtlas: {
@@ -246,7 +254,11 @@ std::string manifestJson(const ManifestInput& in) {
     s << "  \"textures\": [\n";
     for (std::size_t t = 0; t < in.textures.size(); ++t) {
         const TextureDesc& d = in.textures[t];
-        s << "    {\"name\": " << quote(d.name) << ", \"file\": " << quote(in.fileNames[t]);
+        const TexelFormat f = in.texelFormats.at(t);
+        s << "    {\"name\": " << quote(d.name) << ", \"file\": " << quote(in.fileNames[t]) << ", \"format\": "
+          << quote(texelFormatName(f)) << ", \"bytes_per_texel\": " << 4 * componentBytes(f);
+        if (o.format == TextureFormat::Ktx2) s << ", \"vkFormat\": " << vkFormatOf(f);
+        if (o.format == TextureFormat::Dds) s << ", \"dxgiFormat\": " << dxgiFormatOf(f);
         if (o.format != TextureFormat::ExrAtlas) s << ", \"data_offset\": " << in.dataOffsets[t];
         s << ", \"components\": [" << quote(d.components[0]) << ", " << quote(d.components[1]) << ", "
           << quote(d.components[2]) << ", " << quote(d.components[3]) << "]}"

@@ -1,6 +1,4 @@
-// Little-endian texel encoding, plain file writing, and the `raw` format (no header).
-#include <half.h>
-
+// Plain file writing and the `raw` format (no header; texels as encodeTexels gives them).
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -9,27 +7,6 @@
 #include "vdblight/errors.h"
 
 namespace vdblight::exporter {
-
-namespace {
-void putLe(std::vector<uint8_t>& out, uint32_t v, int bytes) {
-    for (int b = 0; b < bytes; ++b) out.push_back(uint8_t(v >> (8 * b)));
-}
-}  // namespace
-
-std::vector<uint8_t> encodeTexels(const float* values, std::size_t count, bool half) {
-    std::vector<uint8_t> out;
-    out.reserve(count * (half ? 2 : 4));
-    for (std::size_t i = 0; i < count; ++i) {
-        if (half) {
-            putLe(out, Imath::half(values[i]).bits(), 2);
-        } else {
-            uint32_t bits;
-            std::memcpy(&bits, &values[i], 4);
-            putLe(out, bits, 4);
-        }
-    }
-    return out;
-}
 
 const char* textureExtension(TextureFormat f) {
     switch (f) {
@@ -51,7 +28,7 @@ void writeBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
 
 uint64_t writeRaw(const std::string& path, const TextureImage& image) {
     const std::size_t texels = std::size_t(image.dims[0]) * image.dims[1] * image.dims[2];
-    writeBytes(path, encodeTexels(image.rgba, texels * 4, image.half));
+    writeBytes(path, encodeTexels(image.rgba, texels * 4, image.format));
     return 0;
 }
 
