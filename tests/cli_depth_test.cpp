@@ -116,5 +116,17 @@ TEST(CliDepth, OnByDefaultOffWithPreviewOrNoDepthMoments) {
                   0);
         EXPECT_TRUE(readVolume(withDepth).hasDepth()) << form;
         EXPECT_EQ(runCli("query " + withDepth + " --at 0.2,0.2,0.2 --no-depth-weights").status, 0) << form;
+        if (!form.empty()) continue;
+        // Exported with the depth textures, read back from the manifest alone with the
+        // depth-weighted blend of docs/engines.md: the same irradiance as `query`.
+        const std::string ex = dir.file("photons_ex");
+        ASSERT_EQ(runCli("export -q " + withDepth + " -o " + ex + " --layout vectors").status, 0);
+        EXPECT_NE(test::readTextFile(ex + "/manifest.json").find("\"depth\": {\"exported\": true"), std::string::npos);
+        std::string log;
+        EXPECT_EQ(test::runCommand("/usr/bin/python3 " + std::string(VDBLIGHT_SOURCE_DIR) + "/scripts/check_export.py --cli " +
+                                       test::cliPath() + " --volume " + withDepth + " --export " + ex,
+                                   &log),
+                  0)
+            << log;
     }
 }
