@@ -315,6 +315,45 @@ TEST_F(ThinWall, LevelsMatchTheReference) {
     expectMatchesReference(v, 2000, 6);
 }
 
+// A leaf cell of a coarser level was not refined, so it holds no geometry: every corner sees
+// every point of it, and the weights must leave it plain trilinear whatever its corners' depth
+// says (measured over pyramids reaching into neighbouring cells). In cells of the finest level
+// they still apply. The fast and the streaming lookups and the reference agree.
+TEST_F(ThinWall, CoarseLeafCellsAreInterpolatedWithoutWeights) {
+    LevelsPlacement placement;
+    placement.kind = LayoutKind::Adaptive;
+    placement.refine = 2;
+    placement.levels = 3;
+    const LevelLayout layout = placeLevels(thinWallGrid(), scene_->positions, scene_->indices, placement, 256);
+    Volume v;
+    v.basis = BasisDesc::sh2();
+    v.levels = volumeLevels(layout.levels);
+    for (VolumeLevel& l : v.levels) l.data.resize(l.storedNodes() * 27);
+    randomData(v, 14);
+    randomDepth(v, 15);
+    const ShLevelsLookup lookup(v, OutsidePolicy::Clamp);
+    const IrradianceQuery weighted(v), plain(v, OutsidePolicy::Clamp, false);
+    ASSERT_TRUE(weighted.depthWeighted());
+    Rng rng(16, 1);
+    const Bounds b = weighted.bounds();
+    int coarse = 0, fineChanged = 0;
+    for (int i = 0; i < 4000; ++i) {
+        const Vec3f x(float(b.lo.x + rng.uniform() * (b.hi.x - b.lo.x)), float(b.lo.y + rng.uniform() * (b.hi.y - b.lo.y)),
+                      float(b.lo.z + rng.uniform() * (b.hi.z - b.lo.z)));
+        const Vec3f n = uniformSphere(rng.uniform(), rng.uniform());
+        const Rgb w = weighted.irradiance(x, n), p = plain.irradiance(x, n);
+        if (lookup.levelAt(x) + 1 < int(v.levels.size())) {
+            ++coarse;
+            ASSERT_EQ(w.x, p.x) << "point " << i << " in a cell of level " << lookup.levelAt(x);
+            ASSERT_EQ(w.z, p.z);
+        } else if (std::fabs(w.x - p.x) > 1e-3f * (1 + std::fabs(p.x))) {
+            ++fineChanged;
+        }
+    }
+    EXPECT_GT(coarse, 400);
+    EXPECT_GT(fineChanged, 400);
+}
+
 TEST(DepthWeightedLookup, FreeNodesGiveTheTrilinearAnswer) {
     Volume v;
     v.basis = BasisDesc::sh2();

@@ -18,6 +18,10 @@
 #include "test_util.h"
 #include "vdblight/depth_moments.h"
 #include "vdblight/export.h"
+#include "vdblight/layout_levels.h"
+#include "vdblight/sampling.h"
+
+#include "thin_wall_util.h"
 
 using namespace vdblight;
 using namespace vdblight::test;
@@ -181,4 +185,49 @@ TEST(ExportDepth, ResampledLatticeExportsNoDepth) {
     exportTextures(v, dir.file("res"), o);
     EXPECT_NE(readTextFile(dir.file("res") + "/manifest.json").find("\"exported\": false"), std::string::npos);
     EXPECT_FALSE(std::ifstream(dir.file("res") + "/depth_x.raw").good());
+}
+
+// A bilevel / adaptive volume is exported on its finest lattice: a texel that is a node of the
+// finest level carries that node's depth; any other texel lies in cells that were not refined,
+// so hold no geometry, and carries "free for a whole cell" (mean 1, sigma 0) on every face.
+TEST(ExportDepth, MultiLevelVolumesExportTheFinestNodesDepthAndFreeTexelsElsewhere) {
+    const Scene scene = thinWallScene();
+    LevelsPlacement placement;
+    placement.kind = LayoutKind::Adaptive;
+    placement.refine = 2;
+    placement.levels = 3;
+    const LevelLayout layout = placeLevels(thinWallGrid(), scene.positions, scene.indices, placement, 256);
+    Volume v;
+    v.basis = BasisDesc::sh2();
+    v.levels = volumeLevels(layout.levels);
+    Rng rng(5, 2);
+    for (VolumeLevel& l : v.levels) {
+        l.data.resize(l.storedNodes() * 27);
+        for (float& f : l.data) f = rng.uniform();
+        l.depth.resize(l.storedNodes() * depth::kFloatsPerNode);
+        for (float& d : l.depth) d = depth::quantize(rng.uniform());
+    }
+    v.validate();
+    ASSERT_EQ(v.levels.size(), 3u);
+    const VolumeLevel& finest = v.levels.back();
+    ASSERT_TRUE(finest.sparse());
+    test::TempDir dir;
+    exportTextures(v, dir.file("ml"), options(TextureFormat::Raw, false));
+    const std::string manifest = readTextFile(dir.file("ml") + "/manifest.json");
+    ASSERT_NE(manifest.find("\"depth\": {\"exported\": true"), std::string::npos) << manifest;
+    std::size_t nodes = 0, free = 0;
+    for (int a = 0; a < 3; ++a) {
+        const std::vector<uint8_t> b = readFile(dir.file("ml") + "/" + kAxes[a] + ".raw");
+        ASSERT_EQ(b.size(), finest.grid.nodeCount() * 4) << kAxes[a];
+        for (std::size_t n = 0; n < finest.grid.nodeCount(); ++n) {
+            const int64_t at = findNode(finest, n);
+            for (int c = 0; c < 4; ++c) {
+                const float want = at >= 0 ? depthValue(finest.depth, std::size_t(at), a, c) : (c < 2 ? 1.0f : 0.0f);
+                ASSERT_EQ(float(b[n * 4 + std::size_t(c)] / 255.0), want) << kAxes[a] << " texel " << n << " component " << c;
+            }
+            (at >= 0 ? nodes : free) += a == 0;
+        }
+    }
+    EXPECT_GT(nodes, 0u);
+    EXPECT_GT(free, 0u);
 }

@@ -2,6 +2,12 @@
 // 3.3, n levels): find the level-0 cell of x; while the cell is refined, descend into its
 // K^3 children; interpolate trilinearly in the finest cell reached, then convolve with the
 // cosine lobe for the normal. Seam nodes (layout_levels.h) make the result continuous.
+//
+// Depth moments (depth_moments.h) weight the corners only where the cell reached is one of the
+// finest level: refinement is complete (every cell with geometry is refined), so a leaf cell
+// of a coarser level holds no geometry and every corner sees every point in it; its depth
+// moments, measured over a pyramid reaching into the neighbouring cells, could only darken
+// corners wrongly. The exported depth textures (export: the finest lattice) agree.
 #pragma once
 
 #include <cstdint>

@@ -212,20 +212,31 @@ std::vector<TextureDesc> depthTextureDescs() {
 }
 
 std::vector<std::vector<float>> depthTextures(const Volume& volume, const TextureLattice& lattice) {
-    if (volume.levels.size() != 1 || !volume.hasDepth()) return {};
-    const VolumeLevel& level = volume.levels[0];
-    const GridSpec& g = level.grid;
-    // Only a lattice that is the nodes themselves: depth moments belong to node positions
+    if (volume.levels.empty() || !volume.hasDepth()) return {};
+    // Only a lattice that is the finest level's own: depth moments belong to node positions
     // and the spacing they are measured in; they cannot be resampled.
+    const VolumeLevel& finest = volume.levels.back();
+    const GridSpec& g = finest.grid;
     if (lattice.dims[0] != g.nx || lattice.dims[1] != g.ny || lattice.dims[2] != g.nz) return {};
     const double tol = 1e-9 * std::max(1.0, g.spacing * std::max({g.nx, g.ny, g.nz}));
     for (int a = 0; a < 3; ++a)
         if (std::fabs(lattice.lo[a] - g.origin[a]) > tol) return {};
+    // A texel that is no node of the finest level (a sparse level of a bilevel / adaptive
+    // volume) lies where no cell of that level was refined into: refinement is complete (every
+    // cell with geometry is refined, layout_levels.h), so no geometry lies in the texel cells
+    // around it, and every face is free for a whole texel cell: mean 1, sigma 0, exactly what
+    // the depth pass would measure there.
+    constexpr float kFree[4] = {1.0f, 1.0f, 0.0f, 0.0f};
     std::vector<std::vector<float>> out(3, std::vector<float>(g.nodeCount() * 4));
     for (std::size_t n = 0; n < g.nodeCount(); ++n) {
-        const float* d = level.nodeDepth(n);
+        const int64_t at = finest.sparse() ? findNode(finest, n) : int64_t(n);
+        const float* d = at >= 0 ? finest.nodeDepth(std::size_t(at)) : nullptr;
         for (int a = 0; a < 3; ++a) {
             float* t = &out[std::size_t(a)][n * 4];
+            if (!d) {
+                std::copy_n(kFree, 4, t);
+                continue;
+            }
             t[0] = d[depth::kMeanPositive * 3 + a];
             t[1] = d[depth::kMeanNegative * 3 + a];
             t[2] = d[depth::kSigmaPositive * 3 + a];

@@ -222,8 +222,8 @@ std::string manifestJson(const ManifestInput& in) {
                  "else s2 / (s2 + e^2) with s2 = sigma^2 + min_sigma^2; vis = (v_x v_y v_z)^3; weight = trilinear * (vis + floor); "
                  "blend the layout's texels with the weights divided by their sum (docs/engines.md)\"";
         } else {
-            s << ", \"reason\": \"depth moments belong to the volume's nodes; this lattice is not the nodes of a "
-                 "single-level volume (multi-level volume or --resolution)\"";
+            s << ", \"reason\": \"depth moments belong to the volume's nodes; this lattice is not the finest level's "
+                 "nodes (--resolution)\"";
         }
         s << "},\n";
     }

@@ -95,7 +95,9 @@ const ChannelLookup::Level& ChannelLookup::locate(const T g[3], std::size_t corn
     }
     const T wx[2] = {1 - f[0], f[0]}, wy[2] = {1 - f[1], f[1]}, wz[2] = {1 - f[2], f[2]};
     for (int c = 0; c < 8; ++c) weight[c] = float(wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2]);
-    if (depthWeights_) {  // visibility-aware interpolation (depth_weights.h)
+    // Visibility-aware interpolation (depth_weights.h), in cells of the finest level only: a
+    // coarser leaf cell was not refined, so it holds no geometry.
+    if (depthWeights_ && leaf.level + 1 == levels_.size()) {
         const float* depth[8];
         for (int c = 0; c < 8; ++c) depth[c] = level->depth.data() + corner[c] * depth::kFloatsPerNode;
         query_detail::weightByDepth(weight, depth, float(f[0]), float(f[1]), float(f[2]));

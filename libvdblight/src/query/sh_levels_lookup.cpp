@@ -123,8 +123,10 @@ Rgb ShLevelsLookup::irradiance(const Vec3f& x, const Vec3f& n) const {
     Rgb e;
     descend(x, [&](int l, const float* base, std::size_t sx, std::size_t sy, std::size_t sz, float fx, float fy, float fz) {
         const Level& level = levels_[std::size_t(l)];
+        // Weights only in cells of the finest level: a coarser leaf cell was not refined, so it
+        // holds no geometry and every corner sees every point of it (depth_weights.h).
         const float* depthBase =
-            base && depthWeights_
+            base && depthWeights_ && std::size_t(l) + 1 == levels_.size()
                 ? level.depth.data() + std::size_t(base - level.nodes.data()) / kFloats * depth::kFloatsPerNode
                 : nullptr;
         e = base ? query_detail::interpolateSh(base, sx, sy, sz, fx, fy, fz, y, depthBase) : Rgb(0, 0, 0);
@@ -174,7 +176,8 @@ void ShLevelsLookup::shRadiance(const Vec3d& x, Rgb out[9]) const {
         for (int a = 0; a < 3; ++a) w *= ((corner >> a) & 1) ? frac[a] : 1.0 - frac[a];
         weights[corner] = float(w);
     }
-    if (depthWeights_) {
+    const bool weighted = depthWeights_ && levelOf + 1 == levels_.size();  // as irradiance()
+    if (weighted) {
         const Level& level = levels_[levelOf];
         const float* depthBase = level.depth.data() + std::size_t(base - level.nodes.data()) / kFloats * depth::kFloatsPerNode;
         const float* depth[8];
@@ -187,8 +190,8 @@ void ShLevelsLookup::shRadiance(const Vec3d& x, Rgb out[9]) const {
     double sum[kFloats] = {};
     for (int corner = 0; corner < 8; ++corner) {
         const int d[3] = {corner & 1, (corner >> 1) & 1, corner >> 2};
-        double w = depthWeights_ ? double(weights[corner]) : 1.0;
-        if (!depthWeights_)
+        double w = weighted ? double(weights[corner]) : 1.0;
+        if (!weighted)
             for (int a = 0; a < 3; ++a) w *= d[a] ? frac[a] : 1.0 - frac[a];
         if (w == 0.0) continue;
         const float* p = base + d[0] * sx + d[1] * sy + d[2] * sz;

@@ -171,18 +171,19 @@ public:
             }
         }
         if (leafCulled(level, cell)) return Rgb(0, 0, 0);
+        const bool weighted = depthWeights_ && level + 1 == levels_;  // finest cells only, as ShLevelsLookup
         float p[8][kFloatsPerNode];
         float d[8][depth::kFloatsPerNode];
         const float* corners[8];
         const float* depth[8];
         for (int c = 0; c < 8; ++c) {
             node(level, cell[0] + (c & 1), cell[1] + ((c >> 1) & 1), cell[2] + (c >> 2), p[c]);
-            if (depthWeights_) volume_->readDepth(level, cell[0] + (c & 1), cell[1] + ((c >> 1) & 1), cell[2] + (c >> 2), d[c]);
+            if (weighted) volume_->readDepth(level, cell[0] + (c & 1), cell[1] + ((c >> 1) & 1), cell[2] + (c >> 2), d[c]);
             corners[c] = p[c];
             depth[c] = d[c];
         }
         // As ShLevelsLookup's interpolation (sh_levels_lookup.cpp).
-        return query_detail::interpolateShCorners(corners, depthWeights_ ? depth : nullptr, f[0], f[1], f[2], y);
+        return query_detail::interpolateShCorners(corners, weighted ? depth : nullptr, f[0], f[1], f[2], y);
     }
 
     void shRadiance(const Vec3d& x, Rgb out[9]) const override {
@@ -204,11 +205,12 @@ public:
             for (int c = 0; c < sh::kCoeffs; ++c) out[c] = Rgb(0, 0, 0);
             return;
         }
+        const bool weighted = depthWeights_ && level + 1 == levels_;
         float p[8][kFloatsPerNode];
         float d[8][depth::kFloatsPerNode];
         for (int c = 0; c < 8; ++c) {
             node(level, cell[0] + (c & 1), cell[1] + ((c >> 1) & 1), cell[2] + (c >> 2), p[c]);
-            if (depthWeights_) volume_->readDepth(level, cell[0] + (c & 1), cell[1] + ((c >> 1) & 1), cell[2] + (c >> 2), d[c]);
+            if (weighted) volume_->readDepth(level, cell[0] + (c & 1), cell[1] + ((c >> 1) & 1), cell[2] + (c >> 2), d[c]);
         }
         float weights[8];
         for (int corner = 0; corner < 8; ++corner) {
@@ -216,7 +218,7 @@ public:
             for (int a = 0; a < 3; ++a) w *= ((corner >> a) & 1) ? frac[a] : 1.0 - frac[a];
             weights[corner] = float(w);
         }
-        if (depthWeights_) {
+        if (weighted) {
             const float* depth[8];
             for (int c = 0; c < 8; ++c) depth[c] = d[c];
             query_detail::weightByDepth(weights, depth, float(frac[0]), float(frac[1]), float(frac[2]));
@@ -224,8 +226,8 @@ public:
         double sum[kFloatsPerNode] = {};
         for (int corner = 0; corner < 8; ++corner) {
             const int b[3] = {corner & 1, (corner >> 1) & 1, corner >> 2};
-            double w = depthWeights_ ? double(weights[corner]) : 1.0;
-            if (!depthWeights_)
+            double w = weighted ? double(weights[corner]) : 1.0;
+            if (!weighted)
                 for (int a = 0; a < 3; ++a) w *= b[a] ? frac[a] : 1.0 - frac[a];
             if (w == 0.0) continue;
             for (int f = 0; f < kFloatsPerNode; ++f) sum[f] += w * p[corner][f];
