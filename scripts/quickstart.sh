@@ -5,7 +5,7 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 "$ROOT/scripts/setup.sh"
 mkdir -p "$ROOT/out"
-# The default bake (about 16384 nodes, 512 rays + a probe pass: ~15 CPU s); add --quality preview for ~1 s.
+# The default bake (about 16384 nodes, 1024 rays + a probe pass: ~27 CPU s); add --quality preview for ~1 s.
 "$ROOT/build/bin/vdblight" bake -o "$ROOT/out/cornell_box.vdb" "$@"
 "$ROOT/build/bin/vdblight" info "$ROOT/out/cornell_box.vdb" | head -n 4
 echo "Irradiance on the floor below the light (facing up):"
