@@ -100,12 +100,10 @@ TEST(VectorGridDepthLookup, MatchesTheReference) {
     v.levels.resize(1);
     v.levels[0].grid = GridSpec{Vec3d(-1, 0.5, 2), 0.3, 5, 4, 6};
     const std::size_t nodes = v.levels[0].grid.nodeCount();
-    Rng rng(21, 1);
     v.levels[0].data.resize(nodes * iv::kFloatsPerNode);
-    for (float& f : v.levels[0].data) f = rng.uniform() * 2.0f - 0.5f;
-    v.levels[0].depth.resize(nodes * depth::kFloatsPerNode);
-    for (std::size_t i = 0; i < v.levels[0].depth.size(); ++i)
-        v.levels[0].depth[i] = depth::quantize(i % depth::kFloatsPerNode >= 6 ? 0.3 * rng.uniform() : rng.uniform());
+    randomData(v, 21);  // random_volumes.h
+    randomDepth(v, 22);
+    Rng rng(23, 1);
     const VectorGridLookup lookup(v, OutsidePolicy::Clamp);
     ASSERT_TRUE(lookup.depthWeighted());
     const Bounds b = lookup.bounds();

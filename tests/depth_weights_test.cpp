@@ -250,23 +250,6 @@ TEST_F(ThinWall, DepthMomentsSurviveTheVdbFile) {
 
 // The fast lookups against the simple reference, on random volumes with random depth
 // moments (so every branch of the Chebyshev test is taken) and at random points.
-void randomDepth(Volume& v, uint64_t seed) {
-    Rng rng(seed, 11);
-    for (VolumeLevel& l : v.levels) {
-        l.depth.resize(l.storedNodes() * depth::kFloatsPerNode);
-        for (std::size_t i = 0; i < l.depth.size(); ++i) {
-            const bool sigma = (i % depth::kFloatsPerNode) >= 6;
-            l.depth[i] = depth::quantize(sigma ? 0.3 * rng.uniform() : rng.uniform());
-        }
-    }
-}
-
-void randomData(Volume& v, uint64_t seed) {
-    Rng rng(seed, 5);
-    for (VolumeLevel& l : v.levels)
-        for (float& f : l.data) f = rng.uniform() * 2.0f - 0.3f;
-}
-
 void expectMatchesReference(const Volume& v, int points, uint64_t seed) {
     const IrradianceQuery q(v);
     ASSERT_TRUE(q.depthWeighted());
@@ -300,17 +283,7 @@ TEST(DepthWeightedLookup, UniformMatchesTheReference) {
 }
 
 TEST_F(ThinWall, LevelsMatchTheReference) {
-    LevelsPlacement placement;
-    placement.kind = LayoutKind::Adaptive;
-    placement.refine = 2;
-    placement.levels = 3;
-    const LevelLayout layout = placeLevels(thinWallGrid(), scene_->positions, scene_->indices, placement, 256);
-    Volume v;
-    v.basis = BasisDesc::sh2();
-    v.levels = volumeLevels(layout.levels);
-    for (VolumeLevel& l : v.levels) l.data.resize(l.storedNodes() * 27);
-    randomData(v, 4);
-    randomDepth(v, 5);
+    const Volume v = randomAdaptiveVolume(*scene_, 4, 5);
     ASSERT_EQ(v.levels.size(), 3u);
     expectMatchesReference(v, 2000, 6);
 }
@@ -320,17 +293,7 @@ TEST_F(ThinWall, LevelsMatchTheReference) {
 // says (measured over pyramids reaching into neighbouring cells). In cells of the finest level
 // they still apply. The fast and the streaming lookups and the reference agree.
 TEST_F(ThinWall, CoarseLeafCellsAreInterpolatedWithoutWeights) {
-    LevelsPlacement placement;
-    placement.kind = LayoutKind::Adaptive;
-    placement.refine = 2;
-    placement.levels = 3;
-    const LevelLayout layout = placeLevels(thinWallGrid(), scene_->positions, scene_->indices, placement, 256);
-    Volume v;
-    v.basis = BasisDesc::sh2();
-    v.levels = volumeLevels(layout.levels);
-    for (VolumeLevel& l : v.levels) l.data.resize(l.storedNodes() * 27);
-    randomData(v, 14);
-    randomDepth(v, 15);
+    const Volume v = randomAdaptiveVolume(*scene_, 14, 15);
     const ShLevelsLookup lookup(v, OutsidePolicy::Clamp);
     const IrradianceQuery weighted(v), plain(v, OutsidePolicy::Clamp, false);
     ASSERT_TRUE(weighted.depthWeighted());

@@ -131,14 +131,8 @@ TEST(ExportDepth, ExrAtlasKeepsHalfOrFloat) {
             EXPECT_EQ(h.channels().findChannel(name)->type, half ? Imf::HALF : Imf::FLOAT);
         }
         const Imath::Box2i dw = h.dataWindow();
-        const int width = dw.max.x - dw.min.x + 1, height = dw.max.y - dw.min.y + 1;
-        std::vector<float> px(std::size_t(width) * height * 4);
-        Imf::FrameBuffer fb;
-        const char* names[4] = {"R", "G", "B", "A"};
-        for (int c = 0; c < 4; ++c)
-            fb.insert(names[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(px.data() + c), 16, 16 * std::size_t(width)));
-        file.setFrameBuffer(fb);
-        file.readPixels(dw.min.y, dw.max.y);
+        const int width = dw.max.x - dw.min.x + 1;
+        const std::vector<float> px = readExrRgba(file);
         const int columns = int(std::ceil(std::sqrt(double(kNz))));  // the manifest's exr_atlas.columns
         for (int k = 0; k < kNz; ++k)
             for (int j = 0; j < kNy; ++j)
@@ -191,22 +185,7 @@ TEST(ExportDepth, ResampledLatticeExportsNoDepth) {
 // finest level carries that node's depth; any other texel lies in cells that were not refined,
 // so hold no geometry, and carries "free for a whole cell" (mean 1, sigma 0) on every face.
 TEST(ExportDepth, MultiLevelVolumesExportTheFinestNodesDepthAndFreeTexelsElsewhere) {
-    const Scene scene = thinWallScene();
-    LevelsPlacement placement;
-    placement.kind = LayoutKind::Adaptive;
-    placement.refine = 2;
-    placement.levels = 3;
-    const LevelLayout layout = placeLevels(thinWallGrid(), scene.positions, scene.indices, placement, 256);
-    Volume v;
-    v.basis = BasisDesc::sh2();
-    v.levels = volumeLevels(layout.levels);
-    Rng rng(5, 2);
-    for (VolumeLevel& l : v.levels) {
-        l.data.resize(l.storedNodes() * 27);
-        for (float& f : l.data) f = rng.uniform();
-        l.depth.resize(l.storedNodes() * depth::kFloatsPerNode);
-        for (float& d : l.depth) d = depth::quantize(rng.uniform());
-    }
+    const Volume v = randomAdaptiveVolume(thinWallScene(), 5, 6);
     v.validate();
     ASSERT_EQ(v.levels.size(), 3u);
     const VolumeLevel& finest = v.levels.back();

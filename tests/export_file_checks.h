@@ -3,6 +3,9 @@
 // for every header field the writers set.
 #pragma once
 
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
 #include <gtest/gtest.h>
 #include <half.h>
 
@@ -29,6 +32,21 @@ inline uint32_t ktx2TypeSize(uint32_t vkFormat) {
 inline uint32_t ddsTexelSize(uint32_t dxgi) {
     EXPECT_TRUE(dxgi == kDxgiRgba16Float || dxgi == kDxgiRgba32Float || dxgi == kDxgiRgba8Unorm) << dxgi;
     return dxgi == kDxgiRgba16Float ? 8 : (dxgi == kDxgiRgba32Float ? 16 : 4);
+}
+
+/// The RGBA pixels of an EXR atlas page as floats, row-major over its data window (width x
+/// height x 4).
+inline std::vector<float> readExrRgba(Imf::InputFile& file) {
+    const Imath::Box2i dw = file.header().dataWindow();
+    const int width = dw.max.x - dw.min.x + 1, height = dw.max.y - dw.min.y + 1;
+    std::vector<float> px(std::size_t(width) * height * 4);
+    Imf::FrameBuffer fb;
+    const char* names[4] = {"R", "G", "B", "A"};
+    for (int c = 0; c < 4; ++c)
+        fb.insert(names[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(px.data() + c), 16, 16 * std::size_t(width)));
+    file.setFrameBuffer(fb);
+    file.readPixels(dw.min.y, dw.max.y);
+    return px;
 }
 
 inline std::vector<uint8_t> readFile(const std::string& path) {

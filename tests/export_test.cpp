@@ -153,13 +153,7 @@ TEST(Export, ExrAtlasReadsBackThroughOpenExr) {
         ASSERT_NE(h.channels().findChannel(c), nullptr) << c;
         EXPECT_EQ(h.channels().findChannel(c)->type, Imf::HALF);
     }
-    std::vector<float> px(std::size_t(width) * height * 4);
-    Imf::FrameBuffer fb;
-    const char* names[4] = {"R", "G", "B", "A"};
-    for (int c = 0; c < 4; ++c)
-        fb.insert(names[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(px.data() + c), 16, 16 * std::size_t(width)));
-    file.setFrameBuffer(fb);
-    file.readPixels(dw.min.y, dw.max.y);
+    const std::vector<float> px = readExrRgba(file);
     for (int k = 0; k < 7; ++k)
         for (int j = 0; j < 3; ++j)
             for (int i = 0; i < 4; ++i)

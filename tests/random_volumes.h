@@ -6,6 +6,7 @@
 #include <random>
 #include <vector>
 
+#include "vdblight/depth_moments.h"
 #include "vdblight/layout_levels.h"
 #include "vdblight/sampling.h"
 #include "vdblight/volume.h"
@@ -63,6 +64,26 @@ inline Volume randomLevelsVolume(LayoutKind kind, int levels, const BasisDesc& b
         for (float& f : l.data) f = u(rng);
     }
     return v;
+}
+
+/// Random depth moments on every level (depth_moments.h), as the bake stores them (k/255):
+/// means in [0, 1), sigmas in [0, 0.3), so that every branch of the visibility test is taken.
+inline void randomDepth(Volume& v, uint64_t seed) {
+    Rng rng(seed, 11);
+    for (VolumeLevel& l : v.levels) {
+        l.depth.resize(l.storedNodes() * depth::kFloatsPerNode);
+        for (std::size_t i = 0; i < l.depth.size(); ++i) {
+            const bool sigma = (i % depth::kFloatsPerNode) >= 6;
+            l.depth[i] = depth::quantize(sigma ? 0.3 * rng.uniform() : rng.uniform());
+        }
+    }
+}
+
+/// Every level's node values (already sized) drawn uniformly from [-0.3, 1.7).
+inline void randomData(Volume& v, uint64_t seed) {
+    Rng rng(seed, 5);
+    for (VolumeLevel& l : v.levels)
+        for (float& f : l.data) f = rng.uniform() * 2.0f - 0.3f;
 }
 
 }  // namespace vdblight::test

@@ -6,10 +6,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include "vdblight/layout_levels.h"
 #include "vdblight/query.h"
 #include "vdblight/sampling.h"
 #include "vdblight/scene.h"
 
+#include "random_volumes.h"
 #include "support/scene_generators.h"
 
 namespace vdblight::test {
@@ -60,6 +62,23 @@ inline SideMeans measureSides(const IrradianceQuery& q, double litLo = 1.8, doub
         m.darkMax = std::max(m.darkMax, double(std::fabs(luminance(dark))));
     }
     return m;
+}
+
+// An adaptive SH volume (3 levels, refine 2) on the room's node grid and geometry, with
+// random coefficients and random depth moments (random_volumes.h).
+inline Volume randomAdaptiveVolume(const Scene& scene, uint64_t dataSeed, uint64_t depthSeed) {
+    LevelsPlacement placement;
+    placement.kind = LayoutKind::Adaptive;
+    placement.refine = 2;
+    placement.levels = 3;
+    const LevelLayout layout = placeLevels(thinWallGrid(), scene.positions, scene.indices, placement, 256);
+    Volume v;
+    v.basis = BasisDesc::sh2();
+    v.levels = volumeLevels(layout.levels);
+    for (VolumeLevel& l : v.levels) l.data.resize(l.storedNodes() * 27);
+    randomData(v, dataSeed);
+    randomDepth(v, depthSeed);
+    return v;
 }
 
 }  // namespace vdblight::test
