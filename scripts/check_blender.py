@@ -53,6 +53,8 @@ def check_with_blender(path):
     by_name = {g.name: g for g in grids}
     placements = set()
     names = common.SH_GRIDS + sorted(n for n in by_name if n.startswith("sh_l") and n not in common.SH_GRIDS)
+    if "sh_l0m0" not in by_name:  # an irradiance-vector volume (photon pass): its iv_* / ivc_* grids
+        names = sorted(n for n in by_name if n.startswith("iv_") or n.startswith("ivc_")) or names
     for name in names:
         grid = by_name.get(name)
         if grid is None:
@@ -64,7 +66,7 @@ def check_with_blender(path):
             raise common.CheckError("Blender cannot load the voxels of grid %s: %s" % (name, grids.error_message))
         placements.add(level0_placement(grid))
     if len(placements) != 1:
-        raise common.CheckError("the SH grids have different transforms: %s" % placements)
+        raise common.CheckError("the channel grids have different transforms: %s" % placements)
     return placements.pop(), len(names)
 
 

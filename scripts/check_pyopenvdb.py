@@ -8,6 +8,9 @@ Checks that the file metadata has vdblight:format_version and a real-SH vdblight
 ((N + 1)^2 of them, named sh_l<l>m<m>) exist as Vec3 float grids in the order of
 vdblight:channels, that their voxel (0, 0, 0) is active and sits at the level-0 origin with the level-0 spacing,
 and that sh_l0m0 at voxel (0, 0, 0) is finite (and equals --expect within 1e-5 relative).
+Irradiance-vector volumes (`bake --method photons`, basis irradiance_vectors: 18 grids iv_*;
+irradiance_vectors_compact: 12 grids ivc_*) are checked the same way with their first grid
+in place of sh_l0m0.
 With --depth, also that the four depth-moment grids (docs/format.md) are vec3s grids with
 voxel (0, 0, 0) active and every component in [0, 1].
 Exit status 0 on success; otherwise 1 with a one-line message on stderr.
@@ -26,6 +29,8 @@ def sh_grid_names(order):
 SH_GRIDS = sh_grid_names(2)
 SH_ORDERS = {"sh2": 2, "sh:1": 1, "sh:2": 2, "sh:3": 3, "sh:4": 4}
 SUPPORTED_FORMAT_VERSION = 1
+# Irradiance-vector bases (photon pass) and their channel grids' prefix and count.
+IV_BASES = {"irradiance_vectors": ("iv_", 18), "irradiance_vectors_compact": ("ivc_", 12)}
 
 
 class CheckError(Exception):
@@ -73,11 +78,20 @@ def check_with_pyopenvdb(path, expect=None, depth=False):
     if not 1 <= version <= SUPPORTED_FORMAT_VERSION:
         raise CheckError("unsupported vdblight:format_version %d" % version)
     basis = meta.get("vdblight:basis")
-    if basis not in SH_ORDERS:
-        raise CheckError("vdblight:basis is %r, expected real SH (%s)" % (basis, ", ".join(SH_ORDERS)))
-    sh_grids = sh_grid_names(SH_ORDERS[basis])
-    if meta.get("vdblight:channels", "").split(",") != sh_grids:
-        raise CheckError("vdblight:channels is %r" % meta.get("vdblight:channels"))
+    channels = meta.get("vdblight:channels", "").split(",")
+    if basis in SH_ORDERS:
+        sh_grids = sh_grid_names(SH_ORDERS[basis])
+        if channels != sh_grids:
+            raise CheckError("vdblight:channels is %r" % meta.get("vdblight:channels"))
+    elif basis in IV_BASES:
+        prefix, count = IV_BASES[basis]
+        sh_grids = channels  # the channel grids, checked like the SH ones below
+        if len(channels) != count or not all(c.startswith(prefix) for c in channels):
+            raise CheckError("vdblight:channels of basis %s is %r" % (basis, meta.get("vdblight:channels")))
+    else:
+        raise CheckError("vdblight:basis is %r, expected real SH (%s) or irradiance vectors (%s)" %
+                         (basis, ", ".join(SH_ORDERS), ", ".join(IV_BASES)))
+    first = sh_grids[0]
     origin = meta.get("vdblight:level0_origin")
     spacing = meta.get("vdblight:level0_spacing")
     if origin is None or spacing is None:
@@ -90,23 +104,23 @@ def check_with_pyopenvdb(path, expect=None, depth=False):
         if types[name] != "vec3s":
             raise CheckError("grid %s has type %s, expected vec3s" % (name, types[name]))
 
-    grid = vdb.read(path, "sh_l0m0")
+    grid = vdb.read(path, first)
     value, active = grid.getConstAccessor().probeValue((0, 0, 0))
     if not active:
-        raise CheckError("voxel (0,0,0) of sh_l0m0 is not active")
+        raise CheckError("voxel (0,0,0) of %s is not active" % first)
     if not all(math.isfinite(c) for c in value):
-        raise CheckError("sh_l0m0 at voxel (0,0,0) is not finite: %s" % (value,))
+        raise CheckError("%s at voxel (0,0,0) is not finite: %s" % (first, value))
     world = grid.transform.indexToWorld((0, 0, 0))
     if not all(close(w, o, 1e-9) or abs(w - o) < 1e-12 for w, o in zip(world, origin)):
         raise CheckError("voxel (0,0,0) is at %s, expected the level-0 origin %s" % (world, origin))
     if not all(close(s, spacing, 1e-9) for s in grid.transform.voxelSize()):
         raise CheckError("voxel size %s differs from vdblight:level0_spacing %r" % (grid.transform.voxelSize(), spacing))
     if expect is not None and not all(close(v, e) for v, e in zip(value, expect)):
-        raise CheckError("sh_l0m0 at voxel (0,0,0) is %s, expected %s" % (value, expect))
+        raise CheckError("%s at voxel (0,0,0) is %s, expected %s" % (first, value, expect))
     if depth:
         check_depth(vdb, path, types)
-    return "format_version %d, basis %s, %d vec3s SH grids%s, sh_l0m0(0,0,0) = (%.6g, %.6g, %.6g)" % (
-        (version, basis, len(sh_grids), " + 4 depth grids" if depth else "") + tuple(value))
+    return "format_version %d, basis %s, %d vec3s channel grids%s, %s(0,0,0) = (%.6g, %.6g, %.6g)" % (
+        (version, basis, len(sh_grids), " + 4 depth grids" if depth else "", first) + tuple(value))
 
 
 def main(argv):

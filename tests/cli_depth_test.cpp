@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
+#include <vector>
 
 #include "cli_util.h"
 #include "test_util.h"
@@ -78,19 +79,25 @@ TEST(CliDepth, BakeWithDepthMomentsQueriesAndExports) {
     EXPECT_NE(manifest.find("\"format\": \"rgba8_unorm\", \"bytes_per_node\": 12"), std::string::npos) << manifest;
 }
 
+// Point gather and photon volumes (full and compact form) with depth moments open where users
+// open them: pyopenvdb and Blender.
 TEST(CliDepth, FileWithDepthOpensInPyopenvdbAndBlender) {
     test::TempDir dir;
-    const std::string out = dir.file("depth.vdb");
-    ASSERT_EQ(runCli("bake -q -o " + out + " --resolution 4 --rays 16 --depth-moments").status, 0);
     const std::string source = VDBLIGHT_SOURCE_DIR;
-    std::string output;
-    EXPECT_EQ(test::runCommand("/usr/bin/python3 " + source + "/scripts/check_pyopenvdb.py " + out + " --depth", &output), 0)
-        << output;
-    if (std::getenv("VDBLIGHT_SKIP_BLENDER")) GTEST_SKIP() << "VDBLIGHT_SKIP_BLENDER is set";
-    EXPECT_EQ(test::runCommand("blender -b --factory-startup --python " + source + "/scripts/check_blender.py -- " + out,
-                               &output),
-              0)
-        << output;
+    const std::vector<std::string> bakes = {"--rays 16", "--method photons --photons 20000",
+                                            "--method photons --photons 20000 --compact"};
+    for (std::size_t b = 0; b < bakes.size(); ++b) {
+        const std::string out = dir.file("depth" + std::to_string(b) + ".vdb");
+        ASSERT_EQ(runCli("bake -q -o " + out + " --resolution 4 --depth-moments " + bakes[b]).status, 0) << bakes[b];
+        std::string output;
+        EXPECT_EQ(test::runCommand("/usr/bin/python3 " + source + "/scripts/check_pyopenvdb.py " + out + " --depth", &output), 0)
+            << output;
+        if (std::getenv("VDBLIGHT_SKIP_BLENDER")) continue;
+        EXPECT_EQ(test::runCommand("blender -b --factory-startup --python " + source + "/scripts/check_blender.py -- " + out,
+                                   &output),
+                  0)
+            << output;
+    }
 }
 
 TEST(CliDepth, BadDepthOptionsFailCleanly) {
