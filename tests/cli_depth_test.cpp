@@ -85,7 +85,7 @@ TEST(CliDepth, BadDepthOptionsFailCleanly) {
         // Depth moments are on by default (--quality default), off with preview or --no-depth-moments.
         {"bake --depth-rays 64 --no-depth-moments", "--depth-rays needs --depth-moments"},
         {"bake --depth-rays 64 --quality preview", "--depth-rays needs --depth-moments"},
-        {"bake --depth-moments --method photons --photons 20000 --tiles 2 --tile 0", "does not tile"},
+        {"bake --depth-rays 64 --method photons --photons 20000 --no-depth-moments", "--depth-rays needs --depth-moments"},
     });
     const std::string plain = dir.file("plain.vdb");
     ASSERT_EQ(runCli("bake -o " + plain + " --resolution 3 --rays 8 --bounces 1 -q --no-depth-moments").status, 0);

@@ -290,7 +290,11 @@ void run(const BakeCommand& c, const BakeRequest& request) {
                   << sums.endBatch - 1 << " of " << sums.batches << " (" << formatCount(double(report.photons->photons))
                   << " of " << formatCount(double(report.resolved.photons.value_or(0))) << " photons), "
                   << formatCount(double(report.photons->rays.total())) << " rays in "
-                  << formatSeconds(report.photons->seconds) << ". Wrote " << c.output
+                  << formatSeconds(report.photons->seconds)
+                  << (report.depth ? "; depth moments of its share of the nodes, " + formatCount(double(report.depth->rays)) +
+                                         " first-hit rays in " + formatSeconds(report.depth->seconds)
+                                   : std::string())
+                  << ". Wrote " << c.output
                   << " (the whole grid's sums of these batches; merge the tiles with 'vdblight merge').\n";
         return;
     }

@@ -129,7 +129,7 @@ openvdb::Int64Grid::Ptr buildPhotonSumGrid(const PhotonSums& sums, const std::ve
 }  // namespace
 
 void writePhotonTile(const PhotonSums& sums, const Metadata& meta, const TileId& id, const std::string& path,
-                     const WriteOptions& options, bool compact) {
+                     const WriteOptions& options, bool compact, const VolumeLevel* depth) {
     if (id.count < 1 || id.index < 0 || id.index >= id.count || id.paramsHash.empty())
         throw ValueError("invalid tile identity " + std::to_string(id.index) + " of " + std::to_string(id.count));
     const GridSpec& g = sums.grid;
@@ -140,6 +140,16 @@ void writePhotonTile(const PhotonSums& sums, const Metadata& meta, const TileId&
     part.basis = iv::basis();
     part.levels.resize(1);
     part.levels[0].grid = g;
+    if (depth) {  // the depth moments of the tile's run of nodes (photonTileDepthNodes)
+        const std::vector<uint64_t>& nodes = depth->activeNodes;
+        bool ascending = true;
+        for (std::size_t n = 0; n < nodes.size(); ++n)
+            ascending &= nodes[n] < g.nodeCount() && (n == 0 || nodes[n - 1] < nodes[n]);
+        if (!ascending || depth->depth.size() != nodes.size() * depth::kFloatsPerNode)
+            throw ValueError("the photon tile's depth moments do not match their nodes");
+        part.levels[0].activeNodes = nodes;
+        part.levels[0].depth = depth->depth;
+    }
     part.meta = meta;
     part.meta["tile_index"] = int64_t(id.index);
     part.meta["tile_count"] = int64_t(id.count);
@@ -154,6 +164,7 @@ void writePhotonTile(const PhotonSums& sums, const Metadata& meta, const TileId&
     part.meta["tile_photon_end_batch"] = int64_t(sums.endBatch);
     part.meta["tile_photon_batches"] = int64_t(sums.batches);
     part.meta["tile_photon_compact"] = int64_t(compact ? 1 : 0);
+    part.meta["tile_depth"] = int64_t(depth ? 1 : 0);
     const std::vector<Coord> origins = leafOrigins(g);
     std::vector<openvdb::Int64Grid::Ptr> built(std::size_t(2 * iv::kFloatsPerNode));
     tbb::parallel_for(0, 2 * iv::kFloatsPerNode, [&](int w) {
@@ -168,6 +179,8 @@ void writePhotonTile(const PhotonSums& sums, const Metadata& meta, const TileId&
         tagGrid(*grid, part, 0, -1);
         grids.push_back(grid);
     }
+    // Full floats whatever the merged file uses, as writeTile: the merge copies these values.
+    if (depth) appendDepthGrids(part, 0, true, {}, false, grids);
     writeFile(part, path, options, true, grids, false);
 }
 }  // namespace vdblight
