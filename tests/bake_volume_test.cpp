@@ -227,16 +227,22 @@ TEST(BakeVolume, PhotonsTakeTheDefaultGridUnlessTold) {
     ASSERT_TRUE(d.nodes.has_value());
     EXPECT_EQ(*d.nodes, 16384u);
     EXPECT_EQ(*d.probePasses, 0);  // the gather's presets stay the gather's
-    EXPECT_FALSE(*d.depthMoments);
+    EXPECT_TRUE(*d.depthMoments);  // but its depth moments apply (docs/methods.md)
     EXPECT_EQ(*d.photons, 4'000'000u);
+    r.quality = "high";
+    EXPECT_TRUE(*resolveBakeRequest(r).depthMoments);
     r.quality = "preview";
     EXPECT_FALSE(resolveBakeRequest(r).nodes.has_value());
     EXPECT_EQ(*resolveBakeRequest(r).photons, 1'000'000u);
+    EXPECT_FALSE(*resolveBakeRequest(r).depthMoments);
     r.quality = "default";
     r.resolution = 6;
     d = resolveBakeRequest(r);
     EXPECT_FALSE(d.nodes.has_value());
     EXPECT_EQ(*d.resolution, 6);
+    EXPECT_TRUE(*d.depthMoments);
+    r.depthMoments = false;  // --no-depth-moments
+    EXPECT_FALSE(*resolveBakeRequest(r).depthMoments);
 }
 
 /// A request that selects `pass`.

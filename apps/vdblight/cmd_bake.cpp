@@ -334,7 +334,8 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
                     "box (16..64 on its longest axis), 1024 rays + one probe-to-probe pass of 1024, depth "
                     "moments, SH order 4 stored (seconds; the measured most accurate within 30 s, "
                     "docs/methods.md); high: the default with 2048 rays. Presets apply to --method gather, "
-                    "--sampling point, --layout uniform, --basis sh2 or sh:N; other passes take 16 nodes on the "
+                    "--sampling point, --layout uniform, --basis sh2 or sh:N; --method photons takes their grid, "
+                    "photon count and depth moments; other passes take 16 nodes on the "
                     "longest axis and the fixed --rays (default 256); --target-error replaces the rays by an "
                     "error target (SH order 2)")
         ->capture_default_str();
