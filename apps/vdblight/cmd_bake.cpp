@@ -181,6 +181,9 @@ void printPhotonSummary(const BakeCommand& c, const Scene& scene, const SceneLoa
               << c.output
               << (report.resolved.compact ? " (compact irradiance vectors: colour + direction, 12 half-float Vec3 grids).\n"
                             : " (irradiance vectors, 18 Vec3f grids).\n");
+    if (report.depth)  // the default's (--no-depth-moments: none)
+        std::cout << "Depth moments: " << formatCount(double(report.depth->rays)) << " first-hit rays in "
+                  << formatSeconds(report.depth->seconds) << " (" << depth::kBytesPerNode << " B per node at 8 bits).\n";
 }
 
 /// What the pass did before the file was written (error target, layout, direct light).
