@@ -99,16 +99,17 @@ std::vector<Config> configurations() {
                  [](const Ctx& c) { return photons(c, c.settings.res(16), c.settings.photons(1'000'000)); }});
     v.push_back({"photons_16k", "--method photons --photons 4000000 on the default's grid (~16384 nodes)",
                  [](const Ctx& c) { return photons(c, 0, c.settings.photons(4'000'000)); }, true});
-    v.push_back({"photons_16k_1M", "--method photons --photons 1000000 on the default's grid (~16384 nodes): "
-                                   "what `bake --method photons` does by default",
+    v.push_back({"photons_16k_1M", "--method photons --photons 1000000 on the default's grid (~16384 nodes)",
                  [](const Ctx& c) { return photons(c, 0, c.settings.photons(1'000'000)); }, true});
     // The photon pass with --depth-moments (256 first-hit rays per node, the bake's default for
-    // the photon pass): the same lookups, weighted by visibility (issue 15 item 4).
+    // the photon pass): the same lookups, weighted by visibility (issue 15 item 4). On the
+    // default's grid, what `bake --method photons` does by default.
     v.push_back({"photons_depth", "--method photons --photons 4000000 --depth-moments, 16 nodes",
                  [](const Ctx& c) {
                      return photons(c, c.settings.res(16), c.settings.photons(4'000'000), 0, iv::kDefaultBlend, c.settings.rays(256));
                  }});
-    v.push_back({"photons_16k_depth", "--method photons --depth-moments on the default's grid (4000000 photons)",
+    v.push_back({"photons_16k_depth", "--method photons --depth-moments on the default's grid (4000000 photons): "
+                                      "what `bake --method photons` does by default",
                  [](const Ctx& c) { return photons(c, 0, c.settings.photons(4'000'000), 0, iv::kDefaultBlend, c.settings.rays(256)); }});
     v.push_back({"photons_paper", "--method photons --photons 4000000, 16 nodes, read with query --iv-blend paper "
                                   "(the lookup before issue 15 item 5)",

@@ -227,16 +227,22 @@ TEST(BakeVolume, PhotonsTakeTheDefaultGridUnlessTold) {
     ASSERT_TRUE(d.nodes.has_value());
     EXPECT_EQ(*d.nodes, 16384u);
     EXPECT_EQ(*d.probePasses, 0);  // the gather's presets stay the gather's
-    EXPECT_FALSE(*d.depthMoments);
+    EXPECT_TRUE(*d.depthMoments);  // but its depth moments apply (docs/methods.md)
     EXPECT_EQ(*d.photons, 4'000'000u);
+    r.quality = "high";
+    EXPECT_TRUE(*resolveBakeRequest(r).depthMoments);
     r.quality = "preview";
     EXPECT_FALSE(resolveBakeRequest(r).nodes.has_value());
     EXPECT_EQ(*resolveBakeRequest(r).photons, 1'000'000u);
+    EXPECT_FALSE(*resolveBakeRequest(r).depthMoments);
     r.quality = "default";
     r.resolution = 6;
     d = resolveBakeRequest(r);
     EXPECT_FALSE(d.nodes.has_value());
     EXPECT_EQ(*d.resolution, 6);
+    EXPECT_TRUE(*d.depthMoments);
+    r.depthMoments = false;  // --no-depth-moments
+    EXPECT_FALSE(*resolveBakeRequest(r).depthMoments);
 }
 
 /// A request that selects `pass`.
@@ -302,7 +308,9 @@ TEST(BakeVolume, RefusesOptionsThePassDoesNotTake) {
     EXPECT_EQ(refusal([](BakeRequest& r) { r.compact = true; }), "--compact applies to --method photons only");
     EXPECT_NE(refusal([](BakeRequest& r) { r.method = "photons"; r.shWindow = true; }).find("--sh-window applies"),
               std::string::npos);
-    EXPECT_EQ(refusal([](BakeRequest& r) { r.method = "photons"; r.depthMoments = true; }), "accepted");
+    // Every pass takes depth moments, the photon pass in tiles too (each tile bakes a run of nodes').
+    EXPECT_EQ(refusal([](BakeRequest& r) { r.method = "photons"; r.depthMoments = true; r.tiles = 2; r.tile = 0; }),
+              "accepted");
     EXPECT_NE(refusal([](BakeRequest& r) { r.sampling = "antialiased"; r.probePasses = 2; }).find("--probe-passes works"),
               std::string::npos);
     EXPECT_NE(refusal([](BakeRequest& r) { r.sampling = "antialiased"; r.domain = "nowhere"; })

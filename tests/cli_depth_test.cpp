@@ -106,15 +106,15 @@ TEST(CliDepth, BadDepthOptionsFailCleanly) {
         // Depth moments are on by default (--quality default), off with preview or --no-depth-moments.
         {"bake --depth-rays 64 --no-depth-moments", "--depth-rays needs --depth-moments"},
         {"bake --depth-rays 64 --quality preview", "--depth-rays needs --depth-moments"},
-        {"bake --depth-moments --method photons --photons 20000 --tiles 2 --tile 0", "does not tile"},
+        {"bake --depth-rays 64 --method photons --photons 20000 --no-depth-moments", "--depth-rays needs --depth-moments"},
     });
     const std::string plain = dir.file("plain.vdb");
     ASSERT_EQ(runCli("bake -o " + plain + " --resolution 3 --rays 8 --bounces 1 -q --no-depth-moments").status, 0);
     test::expectCleanFailure(dir, "query " + plain + " --at 0.2,0.2,0.2 --no-depth-weights", "has no depth moments");
 }
 
-// The default bake (issue 15) stores depth moments and its lookups are weighted by them;
-// --quality preview and --no-depth-moments leave them out.
+// The default bake (issue 15) stores depth moments and its lookups are weighted by them, the
+// photon pass's too; --quality preview and --no-depth-moments leave them out.
 TEST(CliDepth, OnByDefaultOffWithPreviewOrNoDepthMoments) {
     test::TempDir dir;
     const std::string common = " --resolution 4 --rays 16 --bounces 1 -q";
@@ -125,16 +125,22 @@ TEST(CliDepth, OnByDefaultOffWithPreviewOrNoDepthMoments) {
     EXPECT_TRUE(readVolume(byDefault).hasDepth());
     EXPECT_FALSE(readVolume(preview).hasDepth());
     EXPECT_FALSE(readVolume(off).hasDepth());
-    // Other passes keep their own defaults: no depth moments unless asked for.
-    const std::string photons = dir.file("photons.vdb");
-    ASSERT_EQ(runCli("bake -o " + photons + " --method photons --photons 20000 --resolution 4 -q").status, 0);
-    EXPECT_FALSE(readVolume(photons).hasDepth());
-    // Asked for, the photon volume has them too (full and compact), and query weights by them.
+    // The photon pass takes the preset's depth moments (on with default and high, as its grid),
+    // but not with preview or --no-depth-moments.
+    const std::string photons = " --method photons --photons 20000 --resolution 4 -q";
+    const std::string photonsPreview = dir.file("photons_preview.vdb"), photonsOff = dir.file("photons_off.vdb");
+    ASSERT_EQ(runCli("bake -o " + photonsPreview + photons + " --quality preview").status, 0);
+    ASSERT_EQ(runCli("bake -o " + photonsOff + photons + " --no-depth-moments").status, 0);
+    EXPECT_FALSE(readVolume(photonsPreview).hasDepth());
+    EXPECT_FALSE(readVolume(photonsOff).hasDepth());
+    // By default (and with --quality high) the photon volume has them (full and compact), and
+    // query weights by them.
+    const std::string photonsHigh = dir.file("photons_high.vdb");
+    ASSERT_EQ(runCli("bake -o " + photonsHigh + photons + " --quality high").status, 0);
+    EXPECT_TRUE(readVolume(photonsHigh).hasDepth());
     for (const std::string form : {"", " --compact"}) {
         const std::string withDepth = dir.file("photons_depth.vdb");
-        ASSERT_EQ(runCli("bake -o " + withDepth + " --method photons --photons 20000 --resolution 4 -q --depth-moments" + form)
-                      .status,
-                  0);
+        ASSERT_EQ(runCli("bake -o " + withDepth + photons + form).status, 0);
         EXPECT_TRUE(readVolume(withDepth).hasDepth()) << form;
         EXPECT_EQ(runCli("query " + withDepth + " --at 0.2,0.2,0.2 --no-depth-weights").status, 0) << form;
         if (!form.empty()) continue;

@@ -47,6 +47,7 @@ TEST(CliPhotons, BakeInfoQueryOnTheDefaultScene) {
     ASSERT_EQ(bake.status, 0) << bake.output;
     EXPECT_NE(bake.output.find("photons/s"), std::string::npos) << bake.output;
     EXPECT_NE(bake.output.find("face crossings"), std::string::npos) << bake.output;
+    EXPECT_NE(bake.output.find("Depth moments: "), std::string::npos) << bake.output;  // the default's
     const Volume v = readVolume(out);
     EXPECT_EQ(v.basis.kind, "irradiance_vectors");
     EXPECT_EQ(v.basis.channelCount(), 18);

@@ -154,14 +154,20 @@ TEST(CliTiles, CulledBilevelMergesToTheSingleBake) {
 
 TEST(CliTiles, PhotonBakesMergeToTheSingleBake) {
     // A tile traces a run of the photon batches (40 000 photons: 10 batches of 4096) and
-    // holds the whole grid's exact sums; merges of 1, 2 and 3 tiles give the single bake.
+    // holds the whole grid's exact sums, and the depth moments (on by default) of its run of
+    // nodes; merges of 1, 2 and 3 tiles give the single bake, with and without depth.
     for (int tiles : {1, 2, 3}) {
         SCOPED_TRACE(tiles);
         test::TempDir dir;
         expectMergeIdentical(dir, "--method photons --photons 40000 --resolution 6 --seed 3", tiles);
+        EXPECT_TRUE(readVolume(dir.file("merged.vdb")).hasDepth());
     }
-    test::TempDir dir;
-    expectMergeIdentical(dir, "--method photons --photons 40000 --resolution 6 --compact", 2);
+    for (const std::string extra : {" --compact", " --no-depth-moments"}) {
+        SCOPED_TRACE(extra);
+        test::TempDir dir;
+        expectMergeIdentical(dir, "--method photons --photons 40000 --resolution 6" + extra, 2);
+        EXPECT_EQ(readVolume(dir.file("merged.vdb")).hasDepth(), extra == " --compact");
+    }
 }
 
 TEST(CliTiles, BadSetsOfPhotonTilesAreRefusedByName) {

@@ -1,13 +1,13 @@
 // Tiles of the photon pass (issue 17): a tile traces a run of the photon batches and writes
 // the whole grid's exact sums (photon_sums.h); the merge of any number of tiles writes the
-// single-process bake's bytes; bad sets of tiles are refused by name.
+// single-process bake's bytes; bad sets of tiles are refused by name. Their depth moments:
+// photon_tiles_depth_test.cpp.
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <iterator>
 #include <limits>
 
 #include "grids.h"
+#include "photon_tile_fixtures.h"
 #include "test_util.h"
 #include "vdblight/bake_volume.h"
 #include "vdblight/errors.h"
@@ -19,46 +19,14 @@
 namespace vdblight {
 namespace {
 
-std::string bytesOf(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-/// A closed grey room lit by an emissive ceiling patch: photons bounce, so every face of the
-/// grid sees many batches' crossings.
-Scene room() { return test::makeFurnaceBox({0, 0, 0}, {1, 0.8f, 0.9f}, {1.0f, 0.8f, 0.6f}, {0.6f, 0.6f, 0.6f}); }
-
-/// 40 000 photons on 6 x 5 x 5 nodes: batches of 4096 photons (the minimum), 10 batches.
-BakeRequest photonRequest() {
-    BakeRequest r;
-    r.method = "photons";
-    r.photons = 40000;
-    r.resolution = 6;
-    r.seed = 5;
-    r.threads = 2;
-    r.tileParameters = "--method=photons\n--photons=40000\n--resolution=6\n--seed=5\n";
-    return r;
-}
-
-std::vector<std::string> bakeTiles(const Scene& scene, BakeRequest r, const test::TempDir& dir, int count,
-                                   const std::string& prefix) {
-    std::vector<std::string> paths;
-    for (int t = 0; t < count; ++t) {
-        r.tiles = count;
-        r.tile = t;
-        r.threads = 1 + t % 2;
-        paths.push_back(dir.file(prefix + std::to_string(t) + ".vdb"));
-        BakeReport report;
-        bakeToFile(scene, r, paths.back(), nullptr, &report);
-        EXPECT_TRUE(report.photonSums);
-        EXPECT_FALSE(report.skipped);
-    }
-    return paths;
-}
+using test::bakePhotonTiles;
+using test::bytesOf;
+using test::photonRequest;
+using test::photonRoom;
 
 TEST(PhotonTiles, MergesOfOneTwoThreeAndTenTilesAreTheSingleBake) {
     test::TempDir dir;
-    const Scene scene = room();
+    const Scene scene = photonRoom();
     const BakeRequest r = photonRequest();
     BakeReport whole;
     const Volume volume = bakeToFile(scene, r, dir.file("whole.vdb"), nullptr, &whole);
@@ -67,7 +35,7 @@ TEST(PhotonTiles, MergesOfOneTwoThreeAndTenTilesAreTheSingleBake) {
     ASSERT_GT(expected.size(), 1000u);
     for (int count : {1, 2, 3, 10}) {
         SCOPED_TRACE(count);
-        std::vector<std::string> paths = bakeTiles(scene, r, dir, count, "n" + std::to_string(count) + "_");
+        std::vector<std::string> paths = bakePhotonTiles(scene, r, dir, count, "n" + std::to_string(count) + "_");
         std::reverse(paths.begin(), paths.end());  // any order
         const MergedTiles merged = mergeTiles(paths);
         const std::string out = dir.file("merged" + std::to_string(count) + ".vdb");
@@ -92,12 +60,12 @@ TEST(PhotonTiles, MergesOfOneTwoThreeAndTenTilesAreTheSingleBake) {
 
 TEST(PhotonTiles, CompactAndHalfFloatMergesAreTheSingleBake) {
     test::TempDir dir;
-    const Scene scene = room();
+    const Scene scene = photonRoom();
     BakeRequest r = photonRequest();
     r.compact = true;
     r.tileParameters += "--compact=true\n";
     bakeToFile(scene, r, dir.file("whole.vdb"));
-    const MergedTiles merged = mergeTiles(bakeTiles(scene, r, dir, 3, "c"));
+    const MergedTiles merged = mergeTiles(bakePhotonTiles(scene, r, dir, 3, "c"));
     EXPECT_TRUE(merged.write.halfFloat);
     writeVolume(merged.volume, dir.file("merged.vdb"), merged.write);
     EXPECT_TRUE(bytesOf(dir.file("merged.vdb")) == bytesOf(dir.file("whole.vdb")));
@@ -105,7 +73,7 @@ TEST(PhotonTiles, CompactAndHalfFloatMergesAreTheSingleBake) {
 
 TEST(PhotonTiles, ATileHasTheSameBitsOnOneAndTwoThreads) {
     test::TempDir dir;
-    const Scene scene = room();
+    const Scene scene = photonRoom();
     BakeRequest r = photonRequest();
     r.tiles = 3;
     r.tile = 1;
@@ -122,13 +90,13 @@ TEST(PhotonTiles, ATileHasTheSameBitsOnOneAndTwoThreads) {
 
 TEST(PhotonTiles, MissingDuplicateAndMismatchedTilesAreRefusedByName) {
     test::TempDir dir;
-    const Scene scene = room();
+    const Scene scene = photonRoom();
     const BakeRequest r = photonRequest();
-    const std::vector<std::string> t = bakeTiles(scene, r, dir, 3, "t");
+    const std::vector<std::string> t = bakePhotonTiles(scene, r, dir, 3, "t");
     BakeRequest other = r;
     other.seed = 6;
     other.tileParameters = "--method=photons\n--photons=40000\n--resolution=6\n--seed=6\n";
-    const std::vector<std::string> seed6 = bakeTiles(scene, other, dir, 3, "s");
+    const std::vector<std::string> seed6 = bakePhotonTiles(scene, other, dir, 3, "s");
     auto refusal = [](const std::vector<std::string>& paths) -> std::string {
         try {
             mergeTiles(paths);
@@ -144,7 +112,7 @@ TEST(PhotonTiles, MissingDuplicateAndMismatchedTilesAreRefusedByName) {
     EXPECT_NE(mixed.find("different scenes or parameters"), std::string::npos) << mixed;
     EXPECT_NE(mixed.find(seed6[1]), std::string::npos) << mixed;
     // A tile of another count names both files.
-    const std::vector<std::string> two = bakeTiles(scene, r, dir, 2, "two");
+    const std::vector<std::string> two = bakePhotonTiles(scene, r, dir, 2, "two");
     const std::string count = refusal({t[0], two[1], t[2]});
     EXPECT_NE(count.find("is a tile of 2"), std::string::npos) << count;
     EXPECT_NE(count.find(two[1]), std::string::npos) << count;

@@ -181,6 +181,9 @@ void printPhotonSummary(const BakeCommand& c, const Scene& scene, const SceneLoa
               << c.output
               << (report.resolved.compact ? " (compact irradiance vectors: colour + direction, 12 half-float Vec3 grids).\n"
                             : " (irradiance vectors, 18 Vec3f grids).\n");
+    if (report.depth)  // the default's (--no-depth-moments: none)
+        std::cout << "Depth moments: " << formatCount(double(report.depth->rays)) << " first-hit rays in "
+                  << formatSeconds(report.depth->seconds) << " (" << depth::kBytesPerNode << " B per node at 8 bits).\n";
 }
 
 /// What the pass did before the file was written (error target, layout, direct light).
@@ -290,7 +293,11 @@ void run(const BakeCommand& c, const BakeRequest& request) {
                   << sums.endBatch - 1 << " of " << sums.batches << " (" << formatCount(double(report.photons->photons))
                   << " of " << formatCount(double(report.resolved.photons.value_or(0))) << " photons), "
                   << formatCount(double(report.photons->rays.total())) << " rays in "
-                  << formatSeconds(report.photons->seconds) << ". Wrote " << c.output
+                  << formatSeconds(report.photons->seconds)
+                  << (report.depth ? "; depth moments of its share of the nodes, " + formatCount(double(report.depth->rays)) +
+                                         " first-hit rays in " + formatSeconds(report.depth->seconds)
+                                   : std::string())
+                  << ". Wrote " << c.output
                   << " (the whole grid's sums of these batches; merge the tiles with 'vdblight merge').\n";
         return;
     }
@@ -330,7 +337,8 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
                     "box (16..64 on its longest axis), 1024 rays + one probe-to-probe pass of 1024, depth "
                     "moments, SH order 4 stored (seconds; the measured most accurate within 30 s, "
                     "docs/methods.md); high: the default with 2048 rays. Presets apply to --method gather, "
-                    "--sampling point, --layout uniform, --basis sh2 or sh:N; other passes take 16 nodes on the "
+                    "--sampling point, --layout uniform, --basis sh2 or sh:N; --method photons takes their grid, "
+                    "photon count and depth moments; other passes take 16 nodes on the "
                     "longest axis and the fixed --rays (default 256); --target-error replaces the rays by an "
                     "error target (SH order 2)")
         ->capture_default_str();

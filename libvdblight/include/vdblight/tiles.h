@@ -11,7 +11,9 @@
 //
 // The photon pass is tiled by photon batches instead (its photons cross every node): tile i
 // traces a run of the batches and writes the whole grid's exact sums of them
-// (writePhotonTile, photon_sums.h); the merge adds the tiles' sums.
+// (writePhotonTile, photon_sums.h); the merge adds the tiles' sums. Depth moments, which are
+// per node (bake_depth.h), are split by node instead: tile i bakes those of a contiguous run of
+// the nodes (photonTileDepthNodes) and the merge puts the runs together.
 #pragma once
 
 #include <cstdint>
@@ -73,13 +75,24 @@ struct TileNodeStats {
 void writeTile(const Volume& volume, const NodeMask& mask, const TileId& id, const std::string& path,
                const WriteOptions& options = {}, const TileNodeStats* stats = nullptr);
 
+/// The nodes whose depth moments tile `index` of `count` of a photon bake bakes (bake
+/// --depth-moments): linear indices [index * n / count, (index + 1) * n / count) of the n nodes
+/// of `grid`, as a one-level mask. Any count works (a run may be empty: more tiles than nodes);
+/// a node's moments do not depend on the run it is baked in (bake_depth.h), so the merged
+/// runs are the single bake's. ValueError unless 1 <= count and 0 <= index < count.
+NodeMask photonTileDepthNodes(const GridSpec& grid, int count, int index);
+
 /// Writes tile `id` of a photon bake (photons.h, photon_sums.h; partial .vdb, atomically as
 /// writeVolume): the whole grid's exact sums of the tile's batches (two Int64Grids per value,
 /// tile_photon_sum_<v>_hi / _lo, v = 0..53 the volume's float order), `meta` (the volume's
 /// metadata; the counts of the tile's batches) and tile_* keys; `compact`: the merge writes
-/// the compact form (bake --compact). Refuses sums that do not match their grid.
+/// the compact form (bake --compact). `depth` (bake --depth-moments; else null): the depth
+/// moments of the tile's nodes (photonTileDepthNodes), as a level on the sums' grid whose
+/// activeNodes list them (ascending linear indices, maybe none) and whose `depth` holds their
+/// moments in that order; written as the four depth grids active exactly there (tile_depth 1).
+/// Refuses sums that do not match their grid, depth that does not match its nodes.
 void writePhotonTile(const PhotonSums& sums, const Metadata& meta, const TileId& id, const std::string& path,
-                     const WriteOptions& options, bool compact);
+                     const WriteOptions& options, bool compact, const VolumeLevel* depth = nullptr);
 
 /// Reads the identity of a tile file. Returns false for a .vdb that is no tile (a complete
 /// volume); throws as readVolume for unreadable files.
@@ -94,7 +107,9 @@ struct MergedTiles {
 /// Merges the tile files of one bake. Throws ValueError naming the files for a missing,
 /// duplicate or mismatched tile (other tile count or parameter hash), FormatError for files
 /// that are no tiles or overlap. Photon tiles (writePhotonTile): their exact sums are added
-/// and normalised by photonVolume, as the single bake does. Counts each tile measured for its own nodes
+/// and normalised by photonVolume, as the single bake does; their depth moments, if any, put
+/// together (FormatError if some tiles have them and others not, or if a node's are held by
+/// two tiles or by none). Counts each tile measured for its own nodes
 /// (tileSummedKeys) are summed in tile order; the error summary is recomputed from the
 /// tiles' per-node errors, the sample summary of error-targeted bakes from the summed counts.
 MergedTiles mergeTiles(const std::vector<std::string>& paths);

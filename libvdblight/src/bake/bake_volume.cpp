@@ -11,6 +11,7 @@
 #include "pass_options.h"
 #include "vdblight/bake_depth.h"
 #include "vdblight/bake_direct.h"
+#include "vdblight/depth_moments.h"
 #include "vdblight/errors.h"
 #include "vdblight/node_budget.h"
 #include "vdblight/scene.h"
@@ -104,6 +105,12 @@ Volume bakeImpl(const Scene& scene, const BakeRequest& given, Interrupter* inter
         };
 
     Volume volume = pass.run(context, r, grid, report);
+    if (tile && report.photonSums && *r.depthMoments) {
+        // A photon tile holds every node's sums of its batches; depth moments are per node, so
+        // it bakes those of its run of nodes only (photonTileDepthNodes, tiles.h).
+        tile->mask = photonTileDepthNodes(grid, *r.tiles, *r.tile);
+        setTileWindows(volume.levels, &tile->mask);
+    }
 
     const NodeMask* only = tile ? &tile->mask : nullptr;
     if (direct.mode != DirectMode::Baked && report.lastStage)
@@ -172,7 +179,16 @@ Volume bakeToFile(const Scene& scene, const BakeRequest& request, const std::str
     Volume volume = bakeImpl(scene, request, interrupter, report, &tile);
     if (report.photonSums) {  // a photon tile: the whole grid's sums of its batches
         report.photonSums->grid = volume.levels[0].grid;  // placed in the world like the volume
-        writePhotonTile(*report.photonSums, volume.meta, tile.id, path, report.write, report.resolved.compact);
+        const VolumeLevel& level = volume.levels[0];
+        VolumeLevel tileDepth;  // --depth-moments: those of the tile's run of nodes
+        tileDepth.grid = level.grid;
+        for (std::size_t n = 0; level.hasDepth() && n < tile.mask[0].size(); ++n) {
+            if (!tile.mask[0][n]) continue;
+            tileDepth.activeNodes.push_back(n);
+            tileDepth.depth.insert(tileDepth.depth.end(), level.nodeDepth(n), level.nodeDepth(n) + depth::kFloatsPerNode);
+        }
+        writePhotonTile(*report.photonSums, volume.meta, tile.id, path, report.write, report.resolved.compact,
+                        level.hasDepth() ? &tileDepth : nullptr);
         report.tileNodes = volume.levels[0].grid.nodeCount();
         return volume;
     }

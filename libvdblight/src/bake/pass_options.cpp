@@ -164,7 +164,8 @@ PassOption depthMomentsOption() {
     return flagOption("depth-moments",
                       "also store per-node depth moments, so that lookups do not interpolate across walls "
                       "(docs/methods.md, visibility-aware interpolation). Default: on with --quality default and high "
-                      "where the preset applies, off otherwise",
+                      "where the preset applies (the uniform SH point gather, and --method photons), off otherwise and "
+                      "with --quality preview; --no-depth-moments turns it off",
                       &BakeRequest::depthMoments, "--depth-moments does not apply to this pass");
 }
 

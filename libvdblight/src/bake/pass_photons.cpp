@@ -60,10 +60,9 @@ std::size_t PhotonsPass::bytesPerNode(const BakeRequest& r) const {
     return 54 * (16 + 4 * 4) + (r.tiles ? 54 * 16 : 0);
 }
 
-std::string PhotonsPass::untileable(const BakeRequest& r) const {
-    // A tile traces a run of the photon batches (photon_sums.h, tiles.h) over every node; its
-    // file holds sums only, so depth moments (per node, not per photon) have no place in it.
-    if (r.depthMoments.value_or(false)) return "--depth-moments with --method photons does not tile (bake it whole)";
+std::string PhotonsPass::untileable(const BakeRequest&) const {
+    // A tile traces a run of the photon batches (photon_sums.h, tiles.h) over every node, and
+    // bakes the depth moments of a run of the nodes (photonTileDepthNodes): always tileable.
     return "";
 }
 

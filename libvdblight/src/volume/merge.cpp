@@ -11,7 +11,8 @@
 //
 // Photon tiles are not nodes but runs of photon batches: each holds the whole grid's exact
 // sums of its batches (photon_sums.h), which the merge adds (integers: exact in any order)
-// and normalises as the single bake does.
+// and normalises as the single bake does. Their depth moments (bake --depth-moments) are per
+// node: each tile holds those of a run of nodes (photonTileDepthNodes), copied back here.
 #include <algorithm>
 #include <map>
 #include <set>
@@ -95,6 +96,42 @@ Metadata mergedMetadata(const std::vector<TileFile>& tiles, const std::vector<st
     return meta;
 }
 
+/// The depth moments of photon tiles (writePhotonTile), each of its own nodes, as the whole
+/// grid's VolumeLevel::depth; refuses a set where some tiles have them and others not, or
+/// where a node's are held by two tiles or by none. Empty if the tiles have none.
+std::vector<float> photonTileDepth(const std::vector<TileFile>& tiles, const std::vector<std::size_t>& order,
+                                   const std::vector<std::string>& paths) {
+    const TileFile& first = tiles[order[0]];
+    for (std::size_t t : order)
+        if (tiles[t].depth != first.depth)
+            throw FormatError(quoted(paths[t]) + (tiles[t].depth ? " has" : " has no") + " depth moments but " +
+                              quoted(paths[order[0]]) + (first.depth ? " has" : " has none") +
+                              ": tiles of bakes with and without --depth-moments");
+    if (!first.depth) return {};
+    const std::size_t nodes = first.photon->grid.nodeCount();
+    std::vector<float> out(nodes * depth::kFloatsPerNode, 0.0f);
+    std::vector<std::size_t> holder(nodes, tiles.size());  // the tile holding each node's
+    for (std::size_t t : order) {
+        const VolumeLevel& part = tiles[t].part.levels[0];
+        for (std::size_t n = 0; n < part.activeNodes.size(); ++n) {
+            const uint64_t node = part.activeNodes[n];
+            if (holder[node] != tiles.size())
+                throw FormatError(quoted(paths[holder[node]]) + " and " + quoted(paths[t]) +
+                                  " both hold the depth moments of node " + std::to_string(node));
+            holder[node] = t;
+            std::copy(part.nodeDepth(n), part.nodeDepth(n) + depth::kFloatsPerNode,
+                      out.begin() + std::ptrdiff_t(node * depth::kFloatsPerNode));
+        }
+    }
+    const std::size_t missing = std::size_t(std::count(holder.begin(), holder.end(), tiles.size()));
+    if (missing > 0)
+        throw FormatError("the photon tiles hold the depth moments of " + std::to_string(nodes - missing) + " of the " +
+                          std::to_string(nodes) + " nodes (node " +
+                          std::to_string(std::find(holder.begin(), holder.end(), tiles.size()) - holder.begin()) +
+                          " in none)");
+    return out;
+}
+
 /// Photon tiles (writePhotonTile): each holds the whole grid's exact sums of a run of batches;
 /// their sum is the single bake's total (photon_sums.h), normalised by the same photonVolume.
 MergedTiles mergePhotonTiles(const std::vector<TileFile>& tiles, const std::vector<std::size_t>& order,
@@ -132,6 +169,7 @@ MergedTiles mergePhotonTiles(const std::vector<TileFile>& tiles, const std::vect
         throw FormatError("the photon tiles hold batches 0.." + std::to_string(next) + " of " + std::to_string(total.batches));
     MergedTiles out;
     out.volume = photonVolume(total, mergedMetadata(tiles, order));
+    out.volume.levels[0].depth = photonTileDepth(tiles, order, paths);
     out.write.halfFloat = first.halfFloat;
     out.write.reproducible = first.reproducible;
     if (first.photonCompact) {  // as the pass's finish (bake --compact)

@@ -22,8 +22,9 @@ struct TileFile {
     bool visibility = false;  ///< level 0 has light visibility (part.levels[0], tile nodes)
     bool error = false;       ///< estimatedError holds level 0's per-node errors
     std::vector<float> estimatedError;  ///< TileNodeStats, in the order of part.levels[0].activeNodes
-    /// A photon tile (writePhotonTile): the sums of its batches; part has the grid (level 0,
-    /// no nodes) and metadata only.
+    /// A photon tile (writePhotonTile): the sums of its batches; part has the grid (level 0)
+    /// and metadata, and with `depth` the depth moments of its run of nodes (level 0's
+    /// activeNodes and depth; photonTileDepthNodes).
     std::shared_ptr<PhotonSums> photon;
     bool photonCompact = false;  ///< the merged file is the compact form
 };

@@ -104,6 +104,20 @@ NodeMask tileNodeMask(const std::vector<VolumeLevel>& levels, int count, int ind
     return mask;
 }
 
+NodeMask photonTileDepthNodes(const GridSpec& grid, int count, int index) {
+    if (count < 1) throw ValueError("--tiles must be at least 1, got " + std::to_string(count));
+    if (index < 0 || index >= count)
+        throw ValueError("--tile must be between 0 and " + std::to_string(count - 1) + ", got " + std::to_string(index));
+    // Contiguous runs of equal node counts: every node costs the same depth rays (128-bit
+    // products: no overflow for any count).
+    const uint64_t n = grid.nodeCount();
+    const uint64_t first = uint64_t((unsigned __int128)index * n / unsigned(count));
+    const uint64_t end = uint64_t((unsigned __int128)(index + 1) * n / unsigned(count));
+    NodeMask mask(1, std::vector<uint8_t>(n, 0));
+    std::fill(mask[0].begin() + std::ptrdiff_t(first), mask[0].begin() + std::ptrdiff_t(end), uint8_t(1));
+    return mask;
+}
+
 void setTileWindows(std::vector<VolumeLevel>& levels, const NodeMask* only) {
     if (only && only->size() != levels.size()) throw ValueError("the node mask does not match the levels");
     for (std::size_t l = 0; l < levels.size(); ++l) {

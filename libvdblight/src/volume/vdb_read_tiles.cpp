@@ -3,6 +3,7 @@
 #include "tile_io.h"
 #include "vdb_read_parts.h"
 #include "vdb_surface_bins.h"
+#include "vdblight/depth_moments.h"
 #include "vdblight/irradiance_vectors.h"
 #include "vdblight/photon_sums.h"
 #include "vdblight/tiles.h"
@@ -11,8 +12,25 @@ namespace vdblight {
 namespace vdb_detail {
 
 namespace {
+/// A photon tile's depth moments (bake --depth-moments): level 0 gets the nodes they cover
+/// (the active voxels of the four depth grids, the same in each; maybe none) and their values.
+void readPhotonTileDepth(OpenedFile& f, VolumeLevel& level, const std::string& path) {
+    for (int c = 0; c < depth::kChannels; ++c) {
+        const std::string name = gridNameFor(depth::channelName(c), 0);
+        if (!f.file->hasGrid(name)) formatError(path, "has depth moments without grid '" + name + "'");
+        if (c > 0) continue;
+        Vec3SGrid::Ptr grid = checkPlacedChannel(readGridChecked(f, name, path), level.grid, path);
+        grid->tree().voxelizeActiveTiles();
+        if (!insideBox(grid->evalActiveVoxelBoundingBox(), level.grid.nx, level.grid.ny, level.grid.nz))
+            formatError(path, "grid '" + name + "' has active voxels outside its level's node box");
+        level.activeNodes = activeLinear(*grid, level.grid);
+    }
+    if (!level.activeNodes.empty()) readDepth(f, level, 0, path);  // all four, active at the same nodes
+}
+
 /// The rest of a photon tile (writePhotonTile) after its identity: level 0's grid, the
-/// metadata and the 128-bit sums from their Int64Grids (every node an active voxel).
+/// metadata, the 128-bit sums from their Int64Grids (every node an active voxel) and the depth
+/// moments of the tile's nodes, if any.
 void readPhotonTile(OpenedFile& f, TileFile& t, const std::string& path) {
     const openvdb::MetaMap& meta = *f.meta;
     Volume& v = t.part;
@@ -56,6 +74,8 @@ void readPhotonTile(OpenedFile& f, TileFile& t, const std::string& path) {
     for (std::size_t n = 0; n < count; ++n)
         sums->values[n] = PhotonFixed(((unsigned __int128)words[0][n] << 64) | words[1][n]);
     t.photon = std::move(sums);
+    t.depth = metaNumber(v.meta, "tile_depth", 0) != 0;
+    if (t.depth) readPhotonTileDepth(f, v.levels[0], path);
 }
 }  // namespace
 

@@ -3,7 +3,8 @@
 // One Vec3SGrid per (level, channel); voxel (i, j, k) of a level's grids is node (i, j, k)
 // of that level, every node an active voxel. Grids are built leaf by leaf (8^3 voxels) in
 // parallel. Writing goes through the atomic file writer (atomic_file.h): a temporary file in
-// the target directory, renamed over the destination only once complete.
+// the target directory, renamed over the destination only once complete. Tile files are
+// written by vdb_write_tiles.cpp with the pieces vdb_write_parts.h exposes.
 #include "vdblight/vdb_io.h"
 #include <algorithm>
 #include <cmath>
@@ -16,21 +17,14 @@
 #include "vdblight/atomic_file.h"
 #include "vdblight/depth_moments.h"
 #include "vdblight/errors.h"
-#include "vdblight/irradiance_vectors.h"
-#include "vdblight/photon_sums.h"
-#include "vdblight/tiles.h"
 #include "vdb_conventions.h"
 #include "vdb_surface_bins.h"
+#include "vdb_write_parts.h"
 #include "content_hash.h"
 
 namespace vdblight {
-namespace {
-using namespace vdb_detail;
+namespace vdb_detail {
 
-// ---------------------------------------------------------------------------------------
-// Writing
-
-/// Origins of the 8^3 leaf blocks overlapping the node box [0, dims).
 std::vector<Coord> leafOrigins(const GridSpec& g) {
     std::vector<Coord> origins;
     for (int z = 0; z < g.nz; z += kLeafDim)
@@ -38,6 +32,11 @@ std::vector<Coord> leafOrigins(const GridSpec& g) {
             for (int x = 0; x < g.nx; x += kLeafDim) origins.emplace_back(x, y, z);
     return origins;
 }
+
+}  // namespace vdb_detail
+
+namespace {
+using namespace vdb_detail;
 
 /// One channel of one level as a grid whose voxels are all active (zeros included).
 Vec3SGrid::Ptr buildChannelGrid(const VolumeLevel& level, int channel, int channels,
@@ -110,9 +109,9 @@ openvdb::FloatGrid::Ptr buildScalarGrid(const VolumeLevel& level, const std::vec
     return grid;
 }
 
-/// A per-node scalar of a sparse level (or of a tile's nodes, tiles.h): exactly the nodes of
-/// `activeNodes` are active voxels, values[position * stride + offset].
-openvdb::FloatGrid::Ptr buildSparseScalarGrid(const GridSpec& g, const std::vector<uint64_t>& activeNodes,
+}  // namespace
+
+openvdb::FloatGrid::Ptr vdb_detail::buildSparseScalarGrid(const GridSpec& g, const std::vector<uint64_t>& activeNodes,
                                               const float* values, std::size_t stride, std::size_t offset) {
     auto grid = openvdb::FloatGrid::create(0.0f);
     auto acc = grid->getAccessor();
@@ -120,6 +119,7 @@ openvdb::FloatGrid::Ptr buildSparseScalarGrid(const GridSpec& g, const std::vect
     return grid;
 }
 
+namespace {
 bool isRunSpecific(const std::string& key) {
     const std::vector<std::string>& keys = runSpecificMetadataKeys();
     return std::find(keys.begin(), keys.end(), key) != keys.end();
@@ -149,8 +149,9 @@ openvdb::MetaMap fileMetadata(const Volume& volume, const WriteOptions& options)
     return meta;
 }
 
-/// Per-grid metadata, so that a grid taken out of the file still says what it holds.
-void tagGrid(openvdb::GridBase& grid, const Volume& volume, int level, int channel) {
+}  // namespace
+
+void vdb_detail::tagGrid(openvdb::GridBase& grid, const Volume& volume, int level, int channel) {
     const GridSpec& g = volume.levels[std::size_t(level)].grid;
     grid.insertMeta(kPrefix + "format_version", openvdb::Int64Metadata(kFormatVersion));
     grid.insertMeta(kPrefix + "basis", openvdb::StringMetadata(volume.basis.kind));
@@ -165,6 +166,7 @@ void tagGrid(openvdb::GridBase& grid, const Volume& volume, int level, int chann
     grid.insertMeta(kPrefix + "dims", openvdb::Vec3IMetadata({g.nx, g.ny, g.nz}));
 }
 
+namespace {
 /// Rejects NaN/Inf (a file must never carry them) and, for half floats, values that would
 /// overflow to infinity.
 void checkValues(const Volume& volume, const WriteOptions& options) {
@@ -273,26 +275,7 @@ openvdb::GridCPtrVec buildGrids(const Volume& volume, const WriteOptions& option
             grid->insertMeta(kPrefix + "light", openvdb::Int64Metadata(int64_t(i)));
             grids.push_back(grid);
         }
-        if (level.hasDepth()) {
-            // Depth moments (depth_moments.h): four more Vec3S grids with the channel grids'
-            // active voxels, built by the same code from a level whose data is the depth.
-            VolumeLevel depthLevel;
-            depthLevel.grid = level.grid;
-            depthLevel.activeNodes = level.activeNodes;
-            depthLevel.data = level.depth;
-            for (int c = 0; c < depth::kChannels; ++c) {
-                Vec3SGrid::Ptr grid = sparse ? buildSparseChannelGrid(depthLevel, c, depth::kChannels)
-                                                     : buildChannelGrid(depthLevel, c, depth::kChannels, origins);
-                grid->setName(gridNameFor(depth::channelName(c), int(l)));
-                grid->setTransform(levelTransform(level.grid));
-                grid->setGridClass(openvdb::GRID_UNKNOWN);
-                grid->setVectorType(openvdb::VEC_INVARIANT);
-                grid->setSaveFloatAsHalf(options.halfFloat);
-                tagGrid(*grid, volume, int(l), -1);
-                grid->insertMeta(kPrefix + "depth_channel", openvdb::StringMetadata(depth::channelName(c)));
-                grids.push_back(grid);
-            }
-        }
+        if (level.hasDepth()) appendDepthGrids(volume, int(l), sparse, origins, options.halfFloat, grids);
         if (volume.levels.size() > 1 && l + 1 < volume.levels.size()) grids.push_back(buildMaskGrid(volume, int(l)));
     }
     if (volume.surfaceBins) appendSurfaceBinGrids(*volume.surfaceBins, volume.levels.at(0).grid, grids);
@@ -301,16 +284,36 @@ openvdb::GridCPtrVec buildGrids(const Volume& volume, const WriteOptions& option
 
 }  // namespace
 
+void vdb_detail::appendDepthGrids(const Volume& volume, int l, bool sparse, const std::vector<Coord>& origins,
+                                  bool halfFloat, openvdb::GridCPtrVec& grids) {
+    // Four Vec3S grids with the channel grids' active voxels, built by the same code from a
+    // level whose data is the depth.
+    const VolumeLevel& level = volume.levels[std::size_t(l)];
+    VolumeLevel depthLevel;
+    depthLevel.grid = level.grid;
+    depthLevel.activeNodes = level.activeNodes;
+    depthLevel.data = level.depth;
+    for (int c = 0; c < depth::kChannels; ++c) {
+        Vec3SGrid::Ptr grid = sparse ? buildSparseChannelGrid(depthLevel, c, depth::kChannels)
+                                     : buildChannelGrid(depthLevel, c, depth::kChannels, origins);
+        grid->setName(gridNameFor(depth::channelName(c), l));
+        grid->setTransform(levelTransform(level.grid));
+        grid->setGridClass(openvdb::GRID_UNKNOWN);
+        grid->setVectorType(openvdb::VEC_INVARIANT);
+        grid->setSaveFloatAsHalf(halfFloat);
+        tagGrid(*grid, volume, l, -1);
+        grid->insertMeta(kPrefix + "depth_channel", openvdb::StringMetadata(depth::channelName(c)));
+        grids.push_back(grid);
+    }
+}
+
 const std::vector<std::string>& runSpecificMetadataKeys() {
     static const std::vector<std::string> keys = {"bake_seconds", "threads"};
     return keys;
 }
 
-namespace {
-/// `extra`: grids only a tile file carries (tiles.h), appended after the volume's.
-/// `channels`: false for a file without the volume's channel grids (a photon tile).
-void writeFile(const Volume& volume, const std::string& path, const WriteOptions& options, bool tile,
-               const openvdb::GridCPtrVec& extra = {}, bool channels = true) {
+void vdb_detail::writeFile(const Volume& volume, const std::string& path, const WriteOptions& options, bool tile,
+                           const openvdb::GridCPtrVec& extra, bool channels) {
     checkWritable(volume, options, tile);
     initOpenVdb();
     openvdb::GridCPtrVec grids = channels ? buildGrids(volume, options, tile) : openvdb::GridCPtrVec();
@@ -321,163 +324,9 @@ void writeFile(const Volume& volume, const std::string& path, const WriteOptions
         stampContentUuid(temp);  // OpenVDB's random UUID -> one from the content (content_hash.h)
     });
 }
-}  // namespace
 
 void writeVolume(const Volume& volume, const std::string& path, const WriteOptions& options) {
-    writeFile(volume, path, options, false);
-}
-
-void writeTile(const Volume& volume, const NodeMask& mask, const TileId& id, const std::string& path,
-               const WriteOptions& options, const TileNodeStats* stats) {
-    try {
-        volume.validate();
-    } catch (const FormatError& e) {
-        throw ValueError(std::string("invalid volume: ") + e.what());
-    }
-    if (mask.size() != volume.levels.size()) throw ValueError("the tile's node mask does not match the volume's levels");
-    if (id.count < 1 || id.index < 0 || id.index >= id.count || id.paramsHash.empty())
-        throw ValueError("invalid tile identity " + std::to_string(id.index) + " of " + std::to_string(id.count));
-    const std::size_t floats = std::size_t(volume.basis.channelCount()) * 3;
-    const std::size_t lights = volume.direct.lights.size();
-    const bool depth = volume.hasDepth();
-    const bool error = stats && !stats->estimatedError.empty();
-    if (error && (volume.levels.size() != 1 || stats->estimatedError.size() != volume.levels[0].heldNodes()))
-        throw ValueError("the tile's per-node errors do not match the volume's nodes");
-    Volume part;
-    part.basis = volume.basis;
-    part.meta = volume.meta;
-    part.direct = volume.direct;  // the light list; level 0's visibility of the tile's nodes below
-    part.surfaceBins = volume.surfaceBins;  // a stage-0 tile's bins: the whole grid's, of its nodes' paths
-    std::string dense;
-    int64_t nodes = 0;
-    std::vector<float> tileError;
-    for (std::size_t l = 0; l < volume.levels.size(); ++l) {
-        const VolumeLevel& full = volume.levels[l];
-        if (!full.validity.empty()) throw ValueError("a volume with validity (the anti-aliased pass) cannot be tiled");
-        if (mask[l].size() != full.storedNodes()) throw ValueError("the tile's node mask does not match level " + std::to_string(l));
-        // The volume may hold only the tile's window of nodes (VolumeLevel::windowFirst): it must
-        // cover the mask.
-        for (std::size_t n = 0; n < mask[l].size(); ++n)
-            if (mask[l][n] && (n < full.windowFirst || n - full.windowFirst >= full.heldNodes()))
-                throw ValueError("the tile's nodes lie outside the nodes the volume holds (level " + std::to_string(l) + ")");
-        const bool visibility = !full.lightVisibility.empty();
-        VolumeLevel level;
-        level.grid = full.grid;
-        level.refinedCells = full.refinedCells;
-        for (std::size_t n = 0; n < mask[l].size(); ++n) {
-            if (!mask[l][n]) continue;
-            level.activeNodes.push_back(full.sparse() ? full.activeNodes[n] : n);
-            level.data.insert(level.data.end(), full.nodeData(n, volume.basis.channelCount()),
-                              full.nodeData(n, volume.basis.channelCount()) + floats);
-            if (depth) level.depth.insert(level.depth.end(), full.nodeDepth(n), full.nodeDepth(n) + depth::kFloatsPerNode);
-            if (visibility)
-                level.lightVisibility.insert(level.lightVisibility.end(),
-                                             full.lightVisibility.begin() + std::ptrdiff_t(full.held(n) * lights),
-                                             full.lightVisibility.begin() + std::ptrdiff_t((full.held(n) + 1) * lights));
-            if (error) tileError.push_back(stats->estimatedError[full.held(n)]);
-        }
-        nodes += int64_t(level.activeNodes.size());
-        dense += std::string(l ? "," : "") + (full.sparse() ? "0" : "1");
-        part.levels.push_back(std::move(level));
-    }
-    part.meta["tile_index"] = int64_t(id.index);
-    part.meta["tile_count"] = int64_t(id.count);
-    part.meta["tile_params_hash"] = id.paramsHash;
-    part.meta["tile_dense_levels"] = dense;
-    part.meta["tile_nodes"] = nodes;
-    part.meta["tile_half_float"] = int64_t(options.halfFloat ? 1 : 0);
-    part.meta["tile_reproducible"] = int64_t(options.reproducible ? 1 : 0);
-    part.meta["tile_depth"] = int64_t(depth ? 1 : 0);
-    part.meta["tile_visibility"] = int64_t(volume.levels[0].lightVisibility.empty() ? 0 : 1);
-    part.meta["tile_estimated_error"] = int64_t(error ? 1 : 0);
-    openvdb::GridCPtrVec extra;
-    if (error && !tileError.empty()) {
-        // The per-node error the bake summarised over its nodes only: the merge summarises
-        // the whole volume's (error_summary.h). Full floats: the summary prints them.
-        const VolumeLevel& level = part.levels[0];
-        openvdb::FloatGrid::Ptr grid = buildSparseScalarGrid(level.grid, level.activeNodes, tileError.data(), 1, 0);
-        grid->setName(kTileErrorName);
-        grid->setTransform(levelTransform(level.grid));
-        grid->setGridClass(openvdb::GRID_UNKNOWN);
-        tagGrid(*grid, part, 0, -1);
-        extra.push_back(grid);
-    }
-    // Full floats whatever the merged file will use: the merge interpolates seams from these
-    // values, which must be the single bake's, not their half-float roundings.
-    WriteOptions full = options;
-    full.halfFloat = false;
-    writeFile(part, path, full, true, extra);
-}
-
-namespace {
-/// One 64-bit word of value v (0..53, the volume's float order 9 d + f) of every node's photon
-/// sums, as an Int64Grid whose voxels are all active (zeros included), like the channel grids.
-openvdb::Int64Grid::Ptr buildPhotonSumGrid(const PhotonSums& sums, const std::vector<Coord>& origins, int v, bool high) {
-    using Int64LeafT = openvdb::Int64Grid::TreeType::LeafNodeType;
-    const GridSpec& g = sums.grid;
-    const PhotonSumLayout layout(g);
-    const int d = v / 9, f = v % 9;
-    std::vector<std::unique_ptr<Int64LeafT>> leaves(origins.size());
-    tbb::parallel_for(std::size_t(0), origins.size(), [&](std::size_t n) {
-        const Coord o = origins[n];
-        auto leaf = std::make_unique<Int64LeafT>(o, openvdb::Int64(0), false);
-        for (int z = o.z(); z < std::min(o.z() + kLeafDim, g.nz); ++z)
-            for (int y = o.y(); y < std::min(o.y() + kLeafDim, g.ny); ++y)
-                for (int x = o.x(); x < std::min(o.x() + kLeafDim, g.nx); ++x) {
-                    // Two's complement words: the value is hi * 2^64 + (unsigned) lo.
-                    const unsigned __int128 u = (unsigned __int128)sums.values[layout.offset(d, x, y, z) + std::size_t(f)];
-                    const uint64_t word = high ? uint64_t(u >> 64) : uint64_t(u);
-                    leaf->setValueOn(Int64LeafT::coordToOffset(Coord(x, y, z)), openvdb::Int64(word));
-                }
-        leaves[n] = std::move(leaf);
-    });
-    auto grid = openvdb::Int64Grid::create(openvdb::Int64(0));
-    for (auto& leaf : leaves) grid->tree().addLeaf(leaf.release());
-    return grid;
-}
-}  // namespace
-
-void writePhotonTile(const PhotonSums& sums, const Metadata& meta, const TileId& id, const std::string& path,
-                     const WriteOptions& options, bool compact) {
-    if (id.count < 1 || id.index < 0 || id.index >= id.count || id.paramsHash.empty())
-        throw ValueError("invalid tile identity " + std::to_string(id.index) + " of " + std::to_string(id.count));
-    const GridSpec& g = sums.grid;
-    if (sums.values.size() != g.nodeCount() * iv::kFloatsPerNode || sums.firstBatch >= sums.endBatch ||
-        sums.endBatch > sums.batches)
-        throw ValueError("the photon tile's sums do not match their grid or batches");
-    Volume part;  // the metadata and level of the volume; the sums as extra grids
-    part.basis = iv::basis();
-    part.levels.resize(1);
-    part.levels[0].grid = g;
-    part.meta = meta;
-    part.meta["tile_index"] = int64_t(id.index);
-    part.meta["tile_count"] = int64_t(id.count);
-    part.meta["tile_params_hash"] = id.paramsHash;
-    part.meta["tile_dense_levels"] = std::string("1");
-    part.meta["tile_nodes"] = int64_t(g.nodeCount());
-    part.meta["tile_half_float"] = int64_t(options.halfFloat ? 1 : 0);
-    part.meta["tile_reproducible"] = int64_t(options.reproducible ? 1 : 0);
-    part.meta["tile_photon_sums"] = int64_t(1);
-    part.meta["tile_photon_exponent"] = int64_t(sums.exponent);
-    part.meta["tile_photon_first_batch"] = int64_t(sums.firstBatch);
-    part.meta["tile_photon_end_batch"] = int64_t(sums.endBatch);
-    part.meta["tile_photon_batches"] = int64_t(sums.batches);
-    part.meta["tile_photon_compact"] = int64_t(compact ? 1 : 0);
-    const std::vector<Coord> origins = leafOrigins(g);
-    std::vector<openvdb::Int64Grid::Ptr> built(std::size_t(2 * iv::kFloatsPerNode));
-    tbb::parallel_for(0, 2 * iv::kFloatsPerNode, [&](int w) {
-        built[std::size_t(w)] = buildPhotonSumGrid(sums, origins, w / 2, w % 2 == 0);
-    });
-    openvdb::GridCPtrVec grids;
-    for (int w = 0; w < 2 * iv::kFloatsPerNode; ++w) {
-        openvdb::Int64Grid::Ptr grid = built[std::size_t(w)];
-        grid->setName(photonSumGridName(w / 2, w % 2 == 0));
-        grid->setTransform(levelTransform(g));
-        grid->setGridClass(openvdb::GRID_UNKNOWN);
-        tagGrid(*grid, part, 0, -1);
-        grids.push_back(grid);
-    }
-    writeFile(part, path, options, true, grids, false);
+    vdb_detail::writeFile(volume, path, options, false);
 }
 
 }  // namespace vdblight
