@@ -50,7 +50,7 @@ private:
         std::vector<int32_t> child;   ///< per cell (level 0) or per brick cell: brick of the next level, -1
         std::vector<uint32_t> nodes;  ///< finer levels: per brick, (K+1)^3 node positions in `data`
         std::vector<float> data;      ///< node-major, channels * 3 floats per node
-        std::vector<float> depth;     ///< the same nodes' depth moments, or empty
+        std::vector<float> depth;     ///< the same nodes' depth moments; the finest level only, else empty
     };
     /// The level and eight corner nodes (positions in its data) around the level-0 lattice
     /// coordinate g (clamped into the node box), with their trilinear weights; T = float for

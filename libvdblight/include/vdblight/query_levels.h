@@ -47,7 +47,7 @@ private:
     struct Level {
         std::vector<int32_t> child;  ///< per cell (level 0) or per brick cell: brick index in the next level, -1 (leaf) or kCulled
         std::vector<float> nodes;    ///< level 0: dense node-major; finer: per brick (K+1)^3 nodes
-        std::vector<float> depth;    ///< the same nodes' depth moments (depth::kFloatsPerNode each), or empty
+        std::vector<float> depth;    ///< the same nodes' depth moments (depth::kFloatsPerNode each); the finest level only, else empty
     };
     template <typename Visit>
     void descend(const Vec3f& x, Visit visit) const;

@@ -55,7 +55,7 @@ ChannelLookup::ChannelLookup(const Volume& volume, OutsidePolicy outside, std::u
     levels_.resize(volume.levels.size());
     for (std::size_t l = 0; l < volume.levels.size(); ++l) levels_[l].data = volume.levels[l].data;
     hasDepth_ = depthWeights_ = volume.hasDepth();
-    for (std::size_t l = 0; l < volume.levels.size() && hasDepth_; ++l) levels_[l].depth = volume.levels[l].depth;
+    if (hasDepth_) levels_.back().depth = volume.levels.back().depth;  // the finest only: depthWeightsApplyAt
     if (volume.levels.size() == 1 || grid_.nx < 2 || grid_.ny < 2 || grid_.nz < 2) return;
 
     levels_[0].child = query_detail::levelZeroChildren(grid_, l0.refinedCells);
@@ -95,9 +95,8 @@ const ChannelLookup::Level& ChannelLookup::locate(const T g[3], std::size_t corn
     }
     const T wx[2] = {1 - f[0], f[0]}, wy[2] = {1 - f[1], f[1]}, wz[2] = {1 - f[2], f[2]};
     for (int c = 0; c < 8; ++c) weight[c] = float(wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2]);
-    // Visibility-aware interpolation (depth_weights.h), in cells of the finest level only: a
-    // coarser leaf cell was not refined, so it holds no geometry.
-    if (depthWeights_ && leaf.level + 1 == levels_.size()) {
+    // Visibility-aware interpolation (depth_weights.h), in cells of the finest level only.
+    if (depthWeights_ && query_detail::depthWeightsApplyAt(leaf.level, levels_.size())) {
         const float* depth[8];
         for (int c = 0; c < 8; ++c) depth[c] = level->depth.data() + corner[c] * depth::kFloatsPerNode;
         query_detail::weightByDepth(weight, depth, float(f[0]), float(f[1]), float(f[2]));

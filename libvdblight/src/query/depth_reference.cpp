@@ -45,9 +45,10 @@ Rgbd referenceDepthWeightedLookup(const Volume& volume, const Vec3d& x, const Ve
         const int64_t at = findNode(level, level.grid.index(idx[0], idx[1], idx[2]));
         if (at < 0) throw FormatError("lookup would read a node of level " + std::to_string(l) + " that was not baked");
         data[corner] = level.nodeData(std::size_t(at), volume.basis.channelCount());
-        // Cells of the finest level only: a coarser leaf cell was not refined, so it holds no
-        // geometry and every corner sees all of it.
-        const double vis = level.hasDepth() && l + 1 == volume.levels.size() ? referenceNodeVisibility(level.nodeDepth(std::size_t(at)), offset) : 1.0;
+        // Cells of the finest level only (the fast lookups' depthWeightsApplyAt, written out again):
+        // a coarser leaf cell was not refined, so it holds no geometry.
+        const bool weighted = level.hasDepth() && l + 1 == volume.levels.size();
+        const double vis = weighted ? referenceNodeVisibility(level.nodeDepth(std::size_t(at)), offset) : 1.0;
         weight[corner] = w * (vis + double(depth::kDepthFloor));
         sum += weight[corner];
     }

@@ -7,6 +7,14 @@
 
 namespace vdblight::query_detail {
 
+/// Whether depth weights apply in a leaf cell of level `level` of a volume with `levels`
+/// levels: only in cells of the finest level. Refinement is complete (every cell with geometry
+/// is refined, layout_levels.h), so a leaf cell of a coarser level holds no geometry and every
+/// corner sees every point of it; its corners' depth moments, measured over pyramids reaching
+/// into the refined neighbours, could only darken a corner wrongly. The lookups keep only the
+/// finest level's depth for that reason.
+inline bool depthWeightsApplyAt(std::size_t level, std::size_t levels) { return level + 1 == levels; }
+
 /// Multiplies the eight trilinear weights w[c] (corner c = x bit 0, y bit 1, z bit 2 of the
 /// cell, fractions fx, fy, fz of the query point in it) by each corner's visibility plus
 /// depth::kDepthFloor and renormalises them to sum 1. depth[c]: the corner's depth values.

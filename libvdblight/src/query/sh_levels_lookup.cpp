@@ -42,11 +42,13 @@ ShLevelsLookup::ShLevelsLookup(const Volume& volume, OutsidePolicy outside) : ou
     hasDepth_ = volume.hasDepth();
     depthWeights_ = hasDepth_;
     constexpr int kDepth = depth::kFloatsPerNode;
-    if (hasDepth_) levels_[0].depth.assign(grid_.nodeCount() * kDepth, 1.0f);
+    // Only the finest level's depth is read (depthWeightsApplyAt).
+    const bool depthAt0 = hasDepth_ && query_detail::depthWeightsApplyAt(0, volume.levels.size());
+    if (depthAt0) levels_[0].depth.assign(grid_.nodeCount() * kDepth, 1.0f);
     for (std::size_t n = 0; n < l0.storedNodes(); ++n) {
         const std::size_t linear = l0.sparse() ? std::size_t(l0.activeNodes[n]) : n;
         copyFolded(l0.nodeData(n, sh::kCoeffs), &levels_[0].nodes[linear * kFloats]);
-        if (hasDepth_) std::copy_n(l0.nodeDepth(n), kDepth, &levels_[0].depth[linear * kDepth]);
+        if (depthAt0) std::copy_n(l0.nodeDepth(n), kDepth, &levels_[0].depth[linear * kDepth]);
         present[linear] = 1;
     }
     levels_[0].child = query_detail::levelZeroChildren(grid_, l0.refinedCells);
@@ -67,13 +69,14 @@ ShLevelsLookup::ShLevelsLookup(const Volume& volume, OutsidePolicy outside) : ou
         Level& out = levels_[l];
         const std::size_t slots = t.nodeAt.size(), perBrick = std::size_t(side * side * side);
         out.nodes.assign(slots * kFloats, 0.0f);
-        if (hasDepth_) out.depth.assign(slots * kDepth, 1.0f);
+        const bool depthAtL = hasDepth_ && query_detail::depthWeightsApplyAt(l, volume.levels.size());
+        if (depthAtL) out.depth.assign(slots * kDepth, 1.0f);
         for (std::size_t s = 0; s < slots; ++s) {
             const int64_t at = t.nodeAt[s];
             if (at < 0 && !culled) throw FormatError("level " + std::to_string(l) + " misses a node of a refined cell");
             if (at < 0) continue;
             copyFolded(fine.nodeData(std::size_t(at), sh::kCoeffs), &out.nodes[s * kFloats]);
-            if (hasDepth_) std::copy_n(fine.nodeDepth(std::size_t(at)), kDepth, &out.depth[s * kDepth]);
+            if (depthAtL) std::copy_n(fine.nodeDepth(std::size_t(at)), kDepth, &out.depth[s * kDepth]);
         }
         out.child = std::move(t.child);
         if (!culled) continue;
@@ -123,10 +126,8 @@ Rgb ShLevelsLookup::irradiance(const Vec3f& x, const Vec3f& n) const {
     Rgb e;
     descend(x, [&](int l, const float* base, std::size_t sx, std::size_t sy, std::size_t sz, float fx, float fy, float fz) {
         const Level& level = levels_[std::size_t(l)];
-        // Weights only in cells of the finest level: a coarser leaf cell was not refined, so it
-        // holds no geometry and every corner sees every point of it (depth_weights.h).
         const float* depthBase =
-            base && depthWeights_ && std::size_t(l) + 1 == levels_.size()
+            base && depthWeights_ && query_detail::depthWeightsApplyAt(std::size_t(l), levels_.size())
                 ? level.depth.data() + std::size_t(base - level.nodes.data()) / kFloats * depth::kFloatsPerNode
                 : nullptr;
         e = base ? query_detail::interpolateSh(base, sx, sy, sz, fx, fy, fz, y, depthBase) : Rgb(0, 0, 0);
@@ -176,7 +177,7 @@ void ShLevelsLookup::shRadiance(const Vec3d& x, Rgb out[9]) const {
         for (int a = 0; a < 3; ++a) w *= ((corner >> a) & 1) ? frac[a] : 1.0 - frac[a];
         weights[corner] = float(w);
     }
-    const bool weighted = depthWeights_ && levelOf + 1 == levels_.size();  // as irradiance()
+    const bool weighted = depthWeights_ && query_detail::depthWeightsApplyAt(levelOf, levels_.size());
     if (weighted) {
         const Level& level = levels_[levelOf];
         const float* depthBase = level.depth.data() + std::size_t(base - level.nodes.data()) / kFloats * depth::kFloatsPerNode;

@@ -171,7 +171,7 @@ public:
             }
         }
         if (leafCulled(level, cell)) return Rgb(0, 0, 0);
-        const bool weighted = depthWeights_ && level + 1 == levels_;  // finest cells only, as ShLevelsLookup
+        const bool weighted = depthWeights_ && query_detail::depthWeightsApplyAt(std::size_t(level), std::size_t(levels_));
         float p[8][kFloatsPerNode];
         float d[8][depth::kFloatsPerNode];
         const float* corners[8];
@@ -205,7 +205,7 @@ public:
             for (int c = 0; c < sh::kCoeffs; ++c) out[c] = Rgb(0, 0, 0);
             return;
         }
-        const bool weighted = depthWeights_ && level + 1 == levels_;
+        const bool weighted = depthWeights_ && query_detail::depthWeightsApplyAt(std::size_t(level), std::size_t(levels_));
         float p[8][kFloatsPerNode];
         float d[8][depth::kFloatsPerNode];
         for (int c = 0; c < 8; ++c) {

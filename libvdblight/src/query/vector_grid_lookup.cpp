@@ -1,5 +1,6 @@
 #include "vdblight/vector_grid_lookup.h"
 
+#include "core/grid_index.h"
 #include "depth_weights.h"
 #include "lattice_locate.h"
 
@@ -140,8 +141,8 @@ Rgbd referenceVectorLookup(const Volume& volume, const Vec3d& x, const Vec3d& nI
         double sum = 0.0;
         for (int corner = 0; corner < 8; ++corner) {
             const std::size_t node = t.node[corner];
-            const int idx[3] = {int(node % std::size_t(dims[0])), int(node / std::size_t(dims[0]) % std::size_t(dims[1])),
-                                int(node / (std::size_t(dims[0]) * std::size_t(dims[1])))};
+            const core::Index3 at = core::unflatten(node, uint64_t(dims[0]), uint64_t(dims[1]));
+            const int idx[3] = {at.i, at.j, at.k};
             double o[3];
             for (int a = 0; a < 3; ++a) o[a] = std::min(std::max(lattice[a], 0.0), double(dims[a] - 1)) - idx[a];
             t.weight[corner] *= referenceNodeVisibility(level.depth.data() + node * depth::kFloatsPerNode, o) +
