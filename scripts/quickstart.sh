@@ -7,6 +7,9 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 mkdir -p "$ROOT/out"
 # The default bake (about 16384 nodes, 1024 rays + a probe pass: ~27 CPU s); add --quality preview for ~1 s.
 "$ROOT/build/bin/vdblight" bake -o "$ROOT/out/cornell_box.vdb" "$@"
-"$ROOT/build/bin/vdblight" info "$ROOT/out/cornell_box.vdb" | head -n 4
+# The first lines of `info`, without a pipe: `info | head` under pipefail fails the script
+# when head closes the pipe before info's last write (SIGPIPE, exit 141; issue 29).
+info="$("$ROOT/build/bin/vdblight" info "$ROOT/out/cornell_box.vdb")"
+sed -n 1,4p <<<"$info"
 echo "Irradiance on the floor below the light (facing up):"
 "$ROOT/build/bin/vdblight" query "$ROOT/out/cornell_box.vdb" --at 0.278,0.05,0.28 --normal 0,1,0

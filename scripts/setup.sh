@@ -21,7 +21,7 @@ PACKAGES=(build-essential cmake pkg-config
 
 missing=()
 for p in "${PACKAGES[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  [ "$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null)" = "install ok installed" ] || missing+=("$p")
 done
 if ((${#missing[@]})); then
   echo "setup: installing ${missing[*]}"
@@ -44,6 +44,11 @@ if [ ! -d "$ROOT/scripts/ktx/node_modules/ktx-parse" ]; then
   (cd "$ROOT/scripts/ktx" && npm ci --no-audit --no-fund --loglevel=error)
 fi
 
-cmake -S "$ROOT" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release >/dev/null
+# Configure once: a configured tree keeps its source directory (cmake --build re-runs the
+# configuration itself when a CMakeLists.txt changes), so reaching the same tree through
+# another path (a link) does not re-point it and rebuild everything.
+if [ ! -f "$BUILD_DIR/CMakeCache.txt" ]; then
+  cmake -S "$ROOT" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release >/dev/null
+fi
 cmake --build "$BUILD_DIR" -j "$JOBS"
 echo "setup: built $BUILD_DIR/bin/vdblight"

@@ -17,13 +17,15 @@ for h in leak_scenes.h office_scene.h scene_generators.h radical_inverse_fast.h 
          face_crossing.h project_incident.h domain_classification.h bins_gather.h sh_uniform_lookup.h random_rays.h; do
   if [ -e "$TMP/prefix/include/vdblight/$h" ]; then echo "FAIL: $h is installed: not part of the public API"; exit 1; fi
 done
-if find "$TMP/prefix" -name '*test_scenes*' | grep -q .; then
+# (No `| grep -q` under pipefail: grep quits at the first match and the writer's SIGPIPE would
+# turn a found match into a failed pipeline, i.e. a silent pass; capture the output instead.)
+if [ -n "$(find "$TMP/prefix" -name '*test_scenes*')" ]; then
   echo "FAIL: the test scenes' library is installed"; exit 1
 fi
 # ... nor are the internals that used to sit in public headers.
 for symbol in traceRandomRays forEachFaceCrossing projectIncidentRadiance classifyCell gatherBinRadiance \
               lambertContour ShUniformLookup radicalInverseFast fitPca; do
-  if grep -rhw -- "$symbol" "$TMP/prefix/include/vdblight" | grep -qv '^ *//'; then  # comments may name them
+  if [ -n "$(grep -rhw -- "$symbol" "$TMP/prefix/include/vdblight" | grep -v '^ *//')" ]; then  # comments may name them
     echo "FAIL: the installed headers declare $symbol (internal)"; exit 1
   fi
 done

@@ -24,14 +24,33 @@ slurm_local_start "$W" || fail "the one-node Slurm did not start"
 
 # The default bake's passes (uniform SH point gather, one probe-to-probe pass, --direct
 # occlusion, depth moments) with seed 3, at the earlier default's 16 nodes on the longest axis
-# and 256 rays (the default's ~16384 nodes x 768 rays would cost CI ~12x the time; the grid and
-# ray count change no pass): a tile runs long enough (seconds) to be killed while it runs.
+# and 256 rays (the default's ~16384 nodes x 1024 rays would cost CI ~12x the time; the grid and
+# ray count change no pass). A tile bakes in under a second, so the tiles the test kills,
+# requeues or cancels are held (hold_tiles): their job script waits, in the process the test
+# kills, until the test removes a hold file; no race with a tile that finishes first (issue 29).
 OPTS="--seed 3 --resolution 16 --rays 256"
 SCENE="$SRC/data/cornell_box.obj"
 TILES="$W/world.vdb.tiles"
 now() { date +%s.%N; }
 secs() { echo "$2 - $1" | bc; }
 skipped() { grep -l "already baked" "$TILES"/stage-$1-tile-*.log 2>/dev/null | wc -l; }
+# Writes the scripts of a tiled bake (`vdblight slurm` without --submit) and makes the stage-0
+# tiles $1 (a list of task ids) wait before their bake, on their first run only, while the file
+# $W/hold-<id> exists: the wait runs in the process that then execs the bake, with the bake's
+# arguments on its command line, so that bake_pid finds it and a SIGKILL of it is a killed bake
+# to the job script (which requeues the task). Then submits the jobs.
+submit_holding() {
+  held=$1; shift
+  "$B" slurm "$SCENE" -o "$W/world.vdb" --tiles 4 "$@" $OPTS >/dev/null || fail "slurm (scripts)"
+  for t in $held; do : >"$W/hold-$t"; done
+  # The tile line starts with the quoted vdblight path followed by " bake ".
+  sed -i "s|^\('[^']*'\) bake |sh -c 'h=\$0; [ \"\${SLURM_RESTART_COUNT:-0}\" = 0 ] \&\& while [ -e \"\$h\" ]; do sleep 0.05; done; exec \"\$@\"' '$W/hold-'\$SLURM_ARRAY_TASK_ID \1 bake |" \
+    "$TILES/tiles-0.sbatch"
+  grep -q "hold-" "$TILES/tiles-0.sbatch" || fail "could not hold the stage-0 tiles (script format changed?)"
+  sh "$TILES/submit.sh" >/dev/null || fail "submit"
+}
+release_tile() { rm -f "$W/hold-$1"; }
+
 # Waits until array task $1 runs a bake (its process is up), then prints the bake's pid.
 bake_pid() {
   for i in $(seq 600); do
@@ -48,16 +67,15 @@ T1=$(now)
 echo "single bake, 2 threads: $(secs $T0 $T1) s"
 
 # 1. Kill one tile's process, requeue another through Slurm: both run again, the chain goes on.
-# The jobs are submitted held and released once submitted: a tile bakes in under a second, and
-# on a loaded machine it could finish while `slurm --submit` was still submitting the later
-# stages, before the test watched for it.
-"$B" slurm "$SCENE" -o "$W/world.vdb" --tiles 4 --submit --sbatch "--hold" $OPTS >/dev/null || fail "submit"
+# Tiles 1 and 2 are held until then (submit_holding).
+submit_holding "1 2"
 ID=$(cut -d' ' -f1 "$TILES/jobs")
-for j in $(cat "$TILES/jobs"); do scontrol release "$j" || fail "scontrol release $j"; done
 P1=$(bake_pid 1) || fail "stage-0 tile 1 never ran"
 kill -KILL "$P1"
+release_tile 1
 bake_pid 2 >/dev/null || fail "stage-0 tile 2 never ran"
 scontrol requeue "${ID}_2" || fail "scontrol requeue ${ID}_2"
+release_tile 2
 # Slurm holds a requeued job for 120 s (its BeginTime); start both as soon as they are back in
 # the queue, so that CI does not wait. But not within the second of the requeue: slurmd revokes
 # the old run's credential with a time stamp in whole seconds and refuses a restart whose
@@ -94,11 +112,11 @@ echo "resumed after losing 1 of 4 stage-1 tiles: $(secs $T3 $T4) s, 7 of 8 tiles
 
 # 2. Cancel a stage-0 tile mid-run: the chain waits forever (afterok never satisfied); re-submit.
 rm -rf "$W/world.vdb" "$TILES"
-"$B" slurm "$SCENE" -o "$W/world.vdb" --tiles 4 --submit --sbatch "--hold" $OPTS >/dev/null || fail "submit 2"
+submit_holding 2
 ID=$(cut -d' ' -f1 "$TILES/jobs"); LATER=$(cut -d' ' -f2- "$TILES/jobs")
-for j in $(cat "$TILES/jobs"); do scontrol release "$j" || fail "scontrol release $j"; done
 bake_pid 2 >/dev/null || fail "stage-0 tile 2 never ran"
 scancel "${ID}_2"
+release_tile 2
 for i in $(seq 600); do [ -z "$(squeue -h -j "$ID" -o %i 2>/dev/null)" ] && break; sleep 0.2; done
 [ -f "$TILES/stage-0-tile-2.vdb" ] && fail "the cancelled tile left a file"
 grep -q "requeueing" "$TILES/stage-0-tile-2.log" && fail "the cancelled tile was requeued"

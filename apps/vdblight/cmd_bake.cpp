@@ -13,7 +13,9 @@
 #include "vdblight/basis.h"
 #include "vdblight/bins.h"
 #include "vdblight/depth_moments.h"
+#include "vdblight/error_summary.h"
 #include "vdblight/errors.h"
+#include "vdblight/node_budget.h"
 #include "vdblight/pass.h"
 #include "vdblight/scene.h"
 
@@ -77,23 +79,32 @@ std::string bakeParameters(const CLI::App& cmd) {
 }
 
 /// The bake's own noise estimate, honestly labelled: per node the relative standard error of
-/// its mean irradiance from the sample variance; what it does not measure is said.
+/// its mean irradiance from the sample variance, over the nodes that lookups in free space read
+/// (error_summary.h); what it does not measure is said, and the nodes left out are counted.
 void printNoiseSummary(const BakeStats& stats, const Volume& volume, const GridSpec& grid) {
     auto percent = [](double e) { return std::to_string(int(std::lround(e * 1000.0)) / 10) + "." +
                                          std::to_string(int(std::lround(e * 1000.0)) % 10) + " %"; };
     const std::vector<float>& err = stats.estimatedError;
-    std::size_t worst = 0;
-    for (std::size_t n = 1; n < err.size(); ++n)
-        if (err[n] > err[worst]) worst = n;
-    std::cout << "Noise per node (relative standard error of its irradiance, from the sample variance): p50 "
+    std::size_t worst = err.size();  // the largest error a free-space lookup reads
+    for (std::size_t n = 0; n < err.size(); ++n)
+        if (err[n] >= 0.0f && (worst == err.size() || err[n] > err[worst])) worst = n;
+    const std::size_t inside = nodesInsideSolids(err);
+    if (worst == err.size()) {
+        std::cout << "Noise per node: every one of the " << inside << " nodes lies inside solids.\n";
+        return;
+    }
+    std::cout << "Noise per node (relative standard error of its irradiance, from the sample variance"
+              << (inside ? ", over the nodes that lookups in free space read" : "") << "): p50 "
               << percent(stats.errorQuantile(0.5)) << ", p95 " << percent(stats.errorQuantile(0.95)) << ", max "
               << percent(err[worst]) << " at node " << worst % grid.nx << "," << (worst / grid.nx) % grid.ny << ","
               << worst / (std::size_t(grid.nx) * grid.ny);
     if (volume.meta.count("nodes_at_max_rays"))
         std::cout << "; " << metaString(volume.meta, "nodes_at_max_rays") << " nodes stopped at the ray cap above the target";
     std::cout << ". Not included: SH truncation, interpolation between nodes.\n";
+    if (inside)
+        std::cout << inside << " nodes inside solids (most of their rays hit back faces), not read by free-space "
+                     "lookups (the depth weights keep them out).\n";
 }
-
 
 /// The shared options whose absence means "the default" (the passes' own are in
 /// BakeCommand::passOptions).
@@ -323,24 +334,25 @@ void run(const BakeCommand& c, const BakeRequest& request) {
 
 namespace {
 void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
-    CLI::App* cmd = app.add_subcommand("bake", "Bake a uniform SH order-2 irradiance volume into a .vdb");
+    // The description and the presets' help come from the library's resolution of the presets
+    // (describeQuality), so that they say what the code does (issue 29).
+    CLI::App* cmd = app.add_subcommand("bake", "Bake an irradiance volume into a .vdb; by default " + describeQuality("default"));
     addSceneOptions(*cmd, c->scene);
     cmd->add_option("-o,--output", c->output, "Output .vdb file (written atomically)")->required();
-    auto* spacing = cmd->add_option("--spacing", c->spacing, "Distance between nodes, in scene units");
-    auto* resolution =
-        cmd->add_option("--resolution", c->resolution, "Nodes along the longest axis (default 16)")->excludes(spacing);
+    auto* spacing = cmd->add_option("--spacing", c->spacing, "Distance between nodes, in scene units (default: the --quality preset's grid)");
+    auto* resolution = cmd->add_option("--resolution", c->resolution,
+                                       "Nodes along the longest axis (default: the --quality preset's grid)")
+                           ->excludes(spacing);
     cmd->add_option("--bounds", c->bounds,
                     "Node box x0,y0,z0,x1,y1,z1 (default: scene bounds inset by half a spacing)");
+    std::string presets;
+    for (const std::string& q : qualityNames()) presets += q + ": " + describeQuality(q) + ". ";
     cmd->add_option("--quality", c->quality,
-                    "preview: 16 nodes on the longest axis, 256 rays per node of full paths, SH order 2 "
-                    "(sub-second, noisy where light is hard to reach); default: about 16384 nodes in the scene "
-                    "box (16..64 on its longest axis), 1024 rays + one probe-to-probe pass of 1024, depth "
-                    "moments, SH order 4 stored (seconds; the measured most accurate within 30 s, "
-                    "docs/methods.md); high: the default with 2048 rays. Presets apply to --method gather, "
-                    "--sampling point, --layout uniform, --basis sh2 or sh:N; --method photons takes their grid, "
-                    "photon count and depth moments; other passes take 16 nodes on the "
-                    "longest axis and the fixed --rays (default 256); --target-error replaces the rays by an "
-                    "error target (SH order 2)")
+                    presets + "Presets apply to --method gather, --sampling point, --layout uniform, --basis sh2 or "
+                    "sh:N (docs/methods.md, \"The default bake\"); other passes take " +
+                        std::to_string(kDefaultResolution) +
+                        " nodes on the longest axis and the fixed --rays; --target-error replaces the rays by an "
+                        "error target (SH order 2)")
         ->capture_default_str();
     cmd->add_option("--seed", c->seed, "Random seed (same seed, same bits, any thread count)")->capture_default_str();
     cmd->add_option("--threads", c->threads, "Worker threads (0 = all cores)")->capture_default_str()->check(CLI::Range(0, 4096));
@@ -355,8 +367,8 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
         ->capture_default_str();
     cmd->add_option("--basis", c->basis,
                     "Directional basis (docs/format.md): " + basisChoices() +
-                        ". Default: sh:4 where --quality default's point gather runs (SH order 4: holds a bright "
-                        "opening seen from a dark room, docs/methods.md), sh2 for every other pass and preset");
+                        ". Default: the --quality preset's where its point gather runs (see --quality; SH order 4 "
+                        "holds a bright opening seen from a dark room, docs/methods.md), sh2 for every other pass");
     cmd->add_option("--direct", c->direct,
                     "Direct light: baked (in the SH), runtime (SH holds indirect light; the file lists the lights for "
                     "the run time to add) or occlusion (plus per-node visibility of the --direct-lights most important "

@@ -72,8 +72,11 @@ struct BakeStats {
     /// the relative standard error of its mean irradiance over normals, from the sample
     /// variance of its samples (node_sampler.h); empty for other passes. A tile's bake
     /// (`only`, tiles.h) holds the nodes of its window only (VolumeLevel::heldNodes).
+    /// kNodeInsideSolid (negative, error_summary.h) marks a node that lookups in free space
+    /// do not read: inside a solid, in a volume with depth weights.
     std::vector<float> estimatedError;
-    /// q-quantile (0..1) of estimatedError (nearest rank); 0 if there is none.
+    /// q-quantile (0..1) of estimatedError over the nodes that free-space lookups read
+    /// (nearest rank); 0 if there is none.
     double errorQuantile(double q) const;
 };
 

@@ -19,6 +19,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "vdblight/bake_adaptive.h"
 #include "vdblight/bake_depth.h"
@@ -137,6 +138,15 @@ struct BakeReport {
 /// The request with the --quality preset and every default applied (optionals filled where
 /// the pass uses them, `pass` set to the selected pass). Does not validate.
 BakeRequest resolveBakeRequest(const BakeRequest& request);
+
+/// The --quality presets, in order of cost: preview, default, high.
+const std::vector<std::string>& qualityNames();
+
+/// What a --quality preset bakes with the point gather (and the photon pass), in one line for
+/// --help and the README, read off resolveBakeRequest's answer for that preset, so that the
+/// help cannot drift from the code (issue 29): grid, rays and probe passes, stored basis,
+/// depth moments, direct light, photons. Throws ValueError for an unknown preset.
+std::string describeQuality(const std::string& quality);
 
 /// Checks every option and combination (the shared rules, then the selected pass's
 /// Pass::validate) and returns the pass that will run. Throws ValueError with one line.

@@ -9,6 +9,12 @@
 
 namespace vdblight {
 
+/// The nodes on the longest axis that a node budget's grid stays between.
+constexpr int kBudgetMinNodesOnLongestAxis = 16;
+constexpr int kBudgetMaxNodesOnLongestAxis = 64;
+/// The grid of a bake without a node budget, resolution or spacing: nodes on the longest axis.
+constexpr int kDefaultResolution = 16;
+
 /// The spacing that puts about `nodes` nodes in `box` (placeUniformGrid, layout.h):
 /// (volume / nodes)^(1/3), each extent counted as at least 1/16 of the longest (a flat scene
 /// is not given a vanishing spacing), then kept between longest / 64 and longest / 16, so the

@@ -9,6 +9,7 @@
 #include "vdblight/bins.h"
 #include "vdblight/errors.h"
 #include "vdblight/layout_levels.h"
+#include "vdblight/node_budget.h"
 
 namespace vdblight {
 
@@ -40,8 +41,6 @@ constexpr uint32_t kDefaultRays = 1024;
 constexpr uint32_t kHighRays = 2048;
 constexpr const char* kDefaultBasis = "sh:4";
 constexpr uint32_t kPlainRays = 256;
-/// An error target's ray caps when --min-rays / --max-rays are not given (bake_adaptive.h).
-constexpr uint32_t kTargetMinRays = 64, kTargetMaxRays = 2048;
 struct QualityPreset {
     int probePasses;
     uint64_t nodes;      ///< 0: 16 nodes on the longest axis
@@ -56,7 +55,7 @@ QualityPreset qualityPreset(const std::string& quality) {
     if (quality == "preview") return {0, 0, 256, false, 1'000'000, "sh2"};
     if (quality == "default") return {1, kDefaultNodes, kDefaultRays, true, 4'000'000, kDefaultBasis};
     if (quality == "high") return {1, kDefaultNodes, kHighRays, true, 4'000'000, kDefaultBasis};
-    throw ValueError("--quality must be preview, default or high, got '" + quality + "'");
+    throw ValueError("--quality must be " + bake_detail::joinChoices(qualityNames()) + ", got '" + quality + "'");
 }
 
 /// The uniform SH point gather (SH order 2, or real SH of another order: sh:N), where the
@@ -161,8 +160,8 @@ BakeRequest resolveBakeRequest(const BakeRequest& given) {
     const QualityPreset preset = qualityPreset(r.quality);
     const bool presetApplies = targetable(r);
     if (r.targetError) {
-        if (!r.minRays) r.minRays = kTargetMinRays;
-        if (!r.maxRays) r.maxRays = std::max(kTargetMaxRays, *r.minRays);
+        if (!r.minRays) r.minRays = bake_detail::kTargetMinRays;
+        if (!r.maxRays) r.maxRays = std::max(bake_detail::kTargetMaxRays, *r.minRays);
     }
     if (!r.probePasses) r.probePasses = presetApplies ? preset.probePasses : 0;
     const bool photonGrid = selectPassName(r) == "photons";
@@ -178,6 +177,57 @@ BakeRequest resolveBakeRequest(const BakeRequest& given) {
     if (!r.refineDistance) r.refineDistance = 0.0;
     r.pass = selectPassName(r);
     return r;
+}
+
+const std::vector<std::string>& qualityNames() {
+    static const std::vector<std::string> names = {"preview", "default", "high"};
+    return names;
+}
+
+namespace bake_detail {
+std::string presetValues(const std::function<std::string(const BakeRequest&)>& field, const std::string& method) {
+    std::vector<std::string> values;
+    for (const std::string& q : qualityNames()) {
+        BakeRequest given;
+        given.quality = q;
+        given.method = method;
+        values.push_back(field(resolveBakeRequest(given)));
+    }
+    if (std::all_of(values.begin(), values.end(), [&](const std::string& v) { return v == values[0]; })) return values[0];
+    std::string text;
+    for (std::size_t i = 0; i < values.size(); ++i)
+        text += (i ? ", " : "") + values[i] + (i ? " with " : " with --quality ") + qualityNames()[i];
+    return text;
+}
+}  // namespace bake_detail
+
+std::string describeQuality(const std::string& quality) {
+    BakeRequest given;
+    given.quality = quality;
+    const BakeRequest r = resolveBakeRequest(given);  // throws for an unknown preset
+    BakeRequest photons = given;
+    photons.method = "photons";
+    const BakeRequest p = resolveBakeRequest(photons);
+    const Pass& pass = findPass(r.pass);
+    std::string text = r.nodes ? "about " + std::to_string(*r.nodes) + " nodes in the scene box (" +
+                                     std::to_string(kBudgetMinNodesOnLongestAxis) + ".." +
+                                     std::to_string(kBudgetMaxNodesOnLongestAxis) + " on its longest axis)"
+                               : std::to_string(kDefaultResolution) + " nodes on the longest axis";
+    text += ", " + std::to_string(*r.rays) + " rays per node of full paths";
+    const int passes = r.probePasses.value_or(0);
+    if (passes > 0)
+        text += " + " + std::to_string(passes) + " probe-to-probe pass" + (passes > 1 ? "es" : "") + " of " +
+                std::to_string(*r.rays) + (r.probeCache == "surface" ? " (surface probe cache)" : "");
+    text += ", basis " + r.basis;
+    text += *r.depthMoments ? ", depth moments" : ", no depth moments";
+    const bool occlusion = r.direct.empty() && pass.takesDirectLight() && !r.shWindow;
+    text += occlusion ? ", direct light of up to " + std::to_string(r.directLights) +
+                            " lights exact with baked visibility (--direct occlusion) where the scene has lights"
+                      : ", direct light baked into the basis";
+    text += "; --method photons: " + std::to_string(*p.photons / 1000000) + " M photons" +
+            (p.nodes ? std::string(" on this grid") : " on " + std::to_string(kDefaultResolution) + " nodes on the longest axis") +
+            (*p.depthMoments ? " with depth moments" : "");
+    return text;
 }
 
 const Pass& checkBakeRequest(const BakeRequest& given) {

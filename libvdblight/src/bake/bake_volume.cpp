@@ -76,7 +76,7 @@ Volume bakeImpl(const Scene& scene, const BakeRequest& given, Interrupter* inter
 
     GridPlacement placement;
     placement.spacing = r.spacing.value_or(0.0);
-    placement.resolution = (r.spacing || r.resolution || r.nodes) ? r.resolution.value_or(0) : 16;
+    placement.resolution = (r.spacing || r.resolution || r.nodes) ? r.resolution.value_or(0) : kDefaultResolution;
     if (r.bounds) placement.bounds = toLocalBounds(*r.bounds, scene.origin);
     if (r.nodes) placement.spacing = spacingForNodeBudget(placement.bounds ? *placement.bounds : scene.bounds(), *r.nodes);
     const GridSpec grid = placeUniformGrid(scene.bounds(), placement, pass.bytesPerNode(r));

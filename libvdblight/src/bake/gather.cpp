@@ -10,6 +10,7 @@
 #include "probe_passes.h"
 #include "vdblight/bake.h"
 #include "vdblight/basis.h"
+#include "vdblight/error_summary.h"
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
 #include "vdblight/scene.h"
@@ -52,6 +53,11 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     const std::size_t held = level.heldNodes();
     if (options.depthMoments) level.depth.assign(held * depth::kFloatsPerNode, 0.0f);
     std::vector<float> error(held, 0.0f);
+    // Nodes inside solids (error_summary.h): with depth weights no free-space lookup reads
+    // them, so the error summary leaves them out. Classified from the first hits of the pass
+    // whose error is kept (the last; every pass traces its first hits, so no extra rays and the
+    // same bits), so that the last stage of a staged bake classifies as the single bake does.
+    std::vector<uint8_t> insideSolid(options.depthMoments ? held : 0, 0);
     std::vector<Rgb> reflected;  // per node, nine coefficients: the next pass's cache
     if (options.probePasses > 0) reflected.assign(held * sh::kCoeffs, Rgb(0, 0, 0));
     RadianceEstimator estimator(scene, tracer, options.transport);
@@ -91,9 +97,13 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
                     const bool recordDepth = options.depthMoments && pass.index == 0;
                     if (recordDepth) sampler.recordDepth(&depthAcc, grid.spacing);
                     if (bins && pass.index == 0) sampler.recordSurface(bins.get());
-                    sampler.addSamples(0, options.raysPerNode, count);
+                    uint32_t backFaces = 0;
+                    const bool classify = options.depthMoments;
+                    sampler.addSamples(0, options.raysPerNode, count, classify ? &tracer : nullptr,
+                                       classify ? &backFaces : nullptr);
                     sampler.coefficients(coeffs, count);
                     if (recordDepth) depthAcc.finish(level.depth.data() + h * depth::kFloatsPerNode);
+                    if (classify) insideSolid[h] = insideSolidByBackFaces(backFaces, options.raysPerNode);
                     error[h] = float(std::min(sampler.relativeStandardError(count), 1e30));
                     float* values = level.data.data() + h * floats;
                     bake_detail::storeNode(sampler, coeffs, basis ? nullptr : values,
@@ -102,6 +112,8 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
                 });
         }, bins.get());
 
+    for (std::size_t h = 0; h < insideSolid.size(); ++h)
+        if (insideSolid[h]) error[h] = kNodeInsideSolid;
     bake_detail::PassMetadata m(volume.meta);
     m.common(scene, options.transport, options.seed, nodes, run);
     if (options.stageInput) addEarlierStageSums(volume.meta, options.stageInput->meta);

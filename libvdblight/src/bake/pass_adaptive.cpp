@@ -29,21 +29,21 @@ public:
 
 namespace {
 const char* const kNeedsTarget =
-    "--max-rays and --min-rays need an error-targeted bake (--target-error, or --quality default/high without --rays)";
+    "--max-rays and --min-rays need an error-targeted bake (--target-error)";
 }
 
 std::vector<PassOption> AdaptivePass::options() const {
     PassOption target = numberOption("target-error",
                                      "sample each node in doubling rounds until the relative standard error of its "
                                      "mean irradiance is below this (e.g. 0.02), up to --max-rays",
-                                     "the --quality preset's (0.03 with high)", 0, 1, &BakeRequest::targetError,
+                                     "none: every preset has a fixed --rays budget", 0, 1, &BakeRequest::targetError,
                                      "--target-error works with --method gather, --sampling point, --layout uniform "
                                      "and --basis sh2 only");
     target.minExclusive = true;
     return {target,
-            numberOption("min-rays", "error-targeted bakes: rays of the first round", "64", 2, double(1u << 30), &BakeRequest::minRays,
+            numberOption("min-rays", "error-targeted bakes: rays of the first round", std::to_string(kTargetMinRays), 2, double(1u << 30), &BakeRequest::minRays,
                          kNeedsTarget),
-            numberOption("max-rays", "error-targeted bakes: most rays a node may take", "2048", 2, double(1u << 30), &BakeRequest::maxRays,
+            numberOption("max-rays", "error-targeted bakes: most rays a node may take", std::to_string(kTargetMaxRays), 2, double(1u << 30), &BakeRequest::maxRays,
                          kNeedsTarget),
             probePassesOption(), depthMomentsOption(), depthRaysOption(), shWindowOption()};
 }

@@ -32,7 +32,7 @@ public:
 }  // namespace
 
 std::vector<PassOption> GatherPass::options() const {
-    return {raysOption("Ray directions per node and pass: a fixed budget (--quality high samples to an error target "
+    return {raysOption("Ray directions per node and pass: a fixed budget (--target-error samples to an error target "
                        "instead; antialiased: rays per cell; bins, moments: rounded up to a multiple of the bin count; "
                        "other bases such as sh:N on bilevel/adaptive layouts: to 2 R^2, R = round(sqrt(rays / 2)))"),
             probePassesOption(),

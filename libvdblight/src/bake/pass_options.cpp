@@ -156,16 +156,21 @@ PassOption wordOption(std::string name, std::string help, std::string defaultVal
 }
 
 PassOption raysOption(const std::string& help) {
-    return numberOption("rays", help, "256 (the --quality preset's for the uniform SH point gather)", 1, double(1u << 30),
-                        &BakeRequest::rays);
+    return numberOption("rays", help,
+                        presetValues([](const BakeRequest& r) { return std::to_string(*r.rays); }) +
+                            " for the uniform SH point gather; " +
+                            presetValues([](const BakeRequest& r) { return std::to_string(*r.rays); }, "photons") +
+                            " for the other passes",
+                        1, double(1u << 30), &BakeRequest::rays);
 }
 
 PassOption depthMomentsOption() {
     return flagOption("depth-moments",
                       "also store per-node depth moments, so that lookups do not interpolate across walls "
-                      "(docs/methods.md, visibility-aware interpolation). Default: on with --quality default and high "
-                      "where the preset applies (the uniform SH point gather, and --method photons), off otherwise and "
-                      "with --quality preview; --no-depth-moments turns it off",
+                      "(docs/methods.md, visibility-aware interpolation). Default where the presets apply (the uniform "
+                      "SH point gather, and --method photons): " +
+                          presetValues([](const BakeRequest& r) { return std::string(*r.depthMoments ? "on" : "off"); }) +
+                          "; off for the other passes; --no-depth-moments turns it off",
                       &BakeRequest::depthMoments, "--depth-moments does not apply to this pass");
 }
 
@@ -187,7 +192,8 @@ PassOption probePassesOption() {
                                 "its first hit with the previous pass's reflected light (probe-to-probe bounces, "
                                 "DDGI-style; less noise where light comes through openings, some bias; "
                                 "docs/methods.md)",
-                                "0 with --quality preview, 1 with default, 2 with high", 0, 8, &BakeRequest::probePasses,
+                                presetValues([](const BakeRequest& r) { return std::to_string(*r.probePasses); }), 0, 8,
+                                &BakeRequest::probePasses,
                                 "--probe-passes works with --method gather, --sampling point, --layout uniform and "
                                 "--basis sh2 only");
     // 0 passes is what every other pass does: only more than 0 is refused elsewhere.

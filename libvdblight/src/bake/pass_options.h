@@ -3,6 +3,8 @@
 // module; the passes' files use it.)
 #pragma once
 
+#include <functional>
+
 #include <limits>
 #include <type_traits>
 #include <optional>
@@ -71,8 +73,17 @@ bool isRealSh(const std::string& basis);
 /// Greger bins or moments (bins.h), which keep their own gather (bakeBins).
 bool isBinsOrMoment(const std::string& basis);
 
+/// An error target's ray caps when --min-rays / --max-rays are not given (bake_adaptive.h).
+constexpr uint32_t kTargetMinRays = 64, kTargetMaxRays = 2048;
+
 /// "a, b or c".
 std::string joinChoices(const std::vector<std::string>& words);
+
+/// What a field of the resolved request is under each --quality preset (resolveBakeRequest
+/// of a request with only `method` and the preset given), for --help: "V" if every preset
+/// gives V, else "V1 with --quality preview, V2 with default, V3 with high". The help of the
+/// presets' options comes from here, so that it cannot drift from the code (issue 29).
+std::string presetValues(const std::function<std::string(const BakeRequest&)>& field, const std::string& method = "gather");
 
 /// The tile selection of a context as a function of the levels (null without tiles).
 inline const NodeMask* selectTile(const BakeContext& c, const std::vector<LevelTopology>& levels) {

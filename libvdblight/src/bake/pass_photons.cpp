@@ -28,8 +28,9 @@ public:
 }  // namespace
 
 std::vector<PassOption> PhotonsPass::options() const {
-    PassOption photons = describeOption("photons", "photons emitted in total", "4000000 (--quality preview: 1000000)", 1,
-                                        double(kMaxPhotons));
+    PassOption photons = describeOption(
+        "photons", "photons emitted in total",
+        presetValues([](const BakeRequest& r) { return std::to_string(*r.photons); }, "photons"), 1, double(kMaxPhotons));
     photons.number = [](const BakeRequest& r) -> std::optional<double> {
         return r.photons ? std::optional<double>(double(*r.photons)) : std::nullopt;
     };

@@ -42,7 +42,7 @@ private:
 }  // namespace
 
 BasisKind sh2BasisKind() {
-    return {"sh2", "real SH order 2: 9 radiance coefficients, the default",
+    return {"sh2", "real SH order 2: 9 radiance coefficients; the default of --quality preview and of every pass but the presets' point gather",
             [](const std::string& text) -> std::unique_ptr<Basis> {
                 return text == "sh2" ? std::make_unique<Sh2Basis>() : nullptr;
             },

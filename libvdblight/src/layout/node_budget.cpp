@@ -14,9 +14,9 @@ double spacingForNodeBudget(const Bounds& box, uint64_t nodes) {
     const double longest = std::max(extent.x, std::max(extent.y, extent.z));
     if (!(longest > 0)) throw ValueError("grid bounds have zero size");
     double volume = 1.0;
-    for (int a = 0; a < 3; ++a) volume *= std::max(extent[a], longest / 16.0);
+    for (int a = 0; a < 3; ++a) volume *= std::max(extent[a], longest / kBudgetMinNodesOnLongestAxis);
     const double spacing = std::cbrt(volume / double(nodes));
-    return std::min(std::max(spacing, longest / 64.0), longest / 16.0);
+    return std::min(std::max(spacing, longest / kBudgetMaxNodesOnLongestAxis), longest / kBudgetMinNodesOnLongestAxis);
 }
 
 }  // namespace vdblight

@@ -1,0 +1,86 @@
+// `vdblight --help` and `vdblight bake --help` say what the code does (issue 29): the bake's
+// description and every preset's help come from the library's resolution of the presets
+// (describeQuality, resolveBakeRequest), and a preview bake does what its help says. A help
+// text written by hand that drifts from the presets fails here.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "cli_util.h"
+#include "vdblight/bake_volume.h"
+#include "vdblight/errors.h"
+
+using namespace vdblight;
+using namespace vdblight::test;
+
+namespace {
+BakeRequest resolved(const std::string& quality, const std::string& method = "gather") {
+    BakeRequest r;
+    r.quality = quality;
+    r.method = method;
+    return resolveBakeRequest(r);
+}
+
+/// "V1 with --quality preview, V2 with default, V3 with high", or "V" if all agree: the form of
+/// the presets' defaults in --help, built here from resolveBakeRequest.
+template <typename Field>
+std::string perPreset(Field field, const std::string& method = "gather") {
+    std::vector<std::string> v;
+    for (const std::string& q : qualityNames()) v.push_back(field(resolved(q, method)));
+    if (v[0] == v[1] && v[1] == v[2]) return v[0];
+    return v[0] + " with --quality preview, " + v[1] + " with default, " + v[2] + " with high";
+}
+}  // namespace
+
+TEST(CliHelp, EachPresetIsDescribedFromWhatItResolvesTo) {
+    ASSERT_EQ(qualityNames(), (std::vector<std::string>{"preview", "default", "high"}));
+    for (const std::string& q : qualityNames()) {
+        const BakeRequest r = resolved(q);
+        const std::string text = describeQuality(q);
+        SCOPED_TRACE(q + ": " + text);
+        EXPECT_NE(text.find(std::to_string(*r.rays) + " rays per node"), std::string::npos);
+        EXPECT_NE(text.find("basis " + r.basis + ","), std::string::npos);
+        EXPECT_NE(text.find(*r.depthMoments ? ", depth moments" : "no depth moments"), std::string::npos);
+        if (r.nodes) EXPECT_NE(text.find("about " + std::to_string(*r.nodes) + " nodes"), std::string::npos);
+        const int passes = r.probePasses.value_or(0);
+        EXPECT_EQ(text.find(std::to_string(passes) + " probe-to-probe pass") != std::string::npos, passes > 0);
+        EXPECT_NE(text.find(std::to_string(*resolved(q, "photons").photons / 1000000) + " M photons"), std::string::npos);
+    }
+    EXPECT_THROW(describeQuality("ultra"), ValueError);
+}
+
+TEST(CliHelp, TopLevelAndBakeHelpShowThePresetsAndTheirDefaults) {
+    const CliRun top = runCli("--help");
+    ASSERT_EQ(top.status, 0) << top.output;
+    EXPECT_NE(top.output.find("by default " + describeQuality("default")), std::string::npos) << top.output;
+    EXPECT_EQ(top.output.find("SH order-2 irradiance volume"), std::string::npos) << "the old, stale description";
+
+    const CliRun bake = runCli("bake --help");
+    ASSERT_EQ(bake.status, 0) << bake.output;
+    for (const std::string& q : qualityNames())
+        EXPECT_NE(bake.output.find(q + ": " + describeQuality(q)), std::string::npos) << q << "\n" << bake.output;
+    // The passes' options whose defaults follow the preset.
+    const std::string rays = perPreset([](const BakeRequest& r) { return std::to_string(*r.rays); });
+    const std::string passes = perPreset([](const BakeRequest& r) { return std::to_string(*r.probePasses); });
+    const std::string photons = perPreset([](const BakeRequest& r) { return std::to_string(*r.photons); }, "photons");
+    const std::string depth = perPreset([](const BakeRequest& r) { return std::string(*r.depthMoments ? "on" : "off"); });
+    EXPECT_NE(bake.output.find("--rays NUMBER=" + rays + " for the uniform SH point gather"), std::string::npos) << rays;
+    EXPECT_NE(bake.output.find("--probe-passes NUMBER=" + passes), std::string::npos) << passes;
+    EXPECT_NE(bake.output.find("--photons NUMBER=" + photons), std::string::npos) << photons;
+    EXPECT_NE(bake.output.find("--method photons): " + depth), std::string::npos) << depth;
+    // No option claims a preset samples to an error target: none does.
+    EXPECT_EQ(resolved("high").targetError, std::nullopt);
+    EXPECT_EQ(bake.output.find("0.03 with high"), std::string::npos);
+}
+
+TEST(CliHelp, APreviewBakeDoesWhatItsHelpSays) {
+    TempDir dir;
+    const BakeRequest r = resolved("preview");
+    const CliRun run = runCli("bake --quality preview --threads 2 -o " + (dir.path() / "p.vdb").string());
+    ASSERT_EQ(run.status, 0) << run.output;
+    EXPECT_NE(run.output.find("with " + std::to_string(*r.rays) + " rays per node"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("(16 x "), std::string::npos) << run.output;  // 16 nodes on the longest axis
+    const CliRun info = runCli("info " + (dir.path() / "p.vdb").string());
+    ASSERT_EQ(info.status, 0) << info.output;
+    EXPECT_NE(info.output.find("basis: " + r.basis + " "), std::string::npos) << info.output;
+}
