@@ -1,0 +1,48 @@
+#include "doc_blocks.h"
+
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <stdexcept>
+
+namespace vdblight::gpu {
+
+std::vector<std::string> fencedBlocks(const std::string& markdown, const std::string& language) {
+    std::vector<std::string> blocks;
+    std::istringstream in(markdown);
+    std::string line, block;
+    bool inside = false;
+    while (std::getline(in, line)) {
+        if (!inside && line == "```" + language) {
+            inside = true;
+            block.clear();
+        } else if (inside && line == "```") {
+            inside = false;
+            blocks.push_back(block);
+        } else if (inside) {
+            block += line + '\n';
+        }
+    }
+    if (inside) throw std::runtime_error("an unterminated ```" + language + " block");
+    return blocks;
+}
+
+const std::string& blockDeclaring(const std::vector<std::string>& blocks, const std::string& declaration) {
+    const std::string* found = nullptr;
+    for (const std::string& b : blocks)
+        if (b.find(declaration) != std::string::npos) {
+            if (found) throw std::runtime_error("two code blocks of docs/engines.md declare '" + declaration + "'");
+            found = &b;
+        }
+    if (!found) throw std::runtime_error("no code block of docs/engines.md declares '" + declaration + "'");
+    return *found;
+}
+
+std::string readEnginesDoc() {
+    const std::string path = std::string(VDBLIGHT_SOURCE_DIR) + "/docs/engines.md";
+    std::ifstream in(path);
+    if (!in) throw std::runtime_error("cannot read " + path);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+}  // namespace vdblight::gpu

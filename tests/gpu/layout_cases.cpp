@@ -1,0 +1,153 @@
+#include "layout_cases.h"
+
+#include <cctype>
+#include <stdexcept>
+
+#include "doc_blocks.h"
+
+namespace vdblight::gpu {
+namespace {
+
+bool startsWith(const std::string& s, const std::string& prefix) { return s.compare(0, prefix.size(), prefix) == 0; }
+
+// The k-th manifest texture whose name starts with `prefix` -> sampler `array[k]`.
+Bindings inOrder(const Manifest& m, const std::string& prefix, const std::string& array, Bindings b = {}) {
+    int k = 0;
+    for (const ManifestTexture& t : m.textures)
+        if (startsWith(t.name, prefix)) b.emplace_back(array + "[" + std::to_string(k++) + "]", t.name);
+    return b;
+}
+
+// The textures the doc's sh2-packed / sh1 GLSL names as they are named in the manifest.
+Bindings packedSh(const Manifest& m) {
+    Bindings b;
+    for (const ManifestTexture& t : m.textures)
+        if (startsWith(t.name, "shA") || startsWith(t.name, "shB") || t.name == "shC") b.emplace_back(t.name, t.name);
+    return b;
+}
+
+// depth_x -> depthX, ... (the doc's visibility-aware GLSL).
+Bindings withDepth(Bindings b) {
+    for (const char* axis : {"x", "y", "z"})
+        b.emplace_back(std::string("depth") + char(std::toupper(axis[0])), std::string("depth_") + axis);
+    return b;
+}
+
+// The one listed light of an occlusion export: the doc's occlusion GLSL takes one polygon.
+void setPolygonLight(const Manifest& m, const ComputeProgram& p) {
+    const json::Json* lights = m.root.get("direct") ? m.root.get("direct")->get("lights") : nullptr;
+    if (!lights || lights->items.size() != 1) throw std::runtime_error("the occlusion row needs one listed light");
+    const json::Json& light = lights->items[0];
+    if (light.get("kind")->string != "polygon" || light.get("two_sided")->number != 0 ||
+        light.get("loops")->items.size() != 1 || light.get("visibility")->get("component")->string != "r")
+        throw std::runtime_error("the occlusion row needs a one-sided polygon light with visibility in component r");
+    const auto vec = [](const json::Json& v) { return std::array<float, 3>{float(v.items[0].number), float(v.items[1].number), float(v.items[2].number)}; };
+    const std::vector<json::Json>& loop = light.get("loops")->items[0].items;
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+        const auto v = vec(loop[i]);
+        glUniform3f(p.uniform("lightVertices[" + std::to_string(i) + "]"), v[0], v[1], v[2]);
+    }
+    glUniform1i(p.uniform("lightVertexCount"), GLint(loop.size()));
+    const auto n = vec(*light.get("normal")), l = vec(*light.get("radiance"));
+    glUniform3f(p.uniform("lightNormal"), n[0], n[1], n[2]);
+    glUniform3f(p.uniform("lightRadiance"), l[0], l[1], l[2]);
+}
+
+// VDBLIGHT_SH_ORDER = the N of the manifest's basis (sh2: 2, sh:N: N), as the doc says.
+std::string shOrderDefine(const Manifest& m) {
+    const json::Json* basis = m.root.get("basis");
+    if (!basis) throw std::runtime_error("a basis export's manifest has no 'basis'");
+    const std::string& b = basis->string;
+    const int order = b == "sh2" ? 2 : startsWith(b, "sh:") ? std::stoi(b.substr(3)) : 0;
+    if (order < 1) throw std::runtime_error("basis '" + b + "' is not real SH");
+    return "#define VDBLIGHT_SH_ORDER " + std::to_string(order) + "\n";
+}
+
+const char* const kPacked = "vec3 vdblightIrradiance(";
+const char* const kCallPacked = "vec3 vdblightCheck(vec3 x, vec3 n) { return vdblightIrradiance(x, n); }\n";
+const char* const kCallSh2 =
+    "uniform sampler3D sh2[9];\n"
+    "vec3 vdblightCheck(vec3 x, vec3 n) { return vdblightIrradianceSh2(sh2, x * uvwScale + uvwBias, n); }\n";
+const char* const kCallShN = "vec3 vdblightCheck(vec3 x, vec3 n) { return vdblightIrradianceShN(x, n); }\n";
+const char* const kCallVisible = "vec3 vdblightCheck(vec3 x, vec3 n) { return vdblightIrradianceVisible(x, n); }\n";
+const char* const kCallVectors =
+    "uniform sampler3D iv[18];\n"
+    "uniform vec3 uvwScale, uvwBias;\n"
+    "vec3 vdblightCheck(vec3 x, vec3 n) { return vdblightIrradianceVectors(iv, x * uvwScale + uvwBias, n); }\n";
+const char* const kCallCompact =
+    "uniform sampler3D colour[6], dirs[6];\n"
+    "uniform vec3 uvwScale, uvwBias;\n"
+    "vec3 vdblightCheck(vec3 x, vec3 n) { return vdblightIrradianceCompact(colour, dirs, x * uvwScale + uvwBias, n); }\n";
+const char* const kCallOcclusion =
+    "uniform vec3 lightVertices[VDBLIGHT_MAX_VERTS], lightNormal, lightRadiance;\n"
+    "uniform int lightVertexCount;\n"
+    "vec3 vdblightCheck(vec3 x, vec3 n) {\n"
+    "    return vdblightIrradianceOcclusion(x, n, lightVertices, lightVertexCount, lightNormal, lightRadiance);\n"
+    "}\n";
+
+}  // namespace
+
+const std::vector<LayoutCase>& layoutCases() {
+    static const std::vector<LayoutCase> cases = {
+        {"sh2-packed (ktx2, half)", "sh4.vdb", "--format ktx2 --layout sh2-packed", {kPacked}, nullptr, kCallPacked, packedSh, 2},
+        {"sh2-packed (dds, half)", "sh4.vdb", "--format dds --layout sh2-packed", {kPacked}, nullptr, kCallPacked, packedSh, 2},
+        {"sh2-packed (ktx2, float)", "sh4.vdb", "--format ktx2 --layout sh2-packed --float", {kPacked}, nullptr, kCallPacked,
+         packedSh, 2},
+        {"sh1 (ktx2, half)", "sh4.vdb", "--format ktx2 --layout sh1", {kPacked}, [](const Manifest&) { return std::string("#define VDBLIGHT_SH1\n"); }, kCallPacked,
+         packedSh, 1},
+        {"sh2 (dds, half)", "sh4.vdb", "--format dds --layout sh2", {kPacked}, nullptr, kCallSh2,
+         [](const Manifest& m) { return inOrder(m, "sh2_", "sh2"); }, 2},
+        {"basis sh:4 (ktx2, half)", "sh4.vdb", "--format ktx2 --layout basis", {"vec3 vdblightIrradianceShN("},
+         shOrderDefine, kCallShN, [](const Manifest& m) { return inOrder(m, "sh_l", "L"); }},
+        {"sh2-packed, bilevel (ktx2, half)", "sh4_bilevel.vdb", "--format ktx2 --layout sh2-packed", {kPacked}, nullptr,
+         kCallPacked, packedSh, 2},
+        {"basis of an sh2 volume, bilevel (ktx2, half)", "sh4_bilevel.vdb", "--format ktx2 --layout basis",
+         {"vec3 vdblightIrradianceShN("}, shOrderDefine, kCallShN,
+         [](const Manifest& m) { return inOrder(m, "sh_l", "L"); }},
+        {"sh2-packed + depth moments (ktx2, half; depth rgba8_unorm)", "sh4_depth.vdb", "--format ktx2 --layout sh2-packed",
+         {"vec3 vdblightIrradianceVisible("}, nullptr, kCallVisible, [](const Manifest& m) { return withDepth(packedSh(m)); }, 2, true},
+        {"sh2-packed + depth moments (dds, half; depth rgba8_unorm)", "sh4_depth.vdb", "--format dds --layout sh2-packed",
+         {"vec3 vdblightIrradianceVisible("}, nullptr, kCallVisible, [](const Manifest& m) { return withDepth(packedSh(m)); }, 2, true},
+        {"sh2-packed + --direct occlusion (ktx2, half)", "occlusion.vdb", "--format ktx2 --layout sh2-packed",
+         {kPacked, "vec3 vdblightIrradianceOcclusion("}, nullptr, kCallOcclusion,
+         [](const Manifest& m) {
+             Bindings b = packedSh(m);
+             b.emplace_back("lightVisibility0", "light_visibility_0_0");
+             return b;
+         },
+         2, false, setPolygonLight},
+        {"vectors (ktx2, half)", "photons.vdb", "--format ktx2 --layout vectors", {"vec3 vdblightIrradianceVectors("}, nullptr,
+         kCallVectors, [](const Manifest& m) { return inOrder(m, "iv_", "iv"); }},
+        {"compact (ktx2, half)", "photons_compact.vdb", "--format ktx2 --layout compact",
+         {"vec3 vdblightIrradianceCompact("}, nullptr, kCallCompact,
+         [](const Manifest& m) {
+             Bindings b;
+             const char* dirs[6] = {"xpos", "xneg", "ypos", "yneg", "zpos", "zneg"};
+             for (int k = 0; k < 6; ++k) {
+                 b.emplace_back("colour[" + std::to_string(k) + "]", std::string("ivc_") + dirs[k] + "_colour");
+                 b.emplace_back("dirs[" + std::to_string(k) + "]", std::string("ivc_") + dirs[k] + "_dir");
+             }
+             return b;
+         }},
+    };
+    return cases;
+}
+
+std::string computeShader(const LayoutCase& c, const Manifest& m, const std::vector<std::string>& glslBlocks) {
+    std::string s = "#version 450\n";
+    if (c.before) s += c.before(m);
+    for (const char* declaration : c.docDeclarations) s += blockDeclaring(glslBlocks, declaration);
+    s += c.glue;
+    s += "layout(local_size_x = 64) in;\n"
+         "layout(std430, binding = 0) readonly buffer Points { vec4 points[]; };\n"
+         "layout(std430, binding = 1) readonly buffer Normals { vec4 normals[]; };\n"
+         "layout(std430, binding = 2) writeonly buffer Results { vec4 results[]; };\n"
+         "uniform uint pointCount;\n"
+         "void main() {\n"
+         "    uint i = gl_GlobalInvocationID.x;\n"
+         "    if (i < pointCount) results[i] = vec4(vdblightCheck(points[i].xyz, normals[i].xyz), 0.0);\n"
+         "}\n";
+    return s;
+}
+
+}  // namespace vdblight::gpu
