@@ -16,6 +16,7 @@ PACKAGES=(build-essential cmake pkg-config
           python3-openvdb python3-imath python3-numpy blender zlib1g-dev
           gnuplot-nox   # gnuplot-nox: scripts/plot_error.sh (issue 8)
           slurmctld slurmd slurm-client munge   # tests/slurm_cluster_test.sh: a one-node Slurm (issue 17)
+          libnanovdb-dev libnanovdb-tools glslang-tools   # export --format nanovdb (headers); nanovdb_export_test runs nanovdb_validate/_print; nanovdb_glsl_test runs glslangValidator
           clang-14 libclang-rt-14-dev)  # scripts/fuzz.sh: libFuzzer (libclang_rt.fuzzer-x86_64.a is in
                                         # libclang-rt-14-dev, only a Recommends of clang-14)
 
