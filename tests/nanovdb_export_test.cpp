@@ -252,5 +252,20 @@ TEST(NanoVdbExport, RefusesAnEmptyVolumeWithoutWritingAFile) {
     EXPECT_EQ(test::filesIn(dir.path()), 0u);
 }
 
+/// The command: one line, one file; a file that cannot be written: one line, nothing left.
+TEST(NanoVdbExportCli, WritesOneFileOrFailsInOneLine) {
+    TempDir dir;
+    writeVolume(levelsSh(LayoutKind::Adaptive, 3, shBasis(4), true), dir.file("v.vdb"));
+    const test::CliRun run = test::runCli("export " + dir.file("v.vdb") + " -o " + dir.file("v.nvdb") + " --format nanovdb");
+    EXPECT_EQ(run.status, 0) << run.output;
+    EXPECT_EQ(test::countLines(run.output), 1) << run.output;
+    EXPECT_NE(run.output.find("Wrote 90 NanoVDB grids"), std::string::npos) << run.output;
+    // vdblight_meta, 3 x (25 channels + 4 depth grids), refined_L0, refined_L1
+    const auto handles = nanovdb::io::readGrids<nanovdb::HostBuffer, std::vector>(dir.file("v.nvdb"));
+    EXPECT_EQ(handles.size(), 90u);
+    test::expectCleanFailure(dir, "export " + dir.file("v.vdb") + " -o " + dir.file("missing/v.nvdb") + " --format nanovdb",
+                             "missing/v.nvdb");
+}
+
 }  // namespace
 }  // namespace vdblight
