@@ -19,11 +19,12 @@
 //   and renormalised (docs/format.md, "Depth moments");
 // - E = sum over coefficients j of A_l(j) Y_j(n) L_j (the clamped-cosine constants A_0..A_4 =
 //   pi, 2 pi / 3, pi / 4, 0, -pi / 24).
-// Not covered: the direct light of `--direct occlusion` volumes (their listed lights times
-// the visibility grids); vdblight_nano_light_visibility gives the interpolated visibility of a
-// listed light, but the exact irradiance of the lights (docs/engines.md, "Direct light") is
-// left to the caller. Culled volumes (`--cull-solids`) and other bases are not looked up
-// (vdblight_nano_open sets `supported` to false).
+// - `--direct occlusion` volumes: plus, for each listed light, its exact unshadowed irradiance
+//   (point, spot, directional, polygon and mesh lights; docs/engines.md, "Direct light") times
+//   its visibility interpolated with the same weights.
+// Culled volumes (`--cull-solids`) and other bases are not looked up (vdblight_nano_open sets
+// `supported` to false). Everything is float: volumes far from the origin lose precision here
+// where `query` works in double.
 //
 // Why it can be fast: every channel grid of a level (and every depth grid) has the same tree
 // and value type, so a voxel lies at the same byte offset from the start of each; the lookup
@@ -39,9 +40,15 @@
 #include <math.h>
 #define VDBLIGHT_NANO_FN static
 #define VDBLIGHT_NANO_SQRT(v) sqrtf(v)
+#define VDBLIGHT_NANO_ATAN2(y, x) atan2f(y, x)
+#elif defined(PNANOVDB_HLSL)
+#define VDBLIGHT_NANO_FN
+#define VDBLIGHT_NANO_SQRT(v) sqrt(v)
+#define VDBLIGHT_NANO_ATAN2(y, x) atan2(y, x)
 #else
 #define VDBLIGHT_NANO_FN
 #define VDBLIGHT_NANO_SQRT(v) sqrt(v)
+#define VDBLIGHT_NANO_ATAN2(y, x) atan(y, x)
 #endif
 
 // The numbers in voxels (i, 0, 0) of `vdblight_meta` (vdblight/export_nanovdb.h).
@@ -54,16 +61,21 @@
 #define VDBLIGHT_NANO_META_VALIDITY 9
 #define VDBLIGHT_NANO_META_DIMS 10
 #define VDBLIGHT_NANO_META_SH_KIND 13
+#define VDBLIGHT_NANO_META_DIRECT_MODE 6
+#define VDBLIGHT_NANO_META_LIGHTS 16   // light i's record of 20 numbers at 16 + 20 i
+#define VDBLIGHT_NANO_LIGHT_FLOATS 20
 
 struct vdblight_nano_volume_t {
     pnanovdb_bool_t supported;  // a volume this lookup reads (sh2 or sh:1..4, dense level 0)
     pnanovdb_int32_t sh_order, channels, levels, refine, depth, visibility;
+    pnanovdb_int32_t direct_mode;  // 0 baked, 1 runtime, 2 occlusion
     pnanovdb_int32_t folded;  // basis sh2: A_l applied to the coefficients before interpolating (its lookup's bits)
     pnanovdb_int32_t dims_x, dims_y, dims_z;  // level 0's nodes per axis
     pnanovdb_grid_handle_t first[VDBLIGHT_NANO_MAX_LEVELS];    // each level's first channel grid
     pnanovdb_grid_handle_t depth0[VDBLIGHT_NANO_MAX_LEVELS];   // its first depth grid (depth 1)
     pnanovdb_grid_handle_t refined[VDBLIGHT_NANO_MAX_LEVELS];  // refined_L<k> (k < levels - 1): float, active = refined
     pnanovdb_uint32_t stride[VDBLIGHT_NANO_MAX_LEVELS];        // bytes from a channel grid to the next
+    pnanovdb_grid_handle_t meta;                               // vdblight_meta (lights)
     pnanovdb_grid_handle_t visibility0;                        // light_visibility_0 (occlusion)
     pnanovdb_uint32_t visibility_stride;
 };
@@ -110,6 +122,7 @@ VDBLIGHT_NANO_FN vdblight_nano_volume_t vdblight_nano_open(pnanovdb_buf_t buf) {
     v.depth = pnanovdb_float_to_int32(vdblight_nano_meta(buf, g, VDBLIGHT_NANO_META_DEPTH));
     v.visibility = pnanovdb_float_to_int32(vdblight_nano_meta(buf, g, VDBLIGHT_NANO_META_VISIBILITY));
     pnanovdb_int32_t validity = pnanovdb_float_to_int32(vdblight_nano_meta(buf, g, VDBLIGHT_NANO_META_VALIDITY));
+    v.direct_mode = pnanovdb_float_to_int32(vdblight_nano_meta(buf, g, VDBLIGHT_NANO_META_DIRECT_MODE));
     v.folded = pnanovdb_float_to_int32(vdblight_nano_meta(buf, g, VDBLIGHT_NANO_META_SH_KIND));
     v.dims_x = pnanovdb_float_to_int32(vdblight_nano_meta(buf, g, VDBLIGHT_NANO_META_DIMS));
     v.dims_y = pnanovdb_float_to_int32(vdblight_nano_meta(buf, g, VDBLIGHT_NANO_META_DIMS + 1));
@@ -117,6 +130,7 @@ VDBLIGHT_NANO_FN vdblight_nano_volume_t vdblight_nano_open(pnanovdb_buf_t buf) {
     v.supported = v.sh_order >= 1 && v.sh_order <= 4 && v.channels == (v.sh_order + 1) * (v.sh_order + 1) &&
                   v.levels >= 1 && v.levels <= VDBLIGHT_NANO_MAX_LEVELS &&
                   pnanovdb_grid_get_grid_type(buf, vdblight_nano_next(buf, g, 1u)) == PNANOVDB_GRID_TYPE_VEC3F;
+    v.meta = g;
     g = vdblight_nano_next(buf, g, 1u);
     v.visibility0 = g;
     v.visibility_stride = 0u;
@@ -300,6 +314,8 @@ VDBLIGHT_NANO_FN float vdblight_nano_sh_y(pnanovdb_int32_t j, pnanovdb_vec3_t n,
     return 0.625835735f * (x2 * x2 - 6.0f * x2 * y2 + y2 * y2);
 }
 
+#include "vdblight_nanovdb_lights.h"  // vdblight_nano_light_irradiance
+
 // Irradiance (W/m^2 per colour) at world point x for unit normal n; (0, 0, 0) for a volume
 // this lookup does not read (v.supported false).
 VDBLIGHT_NANO_FN pnanovdb_vec3_t vdblight_nano_irradiance(pnanovdb_buf_t buf, PNANOVDB_IN(vdblight_nano_volume_t) v,
@@ -335,6 +351,17 @@ VDBLIGHT_NANO_FN pnanovdb_vec3_t vdblight_nano_irradiance(pnanovdb_buf_t buf, PN
         e.x += r * bw;
         e.y += g * bw;
         e.z += b * bw;
+    }
+    // --direct occlusion: the listed lights times their visibility, with the same weights.
+    pnanovdb_grid_handle_t vis0 = PNANOVDB_DEREF(v).visibility0;
+    pnanovdb_readaccessor_init(PNANOVDB_REF(acc), pnanovdb_tree_get_root(buf, pnanovdb_grid_get_tree(buf, vis0)));
+    for (pnanovdb_int32_t c = 0; c < 8 && PNANOVDB_DEREF(v).visibility > 0; ++c)
+        corner[c] = vdblight_nano_value_address(PNANOVDB_GRID_TYPE_FLOAT, buf, PNANOVDB_REF(acc), vdblight_nano_corner(PNANOVDB_REF(cell), c));
+    for (pnanovdb_int32_t i = 0; i < PNANOVDB_DEREF(v).visibility; ++i) {
+        float vis = 0.0f;
+        for (pnanovdb_int32_t c = 0; c < 8; ++c)
+            vis += cell.w[c] * pnanovdb_read_float(buf, pnanovdb_address_offset_product(corner[c], PNANOVDB_DEREF(v).visibility_stride, pnanovdb_int32_as_uint32(i)));
+        if (vis > 0.0f) e = pnanovdb_vec3_add(e, vdblight_nano_scale(vdblight_nano_light_irradiance(buf, v, i, x, n), vis));
     }
     return e;
 }

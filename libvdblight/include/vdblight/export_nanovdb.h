@@ -38,8 +38,14 @@ enum Field : int {
     kDimsY = 11,
     kDimsZ = 12,
     kShKind = 13,        ///< 0: sh:N; 1: sh2 (its lookup folds A_l into the coefficients first: other bits)
-    kFieldCount = 14,
+    kFieldCount = 16,    ///< 14, 15 reserved (0)
 };
+/// The listed lights as numbers, for a shader: light i's record of kLightFloats values starts at
+/// voxel kFieldCount + kLightFloats i: kind (0 point, 1 spot, 2 directional, 3 polygon, 4 mesh),
+/// two-sided (0/1), value (3), position (3), direction (3), cos inner, cos outer, normal (3),
+/// the voxel where its loops start, the loop count, 2 reserved. Each loop there: its vertex
+/// count, then x, y, z per vertex (world positions, as in the file's text).
+constexpr int kLightFloats = 20;
 constexpr int kVersionValue = 1;
 }  // namespace nanovdb_meta
 

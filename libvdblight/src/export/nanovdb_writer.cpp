@@ -3,6 +3,7 @@
 // written with io::writeGrids through an AtomicFile.
 #include "vdblight/export_nanovdb.h"
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <sstream>
@@ -83,10 +84,32 @@ std::string metadataText(const Volume& v) {
     return s.str();
 }
 
+/// The lights' records and loops (nanovdb_meta::kLightFloats), appended to `out` (which holds
+/// the kFieldCount numbers already).
+void appendLights(const std::vector<DirectLight>& lights, std::vector<float>& out) {
+    const std::size_t recordsAt = out.size();
+    out.resize(recordsAt + lights.size() * nanovdb_meta::kLightFloats, 0.0f);
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+        const DirectLight& l = lights[i];
+        float* r = out.data() + recordsAt + i * nanovdb_meta::kLightFloats;
+        const float values[18] = {float(int(l.kind)), l.twoSided ? 1.0f : 0.0f, l.value.x, l.value.y, l.value.z,
+                                  float(l.position.x), float(l.position.y), float(l.position.z),
+                                  float(l.direction.x), float(l.direction.y), float(l.direction.z),
+                                  float(std::cos(l.innerCone)), float(std::cos(l.outerCone)),
+                                  float(l.normal.x), float(l.normal.y), float(l.normal.z),
+                                  float(out.size()), float(l.loops.size())};
+        std::copy(values, values + 18, r);
+        for (const auto& loop : l.loops) {  // r is not used below: out may move
+            out.push_back(float(loop.size()));
+            for (const Vec3d& p : loop) out.insert(out.end(), {float(p.x), float(p.y), float(p.z)});
+        }
+    }
+}
+
 /// The grid `vdblight_meta`: the numbers of nanovdb_meta in voxels (i, 0, 0), identity
 /// transform, and `text` (NUL-terminated) as its one blind data block.
 Handle metaGrid(const Volume& v, const std::string& text) {
-    float field[nanovdb_meta::kFieldCount] = {};
+    std::vector<float> field(nanovdb_meta::kFieldCount, 0.0f);
     field[nanovdb_meta::kVersion] = float(nanovdb_meta::kVersionValue);
     field[nanovdb_meta::kShOrder] = float(shOrder(v.basis.kind));
     field[nanovdb_meta::kChannels] = float(v.basis.channelCount());
@@ -101,6 +124,7 @@ Handle metaGrid(const Volume& v, const std::string& text) {
     field[nanovdb_meta::kDimsY] = float(v.levels[0].grid.ny);
     field[nanovdb_meta::kDimsZ] = float(v.levels[0].grid.nz);
     field[nanovdb_meta::kShKind] = v.basis.kind == "sh2" ? 1.0f : 0.0f;
+    appendLights(v.direct.lights, field);
 
     // The block padded with zeros to NanoVDB's 32-byte alignment: the grid's size (which ends
     // with it) stays a multiple of 32, so the next grid of a buffer holding them back to back
@@ -108,7 +132,7 @@ Handle metaGrid(const Volume& v, const std::string& text) {
     const uint64_t padded = (text.size() + 1 + NANOVDB_DATA_ALIGNMENT - 1) / NANOVDB_DATA_ALIGNMENT * NANOVDB_DATA_ALIGNMENT;
     nanovdb::GridBuilder<float> builder(0.0f, nanovdb::GridClass::Unknown, padded);
     auto acc = builder.getAccessor();
-    for (int i = 0; i < nanovdb_meta::kFieldCount; ++i) acc.setValue(nanovdb::Coord(i, 0, 0), field[i]);
+    for (std::size_t i = 0; i < field.size(); ++i) acc.setValue(nanovdb::Coord(int(i), 0, 0), field[i]);
     Handle handle = builder.getHandle(1.0, nanovdb::Vec3d(0.0), "vdblight_meta");
     nanovdb::NanoGrid<float>* grid = handle.grid<float>();
     auto* blind = reinterpret_cast<nanovdb::GridBlindMetaData*>(reinterpret_cast<char*>(grid) +
