@@ -17,6 +17,7 @@ PACKAGES=(build-essential cmake pkg-config
           gnuplot-nox   # gnuplot-nox: scripts/plot_error.sh (issue 8)
           libegl-dev libepoxy-dev libgl1-mesa-dri libegl-mesa0 glslang-tools   # tests/gpu: OpenGL on Mesa llvmpipe, headless; HLSL front end (issue 33)
           slurmctld slurmd slurm-client munge   # tests/slurm_cluster_test.sh: a one-node Slurm (issue 17)
+          libnanovdb-dev libnanovdb-tools glslang-tools   # export --format nanovdb (headers); nanovdb_export_test runs nanovdb_validate/_print; nanovdb_glsl_test runs glslangValidator
           clang-14 libclang-rt-14-dev)  # scripts/fuzz.sh: libFuzzer (libclang_rt.fuzzer-x86_64.a is in
                                         # libclang-rt-14-dev, only a Recommends of clang-14)
 

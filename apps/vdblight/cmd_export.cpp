@@ -7,6 +7,7 @@
 #include "vdblight/errors.h"
 #include "vdblight/export.h"
 #include "vdblight/export_cells.h"
+#include "vdblight/export_nanovdb.h"
 #include "vdblight/query_stream.h"
 #include "vdblight/vdb_stream.h"
 #include "vdblight/preview.h"
@@ -62,6 +63,13 @@ void run(const ExportCommand& c) {
                       << " x " << l.dims[1] << " x " << l.dims[2] << " voxels to " << file << "\n";
         return;
     }
+    if (c.format == "nanovdb") {  // one .nvdb file of NanoVDB grids (export_nanovdb.h)
+        const NanoVdbSummary s = exportNanoVdb(readVolume(c.volume), c.output);
+        if (!c.quiet)
+            std::cout << "Wrote " << s.grids.size() << " NanoVDB grids (" << s.activeNodes << " nodes, "
+                      << formatBytes(double(s.bytes)) << ") to " << c.output << "\n";
+        return;
+    }
     ExportOptions o;
     o.format = parseTextureFormat(c.format);
     o.layout = parseExportLayout(c.layout);
@@ -92,7 +100,7 @@ void addExportCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand("export", "Dense 3-D textures + manifest.json for engines (docs/engines.md)");
     cmd->add_option("volume", c->volume, "Volume (.vdb) written by vdblight bake")->required();
     cmd->add_option("-o,--output", c->output, "Output directory (created if missing)")->required();
-    cmd->add_option("--format", c->format, "ktx2, dds, exr-atlas, raw, or vdb-preview (OUTDIR/preview.vdb for Blender/Houdini)")->capture_default_str();
+    cmd->add_option("--format", c->format, "ktx2, dds, exr-atlas, raw, vdb-preview (OUTDIR/preview.vdb for Blender/Houdini), or nanovdb (-o names one .nvdb file)")->capture_default_str();
     cmd->add_option("--layout", c->layout, "SH volumes: sh2 (9 coefficient textures), sh2-packed (7, dot-product ready) or sh1 (3); irradiance-vector volumes: vectors (18) or compact (12); bins:R / moment:n volumes: bins (2 R^2); any registered basis (sh2, sh:N, bins, moment; vdblight bake --help): basis (its own textures, one per channel)")
         ->capture_default_str();
     cmd->add_flag("--half", c->half, "16-bit float texels (the default)");

@@ -1,0 +1,300 @@
+// export --format nanovdb (export_nanovdb.h) and the PNanoVDB lookup of
+// shaders/vdblight_nanovdb.h, compiled as C (nanovdb_lookup_c.c):
+// - the lookup equals IrradianceQuery to 1e-5 relative at 10 000 random points and normals,
+//   for uniform and multi-level volumes, with and without depth moments;
+// - the light visibility it interpolates equals the occlusion lookup's;
+// - the file holds every channel under the .vdb's names, the numbers and the metadata text;
+// - nanovdb_validate and nanovdb_print (libnanovdb-tools) accept the files;
+// - an empty volume is refused in one line, leaving no file.
+#include <cstdio>
+#include <cstring>
+#include <gtest/gtest.h>
+
+#include <nanovdb/util/IO.h>
+
+#include "cli_util.h"
+#include "expect_throw.h"
+#include "nanovdb_lookup_c.h"
+#include "random_volumes.h"
+#include "test_util.h"
+#include "vdblight/basis.h"
+#include "vdblight/channel_lookup.h"
+#include "vdblight/errors.h"
+#include "vdblight/export_nanovdb.h"
+#include "vdblight/query.h"
+#include "vdblight/query_direct.h"
+#include "vdblight/vdb_io.h"
+
+namespace vdblight {
+namespace {
+using test::readTextFile;
+using test::TempDir;
+
+/// The file's grid buffers back to back (vdblight_meta first), as a renderer uploads them; in
+/// 64-bit words because PNanoVDB reads 64-bit values at 8-byte aligned offsets.
+std::vector<uint64_t> loadGrids(const std::string& file) {
+    const auto handles = nanovdb::io::readGrids<nanovdb::HostBuffer, std::vector>(file);
+    std::size_t bytes = 0;
+    for (const auto& h : handles) bytes += h.size();
+    std::vector<uint64_t> words((bytes + 7) / 8);
+    std::size_t at = 0;
+    for (const auto& h : handles) {
+        EXPECT_EQ(h.size() % 32, 0u) << "a grid that does not end aligned shifts the next one";
+        std::memcpy(reinterpret_cast<char*>(words.data()) + at, h.data(), h.size());
+        at += h.size();
+    }
+    return words;
+}
+
+BasisDesc shBasis(int order) { return makeBasis("sh:" + std::to_string(order))->desc(); }
+
+/// Random points in the node box grown by 5 % (the outside is clamped) and unit normals.
+struct Probe {
+    Vec3f x, n;
+};
+std::vector<Probe> randomProbes(const Bounds& box, int count, uint64_t seed) {
+    Rng rng(seed);
+    const Vec3d lo = box.lo - (box.hi - box.lo) * 0.05, size = (box.hi - box.lo) * 1.1;
+    std::vector<Probe> out{std::size_t(count)};
+    for (Probe& p : out) {
+        p.x = Vec3f(Vec3d(lo.x + size.x * rng.uniform(), lo.y + size.y * rng.uniform(), lo.z + size.z * rng.uniform()));
+        p.n = uniformSphere(rng.uniform(), rng.uniform());
+    }
+    return out;
+}
+
+/// The C lookup against IrradianceQuery at 10 000 probes: every colour within 1e-5 of the
+/// query's value relative to max(|E|, 1 % of the RMS irradiance) (E of random coefficients
+/// passes through 0; the floor keeps those points from dividing by nothing).
+void expectLookupEqualsQuery(const Volume& volume, const std::string& what, double tolerance = 1e-5) {
+    TempDir dir;
+    const std::string file = dir.file("v.nvdb");
+    exportNanoVdb(volume, file);
+    const std::vector<uint64_t> words = loadGrids(file);
+    const uint32_t* buf = reinterpret_cast<const uint32_t*>(words.data());
+    const IrradianceQuery query(volume);
+    const std::vector<Probe> probes = randomProbes(query.bounds(), 10000, 7);
+    std::vector<Rgb> expected;
+    double squares = 0;
+    for (const Probe& p : probes) {
+        expected.push_back(query.irradiance(p.x, p.n));
+        for (int c = 0; c < 3; ++c) squares += double(expected.back()[c]) * expected.back()[c];
+    }
+    const double floor = 0.01 * std::sqrt(squares / (3.0 * probes.size()));
+    double worst = 0;
+    std::size_t worstAt = 0;
+    for (std::size_t i = 0; i < probes.size(); ++i) {
+        const float x[3] = {probes[i].x.x, probes[i].x.y, probes[i].x.z}, n[3] = {probes[i].n.x, probes[i].n.y, probes[i].n.z};
+        float e[3];
+        ASSERT_EQ(vdblightNanoIrradiance(buf, x, n, e), 1) << what << ": the lookup does not read the volume";
+        for (int c = 0; c < 3; ++c) {
+            const double rel = std::fabs(double(e[c]) - expected[i][c]) / std::max(std::fabs(double(expected[i][c])), floor);
+            if (rel > worst) worst = rel, worstAt = i;
+        }
+    }
+    const Probe& w = probes[worstAt];
+    EXPECT_LE(worst, tolerance) << what << ": worst at (" << w.x.x << ", " << w.x.y << ", " << w.x.z << ") normal ("
+                           << w.n.x << ", " << w.n.y << ", " << w.n.z << ")";
+    std::printf("[ %s ] query kind %s, worst relative difference %.3g over %zu points\n", what.c_str(), query.kind(),
+                worst, probes.size());
+}
+
+Volume uniformSh(int order, bool depth) {
+    Volume v = test::randomUniformVolume(shBasis(order), 7, 5, 6, 0.3, 21);
+    if (depth) test::randomDepth(v, 5);
+    return v;
+}
+
+Volume levelsSh(LayoutKind kind, int levels, const BasisDesc& basis, bool depth) {
+    Volume v = test::randomLevelsVolume(kind, levels, basis, 3, -0.5f, 1.5f);
+    applySeamConstraints(v);  // as a bake leaves it
+    if (depth) test::randomDepth(v, 9);
+    return v;
+}
+
+TEST(NanoVdbLookup, EqualsQueryOnUniformVolumes) {
+    expectLookupEqualsQuery(uniformSh(4, true), "uniform sh:4 with depth moments (the default bake's kind)");
+    expectLookupEqualsQuery(uniformSh(4, false), "uniform sh:4");
+    expectLookupEqualsQuery(uniformSh(2, true), "uniform sh:2 with depth moments");
+    expectLookupEqualsQuery(test::randomShVolume(6, 4, 5, 0.25, 8), "uniform sh2");
+    expectLookupEqualsQuery(test::randomUniformVolume(shBasis(3), 6, 5, 1, 0.4, 2), "uniform sh:3, one node along z");
+}
+
+TEST(NanoVdbLookup, EqualsQueryOnMultiLevelVolumes) {
+    expectLookupEqualsQuery(levelsSh(LayoutKind::Adaptive, 3, shBasis(4), true), "adaptive, 3 levels, sh:4, depth moments");
+    expectLookupEqualsQuery(levelsSh(LayoutKind::Adaptive, 3, shBasis(4), false), "adaptive, 3 levels, sh:4");
+    expectLookupEqualsQuery(levelsSh(LayoutKind::Bilevel, 2, BasisDesc::sh2(), true), "bilevel sh2, depth moments");
+}
+
+/// A uniform sh:4 volume with depth moments baked with --direct occlusion: a listed light of
+/// every kind (polygon, point, spot, directional, a tetrahedral mesh), random visibility.
+Volume occlusionVolume() {
+    Volume v = uniformSh(4, true);
+    v.direct.mode = DirectMode::Occlusion;
+    v.direct.lights.push_back(squareLight({0.3, 1.4, 1.9}, {0, -1, 0}, 0.2, Rgb{3, 2, 1}));
+    DirectLight point;
+    point.position = {0.1, 0.9, 1.5};
+    point.value = Rgb{1, 1, 1};
+    v.direct.lights.push_back(point);
+    DirectLight spot = point;
+    spot.kind = DirectLight::Kind::Spot;
+    spot.position = {0.6, 1.5, 2.0};
+    spot.direction = normalize(Vec3d(-0.3, -1, -0.2));
+    spot.innerCone = 0.3, spot.outerCone = 0.7;
+    v.direct.lights.push_back(spot);
+    DirectLight sun;
+    sun.kind = DirectLight::Kind::Directional;
+    sun.direction = normalize(Vec3d(0.2, -1, 0.4));
+    sun.value = Rgb{0.5f, 0.6f, 0.7f};
+    v.direct.lights.push_back(sun);
+    DirectLight bulb;  // a tetrahedron, each face counter-clockwise seen from outside
+    bulb.kind = DirectLight::Kind::Mesh;
+    bulb.value = Rgb{2, 2, 2};
+    const Vec3d c{0.9, 1.0, 1.6}, a = c + Vec3d(0.05, 0.05, 0.05), b = c + Vec3d(0.05, -0.05, -0.05),
+                d = c + Vec3d(-0.05, 0.05, -0.05), e = c + Vec3d(-0.05, -0.05, 0.05);
+    bulb.loops = {{a, b, d}, {a, e, b}, {a, d, e}, {b, e, d}};
+    v.direct.lights.push_back(bulb);
+    Rng rng(4);
+    v.levels[0].lightVisibility.resize(v.levels[0].grid.nodeCount() * v.direct.lights.size());
+    for (float& f : v.levels[0].lightVisibility) f = rng.uniform();
+    return v;
+}
+
+TEST(NanoVdbLookup, AddsTheListedLightsTimesTheirVisibility) {
+    const Volume v = occlusionVolume();
+    Volume baked = v;  // the SH part alone
+    baked.direct = {};
+    baked.levels[0].lightVisibility.clear();
+    expectLookupEqualsQuery(baked, "uniform sh:4 with depth moments: the SH part of an occlusion volume");
+    // The lights' formulas run in float in the shader, in double in query (exact_irradiance.cpp):
+    // a polygon or a mesh face clipped to a sliver of the hemisphere loses digits to
+    // cancellation (measured, one light at a time over the SH part scaled by 1e-3: polygon
+    // 1.5e-4, mesh 1.8e-4, spot 3.8e-5, point 1.2e-5, directional 6.0e-6).
+    expectLookupEqualsQuery(v, "uniform sh:4 with depth moments and 5 listed lights (--direct occlusion)", 5e-4);
+    TempDir dir;
+    exportNanoVdb(v, dir.file("o.nvdb"));
+    const std::vector<uint64_t> words = loadGrids(dir.file("o.nvdb"));
+    const uint32_t* buf = reinterpret_cast<const uint32_t*>(words.data());
+    const OcclusionLookup occlusion(std::make_unique<ChannelLookup>(baked, OutsidePolicy::Clamp), v);
+    double worst = 0;
+    for (const Probe& p : randomProbes(IrradianceQuery(v).bounds(), 2000, 3)) {
+        float expected[5];
+        occlusion.visibility(Vec3d(p.x), expected);
+        const float x[3] = {p.x.x, p.x.y, p.x.z};
+        for (int i = 0; i < 5; ++i) worst = std::max(worst, double(std::fabs(vdblightNanoLightVisibility(buf, x, i) - expected[i])));
+    }
+    // query locates the visibility in double, the shader in float; the depth weights' steep
+    // Chebyshev bound (sigma 0.02 cells) amplifies that rounding (measured 5.0e-6).
+    EXPECT_LE(worst, 2e-5);
+}
+
+/// Every grid, named as in the .vdb, in the documented order; the numbers and text of vdblight_meta.
+TEST(NanoVdbExport, WritesEveryChannelAndTheMetadata) {
+    const Volume v = occlusionVolume();
+    TempDir dir;
+    const NanoVdbSummary s = exportNanoVdb(v, dir.file("o.nvdb"));
+    std::vector<std::string> expected = {"vdblight_meta"};
+    for (const std::string& c : v.basis.channelNames) expected.push_back(c);
+    for (const char* d : {"depth_mean_pos", "depth_mean_neg", "depth_sigma_pos", "depth_sigma_neg"}) expected.push_back(d);
+    for (int i = 0; i < 5; ++i) expected.push_back("light_visibility_" + std::to_string(i));
+    EXPECT_EQ(s.grids, expected);
+    EXPECT_EQ(s.activeNodes, v.levels[0].grid.nodeCount());
+
+    const auto handles = nanovdb::io::readGrids<nanovdb::HostBuffer, std::vector>(dir.file("o.nvdb"));
+    ASSERT_EQ(handles.size(), expected.size());
+    for (std::size_t g = 1; g < handles.size(); ++g) {
+        EXPECT_EQ(std::string(handles[g].gridMetaData()->shortGridName()), expected[g]);
+        EXPECT_EQ(handles[g].gridMetaData()->activeVoxelCount(), v.levels[0].grid.nodeCount()) << expected[g];
+        EXPECT_NEAR(handles[g].gridMetaData()->voxelSize()[0], v.levels[0].grid.spacing, 1e-12);
+    }
+    // Channel 5 of node (2, 3, 4) at its index; the grid's transform puts it at the node.
+    const auto* grid = handles[6].template grid<nanovdb::Vec3f>();
+    ASSERT_NE(grid, nullptr);
+    const std::size_t node = v.levels[0].grid.index(2, 3, 4);
+    EXPECT_EQ(grid->tree().getValue(nanovdb::Coord(2, 3, 4))[1], v.levels[0].data[(node * 25 + 5) * 3 + 1]);
+    const nanovdb::Vec3d world = grid->indexToWorld(nanovdb::Vec3d(2, 3, 4));
+    const Vec3d at = v.levels[0].grid.node(2, 3, 4);
+    EXPECT_NEAR(world[0], at.x, 1e-12);
+    EXPECT_NEAR(world[2], at.z, 1e-12);
+
+    const auto* meta = handles[0].template grid<float>();
+    ASSERT_NE(meta, nullptr);
+    const auto value = [&](int i) { return meta->tree().getValue(nanovdb::Coord(i, 0, 0)); };
+    EXPECT_EQ(value(nanovdb_meta::kShOrder), 4.0f);
+    EXPECT_EQ(value(nanovdb_meta::kChannels), 25.0f);
+    EXPECT_EQ(value(nanovdb_meta::kLevels), 1.0f);
+    EXPECT_EQ(value(nanovdb_meta::kDepth), 1.0f);
+    EXPECT_EQ(value(nanovdb_meta::kDirectMode), 2.0f);
+    EXPECT_EQ(value(nanovdb_meta::kVisibility), 5.0f);
+    // The spot's record: kind 1, its position, the cosines of its cones.
+    const int spot = nanovdb_meta::kFieldCount + 2 * nanovdb_meta::kLightFloats;
+    EXPECT_EQ(value(spot), 1.0f);
+    EXPECT_EQ(value(spot + 5), 0.6f);
+    EXPECT_EQ(value(spot + 12), float(std::cos(0.7)));
+    EXPECT_EQ(value(nanovdb_meta::kDimsX), 7.0f);
+    EXPECT_EQ(value(nanovdb_meta::kDimsZ), 6.0f);
+    ASSERT_EQ(meta->blindDataCount(), 1u);
+    const std::string text = meta->blindMetaData(0).template getBlindData<char>();
+    EXPECT_NE(text.find("basis=sh:4\n"), std::string::npos) << text;
+    EXPECT_NE(text.find("direct=occlusion\n"), std::string::npos) << text;
+    EXPECT_NE(text.find("direct_light_0=" + formatDirectLight(v.direct.lights[0]) + "\n"), std::string::npos) << text;
+    EXPECT_NE(text.find("direct_light_4=" + formatDirectLight(v.direct.lights[4]) + "\n"), std::string::npos) << text;
+}
+
+TEST(NanoVdbExport, LevelsHaveTheirGridsAndRefinedMasks) {
+    const Volume v = levelsSh(LayoutKind::Adaptive, 3, shBasis(2), true);
+    TempDir dir;
+    const NanoVdbSummary s = exportNanoVdb(v, dir.file("l.nvdb"));
+    ASSERT_EQ(s.grids.size(), 1u + 3 * (9 + 4) + 2);
+    EXPECT_EQ(s.grids[1 + 13], "refined_L0");
+    EXPECT_EQ(s.grids[1 + 14], "sh_l0m0_L1");
+    EXPECT_EQ(s.grids.back(), "depth_sigma_neg_L2");
+    const auto handles = nanovdb::io::readGrids<nanovdb::HostBuffer, std::vector>(dir.file("l.nvdb"));
+    EXPECT_EQ(handles[14].gridMetaData()->gridType(), nanovdb::GridType::Float);
+    EXPECT_EQ(handles[14].gridMetaData()->activeVoxelCount(), v.levels[0].refinedCells.size());
+    EXPECT_EQ(handles[15].gridMetaData()->activeVoxelCount(), v.levels[1].activeNodes.size());
+}
+
+/// nanovdb_validate and nanovdb_print (libnanovdb-tools) accept a uniform and a multi-level export.
+TEST(NanoVdbExport, NanoVdbToolsAcceptTheFiles) {
+    TempDir dir;
+    exportNanoVdb(occlusionVolume(), dir.file("u.nvdb"));
+    exportNanoVdb(levelsSh(LayoutKind::Adaptive, 3, shBasis(4), true), dir.file("l.nvdb"));
+    for (const char* name : {"u.nvdb", "l.nvdb"}) {
+        const std::string file = dir.file(name);
+        const std::string out = dir.file("out.txt");
+        EXPECT_EQ(std::system(("nanovdb_validate -v " + file + " > " + out + " 2>&1").c_str()), 0) << readTextFile(out);
+        const std::string report = readTextFile(out);  // "Grid named "...": passed" per grid
+        EXPECT_EQ(report.find("failed"), std::string::npos) << report;
+        EXPECT_NE(report.find("\"vdblight_meta\": passed"), std::string::npos) << report;
+        EXPECT_EQ(std::system(("nanovdb_print -l " + file + " > " + out + " 2>&1").c_str()), 0) << readTextFile(out);
+        EXPECT_NE(readTextFile(out).find("sh_l0m0"), std::string::npos) << readTextFile(out);
+    }
+}
+
+TEST(NanoVdbExport, RefusesAnEmptyVolumeWithoutWritingAFile) {
+    TempDir dir;
+    Volume empty;
+    empty.basis = shBasis(4);
+    test::expectThrowWith<ValueError>([&] { exportNanoVdb(empty, dir.file("e.nvdb")); },
+                                      "cannot export an empty volume to NanoVDB");
+    EXPECT_EQ(test::filesIn(dir.path()), 0u);
+}
+
+/// The command: one line, one file; a file that cannot be written: one line, nothing left.
+TEST(NanoVdbExportCli, WritesOneFileOrFailsInOneLine) {
+    TempDir dir;
+    writeVolume(levelsSh(LayoutKind::Adaptive, 3, shBasis(4), true), dir.file("v.vdb"));
+    const test::CliRun run = test::runCli("export " + dir.file("v.vdb") + " -o " + dir.file("v.nvdb") + " --format nanovdb");
+    EXPECT_EQ(run.status, 0) << run.output;
+    EXPECT_EQ(test::countLines(run.output), 1) << run.output;
+    EXPECT_NE(run.output.find("Wrote 90 NanoVDB grids"), std::string::npos) << run.output;
+    // vdblight_meta, 3 x (25 channels + 4 depth grids), refined_L0, refined_L1
+    const auto handles = nanovdb::io::readGrids<nanovdb::HostBuffer, std::vector>(dir.file("v.nvdb"));
+    EXPECT_EQ(handles.size(), 90u);
+    test::expectCleanFailure(dir, "export " + dir.file("v.vdb") + " -o " + dir.file("missing/v.nvdb") + " --format nanovdb",
+                             "missing/v.nvdb");
+}
+
+}  // namespace
+}  // namespace vdblight
