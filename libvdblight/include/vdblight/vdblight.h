@@ -13,6 +13,7 @@
 //   query.h        IrradianceQuery: irradiance(x, n) at run time
 //   sh_truncate.h  truncateSh: fewer SH bands (what an engine's L2 probe holds of an sh:4 bake)
 //   export.h       exportTextures: dense textures + manifest for engines
+//   export_three.h exportThreeGrid: the probe grid of three.js LightProbeGridWebGL
 //   errors.h       the typed exceptions every call may throw (catch vdblight::Error once)
 // Smaller programs may include only the headers they use.
 #pragma once
@@ -34,3 +35,4 @@
 #include "vdblight/query.h"
 #include "vdblight/sh_truncate.h"
 #include "vdblight/export.h"
+#include "vdblight/export_three.h"
