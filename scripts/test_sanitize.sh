@@ -40,7 +40,7 @@ if [ ${#TESTS[@]} -eq 0 ]; then
   # slurm_cluster_test (label `cluster`) starts Slurm daemons and runs whole bakes through
   # them: 43 s under ASan for code that the CLI tiles and slurm tests already run here;
   # install_example_test (label `install`) links an example without sanitizer flags.
-  (cd "$BUILD" && ctest --output-on-failure -j "${JOBS:-$(nproc)}" -LE "cluster|install")
+  (cd "$BUILD" && ctest --output-on-failure -j "${JOBS:-$(nproc)}" -LE "cluster|install|web")
 else
   build --target "${TESTS[@]}"
   for t in "${TESTS[@]}"; do "$BUILD/tests/$t"; done
