@@ -1,7 +1,7 @@
 // export --format three (export_three.h): the atlas is LightProbeGridWebGL's layout of the
-// volume's SH bands 0..2 (seven sub-volumes along z with one padding slice at each end), the
-// JSON places the grid's box half a spacing outside the nodes, and volumes without SH order 2
-// are refused with nothing written.
+// volume's SH bands 0..2 (seven sub-volumes along z with one padding slice at each end) with
+// one border probe per side, the JSON places the grid's box 1.5 spacings outside the nodes,
+// and volumes without SH order 2 are refused with nothing written.
 #include <gtest/gtest.h>
 
 #include "export_file_checks.h"
@@ -32,28 +32,32 @@ std::string readText(const std::string& path) {
 }
 }  // namespace
 
-// Float atlas of an sh:4 volume: texel (i, j, 1 + k) of sub-volume t holds floats 4t..4t+3 of
-// node (i, j, k)'s c0.rgb .. c8.rgb, its first nine coefficients (bands 0..2) exactly.
+// Float atlas of an sh:4 volume: texel (1 + i, 1 + j, 2 + k) of sub-volume t (after its
+// padding slice and the border probes) holds floats 4t..4t+3 of node (i, j, k)'s c0.rgb ..
+// c8.rgb, its first nine coefficients (bands 0..2) exactly; a border probe holds the value of
+// the nearest node (what query's clamping gives there).
 TEST(ExportThree, AtlasHoldsBandsZeroToTwoInLightProbeGridOrder) {
     const Volume v = randomUniformVolume(makeBasis("sh:4")->desc(), 4, 3, 5, 0.25, 11);
     TempDir dir;
     ThreeGridOptions o;
     o.halfFloat = false;
     const ThreeGridSummary s = exportThreeGrid(v, dir.file("web"), o);
-    ASSERT_EQ(s.atlasDepth, 7 * (5 + 2));
+    const int nx = 4 + 2, ny = 3 + 2, nz = 5 + 2, padded = nz + 2;
+    ASSERT_EQ(s.atlasDepth, 7 * padded);
     const std::vector<float> atlas = atlasFloats(dir.file("web"), false);
-    const int nx = 4, ny = 3, nz = 5, padded = nz + 2;
     ASSERT_EQ(atlas.size(), std::size_t(nx * ny * s.atlasDepth * 4));
     const GridSpec& g = v.levels[0].grid;
     for (int k = 0; k < nz; ++k)
         for (int j = 0; j < ny; ++j)
-            for (int i = 0; i < nx; ++i)
+            for (int i = 0; i < nx; ++i) {
+                const std::size_t node = g.index(std::clamp(i - 1, 0, 3), std::clamp(j - 1, 0, 2), std::clamp(k - 1, 0, 4));
                 for (int f = 0; f < 28; ++f) {
                     const int t = f / 4, slice = t * padded + 1 + k;
                     const float got = atlas[((std::size_t(slice) * ny + j) * nx + i) * 4 + f % 4];
-                    const float want = f < 27 ? v.levels[0].data[(g.index(i, j, k) * 25 + f / 3) * 3 + f % 3] : 0.0f;
-                    ASSERT_EQ(got, want) << "node " << i << "," << j << "," << k << " float " << f;
+                    const float want = f < 27 ? v.levels[0].data[(node * 25 + f / 3) * 3 + f % 3] : 0.0f;
+                    ASSERT_EQ(got, want) << "probe " << i << "," << j << "," << k << " float " << f;
                 }
+            }
 }
 
 // The padding slices repeat their sub-volume's first and last data slice (so that filtering
@@ -67,30 +71,31 @@ TEST(ExportThree, PaddingSlicesCopyTheEdgeSlicesAndHalfRounds) {
     exportThreeGrid(v, dir.file("h"), half);
     const std::vector<float> a = atlasFloats(dir.file("f"), false), b = atlasFloats(dir.file("h"), true);
     ASSERT_EQ(a.size(), b.size());
-    const std::size_t slice = 3 * 4 * 4, padded = 2 + 2;
+    const std::size_t slice = 5 * 6 * 4, padded = 4 + 2;  // 3 x 4 x 2 nodes and the border probes
     for (std::size_t t = 0; t < 7; ++t)
         for (std::size_t x = 0; x < slice; ++x) {
             const std::size_t base = t * padded * slice + x;
             EXPECT_EQ(a[base], a[base + slice]) << "sub-volume " << t << " leading padding";
-            EXPECT_EQ(a[base + 3 * slice], a[base + 2 * slice]) << "sub-volume " << t << " trailing padding";
+            EXPECT_EQ(a[base + 5 * slice], a[base + 4 * slice]) << "sub-volume " << t << " trailing padding";
         }
     for (std::size_t n = 0; n < a.size(); ++n) ASSERT_LE(std::fabs(a[n] - b[n]), std::ldexp(std::fabs(a[n]), -11) + 1e-7f);
 }
 
-// probe_grid.json: the grid's box is the node box grown by half a spacing (probes at cell
-// centres), resolution the node counts, the texel type and byte length of the atlas file.
-TEST(ExportThree, JsonPlacesTheGridHalfASpacingOutsideTheNodes) {
-    const Volume v = randomShVolume(5, 3, 4, 0.25, 13);  // nodes from (-0.5, 0.25, 1.0)
+// probe_grid.json: the probes are the nodes and one border probe a spacing outside on each
+// side, at cell centres of the grid's box: the node box grown by 1.5 spacings.
+TEST(ExportThree, JsonPlacesTheGridOneAndAHalfSpacingsOutsideTheNodes) {
+    const Volume v = randomShVolume(5, 3, 4, 0.25, 13);  // nodes from (-0.5, 0.25, 1.0) to (0.5, 0.75, 1.75)
     TempDir dir;
     const ThreeGridSummary s = exportThreeGrid(v, dir.file("web"), {});
     const std::string json = readText(dir.file("web") + "/" + kThreeGridJsonFile);
-    EXPECT_NE(json.find("\"resolution\": [5, 3, 4]"), std::string::npos) << json;
-    EXPECT_NE(json.find("\"bounds_min\": [-0.625, 0.125, 0.875]"), std::string::npos) << json;
-    EXPECT_NE(json.find("\"bounds_max\": [0.625, 0.875, 1.875]"), std::string::npos) << json;
-    EXPECT_NE(json.find("\"size\": [1.25, 0.75, 1]"), std::string::npos) << json;
+    EXPECT_NE(json.find("\"resolution\": [7, 5, 6]"), std::string::npos) << json;
+    EXPECT_NE(json.find("\"bounds_min\": [-0.875, -0.125, 0.625]"), std::string::npos) << json;
+    EXPECT_NE(json.find("\"bounds_max\": [0.875, 1.125, 2.125]"), std::string::npos) << json;
+    EXPECT_NE(json.find("\"size\": [1.75, 1.25, 1.5]"), std::string::npos) << json;
+    EXPECT_NE(json.find("\"probe_min\": [-0.75, 0, 0.75]"), std::string::npos) << json;
     EXPECT_NE(json.find("\"type\": \"float16\""), std::string::npos) << json;
-    EXPECT_NE(json.find("\"depth\": 42"), std::string::npos) << json;
-    const uint64_t bytes = 5 * 3 * 42 * 8;
+    EXPECT_NE(json.find("\"depth\": 56"), std::string::npos) << json;
+    const uint64_t bytes = 7 * 5 * 56 * 8;
     EXPECT_NE(json.find("\"byte_length\": " + std::to_string(bytes)), std::string::npos) << json;
     EXPECT_EQ(fs::file_size(dir.file("web") + "/" + kThreeGridAtlasFile), bytes);
     EXPECT_EQ(s.files.size(), 2u);

@@ -8,9 +8,14 @@
 //   E(n) = 0.886227 c0 + 1.023328 (c1 y + c2 z + c3 x) + ...  =  sum_j A_l(j) c_j Y_j(n),
 // so c_j are radiance SH coefficients in docs/format.md's convention (orthonormal, no
 // Condon-Shortley phase, j = l (l + 1) + m): the volume's bands 0..2 go in unchanged.
-// The probes sit at cell centres (a grid of width w and nx probes has them at
-// x0 + (i + 1/2) w / nx), so the grid's box is the volume's node box grown by half a
-// spacing, and its trilinear filtering is the volume's trilinear interpolation.
+// The probes are export's lattice (the volume's nodes by default) plus one border probe on
+// each side of every axis, a spacing outside, holding the edge node's value: between them
+// three's trilinear filtering is the volume's trilinear interpolation, and beyond the nodes
+// it gives what `query` gives there (the clamped value). Three puts probes at cell centres
+// (a grid of width w and n probes has them at x0 + (i + 1/2) w / n), so the grid's box is
+// the node box grown by 1.5 spacings: it covers the scene that a default bake's nodes (its
+// bounds inset by half a spacing) leave a thin band of near the walls, which three would
+// leave unlit (it lights only fragments whose sample point lies in the box).
 //
 //   ThreeGridSummary s = exportThreeGrid(readVolume("cornell.vdb"), "web/", {});
 //   // web/probe_grid_sh.bin (the atlas texels) + web/probe_grid.json (bounds, resolution)
@@ -32,7 +37,7 @@ struct ThreeGridOptions {
 };
 
 struct ThreeGridSummary {
-    TextureLattice lattice;          ///< the probe points (the volume's node box, as export's lattice)
+    TextureLattice lattice;          ///< the probe points: export's lattice and one border probe per side
     int atlasDepth = 0;              ///< 7 (nz + 2)
     std::vector<std::string> files;  ///< probe_grid_sh.bin, probe_grid.json (full paths)
     uint64_t bytes = 0;

@@ -1,6 +1,7 @@
 // export --format three: the probe grid of three.js's LightProbeGridWebGL (export_three.h).
 // The volume is sampled as the `sh2` layout (bands 0..2 of its radiance SH, at the lattice
-// points) and the nine coefficients are repacked into the class's 3-D atlas.
+// points), given one border probe per side, and the nine coefficients are repacked into the
+// class's 3-D atlas.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -39,6 +40,29 @@ void checkBasis(const Volume& volume) {
                           std::to_string(volume.direct.lights.size()) + " listed light(s) outside it (--direct " +
                           directModeName(volume.direct.mode) + "): bake with --direct baked");
 }
+
+// One more probe on each side of every axis holding the edge node's value (texels padded by
+// replication). Three lights a fragment only if its sample point lies in the grid's box, and
+// the nodes' box (scene bounds inset by half a spacing, minus the remainder of a spacing) can
+// leave a thin band along the walls outside it, unlit; with the border the box reaches a
+// spacing further, and a border probe holds exactly what query's clamping gives there.
+std::vector<std::vector<float>> withBorderProbes(const std::vector<std::vector<float>>& textures, const int dims[3]) {
+    const int nx = dims[0], ny = dims[1], nz = dims[2];
+    std::vector<std::vector<float>> out;
+    for (const std::vector<float>& t : textures) {
+        std::vector<float> padded(std::size_t(nx + 2) * (ny + 2) * (nz + 2) * 4);
+        std::size_t at = 0;
+        for (int k = -1; k <= nz; ++k)
+            for (int j = -1; j <= ny; ++j)
+                for (int i = -1; i <= nx; ++i, at += 4) {
+                    const std::size_t from = (std::size_t(std::clamp(k, 0, nz - 1)) * ny + std::clamp(j, 0, ny - 1)) * nx +
+                                             std::clamp(i, 0, nx - 1);
+                    std::copy_n(&t[from * 4], 4, &padded[at]);
+                }
+        out.push_back(std::move(padded));
+    }
+    return out;
+}
 }  // namespace
 
 std::vector<float> packThreeGridAtlas(const std::vector<std::vector<float>>& sh2, const int dims[3]) {
@@ -70,23 +94,28 @@ ThreeGridSummary exportThreeGrid(const Volume& volume, const std::string& outDir
     checkBasis(volume);
     const IrradianceQuery query(volume);
     ThreeGridSummary summary;
-    summary.lattice = chooseLattice(query.bounds(), finestSpacing(volume.levels), o.resolution);
-    const TextureLattice& l = summary.lattice;
+    const TextureLattice nodes = chooseLattice(query.bounds(), finestSpacing(volume.levels), o.resolution);
     for (int a = 0; a < 3; ++a)
-        if (l.dims[a] < 2)
+        if (nodes.dims[a] < 2)
             throw ValueError("a three.js probe grid needs at least 2 probes per axis; the volume has " +
-                             std::to_string(l.dims[a]) + " along " + "xyz"[a] + " (raise --resolution)");
+                             std::to_string(nodes.dims[a]) + " along " + "xyz"[a] + " (raise --resolution)");
+    // The probes: the lattice and one border probe on each side (withBorderProbes).
+    TextureLattice& l = summary.lattice;
+    l.lo = nodes.lo - nodes.spacing();
+    l.hi = nodes.hi + nodes.spacing();
+    for (int a = 0; a < 3; ++a) l.dims[a] = nodes.dims[a] + 2;
     summary.atlasDepth = kSubVolumes * (l.dims[2] + 2 * kPadding);
     const double texels = double(l.dims[0]) * double(l.dims[1]) * double(summary.atlasDepth);
-    // The nine sampled textures and the float atlas (16 B each), then the encoded copy.
-    const double needed = double(l.texelCount()) * 9.0 * 16.0 + texels * (16.0 + (o.halfFloat ? 8.0 : 16.0));
+    // The nine sampled and the nine bordered textures, the float atlas (16 B each), then the encoded copy.
+    const double needed = double(l.texelCount()) * 18.0 * 16.0 + texels * (16.0 + (o.halfFloat ? 8.0 : 16.0));
     if (needed > double(o.maxBytes) || l.dims[0] > 2048 || l.dims[1] > 2048 || summary.atlasDepth > 2048)
         throw ValueError("a " + std::to_string(l.dims[0]) + " x " + std::to_string(l.dims[1]) + " x " +
                          std::to_string(summary.atlasDepth) + " atlas is over the 2048-texel 3-D texture limit "
                          "(WebGL 2's usual MAX_3D_TEXTURE_SIZE) or the memory limit; lower --resolution");
     checkOutputDirectory(outDir);
 
-    const std::vector<float> atlas = packThreeGridAtlas(sampleLayout(query, l, ExportLayout::Sh2), l.dims);
+    const std::vector<float> atlas =
+        packThreeGridAtlas(withBorderProbes(sampleLayout(query, nodes, ExportLayout::Sh2), nodes.dims), l.dims);
     if (o.halfFloat) checkHalfRange({atlas}, {TextureDesc{"probe grid atlas", {}}});
 
     ThreeGridJsonInput json;

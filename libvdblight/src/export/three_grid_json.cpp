@@ -21,7 +21,7 @@ std::ostream& operator<<(std::ostream& s, const Vec3Json& a) {
 std::string threeGridJson(const ThreeGridJsonInput& in) {
     const TextureLattice& l = *in.lattice;
     const Vec3d h = l.spacing();
-    // Probes sit at cell centres in LightProbeGridWebGL: its box is the node box grown by h / 2.
+    // Probes sit at cell centres in LightProbeGridWebGL: its box is the probes' box grown by h / 2.
     const Vec3d lo = l.lo - h * 0.5, hi = l.hi + h * 0.5;
     std::ostringstream s;
     s << std::setprecision(17);
@@ -37,6 +37,7 @@ std::string threeGridJson(const ThreeGridJsonInput& in) {
       << "  \"probe_min\": " << Vec3Json{l.lo} << ",\n"
       << "  \"probe_max\": " << Vec3Json{l.hi} << ",\n"
       << "  \"probe_spacing\": " << Vec3Json{h} << ",\n"
+      << "  \"border_probes\": 1,\n"
       << "  \"texture\": {\n"
       << "    \"file\": \"" << kThreeGridAtlasFile << "\",\n"
       << "    \"type\": \"" << (in.halfFloat ? "float16" : "float32") << "\",\n"

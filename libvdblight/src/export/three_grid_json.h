@@ -9,7 +9,7 @@
 namespace vdblight::exporter {
 
 struct ThreeGridJsonInput {
-    const TextureLattice* lattice = nullptr;  ///< the probe points
+    const TextureLattice* lattice = nullptr;  ///< the probe points (with the border probes)
     int atlasDepth = 0;
     bool halfFloat = true;
     std::string basisKind;       ///< the volume's vdblight:basis
