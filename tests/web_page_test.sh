@@ -19,7 +19,7 @@ trap 'rm -rf "$W"' EXIT
 
 # The default bake's kind (sh:4, depth moments) at a test's cost (16 nodes on the longest axis),
 # with direct light in the SH (--direct baked): three's grid has nothing else to hold it.
-"$B" bake "$SRC/data/cornell_box.obj" -o "$W/cornell.vdb" --resolution 16 --rays 256 --seed 7 --direct baked -q ||
+"$B" bake "$SRC/data/cornell_box.obj" -o "$W/cornell.vdb" --resolution 16 --rays 128 --seed 7 --direct baked -q ||
   fail "bake"
 "$B" export "$W/cornell.vdb" -o "$W/data" --format three -q || fail "export --format three"
 node "$WEB/tools/obj_to_gltf.mjs" "$SRC/data/cornell_box.obj" "$W/data/scene.gltf" || fail "obj_to_gltf"
