@@ -18,6 +18,7 @@ PACKAGES=(build-essential cmake pkg-config
           libegl-dev libepoxy-dev libgl1-mesa-dri libegl-mesa0 glslang-tools   # tests/gpu: OpenGL on Mesa llvmpipe, headless; HLSL front end (issue 33)
           slurmctld slurmd slurm-client munge   # tests/slurm_cluster_test.sh: a one-node Slurm (issue 17)
           libnanovdb-dev libnanovdb-tools glslang-tools   # export --format nanovdb (headers); nanovdb_export_test runs nanovdb_validate/_print; nanovdb_glsl_test runs glslangValidator
+          chromium   # tests/web_page_test.sh: the web page (examples/web) in headless Chromium (issue 31)
           clang-14 libclang-rt-14-dev)  # scripts/fuzz.sh: libFuzzer (libclang_rt.fuzzer-x86_64.a is in
                                         # libclang-rt-14-dev, only a Recommends of clang-14)
 
@@ -44,6 +45,12 @@ if [ ! -d "$ROOT/scripts/ktx/node_modules/ktx-parse" ]; then
     if [ "$(id -u)" -ne 0 ]; then sudo apt-get install -y -qq npm >/dev/null; else apt-get install -y -qq npm >/dev/null; fi
   fi
   (cd "$ROOT/scripts/ktx" && npm ci --no-audit --no-fund --loglevel=error)
+fi
+
+# three and playwright-core (npm, pinned in examples/web/package.json): the web page and its
+# test drive Debian's Chromium (issue 31).
+if [ ! -d "$ROOT/examples/web/node_modules/three" ] || [ ! -d "$ROOT/examples/web/node_modules/playwright-core" ]; then
+  (cd "$ROOT/examples/web" && npm ci --no-audit --no-fund --loglevel=error)
 fi
 
 # Configure once: a configured tree keeps its source directory (cmake --build re-runs the

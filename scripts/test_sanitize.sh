@@ -41,8 +41,8 @@ if [ ${#TESTS[@]} -eq 0 ]; then
   # them: 43 s under ASan for code that the CLI tiles and slurm tests already run here;
   # install_example_test (label `install`) links an example without sanitizer flags;
   # quickstart_long_path_test (label `quickstart`) runs the quick start's default bake, whose
-  # code the CLI tests run here at smaller sizes.
-  (cd "$BUILD" && ctest --output-on-failure -j "${JOBS:-$(nproc)}" -LE "cluster|install|quickstart")
+  # code the CLI tests run here at smaller sizes; the web page's test (label `web`) drives Chromium.
+  (cd "$BUILD" && ctest --output-on-failure -j "${JOBS:-$(nproc)}" -LE "cluster|install|quickstart|web")
 else
   build --target "${TESTS[@]}"
   for t in "${TESTS[@]}"; do "$BUILD/tests/$t"; done

@@ -8,6 +8,7 @@
 #include "vdblight/export.h"
 #include "vdblight/export_cells.h"
 #include "vdblight/export_nanovdb.h"
+#include "vdblight/export_three.h"
 #include "vdblight/query_stream.h"
 #include "vdblight/vdb_stream.h"
 #include "vdblight/preview.h"
@@ -70,6 +71,19 @@ void run(const ExportCommand& c) {
                       << formatBytes(double(s.bytes)) << ") to " << c.output << "\n";
         return;
     }
+    if (c.format == "three") {  // three.js LightProbeGridWebGL atlas + probe_grid.json (export_three.h)
+        if (c.cells != 0) throw ValueError("--cells does not apply to --format three (one probe grid)");
+        ThreeGridOptions t;
+        t.halfFloat = !c.full;
+        t.resolution = c.resolution;
+        const ThreeGridSummary s = exportThreeGrid(readVolume(c.volume), c.output, t);
+        if (!c.quiet)
+            std::cout << "Exported a three.js LightProbeGridWebGL grid of " << s.lattice.dims[0] << " x "
+                      << s.lattice.dims[1] << " x " << s.lattice.dims[2] << " probes (" << (t.halfFloat ? "half" : "float")
+                      << " atlas " << s.lattice.dims[0] << " x " << s.lattice.dims[1] << " x " << s.atlasDepth
+                      << ") + " << kThreeGridJsonFile << " to " << c.output << " (" << formatBytes(double(s.bytes)) << ")\n";
+        return;
+    }
     ExportOptions o;
     o.format = parseTextureFormat(c.format);
     o.layout = parseExportLayout(c.layout);
@@ -100,7 +114,7 @@ void addExportCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand("export", "Dense 3-D textures + manifest.json for engines (docs/engines.md)");
     cmd->add_option("volume", c->volume, "Volume (.vdb) written by vdblight bake")->required();
     cmd->add_option("-o,--output", c->output, "Output directory (created if missing)")->required();
-    cmd->add_option("--format", c->format, "ktx2, dds, exr-atlas, raw, vdb-preview (OUTDIR/preview.vdb for Blender/Houdini), or nanovdb (-o names one .nvdb file)")->capture_default_str();
+    cmd->add_option("--format", c->format, "ktx2, dds, exr-atlas, raw, vdb-preview (OUTDIR/preview.vdb for Blender/Houdini), nanovdb (-o names one .nvdb file), or three (three.js LightProbeGridWebGL: OUTDIR/probe_grid_sh.bin + probe_grid.json; SH volumes, --layout ignored)")->capture_default_str();
     cmd->add_option("--layout", c->layout, "SH volumes: sh2 (9 coefficient textures), sh2-packed (7, dot-product ready) or sh1 (3); irradiance-vector volumes: vectors (18) or compact (12); bins:R / moment:n volumes: bins (2 R^2); any registered basis (sh2, sh:N, bins, moment; vdblight bake --help): basis (its own textures, one per channel)")
         ->capture_default_str();
     cmd->add_flag("--half", c->half, "16-bit float texels (the default)");

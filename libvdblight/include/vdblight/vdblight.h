@@ -14,6 +14,7 @@
 //   sh_truncate.h  truncateSh: fewer SH bands (what an engine's L2 probe holds of an sh:4 bake)
 //   export.h       exportTextures: dense textures + manifest for engines
 //   export_nanovdb.h  exportNanoVdb: the volume's own nodes as one .nvdb (shaders/vdblight_nanovdb.h reads it)
+//   export_three.h exportThreeGrid: the probe grid of three.js LightProbeGridWebGL
 //   errors.h       the typed exceptions every call may throw (catch vdblight::Error once)
 // Smaller programs may include only the headers they use.
 #pragma once
@@ -36,3 +37,4 @@
 #include "vdblight/sh_truncate.h"
 #include "vdblight/export.h"
 #include "vdblight/export_nanovdb.h"
+#include "vdblight/export_three.h"

@@ -54,8 +54,9 @@ void checkFormatLimits(TextureFormat format, const TextureLattice& l) {
     if (l.texelCount() > (1ull << 31))
         throw ValueError("a " + dimsText(l) + " texture has over 2^31 texels; lower --resolution");
 }
+}  // namespace
 
-void checkHalfRange(const std::vector<std::vector<float>>& textures, const std::vector<TextureDesc>& descs) {
+void exporter::checkHalfRange(const std::vector<std::vector<float>>& textures, const std::vector<TextureDesc>& descs) {
     for (std::size_t t = 0; t < textures.size(); ++t)
         for (std::size_t i = 0; i < textures[t].size(); ++i) {
             const float v = textures[t][i];
@@ -68,7 +69,8 @@ void checkHalfRange(const std::vector<std::vector<float>>& textures, const std::
 }
 
 // The directory (or its first existing ancestor) must be a writable directory.
-void checkOutputDirectory(const fs::path& dir) {
+void exporter::checkOutputDirectory(const std::string& dirName) {
+    const fs::path dir(dirName);
     std::error_code ec;
     fs::path p = fs::absolute(dir, ec);
     while (!p.empty() && !fs::exists(p, ec)) {
@@ -80,8 +82,6 @@ void checkOutputDirectory(const fs::path& dir) {
     if (::access(p.c_str(), W_OK) != 0)
         throw IoError("cannot write into '" + dir.string() + "': '" + p.string() + "' is not writable");
 }
-
-}  // namespace
 
 std::vector<TextureDesc> exporter::visibilityTextures(const DirectLightSet& direct) {
     std::vector<TextureDesc> out;

@@ -83,6 +83,11 @@ std::vector<uint8_t> encodeTexels(const float* values, std::size_t count, TexelF
 /// Writes `bytes` to `path` (throws IoError).
 void writeBytes(const std::string& path, const std::vector<uint8_t>& bytes);
 
+/// ValueError naming the texture and texel of the first value outside the half-float range.
+void checkHalfRange(const std::vector<std::vector<float>>& textures, const std::vector<TextureDesc>& descs);
+/// IoError unless `dir` (or its first existing ancestor) is a writable directory.
+void checkOutputDirectory(const std::string& dir);
+
 /// The smallest node spacing of the levels (the texture lattice's default resolution).
 double finestSpacing(const std::vector<VolumeLevel>& levels);
 

@@ -1,0 +1,61 @@
+// `vdblight export --format three` end to end: the files three.js's LightProbeGridWebGL reads
+// (their values in three.js are checked by web_page_test in Chromium) and clean refusals: one
+// line, non-zero exit, nothing written.
+#include <gtest/gtest.h>
+
+#include "cli_baked_suite.h"
+#include "export_file_checks.h"
+
+namespace fs = std::filesystem;
+using namespace vdblight::test;
+
+namespace {
+class CliExportThree : public BakedSuite<CliExportThree> {
+public:
+    static std::vector<SuiteBake> bakes() {
+        return {{"baked.vdb", "--resolution 6 --rays 48 --direct baked"}, {"occlusion.vdb", "--resolution 6 --rays 48"}};
+    }
+};
+
+std::string readText(const std::string& path) {
+    const std::vector<uint8_t> b = readFile(path);
+    return std::string(b.begin(), b.end());
+}
+}  // namespace
+
+// Half by default (8 B per texel), --float 16 B; the atlas is nx x ny x 7 (nz + 2) texels.
+TEST_F(CliExportThree, WritesTheAtlasAndItsJson) {
+    TempDir out;
+    for (const char* precision : {"", " --float"}) {
+        const std::string dir = out.file(*precision ? "float" : "half");
+        std::string log;
+        ASSERT_EQ(runCommand(cliPath() + " export " + file("baked.vdb") + " -o " + dir + " --format three" + precision, &log), 0)
+            << log;
+        EXPECT_NE(log.find("LightProbeGridWebGL"), std::string::npos) << log;
+        const std::string json = readText(dir + "/probe_grid.json");
+        const std::size_t at = json.find("\"resolution\": [");
+        ASSERT_NE(at, std::string::npos) << json;
+        int n[3] = {0, 0, 0};
+        ASSERT_EQ(std::sscanf(json.c_str() + at, "\"resolution\": [%d, %d, %d]", &n[0], &n[1], &n[2]), 3);
+        const uint64_t texel = *precision ? 16 : 8;
+        EXPECT_EQ(fs::file_size(dir + "/probe_grid_sh.bin"), uint64_t(n[0]) * n[1] * 7 * (n[2] + 2) * texel);
+        EXPECT_NE(json.find(*precision ? "\"type\": \"float32\"" : "\"type\": \"float16\""), std::string::npos) << json;
+        EXPECT_NE(json.find("\"depth_moments\": true"), std::string::npos) << json;  // the default bake's
+        EXPECT_EQ(filesIn(dir), 2u);
+    }
+}
+
+TEST_F(CliExportThree, BadInputFailsWithOneLineAndWritesNothing) {
+    TempDir out;
+    const struct {
+        std::string volume, args, expected;
+    } cases[] = {
+        {"occlusion.vdb", "", "--direct baked"},  // the default bake keeps a light's direct part outside the SH
+        {"baked.vdb", "--cells 4", "--cells"},
+        {"baked.vdb", "--resolution 1", "at least 2"},
+        {"baked.vdb", "--half --float", "not both"},
+    };
+    for (const auto& c : cases)
+        expectRefusal("export " + file(c.volume) + " -o " + out.file("x") + " --format three " + c.args, c.expected,
+                      out.file("x"), c.volume + " " + c.args);
+}

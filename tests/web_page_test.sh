@@ -1,0 +1,27 @@
+#!/bin/sh
+# The web page (examples/web, issue 31) in headless Chromium against `vdblight query`:
+# bakes the bundled Cornell box (SH order 4 stored, depth moments), exports it with
+# `export --format three`, converts the scene to glTF, and runs examples/web/test/check_page.mjs:
+# the irradiance three.js's LightProbeGridWebGL computes from the files (its own GLSL at 256
+# random points and normals, and 576 pixels of lit squares rendered through a Lambert material)
+# must equal `vdblight query --sh-order 2` within the precision of the half-float atlas
+# (the tolerance is argued in check_page.mjs). Saves the page's screenshot to SCREENSHOT.
+# Usage: web_page_test.sh VDBLIGHT SOURCE_DIR SCREENSHOT
+set -u
+B=$1; SRC=$2; SHOT=$3
+WEB="$SRC/examples/web"
+fail() { echo "FAILED: $*"; exit 1; }
+[ -d "$WEB/node_modules/three" ] && [ -d "$WEB/node_modules/playwright-core" ] ||
+  fail "three / playwright-core are not installed in examples/web (scripts/setup.sh runs npm ci there)"
+[ -x "${VDBLIGHT_CHROMIUM:-/usr/bin/chromium}" ] || fail "no Chromium at /usr/bin/chromium (scripts/setup.sh installs Debian's)"
+W=$(mktemp -d "${TMPDIR:-/tmp}/vdblight-web.XXXXXX")
+trap 'rm -rf "$W"' EXIT
+
+# The default bake's kind (sh:4, depth moments) at a test's cost (16 nodes on the longest axis),
+# with direct light in the SH (--direct baked): three's grid has nothing else to hold it.
+"$B" bake "$SRC/data/cornell_box.obj" -o "$W/cornell.vdb" --resolution 16 --rays 128 --seed 7 --direct baked -q ||
+  fail "bake"
+"$B" export "$W/cornell.vdb" -o "$W/data" --format three -q || fail "export --format three"
+node "$WEB/tools/obj_to_gltf.mjs" "$SRC/data/cornell_box.obj" "$W/data/scene.gltf" || fail "obj_to_gltf"
+node "$WEB/test/check_page.mjs" --data "$W/data" --volume "$W/cornell.vdb" --cli "$B" --screenshot "$SHOT" ||
+  fail "the page does not match vdblight query"
