@@ -7,6 +7,7 @@
 #include "vdblight/errors.h"
 #include "vdblight/export.h"
 #include "vdblight/export_cells.h"
+#include "vdblight/export_engines.h"
 #include "vdblight/query_stream.h"
 #include "vdblight/vdb_stream.h"
 #include "vdblight/preview.h"
@@ -24,7 +25,17 @@ struct ExportCommand {
     int resolution = 0;
     bool quiet = false;
     int cells = 0;  // lattice steps per streaming cell (export_cells.h); 0: one texture set
+    std::string preset;  // bevy (export_engines.h)
 };
+
+void runPreset(const ExportCommand& c) {
+    if (c.preset != "bevy") throw ValueError("unknown preset '" + c.preset + "' (choose bevy)");
+    const PresetSummary s = exportBevyIrradianceVolume(readVolume(c.volume), c.output, c.resolution);
+    if (!c.quiet)
+        std::cout << "Exported preset bevy: " << s.files.size() - 1 << " files of " << s.lattice.dims[0] << " x "
+                  << s.lattice.dims[1] << " x " << s.lattice.dims[2] << " voxels + manifest.json to " << c.output
+                  << " (" << formatBytes(double(s.bytes)) << ")\n";
+}
 
 /// export --cells K: the volume streamed when it is large and its kind streams (as `query`
 /// does), read whole otherwise; the same texels either way.
@@ -42,6 +53,7 @@ CellsSummary exportByCells(const ExportCommand& c, const ExportOptions& o) {
 
 void run(const ExportCommand& c) {
     if (c.half && c.full) throw ValueError("give --half or --float, not both");
+    if (!c.preset.empty()) return runPreset(c);
     if (c.format == "vdb-preview") {  // preview grids for Blender / Houdini (preview.h)
         namespace fs = std::filesystem;
         const Volume volume = readVolume(c.volume);
@@ -104,6 +116,9 @@ void addExportCommand(CLI::App& app) {
                     "textures + manifest.json each and OUTDIR/cells.json as index; neighbours share a texel plane "
                     "(SH layouts; large volumes are streamed, not read whole)")
         ->check(CLI::Range(1, 1 << 20));
+    cmd->add_option("--preset", c->preset,
+                    "Everything one engine needs (format, layout, axes, units, file split; docs/engines.md): bevy "
+                    "(overrides --format and --layout)");
     cmd->add_flag("-q,--quiet", c->quiet, "Print nothing on success");
     cmd->callback([c] { run(*c); });
 }
