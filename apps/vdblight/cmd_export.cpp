@@ -25,16 +25,16 @@ struct ExportCommand {
     int resolution = 0;
     bool quiet = false;
     int cells = 0;  // lattice steps per streaming cell (export_cells.h); 0: one texture set
-    std::string preset;  // bevy (export_engines.h)
+    std::string preset;  // unity | unreal | godot | three | bevy (export_engines.h)
 };
 
 void runPreset(const ExportCommand& c) {
-    if (c.preset != "bevy") throw ValueError("unknown preset '" + c.preset + "' (choose bevy)");
-    const PresetSummary s = exportBevyIrradianceVolume(readVolume(c.volume), c.output, c.resolution);
+    const EnginePreset preset = parseEnginePreset(c.preset);
+    const PresetSummary s = exportPreset(readVolume(c.volume), c.output, preset, c.resolution);
     if (!c.quiet)
-        std::cout << "Exported preset bevy: " << s.files.size() - 1 << " files of " << s.lattice.dims[0] << " x "
-                  << s.lattice.dims[1] << " x " << s.lattice.dims[2] << " voxels + manifest.json to " << c.output
-                  << " (" << formatBytes(double(s.bytes)) << ")\n";
+        std::cout << "Exported preset " << presetName(preset) << ": " << s.files.size() - 1 << " files of "
+                  << s.lattice.dims[0] << " x " << s.lattice.dims[1] << " x " << s.lattice.dims[2]
+                  << " voxels + manifest.json to " << c.output << " (" << formatBytes(double(s.bytes)) << ")\n";
 }
 
 /// export --cells K: the volume streamed when it is large and its kind streams (as `query`
@@ -117,8 +117,8 @@ void addExportCommand(CLI::App& app) {
                     "(SH layouts; large volumes are streamed, not read whole)")
         ->check(CLI::Range(1, 1 << 20));
     cmd->add_option("--preset", c->preset,
-                    "Everything one engine needs (format, layout, axes, units, file split; docs/engines.md): bevy "
-                    "(overrides --format and --layout)");
+                    "Everything one engine needs (format, layout, axes, units, file split; docs/engines.md): unity, "
+                    "unreal, godot, three or bevy (overrides --format and --layout)");
     cmd->add_flag("-q,--quiet", c->quiet, "Print nothing on success");
     cmd->callback([c] { run(*c); });
 }
