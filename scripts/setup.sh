@@ -43,6 +43,8 @@ if [ ! -d "$ROOT/scripts/ktx/node_modules/ktx-parse" ]; then
   fi
   (cd "$ROOT/scripts/ktx" && npm ci --no-audit --no-fund --loglevel=error)
 fi
+# gltf-validator (npm, pinned in scripts/gltf/package.json): validates `export --format gltf` (issue 31).
+[ -d "$ROOT/scripts/gltf/node_modules/gltf-validator" ] || (cd "$ROOT/scripts/gltf" && npm ci --no-audit --no-fund --loglevel=error)
 
 cmake -S "$ROOT" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$BUILD_DIR" -j "$JOBS"
