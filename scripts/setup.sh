@@ -46,6 +46,8 @@ if [ ! -d "$ROOT/scripts/ktx/node_modules/ktx-parse" ]; then
   fi
   (cd "$ROOT/scripts/ktx" && npm ci --no-audit --no-fund --loglevel=error)
 fi
+# gltf-validator (npm, pinned in scripts/gltf/package.json): validates `export --format gltf` (issue 31).
+[ -d "$ROOT/scripts/gltf/node_modules/gltf-validator" ] || (cd "$ROOT/scripts/gltf" && npm ci --no-audit --no-fund --loglevel=error)
 
 # three and playwright-core (npm, pinned in examples/web/package.json): the web page and its
 # test drive Debian's Chromium (issue 31).

@@ -9,6 +9,8 @@
 #include "vdblight/export_cells.h"
 #include "vdblight/export_nanovdb.h"
 #include "vdblight/export_three.h"
+#include "vdblight/export_engines.h"
+#include "vdblight/export_gltf.h"
 #include "vdblight/query_stream.h"
 #include "vdblight/vdb_stream.h"
 #include "vdblight/preview.h"
@@ -26,7 +28,56 @@ struct ExportCommand {
     int resolution = 0;
     bool quiet = false;
     int cells = 0;  // lattice steps per streaming cell (export_cells.h); 0: one texture set
+    std::string preset;  // unity | unreal | godot | three | bevy (export_engines.h)
+    int every = 0;       // --format gltf: every K-th node per axis
+    std::string slice;   // --format gltf: AXIS=VALUE
+    double probeRadius = 0;
 };
+
+/// export --format gltf: OUTDIR/probes.glb (export_gltf.h).
+void runGltf(const ExportCommand& c) {
+    GltfProbeOptions o;
+    o.every = c.every;
+    o.radius = c.probeRadius;
+    if (!c.slice.empty()) {
+        const std::size_t eq = c.slice.find('=');
+        const std::string axis = c.slice.substr(0, eq);
+        if (eq == std::string::npos || axis.size() != 1 || std::string("xyz").find(axis) == std::string::npos)
+            throw ValueError("--slice takes AXIS=VALUE, e.g. y=1.2 (got '" + c.slice + "')");
+        o.sliceAxis = int(std::string("xyz").find(axis));
+        try {
+            o.sliceAt = std::stod(c.slice.substr(eq + 1));
+        } catch (const std::exception&) {
+            throw ValueError("--slice takes AXIS=VALUE, e.g. y=1.2 (got '" + c.slice + "')");
+        }
+    }
+    namespace fs = std::filesystem;
+    const Volume volume = readVolume(c.volume);
+    std::error_code ec;
+    const bool created = !fs::is_directory(c.output, ec);
+    if (created && !fs::create_directories(c.output, ec))
+        throw IoError("cannot create output directory '" + c.output + "'" + (ec ? ": " + ec.message() : ""));
+    const std::string file = (fs::path(c.output) / "probes.glb").string();
+    GltfProbeSummary s;
+    try {
+        s = exportGltfProbes(volume, file, o);
+    } catch (...) {
+        if (created) fs::remove(c.output, ec);  // leave nothing behind
+        throw;
+    }
+    if (!c.quiet)
+        std::cout << "Wrote " << s.spheres << " probe spheres (vertex colour = " << s.colourScale
+                  << " * E(n) / pi) and the volume's box to " << file << " (" << formatBytes(double(s.bytes)) << ")\n";
+}
+
+void runPreset(const ExportCommand& c) {
+    const EnginePreset preset = parseEnginePreset(c.preset);
+    const PresetSummary s = exportPreset(readVolume(c.volume), c.output, preset, c.resolution);
+    if (!c.quiet)
+        std::cout << "Exported preset " << presetName(preset) << ": " << s.files.size() - 1 << " files of "
+                  << s.lattice.dims[0] << " x " << s.lattice.dims[1] << " x " << s.lattice.dims[2]
+                  << " voxels + manifest.json to " << c.output << " (" << formatBytes(double(s.bytes)) << ")\n";
+}
 
 /// export --cells K: the volume streamed when it is large and its kind streams (as `query`
 /// does), read whole otherwise; the same texels either way.
@@ -44,6 +95,8 @@ CellsSummary exportByCells(const ExportCommand& c, const ExportOptions& o) {
 
 void run(const ExportCommand& c) {
     if (c.half && c.full) throw ValueError("give --half or --float, not both");
+    if (!c.preset.empty()) return runPreset(c);
+    if (c.format == "gltf") return runGltf(c);
     if (c.format == "vdb-preview") {  // preview grids for Blender / Houdini (preview.h)
         namespace fs = std::filesystem;
         const Volume volume = readVolume(c.volume);
@@ -114,7 +167,7 @@ void addExportCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand("export", "Dense 3-D textures + manifest.json for engines (docs/engines.md)");
     cmd->add_option("volume", c->volume, "Volume (.vdb) written by vdblight bake")->required();
     cmd->add_option("-o,--output", c->output, "Output directory (created if missing)")->required();
-    cmd->add_option("--format", c->format, "ktx2, dds, exr-atlas, raw, vdb-preview (OUTDIR/preview.vdb for Blender/Houdini), nanovdb (-o names one .nvdb file), or three (three.js LightProbeGridWebGL: OUTDIR/probe_grid_sh.bin + probe_grid.json; SH volumes, --layout ignored)")->capture_default_str();
+    cmd->add_option("--format", c->format, "ktx2, dds, exr-atlas, raw, vdb-preview (OUTDIR/preview.vdb for Blender/Houdini), nanovdb (-o names one .nvdb file), three (three.js LightProbeGridWebGL: OUTDIR/probe_grid_sh.bin + probe_grid.json; SH volumes, --layout ignored) or gltf (OUTDIR/probes.glb: a sphere per node)")->capture_default_str();
     cmd->add_option("--layout", c->layout, "SH volumes: sh2 (9 coefficient textures), sh2-packed (7, dot-product ready) or sh1 (3); irradiance-vector volumes: vectors (18) or compact (12); bins:R / moment:n volumes: bins (2 R^2); any registered basis (sh2, sh:N, bins, moment; vdblight bake --help): basis (its own textures, one per channel)")
         ->capture_default_str();
     cmd->add_flag("--half", c->half, "16-bit float texels (the default)");
@@ -126,6 +179,13 @@ void addExportCommand(CLI::App& app) {
                     "textures + manifest.json each and OUTDIR/cells.json as index; neighbours share a texel plane "
                     "(SH layouts; large volumes are streamed, not read whole)")
         ->check(CLI::Range(1, 1 << 20));
+    cmd->add_option("--preset", c->preset,
+                    "Everything one engine needs (format, layout, axes, units, file split; docs/engines.md): unity, "
+                    "unreal, godot, three or bevy (overrides --format and --layout)");
+    cmd->add_option("--every", c->every, "--format gltf: a sphere at every K-th node along each axis")
+        ->check(CLI::Range(1, 1 << 20));
+    cmd->add_option("--slice", c->slice, "--format gltf: only the nodes on the plane AXIS=VALUE (e.g. y=1.2)");
+    cmd->add_option("--probe-radius", c->probeRadius, "--format gltf: sphere radius (default 0.2 node spacings)");
     cmd->add_flag("-q,--quiet", c->quiet, "Print nothing on success");
     cmd->callback([c] { run(*c); });
 }

@@ -1,0 +1,189 @@
+// exportPreset (export_engines.h): one engine's format, layout, axes, units and file split.
+//   unity  - EXR atlases (Texture Shape 3D import), sh2-packed, left-handed +Y up, metres
+//   godot  - EXR atlases (Texture3D import, slices), sh2-packed, +Y up, metres
+//   unreal - .vdb Sparse Volume Textures, sh2-packed, 2 RGBA textures per file, +Z up, cm
+//   bevy   - the IrradianceVolume KTX2 (bevy_volume.cpp)
+//   three  - export --format three: three.js LightProbeGridWebGL's SH atlas + probe_grid.json (export_three.h)
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include "engine_internal.h"
+#include "staged_files.h"
+#include "vdblight/bins.h"
+#include "vdblight/errors.h"
+#include "vdblight/export_three.h"
+#include "vdblight/sh.h"
+
+namespace vdblight {
+
+using namespace exporter;
+
+EnginePreset parseEnginePreset(const std::string& name) {
+    for (EnginePreset p : {EnginePreset::Unity, EnginePreset::Unreal, EnginePreset::Godot, EnginePreset::Three,
+                           EnginePreset::Bevy})
+        if (name == presetName(p)) return p;
+    throw ValueError("unknown preset '" + name + "' (choose unity, unreal, godot, three or bevy)");
+}
+
+const char* presetName(EnginePreset p) {
+    switch (p) {
+        case EnginePreset::Unity: return "unity";
+        case EnginePreset::Unreal: return "unreal";
+        case EnginePreset::Godot: return "godot";
+        case EnginePreset::Three: return "three";
+        case EnginePreset::Bevy: return "bevy";
+    }
+    return "";
+}
+
+namespace {
+
+// The SH presets read the order-2 projection of the volume (sh2-packed): SH volumes of order
+// 2 or more only; other kinds would need a refit that these engines' shaders do not undo.
+void checkShVolume(const Volume& volume, EnginePreset preset) {
+    bins::BasisSpec spec;
+    const std::unique_ptr<Basis> basis = basisOf(volume.basis);
+    if (!basis || bins::specFromVolume(volume.basis, spec) || basis->shCoefficients() < sh::kCoeffs)
+        throw FormatError(std::string("preset '") + presetName(preset) + "' writes SH order-2 textures and needs an SH "
+                          "volume (sh2 or sh:N, N >= 2); this one stores '" + volume.basis.kind +
+                          "' (--preset bevy takes every kind)");
+    // The presets' textures are the SH alone; light kept out of it would be lost silently.
+    if (volume.direct.mode != DirectMode::Baked && !volume.direct.lights.empty())
+        throw FormatError(std::string("preset '") + presetName(preset) + "' writes the SH only, but this volume keeps the "
+                          "direct light of " + std::to_string(volume.direct.lights.size()) + " light(s) out of it (bake "
+                          "--direct " + directModeName(volume.direct.mode) + "); bake with --direct baked, or export "
+                          "--layout sh2-packed with docs/engines.md's direct-light shader (--preset bevy includes it)");
+}
+
+std::string presetManifest(EnginePreset preset, const EngineFrame& f, const TextureLattice& e,
+                           const std::vector<TextureDesc>& descs, const std::vector<std::string>& textureFiles,
+                           const std::vector<SvtFile>& svt) {
+    const Vec3d h = e.spacing();
+    std::ostringstream s;
+    s << "{\n  \"vdblight_export_version\": 2,\n  \"preset\": \"" << presetName(preset) << "\",\n"
+      << "  \"engine_frame\": \"" << f.description << "\",\n"
+      << "  \"from_volume\": \"engine[a] = " << jsonNumber(f.metresToUnit) << " * sign[a] * volume[axis[a]] (the volume: "
+      << "right-handed, +Y up, metres); normals the same without the scale\",\n"
+      << "  \"axis\": [" << f.axis[0] << ", " << f.axis[1] << ", " << f.axis[2] << "],\n"
+      << "  \"sign\": [" << f.sign[0] << ", " << f.sign[1] << ", " << f.sign[2] << "],\n"
+      << "  \"units_per_metre\": " << jsonNumber(f.metresToUnit) << ",\n"
+      << "  \"layout\": \"sh2-packed\",\n"
+      << "  \"formula\": \"E_c = dot(shAc, (n, 1)) + dot(shBc, (n.x*n.y, n.y*n.z, n.z*n.z, n.z*n.x)) + shC.c * "
+         "(n.x*n.x - n.y*n.y), n a unit normal in the engine's axes\",\n"
+      << "  \"irradiance_units\": \"W/m^2 per colour channel (the scene's unit; per square metre whatever the "
+         "length unit); a Lambertian surface of albedo rho leaves rho E / pi\",\n"
+      << "  \"dims\": [" << e.dims[0] << ", " << e.dims[1] << ", " << e.dims[2] << "],\n"
+      << "  \"bounds_min\": " << jsonVec(e.lo) << ",\n  \"bounds_max\": " << jsonVec(e.hi) << ",\n"
+      << "  \"texel_spacing\": " << jsonVec(h) << ",\n";
+    Vec3d scale, bias;
+    for (int a = 0; a < 3; ++a) {
+        scale[a] = h[a] > 0 ? 1.0 / (h[a] * e.dims[a]) : 0.0;
+        bias[a] = h[a] > 0 ? (0.5 - e.lo[a] / h[a]) / e.dims[a] : 0.5;
+    }
+    s << "  \"uvw_scale\": " << jsonVec(scale) << ",\n  \"uvw_bias\": " << jsonVec(bias) << ",\n";
+    if (!textureFiles.empty()) {
+        const AtlasGrid g = atlasGrid(e.dims[2]);
+        s << "  \"exr_atlas\": {\"columns\": " << g.columns << ", \"rows\": " << g.rows << ", \"slice_width\": "
+          << e.dims[0] << ", \"slice_height\": " << e.dims[1] << ", \"slices\": " << e.dims[2] << "},\n";
+    }
+    s << "  \"textures\": [\n";
+    for (std::size_t t = 0; t < descs.size(); ++t) {
+        std::string file;
+        for (const SvtFile& sf : svt)
+            for (const std::string& name : sf.textures)
+                if (name == descs[t].name) file = sf.file;
+        if (!textureFiles.empty()) file = textureFiles[t];
+        s << "    {\"name\": \"" << descs[t].name << "\", \"file\": \"" << file << "\", \"components\": [";
+        for (int c = 0; c < 4; ++c) s << (c ? ", " : "") << "\"" << descs[t].components[c] << "\"";
+        s << "]}" << (t + 1 < descs.size() ? "," : "") << "\n";
+    }
+    s << "  ]";
+    if (!svt.empty()) {
+        s << ",\n  \"svt_files\": [\n";
+        for (std::size_t i = 0; i < svt.size(); ++i) {
+            s << "    {\"file\": \"" << svt[i].file << "\"";
+            for (std::size_t t = 0; t < svt[i].textures.size(); ++t) {  // attribute A, then B
+                const std::string& name = svt[i].textures[t];
+                s << ", \"attribute_" << "ab"[t] << "\": \"" << name << "_rgb (RGB)";
+                for (const std::string& g : svt[i].grids)
+                    if (g == name + "_a") s << " + " << g << " (A)";
+                s << "\"";
+            }
+            s << ", \"grids\": [";
+            for (std::size_t g = 0; g < svt[i].grids.size(); ++g) s << (g ? ", " : "") << "\"" << svt[i].grids[g] << "\"";
+            s << "], \"precision\": \"half\"}" << (i + 1 < svt.size() ? "," : "") << "\n";
+        }
+        s << "  ]";
+    }
+    s << "\n}\n";
+    return s.str();
+}
+
+}  // namespace
+
+PresetSummary exportPreset(const Volume& volume, const std::string& outDir, EnginePreset preset, int resolution) {
+    if (preset == EnginePreset::Bevy) return exportBevyIrradianceVolume(volume, outDir, resolution);
+    if (preset == EnginePreset::Three) {  // three.js LightProbeGridWebGL: the atlas of export --format three
+        ThreeGridOptions t;
+        t.resolution = resolution;
+        const ThreeGridSummary g = exportThreeGrid(volume, outDir, t);
+        PresetSummary s;
+        s.lattice = g.lattice;
+        s.files = g.files;
+        s.bytes = g.bytes;
+        return s;
+    }
+    if (outDir.empty()) throw IoError("no output directory given");
+    checkShVolume(volume, preset);
+    const EngineFrame frame = engineFrame(preset);
+    const IrradianceQuery query(volume);
+    const TextureLattice lattice = chooseLattice(query.bounds(), finestSpacing(volume.levels), resolution);
+    const TextureLattice engine = engineLattice(frame, lattice);
+    const bool svt = preset == EnginePreset::Unreal;
+    if (!svt) {
+        const AtlasGrid g = atlasGrid(engine.dims[2]);
+        if (1LL * g.columns * engine.dims[0] > 16384 || 1LL * g.rows * engine.dims[1] > 16384)
+            throw ValueError("the EXR atlas would exceed the 16384-pixel 2-D texture limit of the engine; lower --resolution");
+    }
+    if (lattice.texelCount() > (1ull << 28))
+        throw ValueError("the preset's textures would have over 2^28 texels; lower --resolution");
+    const std::vector<TextureDesc> descs = layoutTextures(ExportLayout::Sh2Packed);
+    std::vector<std::vector<float>> textures =
+        reorientSh2Packed(frame, lattice, sampleLayout(query, lattice, ExportLayout::Sh2Packed));
+    for (const std::vector<float>& t : textures)
+        for (float v : t)
+            if (!(std::fabs(v) <= 65504.0f))
+                throw ValueError("a texel holds " + std::to_string(v) + ", outside the half-float range of the preset's "
+                                 "textures (+-65504)");
+
+    PresetSummary summary;
+    summary.lattice = engine;
+    StagedFiles staged;
+    staged.createDirectory(outDir);
+    std::vector<std::string> textureFiles;
+    std::vector<SvtFile> svtFiles;
+    if (svt) {
+        svtFiles = planSvtFiles(descs);
+        for (const SvtFile& f : svtFiles)
+            writeSvtFile(staged.stage(outDir, f.file), f, descs, textures, engine,
+                         finestSpacing(volume.levels) * frame.metresToUnit);
+    } else {
+        for (std::size_t t = 0; t < descs.size(); ++t) {
+            TextureImage image;
+            image.rgba = textures[t].data();
+            std::copy_n(engine.dims, 3, image.dims);
+            image.format = TexelFormat::Float16;
+            image.name = descs[t].name;
+            textureFiles.push_back(descs[t].name + ".exr");
+            writeExrAtlas(staged.stage(outDir, textureFiles.back()), image);
+        }
+    }
+    const std::string json = presetManifest(preset, frame, engine, descs, textureFiles, svtFiles);
+    writeBytes(staged.stage(outDir, "manifest.json"), std::vector<uint8_t>(json.begin(), json.end()));
+    summary.files = staged.commit();
+    for (const std::string& f : summary.files) summary.bytes += std::filesystem::file_size(f);
+    return summary;
+}
+
+}  // namespace vdblight
