@@ -128,6 +128,10 @@ Volume tryVolume(const Ctx& c, const TrySpec& t, std::string& note, std::vector<
 /// with shadow rays at each lookup (as directGather).
 Baked tryBake(const Ctx& c, const TrySpec& t, Baked (*answer)(Volume, double, uint64_t) = &fromVolume);
 
+/// default_l2 (the default's bands 0..2) and the engine-size export layouts' readings of the
+/// same bake, default_l2_l1, default_l2_sh2_32 and default_l2_sh1_16 (accuracy_engine_layouts.cpp).
+void addEngineLayoutConfigs(std::vector<Config>& v, const TrySpec& def);
+
 /// The table of methods and modes (accuracy_configs.cpp). Resolutions and budgets are the full
 /// run's; --quick scales them down (Settings::res / rays / photons).
 std::vector<Config> configurations();
