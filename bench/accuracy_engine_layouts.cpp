@@ -46,6 +46,25 @@ Baked readDefault(const Ctx& c, const TrySpec& def, const std::function<Volume(c
     b.note = k.note.empty() ? what : k.note + ", " + what;
     return b;
 }
+// What the layout adds by itself, whatever the ground truth: its relative difference from the
+// same bake's bands it stores (`reference`), at the benchmark's points (the same fixed-seed set),
+// guarded below by 1 % of the mean as the errors are.
+std::string addedByLayout(const Ctx& c, const Baked& layout, const Baked& reference, const char* bands) {
+    const Points pts = freeSpacePoints(c.scene, c.tracer, c.settings.points);
+    const std::vector<double> got = values(layout.irradiance, pts), want = values(reference.irradiance, pts);
+    double mean = 0;
+    for (double w : want) mean += w / double(want.size());
+    double s2 = 0, worst = 0;
+    for (std::size_t i = 0; i < got.size(); ++i) {
+        const double d = (got[i] - want[i]) / std::max(want[i], 0.01 * mean);
+        s2 += d * d;
+        worst = std::max(worst, std::fabs(d));
+    }
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "vs %s of the same bake: RMS %.3f %%, max %.2f %%", bands,
+                  100 * std::sqrt(s2 / double(got.size())), 100 * worst);
+    return buf;
+}
 }  // namespace
 
 void addEngineLayoutConfigs(std::vector<Config>& v, const TrySpec& def) {
@@ -73,8 +92,19 @@ void addEngineLayoutConfigs(std::vector<Config>& v, const TrySpec& def) {
     for (const auto& [layout, what] : layouts)
         v.push_back({std::string("default_l2_") + (layout == ExportLayout::Sh2x32 ? "sh2_32" : "sh1_16"), what,
                      [def, layout = layout](const Ctx& c) {
-                         return readDefault(c, def, [layout](const Volume& vol) { return compactShRoundTrip(vol, layout); },
-                                            layoutName(layout));
+                         Baked b = readDefault(c, def, [layout](const Volume& vol) { return compactShRoundTrip(vol, layout); },
+                                               layoutName(layout));
+                         const int order = layout == ExportLayout::Sh2x32 ? 2 : 1;
+                         const Baked bands = readDefault(c, def, [order](const Volume& vol) { return truncateSh(vol, order); }, "");
+                         b.note += "; " + addedByLayout(c, b, bands, order == 2 ? "bands 0..2" : "bands 0..1");
+                         // B/node: the exported textures' (ktx2, dds, raw), not a .vdb's: the layout,
+                         // one RGBA8 texel per four listed lights, 12 B of depth moments.
+                         const Volume& baked = *defaultBake(c, def).volume;
+                         const std::size_t lights = baked.direct.hasVisibility() ? baked.direct.lights.size() : 0;
+                         const uint64_t perNode = (order == 2 ? 32 : 16) + 4 * ((lights + 3) / 4) + (baked.hasDepth() ? 12 : 0);
+                         b.bytes = perNode * b.nodes;
+                         b.note += "; B/node = the export's";
+                         return b;
                      },
                      true});
 }
