@@ -1,6 +1,7 @@
 // vdblight_bench_accuracy (issue 15): what its parts share. bench_accuracy.cpp says what
 // the benchmark measures and how; one file per part:
 //  - accuracy_configs.cpp: the table of methods and modes; accuracy_bakes.cpp: their bakes;
+//    accuracy_engine_layouts.cpp: default_l2 and the engine-size export layouts (one bake);
 //  - accuracy_truth.cpp: points, ground truth, error statistics;
 //  - accuracy_floor.cpp and accuracy_decompose.cpp: the decomposition (floor, spatial);
 //  - accuracy_study.cpp (--study), accuracy_time_to.cpp (--time-to),
