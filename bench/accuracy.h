@@ -1,6 +1,7 @@
 // vdblight_bench_accuracy (issue 15): what its parts share. bench_accuracy.cpp says what
 // the benchmark measures and how; one file per part:
 //  - accuracy_configs.cpp: the table of methods and modes; accuracy_bakes.cpp: their bakes;
+//    accuracy_engine_layouts.cpp: default_l2 and the engine-size export layouts (one bake);
 //  - accuracy_truth.cpp: points, ground truth, error statistics;
 //  - accuracy_floor.cpp and accuracy_decompose.cpp: the decomposition (floor, spatial);
 //  - accuracy_study.cpp (--study), accuracy_time_to.cpp (--time-to),
@@ -127,6 +128,10 @@ Volume tryVolume(const Ctx& c, const TrySpec& t, std::string& note, std::vector<
 /// same volume, e.g. fromVolumeVisibilityTrilinear); for `direct=runtime`, plus the direct light
 /// with shadow rays at each lookup (as directGather).
 Baked tryBake(const Ctx& c, const TrySpec& t, Baked (*answer)(Volume, double, uint64_t) = &fromVolume);
+
+/// default_l2 (the default's bands 0..2) and the engine-size export layouts' readings of the
+/// same bake, default_l2_l1, default_l2_sh2_32 and default_l2_sh1_16 (accuracy_engine_layouts.cpp).
+void addEngineLayoutConfigs(std::vector<Config>& v, const TrySpec& def);
 
 /// The table of methods and modes (accuracy_configs.cpp). Resolutions and budgets are the full
 /// run's; --quick scales them down (Settings::res / rays / photons).

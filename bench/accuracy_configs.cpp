@@ -3,7 +3,6 @@
 #include "accuracy.h"
 
 #include "vdblight/bake.h"
-#include "vdblight/sh_truncate.h"
 
 namespace vdblight::accuracy {
 
@@ -38,15 +37,9 @@ std::vector<Config> configurations() {
     // The default with the light visibility interpolated trilinearly (as before issue 15 item 2).
     v.push_back({"default_vis_trilinear", "the default bake, light visibility looked up trilinearly (not depth-weighted)",
                  [def](const Ctx& c) { return tryBake(c, def, &fromVolumeVisibilityTrilinear); }});
-    // What an engine's L2 probes hold of the default: its bands 0..2 (export sh2 / sh2-packed,
-    // query --sh-order 2; sh_truncate.h). Measured with noise, as the default.
-    v.push_back({"default_l2", "the default's bands 0..2 (what export's SH order-2 layouts and an engine's L2 probes hold)",
-                 [def](const Ctx& c) {
-                     return tryBake(c, def, [](Volume vol, double seconds, uint64_t nodes) {
-                         return fromVolume(truncateSh(std::move(vol), 2), seconds, nodes);
-                     });
-                 },
-                 true});
+    // What an engine's L2 probes hold of the default (default_l2), and the engine-size export
+    // layouts' share of it (accuracy_engine_layouts.cpp): one bake read three ways.
+    addEngineLayoutConfigs(v, def);
     // The default before SH order 4 (issue 15, tenth session): SH order 2, 768 rays.
     v.push_back({"default_sh2_768", "the default before it stored SH order 4: ~16384 nodes, 768 rays + 1 probe pass, "
                                     "depth moments, SH order 2",

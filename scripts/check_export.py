@@ -12,7 +12,9 @@ trilinear filtering a GPU does (clamp-to-edge, half-texel offset), and compares 
 Exit status 0 if every sample matches within the tolerance (1e-3 relative for half
 textures, 1e-5 for float), 1 otherwise. Needs numpy (Debian: python3-numpy).
 
-Layouts: sh2, sh2-packed, sh1 (SH volumes), vectors (irradiance-vector volumes) and bins
+Layouts: sh2, sh2-packed, sh1 (SH volumes), sh1-16 and sh2-32 (SH volumes; each texel decoded
+by the manifest's compact_sh.decode, then read as sh1 / sh2-packed; every point must lie
+within the bound that the 8-bit rounding explains, plus the half-float tolerance), vectors (irradiance-vector volumes) and bins
 (bins:R / moment:n volumes: the four-bin blend of the manifest's `bins.blend`, with the bin
 of a direction found by the formulas of `bins.bin_of_direction`; a moment volume is queried
 with --view 0,0,1) are matched against the query. compact (Pacanowski et al. section 4.2) is lossy: with
@@ -152,6 +154,66 @@ def sample_weighted(tex, idx, w):
     return sum(w[c][:, None] * tex[idx[c][:, 2], idx[c][:, 1], idx[c][:, 0]] for c in range(8))
 
 
+COMPACT_SH_LAYOUTS = ("sh1-16", "sh2-32")
+
+
+def decode_compact_sh(manifest, textures):
+    """sh1-16 / sh2-32 (manifest compact_sh.decode): every texel decoded into the textures of
+    the layout it stands for (shAr..shAb for sh1-16 and shBr..shC too for sh2-32), so that
+    they are then sampled (trilinear, or with the depth weights) and evaluated as sh1 /
+    sh2-packed: blending the decoded corners, as docs/engines.md's shader does. Also returns
+    per colour the texels' a (L0 term), which the quantisation bound scales with."""
+    k = manifest["compact_sh"]
+    t0, t1, t2 = textures["L0_L1Rx"], textures["L1G_L1Ry"], textures["L1B_L1Rz"]
+    a = t0[..., :3]
+    l1 = [np.stack([t0[..., 3], t1[..., 3], t2[..., 3]], axis=-1), t1[..., :3], t2[..., :3]]
+    out = {}
+    order2 = manifest["layout"] == "sh2-32"
+    for c, name in enumerate("rgb"):
+        ac = a[..., c:c + 1]
+        b = (l1[c] - 0.5) * k["l1_range"] * ac
+        d = np.zeros_like(ac)
+        if order2:
+            q = (textures["L2_" + name.upper()] - 0.5) * np.array(k["l2_range"]) * ac
+            d = q[..., 2:3]
+            out["shB" + name] = np.concatenate([q[..., 0:2], 3.0 * d, q[..., 3:4]], axis=-1)
+        out["shA" + name] = np.concatenate([b, ac - d], axis=-1)
+    if order2:
+        c = (textures["L2_C"][..., :3] - 0.5) * k["l2c_range"] * a
+        out["shC"] = np.concatenate([c, np.zeros_like(c[..., :1])], axis=-1)
+    out["a"] = np.concatenate([a, np.zeros_like(a[..., :1])], axis=-1)
+    for name, tex in textures.items():  # light visibility and depth as they are
+        if name not in ("L0_L1Rx", "L1G_L1Ry", "L1B_L1Rz", "L2_R", "L2_G", "L2_B", "L2_C"):
+            out[name] = tex
+    return out
+
+
+def quantisation_bound(manifest, textures, x, n):
+    """The largest |E_export - E_query| that 8-bit rounding explains, per point and colour
+    (docs/engines.md, sh1-16 / sh2-32): each stored t is within 1/510 of v / (range a) + 0.5,
+    so the decoded v is within range * a / 510; E is a sum of such v times the normal's
+    polynomial, and blending corners with weights summing to 1 keeps the bound. Light
+    visibility (8-bit too) adds exact irradiance / 510 per listed light."""
+    k = manifest["compact_sh"]
+    x_, y_, z_ = np.abs(n[:, 0]), np.abs(n[:, 1]), np.abs(n[:, 2])
+    per_a = k["l1_range"] * (x_ + y_ + z_)
+    if manifest["layout"] == "sh2-32":
+        r = k["l2_range"]
+        per_a = per_a + r[0] * x_ * y_ + r[1] * y_ * z_ + r[3] * z_ * x_ + r[2] * np.abs(3 * z_ * z_ - 1)
+        per_a = per_a + k["l2c_range"] * np.abs(x_ * x_ - y_ * y_)
+    uvw = x * np.array(manifest["uvw_scale"]) + np.array(manifest["uvw_bias"])
+    if manifest.get("depth", {}).get("exported"):
+        a = sample_weighted(textures["a"], *depth_weights(manifest, textures, x))[:, :3]
+    else:
+        a = sample_trilinear(textures["a"], uvw)[:, :3]
+    bound = a * (per_a / 510.0)[:, None]
+    direct = manifest.get("direct", {"mode": "baked"})
+    if direct["mode"] == "occlusion":
+        for light in direct["lights"]:
+            bound += np.array([np.abs(exact_irradiance(light, x[i], n[i])) for i in range(len(x))]) / 510.0
+    return bound
+
+
 def irradiance_terms(manifest, textures, x, n, max_abs=False):
     """docs/engines.md: the terms whose sum is E(x, n), per colour channel: shape (terms, points, 3)."""
     uvw = x * np.array(manifest["uvw_scale"]) + np.array(manifest["uvw_bias"])
@@ -162,7 +224,7 @@ def irradiance_terms(manifest, textures, x, n, max_abs=False):
         s = {name: sample_weighted(tex, idx, w) for name, tex in textures.items()}
     else:
         s = {name: sample_trilinear(tex, uvw, max_abs) for name, tex in textures.items()}
-    layout = manifest["layout"]
+    layout = {"sh1-16": "sh1", "sh2-32": "sh2-packed"}.get(manifest["layout"], manifest["layout"])
     nx_, ny_, nz_ = n[:, 0], n[:, 1], n[:, 2]
     terms = []
     if layout in ("sh2-packed", "sh1"):
@@ -441,6 +503,9 @@ def main():
               "export bins:R and moment:n volumes with --layout bins)" % manifest.get("basis"))
         return 2
     textures = load_textures(manifest, args.export)
+    compact_sh = manifest["layout"] in COMPACT_SH_LAYOUTS
+    if compact_sh:
+        textures = decode_compact_sh(manifest, textures)
     rng = np.random.default_rng(args.seed)
     lo, hi = np.array(manifest["bounds_min"]), np.array(manifest["bounds_max"])
     # Points inside the box and a margin of 10% outside (clamp-to-edge must equal the query's clamp).
@@ -465,7 +530,7 @@ def main():
         d /= np.linalg.norm(d, axis=1)[:, None]
     terms = irradiance_terms(manifest, textures, x, d)
     got = terms.sum(axis=0)
-    if manifest["layout"] == "sh1":
+    if manifest["layout"] in ("sh1", "sh1-16"):
         # The order-1 part of E from the full query: the band-1 term is odd in n, so it is
         # (E(n) - E(-n)) / 2; the band-0 term is the mean over the six axis normals, where
         # the band-2 terms cancel.
@@ -510,6 +575,14 @@ def main():
     scale = scale + np.abs(direct_light(manifest, textures, x, n))
     scale = np.maximum(scale, 1e-30)
     rel = np.abs(got - want) / scale
+    if compact_sh:
+        # The 8-bit rounding is the point of these layouts: each point must lie within the bound
+        # it explains (plus the half-float tolerance of the other layouts), not within tol alone.
+        bound = quantisation_bound(manifest, textures, x, n)
+        excess = np.abs(got - want) / (bound + tol * scale)
+        print("%s: %d points, |E - query| / (8-bit bound + %g x scale): max %.3g, mean %.3g; max |E - query| / bound %.3g" % (
+            manifest["layout"], len(x), tol, excess.max(), excess.mean(), (np.abs(got - want) / np.maximum(bound, 1e-30)).max()))
+        rel = excess * tol  # reported below in the usual units: tol x the share of the allowance used
     worst = int(np.argmax(rel.max(axis=1)))
     print("%s %s %s: %d points, max relative error %.3g (tolerance %g) at x=%s n=%s: got %s want %s" % (
         manifest["format"], manifest["layout"], manifest["component_type"], len(x), rel.max(), tol,

@@ -168,7 +168,7 @@ void addExportCommand(CLI::App& app) {
     cmd->add_option("volume", c->volume, "Volume (.vdb) written by vdblight bake")->required();
     cmd->add_option("-o,--output", c->output, "Output directory (created if missing)")->required();
     cmd->add_option("--format", c->format, "ktx2, dds, exr-atlas, raw, vdb-preview (OUTDIR/preview.vdb for Blender/Houdini), nanovdb (-o names one .nvdb file), three (three.js LightProbeGridWebGL: OUTDIR/probe_grid_sh.bin + probe_grid.json; SH volumes, --layout ignored) or gltf (OUTDIR/probes.glb: a sphere per node)")->capture_default_str();
-    cmd->add_option("--layout", c->layout, "SH volumes: sh2 (9 coefficient textures), sh2-packed (7, dot-product ready) or sh1 (3); irradiance-vector volumes: vectors (18) or compact (12); bins:R / moment:n volumes: bins (2 R^2); any registered basis (sh2, sh:N, bins, moment; vdblight bake --help): basis (its own textures, one per channel)")
+    cmd->add_option("--layout", c->layout, "SH volumes: sh2 (9 coefficient textures), sh2-packed (7, dot-product ready), sh1 (3), sh2-32 (7, 32 B per probe: L0 half, the rest / L0 in 8 bits) or sh1-16 (3, 16 B); irradiance-vector volumes: vectors (18) or compact (12); bins:R / moment:n volumes: bins (2 R^2); any registered basis (sh2, sh:N, bins, moment; vdblight bake --help): basis (its own textures, one per channel)")
         ->capture_default_str();
     cmd->add_flag("--half", c->half, "16-bit float texels (the default)");
     cmd->add_flag("--float", c->full, "32-bit float texels");

@@ -4,7 +4,8 @@
 // (i, j, k) <-> lattice point lo + spacing * (i, j, k)), so that every kind of volume exports
 // the same way; by default the lattice is the volume's finest node spacing over its bounds,
 // so a uniform volume exports its nodes. Each texture is RGBA (half or float; the depth
-// textures of a volume with depth moments are 8-bit unorm, except in the EXR atlas); a
+// textures of a volume with depth moments, and all but the first texture of sh1-16 / sh2-32
+// with their light visibility, are 8-bit unorm, except in the EXR atlas); a
 // layout says what the components mean; `manifest.json` beside the textures states all of it, and
 // docs/engines.md gives the shader code.
 //
@@ -40,11 +41,14 @@ enum class ExportLayout {
     Compact,    ///< 12 textures ivc_<dir>_colour / ivc_<dir>_dir: Pacanowski et al. section 4.2
     Bins,       ///< bins:R / moment:n volumes: 2 R^2 textures bin_h<h>_u<iu>_v<iv>, the bin's RGB, alpha 0
     Basis,      ///< any registered basis (basis.h, e.g. sh:N): the basis's own textures (Basis::textures)
+    Sh1x16,     ///< "sh1-16": 3 textures, 16 B per probe: L0 half, L1 / L0 in UNORM8 (Unity APV's arrangement)
+    Sh2x32,     ///< "sh2-32": 7 textures, 32 B per probe: sh1-16 + band 2 / L0 in four UNORM8 textures
 };
 
 /// Parses "ktx2" | "dds" | "exr-atlas" | "raw" (ValueError listing the choices otherwise).
 TextureFormat parseTextureFormat(const std::string& name);
-/// Parses "sh2" | "sh2-packed" | "sh1" | "vectors" | "compact" | "bins" | "basis" (ValueError listing the choices otherwise).
+/// Parses "sh2" | "sh2-packed" | "sh1" | "sh1-16" | "sh2-32" | "vectors" | "compact" | "bins" | "basis"
+/// (ValueError listing the choices otherwise).
 ExportLayout parseExportLayout(const std::string& name);
 const char* formatName(TextureFormat format);
 const char* layoutName(ExportLayout layout);

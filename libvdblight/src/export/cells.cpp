@@ -9,6 +9,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "compact_sh.h"
 #include "export_internal.h"
 #include "staged_files.h"
 #include "vdblight/errors.h"
@@ -69,7 +70,7 @@ CellsSummary exportCells(const IrradianceQuery& query, const Volume& header, con
                          const ExportOptions& o, int cellSize) {
     if (outDir.empty()) throw IoError("no output directory given");
     if (cellSize < 1) throw ValueError("--cells must be at least 1 lattice step");
-    if (!layoutIsSh(o.layout))
+    if (!layoutIsSh(o.layout) || isCompactSh(o.layout))
         throw FormatError(std::string("--cells exports the SH layouts (sh2, sh2-packed, sh1), not '") + layoutName(o.layout) + "'");
     if (header.direct.hasVisibility())
         throw FormatError("--cells does not export per-light visibility (bake --direct occlusion); export the whole volume");

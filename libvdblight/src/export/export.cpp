@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "compact_sh.h"
 #include "export_internal.h"
 #include "staged_files.h"
 #include "vdblight/atomic_file.h"
@@ -167,6 +168,11 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
     }
     if (o.halfFloat) checkHalfRange(textures, descs);
     std::vector<TexelFormat> formats(descs.size(), lightingTexelFormat(o.halfFloat));
+    // The engine-size layouts (compact_sh.h): every texture but L0_L1Rx holds values in [0, 1]
+    // (the higher bands divided by L0, light visibility), stored in 8 bits where the container
+    // has an 8-bit type (as the depth textures; the EXR atlas keeps half / float).
+    if (isCompactSh(o.layout))
+        std::fill(formats.begin() + 1, formats.end(), depthTexelFormat(o.format, o.halfFloat));
     // Depth moments (depth_moments.h) go along as three more textures when the texels are the
     // nodes. They are multiples of 1/255, so 8-bit unorm holds them exactly (12 B per node
     // against 24 in half); the EXR atlas has no 8-bit type and keeps half or float (half

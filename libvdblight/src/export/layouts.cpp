@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "compact_sh.h"
 #include "export_internal.h"
 #include "vdblight/bins.h"
 #include "vdblight/errors.h"
@@ -23,11 +24,13 @@ ExportLayout parseExportLayout(const std::string& name) {
     if (name == "sh2") return ExportLayout::Sh2;
     if (name == "sh2-packed") return ExportLayout::Sh2Packed;
     if (name == "sh1") return ExportLayout::Sh1;
+    if (name == "sh1-16") return ExportLayout::Sh1x16;
+    if (name == "sh2-32") return ExportLayout::Sh2x32;
     if (name == "vectors") return ExportLayout::Vectors;
     if (name == "compact") return ExportLayout::Compact;
     if (name == "bins") return ExportLayout::Bins;
     if (name == "basis") return ExportLayout::Basis;
-    throw ValueError("unknown export layout '" + name + "' (choose sh2, sh2-packed, sh1, vectors, compact, bins or basis)");
+    throw ValueError("unknown export layout '" + name + "' (choose sh2, sh2-packed, sh1, sh1-16, sh2-32, vectors, compact, bins or basis)");
 }
 
 const char* formatName(TextureFormat format) {
@@ -49,6 +52,8 @@ const char* layoutName(ExportLayout layout) {
         case ExportLayout::Compact: return "compact";
         case ExportLayout::Bins: return "bins";
         case ExportLayout::Basis: return "basis";
+        case ExportLayout::Sh1x16: return "sh1-16";
+        case ExportLayout::Sh2x32: return "sh2-32";
     }
     return "?";
 }
@@ -133,11 +138,19 @@ std::vector<TextureDesc> layoutTextures(ExportLayout layout, int binResolution) 
             break;
         case ExportLayout::Basis:
             throw FormatError("layout 'basis' takes its textures from the volume's basis (basisTextures)");
+        case ExportLayout::Sh1x16:
+        case ExportLayout::Sh2x32:
+            t = compactShTextures(layout);
+            break;
     }
     return t;
 }
 
 void packTexel(ExportLayout layout, const Rgb L[9], float* out) {
+    if (isCompactSh(layout)) {
+        packCompactTexel(layout, L, out);
+        return;
+    }
     if (layout == ExportLayout::Sh2) {
         for (int j = 0; j < sh::kCoeffs; ++j) {
             out[4 * j + 0] = L[j].x;

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "compact_sh.h"
 #include "export_internal.h"
 #include "vdblight/depth_moments.h"
 #include "vdblight/sh.h"
@@ -71,9 +72,44 @@ const char* irradianceFormula(ExportLayout layout) {
                    "bins.blend (what vdblight query does)";
         case ExportLayout::Basis:
             return "";  // the basis's own (ManifestInput::basisFormula)
+        case ExportLayout::Sh1x16:
+            return "decode each texel (compact_sh.decode) into shAr, shAg, shAb, then E_c = dot(shAc, (n, 1)) as for sh1; "
+                   "decode the 8 corner texels and blend them (trilinear, or the depth weights): decoding after hardware "
+                   "filtering is not exact between texels";
+        case ExportLayout::Sh2x32:
+            return "decode each texel (compact_sh.decode) into shAr..shC, then E_c as for sh2-packed: dot(shAc, (n, 1)) + "
+                   "dot(shBc, (n.x*n.y, n.y*n.z, n.z*n.z, n.z*n.x)) + shC.c * (n.x*n.x - n.y*n.y); decode the 8 corner "
+                   "texels and blend them (trilinear, or the depth weights): decoding after hardware filtering is not exact "
+                   "between texels";
     }
     return "";
 }
+/// The "compact_sh" object of sh1-16 / sh2-32: the decode constants (compact_sh.h).
+std::string compactShJson(ExportLayout layout) {
+    std::ostringstream s;
+    s << "  \"compact_sh\": {\"l0_texture\": \"L0_L1Rx\", \"l1_range\": " << num(compact_sh::kL1Range);
+    if (layout == ExportLayout::Sh2x32)
+        s << ", \"l2_range\": [" << num(compact_sh::kL2Range[0]) << ", " << num(compact_sh::kL2Range[1]) << ", "
+          << num(compact_sh::kL2Range[2]) << ", " << num(compact_sh::kL2Range[3]) << "], \"l2c_range\": "
+          << num(compact_sh::kL2CRange);
+    s << ",\n    \"encode\": \"per colour c: a = A0*c0*L0 (stored as is in L0_L1Rx.rgb); every other value v is stored as "
+         "t = clamp(v / (range * a) + 0.5, 0, 1) (t = 0.5 where a <= 0), in 8-bit unorm except L0_L1Rx.a\",\n"
+      << "    \"decode\": \"v = (t - 0.5) * range * a with a of the same texel and colour; b_c = (A1*c1*L3, A1*c1*L1, "
+         "A1*c1*L2) = L1 values of colour c (red: L0_L1Rx.a, L1G_L1Ry.a, L1B_L1Rz.a; green: L1G_L1Ry.rgb; blue: "
+         "L1B_L1Rz.rgb), range l1_range; shA_c = (b_c, a_c - d_c)";
+    if (layout == ExportLayout::Sh2x32)
+        s << "; from L2_<c>.rgba with l2_range: (A2*c2*L4, A2*c2*L5, d = A2*c3*L6, A2*c2*L7), shB_c = (L4 term, L5 term, "
+             "3 d, L7 term); shC.c = (L2_C.c - 0.5) * l2c_range * a_c";
+    else
+        s << " with d_c = 0 (no band 2)";
+    s << "\",\n    \"ranges_why\": \"the largest |v / a| of a non-negative radiance: |L1 term| <= 2 a, |L4, L5, L7 terms| <= "
+         "15/8 a, -5/16 a <= d <= 5/8 a, |L8 term| <= 15/16 a (docs/engines.md)\",\n"
+      << "    \"bytes_per_probe\": \"" << (layout == ExportLayout::Sh2x32 ? 32 : 16)
+      << " with --half in ktx2, dds and raw (8 for L0_L1Rx, 4 for each other texture; the EXR atlas stores them all in "
+         "half or float)\"},\n";
+    return s.str();
+}
+
 /// The "direct" object (bake --direct; docs/engines.md, "Direct light").
 std::string directJson(const DirectLightSet& d, const std::vector<std::string>& visibility) {
     std::ostringstream s;
@@ -172,7 +208,8 @@ std::string manifestJson(const ManifestInput& in) {
     if (o.layout == ExportLayout::Basis) s << "  \"basis\": " << quote(in.basisKind) << ",\n";
     // An sh:N volume (N > 2; the default bake stores sh:4) in an SH order-2 layout: its bands
     // 0..2 (sh_truncate.h), which `vdblight query --sh-order 2` answers with.
-    const bool shLayout = o.layout == ExportLayout::Sh2 || o.layout == ExportLayout::Sh2Packed || o.layout == ExportLayout::Sh1;
+    const bool shLayout = o.layout == ExportLayout::Sh2 || o.layout == ExportLayout::Sh2Packed || o.layout == ExportLayout::Sh1 ||
+                          isCompactSh(o.layout);
     if (shLayout && in.basisKind.rfind("sh:", 0) == 0 && in.basisKind != "sh:2")
         s << "  \"truncated_from\": {\"basis\": " << quote(in.basisKind)
           << ", \"kept\": \"bands 0..2 of the volume's SH (the projection onto them); vdblight query --sh-order 2 "
@@ -183,6 +220,7 @@ std::string manifestJson(const ManifestInput& in) {
       << ", \"c1\": " << num(std::sqrt(3.0 / (4.0 * kPi))) << ", \"c2\": " << num(std::sqrt(15.0 / (4.0 * kPi)))
       << ", \"c3\": " << num(std::sqrt(5.0 / (16.0 * kPi))) << ", \"c4\": " << num(std::sqrt(15.0 / (16.0 * kPi)))
       << "},\n";
+    if (isCompactSh(o.layout)) s << compactShJson(o.layout);
     if (o.layout == ExportLayout::Bins) {
         const int R = in.binResolution;
         s << "  \"bins\": {\"basis\": " << quote(in.basisKind) << ", \"resolution\": " << R

@@ -1,0 +1,90 @@
+// `vdblight export --layout sh2-32 | sh1-16` end to end on a default-kind bake (SH order 4,
+// depth moments, --direct occlusion): the files are read back by scripts/check_export.py
+// (manifest.json and docs/engines.md only) and must match `vdblight query --sh-order 2` within
+// the bound that 8-bit rounding explains; ktx-parse reads the KTX2 files. A volume whose basis
+// cannot take these layouts gets one line and no output.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "cli_baked_suite.h"
+#include "export_readers.h"
+
+namespace fs = std::filesystem;
+using namespace vdblight::test;
+
+namespace {
+class CliExportCompact : public BakedSuite<CliExportCompact> {
+public:
+    static std::vector<SuiteBake> bakes() {
+        return {{"cornell.vdb", "--resolution 6 --rays 48"},
+                {"plain.vdb", "--resolution 5 --rays 32 --no-depth-moments"},
+                {"photons.vdb", "--method photons --photons 20000 --resolution 4"}};
+    }
+
+protected:
+    static std::string volume() { return file("cornell.vdb"); }
+};
+
+std::string readText(const std::string& path) {
+    std::ifstream in(path);
+    return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+}  // namespace
+
+TEST_F(CliExportCompact, RoundTripMatchesQueryWithinTheEightBitBound) {
+    TempDir out;
+    // The default kind (depth weights on 8 decoded corners) and one without depth moments
+    // (trilinear, as hardware filtering of decoded texels).
+    const struct {
+        const char *layout, *format, *volume;
+    } cases[] = {
+        {"sh2-32", "ktx2", "cornell.vdb"}, {"sh2-32", "raw", "plain.vdb"}, {"sh2-32", "dds", "cornell.vdb"},
+        {"sh1-16", "raw", "cornell.vdb"},  {"sh1-16", "dds", "plain.vdb"},
+    };
+    for (const auto& c : cases) {
+        const std::string label = std::string(c.layout) + " " + c.format + " " + c.volume;
+        const std::string where = out.file(std::string(c.layout) + c.format + c.volume);
+        std::string log;
+        ASSERT_EQ(runCommand(cliPath() + " export -q " + file(c.volume) + " -o " + where + " --format " + c.format +
+                                 " --layout " + c.layout, &log), 0) << label << ": " << log;
+        const std::string manifest = readText(where + "/manifest.json");
+        EXPECT_NE(manifest.find("\"compact_sh\""), std::string::npos) << label;
+        // 8 B of L0_L1Rx + 4 B for each other lighting texture: 16 or 32 B per probe.
+        EXPECT_NE(manifest.find("\"name\": \"L0_L1Rx\", \"file\": \"L0_L1Rx"), std::string::npos) << label;
+        EXPECT_NE(manifest.find("\"format\": \"rgba16_sfloat\", \"bytes_per_texel\": 8"), std::string::npos) << label;
+        EXPECT_NE(manifest.find("\"name\": \"L1G_L1Ry\", \"file\": \"L1G_L1Ry" + std::string(c.format[0] == 'k' ? ".ktx2" : c.format[0] == 'd' ? ".dds" : ".raw") +
+                                "\", \"format\": \"rgba8_unorm\", \"bytes_per_texel\": 4"),
+                  std::string::npos) << label << manifest;
+        EXPECT_NE(manifest.find("\"name\": \"light_visibility_0_0\", \"file\": \"light_visibility_0_0" +
+                                std::string(c.format[0] == 'k' ? ".ktx2" : c.format[0] == 'd' ? ".dds" : ".raw") +
+                                "\", \"format\": \"rgba8_unorm\""),
+                  std::string::npos) << label << ": the visibility in 8 bits";
+        const int status = checkExport(file(c.volume), where, &log);
+        EXPECT_EQ(status, 0) << label << ": " << log;
+        EXPECT_NE(log.find("8-bit bound"), std::string::npos) << label << ": " << log;
+        if (std::string(c.format) == "raw") {
+            EXPECT_EQ(fs::file_size(where + "/L1G_L1Ry.raw") * 2, fs::file_size(where + "/L0_L1Rx.raw")) << label;
+        }
+    }
+}
+
+TEST_F(CliExportCompact, KtxParseReadsTheEightBitTextures) {
+    ASSERT_TRUE(fs::exists(ktxParseDir())) << "ktx-parse is not installed: run scripts/setup.sh (npm ci in scripts/ktx)";
+    TempDir out;
+    std::string log;
+    ASSERT_EQ(runCommand(cliPath() + " export -q " + volume() + " -o " + out.file("k") + " --format ktx2 --layout sh2-32", &log), 0)
+        << log;
+    EXPECT_EQ(checkKtx2(out.file("k"), &log), 0) << log;
+    EXPECT_NE(log.find("pass"), std::string::npos) << log;
+}
+
+TEST_F(CliExportCompact, LayoutTheBasisCannotTakeGetsOneLineAndNoOutput) {
+    TempDir out;
+    for (const char* layout : {"sh2-32", "sh1-16"}) {
+        expectRefusal("export " + file("photons.vdb") + " -o " + out.file("x") + " --layout " + layout,
+                      "does not fit volume kind", out.file("x"), layout);
+        expectRefusal("export " + volume() + " -o " + out.file("x") + " --layout " + layout + " --cells 2",
+                      "--cells exports the SH layouts", out.file("x"), std::string(layout) + " --cells");
+    }
+}
