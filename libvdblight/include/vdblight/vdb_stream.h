@@ -38,6 +38,9 @@ public:
     /// Thread-safe.
     void readNode(int level, int i, int j, int k, float* out) const;
     void readNode(int i, int j, int k, float* out) const { readNode(0, i, j, k, out); }
+    /// The first `channels` channels of readNode only (3 floats each): the other channels'
+    /// leaves are not read.
+    void readChannels(int level, int i, int j, int k, int channels, float* out) const;
     /// True if node (i, j, k) of `level` is stored (an active voxel; sparse levels, culled nodes).
     bool nodeStored(int level, int i, int j, int k) const;
     /// True if cell (i, j, k) of `level` (lower corner node (i, j, k)) is refined into the next.
@@ -60,7 +63,8 @@ public:
     /// Drops the values of every leaf read so far (the file's grids are opened again, the header
     /// object stays): a pass over the whole volume, such as export --cells, keeps its memory to
     /// the leaves of a few cells at the cost of reading the topology again. Not thread-safe:
-    /// call it while no lookup reads this volume.
+    /// call it while no lookup reads this volume. Throws IoError / FormatError if the file can
+    /// no longer be opened (changed or removed); the volume then reads nothing.
     void releaseLeaves();
     /// Size of the file in bytes.
     uint64_t fileBytes() const { return fileBytes_; }

@@ -44,7 +44,7 @@ public:
         checkInside(gv, grid_, x, outside_);
         const float g[3] = {gv.x, gv.y, gv.z};
         Corners corners;
-        locate(g, corners);
+        locate(g, corners, basis_->channelCount());
         // As ChannelLookup::sumTerms: each term's channel blended over the corners, then weighted.
         Rgb e{0, 0, 0};
         for (int b = 0; b < nb; ++b) {
@@ -65,19 +65,17 @@ public:
         // In double, as ChannelLookup::channelValues: exact at a node position.
         const double g[3] = {(x.x - grid_.origin.x) / grid_.spacing, (x.y - grid_.origin.y) / grid_.spacing,
                              (x.z - grid_.origin.z) / grid_.spacing};
-        Corners corners;
-        locate(g, corners);
-        std::fill(out, out + floatsPerNode_, 0.0f);
-        for (int c = 0; c < 8; ++c) {
-            const float* p = corners.values.data() + c * floatsPerNode_;
-            for (std::size_t f = 0; f < floatsPerNode_; ++f) out[f] += corners.weight[c] * p[f];
-        }
+        blendChannels(g, basis_->channelCount(), out);
     }
 
     void shRadiance(const Vec3d& x, Rgb out[9]) const override {
         if (basis_->shCoefficients() < sh::kCoeffs) VolumeLookup::shRadiance(x, out);  // throws
-        std::vector<float> values(floatsPerNode_);
-        channelValues(x, values.data());
+        // The first nine channels of channelValues: each float is blended on its own, so
+        // reading only those nine (and their leaves, a third of sh:4's) gives the same bits.
+        const double g[3] = {(x.x - grid_.origin.x) / grid_.spacing, (x.y - grid_.origin.y) / grid_.spacing,
+                             (x.z - grid_.origin.z) / grid_.spacing};
+        float values[3 * sh::kCoeffs];
+        blendChannels(g, sh::kCoeffs, values);
         for (int j = 0; j < sh::kCoeffs; ++j) out[j] = Rgb(values[3 * j], values[3 * j + 1], values[3 * j + 2]);
     }
 
@@ -87,18 +85,31 @@ public:
 private:
     static constexpr int kMaxTerms = 64;  // ChannelLookup::kMaxTerms
 
-    /// The eight corner nodes' values (floatsPerNode_ floats each, corner c = x bit 0, y bit 1,
-    /// z bit 2) and their weights.
+    /// The eight corner nodes' values (the channels read, 3 floats each, corner c = x bit 0,
+    /// y bit 1, z bit 2) and their weights.
     struct Corners {
         std::vector<float> values;
         float weight[8];
     };
 
+    /// ChannelLookup::channelValues for the first `channels` channels: located in double, each
+    /// float summed over the corners in order.
+    void blendChannels(const double g[3], int channels, float* out) const {
+        Corners corners;
+        locate(g, corners, channels);
+        const std::size_t floats = std::size_t(channels) * 3;
+        std::fill(out, out + floats, 0.0f);
+        for (int c = 0; c < 8; ++c) {
+            const float* p = corners.values.data() + c * floats;
+            for (std::size_t f = 0; f < floats; ++f) out[f] += corners.weight[c] * p[f];
+        }
+    }
+
     /// ChannelLookup::locate: the cell of the level-0 lattice coordinate g (clamped into the
     /// box), the descent through refined cells, trilinear weights in T and, in cells of the
     /// finest level, the depth weights.
     template <class T>
-    void locate(const T g[3], Corners& out) const {
+    void locate(const T g[3], Corners& out, int channels) const {
         int cell[3] = {0, 0, 0};
         T f[3] = {0, 0, 0};
         const int dims[3] = {grid_.nx, grid_.ny, grid_.nz};
@@ -117,10 +128,11 @@ private:
         // Level 0 steps along an axis only if it has two nodes; finer levels always do.
         const int step[3] = {level > 0 || dims[0] > 1, level > 0 || dims[1] > 1, level > 0 || dims[2] > 1};
         int node[8][3];
-        out.values.resize(8 * floatsPerNode_);
+        const std::size_t floats = std::size_t(channels) * 3;
+        out.values.resize(8 * floats);
         for (int c = 0; c < 8; ++c) {
             for (int a = 0; a < 3; ++a) node[c][a] = cell[a] + ((c >> a) & 1) * step[a];
-            volume_->readNode(level, node[c][0], node[c][1], node[c][2], out.values.data() + c * floatsPerNode_);
+            volume_->readChannels(level, node[c][0], node[c][1], node[c][2], channels, out.values.data() + c * floats);
         }
         const T wx[2] = {1 - f[0], f[0]}, wy[2] = {1 - f[1], f[1]}, wz[2] = {1 - f[2], f[2]};
         for (int c = 0; c < 8; ++c) out.weight[c] = float(wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2]);

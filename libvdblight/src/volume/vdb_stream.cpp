@@ -2,6 +2,8 @@
 // live in vdb_read.cpp (openDelayedVolume); this file only reads voxels.
 #include "vdblight/vdb_stream.h"
 
+#include <algorithm>
+#include <cstdint>
 #include <filesystem>
 
 #include "vdblight/depth_moments.h"
@@ -54,8 +56,14 @@ StreamedVolume::StreamedVolume(const std::string& path) : impl_(std::make_unique
 }
 
 void StreamedVolume::releaseLeaves() {
+    // The old grids go first, so that the topology is never held twice; the header object
+    // stays (callers hold references to it), only the grids are replaced.
+    impl_->levels.clear();
+    impl_->visibility.clear();
+    impl_->file.levels.clear();
+    impl_->file.visibility.clear();
+    impl_->file.file.reset();
     DelayedVolumeFile again = openDelayedVolume(path_);
-    // The header object stays (callers hold references to it); only the grids are replaced.
     impl_->file.file = std::move(again.file);
     impl_->file.levels = std::move(again.levels);
     impl_->file.visibility = std::move(again.visibility);
@@ -71,9 +79,9 @@ bool StreamedVolume::hasDepth() const { return impl_->depth; }
 namespace {
 // Reads voxel (i, j, k) of every tree into out (3 floats each). A tree's getValue pages in
 // the leaf under the mutex of its buffer, so concurrent readers are safe.
-void readVoxels(const std::vector<const Vec3STree*>& trees, int i, int j, int k, float* out) {
+void readVoxels(const std::vector<const Vec3STree*>& trees, int i, int j, int k, float* out, std::size_t count = SIZE_MAX) {
     const Coord c(i, j, k);
-    for (std::size_t t = 0; t < trees.size(); ++t) {
+    for (std::size_t t = 0; t < std::min(count, trees.size()); ++t) {
         const openvdb::Vec3s v = trees[t]->getValue(c);
         out[3 * t] = v.x(), out[3 * t + 1] = v.y(), out[3 * t + 2] = v.z();
     }
@@ -82,6 +90,10 @@ void readVoxels(const std::vector<const Vec3STree*>& trees, int i, int j, int k,
 
 void StreamedVolume::readNode(int level, int i, int j, int k, float* out) const {
     readVoxels(impl_->levels.at(std::size_t(level)).channels, i, j, k, out);
+}
+
+void StreamedVolume::readChannels(int level, int i, int j, int k, int channels, float* out) const {
+    readVoxels(impl_->levels.at(std::size_t(level)).channels, i, j, k, out, std::size_t(std::max(channels, 0)));
 }
 
 bool StreamedVolume::nodeStored(int level, int i, int j, int k) const {
