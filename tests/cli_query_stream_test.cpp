@@ -1,8 +1,11 @@
-// `vdblight query` on a volume larger than its memory limit (issue 17, "Worlds larger than
-// memory"): a synthetic uniform SH file of about 400 MB is queried in a child process whose
-// data segment (RLIMIT_DATA, set with prlimit) is a quarter of the file. Streamed, it answers
-// the values known from construction; read whole (--stream off), it must fail under the same
-// limit, so the test can fail. On a small file both modes print the same bytes.
+// `vdblight query` and `export --cells` on a volume larger than their memory limit (issue 17,
+// "Worlds larger than memory"; issue 33: on the default bake's kind): a synthetic volume of
+// the kind the default bake writes (sh:4, depth moments, --direct occlusion with two lights'
+// visibility) of about 400 MB is queried and exported in cells in a child process whose data
+// segment (RLIMIT_DATA, set with prlimit) is a quarter of the file. Streamed, the query prints
+// exactly the floats the in-memory query gives at the same points; read whole (--stream off),
+// it must fail under the same limit, so the test can fail. On a small file both modes print
+// the same bytes.
 //
 // Why RLIMIT_DATA and not RLIMIT_AS: delayed loading maps the whole file read-only (its pages
 // are page cache the kernel can drop, not the process's memory) and TBB and glibc reserve
@@ -15,6 +18,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -23,9 +28,11 @@
 #include "cli_util.h"
 #include "test_util.h"
 #include "random_volumes.h"
+#include "vdblight/basis.h"
 #include "vdblight/bins.h"
+#include "vdblight/depth_moments.h"
+#include "vdblight/query.h"
 #include "vdblight/sampling.h"
-#include "vdblight/sh.h"
 #include "vdblight/vdb_io.h"
 
 using namespace vdblight;
@@ -33,66 +40,49 @@ namespace fs = std::filesystem;
 
 namespace {
 const std::string kCli = VDBLIGHT_CLI_PATH;
-constexpr int kN = 170;  // nodes per axis: 4.9 M nodes, 530 MB of floats, ~410 MB on disk (Blosc)
+constexpr int kN = 105;  // nodes per axis: 1.16 M nodes of 25 + 4 Vec3f and 2 float channels, ~410 MB on disk (Blosc)
 const Vec3d kOrigin(-3.0, 0.5, 2.0);
 constexpr double kSpacing = 0.25;
 
-// The synthetic coefficient of node (i, j, k), SH channel c, colour r: a hash of the indices
-// mapped to [0.2, 1.2) with 24 random mantissa bits, so that the file does not compress.
-float coefficient(int i, int j, int k, int c, int r) {
-    const uint64_t h = hashCombine(hashCombine(hashCombine(uint64_t(i), uint64_t(j)), uint64_t(k)), uint64_t(c * 3 + r));
-    return 0.2f + float(h >> 40) * (1.0f / 16777216.0f);
+// A hash of the node indices and a channel, 24 random bits in [0, 1), so that the file does
+// not compress.
+float hashed(int i, int j, int k, int channel) {
+    const uint64_t h = hashCombine(hashCombine(hashCombine(uint64_t(i), uint64_t(j)), uint64_t(k)), uint64_t(channel));
+    return float(h >> 40) * (1.0f / 16777216.0f);
 }
 
+// The default bake's kind: sh:4 coefficients in [0.2, 1.2) (band 0) and [-0.1, 0.1) (the
+// others), depth moments as the bake stores them (k/255; sigmas below 0.3), a point light and
+// a square light with visibility in [0, 1].
 Volume syntheticVolume(int n) {
     Volume v;
-    v.basis = BasisDesc::sh2();
+    v.basis = makeBasis("sh:4")->desc();
     VolumeLevel level;
     level.grid.origin = kOrigin;
     level.grid.spacing = kSpacing;
     level.grid.nx = level.grid.ny = level.grid.nz = n;
-    level.data.resize(level.grid.nodeCount() * 27);
+    const std::size_t nodes = level.grid.nodeCount();
+    level.data.resize(nodes * 75);
+    level.depth.resize(nodes * depth::kFloatsPerNode);
+    level.lightVisibility.resize(nodes * 2);
     for (int k = 0; k < n; ++k)
         for (int j = 0; j < n; ++j)
             for (int i = 0; i < n; ++i) {
-                float* p = level.data.data() + level.grid.index(i, j, k) * 27;
-                for (int c = 0; c < 9; ++c)
-                    for (int r = 0; r < 3; ++r) p[3 * c + r] = coefficient(i, j, k, c, r);
+                const std::size_t node = level.grid.index(i, j, k);
+                float* p = level.data.data() + node * 75;
+                for (int f = 0; f < 75; ++f) p[f] = f < 3 ? 0.2f + hashed(i, j, k, f) : 0.2f * hashed(i, j, k, f) - 0.1f;
+                float* d = level.depth.data() + node * depth::kFloatsPerNode;
+                for (int f = 0; f < depth::kFloatsPerNode; ++f)
+                    d[f] = depth::quantize(f >= 6 ? 0.3 * hashed(i, j, k, 100 + f) : hashed(i, j, k, 100 + f));
+                for (int l = 0; l < 2; ++l) level.lightVisibility[node * 2 + l] = hashed(i, j, k, 200 + l);
             }
     v.levels.push_back(std::move(level));
+    v.direct.mode = DirectMode::Occlusion;
+    DirectLight point;
+    point.position = kOrigin + Vec3d(5.0, 30.0, 7.0);
+    point.value = Rgb(400.0f, 380.0f, 350.0f);
+    v.direct.lights = {point, squareLight(kOrigin + Vec3d(12.0, 27.0, 12.0), Vec3d(0, -1, 0), 2.0, Rgb(900.0f, 900.0f, 800.0f))};
     return v;
-}
-
-// E(x, n) from the closed form: trilinear weights in double, the generic SH code, the
-// cosine-lobe constants (the definition in docs/format.md), and the scale of its terms.
-Rgbd expected(int n, const Vec3d& x, const Vec3d& normal, double& scale) {
-    double y[9];
-    sh::evalGeneric(2, normalize(normal), y);
-    int lo[3];
-    double f[3];
-    for (int a = 0; a < 3; ++a) {
-        const double g = std::min(std::max((x[a] - kOrigin[a]) / kSpacing, 0.0), double(n - 1));
-        lo[a] = std::min(int(g), n - 2);
-        f[a] = g - lo[a];
-    }
-    Rgbd e(0, 0, 0);
-    scale = 0;
-    for (int corner = 0; corner < 8; ++corner) {
-        int idx[3];
-        double w = 1;
-        for (int a = 0; a < 3; ++a) {
-            const int bit = (corner >> a) & 1;
-            idx[a] = lo[a] + bit;
-            w *= bit ? f[a] : 1 - f[a];
-        }
-        for (int c = 0; c < 9; ++c) {
-            const double s = w * sh::kCosineLobe[sh::bandOf(c)] * y[c];
-            e += Rgbd(coefficient(idx[0], idx[1], idx[2], c, 0), coefficient(idx[0], idx[1], idx[2], c, 1),
-                      coefficient(idx[0], idx[1], idx[2], c, 2)) * s;
-            scale += std::abs(s) * 1.2;
-        }
-    }
-    return e;
 }
 
 struct Point {
@@ -127,6 +117,37 @@ double seconds(std::chrono::steady_clock::time_point t0) {
 bool havePrlimit() {
     return test::runCommand("prlimit --version > /dev/null 2>&1") == 0 && test::runCommand("taskset -c 0 true > /dev/null 2>&1") == 0;
 }
+// The in-memory query's answers at the points, as `vdblight query --raw` computes them (the
+// normal read as floats and normalised, the point in double).
+std::vector<Rgb> inMemoryAnswers(const Volume& v, const std::vector<Point>& pts) {
+    const IrradianceQuery q(v);
+    std::vector<Rgb> out;
+    for (const Point& p : pts) out.push_back(q.irradianceWorld(p.x, normalize(Vec3f(float(p.n.x), float(p.n.y), float(p.n.z)))));
+    return out;
+}
+
+// The E columns of `vdblight query`'s CSV, parsed back to the floats it printed (9 digits
+// identify a float), compared bit for bit with `expected`.
+void expectSameFloats(const std::string& csv, const std::vector<Rgb>& expected) {
+    std::istringstream rows(csv);
+    std::string line;
+    std::getline(rows, line);
+    std::size_t row = 0;
+    while (std::getline(rows, line)) {
+        ASSERT_LT(row, expected.size());
+        std::vector<std::string> fields;
+        std::stringstream fs(line);
+        for (std::string f; std::getline(fs, f, ',');) fields.push_back(f);
+        ASSERT_EQ(fields.size(), 9u) << line;
+        const float e[3] = {expected[row].x, expected[row].y, expected[row].z};
+        for (int c = 0; c < 3; ++c) {
+            const float v = std::strtof(fields[std::size_t(6 + c)].c_str(), nullptr);
+            EXPECT_EQ(std::memcmp(&v, &e[c], sizeof v), 0) << "point " << row << " channel " << c << ": " << line << " vs " << e[c];
+        }
+        ++row;
+    }
+    EXPECT_EQ(row, expected.size());
+}
 }  // namespace
 
 TEST(CliQueryStream, LargerThanItsMemoryLimit) {
@@ -136,52 +157,53 @@ TEST(CliQueryStream, LargerThanItsMemoryLimit) {
     if (!havePrlimit()) GTEST_SKIP() << "prlimit or taskset (util-linux) is not available";
     test::TempDir dir;
     const std::string vdb = dir.file("world.vdb"), csv = dir.file("points.csv");
+    const std::vector<Point> pts = points(kN, 64);
+    writePoints(csv, pts);
     auto t0 = std::chrono::steady_clock::now();
+    std::vector<Rgb> expected;
     {
         const Volume v = syntheticVolume(kN);
-        std::printf("synthetic volume made in %.1f s\n", seconds(t0));
+        expected = inMemoryAnswers(v, pts);
+        std::printf("synthetic volume made and queried in memory in %.1f s\n", seconds(t0));
         writeVolume(v, vdb);
     }
     const uint64_t fileBytes = fs::file_size(vdb);
     const uint64_t limit = fileBytes / 4;
-    std::printf("synthetic volume: %d^3 nodes, %.1f MB on disk, written in %.1f s; RLIMIT_DATA %.1f MB\n", kN,
+    std::printf("synthetic default-kind volume: %d^3 nodes, %.1f MB on disk, written in %.1f s; RLIMIT_DATA %.1f MB\n", kN,
                 fileBytes / 1e6, seconds(t0), limit / 1e6);
     ASSERT_GE(fileBytes, 400'000'000u);
-    const std::vector<Point> pts = points(kN, 64);
-    writePoints(csv, pts);
     // One CPU for the child (taskset): RLIMIT_DATA counts thread stacks (8 MB each), and TBB
     // starts a worker per core, so on a many-core machine the limit would measure the core count.
     const std::string limited = "taskset -c 0 prlimit --data=" + std::to_string(limit) + ":" + std::to_string(limit) + " ";
 
-    // Streamed (chosen automatically above 256 MiB): the values of the construction.
+    // Streamed (chosen automatically above 256 MiB): the in-memory query's floats.
     t0 = std::chrono::steady_clock::now();
     std::string log;
     const int status = test::runCommand(limited + kCli + " query " + vdb + " --points " + csv + " --raw --stream-report -o " +
                                             dir.file("streamed.csv") + " 2>&1", &log);
     std::printf("streamed query of %zu points under the limit: %.2f s, %s", pts.size(), seconds(t0), log.c_str());
     ASSERT_EQ(status, 0) << log;
-    std::istringstream rows(test::readTextFile(dir.file("streamed.csv")));
-    std::string line;
-    std::getline(rows, line);
-    std::size_t checked = 0;
-    while (std::getline(rows, line)) {
-        double v[9];
-        ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", v, v + 1, v + 2, v + 3, v + 4, v + 5, v + 6,
-                              v + 7, v + 8), 9) << line;
-        ASSERT_LT(checked, pts.size());
-        double scale = 0;
-        const Rgbd e = expected(kN, pts[checked].x, pts[checked].n, scale);
-        for (int c = 0; c < 3; ++c) EXPECT_NEAR(v[6 + c], e[c], 2e-6 * scale) << "point " << checked << ": " << line;
-        ++checked;
-    }
-    EXPECT_EQ(checked, pts.size());
-    // Only the leaves around the points were read: at most 8 per grid and point.
+    expectSameFloats(test::readTextFile(dir.file("streamed.csv")), expected);
+    // Only the leaves around the points were read: at most 8 per grid (25 + 4 + 2) and point.
     unsigned long long read = 0, total = 0;
     const std::size_t at = log.find("read ");
     ASSERT_NE(at, std::string::npos) << log;
     ASSERT_EQ(std::sscanf(log.c_str() + at, "read %llu of %llu leaves", &read, &total), 2) << log;
-    EXPECT_LE(read, 9ull * 8ull * pts.size());
+    EXPECT_LE(read, 31ull * 8ull * pts.size());
     EXPECT_LT(read * 10, total);
+
+    // Exported in cells under the same limit. Texels 4.3 nodes apart read every leaf (8 nodes
+    // per edge) of the coefficients' first nine grids, the depth and the visibility grids,
+    // about 380 MB in memory: the leaves are dropped between cells once they pass 4 MiB
+    // (--cells-leaf-memory), so the export holds the topology (43.5 MiB), the leaves of a cell
+    // and its textures. (Measured: 85 MB of data segment suffice, 1 000 MiB of leaves kept would not.)
+    t0 = std::chrono::steady_clock::now();
+    const int cells = test::runCommand(limited + kCli + " export " + vdb + " -o " + dir.file("cells") +
+                                           " --cells 6 --resolution 25 --cells-leaf-memory 4 2>&1", &log);
+    std::printf("export --cells under the limit: exit %d after %.2f s: %s", cells, seconds(t0), log.c_str());
+    ASSERT_EQ(cells, 0) << log;
+    EXPECT_NE(test::readTextFile(dir.file("cells") + "/cells.json").find("\"cells_per_axis\": [4, 4, 4]"), std::string::npos);
+    EXPECT_TRUE(fs::exists(dir.file("cells") + "/cell_3_3_3/light_visibility_0_1.ktx2"));
 
     // Read whole, the same query cannot run under this limit.
     t0 = std::chrono::steady_clock::now();
@@ -193,17 +215,24 @@ TEST(CliQueryStream, LargerThanItsMemoryLimit) {
     EXPECT_FALSE(fs::exists(dir.file("whole.csv")));
 }
 
+// Same points, byte-identical output, streamed or read whole, for the default bake's kind.
 TEST(CliQueryStream, SameOutputStreamedOrWhole) {
     test::TempDir dir;
     const std::string vdb = dir.file("small.vdb"), csv = dir.file("points.csv");
-    writeVolume(syntheticVolume(20), vdb);
-    writePoints(csv, points(20, 200));
+    const Volume v = syntheticVolume(20);
+    writeVolume(v, vdb);
+    const std::vector<Point> pts = points(20, 200);
+    writePoints(csv, pts);
     std::string a, b, c;
     ASSERT_EQ(test::runCommand(kCli + " query " + vdb + " --points " + csv + " --raw --stream on 2>&1", &a), 0) << a;
     ASSERT_EQ(test::runCommand(kCli + " query " + vdb + " --points " + csv + " --raw 2>&1", &b), 0) << b;  // auto: small, whole
     EXPECT_EQ(a, b);
+    expectSameFloats(a, inMemoryAnswers(v, pts));
     ASSERT_EQ(test::runCommand(kCli + " query " + vdb + " --points " + csv + " --stream on --outside error 2>&1", &c), 0) << c;
     ASSERT_EQ(test::runCommand(kCli + " query " + vdb + " --points " + csv + " --stream off --outside error 2>&1", &b), 0) << b;
+    EXPECT_EQ(c, b);
+    ASSERT_EQ(test::runCommand(kCli + " query " + vdb + " --points " + csv + " --stream on --no-depth-weights 2>&1", &c), 0) << c;
+    ASSERT_EQ(test::runCommand(kCli + " query " + vdb + " --points " + csv + " --stream off --no-depth-weights 2>&1", &b), 0) << b;
     EXPECT_EQ(c, b);
     EXPECT_EQ(test::countLines(a), 201);
 }

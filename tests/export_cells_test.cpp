@@ -12,7 +12,9 @@
 #include "cli_util.h"
 #include "random_volumes.h"
 #include "test_util.h"
+#include "vdblight/basis.h"
 #include "vdblight/errors.h"
+#include "vdblight/sampling.h"
 #include "vdblight/export.h"
 #include "vdblight/export_cells.h"
 #include "vdblight/query_stream.h"
@@ -88,17 +90,20 @@ const std::vector<std::string>& textureNames(ExportLayout layout) {
     return layout == ExportLayout::Sh2 ? sh2 : layout == ExportLayout::Sh1 ? sh1 : packed;
 }
 
+// A texture name and its texel size in the export (depth textures are RGBA8 in ktx2).
+using Texture = std::pair<std::string, std::size_t>;
+
 // Every cell texel equals the whole export's texel at the same lattice point; the cells
 // cover the lattice, overlapping only in shared boundary planes.
-void expectCellsMatchWhole(const fs::path& whole, const fs::path& cellsDir, ExportLayout layout, int k,
-                           std::size_t texelBytes) {
+void expectCellsMatchWhole(const fs::path& whole, const fs::path& cellsDir, const std::vector<Texture>& textures, int k) {
     int perAxis[3];
     const std::vector<Cell> cells = readIndex(cellsDir, perAxis);
     ASSERT_EQ(cells.size(), std::size_t(perAxis[0]) * perAxis[1] * perAxis[2]);
     std::size_t dirs = 0;
     for (const auto& e : fs::directory_iterator(cellsDir)) dirs += e.is_directory();
     EXPECT_EQ(dirs, cells.size());
-    for (const std::string& name : textureNames(layout)) {
+    for (const auto& [name, texelBytes] : textures) {
+        ASSERT_TRUE(fs::exists(whole / (name + ".ktx2"))) << name;
         const Ktx2 w = readKtx2(whole / (name + ".ktx2"));
         std::vector<int> covered(std::size_t(w.dims[0]) * w.dims[1] * w.dims[2], 0);
         for (const Cell& c : cells) {
@@ -132,6 +137,30 @@ void expectCellsMatchWhole(const fs::path& whole, const fs::path& cellsDir, Expo
                     ASSERT_EQ(covered[(std::size_t(z) * w.dims[1] + y) * w.dims[0] + x], expect) << x << "," << y << "," << z;
                 }
     }
+}
+
+void expectCellsMatchWhole(const fs::path& whole, const fs::path& cellsDir, ExportLayout layout, int k,
+                           std::size_t texelBytes) {
+    std::vector<Texture> textures;
+    for (const std::string& name : textureNames(layout)) textures.emplace_back(name, texelBytes);
+    expectCellsMatchWhole(whole, cellsDir, textures, k);
+}
+
+// Every file of two cell exports is the same, but for the lookup kind their manifests name.
+void expectSameFiles(const fs::path& a, const fs::path& b, std::size_t count) {
+    std::size_t files = 0;
+    for (const auto& e : fs::recursive_directory_iterator(a)) {
+        if (!e.is_regular_file()) continue;
+        std::string x = readFile(e.path()), y = readFile(b / fs::relative(e.path(), a));
+        if (e.path().filename() == "manifest.json" || e.path().filename() == "cells.json")
+            for (std::string* s : {&x, &y}) {
+                const std::size_t p = s->find("\"volume_kind\"");
+                s->erase(p, s->find('\n', p) - p);
+            }
+        EXPECT_EQ(x, y) << e.path();
+        ++files;
+    }
+    EXPECT_EQ(files, count);
 }
 
 }  // namespace
@@ -170,22 +199,79 @@ TEST(ExportCells, StreamedVolumeExportsTheSameFiles) {
     ExportOptions o;
     exportCells(IrradianceQuery(v), v, dir.file("memory"), o, 8);
     auto streamed = std::make_shared<StreamedVolume>(dir.file("v.vdb"));
-    exportCells(makeStreamingQuery(streamed, OutsidePolicy::Clamp), streamed->header(), dir.file("streamed"), o, 8);
-    std::size_t files = 0;
-    for (const auto& e : fs::recursive_directory_iterator(dir.file("memory"))) {
-        if (!e.is_regular_file()) continue;
-        const fs::path other = fs::path(dir.file("streamed")) / fs::relative(e.path(), dir.file("memory"));
-        std::string a = readFile(e.path()), b = readFile(other);
-        if (e.path().filename() == "manifest.json" || e.path().filename() == "cells.json") {  // names the lookup kind
-            for (std::string* s : {&a, &b}) {
-                const std::size_t p = s->find("\"volume_kind\"");
-                s->erase(p, s->find('\n', p) - p);
-            }
-        }
-        EXPECT_EQ(a, b) << e.path();
-        ++files;
+    exportCells(makeStreamingQuery(streamed, OutsidePolicy::Clamp), *streamed, dir.file("streamed"), o, 8);
+    expectSameFiles(dir.file("memory"), dir.file("streamed"), 3u * 1u * 2u * 8u + 1u);  // 6 cells x (7 textures + manifest) + cells.json
+}
+
+// The default bake's kind (sh:4, depth moments, --direct occlusion with five lights: two
+// visibility textures): the cells, read in memory or streamed, reassemble into the whole
+// export's layout, visibility and depth textures; the basis layout (all 25 coefficients) too.
+TEST(ExportCells, DefaultKindCellsCarryVisibilityAndDepth) {
+    Volume v = test::randomUniformVolume(makeBasis("sh:4")->desc(), 11, 9, 7, 0.2, 31);
+    test::randomDepth(v, 32);
+    for (float& f : v.levels[0].data) f = 0.5f * f + 0.2f;
+    v.direct.mode = DirectMode::Occlusion;
+    Rng rng(33);
+    for (int l = 0; l < 5; ++l) {
+        DirectLight light;
+        light.position = v.levels[0].grid.origin + Vec3d(0.3 * l, 2.5, 0.5);
+        light.value = Rgb(1.0f, 1.0f, 1.0f);
+        v.direct.lights.push_back(light);
     }
-    EXPECT_EQ(files, 3u * 1u * 2u * 8u + 1u);  // 6 cells x (7 textures + manifest) + cells.json
+    v.levels[0].lightVisibility.resize(v.levels[0].grid.nodeCount() * 5);
+    for (float& f : v.levels[0].lightVisibility) f = rng.uniform();
+    test::TempDir dir;
+    writeVolume(v, dir.file("v.vdb"));
+    const Volume read = readVolume(dir.file("v.vdb"));
+    std::vector<Texture> extra = {{"light_visibility_0_3", 8}, {"light_visibility_4_4", 8},
+                                  {"depth_x", 4}, {"depth_y", 4}, {"depth_z", 4}};
+    for (ExportLayout layout : {ExportLayout::Sh2Packed, ExportLayout::Basis}) {
+        ExportOptions o;
+        o.layout = layout;
+        exportTextures(read, dir.file("whole"), o);
+        std::vector<Texture> textures = extra;
+        if (layout == ExportLayout::Basis)
+            for (const BasisTexture& t : makeBasis("sh:4")->textures()) textures.emplace_back(t.name, 8);
+        else
+            for (const std::string& name : textureNames(layout)) textures.emplace_back(name, 8);
+        exportCells(IrradianceQuery(read), read, dir.file("memory"), o, 6);
+        expectCellsMatchWhole(dir.file("whole"), dir.file("memory"), textures, 6);
+        // Streamed, with the leaves dropped after every cell (leafMemory 1 byte).
+        auto streamed = std::make_shared<StreamedVolume>(dir.file("v.vdb"));
+        exportCells(makeStreamingQuery(streamed, OutsidePolicy::Clamp), *streamed, dir.file("streamed"), o, 6, 1);
+        expectSameFiles(dir.file("memory"), dir.file("streamed"), 2u * 2u * 1u * (textures.size() + 1) + 1u);
+        const std::string manifest = readFile(fs::path(dir.file("memory")) / "cell_0_0_0" / "manifest.json");
+        EXPECT_NE(manifest.find("light_visibility_4_4"), std::string::npos);
+        EXPECT_NE(manifest.find("\"exported\": true"), std::string::npos) << manifest;
+        for (const char* d : {"whole", "memory", "streamed"}) fs::remove_all(dir.file(d));
+    }
+    // A volume's header alone (no node values) is refused, not exported without depth.
+    auto streamed = std::make_shared<StreamedVolume>(dir.file("v.vdb"));
+    EXPECT_THROW(exportCells(makeStreamingQuery(streamed, OutsidePolicy::Clamp), streamed->header(), dir.file("h"),
+                             ExportOptions{}, 4),
+                 ValueError);
+    EXPECT_FALSE(fs::exists(dir.file("h")));
+}
+
+// Adaptive levels of sh:4 with depth moments: the depth textures lie on the finest lattice,
+// free where the finest level stores no node; cells equal the whole export there too.
+TEST(ExportCells, AdaptiveDepthTexturesOnTheFinestLattice) {
+    Volume v = test::randomLevelsVolume(LayoutKind::Adaptive, 3, makeBasis("sh:4")->desc(), 7, -0.2f, 1.0f);
+    test::randomDepth(v, 8);
+    test::TempDir dir;
+    writeVolume(v, dir.file("v.vdb"));
+    const Volume read = readVolume(dir.file("v.vdb"));
+    ExportOptions o;
+    exportTextures(read, dir.file("whole"), o);
+    std::vector<Texture> textures = {{"depth_x", 4}, {"depth_y", 4}, {"depth_z", 4}};
+    for (const std::string& name : textureNames(ExportLayout::Sh2Packed)) textures.emplace_back(name, 8);
+    exportCells(IrradianceQuery(read), read, dir.file("memory"), o, 8);
+    expectCellsMatchWhole(dir.file("whole"), dir.file("memory"), textures, 8);
+    auto streamed = std::make_shared<StreamedVolume>(dir.file("v.vdb"));
+    exportCells(makeStreamingQuery(streamed, OutsidePolicy::Clamp), *streamed, dir.file("streamed"), o, 8);
+    std::size_t cells = 0;
+    for (const auto& e : fs::directory_iterator(dir.file("memory"))) cells += e.is_directory();
+    expectSameFiles(dir.file("memory"), dir.file("streamed"), cells * (textures.size() + 1) + 1u);
 }
 
 TEST(ExportCells, RefusesWhatCellsDoNotCarryAndLeavesNothing) {

@@ -6,7 +6,9 @@
 
 #include "random_volumes.h"
 #include "test_util.h"
+#include "vdblight/basis.h"
 #include "vdblight/bins.h"
+#include "vdblight/light_visibility.h"
 #include "vdblight/depth_moments.h"
 #include "vdblight/errors.h"
 #include "vdblight/query.h"
@@ -51,8 +53,13 @@ void expectSameBits(const std::string& path, OutsidePolicy outside, bool depthWe
     EXPECT_EQ(streamed.depthWeighted(), memory.depthWeighted());
     EXPECT_EQ(streamed.bounds().lo, memory.bounds().lo);
     EXPECT_EQ(streamed.bounds().hi, memory.bounds().hi);
+    EXPECT_EQ(std::string(streamed.kind()), std::string(memory.kind()) + "-streamed");
     int compared = 0, finer = 0;
     const auto* levels = dynamic_cast<const ShLevelsLookup*>(&memory.lookup());
+    const std::size_t channels = whole.basis.kind == "sh2" ? 0 : std::size_t(whole.basis.channelCount()) * 3;
+    const std::size_t lights = whole.direct.hasVisibility() ? whole.direct.lights.size() : 0;
+    const auto* visibility = dynamic_cast<const LightVisibility*>(&streamed.lookup());
+    EXPECT_EQ(visibility != nullptr, lights > 0);
     for (const Probe& p : probes(whole.levels[0].grid, 400, 7)) {
         bool threwMemory = false, threwStreamed = false;
         Rgb a, b, c, d;
@@ -69,10 +76,28 @@ void expectSameBits(const std::string& path, OutsidePolicy outside, bool depthWe
         if (levels && levels->levelAt(Vec3f(p.x)) > 0) ++finer;
         ASSERT_TRUE(sameBits(a, b)) << "irradiance at " << p.x.x << "," << p.x.y << "," << p.x.z;
         ASSERT_TRUE(sameBits(c, d)) << "irradianceWorld at " << p.x.x << "," << p.x.y << "," << p.x.z;
-        Rgb sa[9], sb[9];
-        memory.lookup().shRadiance(p.x, sa);
-        streamed.lookup().shRadiance(p.x, sb);
-        for (int j = 0; j < 9; ++j) ASSERT_TRUE(sameBits(sa[j], sb[j])) << "shRadiance " << j;
+        if (channels == 0 || channels >= 27) {  // sh:1 stores no SH order-2 part: both refuse it
+            Rgb sa[9], sb[9];
+            memory.lookup().shRadiance(p.x, sa);
+            streamed.lookup().shRadiance(p.x, sb);
+            for (int j = 0; j < 9; ++j) ASSERT_TRUE(sameBits(sa[j], sb[j])) << "shRadiance " << j;
+        } else {
+            Rgb sa[9];
+            EXPECT_THROW(memory.lookup().shRadiance(p.x, sa), FormatError);
+            EXPECT_THROW(streamed.lookup().shRadiance(p.x, sa), FormatError);
+        }
+        if (channels > 0) {  // registered bases: the channel values export's basis layout reads
+            std::vector<float> ca(channels), cb(channels);
+            memory.lookup().channelValues(p.x, ca.data());
+            streamed.lookup().channelValues(p.x, cb.data());
+            ASSERT_EQ(std::memcmp(ca.data(), cb.data(), ca.size() * sizeof(float)), 0) << "channelValues";
+        }
+        if (visibility) {  // bake --direct occlusion: what export's visibility textures read
+            std::vector<float> va(lights), vb(lights);
+            dynamic_cast<const LightVisibility&>(memory.lookup()).visibility(p.x, va.data());
+            visibility->visibility(p.x, vb.data());
+            ASSERT_EQ(std::memcmp(va.data(), vb.data(), va.size() * sizeof(float)), 0) << "visibility";
+        }
         ++compared;
     }
     EXPECT_GT(compared, 200);
@@ -165,6 +190,85 @@ TEST(QueryStream, SameBitsOnACulledBake) {
     expectSameBits(vdb, OutsidePolicy::Clamp, true);
 }
 
+// Real SH of every order the presets bake (sh:1 .. sh:4; sh:4 is the default's) on one level,
+// and adaptive levels of sh:1 and sh:4, with depth moments weighted and not.
+TEST(QueryStream, SameBitsOnShOfAnyOrder) {
+    test::TempDir dir;
+    for (int order = 1; order <= 4; ++order) {
+        const BasisDesc basis = makeBasis("sh:" + std::to_string(order))->desc();
+        Volume uniform = test::randomUniformVolume(basis, 11, 7, 9, 0.3, uint64_t(order));
+        test::randomDepth(uniform, uint64_t(order));
+        const std::string u = dir.file("u" + std::to_string(order) + ".vdb");
+        writeVolume(uniform, u);
+        expectSameBits(u, OutsidePolicy::Clamp, true);
+        if (order != 1 && order != 4) continue;  // the levels of the smallest and the default's order
+        expectSameBits(u, OutsidePolicy::Throw, false);
+        Volume levels = test::randomLevelsVolume(LayoutKind::Adaptive, 3, basis, uint32_t(order), -0.5f, 1.5f);
+        test::randomDepth(levels, uint64_t(order) + 10);
+        const std::string l = dir.file("l" + std::to_string(order) + ".vdb");
+        writeVolume(levels, l);
+        expectSameBits(l, OutsidePolicy::Clamp, true);
+        expectSameBits(l, OutsidePolicy::Clamp, false);
+    }
+    // A flat axis (one node along y): ChannelLookup never descends there.
+    Volume flat = test::randomUniformVolume(makeBasis("sh:4")->desc(), 6, 1, 5, 0.5, 3);
+    writeVolume(flat, dir.file("flat.vdb"), WriteOptions{true, true});
+    expectSameBits(dir.file("flat.vdb"), OutsidePolicy::Clamp, true);
+}
+
+// The default bake's kind: sh:4, depth moments and per-light visibility (--direct occlusion:
+// exact direct light times interpolated visibility), near and far from the origin; and the
+// sh2 volumes of --direct occlusion.
+Volume withLights(Volume v, uint64_t seed) {
+    v.direct.mode = DirectMode::Occlusion;
+    DirectLight point;
+    point.kind = DirectLight::Kind::Point;
+    point.position = v.levels[0].grid.origin + Vec3d(0.7, 2.5, 0.4);
+    point.value = Rgb(3.0f, 2.5f, 2.0f);
+    v.direct.lights = {point, squareLight(v.levels[0].grid.origin + Vec3d(1.0, 3.0, 1.0), Vec3d(0, -1, 0), 0.5,
+                                          Rgb(5.0f, 5.0f, 4.0f))};
+    Rng rng(seed);
+    v.levels[0].lightVisibility.resize(v.levels[0].grid.nodeCount() * v.direct.lights.size());
+    for (float& f : v.levels[0].lightVisibility) f = rng.uniform() < 0.3f ? 1.0f : rng.uniform();
+    return v;
+}
+
+TEST(QueryStream, SameBitsOnTheDefaultKindWithLightVisibility) {
+    test::TempDir dir;
+    Volume v = withLights(test::randomUniformVolume(makeBasis("sh:4")->desc(), 12, 8, 10, 0.25, 4), 5);
+    test::randomDepth(v, 6);
+    writeVolume(v, dir.file("default.vdb"));
+    for (OutsidePolicy outside : {OutsidePolicy::Clamp, OutsidePolicy::Throw}) expectSameBits(dir.file("default.vdb"), outside, true);
+    expectSameBits(dir.file("default.vdb"), OutsidePolicy::Clamp, false);
+    for (VolumeLevel& l : v.levels) l.grid.origin += Vec3d(2.0e6, 3.0e4, -5.0e5);
+    for (DirectLight& light : v.direct.lights) light.translate(Vec3d(2.0e6, 3.0e4, -5.0e5));
+    writeVolume(v, dir.file("far.vdb"));
+    expectSameBits(dir.file("far.vdb"), OutsidePolicy::Clamp, true);
+    writeVolume(withLights(test::randomShVolume(9, 6, 7, 0.3, 8), 9), dir.file("sh2.vdb"), WriteOptions{true, true});
+    expectSameBits(dir.file("sh2.vdb"), OutsidePolicy::Clamp, true);
+}
+
+TEST(QueryStream, DefaultKindReadsOnlyTheLeavesItTouchesAndReleasesThem) {
+    test::TempDir dir;
+    Volume v = withLights(test::randomUniformVolume(makeBasis("sh:4")->desc(), 32, 32, 32, 0.1, 2), 3);
+    test::randomDepth(v, 4);
+    writeVolume(v, dir.file("big.vdb"));
+    auto file = std::make_shared<StreamedVolume>(dir.file("big.vdb"));
+    constexpr uint64_t kGrids = 25 + 4 + 2;  // coefficients, depth moments, two lights' visibility
+    EXPECT_EQ(file->totalLeaves(), kGrids * 64u);
+    const IrradianceQuery q = makeStreamingQuery(file, OutsidePolicy::Clamp);
+    const GridSpec& g = file->header().levels[0].grid;
+    const Vec3d x = g.node(20, 20, 20) + Vec3d(0.05, 0.05, 0.05);  // inside one leaf of every grid
+    const Rgb first = q.irradianceWorld(x, Vec3f(0, 1, 0));
+    EXPECT_EQ(file->loadedLeaves(), kGrids);
+    const uint64_t loaded = file->residentBytes();
+    file->releaseLeaves();
+    EXPECT_EQ(file->loadedLeaves(), 0u);
+    EXPECT_LT(file->residentBytes(), loaded);
+    EXPECT_TRUE(sameBits(q.irradianceWorld(x, Vec3f(0, 1, 0)), first));
+    EXPECT_EQ(file->loadedLeaves(), kGrids);
+}
+
 TEST(QueryStream, RefusesKindsItDoesNotRead) {
     test::TempDir dir;
     Volume bins = test::randomLevelsVolume(LayoutKind::Adaptive, 2, bins::basis(bins::parseBasisSpec("bins:2")), 1, 0.0f, 1.0f);
@@ -172,6 +276,12 @@ TEST(QueryStream, RefusesKindsItDoesNotRead) {
     auto other = std::make_shared<StreamedVolume>(dir.file("bins.vdb"));
     EXPECT_NE(streamingSupported(*other).find("basis"), std::string::npos) << streamingSupported(*other);
     EXPECT_THROW(makeStreamingQuery(other, OutsidePolicy::Clamp), FormatError);
+    // Culled sh:N levels: ChannelLookup refuses them in memory, so streaming does too.
+    Volume culled = test::randomLevelsVolume(LayoutKind::Adaptive, 2, makeBasis("sh:3")->desc(), 1, 0.0f, 1.0f);
+    culled.meta["culling"] = std::string("solid-regions");
+    writeVolume(culled, dir.file("culled.vdb"));
+    auto culledFile = std::make_shared<StreamedVolume>(dir.file("culled.vdb"));
+    EXPECT_NE(streamingSupported(*culledFile).find("culled 'sh:3'"), std::string::npos) << streamingSupported(*culledFile);
     EXPECT_THROW(StreamedVolume(dir.file("missing.vdb")), IoError);
     test::writeTextFile(dir.file("junk.vdb"), "not a vdb file");
     EXPECT_THROW(StreamedVolume(dir.file("junk.vdb")), FormatError);

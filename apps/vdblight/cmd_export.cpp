@@ -32,6 +32,7 @@ struct ExportCommand {
     int every = 0;       // --format gltf: every K-th node per axis
     std::string slice;   // --format gltf: AXIS=VALUE
     double probeRadius = 0;
+    double leafMemoryMiB = double(kCellsLeafMemory >> 20);  // --cells of a streamed volume: leaves kept between releases
 };
 
 /// export --format gltf: OUTDIR/probes.glb (export_gltf.h).
@@ -87,7 +88,8 @@ CellsSummary exportByCells(const ExportCommand& c, const ExportOptions& o) {
     if (!ec && bytes >= kStreamAboveBytes) {
         auto streamed = std::make_shared<StreamedVolume>(c.volume);
         if (streamingSupported(*streamed).empty())
-            return exportCells(makeStreamingQuery(streamed, OutsidePolicy::Clamp), streamed->header(), c.output, o, c.cells);
+            return exportCells(makeStreamingQuery(streamed, OutsidePolicy::Clamp), *streamed, c.output, o, c.cells,
+                               uint64_t(c.leafMemoryMiB * double(1 << 20)));
     }
     const Volume volume = readVolume(c.volume);
     return exportCells(IrradianceQuery(volume), volume, c.output, o, c.cells);
@@ -177,7 +179,7 @@ void addExportCommand(CLI::App& app) {
     cmd->add_option("--cells", c->cells,
                     "Cut the textures into streaming cells of K lattice steps per edge: OUTDIR/cell_<a>_<b>_<c>/ with "
                     "textures + manifest.json each and OUTDIR/cells.json as index; neighbours share a texel plane "
-                    "(SH layouts; large volumes are streamed, not read whole)")
+                    "(SH layouts and basis, with the light visibility and depth textures; large volumes are streamed, not read whole)")
         ->check(CLI::Range(1, 1 << 20));
     cmd->add_option("--preset", c->preset,
                     "Everything one engine needs (format, layout, axes, units, file split; docs/engines.md): unity, "
@@ -186,6 +188,11 @@ void addExportCommand(CLI::App& app) {
         ->check(CLI::Range(1, 1 << 20));
     cmd->add_option("--slice", c->slice, "--format gltf: only the nodes on the plane AXIS=VALUE (e.g. y=1.2)");
     cmd->add_option("--probe-radius", c->probeRadius, "--format gltf: sphere radius (default 0.2 node spacings)");
+    cmd->add_option("--cells-leaf-memory", c->leafMemoryMiB,
+                    "--cells of a volume large enough to be streamed (256 MiB and more): MiB of leaves read that are "
+                    "kept in memory between cells before they are dropped")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
     cmd->add_flag("-q,--quiet", c->quiet, "Print nothing on success");
     cmd->callback([c] { run(*c); });
 }

@@ -230,8 +230,8 @@ void addQueryCommand(CLI::App& app) {
                   "components clamped to 0)");
     cmd->add_option("--stream", c->stream,
                     "Delayed loading, reading only the leaves (8^3 nodes) the points touch, for volumes larger than "
-                    "memory: auto (files of 256 MiB and more whose kind streams: SH order 2, uniform or levels, without "
-                    "--direct occlusion; others are read whole), on (refuse other kinds), off (read the whole file). "
+                    "memory: auto (files of 256 MiB and more whose kind streams: real SH, sh2 or sh:N as the default bake "
+                    "stores, uniform or levels, with depth moments and --direct occlusion; others are read whole), on (refuse other kinds), off (read the whole file). "
                     "The answers are the same bits either way")
         ->check(CLI::IsMember({"auto", "on", "off"}))
         ->capture_default_str();

@@ -11,7 +11,7 @@
 //   OUT/cells.json                        the index: lattice, K, cells per axis, every cell's
 //                                         directory, texel offset, dims and box
 //   OUT/cell_<a>_<b>_<c>/manifest.json    that cell's textures, as exportTextures writes them
-//   OUT/cell_<a>_<b>_<c>/<texture>.ktx2
+//   OUT/cell_<a>_<b>_<c>/<texture>.ktx2   the layout's textures, light_visibility_*, depth_x/y/z
 //
 // Sampling goes through IrradianceQuery, so a streamed volume (query_stream.h) exports cell
 // by cell without being read whole.
@@ -21,6 +21,7 @@
 
 #include "vdblight/export.h"
 #include "vdblight/query.h"
+#include "vdblight/vdb_stream.h"
 
 namespace vdblight {
 
@@ -31,13 +32,26 @@ struct CellsSummary {
     uint64_t bytes = 0;        ///< their total size
 };
 
-/// Writes the cells of `query`'s volume into `outDir`. `header` is the volume (or a streamed
-/// volume's header, vdb_stream.h) for its basis, finest spacing and direct-light mode;
-/// `cellSize` K >= 1 lattice steps per cell edge. Layouts: sh2, sh2-packed, sh1 (FormatError
-/// for others and for volumes with per-light visibility, which cells do not carry; depth
-/// moments are not exported per cell: manifest "depth" says so). Files are staged under
-/// temporary names and renamed at the end: an error leaves no partial export.
-CellsSummary exportCells(const IrradianceQuery& query, const Volume& header, const std::string& outDir,
+/// Writes the cells of `query`'s volume into `outDir`: per cell the layout's textures (sh2,
+/// sh2-packed, sh1, or basis: the volume's own channels), the light visibility textures of
+/// a volume baked with --direct occlusion and, where the lattice is the finest level's nodes,
+/// the three depth textures, each texel as the whole export (exportTextures) writes it.
+/// `volume`: the volume in memory that `query` was built from (ValueError if it holds no node
+/// values); `cellSize` K >= 1 lattice steps per cell edge. FormatError for other layouts.
+/// Files are staged under temporary names and renamed at the end: an error leaves no partial
+/// export.
+CellsSummary exportCells(const IrradianceQuery& query, const Volume& volume, const std::string& outDir,
                          const ExportOptions& options, int cellSize);
+
+/// Default of exportCells' `leafMemory`.
+constexpr uint64_t kCellsLeafMemory = 1ull << 30;
+
+/// The same for a streamed volume (vdb_stream.h) and its makeStreamingQuery, the same files:
+/// the leaves the cells read stay in memory until they take more than `leafMemory` bytes
+/// beyond the topology; then, between two cells, StreamedVolume::releaseLeaves drops them. So
+/// the export holds the topology, the leaves of the cells since the last release and one
+/// cell's textures, whatever the volume's size.
+CellsSummary exportCells(const IrradianceQuery& query, StreamedVolume& volume, const std::string& outDir,
+                         const ExportOptions& options, int cellSize, uint64_t leafMemory = kCellsLeafMemory);
 
 }  // namespace vdblight

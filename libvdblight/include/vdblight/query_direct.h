@@ -15,11 +15,12 @@
 #include <vector>
 
 #include "vdblight/direct_light.h"
+#include "vdblight/light_visibility.h"
 #include "vdblight/query.h"
 
 namespace vdblight {
 
-class OcclusionLookup final : public VolumeLookup {
+class OcclusionLookup final : public VolumeLookup, public LightVisibility {
 public:
     /// `base` answers for the volume's basis; `volume` supplies the lights and level 0's
     /// visibility channels (it must have them: DirectLightSet::hasVisibility()).
@@ -44,7 +45,7 @@ public:
     bool visibilityDepthWeighted() const { return depthWeights_; }
 
     /// Visibility of every listed light at x (between the nodes as above, x clamped to the box).
-    void visibility(const Vec3d& x, float* out) const;
+    void visibility(const Vec3d& x, float* out) const override;
     /// The direct part alone: sum over lights of exactIrradiance * visibility.
     Rgb direct(const Vec3d& x, const Vec3f& n) const;
     const std::vector<DirectLight>& lights() const { return lights_; }

@@ -33,14 +33,14 @@ public:
     /// What readVolume returns except node values: basis, every level's GridSpec (data,
     /// depth, validity and visibility empty), metadata, the direct-light mode and lights.
     const Volume& header() const;
-    /// Empty if nodes can be read (every volume except those with per-light visibility, i.e.
-    /// baked with --direct occlusion), else the reason (one sentence).
-    const std::string& unsupported() const { return unsupported_; }
     /// Node (i, j, k) of `level` (inside its box): channelCount() * 3 floats in Volume order
     /// ([channel][rgb], exactly the values readVolume gives; 0 for a node that is not stored).
-    /// Thread-safe. Throws FormatError if unsupported() is not empty.
+    /// Thread-safe.
     void readNode(int level, int i, int j, int k, float* out) const;
     void readNode(int i, int j, int k, float* out) const { readNode(0, i, j, k, out); }
+    /// The first `channels` channels of readNode only (3 floats each): the other channels'
+    /// leaves are not read.
+    void readChannels(int level, int i, int j, int k, int channels, float* out) const;
     /// True if node (i, j, k) of `level` is stored (an active voxel; sparse levels, culled nodes).
     bool nodeStored(int level, int i, int j, int k) const;
     /// True if cell (i, j, k) of `level` (lower corner node (i, j, k)) is refined into the next.
@@ -49,19 +49,30 @@ public:
     bool hasDepth() const;
     void readDepth(int level, int i, int j, int k, float* out) const;
     void readDepth(int i, int j, int k, float* out) const { readDepth(0, i, j, k, out); }
+    /// True if the volume stores per-light visibility (bake --direct occlusion, single-level
+    /// volumes); readVisibility then gives one float per listed light (header().direct.lights)
+    /// of level-0 node (i, j, k), the values readVolume puts in lightVisibility.
+    bool hasVisibility() const;
+    void readVisibility(int i, int j, int k, float* out) const;
     /// Leaf buffers (over every grid opened) read from the file so far, and in all.
     uint64_t loadedLeaves() const;
     uint64_t totalLeaves() const;
     /// Bytes the opened grids take in memory now (OpenVDB's memUsage: the topology, a file
     /// reference per leaf still on disk, the values of the leaves read).
     uint64_t residentBytes() const;
+    /// Drops the values of every leaf read so far (the file's grids are opened again, the header
+    /// object stays): a pass over the whole volume, such as export --cells, keeps its memory to
+    /// the leaves of a few cells at the cost of reading the topology again. Not thread-safe:
+    /// call it while no lookup reads this volume. Throws IoError / FormatError if the file can
+    /// no longer be opened (changed or removed); the volume then reads nothing.
+    void releaseLeaves();
     /// Size of the file in bytes.
     uint64_t fileBytes() const { return fileBytes_; }
 
 private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
-    std::string unsupported_;
+    std::string path_;
     uint64_t fileBytes_ = 0;
 };
 

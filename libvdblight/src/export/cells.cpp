@@ -4,14 +4,17 @@
 
 
 #include <filesystem>
+#include <functional>
 #include <sstream>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "compact_sh.h"
+#include "cell_textures.h"
 #include "export_internal.h"
 #include "staged_files.h"
+#include "vdblight/depth_moments.h"
 #include "vdblight/errors.h"
 
 namespace vdblight {
@@ -33,28 +36,6 @@ std::string ints3(const int v[3]) {
 }
 
 
-// The cell's texels: the whole lattice's points offset by `first`, sampled as sampleLayout
-// samples them (shRadiance at the point, then packTexel), one RGBA array per texture.
-std::vector<std::vector<float>> sampleCell(const VolumeLookup& lookup, const TextureLattice& whole, const int first[3],
-                                           const int dims[3], ExportLayout layout, std::size_t textures) {
-    const std::size_t count = std::size_t(dims[0]) * dims[1] * dims[2];
-    std::vector<std::vector<float>> out(textures, std::vector<float>(count * 4));
-    tbb::parallel_for(tbb::blocked_range<int>(0, dims[2]), [&](const tbb::blocked_range<int>& r) {
-        std::vector<float> texel(textures * 4);
-        Rgb L[9];
-        for (int k = r.begin(); k < r.end(); ++k)
-            for (int j = 0; j < dims[1]; ++j)
-                for (int i = 0; i < dims[0]; ++i) {
-                    lookup.shRadiance(whole.point(first[0] + i, first[1] + j, first[2] + k), L);
-                    packTexel(layout, L, texel.data());
-                    const std::size_t t = (std::size_t(k) * dims[1] + j) * dims[0] + i;
-                    for (std::size_t tex = 0; tex < textures; ++tex)
-                        std::copy_n(texel.data() + 4 * tex, 4, out[tex].data() + 4 * t);
-                }
-    });
-    return out;
-}
-
 uint64_t writeTexture(TextureFormat format, const std::string& path, const TextureImage& image) {
     switch (format) {
         case TextureFormat::Ktx2: return writeKtx2(path, image);
@@ -66,27 +47,57 @@ uint64_t writeTexture(TextureFormat format, const std::string& path, const Textu
 }
 }  // namespace
 
-CellsSummary exportCells(const IrradianceQuery& query, const Volume& header, const std::string& outDir,
-                         const ExportOptions& o, int cellSize) {
+namespace {
+
+// The volume's part of a cell export: its header (basis, levels' grids, direct-light mode)
+// and, for the depth textures, the finest level's depth moments (null without them).
+struct CellSource {
+    const Volume* header = nullptr;
+    FinestNodeDepth depth;
+    std::function<void()> afterCell;  ///< called once a cell's files are staged (a streamed volume's leaves)
+};
+
+CellsSummary exportCellsFrom(const IrradianceQuery& query, const CellSource& source, const std::string& outDir,
+                             const ExportOptions& o, int cellSize) {
+    const Volume& header = *source.header;
     if (outDir.empty()) throw IoError("no output directory given");
     if (cellSize < 1) throw ValueError("--cells must be at least 1 lattice step");
-    if (!layoutIsSh(o.layout) || isCompactSh(o.layout))
-        throw FormatError(std::string("--cells exports the SH layouts (sh2, sh2-packed, sh1), not '") + layoutName(o.layout) + "'");
-    if (header.direct.hasVisibility())
-        throw FormatError("--cells does not export per-light visibility (bake --direct occlusion); export the whole volume");
+    const std::unique_ptr<Basis> basis = basisOf(header.basis);
+    if (o.layout == ExportLayout::Basis && !basis)
+        throw FormatError("layout 'basis' fits the volumes of a registered basis (sh2, sh:N, bins:N, moment:N); this one "
+                          "stores '" + header.basis.kind + "'");
+    if ((!layoutIsSh(o.layout) || isCompactSh(o.layout)) && o.layout != ExportLayout::Basis)
+        throw FormatError(std::string("--cells exports the SH layouts (sh2, sh2-packed, sh1) and basis, not '") +
+                          layoutName(o.layout) + "'");
+    const LightVisibility* visibility = dynamic_cast<const LightVisibility*>(&query.lookup());
+    if (header.direct.hasVisibility() && !visibility)
+        throw FormatError("the volume lists light visibility but its lookup does not read it");
     try {
         Rgb probe[9];
-        query.lookup().shRadiance(query.bounds().lo, probe);
+        std::vector<float> channels(basis ? basis->floatsPerNode() : 0);
+        if (o.layout == ExportLayout::Basis) query.lookup().channelValues(query.bounds().lo, channels.data());
+        else query.lookup().shRadiance(query.bounds().lo, probe);
     } catch (const FormatError&) {
         throw FormatError(std::string("layout '") + layoutName(o.layout) + "' does not fit volume kind '" + query.kind() +
-                          "' (it stores no SH order-2 coefficients)");
+                          (o.layout == ExportLayout::Basis ? "' (it exposes no channel values)"
+                                                           : "' (it stores no SH order-2 coefficients)"));
     }
     const double finest = finestSpacing(header.levels);
     CellsSummary summary;
     summary.lattice = chooseLattice(query.bounds(), finest, o.resolution);
     const TextureLattice& whole = summary.lattice;
     for (int a = 0; a < 3; ++a) summary.cells[a] = whole.dims[a] > 1 ? (whole.dims[a] - 2) / cellSize + 1 : 1;
-    const std::vector<TextureDesc> descs = layoutTextures(o.layout);
+    std::vector<TextureDesc> descs = o.layout == ExportLayout::Basis ? basisTextures(*basis) : layoutTextures(o.layout);
+    const std::size_t layoutCount = descs.size();
+    // As the whole export (export.cpp): visibility textures of bake --direct occlusion, then
+    // the depth textures where the lattice is the finest level's nodes (else manifest -1).
+    const std::vector<TextureDesc> visibilityDescs = visibilityTextures(header.direct);
+    descs.insert(descs.end(), visibilityDescs.begin(), visibilityDescs.end());
+    const bool depth = source.depth && depthOnFinestNodes(header.levels.back().grid, whole);
+    if (depth)
+        for (TextureDesc& d : depthTextureDescs()) descs.push_back(std::move(d));
+    std::vector<TexelFormat> formats(layoutCount + visibilityDescs.size(), lightingTexelFormat(o.halfFloat));
+    formats.resize(descs.size(), depthTexelFormat(o.format, o.halfFloat));
 
     StagedFiles staging;
     const fs::path root(outDir);
@@ -120,7 +131,16 @@ CellsSummary exportCells(const IrradianceQuery& query, const Volume& header, con
                 const std::string name = "cell_" + std::to_string(a) + "_" + std::to_string(b) + "_" + std::to_string(c);
                 const fs::path dir = root / name;
                 staging.createDirectory(dir);
-                std::vector<std::vector<float>> textures = sampleCell(query.lookup(), whole, first, dims, o.layout, descs.size());
+                CellRange range;
+                std::copy_n(first, 3, range.first);
+                std::copy_n(dims, 3, range.dims);
+                std::vector<std::vector<float>> textures =
+                    cellLayoutTextures(query.lookup(), whole, range, o.layout, basis.get(), layoutCount);
+                if (!visibilityDescs.empty())
+                    for (auto& t : cellVisibilityTextures(*visibility, whole, range, header.direct.lights.size()))
+                        textures.push_back(std::move(t));
+                if (depth)
+                    for (auto& t : cellDepthTextures(source.depth, range)) textures.push_back(std::move(t));
                 ManifestInput manifest;
                 manifest.options = &o;
                 manifest.lattice = &lattice;
@@ -128,7 +148,10 @@ CellsSummary exportCells(const IrradianceQuery& query, const Volume& header, con
                 manifest.basisKind = header.basis.kind;
                 manifest.textures = descs;
                 manifest.direct = &header.direct;
-                manifest.depth = header.hasDepth() || query.depthWeighted() ? -1 : 0;
+                if (basis) manifest.basisFormula = basis->formula();
+                for (std::size_t t = layoutCount; t < layoutCount + visibilityDescs.size(); ++t)
+                    manifest.visibilityTextures.push_back(descs[t].name);
+                manifest.depth = depth ? 1 : source.depth ? -1 : 0;
                 for (std::size_t t = 0; t < descs.size(); ++t) {
                     for (float v : textures[t])
                         if (o.halfFloat && !(std::abs(v) <= 65504.0f))
@@ -137,7 +160,7 @@ CellsSummary exportCells(const IrradianceQuery& query, const Volume& header, con
                     TextureImage image;
                     image.rgba = textures[t].data();
                     std::copy_n(dims, 3, image.dims);
-                    image.format = lightingTexelFormat(o.halfFloat);
+                    image.format = formats[t];
                     image.name = descs[t].name;
                     const std::string file = descs[t].name + textureExtension(o.format);
                     manifest.fileNames.push_back(file);
@@ -150,6 +173,7 @@ CellsSummary exportCells(const IrradianceQuery& query, const Volume& header, con
                       << "\", \"texel_offset\": " << ints3(first) << ", \"dims\": " << ints3(dims)
                       << ", \"bounds_min\": " << vec3(lattice.lo) << ", \"bounds_max\": " << vec3(lattice.hi) << "}";
                 firstCell = false;
+                if (source.afterCell) source.afterCell();
             }
     index << "\n  ]\n}\n";
     const std::string text = index.str();
@@ -159,4 +183,48 @@ CellsSummary exportCells(const IrradianceQuery& query, const Volume& header, con
     return summary;
 }
 
+}  // namespace
+
+CellsSummary exportCells(const IrradianceQuery& query, const Volume& volume, const std::string& outDir,
+                         const ExportOptions& options, int cellSize) {
+    for (const VolumeLevel& level : volume.levels)
+        if (level.data.empty())
+            throw ValueError("exportCells: the volume holds no node values (a streamed volume's header?); give the "
+                             "StreamedVolume instead");
+    CellSource source;
+    source.header = &volume;
+    if (volume.hasDepth()) {
+        const VolumeLevel& finest = volume.levels.back();
+        source.depth = [&finest](int i, int j, int k, float* out) {
+            const uint64_t n = finest.grid.index(i, j, k);
+            const int64_t at = finest.sparse() ? findNode(finest, n) : int64_t(n);
+            if (at < 0) return false;
+            std::copy_n(finest.nodeDepth(std::size_t(at)), depth::kFloatsPerNode, out);
+            return true;
+        };
+    }
+    return exportCellsFrom(query, source, outDir, options, cellSize);
+}
+
+CellsSummary exportCells(const IrradianceQuery& query, StreamedVolume& volume, const std::string& outDir,
+                         const ExportOptions& options, int cellSize, uint64_t leafMemory) {
+    CellSource source;
+    // Leaves read stay in memory; once those of the cells done so far pass leafMemory, drop them.
+    const uint64_t topology = volume.residentBytes();
+    source.afterCell = [&volume, topology, leafMemory] {
+        if (volume.residentBytes() > topology + leafMemory) volume.releaseLeaves();
+    };
+    source.header = &volume.header();
+    if (volume.hasDepth()) {
+        const int finest = int(volume.header().levels.size()) - 1;
+        source.depth = [&volume, finest](int i, int j, int k, float* out) {
+            if (!volume.nodeStored(finest, i, j, k)) return false;
+            volume.readDepth(finest, i, j, k, out);
+            return true;
+        };
+    }
+    return exportCellsFrom(query, source, outDir, options, cellSize);
+}
+
 }  // namespace vdblight
+

@@ -1,8 +1,8 @@
-// The SH order-2 uniform lookup on a streamed volume (query_stream.h). The arithmetic is
-// ShUniformLookup's, operation for operation (sh_uniform_lookup.cpp), with the corner nodes
-// read through StreamedVolume instead of a node array, so that the answers are the same bits;
-// query_stream_test checks that they are.
-#include "vdblight/query_stream.h"
+// The SH order-2 lookups on a streamed volume (stream_lookups.h). The arithmetic is
+// ShUniformLookup's or ShLevelsLookup's, operation for operation (sh_uniform_lookup.cpp,
+// sh_levels_lookup.cpp), with the corner nodes read through StreamedVolume instead of a node
+// array, so that the answers are the same bits; query_stream_test checks that they are.
+#include "stream_lookups.h"
 
 #include <cmath>
 #include <sstream>
@@ -10,9 +10,7 @@
 #include "depth_weights.h"
 #include "lattice_locate.h"
 #include "sh_trilinear.h"
-#include "shifted_lookup.h"
 #include "vdblight/errors.h"
-#include "vdblight/world_frame.h"
 #include "vdblight/sh.h"
 
 namespace vdblight {
@@ -275,29 +273,13 @@ private:
 };
 }  // namespace
 
-std::string streamingSupported(const StreamedVolume& volume) {
-    if (!volume.unsupported().empty()) return volume.unsupported();
-    if (volume.header().basis.kind != "sh2")
-        return "its basis is '" + volume.header().basis.kind + "' (streaming looks up SH order-2 volumes)";
-    return {};
+namespace query_detail {
+
+std::unique_ptr<VolumeLookup> streamingShLookup(std::shared_ptr<const StreamedVolume> volume, const GridSpec& grid0,
+                                                OutsidePolicy outside) {
+    if (volume->header().levels.size() > 1) return std::make_unique<StreamingLevelsLookup>(std::move(volume), grid0, outside);
+    return std::make_unique<StreamingShLookup>(std::move(volume), grid0, outside);
 }
 
-IrradianceQuery makeStreamingQuery(std::shared_ptr<const StreamedVolume> volume, OutsidePolicy outside,
-                                   bool depthWeights) {
-    const std::string why = streamingSupported(*volume);
-    if (!why.empty()) throw FormatError("cannot stream this volume: " + why);
-    // Far from the origin: the lookup works relative to the anchor, as createAnchored does
-    // for in-memory volumes (shifted_lookup.cpp), so the float arithmetic is the same.
-    GridSpec grid = volume->header().levels[0].grid;
-    const Vec3d anchor = recenteringAnchor(grid.nodeBounds());
-    grid.origin += -anchor;
-    const bool levels = volume->header().levels.size() > 1;
-    std::unique_ptr<VolumeLookup> lookup;
-    if (levels) lookup = std::make_unique<StreamingLevelsLookup>(std::move(volume), grid, outside);
-    else lookup = std::make_unique<StreamingShLookup>(std::move(volume), grid, outside);
-    if (anchor != Vec3d(0, 0, 0)) lookup = shiftLookup(std::move(lookup), anchor);
-    lookup->setDepthWeights(depthWeights);
-    return IrradianceQuery(std::move(lookup), levels ? "sh2-levels-streamed" : "sh2-uniform-streamed");
-}
-
+}  // namespace query_detail
 }  // namespace vdblight

@@ -24,16 +24,18 @@ struct DelayedLevel {
 
 /// A volume file opened with delayed loading: the header as readVolume would return it but
 /// without node values (levels carry their GridSpec only; the direct-light list without
-/// visibility) and, unless the volume stores light visibility, every level's grids.
+/// visibility), every level's grids and, in occlusion mode, level 0's visibility grids.
 struct DelayedVolumeFile {
     std::unique_ptr<openvdb::io::File> file;
     Volume header;
-    std::vector<DelayedLevel> levels;  ///< empty for volumes with light visibility
+    std::vector<DelayedLevel> levels;
+    std::vector<openvdb::GridBase::Ptr> visibility;  ///< FloatGrid per listed light (bake --direct occlusion), or empty
 };
 
 /// Opens `path` with the checks of readVolume that need no node values (header, metadata,
 /// grid types, transforms, active voxels exactly the node box of a dense level, inside it and
-/// the same in every channel of a sparse one; masks placed on the level's cells). The level
+/// the same in every channel of a sparse one; masks placed on the level's cells; visibility
+/// grids of float type placed as level 0 with exactly its nodes active). The level
 /// structure (validateLevelStructure) is not checked: it needs every node's index. Throws
 /// IoError / FormatError.
 DelayedVolumeFile openDelayedVolume(const std::string& path);

@@ -27,10 +27,6 @@ DelayedVolumeFile openDelayedVolume(const std::string& path) {
     }
     v.meta = userMetadata(meta);
     readDirectLights(f, v, path);
-    if (v.direct.hasVisibility()) {  // the caller refuses this kind
-        out.file = std::move(f.file);
-        return out;
-    }
     // Every level's grids: topology in memory, leaf values left in the mapped file until a
     // voxel of the leaf is read. The checks of readLevel / readMask that need no values
     // (active voxel counts, boxes and topologies come from the leaves' masks).
@@ -75,6 +71,24 @@ DelayedVolumeFile openDelayedVolume(const std::string& path) {
             level.mask = mask;
         }
         out.levels.push_back(std::move(level));
+    }
+    // bake --direct occlusion: one FloatGrid per listed light on level 0, as readDirect reads them.
+    if (v.direct.hasVisibility()) {
+        const GridSpec& g = v.levels[0].grid;
+        for (std::size_t i = 0; i < v.direct.lights.size(); ++i) {
+            const std::string name = visibilityGridName(i);
+            const openvdb::GridBase::Ptr base = read(name);
+            auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
+            if (!grid) formatError(path, "grid '" + name + "' has type " + base->valueType() + ", expected float");
+            if (!placedAt(grid->transform(), g.origin, g.spacing))
+                formatError(path, "grid '" + name + "' has a transform that does not match its level's origin and spacing");
+            const openvdb::CoordBBox box = grid->evalActiveVoxelBoundingBox();
+            if (grid->activeVoxelCount() != g.nodeCount() || box.min() != Coord(0, 0, 0) ||
+                box.max() != Coord(g.nx - 1, g.ny - 1, g.nz - 1))
+                formatError(path, "grid '" + name + "' does not have exactly one active voxel per node");
+            grid->tree().voxelizeActiveTiles();
+            out.visibility.push_back(grid);
+        }
     }
     out.file = std::move(f.file);
     return out;

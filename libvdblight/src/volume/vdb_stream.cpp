@@ -2,6 +2,8 @@
 // live in vdb_read.cpp (openDelayedVolume); this file only reads voxels.
 #include "vdblight/vdb_stream.h"
 
+#include <algorithm>
+#include <cstdint>
 #include <filesystem>
 
 #include "vdblight/depth_moments.h"
@@ -20,7 +22,23 @@ struct StreamedVolume::Impl {
         const openvdb::BoolTree* mask = nullptr;
     };
     std::vector<Level> levels;
+    std::vector<const openvdb::FloatTree*> visibility;  ///< per listed light, level 0 (occlusion mode)
     bool depth = false;
+    /// Fills levels, visibility and depth from the opened file's grids.
+    void collectTrees() {
+        levels.clear();
+        visibility.clear();
+        depth = !file.levels.empty();
+        for (const DelayedLevel& d : file.levels) {
+            Level l;
+            for (const auto& g : d.channels) l.channels.push_back(&openvdb::gridPtrCast<Vec3SGrid>(g)->tree());
+            for (const auto& g : d.depth) l.depth.push_back(&openvdb::gridPtrCast<Vec3SGrid>(g)->tree());
+            if (d.mask) l.mask = &openvdb::gridPtrCast<openvdb::BoolGrid>(d.mask)->tree();
+            depth = depth && !l.depth.empty();
+            levels.push_back(std::move(l));
+        }
+        for (const auto& g : file.visibility) visibility.push_back(&openvdb::gridPtrCast<openvdb::FloatGrid>(g)->tree());
+    }
     std::vector<const Vec3STree*> allTrees() const {
         std::vector<const Vec3STree*> out;
         for (const Level& l : levels) {
@@ -31,21 +49,25 @@ struct StreamedVolume::Impl {
     }
 };
 
-StreamedVolume::StreamedVolume(const std::string& path) : impl_(std::make_unique<Impl>()) {
+StreamedVolume::StreamedVolume(const std::string& path) : impl_(std::make_unique<Impl>()), path_(path) {
     impl_->file = openDelayedVolume(path);
     fileBytes_ = uint64_t(std::filesystem::file_size(path));
-    const Volume& h = impl_->file.header;
-    if (h.direct.hasVisibility())
-        unsupported_ = "it stores per-light visibility (bake --direct occlusion), which streaming does not read";
-    impl_->depth = !impl_->file.levels.empty();
-    for (const DelayedLevel& d : impl_->file.levels) {
-        Impl::Level l;
-        for (const auto& g : d.channels) l.channels.push_back(&openvdb::gridPtrCast<Vec3SGrid>(g)->tree());
-        for (const auto& g : d.depth) l.depth.push_back(&openvdb::gridPtrCast<Vec3SGrid>(g)->tree());
-        if (d.mask) l.mask = &openvdb::gridPtrCast<openvdb::BoolGrid>(d.mask)->tree();
-        impl_->depth = impl_->depth && !l.depth.empty();
-        impl_->levels.push_back(std::move(l));
-    }
+    impl_->collectTrees();
+}
+
+void StreamedVolume::releaseLeaves() {
+    // The old grids go first, so that the topology is never held twice; the header object
+    // stays (callers hold references to it), only the grids are replaced.
+    impl_->levels.clear();
+    impl_->visibility.clear();
+    impl_->file.levels.clear();
+    impl_->file.visibility.clear();
+    impl_->file.file.reset();
+    DelayedVolumeFile again = openDelayedVolume(path_);
+    impl_->file.file = std::move(again.file);
+    impl_->file.levels = std::move(again.levels);
+    impl_->file.visibility = std::move(again.visibility);
+    impl_->collectTrees();
 }
 
 StreamedVolume::~StreamedVolume() = default;
@@ -57,9 +79,9 @@ bool StreamedVolume::hasDepth() const { return impl_->depth; }
 namespace {
 // Reads voxel (i, j, k) of every tree into out (3 floats each). A tree's getValue pages in
 // the leaf under the mutex of its buffer, so concurrent readers are safe.
-void readVoxels(const std::vector<const Vec3STree*>& trees, int i, int j, int k, float* out) {
+void readVoxels(const std::vector<const Vec3STree*>& trees, int i, int j, int k, float* out, std::size_t count = SIZE_MAX) {
     const Coord c(i, j, k);
-    for (std::size_t t = 0; t < trees.size(); ++t) {
+    for (std::size_t t = 0; t < std::min(count, trees.size()); ++t) {
         const openvdb::Vec3s v = trees[t]->getValue(c);
         out[3 * t] = v.x(), out[3 * t + 1] = v.y(), out[3 * t + 2] = v.z();
     }
@@ -67,17 +89,18 @@ void readVoxels(const std::vector<const Vec3STree*>& trees, int i, int j, int k,
 }  // namespace
 
 void StreamedVolume::readNode(int level, int i, int j, int k, float* out) const {
-    if (!unsupported_.empty()) throw FormatError("cannot read nodes of this streamed volume: " + unsupported_);
     readVoxels(impl_->levels.at(std::size_t(level)).channels, i, j, k, out);
 }
 
+void StreamedVolume::readChannels(int level, int i, int j, int k, int channels, float* out) const {
+    readVoxels(impl_->levels.at(std::size_t(level)).channels, i, j, k, out, std::size_t(std::max(channels, 0)));
+}
+
 bool StreamedVolume::nodeStored(int level, int i, int j, int k) const {
-    if (!unsupported_.empty()) throw FormatError("cannot read nodes of this streamed volume: " + unsupported_);
     return impl_->levels.at(std::size_t(level)).channels[0]->isValueOn(Coord(i, j, k));  // the mask: no values read
 }
 
 bool StreamedVolume::cellRefined(int level, int i, int j, int k) const {
-    if (!unsupported_.empty()) throw FormatError("cannot read nodes of this streamed volume: " + unsupported_);
     const openvdb::BoolTree* mask = impl_->levels.at(std::size_t(level)).mask;
     return mask && mask->isValueOn(Coord(i, j, k));
 }
@@ -87,22 +110,36 @@ void StreamedVolume::readDepth(int level, int i, int j, int k, float* out) const
     readVoxels(impl_->levels.at(std::size_t(level)).depth, i, j, k, out);
 }
 
+bool StreamedVolume::hasVisibility() const { return !impl_->visibility.empty(); }
+
+void StreamedVolume::readVisibility(int i, int j, int k, float* out) const {
+    if (impl_->visibility.empty()) throw FormatError("this streamed volume stores no light visibility");
+    const Coord c(i, j, k);
+    for (std::size_t l = 0; l < impl_->visibility.size(); ++l) out[l] = impl_->visibility[l]->getValue(c);
+}
+
 namespace {
-uint64_t countLeaves(const std::vector<const Vec3STree*>& trees, bool onlyLoaded) {
+template <class Tree>
+uint64_t countLeaves(const std::vector<const Tree*>& trees, bool onlyLoaded) {
     uint64_t n = 0;
-    for (const Vec3STree* t : trees)
+    for (const Tree* t : trees)
         for (auto it = t->cbeginLeaf(); it; ++it) n += !onlyLoaded || !it->buffer().isOutOfCore();
     return n;
 }
 }  // namespace
 
-uint64_t StreamedVolume::loadedLeaves() const { return countLeaves(impl_->allTrees(), true); }
+uint64_t StreamedVolume::loadedLeaves() const {
+    return countLeaves(impl_->allTrees(), true) + countLeaves(impl_->visibility, true);
+}
 
-uint64_t StreamedVolume::totalLeaves() const { return countLeaves(impl_->allTrees(), false); }
+uint64_t StreamedVolume::totalLeaves() const {
+    return countLeaves(impl_->allTrees(), false) + countLeaves(impl_->visibility, false);
+}
 
 uint64_t StreamedVolume::residentBytes() const {
     uint64_t n = 0;
     for (const Vec3STree* t : impl_->allTrees()) n += t->memUsage();
+    for (const openvdb::FloatTree* t : impl_->visibility) n += t->memUsage();
     for (const Impl::Level& l : impl_->levels)
         if (l.mask) n += l.mask->memUsage();
     return n;

@@ -1,0 +1,95 @@
+// OcclusionLookup (occlusion_lookup.cpp) on a streamed volume: the stored light plus, for each
+// listed light, its exact direct light times its visibility interpolated from level 0's nodes,
+// with OcclusionLookup's locate, weights and sums, the nodes' visibility and depth read through
+// StreamedVolume, so that the answers are the same bits as the in-memory query's.
+#include <algorithm>
+#include <vector>
+
+#include "depth_weights.h"
+#include "stream_lookups.h"
+#include "vdblight/light_visibility.h"
+
+namespace vdblight::query_detail {
+
+namespace {
+
+class StreamingOcclusionLookup final : public VolumeLookup, public LightVisibility {
+public:
+    StreamingOcclusionLookup(std::unique_ptr<VolumeLookup> base, std::shared_ptr<const StreamedVolume> volume)
+        : base_(std::move(base)), volume_(std::move(volume)), lights_(volume_->header().direct.lights),
+          grid_(volume_->header().levels.at(0).grid) {
+        if (!volume_->hasVisibility()) throw FormatError("occlusion lookup: the volume has no light visibility channels");
+        hasDepth_ = depthWeights_ = volume_->hasDepth();
+    }
+
+    Rgb irradiance(const Vec3f& x, const Vec3f& n) const override { return base_->irradiance(x, n) + direct(Vec3d(x), n); }
+    Rgb irradianceWorld(const Vec3d& x, const Vec3f& n) const override { return base_->irradianceWorld(x, n) + direct(x, n); }
+    Bounds bounds() const override { return base_->bounds(); }
+    void shRadiance(const Vec3d& x, Rgb out[9]) const override { base_->shRadiance(x, out); }
+    void channelValues(const Vec3d& x, float* out) const override { base_->channelValues(x, out); }
+    void setDepthWeights(bool on) override {
+        base_->setDepthWeights(on);
+        depthWeights_ = on && hasDepth_;
+    }
+    bool depthWeighted() const override { return base_->depthWeighted(); }
+
+    // As OcclusionLookup::visibility, operation for operation.
+    void visibility(const Vec3d& x, float* out) const override {
+        const std::size_t m = lights_.size();
+        int base[3], dims[3] = {grid_.nx, grid_.ny, grid_.nz};
+        double f[3];
+        for (int a = 0; a < 3; ++a) {
+            double u = (x[a] - grid_.origin[a]) / grid_.spacing;
+            if (!(u > 0)) u = 0;  // NaN and below: the first node
+            u = std::min(u, double(dims[a] - 1));
+            base[a] = std::min(int(u), std::max(0, dims[a] - 2));
+            f[a] = dims[a] > 1 ? u - base[a] : 0.0;
+        }
+        for (std::size_t i = 0; i < m; ++i) out[i] = 0.0f;
+        std::vector<float> v(8 * m);
+        float w[8];
+        float d[8][depth::kFloatsPerNode];
+        const float* depth[8];
+        for (int c = 0; c < 8; ++c) {
+            const int di = c & 1, dj = (c >> 1) & 1, dk = (c >> 2) & 1;
+            w[c] = float((di ? f[0] : 1 - f[0]) * (dj ? f[1] : 1 - f[1]) * (dk ? f[2] : 1 - f[2]));
+            const int i = std::min(base[0] + di, dims[0] - 1), j = std::min(base[1] + dj, dims[1] - 1),
+                      k = std::min(base[2] + dk, dims[2] - 1);
+            volume_->readVisibility(i, j, k, v.data() + c * m);
+            if (depthWeights_) volume_->readDepth(0, i, j, k, d[c]);
+            depth[c] = d[c];
+        }
+        if (depthWeights_) weightByDepth(w, depth, float(f[0]), float(f[1]), float(f[2]));
+        for (int c = 0; c < 8; ++c) {
+            if (w[c] == 0) continue;
+            for (std::size_t l = 0; l < m; ++l) out[l] += w[c] * v[c * m + l];
+        }
+    }
+
+private:
+    // As OcclusionLookup::direct.
+    Rgb direct(const Vec3d& x, const Vec3f& n) const {
+        std::vector<float> v(lights_.size());
+        visibility(x, v.data());
+        Rgb sum(0, 0, 0);
+        const Vec3d nd = normalize(Vec3d(n));
+        for (std::size_t i = 0; i < lights_.size(); ++i)
+            if (v[i] > 0) sum += exactIrradiance(lights_[i], x, nd) * v[i];
+        return sum;
+    }
+
+    std::unique_ptr<VolumeLookup> base_;
+    std::shared_ptr<const StreamedVolume> volume_;
+    std::vector<DirectLight> lights_;
+    GridSpec grid_;  ///< level 0's, in world coordinates
+    bool hasDepth_ = false, depthWeights_ = false;
+};
+
+}  // namespace
+
+std::unique_ptr<VolumeLookup> streamingOcclusionLookup(std::unique_ptr<VolumeLookup> base,
+                                                       std::shared_ptr<const StreamedVolume> volume) {
+    return std::make_unique<StreamingOcclusionLookup>(std::move(base), std::move(volume));
+}
+
+}  // namespace vdblight::query_detail
