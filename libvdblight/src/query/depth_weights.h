@@ -16,13 +16,40 @@ namespace vdblight::query_detail {
 inline bool depthWeightsApplyAt(std::size_t level, std::size_t levels) { return level + 1 == levels; }
 
 /// Multiplies the eight trilinear weights w[c] (corner c = x bit 0, y bit 1, z bit 2 of the
-/// cell, fractions fx, fy, fz of the query point in it) by each corner's visibility plus
-/// depth::kDepthFloor and renormalises them to sum 1. depth[c]: the corner's depth values.
+/// cell, fractions fx, fy, fz in [0, 1] of the query point in it) by each corner's visibility
+/// plus depth::kDepthFloor and renormalises them to sum 1. depth[c]: the corner's depth values.
+///
+/// depth::visibility's arithmetic, bit for bit, arranged for speed (every SH lookup with depth
+/// moments spends most of its time here): along an axis, a corner with bit 0 sees the point on
+/// its positive side at distance f, a corner with bit 1 on its negative side at 1 - f (the same
+/// float as |f - 1|; at f = 1 the distance is 0 and every face passes, so the face chosen does
+/// not matter), so the faces are known without a test; the 24 axis tests then run branch-free
+/// in one loop over the corners that the compiler vectorises (an axis that passes multiplies by
+/// exactly 1, as skipping it does).
 inline void weightByDepth(float w[8], const float* const depth[8], float fx, float fy, float fz) {
+    const float near[3] = {fx, fy, fz}, far[3] = {1.0f - fx, 1.0f - fy, 1.0f - fz};
+    float dist[3][8], mu[3][8], sigma[3][8];
+    for (int c = 0; c < 8; ++c)
+        for (int a = 0; a < 3; ++a) {
+            const bool negative = (c >> a) & 1;
+            dist[a][c] = negative ? far[a] : near[a];
+            mu[a][c] = depth[c][(negative ? depth::kMeanNegative : depth::kMeanPositive) * 3 + a];
+            sigma[a][c] = depth[c][(negative ? depth::kSigmaNegative : depth::kSigmaPositive) * 3 + a];
+        }
+    float v[8];
+    for (int c = 0; c < 8; ++c) {
+        float axis[3];
+        for (int a = 0; a < 3; ++a) {
+            const float e = dist[a][c] - mu[a][c] - depth::kDepthBias;
+            const float s2 = sigma[a][c] * sigma[a][c] + depth::kDepthMinSigma * depth::kDepthMinSigma;
+            axis[a] = e <= 0.0f ? 1.0f : s2 / (s2 + e * e);
+        }
+        const float p = axis[0] * axis[1] * axis[2];
+        v[c] = p * p * p;
+    }
     float sum = 0.0f;
     for (int c = 0; c < 8; ++c) {
-        const float v = depth::visibility(depth[c], fx - float(c & 1), fy - float((c >> 1) & 1), fz - float(c >> 2));
-        w[c] *= v + depth::kDepthFloor;
+        w[c] *= v[c] + depth::kDepthFloor;
         sum += w[c];
     }
     const float inv = 1.0f / sum;
