@@ -2,6 +2,8 @@
 // (Internal to the query module.)
 #pragma once
 
+#include <cmath>
+
 #include "lattice_locate.h"
 #include "vdblight/depth_moments.h"
 
@@ -24,27 +26,32 @@ inline bool depthWeightsApplyAt(std::size_t level, std::size_t levels) { return 
 /// its positive side at distance f, a corner with bit 1 on its negative side at 1 - f (the same
 /// float as |f - 1|; at f = 1 the distance is 0 and every face passes, so the face chosen does
 /// not matter), so the faces are known without a test; the 24 axis tests then run branch-free
-/// in one loop over the corners that the compiler vectorises (an axis that passes multiplies by
-/// exactly 1, as skipping it does).
+/// in one loop that the compiler vectorises (an axis that passes multiplies by exactly 1, as
+/// skipping it does).
 inline void weightByDepth(float w[8], const float* const depth[8], float fx, float fy, float fz) {
+    // Lane 8 a + c: axis a of corner c.
     const float near[3] = {fx, fy, fz}, far[3] = {1.0f - fx, 1.0f - fy, 1.0f - fz};
-    float dist[3][8], mu[3][8], sigma[3][8];
-    for (int c = 0; c < 8; ++c)
-        for (int a = 0; a < 3; ++a) {
+    float dist[24], mu[24], sigma[24];
+    for (int a = 0; a < 3; ++a)
+        for (int c = 0; c < 8; ++c) {
             const bool negative = (c >> a) & 1;
-            dist[a][c] = negative ? far[a] : near[a];
-            mu[a][c] = depth[c][(negative ? depth::kMeanNegative : depth::kMeanPositive) * 3 + a];
-            sigma[a][c] = depth[c][(negative ? depth::kSigmaNegative : depth::kSigmaPositive) * 3 + a];
+            dist[8 * a + c] = negative ? far[a] : near[a];
+            mu[8 * a + c] = depth[c][(negative ? depth::kMeanNegative : depth::kMeanPositive) * 3 + a];
+            sigma[8 * a + c] = depth[c][(negative ? depth::kSigmaNegative : depth::kSigmaPositive) * 3 + a];
         }
+    // A passing axis (e <= 0) computes its bound at e = 0: s2 / s2, exactly 1 (s2 >= kDepthMinSigma^2
+    // > 0). max(e, 0) is written as (e + |e|) / 2, exact for |e| <= 2, because GCC keeps a float
+    // compare (which may trap) as a branch and would leave the loop scalar.
+    float pass[24];
+    for (int i = 0; i < 24; ++i) {
+        const float e = dist[i] - mu[i] - depth::kDepthBias;
+        const float behind = 0.5f * (e + std::fabs(e));
+        const float s2 = sigma[i] * sigma[i] + depth::kDepthMinSigma * depth::kDepthMinSigma;
+        pass[i] = s2 / (s2 + behind * behind);
+    }
     float v[8];
     for (int c = 0; c < 8; ++c) {
-        float axis[3];
-        for (int a = 0; a < 3; ++a) {
-            const float e = dist[a][c] - mu[a][c] - depth::kDepthBias;
-            const float s2 = sigma[a][c] * sigma[a][c] + depth::kDepthMinSigma * depth::kDepthMinSigma;
-            axis[a] = e <= 0.0f ? 1.0f : s2 / (s2 + e * e);
-        }
-        const float p = axis[0] * axis[1] * axis[2];
+        const float p = pass[c] * pass[8 + c] * pass[16 + c];
         v[c] = p * p * p;
     }
     float sum = 0.0f;
