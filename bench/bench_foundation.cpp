@@ -5,7 +5,9 @@
 //    rtcOccluded1), on the same number of threads as the bake;
 //  - the bake's own rays/s (closest-hit + shadow rays) and the ratios to the raw figures;
 // and, once, the query throughput per thread (random points and normals), for SH order 2 and
-// the default's SH order 4, each without and with depth moments (the default bakes them).
+// the default's SH order 4, each without and with depth moments, and the default volume (SH
+// order 4, depth moments, per-light visibility); beside each, the memory-bandwidth bound of the
+// same access pattern (lookup_bound.h), measured in the same run.
 // `--quick` shrinks every workload for a CI smoke run; the figures are then noisy.
 // `--only query` runs the query rows alone (`--only bake`: the scenes alone).
 #include <tbb/parallel_for.h>
@@ -16,15 +18,21 @@
 #include <string>
 
 #include "vdblight/bake.h"
+#include "vdblight/bake_direct.h"
 #include "vdblight/basis.h"
 #include "vdblight/channel_lookup.h"
+#include "vdblight/depth_moments.h"
+#include "vdblight/errors.h"
 #include "vdblight/query.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
+#include "../libvdblight/src/query/sh4_uniform_lookup.h"  // internal: the lookups' layouts, for the bound
+#include "../libvdblight/src/query/sh_trilinear.h"
 #include "../libvdblight/src/trace/random_rays.h"  // internal: traceRandomRays, the raw Embree probe
 #include "bench_args.h"
 #include "bench_scenes.h"
 #include "bench_util.h"
+#include "lookup_bound.h"
 
 #include "support/scene_generators.h"
 
@@ -94,9 +102,20 @@ void benchScene(const Scene& scene, int threads, bool quick, const char* basis =
                 stats.seconds, bake / rawIntersect, bake / rawMix);
 }
 
+/// The floats per node that the lookup `kind` reads at each corner from its coefficient array
+/// (its own layout: query/sh_uniform_lookup.h, query/sh4_uniform_lookup.h).
+int coefficientFloatsRead(const std::string& kind) {
+    if (kind == "sh2-uniform") return query_detail::kShFloats;
+    if (kind == "sh4-uniform") return ShFourUniformLookup::kLitFloats;
+    throw ValueError("vdblight_bench: no bound for lookup kind " + kind);
+}
+
 /// `basis` as in benchScene; `depth`: the volume carries depth moments (GatherOptions::
-/// depthMoments), which the lookup then weights its corners by, as the default bake's.
-void benchQuery(bool quick, const char* basis, bool depth) {
+/// depthMoments), which the lookup then weights its corners by, as the default bake's;
+/// `visibility`: also `--direct occlusion`'s per-light visibility (the default bake's: the
+/// lookup adds each light's exact direct light times its interpolated visibility). `target`:
+/// the goal for the row in M lookups/s (0: none).
+void benchQuery(bool quick, const char* basis, bool depth, bool visibility, double target) {
     const Scene scene = loadScene(defaultScenePath());
     const Tracer tracer(scene);
     const GridSpec grid = bench::uniformGrid(scene.bounds(), 32);
@@ -104,23 +123,49 @@ void benchQuery(bool quick, const char* basis, bool depth) {
     options.raysPerNode = 1;  // values do not matter for lookup speed
     if (basis) options.basis = makeBasis(basis);
     options.depthMoments = depth;
-    const Volume volume = bakeShGather(scene, tracer, grid, options);
+    Volume volume = bakeShGather(scene, tracer, grid, options);
+    if (visibility) {
+        DirectOptions direct;
+        direct.mode = DirectMode::Occlusion;
+        direct.visibilitySamples = 4;  // values do not matter here either
+        bakeLightVisibility(scene, tracer, planDirectLight(scene, tracer, grid, direct), direct, volume);
+    }
     const IrradianceQuery query(volume);
 
-    // Pre-generate inputs so that only lookups are timed.
+    // The bound reads the same bytes per corner: the lookup's coefficients, the depth moments,
+    // the lights' visibility.
+    std::vector<int> floatsPerNode = {coefficientFloatsRead(query.kind())};
+    if (depth) floatsPerNode.push_back(depth::kFloatsPerNode);
+    if (visibility) floatsPerNode.push_back(int(volume.direct.lights.size()));
+    int bytes = 0;
+    for (const int f : floatsPerNode) bytes += 4 * f;
+    const std::vector<bench::GatheredArray> arrays = bench::gatheredArrays(grid, floatsPerNode);
+
+    // Pre-generate inputs so that only lookups are timed; lookup and bound runs alternate and
+    // the best of each is kept, so that a transient load on the machine hits both alike.
     const bench::LookupInputs in = bench::randomLookups(grid.nodeBounds(), quick ? 200'000 : 2'000'000);
     Rgb sink{0, 0, 0};
-    const double best = bench::lookupRate(query, in, quick ? 1 : 5, sink);
-    std::printf("query %-4s %-6s (32^3 nodes, 1 thread, lookup %s): %.2f M lookups/s per thread (target >= 5)  [checksum %.9g]\n",
-                basis ? basis : "sh2", depth ? "+depth" : "", query.kind(), best / 1e6, double(sink.x));
+    float boundSink = 0;
+    double best = 0, bound = 0;
+    for (int r = 0; r < (quick ? 1 : 5); ++r) {
+        best = std::max(best, bench::lookupRate(query, in, 1, sink));
+        bound = std::max(bound, bench::gatherBoundRate(grid, arrays, in, 1, boundSink));
+    }
+    char goal[32] = "";
+    if (target > 0) std::snprintf(goal, sizeof goal, " (target >= %g)", target);
+    const std::string name = std::string(basis ? basis : "sh2") + (depth ? " +depth" : "") + (visibility ? " +vis" : "");
+    std::printf("query %-16s (32^3 nodes, 1 thread, lookup %s%s): %.2f M lookups/s per thread%s | bound %.1f M/s "
+                "(gather and sum of the same %d B per corner) | lookup/bound %.2f  [checksum %.9g, %g]\n",
+                name.c_str(), query.kind(), visibility ? " + occlusion" : "", best / 1e6, goal, bound / 1e6, bytes,
+                best / bound, double(sink.x), double(boundSink));
     // The generic lookup on the same volume and inputs (what sh:4 volumes were read by before
     // their own lookup), so that one run shows the ratio; the same checksum means the same sums.
-    if (basis && std::string(query.kind()) != "basis") {
+    if (basis && !visibility && std::string(query.kind()) != "basis") {
         const ChannelLookup generic(volume, OutsidePolicy::Clamp);
         Rgb genericSink{0, 0, 0};
         const double rate = bench::lookupRate(generic, in, quick ? 1 : 5, genericSink);
-        std::printf("query %-4s %-6s (32^3 nodes, 1 thread, lookup basis, for comparison): %.2f M lookups/s  [checksum %.9g]\n",
-                    basis, depth ? "+depth" : "", rate / 1e6, double(genericSink.x));
+        std::printf("query %-16s (32^3 nodes, 1 thread, lookup basis, for comparison): %.2f M lookups/s  [checksum %.9g]\n",
+                    name.c_str(), rate / 1e6, double(genericSink.x));
     }
 }
 }  // namespace
@@ -145,10 +190,14 @@ int main(int argc, char** argv) {
             benchScene(bench::cornellWithSpheres(6, 6), threads, quick, "sh:4");
         }
         if (only != "bake")
-            for (const bool depth : {false, true}) {
-                benchQuery(quick, nullptr, depth);
-                benchQuery(quick, "sh:4", depth);
-            }
+        {
+            benchQuery(quick, nullptr, false, false, 20);
+            benchQuery(quick, "sh:4", false, false, 0);
+            benchQuery(quick, nullptr, true, false, 0);
+            benchQuery(quick, "sh:4", true, false, 0);
+            // What `vdblight bake` writes by default and `query` reads.
+            benchQuery(quick, "sh:4", true, true, 10);
+        }
     } catch (const std::exception& e) {
         std::fprintf(stderr, "vdblight_bench: error: %s\n", e.what());
         return 1;

@@ -77,11 +77,36 @@ double spotFalloff(const DirectLight& s, const Vec3d& fromLight) {
 
 namespace {
 
+/// A loop's vertices during one evaluation: in place for up to kInline of them (every quad and
+/// triangle light, clipped too), on the heap beyond. A query adds a light's exact irradiance at
+/// every lookup (OcclusionLookup): it then allocates nothing and reads no thread-local state.
+class Vertices {
+public:
+    explicit Vertices(std::size_t capacity) {
+        if (capacity > kInline) {
+            heap_.resize(capacity);
+            data_ = heap_.data();
+        }
+    }
+    Vertices(const Vertices&) = delete;
+    Vertices& operator=(const Vertices&) = delete;
+    void push_back(const Vec3d& v) { data_[size_++] = v; }
+    std::size_t size() const { return size_; }
+    const Vec3d& operator[](std::size_t i) const { return data_[i]; }
+
+private:
+    static constexpr std::size_t kInline = 16;
+    Vec3d inline_[kInline];
+    std::vector<Vec3d> heap_;
+    Vec3d* data_ = inline_;
+    std::size_t size_ = 0;
+};
+
 /// Sutherland-Hodgman clipping of a closed loop to the half-space dot(n, v) >= 0. For a
 /// non-convex loop the result may run back and forth along the plane; those pieces lie on
 /// one line through the receiver and their edge terms cancel, so the contour sum stays exact.
-void clipToHemisphere(const std::vector<Vec3d>& in, const Vec3d& n, std::vector<Vec3d>& out) {
-    out.clear();
+/// `out` holds at most 2 in.size() vertices (each edge adds at most two).
+void clipToHemisphere(const Vertices& in, const Vec3d& n, Vertices& out) {
     const std::size_t m = in.size();
     for (std::size_t i = 0; i < m; ++i) {
         const Vec3d& a = in[i];
@@ -97,7 +122,7 @@ void clipToHemisphere(const std::vector<Vec3d>& in, const Vec3d& n, std::vector<
 
 /// Signed solid angle of a loop seen from the origin (fan triangulation, Van Oosterom and
 /// Strackee 1983); positive when the loop is counter-clockwise seen from the origin.
-double loopSolidAngle(const std::vector<Vec3d>& v) {
+double loopSolidAngle(const Vertices& v) {
     double omega = 0;
     for (std::size_t i = 1; i + 1 < v.size(); ++i) {
         const Vec3d &a = v[0], &b = v[i], &c = v[i + 1];
@@ -122,7 +147,6 @@ double facing(const Vec3d& normal, const Vec3d& p, bool twoSided, const Vec3d& x
 /// one side for a polygon (its normal), each triangle's own for a mesh.
 template <typename F>
 double sumOverLoops(const DirectLight& l, const Vec3d& x, F&& f) {
-    thread_local std::vector<Vec3d> rel;
     double sum = 0;
     const double polygonSide =
         l.kind == DirectLight::Kind::Polygon && !l.loops.empty() && !l.loops[0].empty()
@@ -131,7 +155,7 @@ double sumOverLoops(const DirectLight& l, const Vec3d& x, F&& f) {
         if (loop.empty()) continue;
         const double side = l.kind == DirectLight::Kind::Mesh ? facing(newell(loop), loop[0], l.twoSided, x) : polygonSide;
         if (side == 0) continue;
-        rel.clear();
+        Vertices rel(loop.size());
         for (const Vec3d& p : loop) rel.push_back(p - x);
         sum += side * f(rel);
     }
@@ -141,8 +165,8 @@ double sumOverLoops(const DirectLight& l, const Vec3d& x, F&& f) {
 /// Lambert's formula for one closed loop of vertices relative to the receiver (v_i = p_i - x),
 /// clipped to dot(n, v) >= 0: returns sum_i theta_i * dot(n, gamma_i) (signed; the loop's
 /// orientation as seen from x decides the sign).
-double lambertContour(const std::vector<Vec3d>& relative, const Vec3d& n) {
-    thread_local std::vector<Vec3d> clipped;
+double lambertContour(const Vertices& relative, const Vec3d& n) {
+    Vertices clipped(2 * relative.size());
     clipToHemisphere(relative, n, clipped);
     double sum = 0;
     const std::size_t m = clipped.size();
@@ -180,7 +204,7 @@ Rgb exactIrradiance(const DirectLight& l, const Vec3d& x, const Vec3d& n) {
         case DirectLight::Kind::Mesh: {
             // Loops run counter-clockwise around the front normal, i.e. clockwise as seen
             // from a receiver in front: the contour sum is then negative.
-            const double sum = sumOverLoops(l, x, [&](const std::vector<Vec3d>& rel) { return lambertContour(rel, n); });
+            const double sum = sumOverLoops(l, x, [&](const Vertices& rel) { return lambertContour(rel, n); });
             const double e = -0.5 * sum;
             return e > 0 ? Rgb(Rgbd(l.value) * e) : Rgb(0, 0, 0);
         }
@@ -201,7 +225,7 @@ Rgb meanIrradiance(const DirectLight& l, const Vec3d& x) {
         }
         case DirectLight::Kind::Polygon:
         case DirectLight::Kind::Mesh: {
-            const double o = -sumOverLoops(l, x, [](const std::vector<Vec3d>& rel) { return loopSolidAngle(rel); });
+            const double o = -sumOverLoops(l, x, [](const Vertices& rel) { return loopSolidAngle(rel); });
             return o > 0 ? Rgb(Rgbd(l.value) * (0.25 * o)) : Rgb(0, 0, 0);  // clockwise from the front, as above
         }
     }

@@ -2,6 +2,8 @@
 // (Internal to the query module.)
 #pragma once
 
+#include <cmath>
+
 #include "lattice_locate.h"
 #include "vdblight/depth_moments.h"
 
@@ -16,13 +18,45 @@ namespace vdblight::query_detail {
 inline bool depthWeightsApplyAt(std::size_t level, std::size_t levels) { return level + 1 == levels; }
 
 /// Multiplies the eight trilinear weights w[c] (corner c = x bit 0, y bit 1, z bit 2 of the
-/// cell, fractions fx, fy, fz of the query point in it) by each corner's visibility plus
-/// depth::kDepthFloor and renormalises them to sum 1. depth[c]: the corner's depth values.
+/// cell, fractions fx, fy, fz in [0, 1] of the query point in it) by each corner's visibility
+/// plus depth::kDepthFloor and renormalises them to sum 1. depth[c]: the corner's depth values.
+///
+/// depth::visibility's arithmetic, bit for bit, arranged for speed (every SH lookup with depth
+/// moments spends most of its time here): along an axis, a corner with bit 0 sees the point on
+/// its positive side at distance f, a corner with bit 1 on its negative side at 1 - f (the same
+/// float as |f - 1|; at f = 1 the distance is 0 and every face passes, so the face chosen does
+/// not matter), so the faces are known without a test; the 24 axis tests then run branch-free
+/// in one loop that the compiler vectorises (an axis that passes multiplies by exactly 1, as
+/// skipping it does).
 inline void weightByDepth(float w[8], const float* const depth[8], float fx, float fy, float fz) {
+    // Lane 8 a + c: axis a of corner c.
+    const float near[3] = {fx, fy, fz}, far[3] = {1.0f - fx, 1.0f - fy, 1.0f - fz};
+    float dist[24], mu[24], sigma[24];
+    for (int a = 0; a < 3; ++a)
+        for (int c = 0; c < 8; ++c) {
+            const bool negative = (c >> a) & 1;
+            dist[8 * a + c] = negative ? far[a] : near[a];
+            mu[8 * a + c] = depth[c][(negative ? depth::kMeanNegative : depth::kMeanPositive) * 3 + a];
+            sigma[8 * a + c] = depth[c][(negative ? depth::kSigmaNegative : depth::kSigmaPositive) * 3 + a];
+        }
+    // A passing axis (e <= 0) computes its bound at e = 0: s2 / s2, exactly 1 (s2 >= kDepthMinSigma^2
+    // > 0). max(e, 0) is written as (e + |e|) / 2, exact for |e| <= 2, because GCC keeps a float
+    // compare (which may trap) as a branch and would leave the loop scalar.
+    float pass[24];
+    for (int i = 0; i < 24; ++i) {
+        const float e = dist[i] - mu[i] - depth::kDepthBias;
+        const float behind = 0.5f * (e + std::fabs(e));
+        const float s2 = sigma[i] * sigma[i] + depth::kDepthMinSigma * depth::kDepthMinSigma;
+        pass[i] = s2 / (s2 + behind * behind);
+    }
+    float v[8];
+    for (int c = 0; c < 8; ++c) {
+        const float p = pass[c] * pass[8 + c] * pass[16 + c];
+        v[c] = p * p * p;
+    }
     float sum = 0.0f;
     for (int c = 0; c < 8; ++c) {
-        const float v = depth::visibility(depth[c], fx - float(c & 1), fy - float((c >> 1) & 1), fz - float(c >> 2));
-        w[c] *= v + depth::kDepthFloor;
+        w[c] *= v[c] + depth::kDepthFloor;
         sum += w[c];
     }
     const float inv = 1.0f / sum;

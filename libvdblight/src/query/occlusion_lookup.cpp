@@ -52,18 +52,32 @@ void OcclusionLookup::visibility(const Vec3d& x, float* out) const {
 }
 
 Rgb OcclusionLookup::direct(const Vec3d& x, const Vec3f& n) const {
+    // Each light's exact irradiance first: where the normal faces away from every light (half
+    // of all normals, for a light on the ceiling) the visibility is not needed at all. Adding a
+    // light's zero would not change the sum's bits, so skipping it gives the same answer.
     float vis[16];
-    std::vector<float> many;
+    Rgb exact[16];
+    std::vector<float> manyVis;
+    std::vector<Rgb> manyExact;
     float* v = vis;
+    Rgb* e = exact;
     if (lights_.size() > 16) {
-        many.resize(lights_.size());
-        v = many.data();
+        manyVis.resize(lights_.size());
+        manyExact.resize(lights_.size());
+        v = manyVis.data();
+        e = manyExact.data();
     }
-    visibility(x, v);
-    Rgb sum(0, 0, 0);
     const Vec3d nd = normalize(Vec3d(n));
+    bool any = false;
+    for (std::size_t i = 0; i < lights_.size(); ++i) {
+        e[i] = exactIrradiance(lights_[i], x, nd);
+        any = any || e[i] != Rgb(0, 0, 0);
+    }
+    Rgb sum(0, 0, 0);
+    if (!any) return sum;
+    visibility(x, v);
     for (std::size_t i = 0; i < lights_.size(); ++i)
-        if (v[i] > 0) sum += exactIrradiance(lights_[i], x, nd) * v[i];
+        if (v[i] > 0) sum += e[i] * v[i];
     return sum;
 }
 
