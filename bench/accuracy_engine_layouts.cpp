@@ -8,7 +8,12 @@
 
 #include <memory>
 
+#include <half.h>
+
+#include "../libvdblight/src/export/compact_sh.h"  // internal: the texel encoding, for the filtered read
 #include "vdblight/export_compact.h"
+#include "vdblight/query.h"
+#include "vdblight/sh.h"
 #include "vdblight/sh_truncate.h"
 
 namespace vdblight::accuracy {
@@ -65,6 +70,69 @@ std::string addedByLayout(const Ctx& c, const Baked& layout, const Baked& refere
                   100 * std::sqrt(s2 / double(got.size())), 100 * worst);
     return buf;
 }
+// The shortcut docs/engines.md warns about ("Decode before blending"): APV filters the encoded
+// textures in hardware and decodes once with the filtered L0. At each point, the SH part of the
+// layout's export read that way against the same texels decoded first and then blended (both
+// trilinear between the export's texel points, which are the bake's nodes): RMS and max of the
+// relative difference, guarded by 1 % of the mean.
+std::string filteredDecodeCost(const Ctx& c, const Volume& baked, ExportLayout layout) {
+    using namespace exporter;
+    const Volume l2 = truncateSh(baked, 2);
+    const IrradianceQuery query(l2);
+    double finest = 0;
+    for (const VolumeLevel& level : l2.levels) finest = finest > 0 ? std::min(finest, level.grid.spacing) : level.grid.spacing;
+    const TextureLattice lattice = chooseLattice(query.bounds(), finest, 0);
+    const std::size_t floats = compactShTextures(layout).size() * 4;
+    auto stored = [&](int i, int j, int k) {  // one texel as the files hold it
+        Rgb L[9];
+        query.lookup().shRadiance(lattice.point(i, j, k), L);
+        std::vector<float> t(floats);
+        packCompactTexel(layout, L, t.data());
+        for (std::size_t q = 0; q < floats; ++q) t[q] = q < 4 ? float(Imath::half(t[q])) : float(unorm8(t[q])) / 255.0f;
+        return t;
+    };
+    const Points pts = freeSpacePoints(c.scene, c.tracer, c.settings.points);
+    std::vector<double> filtered, blended;
+    const Vec3d h = lattice.spacing();
+    for (std::size_t p = 0; p < pts.x.size(); ++p) {
+        int i0[3];
+        double f[3];
+        for (int a = 0; a < 3; ++a) {
+            const double g = std::clamp((double(pts.x[p][a]) - lattice.lo[a]) / h[a], 0.0, double(lattice.dims[a] - 1));
+            i0[a] = std::min(int(g), std::max(lattice.dims[a] - 2, 0));
+            f[a] = g - i0[a];
+        }
+        std::vector<float> encoded(floats, 0.0f);
+        Rgb decodedSum[9] = {};
+        for (int k = 0; k < 8; ++k) {
+            const int b[3] = {k & 1, (k >> 1) & 1, k >> 2};
+            const double w = (b[0] ? f[0] : 1 - f[0]) * (b[1] ? f[1] : 1 - f[1]) * (b[2] ? f[2] : 1 - f[2]);
+            const std::vector<float> t = stored(std::min(i0[0] + b[0], lattice.dims[0] - 1),
+                                                std::min(i0[1] + b[1], lattice.dims[1] - 1),
+                                                std::min(i0[2] + b[2], lattice.dims[2] - 1));
+            for (std::size_t q = 0; q < floats; ++q) encoded[q] += float(w) * t[q];
+            Rgb L[9];
+            unpackCompactTexel(layout, t.data(), L);
+            for (int j = 0; j < 9; ++j) decodedSum[j] = decodedSum[j] + L[j] * float(w);
+        }
+        Rgb L[9];
+        unpackCompactTexel(layout, encoded.data(), L);
+        filtered.push_back(luminance(sh::irradiance(L, pts.n[p])));
+        blended.push_back(luminance(sh::irradiance(decodedSum, pts.n[p])));
+    }
+    double mean = 0;
+    for (double v : blended) mean += v / double(blended.size());
+    double s2 = 0, worst = 0;
+    for (std::size_t i = 0; i < blended.size(); ++i) {
+        const double d = (filtered[i] - blended[i]) / std::max(std::fabs(blended[i]), 0.01 * mean);
+        s2 += d * d;
+        worst = std::max(worst, std::fabs(d));
+    }
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "decoding after hardware filtering instead (APV's way) moves the SH part by RMS %.2f %%, max %.1f %%",
+                  100 * std::sqrt(s2 / double(blended.size())), 100 * worst);
+    return buf;
+}
 }  // namespace
 
 void addEngineLayoutConfigs(std::vector<Config>& v, const TrySpec& def) {
@@ -103,7 +171,7 @@ void addEngineLayoutConfigs(std::vector<Config>& v, const TrySpec& def) {
                          const std::size_t lights = baked.direct.hasVisibility() ? baked.direct.lights.size() : 0;
                          const uint64_t perNode = (order == 2 ? 32 : 16) + 4 * ((lights + 3) / 4) + (baked.hasDepth() ? 12 : 0);
                          b.bytes = perNode * b.nodes;
-                         b.note += "; B/node = the export's";
+                         b.note += "; B/node = the export's; " + filteredDecodeCost(c, baked, layout);
                          return b;
                      },
                      true});
