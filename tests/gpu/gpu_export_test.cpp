@@ -17,6 +17,7 @@
 #include "gpu/gl_compute.h"
 #include "gpu/layout_cases.h"
 #include "test_util.h"
+#include "vdblight/export_compact.h"
 #include "vdblight/query.h"
 #include "vdblight/sampling.h"
 #include "vdblight/sh_truncate.h"
@@ -181,6 +182,27 @@ double relativeError(const Rgb& got, const Rgb& want, const Rgb& scale) {
     return e;
 }
 
+// sh1-16 / sh2-32: the query of what the textures decode to against the query of the bands
+// they hold, relative to the same texel scale, within the row's 8-bit bound (layout_cases.cpp).
+void expectQuantisationWithinBound(const LayoutCase& c, const Manifest& m, const IrradianceQuery& bands,
+                                   const IrradianceQuery& decoded, const std::vector<float>& x, const std::vector<float>& n) {
+    double worst = 0, sum = 0;
+    int worstAt = 0;
+    for (int i = 0; i < kPoints; ++i) {
+        const Vec3f p(x[3 * i], x[3 * i + 1], x[3 * i + 2]), d(n[3 * i], n[3 * i + 1], n[3 * i + 2]);
+        const double e = relativeError(clampedQuery(decoded, p, d), clampedQuery(bands, p, d), texelScale(bands, m, p));
+        sum += e;
+        if (e > worst) worst = e, worstAt = i;
+    }
+    const int i = worstAt;
+    std::printf("[%s] 8-bit quantisation (decoded volume's query vs bands 0..%d): max relative error %.3g (bound %.3g) "
+                "at x=(%.4f, %.4f, %.4f) n=(%.4f, %.4f, %.4f); mean %.3g\n",
+                c.name, c.shOrder, worst, c.quantisation, x[3 * i], x[3 * i + 1], x[3 * i + 2], n[3 * i], n[3 * i + 1],
+                n[3 * i + 2], sum / kPoints);
+    EXPECT_LE(worst, c.quantisation) << c.name << ": the 8-bit round trip exceeds the documented bound";
+    EXPECT_GT(worst, kTolerance) << c.name << ": no 8-bit rounding visible (are the textures 8-bit?)";
+}
+
 }  // namespace
 
 TEST_P(GpuExport, DocGlslOnLlvmpipeMatchesQuery) {
@@ -207,8 +229,10 @@ TEST_P(GpuExport, DocGlslOnLlvmpipeMatchesQuery) {
     randomPoints(manifest, x, n);
     const std::vector<float> gpu = runOverPoints(program, x, n);
 
-    Volume v = readVolume(volume);
-    if (c.shOrder) v = truncateSh(std::move(v), c.shOrder);
+    const Volume stored = readVolume(volume);
+    const Volume bands = c.shOrder ? truncateSh(stored, c.shOrder) : stored;
+    // sh1-16 / sh2-32: what the 8-bit textures decode to (their quantisation is checked below).
+    const Volume v = c.compactSh ? compactShRoundTrip(stored, *c.compactSh) : bands;
     const IrradianceQuery query(v);
     const IrradianceQuery unweighted(v, OutsidePolicy::Clamp, false);
     EXPECT_EQ(query.depthWeighted(), c.depthWeighted);
@@ -232,6 +256,7 @@ TEST_P(GpuExport, DocGlslOnLlvmpipeMatchesQuery) {
                 c.name, kPoints, worst, kTolerance, p.x, p.y, p.z, d.x, d.y, d.z, gpu[3 * i], gpu[3 * i + 1], gpu[3 * i + 2],
                 want.x, want.y, want.z, errors[std::size_t(0.99 * kPoints)]);
     EXPECT_LE(worst, kTolerance) << c.name;
+    if (c.compactSh) expectQuantisationWithinBound(c, manifest, IrradianceQuery(bands), query, x, n);
     if (c.depthWeighted) {
         std::printf("[%s] the unweighted lookup differs by more than 10x the tolerance at %d points\n", c.name, weightsMatter);
         EXPECT_GT(weightsMatter, kPoints / 100) << "the depth weights change too few points to prove the blend";

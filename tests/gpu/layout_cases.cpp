@@ -85,6 +85,25 @@ const char* const kCallOcclusion =
     "    return vdblightIrradianceOcclusion(x, n, lightVertices, lightVertexCount, lightNormal, lightRadiance);\n"
     "}\n";
 
+// The sh1-16 / sh2-32 textures, named as the doc's GLSL names its samplers.
+Bindings compactShTextures(const Manifest& m) {
+    Bindings b;
+    for (const ManifestTexture& t : m.textures)
+        if (startsWith(t.name, "L0_") || startsWith(t.name, "L1") || startsWith(t.name, "L2_")) b.emplace_back(t.name, t.name);
+    return b;
+}
+
+const char* const kCallSh2x32 = "vec3 vdblightCheck(vec3 x, vec3 n) { return vdblightIrradianceSh2x32(x, n); }\n";
+const char* const kCallSh1x16 = "vec3 vdblightCheck(vec3 x, vec3 n) { return vdblightIrradianceSh1x16(x, n); }\n";
+
+// The 8-bit rounding bound of docs/engines.md ("sh2-32", "Rounding error") as a fraction of
+// the texels' L0 irradiance a (<= the row's scale: the mean of E over the six axis normals is
+// a for bands 0..2): max over unit n of the decoded terms' ranges / 510, 2.22 % for sh2-32
+// and 4 sqrt(3) / 510 = 1.36 % for sh1-16, plus the half-float tolerance of the row for a
+// (rounded to half) and the terms it scales.
+constexpr double kSh2x32Quantisation = 0.0222 + 2e-3;
+constexpr double kSh1x16Quantisation = 0.0136 + 2e-3;
+
 }  // namespace
 
 const std::vector<LayoutCase>& layoutCases() {
@@ -129,6 +148,12 @@ const std::vector<LayoutCase>& layoutCases() {
              }
              return b;
          }},
+        {"sh2-32 (ktx2; L0 half, rgba8_unorm)", "sh4.vdb", "--format ktx2 --layout sh2-32", {"vec3 vdblightIrradianceSh2x32("},
+         nullptr, kCallSh2x32, compactShTextures, 2, false, nullptr, ExportLayout::Sh2x32, kSh2x32Quantisation},
+        {"sh2-32 (dds; L0 half, rgba8_unorm)", "sh4.vdb", "--format dds --layout sh2-32", {"vec3 vdblightIrradianceSh2x32("},
+         nullptr, kCallSh2x32, compactShTextures, 2, false, nullptr, ExportLayout::Sh2x32, kSh2x32Quantisation},
+        {"sh1-16 (ktx2; L0 half, rgba8_unorm)", "sh4.vdb", "--format ktx2 --layout sh1-16", {"vec3 vdblightIrradianceSh1x16("},
+         nullptr, kCallSh1x16, compactShTextures, 1, false, nullptr, ExportLayout::Sh1x16, kSh1x16Quantisation},
     };
     return cases;
 }

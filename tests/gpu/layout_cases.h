@@ -3,11 +3,13 @@
 // GLSL block in the document (found by the function it declares).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "export_loader.h"
+#include "vdblight/export.h"
 
 namespace vdblight::gpu {
 
@@ -32,6 +34,11 @@ struct LayoutCase {
     bool depthWeighted = false;
     /// Extra uniforms from the manifest (e.g. the listed light of an occlusion volume).
     void (*setUniforms)(const Manifest&, const ComputeProgram&) = nullptr;
+    /// sh1-16 / sh2-32 rows (8-bit textures): the shader is compared with the query of
+    /// compactShRoundTrip(volume, *compactSh) (what the textures decode to; the usual
+    /// tolerance), and that query with the query of bands 0..shOrder within `quantisation`.
+    std::optional<ExportLayout> compactSh = std::nullopt;
+    double quantisation = 0;
 };
 
 /// Every row of the check.
