@@ -8,9 +8,8 @@
 #include <cmath>
 #include <sstream>
 
-#include "vdblight/direct_light.h"
 #include "vdblight/errors.h"
-#include "vdblight/query_direct.h"
+#include "vdblight/query_direct.h"  // OcclusionLookup, and DirectLight / formatDirectLight through it
 #include "vdblight/sh.h"
 
 namespace vdblight::exporter {
