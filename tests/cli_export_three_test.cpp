@@ -45,12 +45,26 @@ TEST_F(CliExportThree, WritesTheAtlasAndItsJson) {
     }
 }
 
+// The default bake (--direct occlusion) keeps its main lights' direct light outside the SH;
+// export folds it into the probes (export_fold_direct_test checks the values), says so on the
+// console and names the lights in probe_grid.json.
+TEST_F(CliExportThree, TheDefaultBakesDirectLightIsFoldedIntoTheProbes) {
+    TempDir out;
+    const std::string dir = out.file("web");
+    std::string log;
+    ASSERT_EQ(runCommand(cliPath() + " export " + file("occlusion.vdb") + " -o " + dir + " --format three", &log), 0) << log;
+    EXPECT_NE(log.find("Folded the direct light of "), std::string::npos) << log;
+    const std::string json = readText(dir + "/probe_grid.json");
+    EXPECT_NE(json.find("\"folded_into_sh\": true"), std::string::npos) << json;
+    EXPECT_NE(json.find("\"lights\": [\"kind="), std::string::npos) << json;
+    EXPECT_EQ(filesIn(dir), 2u);
+}
+
 TEST_F(CliExportThree, BadInputFailsWithOneLineAndWritesNothing) {
     TempDir out;
     const struct {
         std::string volume, args, expected;
     } cases[] = {
-        {"occlusion.vdb", "", "--direct baked"},  // the default bake keeps a light's direct part outside the SH
         {"baked.vdb", "--cells 4", "--cells"},
         {"baked.vdb", "--resolution 1", "at least 2"},
         {"baked.vdb", "--half --float", "not both"},

@@ -8,6 +8,7 @@
 #include <random>
 
 #include "export_file_checks.h"
+#include "occlusion_volumes.h"
 #include "cli_util.h"
 #include "random_volumes.h"
 #include "test_util.h"
@@ -88,10 +89,10 @@ void expectEngineTexelsMatchQuery(const Volume& v, const PresetSummary& s, const
 }
 
 // The EXR atlases of an export, as texel arrays x fastest (slice z at column z % columns, row z / columns).
-std::vector<std::vector<float>> readAtlases(const test::TempDir& dir, const TextureLattice& e) {
+std::vector<std::vector<float>> readAtlases(const test::TempDir& dir, const TextureLattice& e, const std::string& sub = "") {
     std::vector<std::vector<float>> out;
     for (const char* name : {"shAr", "shAg", "shAb", "shBr", "shBg", "shBb", "shC"}) {
-        Imf::InputFile file(dir.file(std::string(name) + ".exr").c_str());
+        Imf::InputFile file(dir.file(sub + name + ".exr").c_str());
         const std::vector<float> px = test::readExrRgba(file);
         const int width = file.header().dataWindow().max.x + 1;
         const int columns = width / e.dims[0];
@@ -207,16 +208,50 @@ TEST(ExportPresets, APresetTheVolumeCannotTakeIsRefusedWithoutOutput) {
     EXPECT_THROW(parseEnginePreset("unity5"), ValueError);
 }
 
-TEST(ExportPresets, ShPresetsRefuseLightKeptOutOfTheSh) {
-    Volume v = test::randomShVolume(3, 3, 3, 0.5, 5);
-    v.direct.mode = DirectMode::Occlusion;
-    v.direct.lights.push_back(DirectLight{});
+// An occlusion volume's listed lights are folded into the SH (fold_direct.h): Godot's texels
+// (its frame is the volume's) give the query's full answer, direct light included, up to SH
+// order 2's truncation of a point light (3/32 of its peak irradiance x visibility) and half
+// rounding, the manifest names the lights; a runtime volume's lights are still refused.
+TEST(ExportPresets, ShPresetsFoldOcclusionLightsAndRefuseRuntimeLights) {
+    const Volume v = test::occlusionVolume(5);
     test::TempDir dir;
+    const PresetSummary s = exportPreset(v, dir.file("godot"), EnginePreset::Godot);
+    EXPECT_EQ(s.foldedLights, 2);
+    const std::string json = readText(dir.file("godot/manifest.json"));
+    EXPECT_NE(json.find("\"folded_into_sh\": true"), std::string::npos) << json;
+    EXPECT_NE(json.find(formatDirectLight(v.direct.lights[1])), std::string::npos) << json;
+    const std::vector<std::vector<float>> textures = readAtlases(dir, s.lattice, "godot/");
+    const IrradianceQuery q(v);
+    std::mt19937 rng(3);
+    std::normal_distribution<double> g;
+    const TextureLattice& e = s.lattice;
+    double sumErr2 = 0;
+    std::size_t texel = 0;
+    for (int k = 0; k < e.dims[2]; ++k)
+        for (int j = 0; j < e.dims[1]; ++j)
+            for (int i = 0; i < e.dims[0]; ++i, ++texel) {
+                std::vector<const float*> t;
+                for (const auto& tex : textures) t.push_back(tex.data() + 4 * texel);
+                const Vec3d n = normalize(Vec3d(g(rng), g(rng), g(rng)));
+                const Vec3d x = e.point(i, j, k);
+                const Vec3d got = evalPacked(t, n);
+                const Rgb want = q.irradianceWorld(x, Vec3f(n));
+                const Vec3d peak = test::peakDirect(v, x);
+                for (int c = 0; c < 3; ++c) {
+                    ASSERT_NEAR(got[c], want[c], test::kL2PointLightWorstError * peak[c] + 4e-3 * (1 + std::fabs(want[c])))
+                        << "texel " << i << "," << j << "," << k << " channel " << c;
+                    sumErr2 += (got[c] - want[c]) * (got[c] - want[c]);
+                }
+            }
+    EXPECT_GT(sumErr2, 0.0);  // the truncation is real: the texels are not the query's answer
+    Volume runtime = test::randomShVolume(3, 3, 3, 0.5, 5);
+    runtime.direct.mode = DirectMode::Runtime;
+    runtime.direct.lights.push_back(DirectLight{});
     try {
-        exportPreset(v, dir.file("unity"), EnginePreset::Unity);
+        exportPreset(runtime, dir.file("unity"), EnginePreset::Unity);
         ADD_FAILURE() << "not refused";
     } catch (const FormatError& e) {
-        EXPECT_NE(std::string(e.what()).find("--direct baked"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("--direct runtime"), std::string::npos) << e.what();
     }
     EXPECT_FALSE(fs::exists(dir.file("unity")));
 }

@@ -1,7 +1,7 @@
 // export --format three (export_three.h): the atlas is LightProbeGridWebGL's layout of the
 // volume's SH bands 0..2 (seven sub-volumes along z with one padding slice at each end) with
 // one border probe per side, the JSON places the grid's box 1.5 spacings outside the nodes,
-// and volumes without SH order 2 are refused with nothing written.
+// and volumes without SH order 2 (or with runtime lights) are refused with nothing written.
 #include <gtest/gtest.h>
 
 #include "export_file_checks.h"
@@ -113,11 +113,12 @@ TEST(ExportThree, RefusesVolumesWithoutShOrderTwo) {
     const Volume vectors = randomUniformVolume(iv::basis(), 3, 3, 3, 0.5, 15);
     EXPECT_THROW(exportThreeGrid(vectors, out, {}), FormatError);
     EXPECT_FALSE(fs::exists(out));
-    // Direct light outside the SH (runtime lights, occlusion's visibility grids) has no place
-    // in three's grid: exporting the SH alone would be silently dim.
-    Volume occlusion = randomShVolume(3, 3, 3, 0.5, 17);
-    occlusion.direct.mode = DirectMode::Runtime;
-    EXPECT_THROW(exportThreeGrid(occlusion, out, {}), FormatError);
+    // Runtime lights (shadowed by the scene at run time) have no place in three's grid:
+    // exporting the SH alone would be silently dim. (Occlusion volumes' lights are folded into
+    // the SH: export_fold_direct_test.)
+    Volume runtime = randomShVolume(3, 3, 3, 0.5, 17);
+    runtime.direct.mode = DirectMode::Runtime;
+    EXPECT_THROW(exportThreeGrid(runtime, out, {}), FormatError);
     EXPECT_FALSE(fs::exists(out));
     const Volume flat = randomShVolume(4, 4, 1, 0.5, 16);
     EXPECT_THROW(exportThreeGrid(flat, out, {}), ValueError);

@@ -78,6 +78,8 @@ void runPreset(const ExportCommand& c) {
         std::cout << "Exported preset " << presetName(preset) << ": " << s.files.size() - 1 << " files of "
                   << s.lattice.dims[0] << " x " << s.lattice.dims[1] << " x " << s.lattice.dims[2]
                   << " voxels + manifest.json to " << c.output << " (" << formatBytes(double(s.bytes)) << ")\n";
+    if (!c.quiet && s.foldedLights > 0)
+        std::cout << "Folded the direct light of " << s.foldedLights << " light(s) (bake --direct occlusion) into the SH\n";
 }
 
 /// export --cells K: the volume streamed when it is large and its kind streams (as `query`
@@ -137,6 +139,8 @@ void run(const ExportCommand& c) {
                       << s.lattice.dims[1] << " x " << s.lattice.dims[2] << " probes (" << (t.halfFloat ? "half" : "float")
                       << " atlas " << s.lattice.dims[0] << " x " << s.lattice.dims[1] << " x " << s.atlasDepth
                       << ") + " << kThreeGridJsonFile << " to " << c.output << " (" << formatBytes(double(s.bytes)) << ")\n";
+        if (!c.quiet && s.foldedLights > 0)
+            std::cout << "Folded the direct light of " << s.foldedLights << " light(s) (bake --direct occlusion) into the SH\n";
         return;
     }
     ExportOptions o;

@@ -44,13 +44,17 @@ struct PresetSummary {
     TextureLattice lattice;          ///< the texel lattice, in the engine's coordinates
     std::vector<std::string> files;  ///< written files, manifest.json last, full paths
     uint64_t bytes = 0;
+    int foldedLights = 0;            ///< lights whose direct light was folded into the SH (occlusion volumes)
 };
 
 /// Writes the preset's files and manifest.json into `outDir`, all or nothing (staged and
 /// renamed as `exportTextures` does). `resolution`: texels along the longest axis (0: the
 /// finest node spacing). Throws FormatError when the preset cannot take the volume's basis
-/// (the SH presets, three included, need an SH volume of order >= 2), ValueError / IoError
-/// as exportTextures. `three` writes what exportThreeGrid writes (export_three.h).
+/// (the SH presets, three included, need an SH volume of order >= 2, and refuse a `--direct
+/// runtime` volume with lights), ValueError / IoError as exportTextures. The SH presets fold an
+/// occlusion volume's listed lights into the SH (the query's direct light fitted per texel onto
+/// bands 0..2; the manifest's "direct_light" names them). `three` writes what exportThreeGrid
+/// writes (export_three.h).
 PresetSummary exportPreset(const Volume& volume, const std::string& outDir, EnginePreset preset, int resolution = 0);
 
 /// Bevy's IrradianceVolume texture (bevy_pbr light_probe/irradiance_volume.rs and .wgsl):

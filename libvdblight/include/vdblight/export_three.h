@@ -41,6 +41,7 @@ struct ThreeGridSummary {
     int atlasDepth = 0;              ///< 7 (nz + 2)
     std::vector<std::string> files;  ///< probe_grid_sh.bin, probe_grid.json (full paths)
     uint64_t bytes = 0;
+    int foldedLights = 0;            ///< lights whose direct light was folded into the SH (occlusion volumes)
 };
 
 /// The file names written into the output directory.
@@ -57,7 +58,10 @@ std::vector<float> packThreeGridAtlas(const std::vector<std::vector<float>>& sh2
 /// probe_grid.json (what LightProbeGridWebGL needs: bounds, resolution, texel type; docs/engines.md)
 /// into `outDir` (created if missing), all or nothing. The volume must hold real SH of order
 /// >= 2 (sh2, sh:N; bands above 2 are left out, as `query --sh-order 2` does); FormatError
-/// otherwise. ValueError for an axis with a single probe, values beyond the half range, or
+/// otherwise, and for a `--direct runtime` volume (its lights need the scene at run time). An
+/// occlusion volume's listed lights (the default bake) have their direct light folded into
+/// the probes' SH bands 0..2 (the query's exact direct light x visibility, fitted per probe;
+/// probe_grid.json's "direct_light" names them). ValueError for an axis with a single probe, values beyond the half range, or
 /// memory above maxBytes; IoError if the directory cannot be written.
 ThreeGridSummary exportThreeGrid(const Volume& volume, const std::string& outDir, const ThreeGridOptions& options);
 

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "engine_internal.h"
+#include "fold_direct.h"
 #include "staged_files.h"
 #include "vdblight/bins.h"
 #include "vdblight/errors.h"
@@ -48,17 +49,19 @@ void checkShVolume(const Volume& volume, EnginePreset preset) {
         throw FormatError(std::string("preset '") + presetName(preset) + "' writes SH order-2 textures and needs an SH "
                           "volume (sh2 or sh:N, N >= 2); this one stores '" + volume.basis.kind +
                           "' (--preset bevy takes every kind)");
-    // The presets' textures are the SH alone; light kept out of it would be lost silently.
-    if (volume.direct.mode != DirectMode::Baked && !volume.direct.lights.empty())
+    // The presets' textures are the SH alone: an occlusion volume's listed lights are folded
+    // into it (fold_direct.h); a runtime volume's lights need the scene's shadows at run time,
+    // which the SH cannot hold, so it is refused rather than exported dim.
+    if (volume.direct.mode == DirectMode::Runtime && !volume.direct.lights.empty())
         throw FormatError(std::string("preset '") + presetName(preset) + "' writes the SH only, but this volume keeps the "
-                          "direct light of " + std::to_string(volume.direct.lights.size()) + " light(s) out of it (bake "
-                          "--direct " + directModeName(volume.direct.mode) + "); bake with --direct baked, or export "
-                          "--layout sh2-packed with docs/engines.md's direct-light shader (--preset bevy includes it)");
+                          "direct light of " + std::to_string(volume.direct.lights.size()) + " light(s) for the run time "
+                          "to add (bake --direct runtime); bake with --direct occlusion (folded on export) or --direct "
+                          "baked, or export --layout sh2-packed with docs/engines.md's direct-light shader");
 }
 
 std::string presetManifest(EnginePreset preset, const EngineFrame& f, const TextureLattice& e,
                            const std::vector<TextureDesc>& descs, const std::vector<std::string>& textureFiles,
-                           const std::vector<SvtFile>& svt) {
+                           const std::vector<SvtFile>& svt, const std::string& foldedDirect) {
     const Vec3d h = e.spacing();
     std::ostringstream s;
     s << "{\n  \"vdblight_export_version\": 2,\n  \"preset\": \"" << presetName(preset) << "\",\n"
@@ -76,6 +79,7 @@ std::string presetManifest(EnginePreset preset, const EngineFrame& f, const Text
       << "  \"dims\": [" << e.dims[0] << ", " << e.dims[1] << ", " << e.dims[2] << "],\n"
       << "  \"bounds_min\": " << jsonVec(e.lo) << ",\n  \"bounds_max\": " << jsonVec(e.hi) << ",\n"
       << "  \"texel_spacing\": " << jsonVec(h) << ",\n";
+    if (!foldedDirect.empty()) s << "  \"direct_light\": " << foldedDirect << ",\n";
     Vec3d scale, bias;
     for (int a = 0; a < 3; ++a) {
         scale[a] = h[a] > 0 ? 1.0 / (h[a] * e.dims[a]) : 0.0;
@@ -132,6 +136,7 @@ PresetSummary exportPreset(const Volume& volume, const std::string& outDir, Engi
         s.lattice = g.lattice;
         s.files = g.files;
         s.bytes = g.bytes;
+        s.foldedLights = g.foldedLights;
         return s;
     }
     if (outDir.empty()) throw IoError("no output directory given");
@@ -149,8 +154,9 @@ PresetSummary exportPreset(const Volume& volume, const std::string& outDir, Engi
     if (lattice.texelCount() > (1ull << 28))
         throw ValueError("the preset's textures would have over 2^28 texels; lower --resolution");
     const std::vector<TextureDesc> descs = layoutTextures(ExportLayout::Sh2Packed);
-    std::vector<std::vector<float>> textures =
-        reorientSh2Packed(frame, lattice, sampleLayout(query, lattice, ExportLayout::Sh2Packed));
+    std::vector<std::vector<float>> sampled = sampleLayout(query, lattice, ExportLayout::Sh2Packed);
+    addFoldedDirectLight(volume, query, lattice, ExportLayout::Sh2Packed, sampled);  // occlusion volumes (fold_direct.h)
+    std::vector<std::vector<float>> textures = reorientSh2Packed(frame, lattice, sampled);
     for (const std::vector<float>& t : textures)
         for (float v : t)
             if (!(std::fabs(v) <= 65504.0f))
@@ -179,10 +185,13 @@ PresetSummary exportPreset(const Volume& volume, const std::string& outDir, Engi
             writeExrAtlas(staged.stage(outDir, textureFiles.back()), image);
         }
     }
-    const std::string json = presetManifest(preset, frame, engine, descs, textureFiles, svtFiles);
+    const bool folds = foldsDirectLight(volume);
+    const std::string json =
+        presetManifest(preset, frame, engine, descs, textureFiles, svtFiles, folds ? foldedDirectJson(volume, 2) : "");
     writeBytes(staged.stage(outDir, "manifest.json"), std::vector<uint8_t>(json.begin(), json.end()));
     summary.files = staged.commit();
     for (const std::string& f : summary.files) summary.bytes += std::filesystem::file_size(f);
+    if (folds) summary.foldedLights = int(volume.direct.lights.size());
     return summary;
 }
 

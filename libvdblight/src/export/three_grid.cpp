@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "export_internal.h"
+#include "fold_direct.h"
 #include "staged_files.h"
 #include "three_grid_json.h"
 #include "vdblight/basis.h"
@@ -29,16 +30,17 @@ void checkBasis(const Volume& volume) {
     bins::BasisSpec spec;
     const std::unique_ptr<Basis> basis = basisOf(volume.basis);
     const bool shOrder2 = basis && !bins::specFromVolume(volume.basis, spec) && basis->shCoefficients() >= sh::kCoeffs;
-    // Irradiance-vector volumes have no registered basis: sampleLayout's probe refuses them.
-    if (basis && !shOrder2)
+    // Irradiance-vector volumes have no registered basis: refused here too, with the same line.
+    if (!shOrder2)
         throw FormatError("--format three writes SH order-2 probes; a '" + volume.basis.kind +
                           "' volume stores no SH bands 0..2 (bake with --basis sh2 or sh:N, N >= 2)");
-    // three's shader adds nothing but the grid's SH: light kept outside it (runtime lights, or
-    // per-light visibility grids) would be lost, so such volumes are refused, not exported dim.
-    if (volume.direct.mode != DirectMode::Baked)
+    // three's shader adds nothing but the grid's SH. An occlusion volume's direct light is folded
+    // into it (fold_direct.h); a runtime volume's lights need the scene's shadows at run time,
+    // which this grid cannot hold, so it is refused rather than exported dim.
+    if (volume.direct.mode == DirectMode::Runtime)
         throw FormatError(std::string("--format three needs all light in the SH; this volume keeps the direct light of ") +
-                          std::to_string(volume.direct.lights.size()) + " listed light(s) outside it (--direct " +
-                          directModeName(volume.direct.mode) + "): bake with --direct baked");
+                          std::to_string(volume.direct.lights.size()) + " listed light(s) for the run time to add "
+                          "(--direct runtime): bake with --direct occlusion (folded on export) or --direct baked");
 }
 
 // One more probe on each side of every axis holding the edge node's value (texels padded by
@@ -114,8 +116,10 @@ ThreeGridSummary exportThreeGrid(const Volume& volume, const std::string& outDir
                          "(WebGL 2's usual MAX_3D_TEXTURE_SIZE) or the memory limit; lower --resolution");
     checkOutputDirectory(outDir);
 
-    const std::vector<float> atlas =
-        packThreeGridAtlas(withBorderProbes(sampleLayout(query, nodes, ExportLayout::Sh2), nodes.dims), l.dims);
+    std::vector<std::vector<float>> sh2 = sampleLayout(query, nodes, ExportLayout::Sh2);
+    addFoldedDirectLight(volume, query, nodes, ExportLayout::Sh2, sh2);  // occlusion volumes (fold_direct.h)
+    if (foldsDirectLight(volume)) summary.foldedLights = int(volume.direct.lights.size());
+    const std::vector<float> atlas = packThreeGridAtlas(withBorderProbes(sh2, nodes.dims), l.dims);
     if (o.halfFloat) checkHalfRange({atlas}, {TextureDesc{"probe grid atlas", {}}});
 
     ThreeGridJsonInput json;
@@ -124,6 +128,7 @@ ThreeGridSummary exportThreeGrid(const Volume& volume, const std::string& outDir
     json.halfFloat = o.halfFloat;
     json.basisKind = volume.basis.kind;
     json.hasDepthMoments = volume.hasDepth();
+    if (foldsDirectLight(volume)) json.foldedDirect = foldedDirectJson(volume, 2);
     StagedFiles staged;
     staged.createDirectory(outDir);
     const TexelFormat format = lightingTexelFormat(o.halfFloat);

@@ -57,6 +57,7 @@ std::string threeGridJson(const ThreeGridJsonInput& in) {
          "scene's units\",\n"
       << "  \"basis\": \"" << in.basisKind << "\",\n"
       << "  \"depth_moments\": " << (in.hasDepthMoments ? "true" : "false") << ",\n"
+      << (in.foldedDirect.empty() ? std::string() : "  \"direct_light\": " + in.foldedDirect + ",\n")
       << "  \"interpolation\": \"trilinear at the shader's sample point (the fragment moved half a probe spacing "
          "along its normal); "
       << (in.hasDepthMoments ? "the volume's depth moments are not used (match: vdblight query --sh-order 2 "

@@ -14,6 +14,7 @@ struct ThreeGridJsonInput {
     bool halfFloat = true;
     std::string basisKind;       ///< the volume's vdblight:basis
     bool hasDepthMoments = false;
+    std::string foldedDirect;    ///< foldedDirectJson (fold_direct.h) of an occlusion volume, or empty
 };
 
 /// The JSON text (docs/engines.md, "three.js" lists the fields).
