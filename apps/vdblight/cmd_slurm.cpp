@@ -84,11 +84,13 @@ std::string run(const std::string& command) {
 /// The end of a tile's job script: a bake killed by a signal (a kill, the OOM killer, a node
 /// in trouble) puts its array task back into the queue, up to 3 times, so that the chain goes
 /// on; a bake that stops with an error message exits with it (it would fail again). Slurm's
-/// own --requeue covers node failures and `scontrol requeue`; `scancel` kills this script too,
-/// so a cancelled tile stays cancelled.
+/// own --requeue covers node failures and `scontrol requeue`. A bake interrupted or terminated
+/// (exit 130: vdblight's own SIGINT/SIGTERM handling; 143: SIGTERM before it) is not requeued:
+/// that is `scancel`, whose SIGTERM need not reach this script before the bake has exited
+/// (seen in slurm_cluster_test), and a cancelled tile stays cancelled.
 const char* const kRequeueOnSignal =
     "rc=$?\n"
-    "if [ $rc -gt 128 ] && [ \"${SLURM_RESTART_COUNT:-0}\" -lt 3 ]; then\n"
+    "if [ $rc -gt 128 ] && [ $rc -ne 130 ] && [ $rc -ne 143 ] && [ \"${SLURM_RESTART_COUNT:-0}\" -lt 3 ]; then\n"
     "  echo \"vdblight slurm: the bake was killed by signal $((rc - 128)): requeueing tile $SLURM_ARRAY_TASK_ID\"\n"
     "  scontrol requeue \"${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}\"\n"
     "fi\n"
