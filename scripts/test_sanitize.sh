@@ -42,7 +42,11 @@ if [ ${#TESTS[@]} -eq 0 ]; then
   # install_example_test (label `install`) links an example without sanitizer flags;
   # quickstart_long_path_test (label `quickstart`) runs the quick start's default bake, whose
   # code the CLI tests run here at smaller sizes; the web page's test (label `web`) drives Chromium.
-  (cd "$BUILD" && ctest --output-on-failure -j "${JOBS:-$(nproc)}" -LE "cluster|install|quickstart|web")
+  # The GPU-driver checks (GpuExport, NanoVdbGpu: issue 33) spend their time in llvmpipe's
+  # shader compiler and rasteriser, which are not instrumented; the bakes and exports they run
+  # are, in the export tests that run here. CI must stay within 40 min.
+  (cd "$BUILD" && ctest --output-on-failure -j "${JOBS:-$(nproc)}" -LE "cluster|install|quickstart|web" \
+     -E "^(GpuExport|NanoVdbGpu)\.")
 else
   build --target "${TESTS[@]}"
   for t in "${TESTS[@]}"; do "$BUILD/tests/$t"; done
