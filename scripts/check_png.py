@@ -2,9 +2,11 @@
 """Decodes a PNG with only the Python standard library (zlib), independently of vdblight's
 encoder, and prints "WIDTH HEIGHT MEAN_R MEAN_G MEAN_B" (means of the 8-bit values).
 
-    /usr/bin/python3 scripts/check_png.py FILE.png [--left-right]
+    /usr/bin/python3 scripts/check_png.py FILE.png [--left-right] [--raw OUT]
 
 With --left-right it also prints the mean red minus green of the left and right thirds.
+With --raw OUT it also writes the decoded pixels to OUT: rows top to bottom, the channels as
+stored (3 or 4 bytes per pixel), no filter bytes: what a test compares with the encoder's input.
 Exit status 1 if the file is not a valid 8-bit RGB/RGBA PNG (bad signature, CRC, size).
 """
 import struct
@@ -74,6 +76,9 @@ def main():
         print("invalid PNG: %s" % e)
         return 1
     print(w, h, *("%.3f" % mean(rows, ch, c, 0, w) for c in range(3)))
+    if "--raw" in sys.argv:
+        with open(sys.argv[sys.argv.index("--raw") + 1], "wb") as out:
+            out.write(b"".join(bytes(row) for row in rows))
     if "--left-right" in sys.argv:
         third = max(w // 3, 1)
         left = mean(rows, ch, 0, 0, third) - mean(rows, ch, 1, 0, third)

@@ -18,6 +18,9 @@ PACKAGES=(build-essential cmake pkg-config
           libegl-dev libepoxy-dev libgl1-mesa-dri libegl-mesa0 glslang-tools   # tests/gpu: OpenGL on Mesa llvmpipe, headless; HLSL front end (issue 33)
           slurmctld slurmd slurm-client munge   # tests/slurm_cluster_test.sh: a one-node Slurm (issue 17)
           libnanovdb-dev libnanovdb-tools glslang-tools   # export --format nanovdb (headers); nanovdb_export_test runs nanovdb_validate/_print; nanovdb_glsl_test runs glslangValidator
+          libssl-dev   # SHA-256 of the .vdb content hash: OpenSSL's libcrypto (volume/sha256_openssl.cpp, issue 30)
+          libpng-dev   # `vdblight slice -o FILE.png`: the PNG encoder (export/png_writer.cpp, issue 30)
+          nlohmann-json3-dev   # glTF JSON in the scene loaders (scene/json_access.h) and manifest.json in the GPU tests (issue 30); header-only
           chromium   # tests/web_page_test.sh: the web page (examples/web) in headless Chromium (issue 31)
           clang-14 libclang-rt-14-dev)  # scripts/fuzz.sh: libFuzzer (libclang_rt.fuzzer-x86_64.a is in
                                         # libclang-rt-14-dev, only a Recommends of clang-14)

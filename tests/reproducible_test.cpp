@@ -87,6 +87,19 @@ TEST(Reproducible, SameVolumeSameBytesAndUuidFromContent) {
     EXPECT_EQ(inspectVolumeFile(a, &read).hash.sha256, ha.sha256);
 }
 
+// The content hash is what farms and merges compare across versions of vdblight, so it must
+// not move when the code computing it does (issue 30: SHA-256 from libcrypto instead of our
+// own). The hex string was computed by the hand-written SHA-256 before the change; OpenVDB 10
+// writes these bytes for smallVolume().
+TEST(Reproducible, ContentHashOfASmallVolumeIsPinned) {
+    test::TempDir dir;
+    const std::string a = dir.file("a.vdb");
+    writeVolume(smallVolume(), a);
+    const ContentHash h = fileContentHash(a);
+    EXPECT_EQ(h.sha256, "e5d5ac5e66001b623072dd06fe80532b66b40b8d304810d4091caaf5e6ad2bb5");
+    EXPECT_EQ(h.headerUuid, "e5d5ac5e-6600-8b62-b072-dd06fe80532b");
+}
+
 TEST(Reproducible, RunSpecificMetadataOnlyOnRequest) {
     test::TempDir dir;
     const std::string a = dir.file("a.vdb"), b = dir.file("b.vdb");

@@ -17,17 +17,24 @@ std::string readFile(const std::string& path) {
     return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-const json::Json& field(const json::Json& object, const std::string& key) {
-    const json::Json* v = object.get(key);
-    if (!v) fail("manifest.json has no '" + key + "'");
-    return *v;
+const nlohmann::json& field(const nlohmann::json& object, const std::string& key) {
+    const auto it = object.find(key);
+    if (it == object.end()) fail("manifest.json has no '" + key + "'");
+    return *it;
+}
+
+std::string text(const nlohmann::json& object, const std::string& key) {
+    const nlohmann::json& v = field(object, key);
+    if (!v.is_string()) fail("manifest.json: '" + key + "' is not a string");
+    return v.get<std::string>();
 }
 
 template <class T>
-std::array<T, 3> triple(const json::Json& object, const std::string& key) {
-    const json::Json& v = field(object, key);
-    if (v.type != json::Json::Array || v.items.size() != 3) fail("manifest.json: '" + key + "' is not a triple");
-    return {T(v.items[0].number), T(v.items[1].number), T(v.items[2].number)};
+std::array<T, 3> triple(const nlohmann::json& object, const std::string& key) {
+    const nlohmann::json& v = field(object, key);
+    if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
+        fail("manifest.json: '" + key + "' is not a triple");
+    return {T(v[0].get<double>()), T(v[1].get<double>()), T(v[2].get<double>())};
 }
 
 uint32_t u32(const std::string& bytes, std::size_t at) {
@@ -88,22 +95,22 @@ void checkHeader(const std::string& bytes, const Manifest& m, const ManifestText
 
 Manifest readManifest(const std::string& dir) {
     Manifest m;
-    m.root = json::JsonParser(readFile(dir + "/manifest.json")).parse();
-    m.layout = field(m.root, "layout").string;
-    m.container = field(m.root, "format").string;
+    m.root = nlohmann::json::parse(readFile(dir + "/manifest.json"));
+    m.layout = text(m.root, "layout");
+    m.container = text(m.root, "format");
     m.dims = triple<int>(m.root, "dims");
     m.boundsMin = triple<float>(m.root, "bounds_min");
     m.boundsMax = triple<float>(m.root, "bounds_max");
     m.texelSpacing = triple<float>(m.root, "texel_spacing");
     m.uvwScale = triple<float>(m.root, "uvw_scale");
     m.uvwBias = triple<float>(m.root, "uvw_bias");
-    const json::Json& sampler = field(m.root, "sampler");
-    if (field(sampler, "filter").string != "linear" || field(sampler, "address").string != "clamp-to-edge" ||
-        field(sampler, "mipmaps").type != json::Json::Bool || field(sampler, "mipmaps").number != 0)
+    const nlohmann::json& sampler = field(m.root, "sampler");
+    if (text(sampler, "filter") != "linear" || text(sampler, "address") != "clamp-to-edge" ||
+        field(sampler, "mipmaps") != false)
         fail("manifest.json: a sampler other than linear, clamp-to-edge, no mipmaps");
-    for (const json::Json& t : field(m.root, "textures").items)
-        m.textures.push_back({field(t, "name").string, field(t, "file").string, field(t, "format").string,
-                              std::size_t(field(t, "data_offset").number)});
+    for (const nlohmann::json& t : field(m.root, "textures"))
+        m.textures.push_back({text(t, "name"), text(t, "file"), text(t, "format"),
+                              field(t, "data_offset").get<std::size_t>()});
     return m;
 }
 

@@ -10,7 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "../../libvdblight/src/scene/json.h"
+#include <nlohmann/json.hpp>
+
 #include "gl_compute.h"
 
 namespace vdblight::gpu {
@@ -25,7 +26,7 @@ struct Manifest {
     std::array<int, 3> dims{};
     std::array<float, 3> boundsMin{}, boundsMax{}, texelSpacing{}, uvwScale{}, uvwBias{};
     std::vector<ManifestTexture> textures;  ///< in the manifest's order
-    json::Json root;                        ///< everything else (direct lights, depth, bins)
+    nlohmann::json root;                    ///< everything else (direct lights, depth, bins)
 };
 
 /// Reads DIR/manifest.json (throws std::runtime_error naming a missing or odd field).

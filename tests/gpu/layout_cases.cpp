@@ -35,29 +35,28 @@ Bindings withDepth(Bindings b) {
 
 // The one listed light of an occlusion export: the doc's occlusion GLSL takes one polygon.
 void setPolygonLight(const Manifest& m, const ComputeProgram& p) {
-    const json::Json* lights = m.root.get("direct") ? m.root.get("direct")->get("lights") : nullptr;
-    if (!lights || lights->items.size() != 1) throw std::runtime_error("the occlusion row needs one listed light");
-    const json::Json& light = lights->items[0];
-    if (light.get("kind")->string != "polygon" || light.get("two_sided")->number != 0 ||
-        light.get("loops")->items.size() != 1 || light.get("visibility")->get("component")->string != "r")
+    const nlohmann::json lights = m.root.value("/direct/lights"_json_pointer, nlohmann::json::array());
+    if (lights.size() != 1) throw std::runtime_error("the occlusion row needs one listed light");
+    const nlohmann::json& light = lights[0];
+    if (light.value("kind", "") != "polygon" || light.value("two_sided", true) || light.value("loops", nlohmann::json()).size() != 1 ||
+        light.value("/visibility/component"_json_pointer, "") != "r")
         throw std::runtime_error("the occlusion row needs a one-sided polygon light with visibility in component r");
-    const auto vec = [](const json::Json& v) { return std::array<float, 3>{float(v.items[0].number), float(v.items[1].number), float(v.items[2].number)}; };
-    const std::vector<json::Json>& loop = light.get("loops")->items[0].items;
+    const auto vec = [](const nlohmann::json& v) { return std::array<float, 3>{v.at(0).get<float>(), v.at(1).get<float>(), v.at(2).get<float>()}; };
+    const nlohmann::json& loop = light.at("loops").at(0);
     for (std::size_t i = 0; i < loop.size(); ++i) {
         const auto v = vec(loop[i]);
         glUniform3f(p.uniform("lightVertices[" + std::to_string(i) + "]"), v[0], v[1], v[2]);
     }
     glUniform1i(p.uniform("lightVertexCount"), GLint(loop.size()));
-    const auto n = vec(*light.get("normal")), l = vec(*light.get("radiance"));
+    const auto n = vec(light.at("normal")), l = vec(light.at("radiance"));
     glUniform3f(p.uniform("lightNormal"), n[0], n[1], n[2]);
     glUniform3f(p.uniform("lightRadiance"), l[0], l[1], l[2]);
 }
 
 // VDBLIGHT_SH_ORDER = the N of the manifest's basis (sh2: 2, sh:N: N), as the doc says.
 std::string shOrderDefine(const Manifest& m) {
-    const json::Json* basis = m.root.get("basis");
-    if (!basis) throw std::runtime_error("a basis export's manifest has no 'basis'");
-    const std::string& b = basis->string;
+    if (!m.root.contains("basis")) throw std::runtime_error("a basis export's manifest has no 'basis'");
+    const std::string b = m.root.at("basis").get<std::string>();
     const int order = b == "sh2" ? 2 : startsWith(b, "sh:") ? std::stoi(b.substr(3)) : 0;
     if (order < 1) throw std::runtime_error("basis '" + b + "' is not real SH");
     return "#define VDBLIGHT_SH_ORDER " + std::to_string(order) + "\n";

@@ -62,8 +62,9 @@ std::vector<uint8_t> toneMapSlice(const SliceImage& image, const ToneMap& tone);
 void writeSlice(const std::string& path, const SliceImage& image, const ToneMap& tone, int axis = 2,
                 double at = 0.0, const Vec3f& normal = Vec3f(0, 0, 1));
 
-/// A minimal PNG encoder (8-bit RGB, zlib-deflated, no filtering): writes `rgb` (3 bytes per
-/// pixel, rows top to bottom) to `path` atomically (atomic_file.h). Throws IoError.
+/// Writes `rgb` (8-bit sRGB, 3 bytes per pixel, rows top to bottom) as an RGB PNG to `path`
+/// atomically (atomic_file.h), encoded by libpng. Throws ValueError if `rgb` does not hold
+/// width x height pixels, IoError if the file cannot be encoded or written.
 void writePng(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb);
 
 }  // namespace vdblight

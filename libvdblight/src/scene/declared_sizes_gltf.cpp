@@ -8,27 +8,29 @@
 #include <vector>
 
 #include "declared_sizes_detail.h"
-#include "json.h"
+#include "json_access.h"
 
 namespace vdblight::declared_sizes {
 
 namespace {
 
 using json::Json;
+using json::elements;
+using json::member;
 
 /// A non-negative integer member (0 if absent); refuses negatives, fractions and absurd values.
 double count(const Json* obj, const char* key, Budget& budget, const std::string& where) {
-    const Json* v = obj ? obj->get(key) : nullptr;
+    const Json* v = member(obj, key);
     if (!v) return 0;
-    if (v->type != Json::Number || !(v->number >= 0) || v->number != std::floor(v->number) || v->number > 1e15)
-        budget.refuse(where + " has an invalid " + key);
-    return v->number;
+    const double n = json::numberOr(v, -1);
+    if (!(n >= 0) || n != std::floor(n) || n > 1e15) budget.refuse(where + " has an invalid " + key);
+    return n;
 }
 
 const Json* element(const Json& doc, const char* array, double index) {
-    const Json* a = doc.get(array);
-    if (!a || a->type != Json::Array || index < 0 || index >= double(a->items.size())) return nullptr;
-    return &a->items[std::size_t(index)];
+    const Json::array_t& a = elements(member(doc, array));
+    if (index < 0 || index >= double(a.size())) return nullptr;
+    return &a[std::size_t(index)];
 }
 
 int components(const std::string& type) {
@@ -61,21 +63,21 @@ struct GltfCheck {
     std::vector<double> bufferBytes;
 
     void buffers() {
-        const Json* list = doc.get("buffers");
-        if (!list) return;
-        for (std::size_t i = 0; i < list->items.size(); ++i) {
-            const Json& b = list->items[i];
+        const Json::array_t& list = elements(member(doc, "buffers"));
+        for (std::size_t i = 0; i < list.size(); ++i) {
+            const Json& b = list[i];
             const std::string where = "buffer " + std::to_string(i);
             const double length = count(&b, "byteLength", budget, where);
-            const Json* uri = b.get("uri");
+            const Json* uri = member(b, "uri");
+            const std::string uriText = json::stringOr(uri);
             double available = -1;
             if (!uri) {
                 available = binChunkBytes;  // GLB body (or nothing in a .gltf)
-            } else if (uri->type == Json::String && uri->string.compare(0, 5, "data:") == 0) {
-                available = dataUriBytes(uri->string);
-            } else if (uri->type == Json::String) {
+            } else if (uri->is_string() && uriText.compare(0, 5, "data:") == 0) {
+                available = dataUriBytes(uriText);
+            } else if (uri->is_string()) {
                 std::error_code ec;
-                const auto size = std::filesystem::file_size(std::filesystem::path(directory) / uri->string, ec);
+                const auto size = std::filesystem::file_size(std::filesystem::path(directory) / uriText, ec);
                 if (!ec) available = double(size);  // a missing file is the importer's to report
             }
             if (available >= 0 && length > available + 3)
@@ -104,11 +106,10 @@ struct GltfCheck {
         if (!a) return 0;
         const std::string name = "accessor " + std::to_string(uint64_t(index));
         const double n = count(a, "count", budget, name);
-        const Json* type = a->get("type");
         const double elementBytes =
-            double(components(type && type->type == Json::String ? type->string : "") *
+            double(components(json::stringOr(member(a, "type"))) *
                    componentBytes(count(a, "componentType", budget, name)));
-        if (a->get("bufferView")) {
+        if (member(a, "bufferView")) {
             const double view = viewBytes(count(a, "bufferView", budget, name), name);
             if (view >= 0) {
                 const Json* vw = element(doc, "bufferViews", count(a, "bufferView", budget, name));
@@ -119,7 +120,7 @@ struct GltfCheck {
                                   " elements, more than its buffer view holds");
             }
         }
-        if (const Json* sparse = a->get("sparse")) {
+        if (const Json* sparse = member(a, "sparse")) {
             if (count(sparse, "count", budget, name + " sparse") > n)
                 budget.refuse(name + " has more sparse elements than elements");
         }
@@ -130,22 +131,18 @@ struct GltfCheck {
     /// Vertices + faces one instance of each mesh adds to the scene (Assimp's and ours).
     std::vector<double> meshBytes() {
         std::vector<double> bytes;
-        const Json* meshes = doc.get("meshes");
-        if (!meshes) return bytes;
-        for (std::size_t m = 0; m < meshes->items.size(); ++m) {
+        const Json::array_t& meshes = elements(member(doc, "meshes"));
+        for (std::size_t m = 0; m < meshes.size(); ++m) {
             const std::string where = "mesh " + std::to_string(m);
             double total = 0;
-            const Json* prims = meshes->items[m].get("primitives");
-            for (const Json& p : prims ? prims->items : std::vector<Json>{}) {
+            for (const Json& p : elements(member(meshes[m], "primitives"))) {
                 double vertices = 0;
-                if (const Json* attributes = p.get("attributes"))
-                    for (const auto& [name, index] : attributes->members)
-                        if (index.type == Json::Number) vertices = std::max(vertices, accessorCount(index.number, where));
-                if (const Json* targets = p.get("targets"))
-                    for (const Json& t : targets->items)
-                        for (const auto& [name, index] : t.members)
-                            if (index.type == Json::Number) accessorCount(index.number, where);
-                const double indices = p.get("indices") ? accessorCount(count(&p, "indices", budget, where), where) : vertices;
+                for (const auto& [name, index] : json::members(member(p, "attributes")))
+                    if (index.is_number()) vertices = std::max(vertices, accessorCount(index.get<double>(), where));
+                for (const Json& t : elements(member(p, "targets")))
+                    for (const auto& [name, index] : json::members(&t))
+                        if (index.is_number()) accessorCount(index.get<double>(), where);
+                const double indices = member(p, "indices") ? accessorCount(count(&p, "indices", budget, where), where) : vertices;
                 // Assimp: an aiMesh (about 2 KB before any data: measured 2.2 KB per primitive),
                 // an aiFace (16 B + a heap array of 3) per triangle, the vertex arrays, then
                 // JoinIdenticalVertices' tables; ours: 12 B per vertex and 16 B per triangle.
@@ -161,16 +158,16 @@ struct GltfCheck {
     /// Node instances: a node listed as a child several times, or under several parents, is
     /// instanced once per path from a scene root (Assimp copies it; we flatten every copy).
     void instances(const std::vector<double>& meshBytes) {
-        const Json* nodes = doc.get("nodes");
-        if (!nodes) return;
-        const std::size_t n = nodes->items.size();
+        const Json::array_t& nodes = elements(member(doc, "nodes"));
+        const std::size_t n = nodes.size();
         std::vector<double> paths(n, 0);      // root-to-node paths
         std::vector<int> state(n, 0);         // 0 new, 1 on stack, 2 done: cycle check
         std::vector<std::vector<std::size_t>> children(n);
         for (std::size_t i = 0; i < n; ++i)
-            if (const Json* c = nodes->items[i].get("children"))
-                for (const Json& k : c->items)
-                    if (k.type == Json::Number && k.number >= 0 && k.number < double(n)) children[i].push_back(std::size_t(k.number));
+            for (const Json& k : elements(member(nodes[i], "children"))) {
+                const double c = json::numberOr(&k, -1);
+                if (c >= 0 && c < double(n)) children[i].push_back(std::size_t(c));
+            }
         // Topological order by an explicit-stack DFS (no recursion on hostile depth).
         std::vector<std::size_t> order;
         for (std::size_t start = 0; start < n; ++start) {
@@ -191,32 +188,31 @@ struct GltfCheck {
         std::reverse(order.begin(), order.end());  // parents before children
         std::vector<bool> isChild(n, false);
         for (const auto& c : children) for (std::size_t k : c) isChild[k] = true;
-        if (const Json* scenes = doc.get("scenes"))
-            for (const Json& s : scenes->items)
-                if (const Json* roots = s.get("nodes"))
-                    for (const Json& r : roots->items)
-                        if (r.type == Json::Number && r.number >= 0 && r.number < double(n)) paths[std::size_t(r.number)] += 1;
+        for (const Json& s : elements(member(doc, "scenes")))
+            for (const Json& r : elements(member(s, "nodes"))) {
+                const double root = json::numberOr(&r, -1);
+                if (root >= 0 && root < double(n)) paths[std::size_t(root)] += 1;
+            }
         for (std::size_t i = 0; i < n; ++i) if (!isChild[i] && paths[i] == 0) paths[i] = 1;  // Assimp's fallback root
         for (std::size_t node : order) {
             for (std::size_t c : children[node]) paths[c] += paths[node];
             budget.charge(paths[node] * 1024.0, "node " + std::to_string(node) + " instanced " +
                                                     std::to_string(uint64_t(paths[node])) + " times");
-            const Json* mesh = nodes->items[node].get("mesh");
-            if (mesh && mesh->type == Json::Number && mesh->number >= 0 && mesh->number < double(meshBytes.size()))
-                budget.charge(paths[node] * meshBytes[std::size_t(mesh->number)],
-                              "mesh " + std::to_string(uint64_t(mesh->number)) + " instanced " +
+            const double mesh = json::numberOr(member(nodes[node], "mesh"), -1);
+            if (mesh >= 0 && mesh < double(meshBytes.size()))
+                budget.charge(paths[node] * meshBytes[std::size_t(mesh)],
+                              "mesh " + std::to_string(uint64_t(mesh)) + " instanced " +
                                   std::to_string(uint64_t(paths[node])) + " times");
         }
     }
 
     void run() {
         buffers();
-        if (const Json* views = doc.get("bufferViews"))
-            for (std::size_t i = 0; i < views->items.size(); ++i) viewBytes(double(i), "declared");
+        const std::size_t views = elements(member(doc, "bufferViews")).size();
+        for (std::size_t i = 0; i < views; ++i) viewBytes(double(i), "declared");
         instances(meshBytes());
-        if (const Json* images = doc.get("images"))
-            for (const Json& image : images->items)
-                if (image.get("bufferView")) budget.charge(viewBytes(count(&image, "bufferView", budget, "image"), "image"), "images");
+        for (const Json& image : elements(member(doc, "images")))
+            if (member(image, "bufferView")) budget.charge(viewBytes(count(&image, "bufferView", budget, "image"), "image"), "images");
     }
 };
 
@@ -245,12 +241,8 @@ void checkGltf(const std::string& path, bool binary, Budget& budget) {
             at += 8 + length;
         }
     }
-    Json doc;
-    try {
-        doc = json::JsonParser(text).parse();
-    } catch (const std::runtime_error&) {
-        return;  // not JSON: Assimp refuses it with its own message
-    }
+    const Json doc = json::parseOrDiscarded(text);
+    if (doc.is_discarded()) return;  // not JSON: Assimp refuses it with its own message
     GltfCheck check{doc, budget, std::filesystem::path(path).parent_path().string(), binChunk, {}};
     check.run();
 }

@@ -35,7 +35,7 @@
 #include "assimp_formats.h"
 #include "declared_sizes.h"
 #include "file_frame.h"
-#include "json.h"
+#include "json_access.h"
 #include "load_ply.h"
 
 namespace vdblight {
@@ -43,7 +43,6 @@ namespace vdblight {
 namespace {
 
 using json::Json;
-using json::JsonParser;
 
 /// The JSON text of a .gltf, or the first (JSON) chunk of a .glb; empty if unreadable.
 std::string gltfJsonText(const std::string& path, bool binary) {
@@ -66,20 +65,10 @@ std::string gltfJsonText(const std::string& path, bool binary) {
 /// already parsed the file successfully, so a parse failure here only loses the strength.
 std::vector<float> gltfEmissiveStrengths(const std::string& path, bool binary) {
     std::vector<float> strengths;
-    try {
-        const Json doc = JsonParser(gltfJsonText(path, binary)).parse();
-        const Json* materials = doc.get("materials");
-        if (!materials) return strengths;
-        for (const Json& m : materials->items) {
-            float s = 1.0f;
-            const Json* ext = m.get("extensions");
-            const Json* es = ext ? ext->get("KHR_materials_emissive_strength") : nullptr;
-            const Json* v = es ? es->get("emissiveStrength") : nullptr;
-            if (v && v->type == Json::Number) s = float(v->number);
-            strengths.push_back(s);
-        }
-    } catch (const std::runtime_error&) {
-        strengths.clear();
+    const Json doc = json::parseOrDiscarded(gltfJsonText(path, binary));
+    for (const Json& m : json::elements(json::member(doc, "materials"))) {
+        const Json* es = json::member(json::member(m, "extensions"), "KHR_materials_emissive_strength");
+        strengths.push_back(float(json::numberOr(json::member(es, "emissiveStrength"), 1.0)));
     }
     return strengths;
 }
