@@ -23,6 +23,7 @@
 #include "vdblight/export.h"
 #include "vdblight/sh.h"
 #include "vdblight/irradiance_vectors.h"
+#include "vdblight/irradiance_vectors_compact.h"
 #include "vdblight/scene.h"
 #include "vdblight/trace.h"
 
@@ -202,4 +203,34 @@ TEST(BasisExport, LayoutBasisWritesEveryChannelOfAnShTwoVolumeAtItsNodes) {
     iv.basis = iv::basis();
     iv.levels[0].data.assign(g.nodeCount() * 54, 0.0f);
     EXPECT_THROW(exportTextures(iv, dir.file("tex2"), e), FormatError);
+}
+
+// Issue 30 item 3: what code outside src/basis/ asks of a kind, answered by BasisDesc.
+TEST(BasisDescQuestions, ShOrderAndFamilyOfEveryKind) {
+    const BasisDesc sh2 = BasisDesc::sh2();
+    EXPECT_TRUE(sh2.isSh2());
+    EXPECT_TRUE(sh2.isRealSh());
+    EXPECT_EQ(sh2.shOrder(), 2);
+    for (int order : {1, 2, 3, 4}) {
+        const BasisDesc d = makeBasis("sh:" + std::to_string(order))->desc();
+        EXPECT_FALSE(d.isSh2()) << d.kind;  // sh:2 is stored in the registry's layout, not sh2's
+        EXPECT_TRUE(d.isRealSh()) << d.kind;
+        EXPECT_EQ(d.shOrder(), order) << d.kind;
+    }
+    for (const std::string spec : {"bins:4", "moment:8"}) {
+        const BasisDesc d = makeBasis(spec)->desc();
+        EXPECT_FALSE(d.isRealSh()) << spec;
+        EXPECT_EQ(d.shOrder(), -1) << spec;
+        EXPECT_FALSE(d.isIrradianceVectors()) << spec;
+    }
+    EXPECT_TRUE(iv::basis().isIrradianceVectors());
+    EXPECT_FALSE(iv::basis().isCompactIrradianceVectors());
+    EXPECT_TRUE(iv::compactBasis().isCompactIrradianceVectors());
+    EXPECT_FALSE(iv::compactBasis().isRealSh());
+    // Kinds the registry never writes are no SH order.
+    for (const std::string kind : {"sh:", "sh:04", "sh:x", "sh"}) {
+        BasisDesc d;
+        d.kind = kind;
+        EXPECT_EQ(d.shOrder(), -1) << kind;
+    }
 }

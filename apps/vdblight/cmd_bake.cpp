@@ -275,7 +275,7 @@ void printSummary(const BakeCommand& c, const Scene& scene, const SceneLoadRepor
         std::cout << ". Wrote " << c.output << " (basis " << volume.basis.kind << ", "
                   << volume.basis.channelCount() << " Vec3f grids, "
                   << metaString(volume.meta, "samples_per_bin") << " samples per bin).\n";
-    else if (binned || volume.basis.kind != "sh2")  // a registry basis (basis.h): generic or point gather
+    else if (binned || !volume.basis.isSh2())  // a registry basis (basis.h): generic or point gather
         std::cout << ". Wrote " << c.output << " (basis " << volume.basis.kind << ": " << makeBasis(r.basis)->describe()
                   << ", " << volume.basis.channelCount() << " Vec3f grids).\n";
     else

@@ -54,8 +54,8 @@ std::string vec(const Vec3d& v, bool json) {
 /// own phrase (basis.h), or the irradiance-vector kinds, which the registry does not hold.
 std::string describeChannels(const BasisDesc& basis) {
     if (const std::unique_ptr<Basis> b = basisOf(basis)) return " RGB channels: " + b->describe();
-    if (basis.kind == "irradiance_vectors") return " channels: irradiance vectors per direction and colour";
-    if (basis.kind == "irradiance_vectors_compact") return " channels: colour and direction per direction";
+    if (basis.isIrradianceVectors()) return " channels: irradiance vectors per direction and colour";
+    if (basis.isCompactIrradianceVectors()) return " channels: colour and direction per direction";
     return " channels";
 }
 

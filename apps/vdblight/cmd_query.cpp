@@ -1,25 +1,14 @@
 // vdblight query VOLUME: irradiance E(x, n) at one point or at the rows of a CSV file.
-#include <algorithm>
-#include <sstream>
+// The answers are the library's (volume_query.h); this file parses options and prints.
 #include <iostream>
+#include <limits>
+#include <sstream>
 
 #include "app_common.h"
 #include "commands.h"
-#include "vdblight/bins.h"
 #include "vdblight/errors.h"
-#include "vdblight/query.h"
-#include "vdblight/sh_truncate.h"
-#include "vdblight/scene.h"
-#include "vdblight/scene_lights.h"
-#include "vdblight/scene_origin.h"
-#include "vdblight/trace.h"
-#include "vdblight/vdb_io.h"
-#include "vdblight/vector_grid_lookup.h"
-#include "vdblight/query_stream.h"
 #include "vdblight/vdb_stream.h"
-
-#include <filesystem>
-#include <limits>
+#include "vdblight/volume_query.h"
 
 namespace vdblight::app {
 
@@ -45,159 +34,75 @@ struct QueryCommand {
     int shOrder = kNotGiven;      // bands 0..shOrder of a real-SH volume (what an engine's L2 probe holds)
 };
 
-/// The volume as a query reads it: streamed (only the leaves looked up are read; vdb_stream.h)
-/// or read whole. `header` is the Volume (whole) or its header (streamed: no node values).
-struct OpenedVolume {
-    Volume whole;
-    std::shared_ptr<StreamedVolume> streamed;
-    const Volume& header() const { return streamed ? streamed->header() : whole; }
-    bool hasDepth() const { return streamed ? streamed->hasDepth() : whole.hasDepth(); }
-};
-
-OpenedVolume openForQuery(const QueryCommand& c) {
-    OpenedVolume v;
-    // --sh-order cuts the volume in memory (sh_truncate.h); streaming reads it as stored.
-    if (c.shOrder != kNotGiven && c.stream == "on") throw ValueError("--sh-order reads the whole volume: leave out --stream on");
-    if (c.stream != "off" && c.shOrder == kNotGiven) {
-        std::error_code ec;
-        const uint64_t bytes = std::filesystem::file_size(c.volume, ec);
-        if (c.stream == "on" || (!ec && bytes >= kStreamAboveBytes)) {
-            v.streamed = std::make_shared<StreamedVolume>(c.volume);
-            const std::string why = streamingSupported(*v.streamed);
-            if (why.empty()) return v;
-            if (c.stream == "on") throw ValueError("--stream on: '" + c.volume + "' cannot be streamed: " + why);
-            std::cerr << "vdblight: note: reading all of '" << c.volume << "' (" << bytes / (1 << 20)
-                      << " MiB) into memory: it cannot be streamed: " << why << "\n";
-            v.streamed.reset();
-        }
-    }
-    v.whole = readVolume(c.volume);
-    return v;
-}
-
-/// A `--direct runtime` volume's direct light, added at query time with shadow rays
-/// (scene_lights.h). The scene must be the one baked: its lights must match the volume's list.
-struct RuntimeDirect {
-    Scene scene;
-    std::unique_ptr<Tracer> tracer;
-    std::vector<SceneLight> lights;
-};
-
-std::unique_ptr<RuntimeDirect> runtimeDirect(const QueryCommand& c, const Volume& volume) {
-    const bool runtime = volume.direct.mode == DirectMode::Runtime;
-    if (!runtime && (!c.scene.empty() || c.indirectOnly))
-        throw ValueError(std::string("--scene and --indirect-only apply to volumes baked with --direct runtime; this one is '") +
-                         directModeName(volume.direct.mode) + "'");
-    if (!runtime || c.indirectOnly) return nullptr;
-    if (c.scene.empty())
-        throw ValueError("'" + c.volume + "' holds indirect light only (bake --direct runtime): give --scene SCENE to add "
-                         "its lights' direct light with shadow rays, or --indirect-only for the stored light alone");
-    auto r = std::make_unique<RuntimeDirect>();
-    r->scene = loadScene(c.scene);
-    r->lights = sceneLights(r->scene);
-    if (r->lights.size() != volume.direct.lights.size())
-        throw ValueError("scene '" + c.scene + "' has " + std::to_string(r->lights.size()) + " lights, the volume lists " +
-                         std::to_string(volume.direct.lights.size()) + " (baked from another scene?)");
-    r->tracer = std::make_unique<Tracer>(r->scene);
-    return r;
-}
-
 void run(const QueryCommand& c) {
     if (c.interp != "trilinear" && c.interp != "tricubic")
         throw ValueError("--interp must be trilinear or tricubic, got '" + c.interp + "'");
     if (c.ivBlend != "bounded" && c.ivBlend != "quadratic" && c.ivBlend != "paper")
         throw ValueError("--iv-blend must be bounded, quadratic or paper, got '" + c.ivBlend + "'");
     if (c.at.empty() == c.points.empty()) throw ValueError("give either --at x,y,z or --points FILE.csv");
-    std::vector<ReferencePoint> points;
     std::vector<Vec3d> world;  // the points in double (volumes far from the origin need it)
+    std::vector<Vec3f> normals;
     if (!c.at.empty()) {
-        ReferencePoint p;
         world.push_back(parseTriple(c.at, "--at"));
-        p.position = Vec3f(world.back());
-        p.normal = Vec3f(parseTriple(c.normal, "--normal"));
-        if (!(length(p.normal) > 0)) throw ValueError("--normal must not be zero");
-        points.push_back(p);
+        normals.push_back(Vec3f(parseTriple(c.normal, "--normal")));
+        if (!(length(normals.back()) > 0)) throw ValueError("--normal must not be zero");
     } else {
-        points = readPointsCsv(c.points, &world);
+        for (const ReferencePoint& p : readPointsCsv(c.points, &world)) normals.push_back(p.normal);
     }
-    Vec3f view;
+    QueryOptions options;
     if (!c.view.empty()) {
-        view = Vec3f(parseTriple(c.view, "--view"));
+        const Vec3f view = Vec3f(parseTriple(c.view, "--view"));
         if (!(length(view) > 0)) throw ValueError("--view must not be zero");
-        view = normalize(view);
+        options.view = normalize(view);
     }
     if (!c.output.empty()) checkOutputWritable(c.output);
 
-    OpenedVolume opened = openForQuery(c);
-    if (c.shOrder != kNotGiven) opened.whole = truncateSh(std::move(opened.whole), c.shOrder);
-    const Volume& volume = opened.header();
-    const OutsidePolicy policy = c.outside == "error" ? OutsidePolicy::Throw : OutsidePolicy::Clamp;
-    if (c.noDepthWeights && !opened.hasDepth())
-        throw ValueError("--no-depth-weights: '" + c.volume + "' has no depth moments (bake --depth-moments)");
-    const IrradianceQuery query = opened.streamed ? makeStreamingQuery(opened.streamed, policy, !c.noDepthWeights)
-                                                  : IrradianceQuery(volume, policy, !c.noDepthWeights);
-    const bool moment = query.viewDependent();
-    if (moment && c.view.empty())
-        throw ValueError("a moment volume ('" + volume.basis.kind + "') needs --view vx,vy,vz (towards the eye)");
-    if (!moment && !c.view.empty())
-        throw ValueError("--view applies to moment volumes (bake --basis moment:N); this one is '" + volume.basis.kind + "'");
-    const std::unique_ptr<RuntimeDirect> runtime = runtimeDirect(c, volume);
-    std::unique_ptr<VolumeLookup> cubic;  // --interp tricubic or another --iv-blend (irradiance-vector volumes)
-    const iv::Blend blend = iv::parseBlend(c.ivBlend);
-    if (c.interp == "tricubic" || blend != iv::kDefaultBlend) {
-        if (!VectorGridLookup::accepts(volume))
-            throw ValueError(std::string(c.interp == "tricubic" ? "--interp tricubic" : "--iv-blend") +
-                             " needs an irradiance-vector volume (bake --method photons); this one is '" +
-                             volume.basis.kind + "'");
-        cubic = std::make_unique<VectorGridLookup>(
-            volume, policy, c.interp == "tricubic" ? Interpolation::Tricubic : Interpolation::Trilinear, blend);
-    }
+    options.outside = c.outside == "error" ? OutsidePolicy::Throw : OutsidePolicy::Clamp;
+    options.interpolation = c.interp == "tricubic" ? Interpolation::Tricubic : Interpolation::Trilinear;
+    options.ivBlend = iv::parseBlend(c.ivBlend);
+    options.depthWeights = !c.noDepthWeights;
+    options.raw = c.raw;
+    if (c.shOrder != kNotGiven) options.shOrder = c.shOrder;
+    options.scenePath = c.scene;
+    options.indirectOnly = c.indirectOnly;
+    options.shadowRays = c.shadowRays;
+    options.streaming = c.stream == "on" ? QueryStreaming::On : c.stream == "off" ? QueryStreaming::Off : QueryStreaming::Auto;
+    options.note = [](const std::string& note) { std::cerr << "vdblight: note: " << note << "\n"; };
+    const Query query(c.volume, options);
 
     std::ostringstream out;
     out.precision(9);
     out << "x,y,z,nx,ny,nz,E_r,E_g,E_b\n";
     std::size_t clamped = 0, culled = 0, negative = 0;
-    // Culled volumes flag points in solid cells. A volume far from the origin is wrapped in a
-    // shifted lookup and is not checked here (its lookup still returns the documented 0).
-    const bool far = recenteringAnchor(query.bounds()) != Vec3d(0, 0, 0);
-    for (std::size_t i = 0; i < points.size(); ++i) {
-        const ReferencePoint& p = points[i];
-        if (!query.inside(world[i])) ++clamped;
-        if (query.inCulledCell(p.position)) ++culled;
-        const Vec3f n = normalize(p.normal);
-        const Vec3f d = moment ? normalize(bins::reflectView(view, n)) : n;  // moment: the reflected view vector
-        Rgb e = cubic ? cubic->irradiance(p.position, d) : query.irradianceWorld(world[i], d);
-        if (runtime) {  // the direct light the volume leaves out, with shadow rays
-            RayCount rays;
-            const Vec3d lx = query.inside(world[i]) ? world[i] : vmin(vmax(world[i], query.bounds().lo), query.bounds().hi);
-            e += runtimeDirectIrradiance(runtime->scene, *runtime->tracer, runtime->lights, runtime->scene.toLocal(lx), n,
-                                         c.shadowRays, hashCombine(0x9ee7, i), rays);
-        }
-        if (!c.raw && (e.x < 0 || e.y < 0 || e.z < 0)) {  // order-2 SH ringing (docs/methods.md)
-            ++negative;
-            e = Rgb(std::max(e.x, 0.0f), std::max(e.y, 0.0f), std::max(e.z, 0.0f));
-        }
-        const Vec3d x = far ? world[i] : Vec3d(p.position);  // near the origin: printed as before
+    for (std::size_t i = 0; i < world.size(); ++i) {
+        const QueryAnswer a = query.at(world[i], normals[i], i);
+        clamped += a.outside;
+        culled += a.culled;
+        negative += a.negative;
+        const Vec3d x = query.farFromOrigin() ? world[i] : Vec3d(Vec3f(world[i]));  // near the origin: printed as before
+        const Vec3f& n = a.normal;
+        const Rgb& e = a.irradiance;
         out << x.x << ',' << x.y << ',' << x.z << ',' << n.x << ',' << n.y << ',' << n.z
             << ',' << e.x << ',' << e.y << ',' << e.z << '\n';
     }
     emitText(c.output, out.str());
     if (c.streamReport) {
-        if (opened.streamed)
-            std::cerr << "vdblight: streamed '" << c.volume << "': read " << opened.streamed->loadedLeaves() << " of "
-                      << opened.streamed->totalLeaves() << " leaves (grids in memory: "
-                      << formatBytes(double(opened.streamed->residentBytes())) << ")\n";
+        if (const StreamedVolume* streamed = query.streamed())
+            std::cerr << "vdblight: streamed '" << c.volume << "': read " << streamed->loadedLeaves() << " of "
+                      << streamed->totalLeaves() << " leaves (grids in memory: "
+                      << formatBytes(double(streamed->residentBytes())) << ")\n";
         else
             std::cerr << "vdblight: read all of '" << c.volume << "'\n";
     }
+    const std::size_t count = world.size();
     if (clamped > 0)
-        std::cerr << "vdblight: warning: " << clamped << " of " << points.size()
+        std::cerr << "vdblight: warning: " << clamped << " of " << count
                   << " points lie outside the volume's node box and were clamped to its boundary\n";
     if (culled > 0)
-        std::cerr << "vdblight: warning: " << culled << " of " << points.size()
+        std::cerr << "vdblight: warning: " << culled << " of " << count
                   << " points lie in cells inside closed solids whose nodes were culled; their irradiance is reported as 0\n";
     if (negative > 0)
-        std::cerr << "vdblight: warning: " << negative << " of " << points.size()
+        std::cerr << "vdblight: warning: " << negative << " of " << count
                   << " points had negative irradiance (SH ringing), clamped to 0; --raw gives the raw value\n";
 }
 }  // namespace

@@ -16,6 +16,18 @@ struct BasisDesc {
     int channelCount() const { return int(channelNames.size()); }
     /// SH order 2 radiance: nine channels named as sh::gridName(j).
     static BasisDesc sh2();
+
+    // Questions about the kind, answered here so that no code outside src/basis/ compares
+    // kind strings (issue 30).
+    /// "sh2": SH order 2 in its own fixed layout (the lookups and passes written for it).
+    bool isSh2() const;
+    /// Real SH radiance coefficients: sh2 or sh:N.
+    bool isRealSh() const;
+    /// The SH order: 2 for sh2, N for sh:N, -1 for bases that are not real SH.
+    int shOrder() const;
+    /// The irradiance vectors of the photon pass (iv::basis), full or compact (iv::compactBasis).
+    bool isIrradianceVectors() const;
+    bool isCompactIrradianceVectors() const;
 };
 
 }  // namespace vdblight

@@ -34,6 +34,7 @@
 #include "vdblight/bake_basis.h"
 #include "vdblight/vdb_io.h"
 #include "vdblight/query.h"
+#include "vdblight/volume_query.h"
 #include "vdblight/sh_truncate.h"
 #include "vdblight/export.h"
 #include "vdblight/export_nanovdb.h"

@@ -55,12 +55,9 @@ void Pass::finish(Volume&, WriteOptions&, const BakeRequest&) const {}
 
 namespace bake_detail {
 
-bool isSh2(const std::string& basis) { return makeBasis(basis)->desc().kind == "sh2"; }  // the registry (basis.h)
+bool isSh2(const std::string& basis) { return makeBasis(basis)->desc().isSh2(); }  // the registry (basis.h)
 
-bool isRealSh(const std::string& basis) {
-    const std::string kind = makeBasis(basis)->desc().kind;
-    return kind == "sh2" || kind.rfind("sh:", 0) == 0;
-}
+bool isRealSh(const std::string& basis) { return makeBasis(basis)->desc().isRealSh(); }
 
 bool isBinsOrMoment(const std::string& basis) {
     bins::BasisSpec spec;

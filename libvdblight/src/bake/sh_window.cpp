@@ -7,7 +7,7 @@
 namespace vdblight {
 
 void applyShWindow(Volume& volume) {
-    if (volume.basis.kind != "sh2") throw ValueError("--sh-window applies to SH order-2 volumes only");
+    if (!volume.basis.isSh2()) throw ValueError("--sh-window applies to SH order-2 volumes only");
     if (volume.meta.count("sh_window")) throw ValueError("the volume is already windowed");
     for (VolumeLevel& level : volume.levels) {
         const std::size_t nodes = level.data.size() / (sh::kCoeffs * 3);

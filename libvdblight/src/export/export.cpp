@@ -119,7 +119,7 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
     if (outDir.empty()) throw IoError("no output directory given");
     // A compact volume interpolates colour and direction separately between nodes; full
     // vectors interpolated trilinearly would not reproduce its query, so only `compact` fits.
-    if (o.layout == ExportLayout::Vectors && volume.basis.kind == iv::compactBasis().kind)
+    if (o.layout == ExportLayout::Vectors && volume.basis.isCompactIrradianceVectors())
         throw FormatError("layout 'vectors' does not fit a compact irradiance-vector volume (its colour and direction "
                           "are interpolated separately); use --layout compact");
     bins::BasisSpec binSpec;

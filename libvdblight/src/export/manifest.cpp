@@ -7,6 +7,7 @@
 
 #include "compact_sh.h"
 #include "export_internal.h"
+#include "vdblight/basis_desc.h"
 #include "vdblight/depth_moments.h"
 #include "vdblight/sh.h"
 
@@ -210,7 +211,9 @@ std::string manifestJson(const ManifestInput& in) {
     // 0..2 (sh_truncate.h), which `vdblight query --sh-order 2` answers with.
     const bool shLayout = o.layout == ExportLayout::Sh2 || o.layout == ExportLayout::Sh2Packed || o.layout == ExportLayout::Sh1 ||
                           isCompactSh(o.layout);
-    if (shLayout && in.basisKind.rfind("sh:", 0) == 0 && in.basisKind != "sh:2")
+    BasisDesc basis;
+    basis.kind = in.basisKind;
+    if (shLayout && basis.isRealSh() && !basis.isSh2() && basis.shOrder() != 2)
         s << "  \"truncated_from\": {\"basis\": " << quote(in.basisKind)
           << ", \"kept\": \"bands 0..2 of the volume's SH (the projection onto them); vdblight query --sh-order 2 "
              "gives the same irradiance; export --layout basis holds every band\"},\n";

@@ -59,10 +59,10 @@ Handle refinedGrid(const VolumeLevel& level, std::size_t l) {
     return builder.getHandle(level.grid.spacing, nanovdb::Vec3d(o.x, o.y, o.z), "refined_L" + std::to_string(l));
 }
 
-int shOrder(const std::string& kind) {
-    if (kind == "sh2") return 2;
-    if (kind.size() == 4 && kind.compare(0, 3, "sh:") == 0 && kind[3] >= '1' && kind[3] <= '9') return kind[3] - '0';
-    return -1;
+/// The SH order of sh2 and of sh:1 .. sh:9, -1 for other bases.
+int shOrder(const BasisDesc& basis) {
+    const int order = basis.shOrder();
+    return order >= 1 && order <= 9 ? order : -1;
 }
 
 /// The metadata as text, one `key=value` per line: what the numbers of the meta grid say,
@@ -111,7 +111,7 @@ void appendLights(const std::vector<DirectLight>& lights, std::vector<float>& ou
 Handle metaGrid(const Volume& v, const std::string& text) {
     std::vector<float> field(nanovdb_meta::kFieldCount, 0.0f);
     field[nanovdb_meta::kVersion] = float(nanovdb_meta::kVersionValue);
-    field[nanovdb_meta::kShOrder] = float(shOrder(v.basis.kind));
+    field[nanovdb_meta::kShOrder] = float(shOrder(v.basis));
     field[nanovdb_meta::kChannels] = float(v.basis.channelCount());
     field[nanovdb_meta::kLevels] = float(v.levels.size());
     field[nanovdb_meta::kRefine] = float(v.refineFactor());
@@ -123,7 +123,7 @@ Handle metaGrid(const Volume& v, const std::string& text) {
     field[nanovdb_meta::kDimsX] = float(v.levels[0].grid.nx);
     field[nanovdb_meta::kDimsY] = float(v.levels[0].grid.ny);
     field[nanovdb_meta::kDimsZ] = float(v.levels[0].grid.nz);
-    field[nanovdb_meta::kShKind] = v.basis.kind == "sh2" ? 1.0f : 0.0f;
+    field[nanovdb_meta::kShKind] = v.basis.isSh2() ? 1.0f : 0.0f;
     appendLights(v.direct.lights, field);
 
     // The block padded with zeros to NanoVDB's 32-byte alignment: the grid's size (which ends

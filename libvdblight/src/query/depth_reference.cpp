@@ -25,7 +25,7 @@ double referenceNodeVisibility(const float* d, const double o[3]) {
 }
 
 Rgbd referenceDepthWeightedLookup(const Volume& volume, const Vec3d& x, const Vec3d& n) {
-    if (volume.basis.kind != "sh2") throw FormatError("referenceDepthWeightedLookup reads SH order-2 volumes");
+    if (!volume.basis.isSh2()) throw FormatError("referenceDepthWeightedLookup reads SH order-2 volumes");
     int cell[3];
     double frac[3];
     const std::size_t l = finestCellAt(volume.levels, volume.refineFactor(), x, cell, frac);

@@ -21,7 +21,7 @@ constexpr int bandOfLit(int t) { return t == 0 ? 0 : (t < 4 ? 1 : (t < 9 ? 2 : 4
 }  // namespace
 
 bool ShFourUniformLookup::accepts(const Volume& volume) {
-    return volume.basis.kind == "sh:4" && volume.levels.size() == 1 && !volume.levels[0].sparse() &&
+    return !volume.basis.isSh2() && volume.basis.shOrder() == 4 && volume.levels.size() == 1 && !volume.levels[0].sparse() &&
            basisOf(volume.basis) != nullptr;
 }
 

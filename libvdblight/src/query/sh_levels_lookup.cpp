@@ -24,7 +24,7 @@ void copyFolded(const float* src, float* dst) {
 }
 }  // namespace
 
-bool ShLevelsLookup::accepts(const Volume& volume) { return volume.basis.kind == "sh2" && volume.levels.size() > 1; }
+bool ShLevelsLookup::accepts(const Volume& volume) { return volume.basis.isSh2() && volume.levels.size() > 1; }
 
 ShLevelsLookup::ShLevelsLookup(const Volume& volume, OutsidePolicy outside) : outside_(outside) {
     const VolumeLevel& l0 = volume.levels[0];

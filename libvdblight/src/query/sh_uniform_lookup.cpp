@@ -18,7 +18,7 @@ using query_detail::splitCell;
 }  // namespace
 
 bool ShUniformLookup::accepts(const Volume& volume) {
-    return volume.basis.kind == "sh2" && volume.levels.size() == 1;
+    return volume.basis.isSh2() && volume.levels.size() == 1;
 }
 
 ShUniformLookup::ShUniformLookup(const Volume& volume, OutsidePolicy outside) : outside_(outside) {

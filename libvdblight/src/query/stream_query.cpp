@@ -13,7 +13,7 @@ namespace vdblight {
 namespace {
 /// The registered real-SH basis of an `sh:N` volume, or null (sh2 has its own lookups).
 std::unique_ptr<Basis> shBasis(const Volume& header) {
-    if (header.basis.kind == "sh2") return nullptr;
+    if (header.basis.isSh2()) return nullptr;
     std::unique_ptr<Basis> basis = basisOf(header.basis);
     return basis && basis->shCoefficients() > 0 ? std::move(basis) : nullptr;
 }
@@ -21,7 +21,7 @@ std::unique_ptr<Basis> shBasis(const Volume& header) {
 
 std::string streamingSupported(const StreamedVolume& volume) {
     const Volume& h = volume.header();
-    if (h.basis.kind == "sh2") return {};
+    if (h.basis.isSh2()) return {};
     if (!shBasis(h))
         return "its basis is '" + h.basis.kind + "' (streaming looks up real-SH volumes: sh2 and sh:N)";
     // ChannelLookup, the in-memory lookup of sh:N, reads no culled level 0 either.
@@ -42,7 +42,7 @@ IrradianceQuery makeStreamingQuery(std::shared_ptr<const StreamedVolume> volume,
     grid.origin += -anchor;
     const bool levels = h.levels.size() > 1;
     std::unique_ptr<Basis> basis = shBasis(h);
-    const char* kind = basis ? (h.basis.kind == "sh:4" && !levels ? "sh4-uniform-streamed" : "basis-streamed")
+    const char* kind = basis ? (!h.basis.isSh2() && h.basis.shOrder() == 4 && !levels ? "sh4-uniform-streamed" : "basis-streamed")
                              : (levels ? "sh2-levels-streamed" : "sh2-uniform-streamed");
     std::unique_ptr<VolumeLookup> lookup = basis ? query_detail::streamingChannelLookup(volume, grid, outside, std::move(basis))
                                                  : query_detail::streamingShLookup(volume, grid, outside);

@@ -16,14 +16,14 @@ namespace vdblight {
 
 bool VectorGridLookup::accepts(const Volume& volume) {
     if (volume.levels.size() != 1) return false;
-    return (volume.basis.kind == iv::basis().kind && volume.basis.channelCount() == iv::kChannels) ||
-           (volume.basis.kind == iv::compactBasis().kind && volume.basis.channelCount() == iv::kCompactChannels);
+    return (volume.basis.isIrradianceVectors() && volume.basis.channelCount() == iv::kChannels) ||
+           (volume.basis.isCompactIrradianceVectors() && volume.basis.channelCount() == iv::kCompactChannels);
 }
 
 VectorGridLookup::VectorGridLookup(const Volume& volume, OutsidePolicy outside, Interpolation interp, iv::Blend blend)
     : outside_(outside), interp_(interp), blend_(blend) {
     if (!accepts(volume)) throw FormatError("not a single-level irradiance-vector volume");
-    compact_ = volume.basis.kind == iv::compactBasis().kind;
+    compact_ = volume.basis.isCompactIrradianceVectors();
     stride_ = compact_ ? iv::kCompactFloatsPerNode : iv::kFloatsPerNode;
     perDirection_ = stride_ / iv::kDirections;
     grid_ = volume.levels[0].grid;
