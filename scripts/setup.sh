@@ -17,7 +17,7 @@ PACKAGES=(build-essential cmake pkg-config
           gnuplot-nox   # gnuplot-nox: scripts/plot_error.sh (issue 8)
           libegl-dev libepoxy-dev libgl1-mesa-dri libegl-mesa0 glslang-tools   # tests/gpu: OpenGL on Mesa llvmpipe, headless; HLSL front end (issue 33)
           slurmctld slurmd slurm-client munge   # tests/slurm_cluster_test.sh: a one-node Slurm (issue 17)
-          libnanovdb-dev libnanovdb-tools glslang-tools   # export --format nanovdb (headers); nanovdb_export_test runs nanovdb_validate/_print; nanovdb_glsl_test runs glslangValidator
+          libnanovdb-dev libnanovdb-tools   # export --format nanovdb (headers); nanovdb_export_test runs nanovdb_validate/_print (nanovdb_glsl_test: glslangValidator, above)
           libssl-dev   # SHA-256 of the .vdb content hash: OpenSSL's libcrypto (volume/sha256_openssl.cpp, issue 30)
           libpng-dev   # `vdblight slice -o FILE.png`: the PNG encoder (export/png_writer.cpp, issue 30)
           nlohmann-json3-dev   # glTF JSON in the scene loaders (scene/json_access.h) and manifest.json in the GPU tests (issue 30); header-only
