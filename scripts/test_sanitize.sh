@@ -42,11 +42,13 @@ if [ ${#TESTS[@]} -eq 0 ]; then
   # install_example_test (label `install`) links an example without sanitizer flags;
   # quickstart_long_path_test (label `quickstart`) runs the quick start's default bake, whose
   # code the CLI tests run here at smaller sizes; the web page's test (label `web`) drives Chromium.
-  # The GPU-driver checks (GpuExport, NanoVdbGpu: issue 33) spend their time in llvmpipe's
-  # shader compiler and rasteriser, which are not instrumented; the bakes and exports they run
-  # are, in the export tests that run here. CI must stay within 40 min.
+  # Also left out, to keep CI within 40 min: the accuracy tests at default sizes (white
+  # furnaces, comparisons with the reference, photon tile merges at scale) and Blender's
+  # importers, 200 of the suite's 1 240 test-seconds under ASan (issue 29's session); the
+  # same sampling, merge and export code runs here in the smaller tests. The GPU-driver
+  # checks do run (45 test-seconds; llvmpipe itself is not instrumented).
   (cd "$BUILD" && ctest --output-on-failure -j "${JOBS:-$(nproc)}" -LE "cluster|install|quickstart|web" \
-     -E "^(GpuExport|NanoVdbGpu)\.")
+     -E "^(BlenderFormats|BlenderPreview|PhotonReference|PhotonTiles)\.|^(PhotonPass\.WhiteFurnaceAtDefaultBounces|Bake\.DefaultSceneAgainstReference|DirectBake\.OcclusionAndRuntimeMatchReferenceNearTheLuminaire|Transport\.ProbePassesKeepTheFurnace|Transport\.ClosedFurnaceBakeAtDefaults)$")
 else
   build --target "${TESTS[@]}"
   for t in "${TESTS[@]}"; do "$BUILD/tests/$t"; done
