@@ -36,6 +36,23 @@ struct ExportCommand {
 };
 
 /// export --format gltf: OUTDIR/probes.glb (export_gltf.h).
+/// Runs `write`, a one-file export into the directory `outDir`: creates the directory if it
+/// is missing and removes it again if the export fails, so that nothing is left behind.
+template <typename Write>
+auto intoOutputDirectory(const std::string& outDir, Write write) -> decltype(write()) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const bool created = !fs::is_directory(outDir, ec);
+    if (created && !fs::create_directories(outDir, ec))
+        throw IoError("cannot create output directory '" + outDir + "'" + (ec ? ": " + ec.message() : ""));
+    try {
+        return write();
+    } catch (...) {
+        if (created) fs::remove(outDir, ec);  // leave nothing behind
+        throw;
+    }
+}
+
 void runGltf(const ExportCommand& c) {
     GltfProbeOptions o;
     o.every = c.every;
@@ -52,20 +69,9 @@ void runGltf(const ExportCommand& c) {
             throw ValueError("--slice takes AXIS=VALUE, e.g. y=1.2 (got '" + c.slice + "')");
         }
     }
-    namespace fs = std::filesystem;
     const Volume volume = readVolume(c.volume);
-    std::error_code ec;
-    const bool created = !fs::is_directory(c.output, ec);
-    if (created && !fs::create_directories(c.output, ec))
-        throw IoError("cannot create output directory '" + c.output + "'" + (ec ? ": " + ec.message() : ""));
-    const std::string file = (fs::path(c.output) / "probes.glb").string();
-    GltfProbeSummary s;
-    try {
-        s = exportGltfProbes(volume, file, o);
-    } catch (...) {
-        if (created) fs::remove(c.output, ec);  // leave nothing behind
-        throw;
-    }
+    const std::string file = (std::filesystem::path(c.output) / "probes.glb").string();
+    const GltfProbeSummary s = intoOutputDirectory(c.output, [&] { return exportGltfProbes(volume, file, o); });
     if (!c.quiet)
         std::cout << "Wrote " << s.spheres << " probe spheres (vertex colour = " << s.colourScale
                   << " * E(n) / pi) and the volume's box to " << file << " (" << formatBytes(double(s.bytes)) << ")\n";
@@ -102,20 +108,9 @@ void run(const ExportCommand& c) {
     if (!c.preset.empty()) return runPreset(c);
     if (c.format == "gltf") return runGltf(c);
     if (c.format == "vdb-preview") {  // preview grids for Blender / Houdini (preview.h)
-        namespace fs = std::filesystem;
         const Volume volume = readVolume(c.volume);
-        std::error_code ec;
-        const bool created = !fs::is_directory(c.output, ec);
-        if (created && !fs::create_directories(c.output, ec))
-            throw IoError("cannot create output directory '" + c.output + "'" + (ec ? ": " + ec.message() : ""));
-        const std::string file = (fs::path(c.output) / "preview.vdb").string();
-        TextureLattice l;
-        try {
-            l = exportPreviewVdb(volume, file, c.resolution);
-        } catch (...) {
-            if (created) fs::remove(c.output, ec);  // leave nothing behind
-            throw;
-        }
+        const std::string file = (std::filesystem::path(c.output) / "preview.vdb").string();
+        const TextureLattice l = intoOutputDirectory(c.output, [&] { return exportPreviewVdb(volume, file, c.resolution); });
         if (!c.quiet)
             std::cout << "Wrote preview grids (irradiance_avg, irradiance_<axis><pos|neg>, density) of " << l.dims[0]
                       << " x " << l.dims[1] << " x " << l.dims[2] << " voxels to " << file << "\n";

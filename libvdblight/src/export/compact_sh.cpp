@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "export_internal.h"
 #include "vdblight/errors.h"
 #include "vdblight/export_compact.h"
 #include "vdblight/sh.h"
@@ -14,12 +15,6 @@
 namespace vdblight::exporter {
 
 namespace {
-const double kC0 = 0.5 / std::sqrt(kPi);           // Y_0
-const double kC1 = std::sqrt(3.0 / (4.0 * kPi));   // Y_1..3 / (y, z, x)
-const double kC2 = std::sqrt(15.0 / (4.0 * kPi));  // Y_4, Y_5, Y_7 / (xy, yz, xz)
-const double kC3 = std::sqrt(5.0 / (16.0 * kPi));  // Y_6 / (3 z^2 - 1)
-const double kC4 = std::sqrt(15.0 / (16.0 * kPi)); // Y_8 / (x^2 - y^2)
-const double kA0 = sh::kCosineLobe[0], kA1 = sh::kCosineLobe[1], kA2 = sh::kCosineLobe[2];
 
 // Per colour: the factor from L_j to its sh2-packed term, in the order the texels keep them.
 const int kL1Coeff[3] = {3, 1, 2};          // n.x, n.y, n.z

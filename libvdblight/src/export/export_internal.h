@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -9,8 +10,18 @@
 #include "vdblight/basis.h"
 #include "vdblight/export.h"
 #include "vdblight/query.h"
+#include "vdblight/sh.h"
 
 namespace vdblight::exporter {
+
+// Real SH constants (docs/format.md "SH convention") and the cosine-lobe factors A_l, for
+// the layouts that pack SH terms (layouts.cpp, compact_sh.cpp).
+inline const double kC0 = 0.5 / std::sqrt(kPi);           // Y_0
+inline const double kC1 = std::sqrt(3.0 / (4.0 * kPi));   // Y_1..3 / (y, z, x)
+inline const double kC2 = std::sqrt(15.0 / (4.0 * kPi));  // Y_4, Y_5, Y_7 / (xy, yz, xz)
+inline const double kC3 = std::sqrt(5.0 / (16.0 * kPi));  // Y_6 / (3 z^2 - 1)
+inline const double kC4 = std::sqrt(15.0 / (16.0 * kPi)); // Y_8 / (x^2 - y^2)
+inline const double kA0 = sh::kCosineLobe[0], kA1 = sh::kCosineLobe[1], kA2 = sh::kCosineLobe[2];
 
 /// One texture of a layout: its name (also the file's stem) and what each component holds.
 struct TextureDesc {

@@ -61,13 +61,6 @@ const char* layoutName(ExportLayout layout) {
 namespace exporter {
 
 namespace {
-// Real SH constants (docs/format.md "SH convention") and the cosine-lobe factors A_l.
-const double kC0 = 0.5 / std::sqrt(kPi);             // Y_0
-const double kC1 = std::sqrt(3.0 / (4.0 * kPi));     // Y_1..3 / (y, z, x)
-const double kC2 = std::sqrt(15.0 / (4.0 * kPi));    // Y_4, Y_5, Y_7 / (xy, yz, xz)
-const double kC3 = std::sqrt(5.0 / (16.0 * kPi));    // Y_6 / (3 z^2 - 1)
-const double kC4 = std::sqrt(15.0 / (16.0 * kPi));   // Y_8 / (x^2 - y^2)
-const double kA0 = sh::kCosineLobe[0], kA1 = sh::kCosineLobe[1], kA2 = sh::kCosineLobe[2];
 
 const char* const kRgb[3] = {"red", "green", "blue"};
 // Direction names in irradiance_vectors.h order (as in the .vdb grid names).
