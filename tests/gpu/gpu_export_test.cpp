@@ -17,6 +17,7 @@
 #include "gpu/gl_compute.h"
 #include "gpu/layout_cases.h"
 #include "test_util.h"
+#include "vdblight/bins_lookup.h"
 #include "vdblight/export_compact.h"
 #include "vdblight/query.h"
 #include "vdblight/sampling.h"
@@ -43,6 +44,10 @@ constexpr int kPoints = 10000;
 //   error stays far below the half rounding (figures in docs/engines.md).
 // - The eight-weight depth blend and the bounded blend of the irradiance vectors are
 //   Lipschitz in their texels with constants of order 1 at these points: same bound.
+// - bins: E = sum_k w_k(d) (trilinear blend of bin k), w_k >= 0 summing to 1, so the rounding
+//   is at most 2^-12 times the largest bin value blended; a bin (the irradiance facing its
+//   direction) is at most the integral of L, at most 6 times the mean over the six axis
+//   normals (|w_x| + |w_y| + |w_z| >= 1): 6 * 2^-12 = 1.5e-3.
 // 2e-3 leaves a factor of about 2 over the worst point measured on any row.
 constexpr double kTolerance = 2e-3;
 
@@ -56,6 +61,7 @@ const std::map<std::string, std::string>& bakeOptions() {
         {"sh4_depth.vdb", "--resolution 5 --rays 32 --bounces 2 --depth-moments --direct baked"},
         {"occlusion.vdb", "--resolution 5 --rays 32 --bounces 2 --no-depth-moments --direct occlusion"},
         {"photons.vdb", "--method photons --photons 20000 --resolution 5 --no-depth-moments"},
+        {"bins4.vdb", "--basis bins:4 --resolution 5 --rays 32 --bounces 2 --no-depth-moments --direct baked"},
         {"photons_compact.vdb", "--method photons --photons 20000 --resolution 5 --no-depth-moments --compact"},
     };
     return options;
@@ -236,8 +242,12 @@ TEST_P(GpuExport, DocGlslOnLlvmpipeMatchesQuery) {
     const IrradianceQuery query(v);
     const IrradianceQuery unweighted(v, OutsidePolicy::Clamp, false);
     EXPECT_EQ(query.depthWeighted(), c.depthWeighted);
+    // bins: the nearest bin alone, to prove that the four-bin blend is what the shader matches.
+    const bool bins = manifest.root.value("layout", "") == "bins";
+    const std::unique_ptr<IrradianceQuery> nearestBin =
+        bins ? std::make_unique<IrradianceQuery>(std::make_unique<BinsLookup>(v, OutsidePolicy::Clamp, false), "bins") : nullptr;
     double worst = 0;
-    int worstAt = 0, weightsMatter = 0;
+    int worstAt = 0, weightsMatter = 0, blendMatters = 0;
     std::vector<double> errors;
     for (int i = 0; i < kPoints; ++i) {
         const Vec3f p(x[3 * i], x[3 * i + 1], x[3 * i + 2]), d(n[3 * i], n[3 * i + 1], n[3 * i + 2]);
@@ -246,6 +256,7 @@ TEST_P(GpuExport, DocGlslOnLlvmpipeMatchesQuery) {
         errors.push_back(relativeError(got, want, scale));
         if (errors.back() > worst) worst = errors.back(), worstAt = i;
         if (c.depthWeighted && relativeError(clampedQuery(unweighted, p, d), want, scale) > 10 * kTolerance) ++weightsMatter;
+        if (bins && relativeError(clampedQuery(*nearestBin, p, d), want, scale) > 10 * kTolerance) ++blendMatters;
     }
     std::sort(errors.begin(), errors.end());
     const int i = worstAt;
@@ -257,6 +268,10 @@ TEST_P(GpuExport, DocGlslOnLlvmpipeMatchesQuery) {
                 want.x, want.y, want.z, errors[std::size_t(0.99 * kPoints)]);
     EXPECT_LE(worst, kTolerance) << c.name;
     if (c.compactSh) expectQuantisationWithinBound(c, manifest, IrradianceQuery(bands), query, x, n);
+    if (bins) {
+        std::printf("[%s] the nearest bin alone differs by more than 10x the tolerance at %d points\n", c.name, blendMatters);
+        EXPECT_GT(blendMatters, kPoints / 10) << "the four-bin blend changes too few points to prove it";
+    }
     if (c.depthWeighted) {
         std::printf("[%s] the unweighted lookup differs by more than 10x the tolerance at %d points\n", c.name, weightsMatter);
         EXPECT_GT(weightsMatter, kPoints / 100) << "the depth weights change too few points to prove the blend";

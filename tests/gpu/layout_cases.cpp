@@ -84,6 +84,29 @@ const char* const kCallOcclusion =
     "    return vdblightIrradianceOcclusion(x, n, lightVertices, lightVertexCount, lightNormal, lightRadiance);\n"
     "}\n";
 
+// bins: VDBLIGHT_BINS_R = the manifest's bins.resolution, as the doc says.
+std::string binsResolutionDefine(const Manifest& m) {
+    const int r = m.root.value("/bins/resolution"_json_pointer, 0);
+    if (r < 1) throw std::runtime_error("a bins export's manifest has no bins.resolution");
+    return "#define VDBLIGHT_BINS_R " + std::to_string(r) + "\n";
+}
+
+// bins[c] = texture c = h R^2 + iv R + iu, named bin_h<h>_u<iu>_v<iv> (the doc's index, not
+// the manifest's order, so that a wrong index in either is seen).
+Bindings binTextures(const Manifest& m) {
+    const int r = m.root.value("/bins/resolution"_json_pointer, 0);
+    Bindings b;
+    for (int c = 0; c < 2 * r * r; ++c)
+        b.emplace_back("bins[" + std::to_string(c) + "]", "bin_h" + std::to_string(c / (r * r)) + "_u" + std::to_string(c % r) +
+                                                              "_v" + std::to_string(c % (r * r) / r));
+    return b;
+}
+
+const char* const kCallBins =
+    "uniform sampler3D bins[2 * R * R];\n"
+    "uniform vec3 uvwScale, uvwBias;\n"
+    "vec3 vdblightCheck(vec3 x, vec3 n) { return vdblightIrradianceBins(bins, x * uvwScale + uvwBias, n); }\n";
+
 // The sh1-16 / sh2-32 textures, named as the doc's GLSL names its samplers.
 Bindings compactShTextures(const Manifest& m) {
     Bindings b;
@@ -147,6 +170,8 @@ const std::vector<LayoutCase>& layoutCases() {
              }
              return b;
          }},
+        {"bins of a bins:4 volume (ktx2, half; the four-bin blend)", "bins4.vdb", "--format ktx2 --layout bins",
+         {"vec3 vdblightIrradianceBins("}, binsResolutionDefine, kCallBins, binTextures},
         {"sh2-32 (ktx2; L0 half, rgba8_unorm)", "sh4.vdb", "--format ktx2 --layout sh2-32", {"vec3 vdblightIrradianceSh2x32("},
          nullptr, kCallSh2x32, compactShTextures, 2, false, nullptr, ExportLayout::Sh2x32, kSh2x32Quantisation},
         {"sh2-32 (dds; L0 half, rgba8_unorm)", "sh4.vdb", "--format dds --layout sh2-32", {"vec3 vdblightIrradianceSh2x32("},
