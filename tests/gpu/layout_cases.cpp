@@ -118,6 +118,33 @@ Bindings compactShTextures(const Manifest& m) {
 const char* const kCallSh2x32 = "vec3 vdblightCheck(vec3 x, vec3 n) { return vdblightIrradianceSh2x32(x, n); }\n";
 const char* const kCallSh1x16 = "vec3 vdblightCheck(vec3 x, vec3 n) { return vdblightIrradianceSh1x16(x, n); }\n";
 
+// sh2-32 / sh1-16 with depth moments and / or listed lights: the doc's switches, from the manifest.
+std::string engineSizeDefines(const Manifest& m) {
+    std::string s;
+    if (m.root.value("layout", "") == "sh1-16") s += "#define VDBLIGHT_SH1_16\n";
+    if (m.root.value("/depth/exported"_json_pointer, false)) s += "#define VDBLIGHT_DEPTH_MOMENTS\n";
+    if (m.root.value("/direct/mode"_json_pointer, "") == "occlusion") s += "#define VDBLIGHT_LIGHT_VISIBILITY\n";
+    return s;
+}
+
+Bindings engineSizeWithExtras(const Manifest& m) {
+    Bindings b = compactShTextures(m);
+    if (m.root.value("/depth/exported"_json_pointer, false)) b = withDepth(b);
+    if (m.root.value("/direct/mode"_json_pointer, "") == "occlusion") b.emplace_back("lightVisibility0", "light_visibility_0_0");
+    return b;
+}
+
+const char* const kDepthWeight = "float vdblightDepthWeight(";
+const char* const kExactLights = "vec3 vdblightPolygonIrradiance(";
+const char* const kEngineSizeBlend = "vec3 vdblightEngineSizeBlend(";
+const char* const kCallEngineSize = "vec3 vdblightCheck(vec3 x, vec3 n) { return vdblightIrradianceEngineSize(x, n); }\n";
+const char* const kCallEngineSizeOcclusion =
+    "uniform vec3 lightVertices[VDBLIGHT_MAX_VERTS], lightNormal, lightRadiance;\n"
+    "uniform int lightVertexCount;\n"
+    "vec3 vdblightCheck(vec3 x, vec3 n) {\n"
+    "    return vdblightIrradianceEngineSizeOcclusion(x, n, lightVertices, lightVertexCount, lightNormal, lightRadiance);\n"
+    "}\n";
+
 // The 8-bit rounding bound of docs/engines.md ("sh2-32", "Rounding error") as a fraction of
 // the texels' L0 irradiance a (<= the row's scale: the mean of E over the six axis normals is
 // a for bands 0..2): max over unit n of the decoded terms' ranges / 510, 2.22 % for sh2-32
@@ -125,6 +152,10 @@ const char* const kCallSh1x16 = "vec3 vdblightCheck(vec3 x, vec3 n) { return vdb
 // (rounded to half) and the terms it scales.
 constexpr double kSh2x32Quantisation = 0.0222 + 2e-3;
 constexpr double kSh1x16Quantisation = 0.0136 + 2e-3;
+// Rows with a listed light add its 8-bit visibility: at most 1/510 of the light's exact
+// irradiance at (x, n), which is at most 6 times its mean over the six axis normals
+// (|n.x| + |n.y| + |n.z| >= 1 for any direction it comes from), a share of the row's scale.
+constexpr double kVisibilityQuantisation = 6.0 / 510;
 
 }  // namespace
 
@@ -146,11 +177,11 @@ const std::vector<LayoutCase>& layoutCases() {
          {"vec3 vdblightIrradianceShN("}, shOrderDefine, kCallShN,
          [](const Manifest& m) { return inOrder(m, "sh_l", "L"); }},
         {"sh2-packed + depth moments (ktx2, half; depth rgba8_unorm)", "sh4_depth.vdb", "--format ktx2 --layout sh2-packed",
-         {"vec3 vdblightIrradianceVisible("}, nullptr, kCallVisible, [](const Manifest& m) { return withDepth(packedSh(m)); }, 2, true},
+         {kDepthWeight, "vec3 vdblightIrradianceVisible("}, nullptr, kCallVisible, [](const Manifest& m) { return withDepth(packedSh(m)); }, 2, true},
         {"sh2-packed + depth moments (dds, half; depth rgba8_unorm)", "sh4_depth.vdb", "--format dds --layout sh2-packed",
-         {"vec3 vdblightIrradianceVisible("}, nullptr, kCallVisible, [](const Manifest& m) { return withDepth(packedSh(m)); }, 2, true},
+         {kDepthWeight, "vec3 vdblightIrradianceVisible("}, nullptr, kCallVisible, [](const Manifest& m) { return withDepth(packedSh(m)); }, 2, true},
         {"sh2-packed + --direct occlusion (ktx2, half)", "occlusion.vdb", "--format ktx2 --layout sh2-packed",
-         {kPacked, "vec3 vdblightIrradianceOcclusion("}, nullptr, kCallOcclusion,
+         {kPacked, kExactLights, "vec3 vdblightIrradianceOcclusion("}, nullptr, kCallOcclusion,
          [](const Manifest& m) {
              Bindings b = packedSh(m);
              b.emplace_back("lightVisibility0", "light_visibility_0_0");
@@ -178,6 +209,16 @@ const std::vector<LayoutCase>& layoutCases() {
          nullptr, kCallSh2x32, compactShTextures, 2, false, nullptr, ExportLayout::Sh2x32, kSh2x32Quantisation},
         {"sh1-16 (ktx2; L0 half, rgba8_unorm)", "sh4.vdb", "--format ktx2 --layout sh1-16", {"vec3 vdblightIrradianceSh1x16("},
          nullptr, kCallSh1x16, compactShTextures, 1, false, nullptr, ExportLayout::Sh1x16, kSh1x16Quantisation},
+        {"sh2-32 + depth moments + --direct occlusion (ktx2; the default bake's kind, 48 B per probe)", "default_kind.vdb",
+         "--format ktx2 --layout sh2-32", {"vec3 vdblightIrradianceSh2x32(", kDepthWeight, kExactLights, kEngineSizeBlend},
+         engineSizeDefines, kCallEngineSizeOcclusion, engineSizeWithExtras, 2, true, setPolygonLight, ExportLayout::Sh2x32,
+         kSh2x32Quantisation + kVisibilityQuantisation},
+        {"sh1-16 + depth moments (dds)", "sh4_depth.vdb", "--format dds --layout sh1-16",
+         {"vec3 vdblightIrradianceSh1x16(", kDepthWeight, kEngineSizeBlend}, engineSizeDefines, kCallEngineSize,
+         engineSizeWithExtras, 1, true, nullptr, ExportLayout::Sh1x16, kSh1x16Quantisation},
+        {"sh1-16 + --direct occlusion (ktx2; 8-bit visibility, trilinear)", "occlusion.vdb", "--format ktx2 --layout sh1-16",
+         {"vec3 vdblightIrradianceSh1x16(", kExactLights, kEngineSizeBlend}, engineSizeDefines, kCallEngineSizeOcclusion,
+         engineSizeWithExtras, 1, false, setPolygonLight, ExportLayout::Sh1x16, kSh1x16Quantisation + kVisibilityQuantisation},
     };
     return cases;
 }
