@@ -70,7 +70,7 @@ std::string addedByLayout(const Ctx& c, const Baked& layout, const Baked& refere
                   100 * std::sqrt(s2 / double(got.size())), 100 * worst);
     return buf;
 }
-// The shortcut docs/engines.md warns about ("Decode before blending"): APV filters the encoded
+// The shortcut docs/engine_layouts.md warns about ("Decode before blending"): APV filters the encoded
 // textures in hardware and decodes once with the filtered L0. At each point, the SH part of the
 // layout's export read that way against the same texels decoded first and then blended (both
 // trilinear between the export's texel points, which are the bake's nodes): RMS and max of the
@@ -151,7 +151,7 @@ void addEngineLayoutConfigs(std::vector<Config>& v, const TrySpec& def) {
                  true});
     // The same bake through the 32 B and 16 B layouts: what their textures decode to at every
     // node (L0 in half, the other bands / L0 and the light visibility in 8 bits), read by the
-    // library's lookup with the depth weights, as docs/engines.md's shader reads the files.
+    // library's lookup with the depth weights, as docs/engine_visibility.md's shader reads the files.
     const std::pair<ExportLayout, const char*> layouts[] = {
         {ExportLayout::Sh2x32, "export --layout sh2-32: bands 0..2 in 32 B per probe (L0 half, the rest / L0 in UNORM8), "
                                "visibility in 8 bits"},

@@ -22,7 +22,7 @@ with --view 0,0,1) are matched against the query. compact (Pacanowski et al. sec
 checked against the section 4.2 encoding of the vectors texels; its error against the query
 is printed, and checked only with --compact-tolerance. basis (`export --layout basis`) of a real-SH
 volume (manifest `basis` sh2 or sh:N, N = 1..4): E = sum_j A_l L_j Y_j(n) with the explicit
-polynomials of docs/engines.md ("Shaders for sh:N"), evaluated here, against the full query;
+polynomials of docs/engine_layouts.md ("Shaders for sh:N"), evaluated here, against the full query;
 the basis layout of other bases (bins:R, moment:n) is refused with exit status 2.
 """
 import argparse
@@ -120,7 +120,7 @@ def sample_trilinear(tex, uvw, max_abs=False):
 
 
 def depth_weights(manifest, textures, x):
-    """docs/engines.md, visibility-aware lookup: the 8 corner texel indices and their weights
+    """docs/engine_visibility.md, visibility-aware lookup: the 8 corner texel indices and their weights
     (trilinear x (Chebyshev visibility^3 + floor), normalised) of a volume with depth moments."""
     d = manifest["depth"]
     dims = np.array(manifest["dims"], dtype=np.int64)
@@ -161,7 +161,7 @@ def decode_compact_sh(manifest, textures):
     """sh1-16 / sh2-32 (manifest compact_sh.decode): every texel decoded into the textures of
     the layout it stands for (shAr..shAb for sh1-16 and shBr..shC too for sh2-32), so that
     they are then sampled (trilinear, or with the depth weights) and evaluated as sh1 /
-    sh2-packed: blending the decoded corners, as docs/engines.md's shader does. Also returns
+    sh2-packed: blending the decoded corners, as docs/engine_layouts.md's shader does. Also returns
     per colour the texels' a (L0 term), which the quantisation bound scales with."""
     k = manifest["compact_sh"]
     t0, t1, t2 = textures["L0_L1Rx"], textures["L1G_L1Ry"], textures["L1B_L1Rz"]
@@ -190,7 +190,7 @@ def decode_compact_sh(manifest, textures):
 
 def quantisation_bound(manifest, textures, x, n):
     """The largest |E_export - E_query| that 8-bit rounding explains, per point and colour
-    (docs/engines.md, sh1-16 / sh2-32): each stored t is within 1/510 of v / (range a) + 0.5,
+    (docs/engine_layouts.md, sh1-16 / sh2-32): each stored t is within 1/510 of v / (range a) + 0.5,
     so the decoded v is within range * a / 510; E is a sum of such v times the normal's
     polynomial, and blending corners with weights summing to 1 keeps the bound. Light
     visibility (8-bit too) adds exact irradiance / 510 per listed light."""
@@ -215,7 +215,7 @@ def quantisation_bound(manifest, textures, x, n):
 
 
 def irradiance_terms(manifest, textures, x, n, max_abs=False):
-    """docs/engines.md: the terms whose sum is E(x, n), per colour channel: shape (terms, points, 3)."""
+    """docs/engine_layouts.md: the terms whose sum is E(x, n), per colour channel: shape (terms, points, 3)."""
     uvw = x * np.array(manifest["uvw_scale"]) + np.array(manifest["uvw_bias"])
     if manifest.get("depth", {}).get("exported") and not max_abs:
         # Depth moments: the basis texels blended with the visibility-aware weights (the
@@ -359,7 +359,7 @@ def sh_basis_terms(manifest, s, n):
     x, y, z = n[:, 0], n[:, 1], n[:, 2]
     terms = []
     for l, m, constant, poly in SH_POLYNOMIALS:
-        if l > order or SH_COSINE_LOBE[l] == 0.0:  # band 3: A_3 = 0, not read (docs/engines.md)
+        if l > order or SH_COSINE_LOBE[l] == 0.0:  # band 3: A_3 = 0, not read (docs/engine_layouts.md)
             continue
         name = "sh_l%dm%s%d" % (l, "_neg" if m < 0 else "", abs(m))
         terms.append(SH_COSINE_LOBE[l] * constant * s[name][:, :3] * poly(x, y, z)[:, None])
@@ -367,7 +367,7 @@ def sh_basis_terms(manifest, s, n):
 
 
 def lambert_contour(rel, n):
-    """docs/engines.md: sum_i theta_i (n . gamma_i) over the loop (vertices relative to the
+    """docs/engine_visibility.md: sum_i theta_i (n . gamma_i) over the loop (vertices relative to the
     receiver) clipped to dot(n, v) >= 0."""
     clipped = []
     m = len(rel)
@@ -389,7 +389,7 @@ def lambert_contour(rel, n):
 
 
 def exact_irradiance(light, x, n):
-    """docs/engines.md / docs/format.md "Direct light": unshadowed irradiance, RGB."""
+    """docs/engine_visibility.md / docs/format.md "Direct light": unshadowed irradiance, RGB."""
     kind = light["kind"]
     if kind == "directional":
         return np.array(light["irradiance"]) * max(0.0, -float(np.dot(n, light["direction"])))

@@ -43,7 +43,7 @@ TEST(CliDepth, BakeWithDepthMomentsQueriesAndExports) {
         EXPECT_NE(weighted.output, plain.output) << extra;  // the weights change some answers
         if (extra.rfind("--layout", 0) != 0) continue;
         // A bilevel volume exports its depth on the finest lattice, and an engine's weighted
-        // blend of the texels (docs/engines.md) gives the query's answer: exactly wherever the
+        // blend of the texels (docs/engine_visibility.md) gives the query's answer: exactly wherever the
         // texel cells are the lookup's cells, within 2 % in the rare texel cells at the edge of
         // an unrefined cell next to geometry (docs/methods.md; without the depth textures the
         // plain blend was 30 % off near the walls).
@@ -145,7 +145,7 @@ TEST(CliDepth, OnByDefaultOffWithPreviewOrNoDepthMoments) {
         EXPECT_EQ(runCli("query " + withDepth + " --at 0.2,0.2,0.2 --no-depth-weights").status, 0) << form;
         if (!form.empty()) continue;
         // Exported with the depth textures, read back from the manifest alone with the
-        // depth-weighted blend of docs/engines.md: the same irradiance as `query`.
+        // depth-weighted blend of docs/engine_visibility.md: the same irradiance as `query`.
         const std::string ex = dir.file("photons_ex");
         ASSERT_EQ(runCli("export -q " + withDepth + " -o " + ex + " --layout vectors").status, 0);
         EXPECT_NE(test::readTextFile(ex + "/manifest.json").find("\"depth\": {\"exported\": true"), std::string::npos);

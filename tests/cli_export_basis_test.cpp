@@ -1,7 +1,7 @@
 // `vdblight export --layout basis` of real-SH volumes (sh:4, sh:3, sh2) end to end, and the
-// shader of docs/engines.md ("Shaders for sh:N") pinned to the library:
+// shader of docs/engine_layouts.md ("Shaders for sh:N") pinned to the library:
 // - the doc's table of Y_j polynomials (names, constants, polynomials) parsed from
-//   docs/engines.md equals the library's sh:4 basis at random directions (to 1e-6), its A_l Y_j
+//   docs/engine_layouts.md equals the library's sh:4 basis at random directions (to 1e-6), its A_l Y_j
 //   are the lookup's terms, and the GLSL/HLSL lines use the table's constants and polynomials
 //   and skip band 3;
 // - exports in raw / ktx2 / dds, half and float, read back by scripts/check_export.py from
@@ -85,7 +85,7 @@ std::string trim(const std::string& s) {
     return a == std::string::npos ? "" : s.substr(a, b - a + 1);
 }
 
-// The 25 rows of the sh:N table in docs/engines.md, by j.
+// The 25 rows of the sh:N table in docs/engine_layouts.md, by j.
 std::vector<TableRow> docTable(const std::string& doc) {
     std::vector<TableRow> rows(25);
     std::istringstream in(doc);
@@ -137,8 +137,8 @@ protected:
 };
 }  // namespace
 
-TEST(ExportBasisDoc, ShTableAndShadersOfEnginesMdAreTheLibrarySh) {
-    const std::string doc = readText(sourceDir() + "/docs/engines.md");
+TEST(ExportBasisDoc, ShTableAndShadersOfEngineLayoutsMdAreTheLibrarySh) {
+    const std::string doc = readText(sourceDir() + "/docs/engine_layouts.md");
     const std::vector<TableRow> table = docTable(doc);
     const std::unique_ptr<Basis> sh4 = makeBasis("sh:4");
     const double lobe[5] = {kPi, 2 * kPi / 3, kPi / 4, 0.0, -kPi / 24};

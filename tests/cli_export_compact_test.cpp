@@ -1,6 +1,6 @@
 // `vdblight export --layout sh2-32 | sh1-16` end to end on a default-kind bake (SH order 4,
 // depth moments, --direct occlusion): the files are read back by scripts/check_export.py
-// (manifest.json and docs/engines.md only) and must match `vdblight query --sh-order 2` within
+// (manifest.json and docs/engine*.md only) and must match `vdblight query --sh-order 2` within
 // the bound that 8-bit rounding explains; ktx-parse reads the KTX2 files. A volume whose basis
 // cannot take these layouts gets one line and no output.
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // `vdblight export` end to end, checked by readers we did not write: the round-trip script
-// (Python + numpy, only manifest.json and docs/engines.md) against `vdblight query`, and the
+// (Python + numpy, only manifest.json and docs/engine*.md) against `vdblight query`, and the
 // npm package ktx-parse for KTX2. Bad input: one line, non-zero exit, nothing written.
 #include <gtest/gtest.h>
 

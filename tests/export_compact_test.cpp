@@ -1,6 +1,6 @@
-// The engine-size SH layouts sh1-16 and sh2-32 (compact_sh.h, docs/engines.md): their ranges
+// The engine-size SH layouts sh1-16 and sh2-32 (compact_sh.h, docs/engine_layouts.md): their ranges
 // hold every non-negative radiance unclipped, the 8-bit rounding stays within the bound that
-// docs/engines.md argues, compactShRoundTrip is what the files decode to, and a volume whose
+// docs/engine_layouts.md argues, compactShRoundTrip is what the files decode to, and a volume whose
 // basis cannot take them is refused before anything is written.
 #include <gtest/gtest.h>
 
@@ -57,7 +57,7 @@ std::vector<float> stored(ExportLayout layout, const Rgb L[9]) {
     return t;
 }
 
-// docs/engines.md's bound on |E_decoded - E| per unit of a (= A0 c0 L0 of the colour): every
+// docs/engine_layouts.md's bound on |E_decoded - E| per unit of a (= A0 c0 L0 of the colour): every
 // stored ratio is within range / 510, times the normal's polynomial of its term.
 double boundPerA(ExportLayout layout, const Vec3f& n) {
     const double x = std::fabs(n.x), y = std::fabs(n.y), z = std::fabs(n.z);
@@ -77,7 +77,7 @@ Rgb layoutIrradiance(ExportLayout layout, Rgb L[9], const Vec3f& n) {
 }  // namespace
 
 // One direction is the extreme of every ratio (|L1 term| = 2 a, |L4 term| = 15/8 a, ...): if a
-// range were narrower than the bound docs/engines.md derives, such texels would be clipped.
+// range were narrower than the bound docs/engine_layouts.md derives, such texels would be clipped.
 TEST(CompactSh, SingleDirectionsRoundTripUnclippedBeforeRounding) {
     Rng rng(3);
     for (int s = 0; s < 2000; ++s) {

@@ -28,7 +28,7 @@ std::string readText(const std::string& path) {
     return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
 }
 
-// E_c from the 7 sh2-packed texels (docs/engines.md), n in the frame the texels are in.
+// E_c from the 7 sh2-packed texels (docs/engine_layouts.md), n in the frame the texels are in.
 Vec3d evalPacked(const std::vector<const float*>& t, const Vec3d& n) {
     Vec3d e;
     for (int c = 0; c < 3; ++c) {

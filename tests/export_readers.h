@@ -1,5 +1,5 @@
 // The readers we did not write that end-to-end export tests run on an export: the round-trip
-// script scripts/check_export.py (Python + numpy, manifest.json and docs/engines.md only,
+// script scripts/check_export.py (Python + numpy, manifest.json and docs/engine*.md only,
 // against `vdblight query`) and the npm package ktx-parse (scripts/ktx/check_ktx2.mjs).
 #pragma once
 

@@ -31,18 +31,24 @@ const std::string& blockDeclaring(const std::vector<std::string>& blocks, const 
     const std::string* found = nullptr;
     for (const std::string& b : blocks)
         if (b.find(declaration) != std::string::npos) {
-            if (found) throw std::runtime_error("two code blocks of docs/engines.md declare '" + declaration + "'");
+            if (found) throw std::runtime_error("two code blocks of the engine pages declare '" + declaration + "'");
             found = &b;
         }
-    if (!found) throw std::runtime_error("no code block of docs/engines.md declares '" + declaration + "'");
+    if (!found) throw std::runtime_error("no code block of the engine pages (docs/engine*.md) declares '" + declaration + "'");
     return *found;
 }
 
-std::string readEnginesDoc() {
-    const std::string path = std::string(VDBLIGHT_SOURCE_DIR) + "/docs/engines.md";
-    std::ifstream in(path);
-    if (!in) throw std::runtime_error("cannot read " + path);
-    return std::string(std::istreambuf_iterator<char>(in), {});
+const char* const kEngineDocs[3] = {"docs/engines.md", "docs/engine_layouts.md", "docs/engine_visibility.md"};
+
+std::string readEngineDocs() {
+    std::string text;
+    for (const char* page : kEngineDocs) {
+        const std::string path = std::string(VDBLIGHT_SOURCE_DIR) + "/" + page;
+        std::ifstream in(path);
+        if (!in) throw std::runtime_error("cannot read " + path);
+        text += std::string(std::istreambuf_iterator<char>(in), {}) + "\n";
+    }
+    return text;
 }
 
 }  // namespace vdblight::gpu

@@ -1,7 +1,8 @@
-// The code blocks of a Markdown document, read when the test runs: the GPU-driver check
-// compiles and runs the GLSL of docs/engines.md itself, so the document cannot drift from
-// what is tested. A block is found by a declaration it holds (e.g. the name of the function
-// it defines), which is what a reader of the page looks for too.
+// The code blocks of Markdown documents, read when the test runs: the GPU-driver check
+// compiles and runs the GLSL of the engine pages (docs/engines.md, docs/engine_layouts.md,
+// docs/engine_visibility.md) itself, so the documents cannot drift from what is tested. A
+// block is found by a declaration it holds (e.g. the name of the function it defines), which
+// is what a reader of the pages looks for too.
 #pragma once
 
 #include <string>
@@ -16,7 +17,11 @@ std::vector<std::string> fencedBlocks(const std::string& markdown, const std::st
 /// throws std::runtime_error if none does, or more than one.
 const std::string& blockDeclaring(const std::vector<std::string>& blocks, const std::string& declaration);
 
-/// The text of docs/engines.md of this source tree.
-std::string readEnginesDoc();
+/// The engine pages of this source tree (kEngineDocs), one after the other: a block is found
+/// by what it declares, whichever page it is on.
+std::string readEngineDocs();
+
+/// The pages readEngineDocs reads, relative to the source tree.
+extern const char* const kEngineDocs[3];
 
 }  // namespace vdblight::gpu

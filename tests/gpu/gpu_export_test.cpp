@@ -1,9 +1,9 @@
 // The GPU-driver check (issue 33, item 1): exports written by `vdblight export`, loaded as an
 // engine loads them (3-D textures from the KTX2 / DDS bytes, the manifest's sampler) into a
 // real OpenGL 4.5 driver (Mesa llvmpipe, headless through EGL), evaluated by the GLSL of
-// docs/engines.md (read from the document when the test runs) in a compute shader at 10 000
-// random points and normals, and compared with the library's query (`vdblight query`'s
-// answer). Where no OpenGL context can be made the test fails; it never skips.
+// docs/engine_layouts.md and docs/engine_visibility.md (read when the test runs) in a compute
+// shader at 10 000 random points and normals, and compared with the library's query
+// (`vdblight query`'s answer). Where no OpenGL context can be made the test fails; it never skips.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -41,7 +41,7 @@ constexpr int kPoints = 10000;
 //   (|Y_lm| <= sqrt((2l + 1) / 4 pi)), so that sum stays within a few times the mean
 //   irradiance; the bound adds a factor of a few: about 1e-3.
 // - llvmpipe's filter: measured by the float32 row (same formula, no half rounding); its
-//   error stays far below the half rounding (figures in docs/engines.md).
+//   error stays far below the half rounding (figures in docs/engine_visibility.md).
 // - The eight-weight depth blend and the bounded blend of the irradiance vectors are
 //   Lipschitz in their texels with constants of order 1 at these points: same bound.
 // - bins: E = sum_k w_k(d) (trilinear blend of bin k), w_k >= 0 summing to 1, so the rounding
@@ -228,7 +228,7 @@ TEST_P(GpuExport, DocGlslOnLlvmpipeMatchesQuery) {
     ASSERT_EQ(test::runCommand(test::cliPath() + " export -q " + volume + " -o " + out + " " + c.exportArgs, &log), 0) << log;
     const Manifest manifest = readManifest(out);
     const auto textures = loadTextures(manifest, out);
-    const ComputeProgram program(computeShader(c, manifest, fencedBlocks(readEnginesDoc(), "glsl")));
+    const ComputeProgram program(computeShader(c, manifest, fencedBlocks(readEngineDocs(), "glsl")));
     bindExport(c, manifest, program, textures);
     if (HasFatalFailure()) return;
 

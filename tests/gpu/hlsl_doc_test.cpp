@@ -1,4 +1,4 @@
-// Every HLSL block of docs/engines.md, read when the test runs, compiles with glslangValidator's
+// Every HLSL block of the engine pages (docs/engine*.md), read when the test runs, compiles with glslangValidator's
 // HLSL front end (issue 33: no HLSL driver runs here, so this is what can be checked). Each
 // block is wrapped in a tiny compute entry point that calls every `float3 F(float3, float3)`
 // function the block defines and writes the result, so nothing is compiled away unchecked.
@@ -40,8 +40,8 @@ TEST(HlslDoc, EveryBlockCompilesWithGlslangsHlslFrontEnd) {
     const std::string validator = VDBLIGHT_GLSLANG;
     ASSERT_FALSE(validator.empty() || validator.find("NOTFOUND") != std::string::npos)
         << "glslangValidator not found: scripts/setup.sh installs glslang-tools";
-    const std::vector<std::string> blocks = gpu::fencedBlocks(gpu::readEnginesDoc(), "hlsl");
-    ASSERT_GE(blocks.size(), 3u) << "docs/engines.md: the sh2-packed, sh:N and visibility-aware HLSL";
+    const std::vector<std::string> blocks = gpu::fencedBlocks(gpu::readEngineDocs(), "hlsl");
+    ASSERT_GE(blocks.size(), 3u) << "docs/engine*.md: the sh2-packed, sh:N and visibility-aware HLSL";
     test::TempDir dir;
     int compiled = 0;
     for (std::size_t b = 0; b < blocks.size(); ++b) {
@@ -66,5 +66,5 @@ TEST(HlslDoc, EveryBlockCompilesWithGlslangsHlslFrontEnd) {
             ++compiled;
         }
     }
-    std::printf("%zu HLSL blocks of docs/engines.md, %d compilations\n", blocks.size(), compiled);
+    std::printf("%zu HLSL blocks of the engine pages, %d compilations\n", blocks.size(), compiled);
 }

@@ -145,7 +145,7 @@ const char* const kCallEngineSizeOcclusion =
     "    return vdblightIrradianceEngineSizeOcclusion(x, n, lightVertices, lightVertexCount, lightNormal, lightRadiance);\n"
     "}\n";
 
-// The 8-bit rounding bound of docs/engines.md ("sh2-32", "Rounding error") as a fraction of
+// The 8-bit rounding bound of docs/engine_layouts.md ("sh2-32", "Rounding error") as a fraction of
 // the texels' L0 irradiance a (<= the row's scale: the mean of E over the six axis normals is
 // a for bands 0..2): max over unit n of the decoded terms' ranges / 510, 2.22 % for sh2-32
 // and 4 sqrt(3) / 510 = 1.36 % for sh1-16, plus the half-float tolerance of the row for a

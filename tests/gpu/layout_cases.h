@@ -1,5 +1,5 @@
 // The table of the GPU-driver check: one row per (volume, export layout) an engine can load,
-// each naming the docs/engines.md GLSL it runs. A new layout is one more row here plus its
+// each naming the GLSL of docs/engine*.md it runs. A new layout is one more row here plus its
 // GLSL block in the document (found by the function it declares).
 #pragma once
 

@@ -166,7 +166,7 @@ TEST(NanoVdbGpu, DocGlslOnLlvmpipeMatchesQuery) {
         FAIL() << e.what();
     }
     const std::string shader = expandIncludes(
-        blockDeclaring(fencedBlocks(readEnginesDoc(), "glsl"), "vdblight_nano_open(buf)"),
+        blockDeclaring(fencedBlocks(readEngineDocs(), "glsl"), "vdblight_nano_open(buf)"),
         {std::string(VDBLIGHT_NANOVDB_INCLUDE), std::string(VDBLIGHT_SOURCE_DIR) + "/shaders"});
     const ComputeProgram program(shader);
 
