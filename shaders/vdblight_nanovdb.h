@@ -26,9 +26,10 @@
 // `supported` to false). Everything is float: volumes far from the origin lose precision here
 // where `query` works in double.
 //
-// Why it can be fast: every channel grid of a level (and every depth grid) has the same tree
-// and value type, so a voxel lies at the same byte offset from the start of each; the lookup
-// walks the tree of the first channel grid once per corner and reads every channel there.
+// Why it can be fast and small: each level is one tree (`vdblight_nodes`, a UInt32 grid whose
+// value is the node's index) and its channels are arrays in that grid's blind data, channel-
+// major, so the lookup walks the tree once per corner and reads every channel of the node at
+// a fixed stride from the first.
 #ifndef VDBLIGHT_NANOVDB_H
 #define VDBLIGHT_NANOVDB_H
 
@@ -71,13 +72,13 @@ struct vdblight_nano_volume_t {
     pnanovdb_int32_t direct_mode;  // 0 baked, 1 runtime, 2 occlusion
     pnanovdb_int32_t folded;  // basis sh2: A_l applied to the coefficients before interpolating (its lookup's bits)
     pnanovdb_int32_t dims_x, dims_y, dims_z;  // level 0's nodes per axis
-    pnanovdb_grid_handle_t first[VDBLIGHT_NANO_MAX_LEVELS];    // each level's first channel grid
-    pnanovdb_grid_handle_t depth0[VDBLIGHT_NANO_MAX_LEVELS];   // its first depth grid (depth 1)
+    pnanovdb_grid_handle_t first[VDBLIGHT_NANO_MAX_LEVELS];    // each level's vdblight_nodes grid
+    pnanovdb_address_t channels0[VDBLIGHT_NANO_MAX_LEVELS];    // its channel arrays (blind data): channel 0, node 0
     pnanovdb_grid_handle_t refined[VDBLIGHT_NANO_MAX_LEVELS];  // refined_L<k> (k < levels - 1): float, active = refined
-    pnanovdb_uint32_t stride[VDBLIGHT_NANO_MAX_LEVELS];        // bytes from a channel grid to the next
+    pnanovdb_uint32_t stride[VDBLIGHT_NANO_MAX_LEVELS];        // bytes from a channel's array to the next (12 x nodes)
     pnanovdb_grid_handle_t meta;                               // vdblight_meta (lights)
-    pnanovdb_grid_handle_t visibility0;                        // light_visibility_0 (occlusion)
-    pnanovdb_uint32_t visibility_stride;
+    pnanovdb_address_t visibility0;                            // level 0's visibility of light 0, node 0 (occlusion)
+    pnanovdb_uint32_t visibility_stride;                       // bytes from a light's array to the next (4 x nodes)
 };
 PNANOVDB_STRUCT_TYPEDEF(vdblight_nano_volume_t)
 
@@ -127,31 +128,34 @@ VDBLIGHT_NANO_FN vdblight_nano_volume_t vdblight_nano_open(pnanovdb_buf_t buf) {
     v.dims_x = pnanovdb_float_to_int32(vdblight_nano_meta(buf, g, VDBLIGHT_NANO_META_DIMS));
     v.dims_y = pnanovdb_float_to_int32(vdblight_nano_meta(buf, g, VDBLIGHT_NANO_META_DIMS + 1));
     v.dims_z = pnanovdb_float_to_int32(vdblight_nano_meta(buf, g, VDBLIGHT_NANO_META_DIMS + 2));
-    v.supported = v.sh_order >= 1 && v.sh_order <= 4 && v.channels == (v.sh_order + 1) * (v.sh_order + 1) &&
+    pnanovdb_int32_t version = pnanovdb_float_to_int32(vdblight_nano_meta(buf, g, 0));
+    v.supported = version == 2 && v.sh_order >= 1 && v.sh_order <= 4 && v.channels == (v.sh_order + 1) * (v.sh_order + 1) &&
                   v.levels >= 1 && v.levels <= VDBLIGHT_NANO_MAX_LEVELS &&
-                  pnanovdb_grid_get_grid_type(buf, vdblight_nano_next(buf, g, 1u)) == PNANOVDB_GRID_TYPE_VEC3F;
+                  pnanovdb_grid_get_grid_type(buf, vdblight_nano_next(buf, g, 1u)) == PNANOVDB_GRID_TYPE_UINT32;
     v.meta = g;
     g = vdblight_nano_next(buf, g, 1u);
-    v.visibility0 = g;
+    v.visibility0 = g.address;
     v.visibility_stride = 0u;
     for (pnanovdb_int32_t l = 0; l < VDBLIGHT_NANO_MAX_LEVELS; ++l) {
         v.first[l] = g;
-        v.depth0[l] = g;
+        v.channels0[l] = g.address;
         v.refined[l] = g;
         v.stride[l] = 0u;
         if (l >= v.levels || !v.supported) continue;
-        v.stride[l] = pnanovdb_uint64_low(pnanovdb_grid_get_grid_size(buf, g));
-        g = vdblight_nano_next(buf, g, pnanovdb_int32_as_uint32(v.channels));
-        v.depth0[l] = g;
-        if (v.depth != 0) g = vdblight_nano_next(buf, g, 4u);
+        // The blind data starts byte_offset bytes after its record (NanoVDB's GridBlindMetaData).
+        pnanovdb_gridblindmetadata_handle_t blind = pnanovdb_grid_get_gridblindmetadata(buf, g, 0u);
+        v.channels0[l] = pnanovdb_address_offset64(blind.address, pnanovdb_int64_as_uint64(pnanovdb_gridblindmetadata_get_byte_offset(buf, blind)));
+        pnanovdb_uint32_t nodes = pnanovdb_uint64_low(pnanovdb_tree_get_voxel_count(buf, pnanovdb_grid_get_tree(buf, g)));
+        v.stride[l] = 12u * nodes;
+        if (l == 0 && v.visibility > 0) {
+            pnanovdb_uint32_t arrays = pnanovdb_int32_as_uint32(v.channels + (v.depth != 0 ? 4 : 0));
+            v.visibility0 = pnanovdb_address_offset_product(v.channels0[0], v.stride[0], arrays);
+            v.visibility_stride = 4u * nodes;
+        }
+        g = vdblight_nano_next(buf, g, 1u);
         v.refined[l] = g;
         if (l + 1 < v.levels) g = vdblight_nano_next(buf, g, 1u);
         if (validity != 0) g = vdblight_nano_next(buf, g, 1u);
-        if (l == 0 && v.visibility > 0) {
-            v.visibility0 = g;
-            v.visibility_stride = pnanovdb_uint64_low(pnanovdb_grid_get_grid_size(buf, g));
-            g = vdblight_nano_next(buf, g, pnanovdb_int32_as_uint32(v.visibility));
-        }
     }
     return v;
 }
@@ -176,10 +180,11 @@ VDBLIGHT_NANO_FN pnanovdb_int32_t vdblight_nano_split_local(PNANOVDB_INOUT(float
     return i;
 }
 
-// The address of the value of node ijk in the grid of accessor acc (of type `type`).
-VDBLIGHT_NANO_FN pnanovdb_address_t vdblight_nano_value_address(pnanovdb_grid_type_t type, pnanovdb_buf_t buf,
-                                                              PNANOVDB_INOUT(pnanovdb_readaccessor_t) acc, pnanovdb_coord_t ijk) {
-    return pnanovdb_readaccessor_get_value_address(type, buf, acc, PNANOVDB_REF(ijk));
+// The index of node ijk in its level's channel arrays: the value of the level's vdblight_nodes
+// grid (accessor acc) there.
+VDBLIGHT_NANO_FN pnanovdb_uint32_t vdblight_nano_node_index(pnanovdb_buf_t buf, PNANOVDB_INOUT(pnanovdb_readaccessor_t) acc,
+                                                           pnanovdb_coord_t ijk) {
+    return pnanovdb_read_uint32(buf, pnanovdb_readaccessor_get_value_address(PNANOVDB_GRID_TYPE_UINT32, buf, acc, PNANOVDB_REF(ijk)));
 }
 
 VDBLIGHT_NANO_FN pnanovdb_coord_t vdblight_nano_corner(PNANOVDB_IN(vdblight_nano_cell_t) cell, pnanovdb_int32_t c) {
@@ -191,7 +196,7 @@ VDBLIGHT_NANO_FN pnanovdb_coord_t vdblight_nano_corner(PNANOVDB_IN(vdblight_nano
 }
 
 // Visibility of a query point at offset (ox, oy, oz) in cells from a corner node whose depth
-// values start at address `a` of depth grid 0 (the next three grids at `stride` each):
+// values start at address `a` in the first depth array (the next three at `stride` each):
 // per axis the face on the point's side, Chebyshev's bound past mean + 0.02, the product cubed.
 VDBLIGHT_NANO_FN float vdblight_nano_depth_visibility(pnanovdb_buf_t buf, pnanovdb_address_t a, pnanovdb_uint32_t stride,
                                                       float ox, float oy, float oz) {
@@ -202,7 +207,7 @@ VDBLIGHT_NANO_FN float vdblight_nano_depth_visibility(pnanovdb_buf_t buf, pnanov
     float v = 1.0f;
     for (pnanovdb_uint32_t axis = 0u; axis < 3u; ++axis) {
         pnanovdb_bool_t negative = o[axis] < 0.0f;
-        // grids: depth_mean_pos, depth_mean_neg, depth_sigma_pos, depth_sigma_neg
+        // arrays: depth_mean_pos, depth_mean_neg, depth_sigma_pos, depth_sigma_neg
         pnanovdb_uint32_t mean_grid = negative ? 1u : 0u;
         float mu = pnanovdb_read_float(buf, pnanovdb_address_offset(pnanovdb_address_offset_product(a, stride, mean_grid), 4u * axis));
         float sigma = pnanovdb_read_float(buf, pnanovdb_address_offset(pnanovdb_address_offset_product(a, stride, mean_grid + 2u), 4u * axis));
@@ -254,13 +259,16 @@ VDBLIGHT_NANO_FN vdblight_nano_cell_t vdblight_nano_locate(pnanovdb_buf_t buf, P
     for (pnanovdb_int32_t c = 0; c < 8; ++c) cell.w[c] = wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2];
     // Depth weights, in cells of the finest level only (a coarser leaf cell holds no geometry).
     if (PNANOVDB_DEREF(v).depth != 0 && cell.level + 1 == PNANOVDB_DEREF(v).levels) {
-        pnanovdb_grid_handle_t d0 = PNANOVDB_DEREF(v).depth0[cell.level];
         pnanovdb_readaccessor_t acc;
-        pnanovdb_readaccessor_init(PNANOVDB_REF(acc), pnanovdb_tree_get_root(buf, pnanovdb_grid_get_tree(buf, d0)));
+        pnanovdb_readaccessor_init(PNANOVDB_REF(acc), pnanovdb_tree_get_root(buf, pnanovdb_grid_get_tree(buf, PNANOVDB_DEREF(v).first[cell.level])));
+        pnanovdb_uint32_t stride = PNANOVDB_DEREF(v).stride[cell.level];
+        pnanovdb_address_t depth0 = pnanovdb_address_offset_product(PNANOVDB_DEREF(v).channels0[cell.level], stride,
+                                                                    pnanovdb_int32_as_uint32(PNANOVDB_DEREF(v).channels));
         float sum = 0.0f;
         for (pnanovdb_int32_t c = 0; c < 8; ++c) {
-            pnanovdb_address_t a = vdblight_nano_value_address(PNANOVDB_GRID_TYPE_VEC3F, buf, PNANOVDB_REF(acc), vdblight_nano_corner(PNANOVDB_REF(cell), c));
-            float vis = vdblight_nano_depth_visibility(buf, a, PNANOVDB_DEREF(v).stride[cell.level],
+            pnanovdb_uint32_t node = vdblight_nano_node_index(buf, PNANOVDB_REF(acc), vdblight_nano_corner(PNANOVDB_REF(cell), c));
+            pnanovdb_address_t a = pnanovdb_address_offset_product(depth0, 12u, node);
+            float vis = vdblight_nano_depth_visibility(buf, a, stride,
                                                        cell.f[0] - pnanovdb_int32_to_float(c & 1),
                                                        cell.f[1] - pnanovdb_int32_to_float((c >> 1) & 1),
                                                        cell.f[2] - pnanovdb_int32_to_float(c >> 2));
@@ -331,8 +339,11 @@ VDBLIGHT_NANO_FN pnanovdb_vec3_t vdblight_nano_irradiance(pnanovdb_buf_t buf, PN
     pnanovdb_readaccessor_t acc;
     pnanovdb_readaccessor_init(PNANOVDB_REF(acc), pnanovdb_tree_get_root(buf, pnanovdb_grid_get_tree(buf, g0)));
     pnanovdb_address_t corner[8];
-    for (pnanovdb_int32_t c = 0; c < 8; ++c)
-        corner[c] = vdblight_nano_value_address(PNANOVDB_GRID_TYPE_VEC3F, buf, PNANOVDB_REF(acc), vdblight_nano_corner(PNANOVDB_REF(cell), c));
+    pnanovdb_uint32_t node[8];
+    for (pnanovdb_int32_t c = 0; c < 8; ++c) {
+        node[c] = vdblight_nano_node_index(buf, PNANOVDB_REF(acc), vdblight_nano_corner(PNANOVDB_REF(cell), c));
+        corner[c] = pnanovdb_address_offset_product(PNANOVDB_DEREF(v).channels0[cell.level], 12u, node[c]);
+    }
     pnanovdb_int32_t count = (PNANOVDB_DEREF(v).sh_order + 1) * (PNANOVDB_DEREF(v).sh_order + 1);
     pnanovdb_bool_t folded = PNANOVDB_DEREF(v).folded != 0;
     for (pnanovdb_int32_t j = 0; j < count; ++j) {
@@ -352,11 +363,10 @@ VDBLIGHT_NANO_FN pnanovdb_vec3_t vdblight_nano_irradiance(pnanovdb_buf_t buf, PN
         e.y += g * bw;
         e.z += b * bw;
     }
-    // --direct occlusion: the listed lights times their visibility, with the same weights.
-    pnanovdb_grid_handle_t vis0 = PNANOVDB_DEREF(v).visibility0;
-    pnanovdb_readaccessor_init(PNANOVDB_REF(acc), pnanovdb_tree_get_root(buf, pnanovdb_grid_get_tree(buf, vis0)));
+    // --direct occlusion: the listed lights times their visibility, with the same weights (level
+    // 0's arrays: occlusion volumes have one level).
     for (pnanovdb_int32_t c = 0; c < 8 && PNANOVDB_DEREF(v).visibility > 0; ++c)
-        corner[c] = vdblight_nano_value_address(PNANOVDB_GRID_TYPE_FLOAT, buf, PNANOVDB_REF(acc), vdblight_nano_corner(PNANOVDB_REF(cell), c));
+        corner[c] = pnanovdb_address_offset_product(PNANOVDB_DEREF(v).visibility0, 4u, node[c]);
     for (pnanovdb_int32_t i = 0; i < PNANOVDB_DEREF(v).visibility; ++i) {
         float vis = 0.0f;
         for (pnanovdb_int32_t c = 0; c < 8; ++c)
@@ -372,13 +382,14 @@ VDBLIGHT_NANO_FN float vdblight_nano_light_visibility(pnanovdb_buf_t buf, PNANOV
                                                       pnanovdb_vec3_t x, pnanovdb_int32_t i) {
     if (!PNANOVDB_DEREF(v).supported || i < 0 || i >= PNANOVDB_DEREF(v).visibility) return 1.0f;
     vdblight_nano_cell_t cell = vdblight_nano_locate(buf, v, x);
-    pnanovdb_grid_handle_t g0 = PNANOVDB_DEREF(v).visibility0;
     pnanovdb_readaccessor_t acc;
-    pnanovdb_readaccessor_init(PNANOVDB_REF(acc), pnanovdb_tree_get_root(buf, pnanovdb_grid_get_tree(buf, g0)));
+    pnanovdb_readaccessor_init(PNANOVDB_REF(acc), pnanovdb_tree_get_root(buf, pnanovdb_grid_get_tree(buf, PNANOVDB_DEREF(v).first[0])));
+    pnanovdb_address_t light = pnanovdb_address_offset_product(PNANOVDB_DEREF(v).visibility0, PNANOVDB_DEREF(v).visibility_stride,
+                                                               pnanovdb_int32_as_uint32(i));
     float s = 0.0f;
     for (pnanovdb_int32_t c = 0; c < 8; ++c) {
-        pnanovdb_address_t a = vdblight_nano_value_address(PNANOVDB_GRID_TYPE_FLOAT, buf, PNANOVDB_REF(acc), vdblight_nano_corner(PNANOVDB_REF(cell), c));
-        s += pnanovdb_read_float(buf, pnanovdb_address_offset_product(a, PNANOVDB_DEREF(v).visibility_stride, pnanovdb_int32_as_uint32(i))) * cell.w[c];
+        pnanovdb_uint32_t node = vdblight_nano_node_index(buf, PNANOVDB_REF(acc), vdblight_nano_corner(PNANOVDB_REF(cell), c));
+        s += pnanovdb_read_float(buf, pnanovdb_address_offset_product(light, 4u, node)) * cell.w[c];
     }
     return s;
 }

@@ -3,7 +3,8 @@
 // - the lookup equals IrradianceQuery to 1e-5 relative at 10 000 random points and normals,
 //   for uniform and multi-level volumes, with and without depth moments;
 // - the light visibility it interpolates equals the occlusion lookup's;
-// - the file holds every channel under the .vdb's names, the numbers and the metadata text;
+// - the file holds every channel (in the blind data of one vdblight_nodes grid per level, whose
+//   values index it), the numbers and the metadata text;
 // - nanovdb_validate and nanovdb_print (libnanovdb-tools) accept the files;
 // - an empty volume is refused in one line, leaving no file.
 #include <cstdio>
@@ -188,34 +189,40 @@ TEST(NanoVdbLookup, AddsTheListedLightsTimesTheirVisibility) {
     EXPECT_LE(worst, 2e-5);
 }
 
-/// Every grid, named as in the .vdb, in the documented order; the numbers and text of vdblight_meta.
+/// vdblight_meta and one vdblight_nodes grid (the node's index in its channel arrays, which ride
+/// in its blind data, channel-major); the numbers and text of vdblight_meta.
 TEST(NanoVdbExport, WritesEveryChannelAndTheMetadata) {
     const Volume v = occlusionVolume();
     TempDir dir;
     const NanoVdbSummary s = exportNanoVdb(v, dir.file("o.nvdb"));
-    std::vector<std::string> expected = {"vdblight_meta"};
-    for (const std::string& c : v.basis.channelNames) expected.push_back(c);
-    for (const char* d : {"depth_mean_pos", "depth_mean_neg", "depth_sigma_pos", "depth_sigma_neg"}) expected.push_back(d);
-    for (int i = 0; i < 5; ++i) expected.push_back("light_visibility_" + std::to_string(i));
-    EXPECT_EQ(s.grids, expected);
+    EXPECT_EQ(s.grids, (std::vector<std::string>{"vdblight_meta", "vdblight_nodes"}));
     EXPECT_EQ(s.activeNodes, v.levels[0].grid.nodeCount());
 
     const auto handles = nanovdb::io::readGrids<nanovdb::HostBuffer, std::vector>(dir.file("o.nvdb"));
-    ASSERT_EQ(handles.size(), expected.size());
-    for (std::size_t g = 1; g < handles.size(); ++g) {
-        EXPECT_EQ(std::string(handles[g].gridMetaData()->shortGridName()), expected[g]);
-        EXPECT_EQ(handles[g].gridMetaData()->activeVoxelCount(), v.levels[0].grid.nodeCount()) << expected[g];
-        EXPECT_NEAR(handles[g].gridMetaData()->voxelSize()[0], v.levels[0].grid.spacing, 1e-12);
-    }
-    // Channel 5 of node (2, 3, 4) at its index; the grid's transform puts it at the node.
-    const auto* grid = handles[6].template grid<nanovdb::Vec3f>();
+    ASSERT_EQ(handles.size(), 2u);
+    const auto* grid = handles[1].template grid<uint32_t>();
     ASSERT_NE(grid, nullptr);
+    const std::size_t nodes = v.levels[0].grid.nodeCount();
+    EXPECT_EQ(grid->activeVoxelCount(), nodes);
+    EXPECT_NEAR(grid->voxelSize()[0], v.levels[0].grid.spacing, 1e-12);
+    ASSERT_EQ(grid->blindDataCount(), 1u);
+    const nanovdb::GridBlindMetaData& blind = grid->blindMetaData(0);
+    EXPECT_EQ(std::string(blind.mName), "vdblight_channels");
+    // 25 SH + 4 depth arrays of N RGB triples, then 5 visibility arrays of N values.
+    ASSERT_EQ(blind.mElementCount, nodes * ((25 + 4) * 3 + 5));
+    const float* channels = blind.template getBlindData<float>();
+    // Node (2, 3, 4): its index, channel 5's green, depth_mean_neg's y, light 3's visibility.
     const std::size_t node = v.levels[0].grid.index(2, 3, 4);
-    EXPECT_EQ(grid->tree().getValue(nanovdb::Coord(2, 3, 4))[1], v.levels[0].data[(node * 25 + 5) * 3 + 1]);
+    const uint32_t at = grid->tree().getValue(nanovdb::Coord(2, 3, 4));
+    EXPECT_EQ(at, node);
+    EXPECT_EQ(channels[(5 * nodes + at) * 3 + 1], v.levels[0].data[(node * 25 + 5) * 3 + 1]);
+    EXPECT_EQ(channels[((25 + 1) * nodes + at) * 3 + 1], v.levels[0].nodeDepth(node)[3 + 1]);
+    EXPECT_EQ(channels[29 * nodes * 3 + 3 * nodes + at], v.levels[0].lightVisibility[node * 5 + 3]);
+    // The grid's transform puts voxel (2, 3, 4) at the node.
     const nanovdb::Vec3d world = grid->indexToWorld(nanovdb::Vec3d(2, 3, 4));
-    const Vec3d at = v.levels[0].grid.node(2, 3, 4);
-    EXPECT_NEAR(world[0], at.x, 1e-12);
-    EXPECT_NEAR(world[2], at.z, 1e-12);
+    const Vec3d pos = v.levels[0].grid.node(2, 3, 4);
+    EXPECT_NEAR(world[0], pos.x, 1e-12);
+    EXPECT_NEAR(world[2], pos.z, 1e-12);
 
     const auto* meta = handles[0].template grid<float>();
     ASSERT_NE(meta, nullptr);
@@ -245,14 +252,15 @@ TEST(NanoVdbExport, LevelsHaveTheirGridsAndRefinedMasks) {
     const Volume v = levelsSh(LayoutKind::Adaptive, 3, shBasis(2), true);
     TempDir dir;
     const NanoVdbSummary s = exportNanoVdb(v, dir.file("l.nvdb"));
-    ASSERT_EQ(s.grids.size(), 1u + 3 * (9 + 4) + 2);
-    EXPECT_EQ(s.grids[1 + 13], "refined_L0");
-    EXPECT_EQ(s.grids[1 + 14], "sh_l0m0_L1");
-    EXPECT_EQ(s.grids.back(), "depth_sigma_neg_L2");
+    EXPECT_EQ(s.grids, (std::vector<std::string>{"vdblight_meta", "vdblight_nodes", "refined_L0", "vdblight_nodes_L1",
+                                                 "refined_L1", "vdblight_nodes_L2"}));
     const auto handles = nanovdb::io::readGrids<nanovdb::HostBuffer, std::vector>(dir.file("l.nvdb"));
-    EXPECT_EQ(handles[14].gridMetaData()->gridType(), nanovdb::GridType::Float);
-    EXPECT_EQ(handles[14].gridMetaData()->activeVoxelCount(), v.levels[0].refinedCells.size());
-    EXPECT_EQ(handles[15].gridMetaData()->activeVoxelCount(), v.levels[1].activeNodes.size());
+    EXPECT_EQ(handles[2].gridMetaData()->gridType(), nanovdb::GridType::Float);
+    EXPECT_EQ(handles[2].gridMetaData()->activeVoxelCount(), v.levels[0].refinedCells.size());
+    EXPECT_EQ(handles[3].gridMetaData()->gridType(), nanovdb::GridType::UInt32);
+    EXPECT_EQ(handles[3].gridMetaData()->activeVoxelCount(), v.levels[1].activeNodes.size());
+    // 9 SH + 4 depth arrays per level, no visibility.
+    EXPECT_EQ(handles[3].template grid<uint32_t>()->blindMetaData(0).mElementCount, v.levels[1].activeNodes.size() * 13 * 3);
 }
 
 /// nanovdb_validate and nanovdb_print (libnanovdb-tools) accept a uniform and a multi-level export.
@@ -268,7 +276,7 @@ TEST(NanoVdbExport, NanoVdbToolsAcceptTheFiles) {
         EXPECT_EQ(report.find("failed"), std::string::npos) << report;
         EXPECT_NE(report.find("\"vdblight_meta\": passed"), std::string::npos) << report;
         EXPECT_EQ(std::system(("nanovdb_print -l " + file + " > " + out + " 2>&1").c_str()), 0) << readTextFile(out);
-        EXPECT_NE(readTextFile(out).find("sh_l0m0"), std::string::npos) << readTextFile(out);
+        EXPECT_NE(readTextFile(out).find("vdblight_nodes"), std::string::npos) << readTextFile(out);
     }
 }
 
@@ -288,10 +296,10 @@ TEST(NanoVdbExportCli, WritesOneFileOrFailsInOneLine) {
     const test::CliRun run = test::runCli("export " + dir.file("v.vdb") + " -o " + dir.file("v.nvdb") + " --format nanovdb");
     EXPECT_EQ(run.status, 0) << run.output;
     EXPECT_EQ(test::countLines(run.output), 1) << run.output;
-    EXPECT_NE(run.output.find("Wrote 90 NanoVDB grids"), std::string::npos) << run.output;
-    // vdblight_meta, 3 x (25 channels + 4 depth grids), refined_L0, refined_L1
+    EXPECT_NE(run.output.find("Wrote 6 NanoVDB grids"), std::string::npos) << run.output;
+    // vdblight_meta, 3 x vdblight_nodes (25 channels + 4 depth arrays in each), refined_L0, refined_L1
     const auto handles = nanovdb::io::readGrids<nanovdb::HostBuffer, std::vector>(dir.file("v.nvdb"));
-    EXPECT_EQ(handles.size(), 90u);
+    EXPECT_EQ(handles.size(), 6u);
     test::expectCleanFailure(dir, "export " + dir.file("v.vdb") + " -o " + dir.file("missing/v.nvdb") + " --format nanovdb",
                              "missing/v.nvdb");
 }

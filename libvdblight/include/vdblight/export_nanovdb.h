@@ -1,10 +1,12 @@
 // A baked volume as one NanoVDB file (`.nvdb`) for GPU renderers that read sparse volumes
 // (`vdblight export VOLUME -o out.nvdb --format nanovdb`; docs/engines.md, "NanoVDB").
 //
-// Every channel of the volume becomes a NanoVDB grid with the `.vdb`'s name, transform and
-// active voxels (docs/format.md): each basis channel a Vec3f grid per level, the depth
-// moments, the refined-cell masks of a multi-level volume, the light visibility and validity
-// grids. The first grid, `vdblight_meta`, says what a lookup needs as numbers in its voxels
+// Each level becomes one UInt32 grid `vdblight_nodes` with the `.vdb`'s transform and active
+// voxels (docs/format.md), whose value is the node's index into the level's channels: float
+// arrays in the grid's blind data, channel-major (basis channels, depth moments, then the light
+// visibility on level 0), so that every channel shares one tree (a NanoVDB 32.4 tree costs
+// hundreds of KB of dense internal tables: one grid per channel made the file 4.6x larger).
+// The refined-cell masks of a multi-level volume and the validity stay float grids. The first grid, `vdblight_meta`, says what a lookup needs as numbers in its voxels
 // (basis order, levels, refinement, depth, direct mode, lights) and carries the volume's
 // metadata as text in its blind data (lights in the one-line form of docs/format.md). The
 // grids follow in a fixed order, so that a shader finds them by walking the buffer
@@ -24,15 +26,15 @@ namespace vdblight {
 /// The numbers in voxels (i, 0, 0) of the grid `vdblight_meta`, by i (docs/engines.md).
 namespace nanovdb_meta {
 enum Field : int {
-    kVersion = 0,        ///< 1
+    kVersion = 0,        ///< 2 (1: one grid per channel)
     kShOrder = 1,        ///< N for basis sh:N (2 for sh2); -1 for a basis that is not real SH
-    kChannels = 2,       ///< basis channels (Vec3f grids per level)
+    kChannels = 2,       ///< basis channels (RGB arrays per level)
     kLevels = 3,         ///< levels (1: uniform)
     kRefine = 4,         ///< refinement factor K between levels (1 for one level)
-    kDepth = 5,          ///< 1 if every level has the four depth-moment grids
+    kDepth = 5,          ///< 1 if every level has the four depth-moment arrays
     kDirectMode = 6,     ///< 0 baked, 1 runtime, 2 occlusion (direct_light.h)
     kLights = 7,         ///< listed lights (text in the blind data)
-    kVisibility = 8,     ///< light visibility grids after level 0's grids (occlusion mode)
+    kVisibility = 8,     ///< light visibility arrays after level 0's channel arrays (occlusion mode)
     kValidity = 9,       ///< 1 if every level has a `validity` grid
     kDimsX = 10,         ///< level 0's nodes along x, y, z
     kDimsY = 11,
@@ -46,7 +48,7 @@ enum Field : int {
 /// the voxel where its loops start, the loop count, 2 reserved. Each loop there: its vertex
 /// count, then x, y, z per vertex (world positions, as in the file's text).
 constexpr int kLightFloats = 20;
-constexpr int kVersionValue = 1;
+constexpr int kVersionValue = 2;
 }  // namespace nanovdb_meta
 
 struct NanoVdbSummary {

@@ -59,6 +59,31 @@ Handle refinedGrid(const VolumeLevel& level, std::size_t l) {
     return builder.getHandle(level.grid.spacing, nanovdb::Vec3d(o.x, o.y, o.z), "refined_L" + std::to_string(l));
 }
 
+/// `bytes` rounded up to NanoVDB's 32-byte alignment: a grid's size (which ends with its blind
+/// data) stays a multiple of 32, so the next grid of a buffer holding them back to back starts
+/// aligned (PNanoVDB reads 64-bit values at 8-byte offsets).
+uint64_t alignedBlindSize(uint64_t bytes) {
+    return (bytes + NANOVDB_DATA_ALIGNMENT - 1) / NANOVDB_DATA_ALIGNMENT * NANOVDB_DATA_ALIGNMENT;
+}
+
+/// Fills the one blind-data block of `grid` (built with room for `padded` bytes): its name,
+/// `count` elements of `type`, and the bytes themselves, zero-padded.
+template <class Value>
+void setBlindData(nanovdb::NanoGrid<Value>* grid, const char* name, nanovdb::GridType type, uint64_t count,
+                  const void* data, uint64_t bytes, uint64_t padded) {
+    auto* blind = reinterpret_cast<nanovdb::GridBlindMetaData*>(reinterpret_cast<char*>(grid) + grid->data()->mBlindMetadataOffset);
+    blind->mElementCount = count;
+    blind->mFlags = 0;
+    blind->mSemantic = nanovdb::GridBlindDataSemantic::Unknown;
+    blind->mDataClass = nanovdb::GridBlindDataClass::Unknown;
+    blind->mDataType = type;
+    std::memset(blind->mName, 0, sizeof(blind->mName));
+    std::strncpy(blind->mName, name, sizeof(blind->mName) - 1);
+    char* out = reinterpret_cast<char*>(blind) + blind->mByteOffset;  // relative to the block's record
+    std::memset(out, 0, padded);
+    std::memcpy(out, data, bytes);
+}
+
 /// The SH order of sh2 and of sh:1 .. sh:9, -1 for other bases.
 int shOrder(const BasisDesc& basis) {
     const int order = basis.shOrder();
@@ -126,68 +151,71 @@ Handle metaGrid(const Volume& v, const std::string& text) {
     field[nanovdb_meta::kShKind] = v.basis.isSh2() ? 1.0f : 0.0f;
     appendLights(v.direct.lights, field);
 
-    // The block padded with zeros to NanoVDB's 32-byte alignment: the grid's size (which ends
-    // with it) stays a multiple of 32, so the next grid of a buffer holding them back to back
-    // starts aligned (PNanoVDB reads 64-bit values at 8-byte offsets).
-    const uint64_t padded = (text.size() + 1 + NANOVDB_DATA_ALIGNMENT - 1) / NANOVDB_DATA_ALIGNMENT * NANOVDB_DATA_ALIGNMENT;
+    const uint64_t padded = alignedBlindSize(text.size() + 1);
     nanovdb::GridBuilder<float> builder(0.0f, nanovdb::GridClass::Unknown, padded);
     auto acc = builder.getAccessor();
     for (std::size_t i = 0; i < field.size(); ++i) acc.setValue(nanovdb::Coord(int(i), 0, 0), field[i]);
     Handle handle = builder.getHandle(1.0, nanovdb::Vec3d(0.0), "vdblight_meta");
-    nanovdb::NanoGrid<float>* grid = handle.grid<float>();
-    auto* blind = reinterpret_cast<nanovdb::GridBlindMetaData*>(reinterpret_cast<char*>(grid) +
-                                                                  grid->data()->mBlindMetadataOffset);
-    blind->mElementCount = text.size() + 1;
-    blind->mFlags = 0;
-    blind->mSemantic = nanovdb::GridBlindDataSemantic::Unknown;
-    blind->mDataClass = nanovdb::GridBlindDataClass::Unknown;
-    blind->mDataType = nanovdb::GridType::Unknown;
-    std::memset(blind->mName, 0, sizeof(blind->mName));
-    std::strncpy(blind->mName, "vdblight_metadata", sizeof(blind->mName) - 1);
-    char* bytes = reinterpret_cast<char*>(blind) + blind->mByteOffset;
-    std::memset(bytes, 0, padded);
-    std::memcpy(bytes, text.c_str(), text.size() + 1);
+    setBlindData(handle.grid<float>(), "vdblight_metadata", nanovdb::GridType::Unknown, text.size() + 1, text.c_str(),
+                 text.size() + 1, padded);
     return handle;
 }
 
-/// The lookup (shaders/vdblight_nanovdb.h) steps over a run of grids of one type on one
-/// topology by a single stride: their sizes must agree (they do: same tree, same value type).
-void sameSizes(const std::vector<Handle>& handles, std::size_t begin, std::size_t end) {
-    for (std::size_t g = begin + 1; g < end; ++g)
-        if (handles[g].size() != handles[begin].size())
-            throw FormatError("NanoVDB export: grid '" + std::string(handles[g].gridMetaData()->shortGridName()) +
-                              "' differs in size from the other grids of its level");
-}
-
-/// The grids of one level in the documented order: channels, depth, refined mask, validity,
-/// then (level 0 of an occlusion volume) the light visibility.
-void appendLevel(const Volume& v, std::size_t l, std::vector<Handle>& out) {
+/// The channel arrays of a level, channel-major so that a shader steps from one channel to the
+/// next by one stride (N nodes x 12 bytes): the basis channels and then the four depth
+/// channels, N RGB / xyz triples each, in stored node order; then (level 0 of an occlusion
+/// volume) N visibility values per listed light.
+std::vector<float> levelChannels(const Volume& v, std::size_t l) {
     const VolumeLevel& level = v.levels[l];
-    const std::size_t first = out.size();
+    const std::size_t n = level.storedNodes();
     const int channels = v.basis.channelCount();
+    std::vector<float> out;
+    out.reserve(n * 3 * std::size_t(channels + (level.hasDepth() ? depth::kChannels : 0)));
     for (int c = 0; c < channels; ++c)
-        out.push_back(levelGrid<nanovdb::Vec3f>(level, levelName(v.basis.channelNames[std::size_t(c)], l), [&](std::size_t n) {
-            const float* p = level.nodeData(n, channels) + 3 * c;
-            return nanovdb::Vec3f(p[0], p[1], p[2]);
-        }));
+        for (std::size_t i = 0; i < n; ++i) {
+            const float* p = level.nodeData(i, channels) + 3 * c;
+            out.insert(out.end(), p, p + 3);
+        }
     if (level.hasDepth())
         for (int c = 0; c < depth::kChannels; ++c)
-            out.push_back(levelGrid<nanovdb::Vec3f>(level, levelName(depth::channelName(c), l), [&](std::size_t n) {
-                const float* p = level.nodeDepth(n) + 3 * c;
-                return nanovdb::Vec3f(p[0], p[1], p[2]);
-            }));
-    sameSizes(out, first, out.size());  // channels and depth: one stride for the shader's walk
+            for (std::size_t i = 0; i < n; ++i) {
+                const float* p = level.nodeDepth(i) + 3 * c;
+                out.insert(out.end(), p, p + 3);
+            }
+    if (l == 0 && v.direct.hasVisibility()) {
+        const std::size_t m = v.direct.lights.size();
+        for (std::size_t light = 0; light < m; ++light)
+            for (std::size_t i = 0; i < n; ++i) out.push_back(level.lightVisibility[level.held(i) * m + light]);
+    }
+    return out;
+}
+
+/// The grid `vdblight_nodes` of a level: a UInt32 grid on the level's nodes (the `.vdb`'s
+/// transform and active voxels) whose value is the node's index in the channel arrays, which
+/// ride in its blind data (`vdblight_channels`, levelChannels): one tree for every channel.
+Handle nodesGrid(const Volume& v, std::size_t l) {
+    const VolumeLevel& level = v.levels[l];
+    const std::vector<float> channels = levelChannels(v, l);
+    const uint64_t bytes = channels.size() * sizeof(float), padded = alignedBlindSize(bytes);
+    nanovdb::GridBuilder<uint32_t> builder(0u, nanovdb::GridClass::Unknown, padded);
+    auto acc = builder.getAccessor();
+    for (std::size_t n = 0; n < level.storedNodes(); ++n) acc.setValue(nodeCoord(level, n), uint32_t(n));
+    const Vec3d& o = level.grid.origin;
+    Handle handle = builder.getHandle(level.grid.spacing, nanovdb::Vec3d(o.x, o.y, o.z), levelName("vdblight_nodes", l));
+    setBlindData(handle.grid<uint32_t>(), "vdblight_channels", nanovdb::GridType::Float, channels.size(), channels.data(),
+                 bytes, padded);
+    return handle;
+}
+
+/// The grids of one level in the documented order: the nodes grid with the channels, the
+/// refined mask, the validity.
+void appendLevel(const Volume& v, std::size_t l, std::vector<Handle>& out) {
+    const VolumeLevel& level = v.levels[l];
+    if (level.storedNodes() > uint64_t(UINT32_MAX)) throw FormatError("NanoVDB export: more than 2^32 nodes in one level");
+    out.push_back(nodesGrid(v, l));
     if (l + 1 < v.levels.size()) out.push_back(refinedGrid(level, l));
     if (!level.validity.empty())
         out.push_back(levelGrid<float>(level, levelName("validity", l), [&](std::size_t n) { return level.validity[level.held(n)]; }));
-    if (l == 0 && v.direct.hasVisibility()) {
-        const std::size_t m = v.direct.lights.size();
-        const std::size_t firstVisibility = out.size();
-        for (std::size_t i = 0; i < m; ++i)
-            out.push_back(levelGrid<float>(level, "light_visibility_" + std::to_string(i),
-                                           [&](std::size_t n) { return level.lightVisibility[level.held(n) * m + i]; }));
-        sameSizes(out, firstVisibility, out.size());
-    }
 }
 }  // namespace
 
