@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Slices of irradiance through the thin-wall scene (issue 5, docs/methods.md): the bakes of
+# Slices of irradiance through the thin-wall scene (issue 5, docs/measurements/antialiased.md): the bakes of
 # vdblight_bench_antialiased (same ray budget per scene), sliced with `vdblight slice` at the
 # same fixed exposure so that the images compare.
 # Usage: scripts/leak_pictures.sh [BUILD_DIR]   (writes docs/images/leak_thin_wall_*.png)

@@ -47,8 +47,12 @@ if [ ${#TESTS[@]} -eq 0 ]; then
   # importers, 200 of the suite's 1 240 test-seconds under ASan (issue 29's session); the
   # same sampling, merge and export code runs here in the smaller tests. The GPU-driver
   # checks do run (45 test-seconds; llvmpipe itself is not instrumented).
+  # Issue 30's session: CI landed in 2 301 s, too near its 40 min, so four tests that compare
+  # whole files bit for bit (library vs CLI, one vs two threads, photon tile merges through the
+  # CLI and with depth) stay out too: 86 test-seconds here; the bakes they repeat run above in
+  # smaller tests, and the Release suite runs them all.
   (cd "$BUILD" && ctest --output-on-failure -j "${JOBS:-$(nproc)}" -LE "cluster|install|quickstart|web" \
-     -E "^(BlenderFormats|BlenderPreview|PhotonReference|PhotonTiles)\.|^(PhotonPass\.WhiteFurnaceAtDefaultBounces|Bake\.DefaultSceneAgainstReference|DirectBake\.OcclusionAndRuntimeMatchReferenceNearTheLuminaire|Transport\.ProbePassesKeepTheFurnace|Transport\.ClosedFurnaceBakeAtDefaults)$")
+     -E "^(BlenderFormats|BlenderPreview|PhotonReference|PhotonTiles|PhotonTilesDepth)\.|^(PhotonPass\.WhiteFurnaceAtDefaultBounces|Bake\.DefaultSceneAgainstReference|DirectBake\.OcclusionAndRuntimeMatchReferenceNearTheLuminaire|Transport\.ProbePassesKeepTheFurnace|Transport\.ClosedFurnaceBakeAtDefaults|BakeVolume\.LibraryAndCommandLineWriteIdenticalFiles|CliTiles\.PhotonBakesMergeToTheSingleBake|CliReproducible\.OneAndTwoThreadsGiveIdenticalFilesForEveryPass)$")
 else
   build --target "${TESTS[@]}"
   for t in "${TESTS[@]}"; do "$BUILD/tests/$t"; done

@@ -1,5 +1,5 @@
 // vdblight query on a volume with SH ringing: negative irradiance is clamped to 0 by default
-// and printed as reconstructed with --raw (issue 8, docs/methods.md "SH ringing").
+// and printed as reconstructed with --raw (issue 8, docs/measurements/robustness.md "SH ringing").
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -46,7 +46,7 @@ TEST(Cli, BakeQueryInfoReferenceOnTheDefaultScene) {
 
     const CliRun info = runCli("info --json " + out);
     ASSERT_EQ(info.status, 0) << info.output;
-    // The default stores SH order 4 (docs/methods.md, "SH order 4 in the point gather").
+    // The default stores SH order 4 (docs/measurements/default_bake.md, "SH order 4 in the point gather").
     EXPECT_NE(info.output.find("\"basis\": \"sh:4\""), std::string::npos) << info.output;
     EXPECT_NE(info.output.find("\"sh_l2m2\""), std::string::npos);
     EXPECT_NE(info.output.find("\"sh_l4m4\""), std::string::npos);

@@ -1,4 +1,4 @@
-// The SH ringing case (docs/methods.md, "SH ringing"): one point light, direct light only.
+// The SH ringing case (docs/measurements/robustness.md, "SH ringing"): one point light, direct light only.
 #pragma once
 
 #include "vdblight/bake.h"

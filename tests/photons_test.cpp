@@ -239,7 +239,7 @@ TEST(PhotonPass, ConstantSkyGivesTheSameIrradianceAtEveryNode) {
     }
 }
 
-// Issue 15, item 5 (docs/methods.md "Photon volumes: where the -30 % came from"): under
+// Issue 15, item 5 (docs/measurements/photons.md "Photon volumes: where the -30 % came from"): under
 // uniform radiance the six vectors are exact (pi L delta, above). The lookup's default,
 // quadratic blend then reads pi L for every normal. The paper's n^2 blend reads
 // pi L sum |n_a|^3 (its mean over random normals is 3 E|n_x|^3 = 3/4): the -25 % that made

@@ -4,7 +4,7 @@
 // 1. Its estimator: with an exact cache (the reflected irradiance at the hit traced with full
 //    paths) a path ended at its first hit must give the reference's irradiance: NEE at the
 //    hit, the emitters' MIS share of one cosine ray, albedo / pi x the cache, and nothing
-//    counted twice. (docs/methods.md, "The probe pass's bias, isolated": with the bake's cache
+//    counted twice. (docs/measurements/default_bake.md, "The probe pass's bias, isolated": with the bake's cache
 //    the bias comes from the nodes standing for the surface point, not from this.)
 // 2. Its cache (bake/surface_cache.h) in closed form: a floor (albedo 0.5) under a sky that is
 //    bright only in a band from the horizon to 10 degrees above it, and nothing else. A floor

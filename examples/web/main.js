@@ -1,11 +1,13 @@
 // The page: the baked scene (data/scene.gltf) and moving spheres, all lit by vdblight's volume
-// through three.js's LightProbeGridWebGL (filled from data/probe_grid.json by the loader).
-// URL parameters: t=SECONDS freezes the animation at that time (screenshots); test loads
-// the read-back hooks that the test (test/check_page.mjs) calls.
+// through three.js's LightProbeGridWebGL (filled from data/probe_grid.json by the loader), and
+// the glTF probe view of `export --format gltf` (data/probes.glb), shown by its button or P.
+// URL parameters: t=SECONDS freezes the animation at that time (screenshots); probes starts
+// with the probe view shown; test loads the read-back hooks that the test (test/check_page.mjs) calls.
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { loadProbeGrid } from './vdblight-loader.js';
+import { loadProbeView } from './probe-view.js';
 
 const params = new URLSearchParams(location.search);
 const fixedTime = params.has('t') ? Number(params.get('t')) : null;
@@ -35,9 +37,12 @@ async function main() {
 	controls.target.set(0.278, 0.274, 0.28);
 	controls.update();
 
-	const [gltf, grid] = await Promise.all([new GLTFLoader().loadAsync('data/scene.gltf'), loadProbeGrid('data/')]);
+	// The probe view is optional: a data folder without probes.glb still shows the lit scene.
+	const [gltf, grid, probeView] = await Promise.all([new GLTFLoader().loadAsync('data/scene.gltf'), loadProbeGrid('data/'),
+		loadProbeView('data/probes.glb').catch((e) => ({ error: String(e.message ?? e) }))]);
 	scene.add(gltf.scene);
 	scene.add(grid);  // no other light: walls and spheres take their light from the bake alone
+	if (probeView.root) scene.add(probeView.root);
 
 	const colours = [0xffffff, 0xffc870, 0x80b0ff, 0xe0e0e0];
 	const spheres = colours.map((c) => {
@@ -50,8 +55,20 @@ async function main() {
 	const info = grid.userData.vdblight;
 	const [nx, ny, nz] = info.resolution;
 	label.innerHTML = `<b>vdblight</b> bake in three.js r${THREE.REVISION}: LightProbeGridWebGL of ${nx} &times; ${ny} &times; ${nz} ` +
-		`L2 probes (${info.texture.type}), no lights but the bake`;
-	Object.assign(page, { renderer, scene, camera, grid, info });
+		`L2 probes (${info.texture.type}), no lights but the bake<br>` + (probeView.root
+		? `<button id="probes">probe view</button> (P): ${probeView.spheres} spheres of probes.glb, coloured by E(n) / &pi;`
+		: `no probe view (${probeView.error})`);
+	// Shows the probe spheres instead of the moving ones (the room stays); renders at once, as a
+	// frozen page draws no more frames.
+	const showProbes = (on) => {
+		if (!probeView.root) return;
+		probeView.root.visible = on;
+		spheres.forEach((s) => { s.visible = !on; });
+		renderer.render(scene, camera);
+	};
+	document.getElementById('probes')?.addEventListener('click', () => showProbes(!probeView.root.visible));
+	window.addEventListener('keydown', (e) => { if (e.key === 'p' || e.key === 'P') showProbes(!probeView.root?.visible); });
+	Object.assign(page, { renderer, scene, camera, grid, info, probeView, showProbes });
 	if (params.has('test')) page.readback = await import('./test/readback.js');
 
 	window.addEventListener('resize', () => {
@@ -59,6 +76,7 @@ async function main() {
 		camera.updateProjectionMatrix();
 		renderer.setSize(window.innerWidth, window.innerHeight);
 	});
+	if (params.has('probes')) showProbes(true);
 	renderer.setAnimationLoop((ms) => {
 		const t = fixedTime ?? ms / 1000;
 		spheres.forEach((s, i) => s.position.set(...sphereMotion(i, t)));

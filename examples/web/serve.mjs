@@ -1,5 +1,5 @@
 // A static file server for the page (no dependencies, loopback only): examples/web/ at /,
-// and the bake's files (probe_grid.json, probe_grid_sh.bin, scene.gltf) at /data/.
+// and the bake's files (probe_grid.json, probe_grid_sh.bin, scene.gltf, probes.glb) at /data/.
 //
 //   node examples/web/serve.mjs --data DIR [--port 8080]     # prints the page's address
 //
@@ -14,7 +14,7 @@ export const webRoot = dirname(fileURLToPath(import.meta.url));
 const types = {
 	'.html': 'text/html; charset=utf-8', '.js': 'text/javascript; charset=utf-8', '.mjs': 'text/javascript; charset=utf-8',
 	'.json': 'application/json', '.gltf': 'model/gltf+json', '.bin': 'application/octet-stream', '.css': 'text/css',
-	'.png': 'image/png',
+	'.png': 'image/png', '.glb': 'model/gltf-binary',
 };
 
 // The file for a URL path, or null when it lies outside the served folders.

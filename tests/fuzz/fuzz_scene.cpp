@@ -3,7 +3,7 @@
 // executable each). A loader must
 // either return a valid scene or throw one of vdblight's typed errors; any other exception,
 // crash, leak or sanitizer report is a finding. scripts/fuzz.sh builds and runs it
-// (docs/methods.md, "Sanitizers and fuzzing").
+// (docs/measurements/robustness.md, "Sanitizers and fuzzing").
 #include <cstddef>
 #include <cstdint>
 

@@ -1,8 +1,10 @@
 // The page in headless Chromium against `vdblight query` (run by tests/web_page_test.sh).
 //
-//   node check_page.mjs --data DIR --volume V.vdb --cli VDBLIGHT --screenshot OUT.png
+//   node check_page.mjs --data DIR --volume V.vdb --cli VDBLIGHT --screenshot OUT.png --probe-spheres N
 //
-// DIR holds `vdblight export V.vdb --format three` and scene.gltf. The page is served on
+// DIR holds `vdblight export V.vdb --format three`, scene.gltf and `export --format gltf`'s
+// probes.glb, of which the export said it wrote N spheres (test/check_probe_view.mjs checks the
+// page's probe view: the spheres it loaded and the colours it draws). The page is served on
 // loopback and opened with ?test; Chromium (Debian's, software WebGL 2) then reads back the
 // irradiance three.js computes from the grid in two ways:
 //  1. its own GLSL (getLightProbeGridIrradiance of three's chunk) at random points and normals;
@@ -14,17 +16,20 @@
 // (2^-24), and E is a sum of coefficients times trilinear weights times |A_l Y_j(n)|, so
 //   |E_three - E_query| <= u * S,  S = sum_j |A_l Y_j(n)| max over the 8 corner probes |c_j|
 // plus float32 arithmetic on both sides (8 * 2^-24 * S) and 1e-6 W/m^2 for subnormal halves.
-// Exits non-zero on any point beyond it; writes the page's screenshot (PNG).
+// Exits non-zero on any point beyond it; writes the page's screenshot (PNG), and OUT_probes.png
+// with the probe view shown.
 import { readFileSync, writeFileSync, mkdtempSync, rmSync, mkdirSync } from 'node:fs';
 import { execFileSync } from 'node:child_process';
 import { join, dirname } from 'node:path';
 import { tmpdir } from 'node:os';
 import { chromium } from 'playwright-core';
 import { startServer } from '../serve.mjs';
+import { checkProbeView } from './check_probe_view.mjs';
 
 const args = process.argv.slice(2);
 const option = (name) => { const i = args.indexOf(name); if (i < 0) throw new Error(`missing ${name}`); return args[i + 1]; };
 const dataDir = option('--data'), volume = option('--volume'), cli = option('--cli'), screenshot = option('--screenshot');
+const probeSpheres = Number(option('--probe-spheres'));
 
 // --- the exported grid, read back in double: the corner magnitudes for the bound ------------
 const info = JSON.parse(readFileSync(join(dataDir, 'probe_grid.json'), 'utf8'));
@@ -121,6 +126,17 @@ try {
 		return sq.map((s) => p.readback.renderSquare(p.renderer, p.grid, s)).flat();
 	}, squares);
 	stage('read back');
+
+	const probeProblems = await checkProbeView(page, join(dataDir, 'probes.glb'), probeSpheres);
+	await page.evaluate(() => window.vdblightPage.showProbes(true));
+	const probeShot = screenshot.replace(/(\.png)?$/, '_probes.png');
+	writeFileSync(probeShot, await page.screenshot());
+	console.log(`screenshot: ${probeShot}`);
+	stage('probe view');
+	if (probeProblems.length) {
+		failed = true;
+		probeProblems.slice(0, 5).forEach((p) => console.error(`  probe view: ${p}`));
+	}
 	if (consoleErrors.length) throw new Error(`console errors: ${consoleErrors.join(' | ')}`);
 
 	// --- vdblight query at the points three.js sampled ------------------------------------------

@@ -98,3 +98,53 @@ export function renderSquare(renderer, grid, { center, normal, size, pixels }) {
 		}
 	return out;
 }
+
+/**
+ * Vertices of the probe view as three draws them: the probe mesh (as GLTFLoader built it, its
+ * own material and vertex colours) rendered alone, once per vertex, by an orthographic camera
+ * that looks at the vertex `position` against its `normal` from just outside the surface, each
+ * into its own `pixels`² viewport (odd, so that the vertex projects onto the centre pixel's
+ * centre, where the rasteriser's interpolation gives exactly that vertex's attribute) of one
+ * RGBA8 target, read back once. `halfWidth`: the view's half extent; `distance`: how far out
+ * the camera stands (less than the gap to any other sphere). Returns per vertex the centre
+ * pixel's [r, g, b, a] bytes.
+ */
+export function renderProbeVertices(renderer, mesh, cases, pixels = 9) {
+	const parent = mesh.parent, visible = mesh.visible;
+	const scene = new THREE.Scene();
+	scene.add(mesh);  // alone: no walls, no box lines, no hidden ancestor
+	mesh.visible = true;
+	const target = new THREE.WebGLRenderTarget(pixels * cases.length, pixels);  // RGBA8, linear: no tone mapping or sRGB encoding
+	const previous = renderer.getRenderTarget(), autoClear = renderer.autoClear;
+	const clearColour = renderer.getClearColor(new THREE.Color()), clearAlpha = renderer.getClearAlpha();
+	renderer.setRenderTarget(target);
+	renderer.setClearColor(0x000000, 0);  // a pixel no sphere covers reads alpha 0
+	renderer.clear();
+	renderer.autoClear = false;
+	cases.forEach(({ position, normal, halfWidth, distance }, i) => {
+		const n = new THREE.Vector3(...normal).normalize();
+		const p = new THREE.Vector3(...position);
+		const camera = new THREE.OrthographicCamera(-halfWidth, halfWidth, halfWidth, -halfWidth, 0, 2 * distance);
+		camera.position.copy(p).addScaledVector(n, distance);
+		camera.up.set(...(Math.abs(n.y) > 0.9 ? [1, 0, 0] : [0, 1, 0]));
+		camera.lookAt(p);
+		camera.updateMatrixWorld();
+		target.viewport.set(i * pixels, 0, pixels, pixels);
+		renderer.setRenderTarget(target);  // takes the target's viewport
+		renderer.clearDepth();
+		renderer.render(scene, camera);
+	});
+	renderer.autoClear = autoClear;
+	renderer.setClearColor(clearColour, clearAlpha);
+	renderer.setRenderTarget(previous);
+	mesh.visible = visible;
+	if (parent) parent.add(mesh);
+	const rgba = new Uint8Array(pixels * cases.length * pixels * 4);
+	renderer.readRenderTargetPixels(target, 0, 0, pixels * cases.length, pixels, rgba);
+	target.dispose();
+	const row = pixels >> 1;
+	return cases.map((_, i) => {
+		const c = 4 * (row * pixels * cases.length + i * pixels + (pixels >> 1));
+		return Array.from(rgba.slice(c, c + 4));
+	});
+}

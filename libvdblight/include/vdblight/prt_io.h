@@ -1,5 +1,5 @@
 // PRT files: the samples as an OpenVDB PointDataGrid and the bases and transfer matrices as
-// float grids used as sparse matrices (docs/format.md, "PRT files").
+// float grids used as sparse matrices (docs/prt_format.md).
 #pragma once
 
 #include <cstdint>

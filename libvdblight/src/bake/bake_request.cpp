@@ -24,7 +24,7 @@ namespace {
 /// the gather's own first hits so that lookups do not interpolate across walls
 /// (depth_moments.h), and SH order 4 stored (kDefaultBasis: SH order 2 cannot hold a bright
 /// opening seen from a dark room). The measured choice against the accuracy benchmark's
-/// ground truth (docs/methods.md, "SH order 4 in the point gather").
+/// ground truth (docs/measurements/default_bake.md, "SH order 4 in the point gather").
 /// `high`: the default with twice the rays (kHighRays). Until issue 15's tenth session it was
 /// error-targeted (3 %, 64..2048 rays) with two probe passes in SH order 2; with SH order 4 the
 /// fixed budget measured lower RMS in every scene in less time (docs/methods.md, "The default

@@ -2,7 +2,7 @@
 // pass 0's own paths (DeferredPaths::firstVertexIrradiance): `bake --probe-cache surface`,
 // issue 15. The node cache (surface_cache.h) lets the nodes around a surface point stand for
 // it, which biases the probe pass high where nearby geometry closes the point's hemisphere
-// (docs/methods.md, "The probe pass's bias, isolated", point 4); these bins hold samples taken
+// (docs/measurements/default_bake.md, "The probe pass's bias, isolated", point 4); these bins hold samples taken
 // at the surfaces. (Internal to the bake module.)
 //
 // Bins: the cells of the node grid, six per cell, one per signed axis of the surface normal

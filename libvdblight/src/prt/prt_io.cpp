@@ -1,4 +1,4 @@
-// PRT files (docs/format.md, "PRT files"): writePrt and readPrt put together the file's
+// PRT files (docs/prt_format.md): writePrt and readPrt put together the file's
 // three sections, header, samples and matrices (prt_io_sections.h, one file each).
 #include "vdblight/prt_io.h"
 

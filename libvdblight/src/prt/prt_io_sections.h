@@ -1,4 +1,4 @@
-// The sections of a PRT file (docs/format.md, "PRT files"), one file each, which
+// The sections of a PRT file (docs/prt_format.md), one file each, which
 // prt_io.cpp's writePrt / readPrt put together:
 // - the header: the metadata that says what was baked and how big each part is
 //   (prt_io_header.cpp);

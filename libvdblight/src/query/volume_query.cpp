@@ -136,7 +136,7 @@ QueryAnswer Query::at(const Vec3d& x, const Vec3f& normal, uint64_t index) const
         e += runtimeDirectIrradiance(runtime_->scene, *runtime_->tracer, runtime_->lights, runtime_->scene.toLocal(lx), n,
                                      options_.shadowRays, hashCombine(0x9ee7, index), rays);
     }
-    if (!options_.raw && (e.x < 0 || e.y < 0 || e.z < 0)) {  // order-2 SH ringing (docs/methods.md)
+    if (!options_.raw && (e.x < 0 || e.y < 0 || e.z < 0)) {  // order-2 SH ringing (docs/methods.md, "Robustness")
         a.negative = true;
         e = Rgb(std::max(e.x, 0.0f), std::max(e.y, 0.0f), std::max(e.z, 0.0f));
     }

@@ -1,5 +1,5 @@
 // vdblight's own PLY reader (replaces Assimp for .ply, whose 5.2.5 importer crashes or hangs
-// on some corrupt files: docs/methods.md, "Sanitizers and fuzzing").
+// on some corrupt files: docs/measurements/robustness.md, "Sanitizers and fuzzing").
 #pragma once
 
 #include <string>
