@@ -203,6 +203,8 @@ const std::vector<LayoutCase>& layoutCases() {
          }},
         {"bins of a bins:4 volume (ktx2, half; the four-bin blend)", "bins4.vdb", "--format ktx2 --layout bins",
          {"vec3 vdblightIrradianceBins("}, binsResolutionDefine, kCallBins, binTextures},
+        {"bins of a bilevel bins:4 volume (dds, half)", "bins4_bilevel.vdb", "--format dds --layout bins",
+         {"vec3 vdblightIrradianceBins("}, binsResolutionDefine, kCallBins, binTextures},
         {"sh2-32 (ktx2; L0 half, rgba8_unorm)", "sh4.vdb", "--format ktx2 --layout sh2-32", {"vec3 vdblightIrradianceSh2x32("},
          nullptr, kCallSh2x32, compactShTextures, 2, false, nullptr, ExportLayout::Sh2x32, kSh2x32Quantisation},
         {"sh2-32 (dds; L0 half, rgba8_unorm)", "sh4.vdb", "--format dds --layout sh2-32", {"vec3 vdblightIrradianceSh2x32("},
