@@ -121,6 +121,8 @@ struct TrySpec {
 TrySpec parseTry(const std::string& spec);
 /// What `vdblight bake SCENE -o OUT` bakes: resolveBakeRequest of an empty request.
 TrySpec defaultTry();
+/// What `vdblight bake SCENE -o OUT --quality QUALITY` bakes (resolveBakeRequest).
+TrySpec presetTry(const std::string& quality);
 /// One line for the report ("~16384 nodes, 1024 rays + 1 probe pass, depth moments, basis sh:4").
 std::string describeTry(const TrySpec& t);
 GridSpec tryGrid(const Scene& s, const TrySpec& t, const Settings& st);

@@ -264,10 +264,14 @@ TrySpec parseTry(const std::string& spec) {
     return t;
 }
 
-TrySpec defaultTry() {
-    const BakeRequest r = resolveBakeRequest(BakeRequest{});
+TrySpec defaultTry() { return presetTry("default"); }
+
+TrySpec presetTry(const std::string& quality) {
+    BakeRequest given;
+    given.quality = quality;
+    const BakeRequest r = resolveBakeRequest(given);
     if (r.pass != "gather" || r.targetError || !r.nodes)
-        throw ValueError("the default bake is no longer a fixed-budget point gather on a node budget: update defaultTry");
+        throw ValueError("--quality " + quality + " is no longer a fixed-budget point gather on a node budget: update presetTry");
     TrySpec t;
     t.nodes = *r.nodes;
     t.rays = *r.rays;
@@ -275,6 +279,8 @@ TrySpec defaultTry() {
     t.depth = *r.depthMoments;
     t.basis = r.basis;
     t.surfaceCache = r.probeCache == "surface";
+    t.filter = *r.nodeFilter;
+    t.filterByNoise = true;  // what the gather pass asks for (pass_options.cpp)
     return t;
 }
 

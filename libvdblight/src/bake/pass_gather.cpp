@@ -48,6 +48,14 @@ std::vector<PassOption> GatherPass::options() const {
                          "valid neighbours (the engines' heuristic)",
                          "off", 0, 1, &BakeRequest::invalidateBackface,
                          "--invalidate-backface applies to --sampling point only", "in [0, 1]"),
+            numberOption("node-filter",
+                         "passes of the filter across nodes after the bake: a 3x3x3 kernel weighted by the depth "
+                         "moments (not across walls) and by the nodes' error estimates (differences the noise does "
+                         "not explain are kept); less noise, some blur (docs/time_to_accuracy.md)",
+                         presetValues([](const BakeRequest& r) { return std::to_string(r.nodeFilter.value_or(0)); }), 0, 8,
+                         &BakeRequest::nodeFilter,
+                         "--node-filter works with the uniform point gather (--method gather, --sampling point, "
+                         "--layout uniform, a fixed budget) only"),
             depthMomentsOption(), depthRaysOption(), shWindowOption()};
 }
 
@@ -74,6 +82,8 @@ std::string GatherPass::untileable(const BakeRequest& r) const {
 
 std::string pointGatherUntileable(const BakeRequest& r) {
     if (r.invalidateBackface) return "--invalidate-backface cannot be tiled (its dilation crosses tile borders)";
+    if (r.nodeFilter.value_or(0) > 0)
+        return "--node-filter cannot be tiled (its kernel crosses tile borders; --node-filter 0 to tile)";
     if (r.shWindow) return "--sh-window cannot be tiled yet (the window would have to follow the seams at merge)";
     // Each probe-to-probe pass reads every node of the pass before: one stage per pass.
     const int passes = r.probePasses.value_or(0);
