@@ -36,7 +36,9 @@ extract() {  # scene, pattern, file: "CPU/2 RMS% rays" per row
   echo "set grid"
   echo "set xlabel 'bake CPU seconds / 2'"
   echo "set ylabel 'RMS relative error (%)'"
-  echo "set key bottom left font ',8' box opaque"
+  echo "set key top right font ',8' box opaque"
+  echo "set xrange [0.05:100]"
+  echo "set yrange [0.5:100]"
   first=1
   for s in $scenes; do
     plots=()
