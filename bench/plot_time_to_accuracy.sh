@@ -37,7 +37,7 @@ extract() {  # scene, pattern, file: "CPU/2 RMS% rays" per row
   echo "set xlabel 'bake CPU seconds / 2'"
   echo "set ylabel 'RMS relative error (%)'"
   echo "set key top right font ',8' box opaque"
-  echo "set xrange [0.05:100]"
+  echo "set xrange [0.02:100]"
   echo "set yrange [0.5:100]"
   first=1
   for s in $scenes; do
