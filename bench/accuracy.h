@@ -102,6 +102,7 @@ Baked directGather(const Ctx& c, int resolution, uint32_t rays, DirectMode mode,
 ///   rays=N     rays per node and pass (256); target=E, min=N, max=N: error-targeted instead
 ///   passes=N   probe-to-probe passes (1); depth=1: depth moments, weighted lookups
 ///   direct=baked|runtime|occlusion (occlusion); cache=nodes|surface: the probe pass's cache
+///   filter=N   passes of the filter across nodes (--filter-passes; node_filter.h)
 /// Every bake of the command is reproduced (bake_direct.h plan, gather, visibility, depth).
 struct TrySpec {
     int res = 16;
@@ -113,11 +114,15 @@ struct TrySpec {
     DirectMode direct = DirectMode::Occlusion;
     std::string basis = "sh2";  ///< the gather's stored basis (`basis=sh:4`; fixed budgets only)
     bool surfaceCache = false;  ///< `cache=surface`: --probe-cache surface (fixed budgets only)
+    int filter = 0;             ///< `filter=N`: passes of the node filter (node_filter.h; fixed budgets only)
+    bool filterByNoise = false; ///< `bilateral=1`: its weights also from the nodes' error estimates
 };
 
 TrySpec parseTry(const std::string& spec);
 /// What `vdblight bake SCENE -o OUT` bakes: resolveBakeRequest of an empty request.
 TrySpec defaultTry();
+/// What `vdblight bake SCENE -o OUT --quality QUALITY` bakes (resolveBakeRequest).
+TrySpec presetTry(const std::string& quality);
 /// One line for the report ("~16384 nodes, 1024 rays + 1 probe pass, depth moments, basis sh:4").
 std::string describeTry(const TrySpec& t);
 GridSpec tryGrid(const Scene& s, const TrySpec& t, const Settings& st);

@@ -257,15 +257,21 @@ TrySpec parseTry(const std::string& spec) {
         else if (k == "direct") t.direct = parseDirectMode(v);
         else if (k == "basis") t.basis = v;
         else if (k == "cache") t.surfaceCache = v == "surface";
+        else if (k == "filter") t.filter = std::stoi(v);
+        else if (k == "bilateral") t.filterByNoise = v == "1";
         else throw ValueError("--try: unknown key '" + k + "'");
     }
     return t;
 }
 
-TrySpec defaultTry() {
-    const BakeRequest r = resolveBakeRequest(BakeRequest{});
+TrySpec defaultTry() { return presetTry("default"); }
+
+TrySpec presetTry(const std::string& quality) {
+    BakeRequest given;
+    given.quality = quality;
+    const BakeRequest r = resolveBakeRequest(given);
     if (r.pass != "gather" || r.targetError || !r.nodes)
-        throw ValueError("the default bake is no longer a fixed-budget point gather on a node budget: update defaultTry");
+        throw ValueError("--quality " + quality + " is no longer a fixed-budget point gather on a node budget: update presetTry");
     TrySpec t;
     t.nodes = *r.nodes;
     t.rays = *r.rays;
@@ -273,6 +279,8 @@ TrySpec defaultTry() {
     t.depth = *r.depthMoments;
     t.basis = r.basis;
     t.surfaceCache = r.probeCache == "surface";
+    t.filter = *r.nodeFilter;
+    t.filterByNoise = true;  // what the gather pass asks for (pass_options.cpp)
     return t;
 }
 
@@ -282,6 +290,7 @@ std::string describeTry(const TrySpec& t) {
     if (t.passes) s += " + " + std::to_string(t.passes) + " probe pass" + (t.passes > 1 ? "es" : "");
     if (t.depth) s += ", depth moments";
     if (t.surfaceCache) s += ", surface probe cache";
+    if (t.filter) s += ", node filter x" + std::to_string(t.filter) + (t.filterByNoise ? " (bilateral)" : "");
     return s + ", basis " + t.basis;
 }
 
@@ -332,6 +341,8 @@ Volume tryVolume(const Ctx& c, const TrySpec& t, std::string& note, std::vector<
         g.probePasses = t.passes;
         g.depthMoments = t.depth;
         g.surfaceProbeCache = t.surfaceCache;
+        g.nodeFilterPasses = t.filter;
+        g.nodeFilterByNoise = t.filterByNoise;
         if (t.basis != "sh2") g.basis = makeBasis(t.basis);
         v = bakeShGather(c.scene, c.tracer, grid, g);
     }

@@ -60,9 +60,14 @@ std::vector<Config> configurations() {
                  [](const Ctx& c) { return pointGather(c, c.settings.res(16), c.settings.rays(1024), 0, true); }});
     v.push_back({"point_32_256", "point gather, 32 nodes, 256 rays",
                  [](const Ctx& c) { return pointGather(c, c.settings.res(32), c.settings.rays(256)); }});
-    v.push_back({"preview", "--quality preview: 16 nodes, 256 rays of full paths, no probe pass, no depth moments, "
-                            "--direct occlusion",
-                 [](const Ctx& c) { return tryBake(c, parseTry("res=16,rays=256,passes=0")); }});
+    // --quality preview, from the library's own resolution (bake_request.cpp), with noise.
+    const TrySpec preview = presetTry("preview");
+    v.push_back({"preview", "vdblight bake --quality preview (" + describeTry(preview) + ", --direct occlusion)",
+                 [preview](const Ctx& c) { return tryBake(c, preview); }, true});
+    // The preview before issue 32.
+    v.push_back({"preview_before", "--quality preview before issue 32: 16 nodes, 256 rays of full paths, no probe pass, "
+                                   "no depth moments, SH order 2, --direct occlusion",
+                 [](const Ctx& c) { return tryBake(c, parseTry("res=16,rays=256,passes=0")); }, true});
     v.push_back({"probe_32_128", "--resolution 32 --rays 128 --probe-passes 1 (issue 15)",
                  [](const Ctx& c) {
                      GatherOptions g;

@@ -20,8 +20,8 @@
 //    vectors of the photon volumes; noise extrapolated out from N/4 and N rays (1/N law);
 //  - spatial: a nearly noise-free uniform bake (many rays / photons) against the floor's
 //    values at the points, i.e. what interpolation between nodes adds;
-//  - noise: configurations marked so are baked again with seed 2; the per-bake noise is
-//    RMS((E1 - E2) / sqrt 2 / E_ref);
+//  - noise: configurations marked so are baked again with seed 2 (not with --no-noise); the
+//    per-bake noise is RMS((E1 - E2) / sqrt 2 / E_ref);
 //  - bias: the mean signed error (every row).
 // Regions (accuracy_scenes.h: the two rooms' lit and unlit room, the office's band around
 // the luminaires) are reported on their own as well (CSV scene "SCENE:REGION").
@@ -56,6 +56,7 @@ int main(int argc, char** argv) {
                                                       {"--guard", "F"},
                                                       {"--try", "SPECS"},
                                                       {"--no-decompose", ""},
+                                                      {"--no-noise", ""},
                                                       {"--study", "R"},
                                                       {"--study-floor", "F"},
                                                       {"--time-to", "E"},
@@ -140,7 +141,7 @@ int main(int argc, char** argv) {
                 r.nodes = b.nodes;
                 r.bytesPerNode = b.nodes ? double(b.bytes) / double(b.nodes) : 0;
                 r.note = b.note;
-                if (c.noise) {
+                if (c.noise && !args.given("--no-noise")) {  // --no-noise: one bake per row (time curves)
                     const Baked b2 = c.bake(Ctx{s, tracer, st, 2});
                     const std::vector<double> got2 = values(b2.irradiance, pts);
                     double s2 = 0;

@@ -135,13 +135,21 @@ TEST(BakeVolume, PresetsResolveAsTheCommandLineDocumentsThem) {
     EXPECT_TRUE(*d.depthMoments);
     EXPECT_EQ(d.basis, "sh:4");
     EXPECT_EQ(d.pass, "gather");
+    EXPECT_EQ(*d.nodeFilter, 0);
+    // Issue 32: the preview is the default's method on fewer nodes and rays, filtered across nodes.
     r.quality = "preview";
     d = resolveBakeRequest(r);
-    EXPECT_EQ(*d.rays, 256u);
-    EXPECT_EQ(*d.probePasses, 0);
-    EXPECT_FALSE(d.nodes.has_value());
-    EXPECT_FALSE(*d.depthMoments);
-    EXPECT_EQ(d.basis, "sh2");
+    EXPECT_EQ(*d.rays, 128u);
+    EXPECT_EQ(*d.probePasses, 1);
+    EXPECT_EQ(*d.nodes, 2048u);
+    EXPECT_TRUE(*d.depthMoments);
+    EXPECT_EQ(d.basis, "sh:4");
+    EXPECT_EQ(d.probeCache, "surface");
+    EXPECT_EQ(*d.nodeFilter, 1);
+    EXPECT_EQ(d.pass, "gather");
+    r.targetError = 0.05;  // the adaptive pass has no node filter
+    EXPECT_EQ(*resolveBakeRequest(r).nodeFilter, 0);
+    r.targetError.reset();
     r.quality = "high";
     d = resolveBakeRequest(r);
     EXPECT_FALSE(d.targetError.has_value());
@@ -183,7 +191,7 @@ TEST(BakeVolume, TheDefaultBasisIsShFourOnlyForThePointGather) {
     EXPECT_EQ(basisOf([](BakeRequest& r) { r.sampling = "antialiased"; }), "sh2");
     EXPECT_EQ(basisOf([](BakeRequest& r) { r.method = "photons"; }), "sh2");
     EXPECT_EQ(basisOf([](BakeRequest& r) { r.invalidateBackface = 0.1; }), "sh2");
-    EXPECT_EQ(basisOf([](BakeRequest& r) { r.quality = "preview"; }), "sh2");
+    EXPECT_EQ(basisOf([](BakeRequest& r) { r.quality = "preview"; }), "sh:4");
     EXPECT_EQ(basisOf([](BakeRequest& r) { r.basis = "sh2"; }), "sh2");
     EXPECT_EQ(basisOf([](BakeRequest& r) { r.basis = "sh:3"; }), "sh:3");
     // An explicit sh2 keeps the preset's rays: only the basis is the caller's.
@@ -204,7 +212,8 @@ TEST(BakeVolume, TheDefaultProbeCacheIsTheSurfaceBinsWithOneProbePass) {
     EXPECT_EQ(cacheOf([](BakeRequest&) {}), "surface");
     EXPECT_EQ(cacheOf([](BakeRequest& r) { r.quality = "high"; }), "surface");
     EXPECT_EQ(cacheOf([](BakeRequest& r) { r.basis = "sh2"; r.rays = 64; }), "surface");
-    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.quality = "preview"; }), "nodes");  // no probe pass
+    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.quality = "preview"; }), "surface");
+    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.quality = "preview"; r.probePasses = 0; }), "nodes");
     EXPECT_EQ(cacheOf([](BakeRequest& r) { r.probePasses = 2; }), "nodes");
     EXPECT_EQ(cacheOf([](BakeRequest& r) { r.targetError = 0.05; }), "nodes");  // the adaptive pass
     EXPECT_EQ(cacheOf([](BakeRequest& r) { r.method = "photons"; }), "nodes");
@@ -213,6 +222,7 @@ TEST(BakeVolume, TheDefaultProbeCacheIsTheSurfaceBinsWithOneProbePass) {
     EXPECT_NO_THROW(checkBakeRequest(r));
     r.quality = "preview";
     EXPECT_NO_THROW(checkBakeRequest(r));
+    r.probePasses = 0;
     r.probeCache = "surface";  // asked for, without a probe pass
     EXPECT_THROW(checkBakeRequest(r), ValueError);
 }

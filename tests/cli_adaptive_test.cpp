@@ -72,14 +72,19 @@ TEST(CliQuality, PresetsAndNoiseSummary) {
     EXPECT_NE(text.find("estimated_error_worst_nodes"), std::string::npos) << text;
     EXPECT_NE(text.find("bounces = 1024"), std::string::npos) << text;
 
+    // preview (issue 32): 128 rays + the probe pass, SH order 4, one pass of the node filter.
     ASSERT_EQ(0, test::runCommand(kCli + " bake --resolution 3 --quality preview -o " + out, &text)) << text;
-    EXPECT_NE(text.find("with 256 rays per node and all bounces"), std::string::npos) << text;
-    EXPECT_NE(text.find("(SH order 2 radiance, 9 Vec3f grids"), std::string::npos) << text;  // preview keeps SH order 2
+    EXPECT_NE(text.find("with 128 rays per node (+ 1 probe-to-probe pass) and all bounces"), std::string::npos) << text;
+    EXPECT_NE(text.find("(basis sh:4: radiance SH coefficients, bands 0..4, 25 Vec3f grids)"), std::string::npos) << text;
     EXPECT_NE(text.find("Noise per node"), std::string::npos) << text;
     ASSERT_EQ(0, test::runCommand(kCli + " info " + out, &text)) << text;
-    EXPECT_NE(text.find("rays_per_node = 256"), std::string::npos) << text;
+    EXPECT_NE(text.find("rays_per_node = 128"), std::string::npos) << text;
     EXPECT_NE(text.find("estimated_error_p95"), std::string::npos) << text;
-    EXPECT_EQ(text.find("probe_passes"), std::string::npos) << text;
+    EXPECT_NE(text.find("node_filter_passes = 1"), std::string::npos) << text;
+    // The default has no node filter.
+    ASSERT_EQ(0, test::runCommand(kCli + " bake --resolution 2 --rays 8 -q -o " + out, &text)) << text;
+    ASSERT_EQ(0, test::runCommand(kCli + " info " + out, &text)) << text;
+    EXPECT_EQ(text.find("node_filter"), std::string::npos) << text;
 
     // high: the default with twice the rays (SH order 4, one probe pass).
     ASSERT_EQ(0, test::runCommand(kCli + " bake --resolution 2 --quality high -o " + out, &text)) << text;

@@ -103,9 +103,9 @@ TEST(CliDepth, FileWithDepthOpensInPyopenvdbAndBlender) {
 TEST(CliDepth, BadDepthOptionsFailCleanly) {
     test::TempDir dir;
     test::expectCleanFailuresWithOutput(dir, {
-        // Depth moments are on by default (--quality default), off with preview or --no-depth-moments.
+        // Depth moments are on by default (--quality default and preview), off with --no-depth-moments.
         {"bake --depth-rays 64 --no-depth-moments", "--depth-rays needs --depth-moments"},
-        {"bake --depth-rays 64 --quality preview", "--depth-rays needs --depth-moments"},
+        {"bake --depth-rays 64 --quality preview --no-depth-moments", "--depth-rays needs --depth-moments"},
         {"bake --depth-rays 64 --method photons --photons 20000 --no-depth-moments", "--depth-rays needs --depth-moments"},
     });
     const std::string plain = dir.file("plain.vdb");
@@ -114,8 +114,9 @@ TEST(CliDepth, BadDepthOptionsFailCleanly) {
 }
 
 // The default bake (issue 15) stores depth moments and its lookups are weighted by them, the
-// photon pass's too; --quality preview and --no-depth-moments leave them out.
-TEST(CliDepth, OnByDefaultOffWithPreviewOrNoDepthMoments) {
+// photon pass's too; the point gather's --quality preview too since issue 32 (its node filter
+// reads them), not the photon pass's preview; --no-depth-moments leaves them out.
+TEST(CliDepth, OnByDefaultAndInThePreviewOffWithNoDepthMoments) {
     test::TempDir dir;
     const std::string common = " --resolution 4 --rays 16 --bounces 1 -q";
     const std::string byDefault = dir.file("default.vdb"), preview = dir.file("preview.vdb"), off = dir.file("off.vdb");
@@ -123,7 +124,7 @@ TEST(CliDepth, OnByDefaultOffWithPreviewOrNoDepthMoments) {
     ASSERT_EQ(runCli("bake -o " + preview + common + " --quality preview").status, 0);
     ASSERT_EQ(runCli("bake -o " + off + common + " --no-depth-moments").status, 0);
     EXPECT_TRUE(readVolume(byDefault).hasDepth());
-    EXPECT_FALSE(readVolume(preview).hasDepth());
+    EXPECT_TRUE(readVolume(preview).hasDepth());
     EXPECT_FALSE(readVolume(off).hasDepth());
     // The photon pass takes the preset's depth moments (on with default and high, as its grid),
     // but not with preview or --no-depth-moments.

@@ -4,11 +4,14 @@
 // text written by hand that drifts from the presets fails here.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "cli_util.h"
 #include "vdblight/bake_volume.h"
 #include "vdblight/errors.h"
+#include "vdblight/node_budget.h"
 
 using namespace vdblight;
 using namespace vdblight::test;
@@ -78,9 +81,18 @@ TEST(CliHelp, APreviewBakeDoesWhatItsHelpSays) {
     const BakeRequest r = resolved("preview");
     const CliRun run = runCli("bake --quality preview --threads 2 -o " + (dir.path() / "p.vdb").string());
     ASSERT_EQ(run.status, 0) << run.output;
-    EXPECT_NE(run.output.find("with " + std::to_string(*r.rays) + " rays per node"), std::string::npos) << run.output;
-    EXPECT_NE(run.output.find("(16 x "), std::string::npos) << run.output;  // 16 nodes on the longest axis
+    EXPECT_NE(run.output.find("with " + std::to_string(*r.rays) + " rays per node (+ 1 probe-to-probe pass)"), std::string::npos)
+        << run.output;
+    ASSERT_TRUE(r.nodes.has_value());  // a node budget (issue 32)
+    const std::size_t baked = run.output.find("Baked ");
+    ASSERT_NE(baked, std::string::npos) << run.output;
+    const double nodes = std::stod(run.output.substr(baked + 6));
+    EXPECT_GT(nodes, 0.5 * double(*r.nodes)) << run.output;
+    // The budget's rule (node_budget.h): at least 16 nodes on the longest axis, 16^3 in a cube.
+    const double most = std::max(2.0 * double(*r.nodes), std::pow(double(kBudgetMinNodesOnLongestAxis), 3));
+    EXPECT_LE(nodes, most) << run.output;
     const CliRun info = runCli("info " + (dir.path() / "p.vdb").string());
     ASSERT_EQ(info.status, 0) << info.output;
     EXPECT_NE(info.output.find("basis: " + r.basis + " "), std::string::npos) << info.output;
+    EXPECT_NE(info.output.find("node_filter_passes = " + std::to_string(*r.nodeFilter)), std::string::npos) << info.output;
 }

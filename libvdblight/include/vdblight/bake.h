@@ -48,6 +48,13 @@ struct GatherOptions {
     /// Also record per-node depth moments from the gather's own first hits (depth_moments.h,
     /// VolumeLevel::depth), for lookups that do not interpolate across walls. No extra rays.
     bool depthMoments = false;
+    /// Passes of the filter across nodes after the last pass (node_filter.h: a 3x3x3 binomial
+    /// kernel with the depth moments' visibility as weights): less noise, a little blur. 0 =
+    /// none. Not with a tile's nodes (`only`).
+    int nodeFilterPasses = 0;
+    /// The filter's weights also from the nodes' error estimates (bilateral: differences the
+    /// noise does not explain are kept; node_filter.h).
+    bool nodeFilterByNoise = false;
     /// Bake only these nodes (one tile of a bake, tiles.h); the others stay 0. Null = all.
     const NodeMask* only = nullptr;
     /// Staged probe passes (tiles.h, "Staged bakes"): -1 = every pass; s in 0..probePasses =

@@ -73,6 +73,10 @@ struct BakeRequest {
     std::optional<int> probePasses;        ///< probe-to-probe passes (GatherOptions)
     std::string probeCache;                ///< nodes | surface (GatherOptions::surfaceProbeCache); unset:
                                            ///< surface with exactly one probe pass, nodes otherwise
+    /// Passes of the filter across nodes after the point gather (node_filter.h, weighted by the
+    /// depth moments and the nodes' error estimates; GatherOptions::nodeFilterPasses); unset:
+    /// the preset's (1 with --quality preview, 0 otherwise).
+    std::optional<int> nodeFilter;
     std::optional<double> invalidateBackface;  ///< point gather with back-face invalidation
     std::string domain;                    ///< antialiased: all | interior (default)
     std::string fit;                       ///< antialiased: projection (default) | least-squares

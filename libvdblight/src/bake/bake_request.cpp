@@ -15,8 +15,13 @@ namespace vdblight {
 
 namespace {
 /// What --quality means for the point gather (docs/methods.md, "The default bake", issue 15).
-/// `preview`: 16 nodes on the longest axis, a fixed 256 rays per node of full paths, no
-/// depth moments (sub-second bakes to iterate on a scene).
+/// `preview` (issue 32): about kPreviewNodes nodes, kPreviewRays rays of full paths + one probe
+/// pass of as many that reads the surface probe cache, depth moments, SH order 4, and one pass
+/// of the filter across nodes (node_filter.h) weighted by the depth moments and the nodes' error
+/// estimates: sub-second bakes to iterate on a scene, measured against the accuracy benchmark's
+/// ground truth (docs/time_to_accuracy.md; until issue 32: 16 nodes on the longest axis, 256
+/// rays of full paths, no probe pass, no depth moments, SH order 2: 48.7 % RMS in the two rooms).
+/// The photon pass keeps 16 nodes on the longest axis, 1 M photons and no depth moments there.
 /// `default`: about kDefaultNodes nodes in the scene box (node_budget.h: the spacing
 /// follows the scene's volume, 16..64 nodes on its longest axis), kDefaultRays rays of full
 /// paths, then one probe-to-probe pass of as many rays that ends paths at their first hit
@@ -37,6 +42,8 @@ namespace {
 /// nowhere worse, docs/methods.md "Visibility-aware interpolation"). Other passes take 16
 /// nodes on the longest axis and a fixed 256 rays.
 constexpr uint64_t kDefaultNodes = 16384;
+constexpr uint64_t kPreviewNodes = 2048;
+constexpr uint32_t kPreviewRays = 128;
 constexpr uint32_t kDefaultRays = 1024;
 constexpr uint32_t kHighRays = 2048;
 constexpr const char* kDefaultBasis = "sh:4";
@@ -50,11 +57,13 @@ struct QualityPreset {
                          ///< RMS against 4 M's 9.5 % in the two rooms; vdblight_bench_accuracy
                          ///< --config photons_16k)
     const char* basis;   ///< what the point gather stores when --basis is not given
+    int nodeFilter;      ///< passes of the filter across nodes (point gather)
+    bool photonGrid;     ///< the photon pass takes the preset's grid and depth moments
 };
 QualityPreset qualityPreset(const std::string& quality) {
-    if (quality == "preview") return {0, 0, 256, false, 1'000'000, "sh2"};
-    if (quality == "default") return {1, kDefaultNodes, kDefaultRays, true, 4'000'000, kDefaultBasis};
-    if (quality == "high") return {1, kDefaultNodes, kHighRays, true, 4'000'000, kDefaultBasis};
+    if (quality == "preview") return {1, kPreviewNodes, kPreviewRays, true, 1'000'000, kDefaultBasis, 1, false};
+    if (quality == "default") return {1, kDefaultNodes, kDefaultRays, true, 4'000'000, kDefaultBasis, 0, true};
+    if (quality == "high") return {1, kDefaultNodes, kHighRays, true, 4'000'000, kDefaultBasis, 0, true};
     throw ValueError("--quality must be " + bake_detail::joinChoices(qualityNames()) + ", got '" + quality + "'");
 }
 
@@ -164,7 +173,7 @@ BakeRequest resolveBakeRequest(const BakeRequest& given) {
         if (!r.maxRays) r.maxRays = std::max(bake_detail::kTargetMaxRays, *r.minRays);
     }
     if (!r.probePasses) r.probePasses = presetApplies ? preset.probePasses : 0;
-    const bool photonGrid = selectPassName(r) == "photons";
+    const bool photonGrid = selectPassName(r) == "photons" && preset.photonGrid;
     if ((presetApplies || photonGrid) && !r.spacing && !r.resolution && !r.nodes && preset.nodes > 0) r.nodes = preset.nodes;
     if (!r.rays) r.rays = presetApplies && !r.targetError ? preset.rays : kPlainRays;
     if (!r.photons) r.photons = preset.photons;
@@ -172,6 +181,7 @@ BakeRequest resolveBakeRequest(const BakeRequest& given) {
     // The probe pass's cache: the surface bins where the bake runs exactly one probe pass (the
     // presets' point gather), the nodes otherwise (docs/methods.md, "The surface probe cache").
     if (r.probeCache.empty()) r.probeCache = *r.probePasses == 1 && selectPassName(r) == "gather" ? "surface" : "nodes";
+    if (!r.nodeFilter) r.nodeFilter = presetApplies && selectPassName(r) == "gather" ? preset.nodeFilter : 0;
     if (!r.refine) r.refine = 3;
     if (!r.levels) r.levels = 3;
     if (!r.refineDistance) r.refineDistance = 0.0;
@@ -220,6 +230,7 @@ std::string describeQuality(const std::string& quality) {
                 std::to_string(*r.rays) + (r.probeCache == "surface" ? " (surface probe cache)" : "");
     text += ", basis " + r.basis;
     text += *r.depthMoments ? ", depth moments" : ", no depth moments";
+    if (*r.nodeFilter > 0) text += ", " + std::to_string(*r.nodeFilter) + " pass of the filter across nodes";
     const bool occlusion = r.direct.empty() && pass.takesDirectLight() && !r.shWindow;
     text += occlusion ? ", direct light of up to " + std::to_string(r.directLights) +
                             " lights exact with baked visibility (--direct occlusion) where the scene has lights"

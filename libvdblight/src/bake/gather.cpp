@@ -13,6 +13,7 @@
 #include "vdblight/error_summary.h"
 #include "vdblight/errors.h"
 #include "vdblight/interrupter.h"
+#include "vdblight/node_filter.h"
 #include "vdblight/scene.h"
 #include "vdblight/sh.h"
 #include "vdblight/tiles.h"
@@ -40,6 +41,7 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     std::vector<std::size_t> selected;  // a tile's nodes (tiles.h); empty = all
     if (options.only) {
         if (options.only->size() != 1 || (*options.only)[0].size() != nodes) throw ValueError("the node mask does not match the grid");
+        if (options.nodeFilterPasses > 0) throw ValueError("the node filter cannot run on a tile (its kernel crosses tile borders)");
         if (options.probePasses > 0 && options.stage < 0)  // a probe pass reads every node of the pass before
             throw ValueError("a tile of a bake with probe-to-probe passes is baked in stages (GatherOptions::stage; tiles.h)");
         for (std::size_t n = 0; n < nodes; ++n)
@@ -131,6 +133,8 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
         }
         return volume;
     }
+    filterNodes(volume, options.nodeFilterPasses, options.nodeFilterByNoise ? &error : nullptr);
+    if (options.nodeFilterPasses > 0) m.count("node_filter_passes", options.nodeFilterPasses);
     m.method("gather", "point")
         .count("rays_per_node", options.raysPerNode)
         .text("direction_sampling", "scrambled Sobol (0,2) uniform sphere + NEE on emissive triangles; punctual lights exact")

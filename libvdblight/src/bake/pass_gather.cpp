@@ -31,6 +31,25 @@ public:
 };
 }  // namespace
 
+namespace {
+/// --node-filter N (node_filter.h). 0 is what every other pass does: only more is refused there.
+PassOption nodeFilterOption() {
+    PassOption o = numberOption("node-filter",
+                 "passes of the filter across nodes after the bake: a 3x3x3 kernel weighted by the depth "
+                 "moments (not across walls) and by the nodes' error estimates (differences the noise does "
+                 "not explain are kept); less noise, some blur (docs/time_to_accuracy.md)",
+                 presetValues([](const BakeRequest& r) { return std::to_string(r.nodeFilter.value_or(0)); }), 0, 8,
+                 &BakeRequest::nodeFilter,
+                 "--node-filter works with the uniform point gather (--method gather, --sampling point, "
+                 "--layout uniform, a fixed budget) only");
+    o.number = [](const BakeRequest& r) -> std::optional<double> {
+        if (!r.nodeFilter || *r.nodeFilter == 0) return std::nullopt;
+        return double(*r.nodeFilter);
+    };
+    return o;
+}
+}  // namespace
+
 std::vector<PassOption> GatherPass::options() const {
     return {raysOption("Ray directions per node and pass: a fixed budget (--target-error samples to an error target "
                        "instead; antialiased: rays per cell; bins, moments: rounded up to a multiple of the bin count; "
@@ -48,6 +67,7 @@ std::vector<PassOption> GatherPass::options() const {
                          "valid neighbours (the engines' heuristic)",
                          "off", 0, 1, &BakeRequest::invalidateBackface,
                          "--invalidate-backface applies to --sampling point only", "in [0, 1]"),
+            nodeFilterOption(),
             depthMomentsOption(), depthRaysOption(), shWindowOption()};
 }
 
@@ -74,6 +94,8 @@ std::string GatherPass::untileable(const BakeRequest& r) const {
 
 std::string pointGatherUntileable(const BakeRequest& r) {
     if (r.invalidateBackface) return "--invalidate-backface cannot be tiled (its dilation crosses tile borders)";
+    if (r.nodeFilter.value_or(0) > 0)
+        return "--node-filter cannot be tiled (its kernel crosses tile borders; --node-filter 0 to tile)";
     if (r.shWindow) return "--sh-window cannot be tiled yet (the window would have to follow the seams at merge)";
     // Each probe-to-probe pass reads every node of the pass before: one stage per pass.
     const int passes = r.probePasses.value_or(0);

@@ -209,6 +209,8 @@ GatherOptions gatherOptions(const BakeContext& c, const BakeRequest& r) {
     o.transport = c.transport;
     o.probePasses = *r.probePasses;
     o.surfaceProbeCache = r.probeCache == "surface";
+    o.nodeFilterPasses = r.nodeFilter.value_or(0);
+    o.nodeFilterByNoise = true;
     // The point gather records depth moments from its own first rays (no extra rays).
     o.depthMoments = *r.depthMoments && (!r.depthRays || *r.depthRays == *r.rays);
     o.stage = c.stage;
