@@ -8,6 +8,7 @@
 #include <random>
 
 #include "export_file_checks.h"
+#include "manifest_util.h"
 #include "occlusion_volumes.h"
 #include "cli_util.h"
 #include "random_volumes.h"
@@ -189,11 +190,11 @@ TEST(ExportPresets, BevyManifestStatesUnitsAndTheCubesTransform) {
     const Volume v = test::randomShVolume(4, 3, 5, 0.5, 23);
     test::TempDir dir;
     exportPreset(v, dir.path().string(), EnginePreset::Bevy);
-    const std::string json = readText(dir.file("manifest.json"));
-    EXPECT_NE(json.find("\"units\": \"W/(m^2 sr)\""), std::string::npos) << json;
+    const nlohmann::json manifest = test::readManifest(dir.path().string());
+    EXPECT_EQ(manifest["units"], "W/(m^2 sr)") << manifest;
     // node box (-0.5, 0.25, 1) .. (1, 1.25, 3): centre and R * spacing per axis
-    EXPECT_NE(json.find("\"translation\": [0.25, 0.75, 2]"), std::string::npos) << json;
-    EXPECT_NE(json.find("\"scale\": [2, 1.5, 2.5]"), std::string::npos) << json;
+    EXPECT_EQ(manifest["transform"]["translation"], nlohmann::json::array({0.25, 0.75, 2})) << manifest;
+    EXPECT_EQ(manifest["transform"]["scale"], nlohmann::json::array({2, 1.5, 2.5})) << manifest;
     EXPECT_TRUE(fs::exists(dir.file("irradiance_volume.ktx2")));
 }
 
