@@ -19,8 +19,8 @@ PACKAGES=(build-essential cmake pkg-config
           slurmctld slurmd slurm-client munge   # tests/slurm_cluster_test.sh: a one-node Slurm (issue 17)
           libnanovdb-dev libnanovdb-tools   # export --format nanovdb (headers); nanovdb_export_test runs nanovdb_validate/_print (nanovdb_glsl_test: glslangValidator, above)
           libssl-dev   # SHA-256 of the .vdb content hash: OpenSSL's libcrypto (volume/sha256_openssl.cpp, issue 30)
-          libpng-dev   # `vdblight slice -o FILE.png`: the PNG encoder (export/png_writer.cpp, issue 30)
-          nlohmann-json3-dev   # glTF JSON in the scene loaders (scene/json_access.h) and manifest.json in the GPU tests (issue 30); header-only
+          libpng-dev   # PNG through libpng: `vdblight slice -o FILE.png` (export/png_writer.cpp) and texture means (scene/texture_mean.cpp), issue 30
+          nlohmann-json3-dev   # glTF JSON in the scene loaders (scene/json_access.h), manifest.json written (export/manifest.cpp) and read by the tests (issue 30); header-only
           chromium   # tests/web_page_test.sh: the web page (examples/web) in headless Chromium (issue 31)
           clang-14 libclang-rt-14-dev)  # scripts/fuzz.sh: libFuzzer (libclang_rt.fuzzer-x86_64.a is in
                                         # libclang-rt-14-dev, only a Recommends of clang-14)

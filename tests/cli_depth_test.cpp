@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cli_util.h"
+#include "manifest_util.h"
 #include "test_util.h"
 #include "vdblight/depth_moments.h"
 #include "vdblight/vdb_io.h"
@@ -75,8 +76,9 @@ TEST(CliDepth, BakeWithDepthMomentsQueriesAndExports) {
                 EXPECT_EQ(float(uint8_t(bytes[n * 4 + std::size_t(c)]) / 255.0), level.nodeDepth(n)[channel[c] * 3 + a])
                     << name << " node " << n << " component " << c;
     }
-    const std::string manifest = test::readTextFile(dir.file("ex") + "/manifest.json");
-    EXPECT_NE(manifest.find("\"format\": \"rgba8_unorm\", \"bytes_per_node\": 12"), std::string::npos) << manifest;
+    const nlohmann::json depth = test::readManifest(dir.file("ex"))["depth"];
+    EXPECT_EQ(depth["format"], "rgba8_unorm") << depth;
+    EXPECT_EQ(depth["bytes_per_node"], 12) << depth;
 }
 
 // Point gather and photon volumes (full and compact form) with depth moments open where users
@@ -149,7 +151,7 @@ TEST(CliDepth, OnByDefaultAndInThePreviewOffWithNoDepthMoments) {
         // depth-weighted blend of docs/engine_visibility.md: the same irradiance as `query`.
         const std::string ex = dir.file("photons_ex");
         ASSERT_EQ(runCli("export -q " + withDepth + " -o " + ex + " --layout vectors").status, 0);
-        EXPECT_NE(test::readTextFile(ex + "/manifest.json").find("\"depth\": {\"exported\": true"), std::string::npos);
+        EXPECT_EQ(test::readManifest(ex)["depth"]["exported"], true);
         std::string log;
         EXPECT_EQ(test::runCommand("/usr/bin/python3 " + std::string(VDBLIGHT_SOURCE_DIR) + "/scripts/check_export.py --cli " +
                                        test::cliPath() + " --volume " + withDepth + " --export " + ex,

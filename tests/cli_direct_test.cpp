@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "cli_util.h"
+#include "manifest_util.h"
 #include "vdblight/scene.h"
 #include "vdblight/vdb_io.h"
 
@@ -39,11 +40,11 @@ TEST(CliDirect, ModesBakeQuerySliceExportAndOpenInOtherReaders) {
         EXPECT_EQ(s.status, 0) << s.output;
         const auto e = runCli("export " + vol + " -o " + dir.file(mode + "_tex") + " --format raw");
         ASSERT_EQ(e.status, 0) << e.output;
-        const std::string manifest = test::readTextFile(dir.file(mode + "_tex/manifest.json"));
-        EXPECT_NE(manifest.find("\"mode\": \"" + mode + "\""), std::string::npos) << manifest;
+        const nlohmann::json manifest = test::readManifest(dir.file(mode + "_tex"));
+        EXPECT_EQ(manifest["direct"]["mode"], mode) << manifest;
         EXPECT_EQ(fs::exists(dir.file(mode + "_tex/light_visibility_0_0.raw")), mode == "occlusion");
         if (mode == "occlusion") {
-            EXPECT_NE(manifest.find("\"visibility\": {\"texture\": \"light_visibility_0_0\""), std::string::npos);
+            EXPECT_EQ(manifest["direct"]["lights"][0]["visibility"]["texture"], "light_visibility_0_0") << manifest;
         }
         if (std::getenv("VDBLIGHT_SKIP_BLENDER")) continue;
         EXPECT_EQ(test::runCommand("blender -b --factory-startup --python " + kSource + "/scripts/check_blender.py -- " + vol, &out),

@@ -23,6 +23,7 @@
 
 #include "cli_baked_suite.h"
 #include "export_readers.h"
+#include "manifest_util.h"
 #include "vdblight/basis.h"
 
 namespace fs = std::filesystem;
@@ -215,30 +216,32 @@ TEST_F(CliExportBasis, Sh4RoundTripThroughTheManifestMatchesQuery) {
         }
     // The default bake: the script adds the listed lights times visibility and blends every
     // texture with the depth-moment weights.
-    const std::string manifest = readText(out.file("raw--float/manifest.json"));
-    for (const char* key : {"\"layout\": \"basis\"", "\"basis\": \"sh:4\"", "\"mode\": \"occlusion\"", "light_visibility_0_",
-                            "\"exported\": true"})
-        EXPECT_NE(manifest.find(key), std::string::npos) << key << "\n" << manifest;
+    const nlohmann::json manifest = readManifest(out.file("raw--float"));
+    EXPECT_EQ(manifest["layout"], "basis");
+    EXPECT_EQ(manifest["basis"], "sh:4");
+    EXPECT_EQ(manifest["direct"]["mode"], "occlusion");
+    EXPECT_EQ(manifest["direct"]["lights"][0]["visibility"]["texture"], "light_visibility_0_0");
+    EXPECT_EQ(manifest["depth"]["exported"], true);
 }
 
 TEST_F(CliExportBasis, Sh3Sh2TrilinearAndBakedDirectRoundTrip) {
     TempDir out;
     const struct {
-        const char *volume, *basis, *manifestKey;
+        const char *volume, *basis, *directMode;
     } cases[] = {
-        {"sh3.vdb", "sh:3", "\"mode\": \"occlusion\""},
-        {"sh2.vdb", "sh2", "\"mode\": \"occlusion\""},
-        {"sh4_trilinear.vdb", "sh:4", "\"mode\": \"occlusion\""},
-        {"sh4_baked.vdb", "sh:4", "\"mode\": \"baked\""},
+        {"sh3.vdb", "sh:3", "occlusion"},
+        {"sh2.vdb", "sh2", "occlusion"},
+        {"sh4_trilinear.vdb", "sh:4", "occlusion"},
+        {"sh4_baked.vdb", "sh:4", "baked"},
     };
     int run = 0;
     for (const auto& c : cases)
         for (const char* options : {"--format raw --float", "--format ktx2 --half", "--format dds --half"}) {
             const std::string where = out.file("export" + std::to_string(run++));
             ASSERT_TRUE(exportBasis(c.volume, where, options));
-            const std::string manifest = readText(where + "/manifest.json");
-            EXPECT_NE(manifest.find(std::string("\"basis\": \"") + c.basis + "\""), std::string::npos) << manifest;
-            EXPECT_NE(manifest.find(c.manifestKey), std::string::npos) << c.volume << ": " << manifest;
+            const nlohmann::json manifest = readManifest(where);
+            EXPECT_EQ(manifest["basis"], c.basis) << manifest;
+            EXPECT_EQ(manifest["direct"]["mode"], c.directMode) << c.volume << ": " << manifest;
             std::string log;
             EXPECT_EQ(checkExport(file(c.volume), where, &log), 0) << c.volume << " " << options << ": " << log;
         }
@@ -258,11 +261,10 @@ TEST_F(CliExportBasis, ScriptFailsOnAWrongManifestOrSwappedTextures) {
 
     // A manifest that claims sh:2: the script drops band 4, which the full query has.
     const std::string truncated = freshExport("truncated");
-    std::string manifest = readText(truncated + "/manifest.json");
-    const std::size_t at = manifest.find("\"basis\": \"sh:4\"");
-    ASSERT_NE(at, std::string::npos) << manifest;
-    manifest.replace(at, 15, "\"basis\": \"sh:2\"");
-    writeTextFile(truncated + "/manifest.json", manifest);
+    nlohmann::json manifest = readManifest(truncated);
+    ASSERT_EQ(manifest["basis"], "sh:4") << manifest;
+    manifest["basis"] = "sh:2";
+    writeManifest(truncated, manifest);
     EXPECT_EQ(checkExport(file("sh4_baked.vdb"), truncated, &log), 1) << log;
 
     // Two textures of one band swapped (each keeps its name): bands 2 and 4 are read and must
@@ -286,9 +288,9 @@ TEST_F(CliExportBasis, ScriptFailsOnAWrongManifestOrSwappedTextures) {
     expectRefusal("export " + file("bins.vdb") + " -o " + out.file("bins") + " --layout basis", "use --layout bins",
                   out.file("bins"), "bins:2 --layout basis");
     const std::string notSh = freshExport("not_sh");
-    manifest = readText(notSh + "/manifest.json");
-    manifest.replace(manifest.find("\"basis\": \"sh:4\""), 15, "\"basis\": \"bins:2\"");
-    writeTextFile(notSh + "/manifest.json", manifest);
+    manifest = readManifest(notSh);
+    manifest["basis"] = "bins:2";
+    writeManifest(notSh, manifest);
     EXPECT_EQ(checkExport(file("sh4_baked.vdb"), notSh, &log), 2) << log;
     EXPECT_NE(log.find("layout basis of basis bins:2: not checked"), std::string::npos) << log;
 }

@@ -8,6 +8,7 @@
 
 #include "cli_baked_suite.h"
 #include "export_readers.h"
+#include "manifest_util.h"
 
 namespace fs = std::filesystem;
 using namespace vdblight::test;
@@ -36,11 +37,19 @@ TEST_F(CliExportBins, RoundTripThroughTheManifestMatchesQuery) {
             EXPECT_TRUE(fs::exists(where + "/bin_h1_u3_v2." + format));
             EXPECT_EQ(checkExport(file("bins.vdb"), where, &log), 0) << format << " " << precision << ": " << log;
         }
-    std::ifstream m(out.file("raw--float/manifest.json"));
-    const std::string json((std::istreambuf_iterator<char>(m)), {});
-    for (const char* key : {"\"layout\": \"bins\"", "\"resolution\": 4", "\"count\": 32", "\"basis\": \"bins:4\"",
-                            "bin_of_direction", "\"bin_of_texture\": [[0, 0, 0], [0, 1, 0]"})
-        EXPECT_NE(json.find(key), std::string::npos) << key;
+    const nlohmann::json manifest = readManifest(out.file("raw--float"));
+    EXPECT_EQ(manifest["layout"], "bins");
+    const nlohmann::json& bins = manifest["bins"];
+    EXPECT_EQ(bins["resolution"], 4) << bins;
+    EXPECT_EQ(bins["count"], 32) << bins;
+    EXPECT_EQ(bins["basis"], "bins:4") << bins;
+    EXPECT_TRUE(bins.contains("bin_of_direction")) << bins;
+    // Texture c is bin (h, iu, iv) with c = h*R*R + iv*R + iu.
+    ASSERT_EQ(bins["bin_of_texture"].size(), 32u) << bins;
+    EXPECT_EQ(bins["bin_of_texture"][0], nlohmann::json::array({0, 0, 0}));
+    EXPECT_EQ(bins["bin_of_texture"][1], nlohmann::json::array({0, 1, 0}));
+    EXPECT_EQ(bins["bin_of_texture"][4], nlohmann::json::array({0, 0, 1}));
+    EXPECT_EQ(bins["bin_of_texture"][31], nlohmann::json::array({1, 3, 3}));
 }
 
 TEST_F(CliExportBins, MultiLevelAndMomentVolumesRoundTrip) {

@@ -6,6 +6,8 @@
 #include <iterator>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "cli_util.h"
 #include "vdblight/vdb_io.h"
 #include "vdblight/volume.h"
@@ -79,10 +81,20 @@ TEST(CliReproducible, NoReproducibleKeepsTheRunsTimeAndThreads) {
     EXPECT_EQ(vb.meta.count("bake_seconds"), 1u);
     EXPECT_EQ(metaNumber(vb.meta, "threads", 0), 2);
     EXPECT_EQ(va.levels[0].data, vb.levels[0].data);
-    const test::CliRun json = runCli("info --json " + a);
-    EXPECT_NE(json.output.find("\"content_sha256\": \"" + fileContentHash(a).sha256 + "\""), std::string::npos)
-        << json.output;
-    EXPECT_NE(json.output.find("\"uuid_from_content\": true"), std::string::npos);
+    // info --json is a JSON document (stdout alone) that states the hash, the grids and the
+    // metadata as the file holds them.
+    std::string out;
+    ASSERT_EQ(test::runCommand(test::cliPath() + " info --json " + a + " 2>/dev/null", &out), 0);
+    const nlohmann::json info = nlohmann::json::parse(out);
+    EXPECT_EQ(info["content_sha256"], fileContentHash(a).sha256) << out;
+    EXPECT_EQ(info["uuid_from_content"], true) << out;
+    EXPECT_EQ(info["basis"], va.basis.kind) << out;
+    const GridSpec& g = va.levels[0].grid;
+    EXPECT_EQ(info["levels"][0]["dims"], nlohmann::json::array({g.nx, g.ny, g.nz})) << out;
+    EXPECT_EQ(info["levels"][0]["spacing"], g.spacing) << out;  // every digit: it reads back as the same double
+    EXPECT_EQ(info["levels"][0]["nodes"], va.levels[0].storedNodes()) << out;
+    EXPECT_EQ(info["metadata"].size(), va.meta.size()) << out;
+    EXPECT_EQ(info["metadata"]["probe_passes"], std::get<int64_t>(va.meta.at("probe_passes"))) << out;
 }
 
 }  // namespace

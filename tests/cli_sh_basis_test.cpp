@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "cli_util.h"
+#include "manifest_util.h"
 #include "test_util.h"
 #include "vdblight/basis.h"
 #include "vdblight/sh_truncate.h"
@@ -60,11 +61,9 @@ TEST(CliShBasis, BakeInfoQueryAndExportOfShThree) {
     const std::string out = dir.file("tex");
     r = runCli("export " + file + " -o " + out + " --format raw --float --layout basis");
     ASSERT_EQ(r.status, 0) << r.output;
-    std::ifstream m(out + "/manifest.json");
-    std::stringstream manifest;
-    manifest << m.rdbuf();
-    EXPECT_NE(manifest.str().find("\"basis\": \"sh:3\""), std::string::npos) << manifest.str();
-    EXPECT_NE(manifest.str().find("l = 0..3"), std::string::npos);
+    const nlohmann::json manifest = test::readManifest(out);
+    EXPECT_EQ(manifest["basis"], "sh:3") << manifest;
+    EXPECT_NE(manifest.value("irradiance", "").find("l = 0..3"), std::string::npos) << manifest;
     const GridSpec& g = v.levels[0].grid;
     std::ifstream t(out + "/sh_l2m1.raw", std::ios::binary);
     std::vector<float> texels(g.nodeCount() * 4);
@@ -127,8 +126,8 @@ TEST(CliShBasis, ShFourTakesThePointGatherWithTheDefaultPresetAndExportsItsBands
     // The default engine layout (sh2-packed) fits too; its manifest says it holds bands 0..2.
     r = runCli("export " + file + " -o " + dir.file("packed"));
     EXPECT_EQ(r.status, 0) << r.output;
-    const std::string manifest = test::readTextFile(dir.file("packed/manifest.json"));
-    EXPECT_NE(manifest.find("\"truncated_from\": {\"basis\": \"sh:4\""), std::string::npos) << manifest;
+    const nlohmann::json packed = test::readManifest(dir.file("packed"));
+    EXPECT_EQ(packed["truncated_from"]["basis"], "sh:4") << packed;
 
     // query --sh-order 2 answers with those bands (truncateSh), which differ from all five.
     const Volume l2 = truncateSh(v, 2);

@@ -14,6 +14,7 @@
 #include <random>
 
 #include "export_readers.h"
+#include "manifest_util.h"
 #include "random_volumes.h"
 #include "test_util.h"
 #include "vdblight/errors.h"
@@ -35,13 +36,9 @@ uint32_t le32(const std::vector<uint8_t>& b, std::size_t at) {
     return uint32_t(b[at]) | uint32_t(b[at + 1]) << 8 | uint32_t(b[at + 2]) << 16 | uint32_t(b[at + 3]) << 24;
 }
 
-Vec3d manifestVec(const std::string& json, const std::string& key) {
-    const std::size_t at = json.find("\"" + key + "\": [");
-    EXPECT_NE(at, std::string::npos) << key;
-    Vec3d v;
-    if (at == std::string::npos) return v;
-    std::sscanf(json.c_str() + json.find('[', at), "[%lf, %lf, %lf]", &v.x, &v.y, &v.z);
-    return v;
+Vec3d manifestVec(const nlohmann::json& transform, const char* key) {
+    const nlohmann::json& v = transform.at(key);
+    return Vec3d(v.at(0).get<double>(), v.at(1).get<double>(), v.at(2).get<double>());
 }
 
 BevyTexture readBevy(const test::TempDir& dir) {
@@ -60,10 +57,10 @@ BevyTexture readBevy(const test::TempDir& dir) {
         h.setBits(uint16_t(b[offset + 2 * i] | b[offset + 2 * i + 1] << 8));
         t.rgba[i] = float(h);
     }
-    std::ifstream m(dir.file("manifest.json"));
-    const std::string json((std::istreambuf_iterator<char>(m)), std::istreambuf_iterator<char>());
-    t.translation = manifestVec(json, "translation");
-    t.scale = manifestVec(json, "scale");
+    const nlohmann::json transform = test::readManifest(dir.path().string()).at("transform");
+    t.translation = manifestVec(transform, "translation");
+    t.scale = manifestVec(transform, "scale");
+    EXPECT_EQ(transform.at("rotation"), nlohmann::json::array({0, 0, 0, 1}));
     return t;
 }
 

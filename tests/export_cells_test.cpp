@@ -10,6 +10,7 @@
 #include <iterator>
 
 #include "cli_util.h"
+#include "manifest_util.h"
 #include "random_volumes.h"
 #include "test_util.h"
 #include "vdblight/basis.h"
@@ -55,28 +56,23 @@ Ktx2 readKtx2(const fs::path& p) {
     return k;
 }
 
-// The cells of cells.json: directory, texel offset and dims, read with a plain scan.
+// The cells of cells.json: directory, texel offset and dims.
 struct Cell {
     std::string directory;
     int offset[3], dims[3];
 };
-void readInts(const std::string& text, std::size_t& pos, const std::string& key, int out[3]) {
-    pos = text.find("\"" + key + "\": [", pos);
-    ASSERT_NE(pos, std::string::npos) << key;
-    pos += key.size() + 5;
-    ASSERT_EQ(std::sscanf(text.c_str() + pos, "%d, %d, %d", out, out + 1, out + 2), 3);
+void readInts(const nlohmann::json& value, int out[3]) {
+    for (int a = 0; a < 3; ++a) out[a] = value.at(std::size_t(a)).get<int>();
 }
 std::vector<Cell> readIndex(const fs::path& dir, int perAxis[3]) {
-    const std::string text = readFile(dir / "cells.json");
+    const nlohmann::json index = nlohmann::json::parse(readFile(dir / "cells.json"));
+    readInts(index.at("cells_per_axis"), perAxis);
     std::vector<Cell> cells;
-    std::size_t pos = 0;
-    readInts(text, pos, "cells_per_axis", perAxis);
-    while ((pos = text.find("\"directory\": \"", pos)) != std::string::npos) {
+    for (const nlohmann::json& entry : index.at("cells")) {
         Cell c;
-        pos += 14;
-        c.directory = text.substr(pos, text.find('"', pos) - pos);
-        readInts(text, pos, "texel_offset", c.offset);
-        readInts(text, pos, "dims", c.dims);
+        c.directory = entry.at("directory").get<std::string>();
+        readInts(entry.at("texel_offset"), c.offset);
+        readInts(entry.at("dims"), c.dims);
         cells.push_back(c);
     }
     return cells;
@@ -240,9 +236,11 @@ TEST(ExportCells, DefaultKindCellsCarryVisibilityAndDepth) {
         auto streamed = std::make_shared<StreamedVolume>(dir.file("v.vdb"));
         exportCells(makeStreamingQuery(streamed, OutsidePolicy::Clamp), *streamed, dir.file("streamed"), o, 6, 1);
         expectSameFiles(dir.file("memory"), dir.file("streamed"), 2u * 2u * 1u * (textures.size() + 1) + 1u);
-        const std::string manifest = readFile(fs::path(dir.file("memory")) / "cell_0_0_0" / "manifest.json");
-        EXPECT_NE(manifest.find("light_visibility_4_4"), std::string::npos);
-        EXPECT_NE(manifest.find("\"exported\": true"), std::string::npos) << manifest;
+        const nlohmann::json manifest = test::readManifest(dir.file("memory") + "/cell_0_0_0");
+        bool visibility44 = false;
+        for (const nlohmann::json& t : manifest["textures"]) visibility44 |= t["name"] == "light_visibility_4_4";
+        EXPECT_TRUE(visibility44) << manifest;
+        EXPECT_EQ(manifest["depth"]["exported"], true) << manifest;
         for (const char* d : {"whole", "memory", "streamed"}) fs::remove_all(dir.file(d));
     }
     // A volume's header alone (no node values) is refused, not exported without depth.

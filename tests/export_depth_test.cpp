@@ -14,6 +14,7 @@
 #include <set>
 
 #include "export_file_checks.h"
+#include "manifest_util.h"
 #include "random_volumes.h"
 #include "test_util.h"
 #include "vdblight/depth_moments.h"
@@ -73,8 +74,8 @@ TEST(ExportDepth, Rgba8UnormInKtx2DdsAndRawWhateverTheLightingPrecision) {
     const struct {
         TextureFormat format;
         const char *ext, *formatKey;
-    } containers[] = {{TextureFormat::Ktx2, ".ktx2", ", \"vkFormat\": "},
-                      {TextureFormat::Dds, ".dds", ", \"dxgiFormat\": "},
+    } containers[] = {{TextureFormat::Ktx2, ".ktx2", "vkFormat"},
+                      {TextureFormat::Dds, ".dds", "dxgiFormat"},
                       {TextureFormat::Raw, ".raw", ""}};
     for (const auto& c : containers)
         for (bool half : {true, false}) {
@@ -102,19 +103,31 @@ TEST(ExportDepth, Rgba8UnormInKtx2DdsAndRawWhateverTheLightingPrecision) {
                                                 half ? kDxgiRgba16Float : kDxgiRgba32Float);
             EXPECT_EQ(light.size(), offset + nodes * (half ? 8 : 16));
             // The manifest states each texture's format and size per texel.
-            const std::string manifest = readTextFile(out + "/manifest.json");
-            const std::string light16 = half ? "\"rgba16_sfloat\", \"bytes_per_texel\": 8" : "\"rgba32_sfloat\", \"bytes_per_texel\": 16";
-            const std::string lightCode = c.format == TextureFormat::Ktx2 ? std::to_string(half ? kVkRgba16Sfloat : kVkRgba32Sfloat)
-                                                                         : std::to_string(half ? kDxgiRgba16Float : kDxgiRgba32Float);
-            const std::string depthCode = std::to_string(c.format == TextureFormat::Ktx2 ? kVkRgba8Unorm : kDxgiRgba8Unorm);
-            const bool raw = c.format == TextureFormat::Raw;
-            for (const std::string& key :
-                 {"\"name\": \"shAr\", \"file\": \"shAr" + std::string(c.ext) + "\", \"format\": " + light16 +
-                      (raw ? "" : c.formatKey + lightCode),
-                  "\"name\": \"depth_y\", \"file\": \"depth_y" + std::string(c.ext) +
-                      "\", \"format\": \"rgba8_unorm\", \"bytes_per_texel\": 4" + (raw ? "" : c.formatKey + depthCode),
-                  std::string("\"format\": \"rgba8_unorm\", \"bytes_per_node\": 12"), std::string("\"vdblight_export_version\": 2")})
-                EXPECT_NE(manifest.find(key), std::string::npos) << key << "\n" << manifest;
+            const nlohmann::json manifest = test::readManifest(out);
+            const uint32_t lightCode = c.format == TextureFormat::Ktx2 ? (half ? kVkRgba16Sfloat : kVkRgba32Sfloat)
+                                                                      : (half ? kDxgiRgba16Float : kDxgiRgba32Float);
+            const uint32_t depthCode = c.format == TextureFormat::Ktx2 ? kVkRgba8Unorm : kDxgiRgba8Unorm;
+            const struct {
+                const char* name;
+                const char* format;
+                int bytes;
+                uint32_t code;
+            } expected[] = {{"shAr", half ? "rgba16_sfloat" : "rgba32_sfloat", half ? 8 : 16, lightCode},
+                            {"depth_y", "rgba8_unorm", 4, depthCode}};
+            for (const auto& e : expected) {
+                nlohmann::json t;
+                for (const nlohmann::json& each : manifest["textures"])
+                    if (each["name"] == e.name) t = each;
+                ASSERT_TRUE(t.is_object()) << e.name << " not in\n" << manifest;
+                EXPECT_EQ(t["file"], e.name + std::string(c.ext)) << t;
+                EXPECT_EQ(t["format"], e.format) << t;
+                EXPECT_EQ(t["bytes_per_texel"], e.bytes) << t;
+                if (c.format != TextureFormat::Raw) EXPECT_EQ(t[c.formatKey], e.code) << t;
+                else EXPECT_FALSE(t.contains("vkFormat") || t.contains("dxgiFormat")) << t;
+            }
+            EXPECT_EQ(manifest["depth"]["format"], "rgba8_unorm");
+            EXPECT_EQ(manifest["depth"]["bytes_per_node"], 12);
+            EXPECT_EQ(manifest["vdblight_export_version"], 2);
         }
 }
 
@@ -142,10 +155,9 @@ TEST(ExportDepth, ExrAtlasKeepsHalfOrFloat) {
                         const float value = depthValue(v.levels[0].depth, (std::size_t(k) * kNy + j) * kNx + i, 2, c);
                         EXPECT_EQ(px[(std::size_t(y) * width + x) * 4 + c], half ? float(Imath::half(value)) : value);
                     }
-        const std::string manifest = readTextFile(out + "/manifest.json");
-        const std::string key = half ? "\"format\": \"rgba16_sfloat\", \"bytes_per_node\": 24"
-                                     : "\"format\": \"rgba32_sfloat\", \"bytes_per_node\": 48";
-        EXPECT_NE(manifest.find(key), std::string::npos) << manifest;
+        const nlohmann::json depth = test::readManifest(out)["depth"];
+        EXPECT_EQ(depth["format"], half ? "rgba16_sfloat" : "rgba32_sfloat") << depth;
+        EXPECT_EQ(depth["bytes_per_node"], half ? 24 : 48) << depth;
     }
 }
 
@@ -177,7 +189,7 @@ TEST(ExportDepth, ResampledLatticeExportsNoDepth) {
     ExportOptions o = options(TextureFormat::Raw, false);
     o.resolution = 9;
     exportTextures(v, dir.file("res"), o);
-    EXPECT_NE(readTextFile(dir.file("res") + "/manifest.json").find("\"exported\": false"), std::string::npos);
+    EXPECT_EQ(test::readManifest(dir.file("res"))["depth"]["exported"], false);
     EXPECT_FALSE(std::ifstream(dir.file("res") + "/depth_x.raw").good());
 }
 
@@ -192,8 +204,7 @@ TEST(ExportDepth, MultiLevelVolumesExportTheFinestNodesDepthAndFreeTexelsElsewhe
     ASSERT_TRUE(finest.sparse());
     test::TempDir dir;
     exportTextures(v, dir.file("ml"), options(TextureFormat::Raw, false));
-    const std::string manifest = readTextFile(dir.file("ml") + "/manifest.json");
-    ASSERT_NE(manifest.find("\"depth\": {\"exported\": true"), std::string::npos) << manifest;
+    ASSERT_EQ(test::readManifest(dir.file("ml"))["depth"]["exported"], true);
     std::size_t nodes = 0, free = 0;
     for (int a = 0; a < 3; ++a) {
         const std::vector<uint8_t> b = readFile(dir.file("ml") + "/" + kAxes[a] + ".raw");

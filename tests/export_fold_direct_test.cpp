@@ -8,6 +8,8 @@
 
 #include <random>
 
+#include <nlohmann/json.hpp>
+
 #include "export_file_checks.h"
 #include "occlusion_volumes.h"
 #include "test_util.h"
@@ -139,10 +141,10 @@ TEST(ExportFoldDirect, ProbeGridJsonNamesTheFoldedLights) {
     TempDir dir;
     const ThreeGridSummary s = exportThreeGrid(v, dir.file("web"), {});
     EXPECT_EQ(s.foldedLights, 2);
-    const std::string json = readText(dir.file("web") + "/" + kThreeGridJsonFile);
-    EXPECT_NE(json.find("\"folded_into_sh\": true"), std::string::npos) << json;
-    EXPECT_NE(json.find(formatDirectLight(v.direct.lights[0])), std::string::npos) << json;
-    EXPECT_NE(json.find(formatDirectLight(v.direct.lights[1])), std::string::npos) << json;
+    const nlohmann::json direct = nlohmann::json::parse(readText(dir.file("web") + "/" + kThreeGridJsonFile))["direct_light"];
+    EXPECT_EQ(direct["folded_into_sh"], true) << direct;
+    EXPECT_EQ(direct["lights"], nlohmann::json::array({formatDirectLight(v.direct.lights[0]), formatDirectLight(v.direct.lights[1])}))
+        << direct;
     const ThreeGridSummary plain = exportThreeGrid(withoutLights(v), dir.file("plain"), {});
     EXPECT_EQ(plain.foldedLights, 0);
     EXPECT_EQ(readText(dir.file("plain") + "/" + kThreeGridJsonFile).find("direct_light"), std::string::npos);

@@ -8,6 +8,7 @@
 #include <random>
 
 #include "export_file_checks.h"
+#include "manifest_util.h"
 #include "occlusion_volumes.h"
 #include "cli_util.h"
 #include "random_volumes.h"
@@ -22,11 +23,6 @@ using namespace vdblight;
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string readText(const std::string& path) {
-    std::ifstream f(path);
-    return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-}
 
 // E_c from the 7 sh2-packed texels (docs/engine_layouts.md), n in the frame the texels are in.
 Vec3d evalPacked(const std::vector<const float*>& t, const Vec3d& n) {
@@ -56,14 +52,10 @@ const Frame kUnity{{0, 1, 2}, {-1, 1, 1}, 1.0};
 const Frame kGodot{{0, 1, 2}, {1, 1, 1}, 1.0};
 const Frame kUnreal{{2, 0, 1}, {1, -1, 1}, 100.0};
 
-void expectManifestFrame(const std::string& json, const Frame& f) {
-    char want[128];
-    std::snprintf(want, sizeof want, "\"axis\": [%d, %d, %d]", f.axis[0], f.axis[1], f.axis[2]);
-    EXPECT_NE(json.find(want), std::string::npos) << want << "\n" << json;
-    std::snprintf(want, sizeof want, "\"sign\": [%d, %d, %d]", f.sign[0], f.sign[1], f.sign[2]);
-    EXPECT_NE(json.find(want), std::string::npos) << want;
-    std::snprintf(want, sizeof want, "\"units_per_metre\": %g", f.scale);
-    EXPECT_NE(json.find(want), std::string::npos) << want;
+void expectManifestFrame(const nlohmann::json& manifest, const Frame& f) {
+    EXPECT_EQ(manifest["axis"], nlohmann::json::array({f.axis[0], f.axis[1], f.axis[2]})) << manifest;
+    EXPECT_EQ(manifest["sign"], nlohmann::json::array({f.sign[0], f.sign[1], f.sign[2]})) << manifest;
+    EXPECT_EQ(manifest["units_per_metre"], f.scale) << manifest;
 }
 
 // Each engine texel, evaluated for random engine normals, against the query at the volume point.
@@ -116,10 +108,10 @@ TEST(ExportPresets, UnityAndGodotAtlasesHoldTheQueryInTheirEnginesAxes) {
         test::TempDir dir;
         const PresetSummary s = exportPreset(v, dir.path().string(), preset);
         ASSERT_EQ(s.files.size(), 8u) << "7 atlases + manifest.json";
-        const std::string json = readText(dir.file("manifest.json"));
-        expectManifestFrame(json, frame);
-        EXPECT_NE(json.find("\"exr_atlas\""), std::string::npos);
-        EXPECT_NE(json.find(presetName(preset)), std::string::npos);
+        const nlohmann::json manifest = test::readManifest(dir.path().string());
+        expectManifestFrame(manifest, frame);
+        EXPECT_TRUE(manifest.contains("exr_atlas")) << manifest;
+        EXPECT_EQ(manifest["preset"], presetName(preset));
         expectEngineTexelsMatchQuery(v, s, frame, readAtlases(dir, s.lattice));
     }
 }
@@ -130,15 +122,17 @@ TEST(ExportPresets, UnrealSparseVolumeTexturesHoldAtMostTwoRgbaAttributesPerFile
     test::TempDir dir;
     const PresetSummary s = exportPreset(v, dir.path().string(), EnginePreset::Unreal);
     ASSERT_EQ(s.files.size(), 5u) << "L2's 28 channels in 4 files of at most 8, + manifest.json";
-    const std::string json = readText(dir.file("manifest.json"));
-    expectManifestFrame(json, kUnreal);
+    const nlohmann::json manifest = test::readManifest(dir.path().string());
+    expectManifestFrame(manifest, kUnreal);
     EXPECT_EQ(s.lattice.dims[0], 5);  // Unreal x = volume z
     EXPECT_EQ(s.lattice.dims[1], 4);  // Unreal y = -volume x
     EXPECT_EQ(s.lattice.dims[2], 3);  // Unreal z = volume y (up)
     std::map<std::string, openvdb::GridBase::Ptr> grids;
     for (int f = 0; f < 4; ++f) {
         const std::string name = "svt_" + std::to_string(f) + ".vdb";
-        EXPECT_NE(json.find("\"file\": \"" + name + "\""), std::string::npos) << name << " listed in the manifest";
+        bool listed = false;
+        for (const nlohmann::json& entry : manifest["svt_files"]) listed |= entry["file"] == name;
+        EXPECT_TRUE(listed) << name << " listed in the manifest";
         openvdb::io::File file(dir.file(name));
         file.open();
         int channels = 0;
@@ -189,11 +183,11 @@ TEST(ExportPresets, BevyManifestStatesUnitsAndTheCubesTransform) {
     const Volume v = test::randomShVolume(4, 3, 5, 0.5, 23);
     test::TempDir dir;
     exportPreset(v, dir.path().string(), EnginePreset::Bevy);
-    const std::string json = readText(dir.file("manifest.json"));
-    EXPECT_NE(json.find("\"units\": \"W/(m^2 sr)\""), std::string::npos) << json;
+    const nlohmann::json manifest = test::readManifest(dir.path().string());
+    EXPECT_EQ(manifest["units"], "W/(m^2 sr)") << manifest;
     // node box (-0.5, 0.25, 1) .. (1, 1.25, 3): centre and R * spacing per axis
-    EXPECT_NE(json.find("\"translation\": [0.25, 0.75, 2]"), std::string::npos) << json;
-    EXPECT_NE(json.find("\"scale\": [2, 1.5, 2.5]"), std::string::npos) << json;
+    EXPECT_EQ(manifest["transform"]["translation"], nlohmann::json::array({0.25, 0.75, 2})) << manifest;
+    EXPECT_EQ(manifest["transform"]["scale"], nlohmann::json::array({2, 1.5, 2.5})) << manifest;
     EXPECT_TRUE(fs::exists(dir.file("irradiance_volume.ktx2")));
 }
 
@@ -217,9 +211,10 @@ TEST(ExportPresets, ShPresetsFoldOcclusionLightsAndRefuseRuntimeLights) {
     test::TempDir dir;
     const PresetSummary s = exportPreset(v, dir.file("godot"), EnginePreset::Godot);
     EXPECT_EQ(s.foldedLights, 2);
-    const std::string json = readText(dir.file("godot/manifest.json"));
-    EXPECT_NE(json.find("\"folded_into_sh\": true"), std::string::npos) << json;
-    EXPECT_NE(json.find(formatDirectLight(v.direct.lights[1])), std::string::npos) << json;
+    const nlohmann::json direct = test::readManifest(dir.file("godot"))["direct_light"];
+    EXPECT_EQ(direct["folded_into_sh"], true) << direct;
+    EXPECT_EQ(direct["lights"], nlohmann::json::array({formatDirectLight(v.direct.lights[0]), formatDirectLight(v.direct.lights[1])}))
+        << direct;
     const std::vector<std::vector<float>> textures = readAtlases(dir, s.lattice, "godot/");
     const IrradianceQuery q(v);
     std::mt19937 rng(3);

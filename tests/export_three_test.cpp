@@ -4,6 +4,8 @@
 // and volumes without SH order 2 (or with runtime lights) are refused with nothing written.
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include "export_file_checks.h"
 #include "random_volumes.h"
 #include "test_util.h"
@@ -87,16 +89,17 @@ TEST(ExportThree, JsonPlacesTheGridOneAndAHalfSpacingsOutsideTheNodes) {
     const Volume v = randomShVolume(5, 3, 4, 0.25, 13);  // nodes from (-0.5, 0.25, 1.0) to (0.5, 0.75, 1.75)
     TempDir dir;
     const ThreeGridSummary s = exportThreeGrid(v, dir.file("web"), {});
-    const std::string json = readText(dir.file("web") + "/" + kThreeGridJsonFile);
-    EXPECT_NE(json.find("\"resolution\": [7, 5, 6]"), std::string::npos) << json;
-    EXPECT_NE(json.find("\"bounds_min\": [-0.875, -0.125, 0.625]"), std::string::npos) << json;
-    EXPECT_NE(json.find("\"bounds_max\": [0.875, 1.125, 2.125]"), std::string::npos) << json;
-    EXPECT_NE(json.find("\"size\": [1.75, 1.25, 1.5]"), std::string::npos) << json;
-    EXPECT_NE(json.find("\"probe_min\": [-0.75, 0, 0.75]"), std::string::npos) << json;
-    EXPECT_NE(json.find("\"type\": \"float16\""), std::string::npos) << json;
-    EXPECT_NE(json.find("\"depth\": 56"), std::string::npos) << json;
+    const nlohmann::json json = nlohmann::json::parse(readText(dir.file("web") + "/" + kThreeGridJsonFile));
+    using Array = std::vector<double>;
+    EXPECT_EQ(json["resolution"], nlohmann::json::array({7, 5, 6})) << json;
+    EXPECT_EQ(json["bounds_min"].get<Array>(), Array({-0.875, -0.125, 0.625})) << json;
+    EXPECT_EQ(json["bounds_max"].get<Array>(), Array({0.875, 1.125, 2.125})) << json;
+    EXPECT_EQ(json["size"].get<Array>(), Array({1.75, 1.25, 1.5})) << json;
+    EXPECT_EQ(json["probe_min"].get<Array>(), Array({-0.75, 0, 0.75})) << json;
+    EXPECT_EQ(json["texture"]["type"], "float16") << json;
+    EXPECT_EQ(json["texture"]["depth"], 56) << json;
     const uint64_t bytes = 7 * 5 * 56 * 8;
-    EXPECT_NE(json.find("\"byte_length\": " + std::to_string(bytes)), std::string::npos) << json;
+    EXPECT_EQ(json["texture"]["byte_length"], bytes) << json;
     EXPECT_EQ(fs::file_size(dir.file("web") + "/" + kThreeGridAtlasFile), bytes);
     EXPECT_EQ(s.files.size(), 2u);
 }

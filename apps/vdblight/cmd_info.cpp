@@ -2,6 +2,8 @@
 #include <iostream>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "app_common.h"
 #include "commands.h"
 #include "vdblight/basis.h"
@@ -13,41 +15,34 @@
 namespace vdblight::app {
 
 namespace {
-std::string jsonString(const std::string& s) {
-    std::string out = "\"";
-    for (char ch : s) {
-        switch (ch) {
-            case '"': out += "\\\""; break;
-            case '\\': out += "\\\\"; break;
-            case '\n': out += "\\n"; break;
-            case '\t': out += "\\t"; break;
-            default:
-                if (static_cast<unsigned char>(ch) < 0x20) {
-                    char buf[8];
-                    std::snprintf(buf, sizeof buf, "\\u%04x", ch);
-                    out += buf;
-                } else {
-                    out += ch;
-                }
-        }
-    }
-    return out + "\"";
-}
+// info --json: keys in the order they are added, as the human-readable listing reads.
+using Json = nlohmann::ordered_json;
 
-std::string metaText(const MetaValue& v, bool json) {
-    if (auto s = std::get_if<std::string>(&v)) return json ? jsonString(*s) : *s;
+std::string metaText(const MetaValue& v) {
+    if (auto s = std::get_if<std::string>(&v)) return *s;
     std::ostringstream o;
     o.precision(10);
     if (auto i = std::get_if<int64_t>(&v)) o << *i;
     else o << std::get<double>(v);
     return o.str();
 }
+Json metaJson(const MetaValue& v) {
+    if (auto s = std::get_if<std::string>(&v)) return *s;
+    if (auto i = std::get_if<int64_t>(&v)) return *i;
+    return std::get<double>(v);
+}
 
-std::string vec(const Vec3d& v, bool json) {
+std::string vec(const Vec3d& v) {
     std::ostringstream o;
     o.precision(9);
-    o << (json ? "[" : "(") << v.x << ", " << v.y << ", " << v.z << (json ? "]" : ")");
+    o << "(" << v.x << ", " << v.y << ", " << v.z << ")";
     return o.str();
+}
+Json vecJson(const Vec3d& v) { return Json::array({v.x, v.y, v.z}); }
+
+/// The document on stdout; a file name or metadata string that is not UTF-8 shows U+FFFD.
+void printDocument(const Json& j) {
+    std::cout << j.dump(2, ' ', false, Json::error_handler_t::replace) << "\n";
 }
 
 /// What the channels of a basis hold, for the human-readable listing: the registered basis's
@@ -74,8 +69,8 @@ void printHuman(const Volume& v, const FileInfo& f) {
         const GridSpec& g = v.levels[l].grid;
         std::cout << "  level " << l << ": " << g.nx << " x " << g.ny << " x " << g.nz << " box, "
                   << v.levels[l].storedNodes() << (v.levels[l].sparse() ? " active" : "") << " nodes, "
-                  << v.levels[l].refinedCells.size() << " refined cells, spacing " << g.spacing << ", node bounds " << vec(g.nodeBounds().lo, false) << " - "
-                  << vec(g.nodeBounds().hi, false) << "\n";
+                  << v.levels[l].refinedCells.size() << " refined cells, spacing " << g.spacing << ", node bounds " << vec(g.nodeBounds().lo) << " - "
+                  << vec(g.nodeBounds().hi) << "\n";
     }
     if (v.levels.size() > 1) {  // multi-level: what the sparse topology saves against the dense box
         uint64_t stored = 0;
@@ -90,46 +85,42 @@ void printHuman(const Volume& v, const FileInfo& f) {
         std::cout << "    " << g.name << "  " << g.valueType << "  " << g.activeVoxels << " active voxels  "
                   << formatBytes(double(g.memoryBytes)) << " in memory\n";
     std::cout << "  metadata (vdblight:*):\n";
-    for (const auto& [key, value] : v.meta) std::cout << "    " << key << " = " << metaText(value, false) << "\n";
+    for (const auto& [key, value] : v.meta) std::cout << "    " << key << " = " << metaText(value) << "\n";
 }
 
 void printJson(const Volume& v, const FileInfo& f) {
-    std::ostringstream o;
-    o << "{\n  \"path\": " << jsonString(f.path) << ",\n  \"file_bytes\": " << f.fileBytes
-      << ",\n  \"content_sha256\": " << jsonString(f.hash.sha256) << ",\n  \"header_uuid\": " << jsonString(f.hash.headerUuid)
-      << ",\n  \"uuid_from_content\": " << (f.hash.uuidFromContent ? "true" : "false")
-      << ",\n  \"basis\": " << jsonString(v.basis.kind) << ",\n  \"levels\": [";
-    for (std::size_t l = 0; l < v.levels.size(); ++l) {
-        const GridSpec& g = v.levels[l].grid;
-        o << (l ? ", " : "") << "{\"dims\": [" << g.nx << ", " << g.ny << ", " << g.nz << "], \"nodes\": " << v.levels[l].storedNodes()
-          << ", \"refined_cells\": " << v.levels[l].refinedCells.size()
-          << ", \"spacing\": " << g.spacing << ", \"origin\": " << vec(g.origin, true)
-          << ", \"node_bounds_min\": " << vec(g.nodeBounds().lo, true) << ", \"node_bounds_max\": " << vec(g.nodeBounds().hi, true) << "}";
+    Json j;
+    j["path"] = f.path;
+    j["file_bytes"] = f.fileBytes;
+    j["content_sha256"] = f.hash.sha256;
+    j["header_uuid"] = f.hash.headerUuid;
+    j["uuid_from_content"] = f.hash.uuidFromContent;
+    j["basis"] = v.basis.kind;
+    Json levels = Json::array();
+    for (const VolumeLevel& level : v.levels) {
+        const GridSpec& g = level.grid;
+        levels.push_back({{"dims", {g.nx, g.ny, g.nz}}, {"nodes", level.storedNodes()},
+                          {"refined_cells", level.refinedCells.size()}, {"spacing", g.spacing},
+                          {"origin", vecJson(g.origin)}, {"node_bounds_min", vecJson(g.nodeBounds().lo)},
+                          {"node_bounds_max", vecJson(g.nodeBounds().hi)}});
     }
-    o << "],\n  \"grids\": [";
-    for (std::size_t i = 0; i < f.grids.size(); ++i) {
-        const GridInfo& g = f.grids[i];
-        o << (i ? ",\n    " : "\n    ") << "{\"name\": " << jsonString(g.name) << ", \"type\": " << jsonString(g.valueType)
-          << ", \"active_voxels\": " << g.activeVoxels << ", \"memory_bytes\": " << g.memoryBytes
-          << ", \"level\": " << g.level << ", \"voxel_size\": " << g.voxelSize << "}";
-    }
-    o << "\n  ],\n  \"metadata\": {";
-    bool first = true;
-    for (const auto& [key, value] : v.meta) {
-        o << (first ? "\n    " : ",\n    ") << jsonString(key) << ": " << metaText(value, true);
-        first = false;
-    }
-    o << "\n  }\n}\n";
-    std::cout << o.str();
+    j["levels"] = std::move(levels);
+    Json grids = Json::array();
+    for (const GridInfo& g : f.grids)
+        grids.push_back({{"name", g.name}, {"type", g.valueType}, {"active_voxels", g.activeVoxels},
+                         {"memory_bytes", g.memoryBytes}, {"level", g.level}, {"voxel_size", g.voxelSize}});
+    j["grids"] = std::move(grids);
+    Json meta = Json::object();
+    for (const auto& [key, value] : v.meta) meta[key] = metaJson(value);
+    j["metadata"] = std::move(meta);
+    printDocument(j);
 }
 /// A tile of a bake (bake --tiles): its identity, grids and content hash.
 void printTile(const std::string& path, const TileId& id, bool json) {
     const FileInfo f = inspectVolumeFile(path);
     if (json) {
-        std::cout << "{\n  \"path\": " << jsonString(path) << ",\n  \"file_bytes\": " << f.fileBytes
-                  << ",\n  \"content_sha256\": " << jsonString(f.hash.sha256) << ",\n  \"tile_index\": " << id.index
-                  << ",\n  \"tile_count\": " << id.count << ",\n  \"tile_params_hash\": " << jsonString(id.paramsHash)
-                  << "\n}\n";
+        printDocument({{"path", path}, {"file_bytes", f.fileBytes}, {"content_sha256", f.hash.sha256},
+                       {"tile_index", id.index}, {"tile_count", id.count}, {"tile_params_hash", id.paramsHash}});
         return;
     }
     std::cout << path << ": tile " << id.index << " of " << id.count << " of a bake (merge with 'vdblight merge'), "

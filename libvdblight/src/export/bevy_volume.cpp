@@ -10,9 +10,9 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
-#include <sstream>
+
+#include <nlohmann/json.hpp>
 
 #include "export_internal.h"
 #include "staged_files.h"
@@ -31,12 +31,10 @@ uint64_t bevyTexelIndex(const int r[3], int x, int y, int z, int axis, bool nega
 
 namespace {
 
-std::string num(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.17g", v);
-    return buf;
-}
-std::string vec(const Vec3d& v) { return "[" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + "]"; }
+// The manifest is built as a JSON object whose keys keep the order they are added in.
+using Json = nlohmann::ordered_json;
+
+Json vec(const Vec3d& v) { return Json::array({v.x, v.y, v.z}); }
 
 // Bevy's unit cube [-0.5, 0.5]^3 stretched over the voxels: voxel i's centre is at
 // (i + 0.5) / R - 0.5 in cube space, so the cube spans R spacings per axis, centred on the
@@ -49,28 +47,28 @@ Vec3d cubeScale(const TextureLattice& l, double finest) {
 }
 
 std::string bevyManifest(const TextureLattice& l, const Vec3d& scale, const std::string& file) {
-    const Vec3d centre = (l.lo + l.hi) * 0.5;
-    std::ostringstream s;
-    s << "{\n  \"vdblight_export_version\": 2,\n  \"preset\": \"bevy\",\n"
-      << "  \"engine_frame\": \"right-handed, +Y up, metres (the volume's own frame)\",\n"
-      << "  \"textures\": [{\"name\": \"irradiance_volume\", \"file\": \"" << file << "\", \"format\": "
-         "\"rgba16_sfloat\", \"bytes_per_texel\": 8, \"vkFormat\": 97, \"components\": [\"red: E / pi\", "
-         "\"green: E / pi\", \"blue: E / pi\", \"1\"]}],\n"
-      << "  \"voxels\": [" << l.dims[0] << ", " << l.dims[1] << ", " << l.dims[2] << "],\n"
-      << "  \"dims\": [" << l.dims[0] << ", " << 2 * l.dims[1] << ", " << 3 * l.dims[2] << "],\n"
-      << "  \"face_texel\": \"face S of voxel (x, y, z): (x, y + (S negative ? Ry : 0), z + a Rz), a = 0, 1, 2 "
-         "for X, Y, Z (as irradiance_volume.wgsl samples it)\",\n"
-      << "  \"bounds_min\": " << vec(l.lo) << ",\n  \"bounds_max\": " << vec(l.hi) << ",\n"
-      << "  \"transform\": {\"translation\": " << vec(centre) << ", \"rotation\": [0, 0, 0, 1], \"scale\": "
-      << vec(scale) << "},\n"
-      << "  \"values\": \"E(n) / pi for the face's axis normal n: the radiance of a white Lambertian surface, "
-         "in the scene's radiance unit (W/(m^2 sr) for scenes in W); Bevy multiplies it by the albedo and by "
-         "IrradianceVolume::intensity, which converts it to cd/m^2\",\n"
-      << "  \"units\": \"W/(m^2 sr)\",\n"
-      << "  \"sampler\": \"linear filtering, clamp-to-edge (Bevy's default image sampler)\",\n"
-      << "  \"reconstruction\": \"E(n) / pi ~= face(sign n_x X) n_x^2 + face(sign n_y Y) n_y^2 + face(sign n_z Z) "
-         "n_z^2 (Valve's ambient cube, as Bevy's shader blends it); exact for the six axis normals\"\n}\n";
-    return s.str();
+    Json m;
+    m["vdblight_export_version"] = 2;
+    m["preset"] = "bevy";
+    m["engine_frame"] = "right-handed, +Y up, metres (the volume's own frame)";
+    m["textures"] = Json::array({{{"name", "irradiance_volume"}, {"file", file}, {"format", "rgba16_sfloat"},
+                                  {"bytes_per_texel", 8}, {"vkFormat", 97},
+                                  {"components", {"red: E / pi", "green: E / pi", "blue: E / pi", "1"}}}});
+    m["voxels"] = {l.dims[0], l.dims[1], l.dims[2]};
+    m["dims"] = {l.dims[0], 2 * l.dims[1], 3 * l.dims[2]};
+    m["face_texel"] = "face S of voxel (x, y, z): (x, y + (S negative ? Ry : 0), z + a Rz), a = 0, 1, 2 for X, Y, Z (as "
+                      "irradiance_volume.wgsl samples it)";
+    m["bounds_min"] = vec(l.lo);
+    m["bounds_max"] = vec(l.hi);
+    m["transform"] = {{"translation", vec((l.lo + l.hi) * 0.5)}, {"rotation", {0, 0, 0, 1}}, {"scale", vec(scale)}};
+    m["values"] = "E(n) / pi for the face's axis normal n: the radiance of a white Lambertian surface, in the scene's "
+                  "radiance unit (W/(m^2 sr) for scenes in W); Bevy multiplies it by the albedo and by "
+                  "IrradianceVolume::intensity, which converts it to cd/m^2";
+    m["units"] = "W/(m^2 sr)";
+    m["sampler"] = "linear filtering, clamp-to-edge (Bevy's default image sampler)";
+    m["reconstruction"] = "E(n) / pi ~= face(sign n_x X) n_x^2 + face(sign n_y Y) n_y^2 + face(sign n_z Z) n_z^2 (Valve's "
+                          "ambient cube, as Bevy's shader blends it); exact for the six axis normals";
+    return m.dump(2) + "\n";
 }
 
 }  // namespace

@@ -5,8 +5,8 @@
 
 #include <filesystem>
 #include <functional>
-#include <sstream>
 
+#include <nlohmann/json.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -24,16 +24,11 @@ using namespace exporter;
 
 namespace {
 
-std::string vec3(const Vec3d& v) {
-    std::ostringstream s;
-    s.precision(17);
-    s << '[' << v.x << ", " << v.y << ", " << v.z << ']';
-    return s.str();
-}
+// cells.json is built as a JSON object whose keys keep the order they are added in.
+using Json = nlohmann::ordered_json;
 
-std::string ints3(const int v[3]) {
-    return "[" + std::to_string(v[0]) + ", " + std::to_string(v[1]) + ", " + std::to_string(v[2]) + "]";
-}
+Json vec3(const Vec3d& v) { return Json::array({v.x, v.y, v.z}); }
+Json ints3(const int v[3]) { return Json::array({v[0], v[1], v[2]}); }
 
 
 uint64_t writeTexture(TextureFormat format, const std::string& path, const TextureImage& image) {
@@ -102,18 +97,20 @@ CellsSummary exportCellsFrom(const IrradianceQuery& query, const CellSource& sou
     StagedFiles staging;
     const fs::path root(outDir);
     staging.createDirectory(root);
-    std::ostringstream index;
-    index << "{\n  \"vdblight_cells_version\": 1,\n";
-    index << "  \"volume_kind\": \"" << query.kind() << "\",\n";
-    index << "  \"format\": \"" << formatName(o.format) << "\",\n  \"layout\": \"" << layoutName(o.layout) << "\",\n";
-    index << "  \"lattice\": {\"dims\": " << ints3(whole.dims) << ", \"bounds_min\": " << vec3(whole.lo)
-          << ", \"bounds_max\": " << vec3(whole.hi) << ", \"texel_spacing\": " << vec3(whole.spacing()) << "},\n";
-    index << "  \"cell_steps\": " << cellSize << ",\n  \"cells_per_axis\": " << ints3(summary.cells) << ",\n";
-    index << "  \"tiling\": \"cell (a, b, c) holds lattice texels [a, b, c] * cell_steps + (0 .. dims - 1); neighbouring "
-             "cells share their boundary texel plane, so each cell's trilinear filtering equals the whole volume's; a point "
-             "x belongs to the cell floor((x - bounds_min) / (texel_spacing * cell_steps)), clamped to the last cell\",\n";
-    index << "  \"cells\": [\n";
-    bool firstCell = true;
+    Json index;
+    index["vdblight_cells_version"] = 1;
+    index["volume_kind"] = query.kind();
+    index["format"] = formatName(o.format);
+    index["layout"] = layoutName(o.layout);
+    index["lattice"] = {{"dims", ints3(whole.dims)}, {"bounds_min", vec3(whole.lo)}, {"bounds_max", vec3(whole.hi)},
+                        {"texel_spacing", vec3(whole.spacing())}};
+    index["cell_steps"] = cellSize;
+    index["cells_per_axis"] = ints3(summary.cells);
+    index["tiling"] = "cell (a, b, c) holds lattice texels [a, b, c] * cell_steps + (0 .. dims - 1); neighbouring cells "
+                      "share their boundary texel plane, so each cell's trilinear filtering equals the whole volume's; a "
+                      "point x belongs to the cell floor((x - bounds_min) / (texel_spacing * cell_steps)), clamped to the "
+                      "last cell";
+    Json cells = Json::array();
     for (int c = 0; c < summary.cells[2]; ++c)
         for (int b = 0; b < summary.cells[1]; ++b)
             for (int a = 0; a < summary.cells[0]; ++a) {
@@ -169,14 +166,12 @@ CellsSummary exportCellsFrom(const IrradianceQuery& query, const CellSource& sou
                 }
                 const std::string json = manifestJson(manifest);
                 writeBytes(staging.stage(dir, "manifest.json"), std::vector<uint8_t>(json.begin(), json.end()));
-                index << (firstCell ? "" : ",\n") << "    {\"cell\": " << ints3(cell) << ", \"directory\": \"" << name
-                      << "\", \"texel_offset\": " << ints3(first) << ", \"dims\": " << ints3(dims)
-                      << ", \"bounds_min\": " << vec3(lattice.lo) << ", \"bounds_max\": " << vec3(lattice.hi) << "}";
-                firstCell = false;
+                cells.push_back({{"cell", ints3(cell)}, {"directory", name}, {"texel_offset", ints3(first)},
+                                 {"dims", ints3(dims)}, {"bounds_min", vec3(lattice.lo)}, {"bounds_max", vec3(lattice.hi)}});
                 if (source.afterCell) source.afterCell();
             }
-    index << "\n  ]\n}\n";
-    const std::string text = index.str();
+    index["cells"] = std::move(cells);
+    const std::string text = index.dump(2) + "\n";
     writeBytes(staging.stage(root, "cells.json"), std::vector<uint8_t>(text.begin(), text.end()));
     summary.files = staging.count();
     for (const std::string& f : staging.commit()) summary.bytes += fs::file_size(f);

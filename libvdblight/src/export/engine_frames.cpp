@@ -47,7 +47,6 @@ std::string jsonNumber(double v) {
     std::snprintf(buf, sizeof buf, "%.17g", v);
     return buf;
 }
-std::string jsonVec(const Vec3d& v) { return "[" + jsonNumber(v.x) + ", " + jsonNumber(v.y) + ", " + jsonNumber(v.z) + "]"; }
 
 TextureLattice engineLattice(const EngineFrame& f, const TextureLattice& v) {
     TextureLattice e;

@@ -32,8 +32,8 @@ std::vector<SvtFile> planSvtFiles(const std::vector<TextureDesc>& descs);
 void writeSvtFile(const std::string& path, const SvtFile& plan, const std::vector<TextureDesc>& descs,
                   const std::vector<std::vector<float>>& textures, const TextureLattice& lattice, double finestUnits);
 
-/// JSON helpers shared by the preset manifests.
+/// A number as "%.17g" text (it reads back as the same double), for a number
+/// quoted inside prose (the preset manifests' from_volume).
 std::string jsonNumber(double v);
-std::string jsonVec(const Vec3d& v);
 
 }  // namespace vdblight::exporter

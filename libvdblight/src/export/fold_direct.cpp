@@ -6,7 +6,6 @@
 
 #include <array>
 #include <cmath>
-#include <sstream>
 
 #include "vdblight/errors.h"
 #include "vdblight/query_direct.h"  // OcclusionLookup, and DirectLight / formatDirectLight through it
@@ -119,27 +118,18 @@ void addFoldedDirectLight(const Volume& volume, const IrradianceQuery& query, co
     });
 }
 
-std::string foldedDirectJson(const Volume& volume, int indent) {
-    const std::string pad(std::size_t(indent), ' ');
-    std::ostringstream s;
-    s << "{\n" << pad << "  \"folded_into_sh\": true,\n"
-      << pad << "  \"method\": \"bake --direct occlusion: the listed lights' direct light (exact irradiance x "
-         "interpolated visibility, as vdblight query adds it) fitted onto SH bands 0..2 by least squares over "
-      << kFoldNormals << " fixed normals at each probe, divided by A_l and added to the coefficients; the engine loses "
-         "the part beyond band 2 (for a point light at most 3/32 of its peak irradiance)\",\n"
-      << pad << "  \"lights\": [";
-    const std::vector<DirectLight>& lights = volume.direct.lights;
-    for (std::size_t i = 0; i < lights.size(); ++i) {
-        std::string text = formatDirectLight(lights[i]);
-        std::string escaped;
-        for (char ch : text) {
-            if (ch == '"' || ch == '\\') escaped += '\\';
-            escaped += ch;
-        }
-        s << (i ? ", " : "") << "\"" << escaped << "\"";
-    }
-    s << "]\n" << pad << "}";
-    return s.str();
+nlohmann::ordered_json foldedDirectJson(const Volume& volume) {
+    nlohmann::ordered_json j;
+    j["folded_into_sh"] = true;
+    j["method"] = "bake --direct occlusion: the listed lights' direct light (exact irradiance x interpolated visibility, "
+                  "as vdblight query adds it) fitted onto SH bands 0..2 by least squares over " +
+                  std::to_string(kFoldNormals) +
+                  " fixed normals at each probe, divided by A_l and added to the coefficients; the engine loses the part "
+                  "beyond band 2 (for a point light at most 3/32 of its peak irradiance)";
+    nlohmann::ordered_json lights = nlohmann::ordered_json::array();
+    for (const DirectLight& light : volume.direct.lights) lights.push_back(formatDirectLight(light));
+    j["lights"] = std::move(lights);
+    return j;
 }
 
 }  // namespace vdblight::exporter

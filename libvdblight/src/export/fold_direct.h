@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "export_internal.h"
 
 namespace vdblight::exporter {
@@ -45,8 +47,7 @@ void addFoldedDirectLight(const Volume& volume, const IrradianceQuery& query, co
                           ExportLayout layout, std::vector<std::vector<float>>& textures);
 
 /// The JSON value stating what was folded (for manifest.json and probe_grid.json): an object
-/// with the method and the lights (formatDirectLight text, docs/format.md), indented by
-/// `indent` spaces on its inner lines.
-std::string foldedDirectJson(const Volume& volume, int indent);
+/// with the method and the lights (formatDirectLight text, docs/format.md).
+nlohmann::ordered_json foldedDirectJson(const Volume& volume);
 
 }  // namespace vdblight::exporter

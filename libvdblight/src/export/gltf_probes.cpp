@@ -6,9 +6,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
-#include <sstream>
+
+#include <nlohmann/json.hpp>
 
 #include "engine_internal.h"
 #include "glb_writer.h"
@@ -92,21 +92,24 @@ std::vector<Probe> chooseProbes(const Volume& volume, const GltfProbeOptions& o)
     return probes;
 }
 
-std::string accessor(int view, int componentType, std::size_t count, const char* type, const std::string& extra = "") {
-    return "{\"bufferView\": " + std::to_string(view) + ", \"componentType\": " + std::to_string(componentType) +
-           ", \"count\": " + std::to_string(count) + ", \"type\": \"" + type + "\"" + extra + "}";
+// The glTF JSON is built as an object whose keys keep the order they are added in.
+using Json = nlohmann::ordered_json;
+
+Json accessor(int view, int componentType, std::size_t count, const char* type) {
+    return {{"bufferView", view}, {"componentType", componentType}, {"count", count}, {"type", type}};
 }
 
-std::string minMax(const std::vector<float>& xyz) {
+/// A VEC3 accessor's min and max (glTF requires them for POSITION): the floats themselves,
+/// written as doubles that read back as the same floats.
+Json withMinMax(Json accessor, const std::vector<float>& xyz) {
     float lo[3] = {xyz[0], xyz[1], xyz[2]}, hi[3] = {xyz[0], xyz[1], xyz[2]};
     for (std::size_t i = 0; i < xyz.size(); ++i) {
         lo[i % 3] = std::min(lo[i % 3], xyz[i]);
         hi[i % 3] = std::max(hi[i % 3], xyz[i]);
     }
-    char buf[256];
-    std::snprintf(buf, sizeof buf, ", \"min\": [%.9g, %.9g, %.9g], \"max\": [%.9g, %.9g, %.9g]", double(lo[0]),
-                  double(lo[1]), double(lo[2]), double(hi[0]), double(hi[1]), double(hi[2]));
-    return buf;
+    accessor["min"] = {double(lo[0]), double(lo[1]), double(lo[2])};
+    accessor["max"] = {double(hi[0]), double(hi[1]), double(hi[2])};
+    return accessor;
 }
 
 }  // namespace
@@ -172,29 +175,35 @@ GltfProbeSummary exportGltfProbes(const Volume& volume, const std::string& path,
     if (buf.bin.size() > (uint64_t(1) << 31))
         throw ValueError("the glTF view would be over 2 GiB; choose fewer nodes with --every K or --slice AXIS=VALUE");
 
-    std::ostringstream j;
-    j << "{\"asset\": {\"version\": \"2.0\", \"generator\": \"vdblight export --format gltf\"},\n"
-      << "\"extensionsUsed\": [\"KHR_materials_unlit\"],\n"
-      << "\"scene\": 0, \"scenes\": [{\"name\": \"vdblight probes\", \"nodes\": [0, 1], \"extras\": {\"vdblight\": "
-      << "{\"spheres\": " << probes.size() << ", \"colour_scale\": " << jsonNumber(summary.colourScale)
-      << ", \"colour\": \"per vertex: clamp(colour_scale * E(node, vertex normal) / pi, 0, 1), linear RGB; "
-         "E in W/m^2\"}}}],\n"
-      << "\"nodes\": [{\"name\": \"probes\", \"mesh\": 0}, {\"name\": \"volume_box\", \"mesh\": 1}],\n"
-      << "\"materials\": [{\"name\": \"probe_irradiance\", \"pbrMetallicRoughness\": {\"baseColorFactor\": [1, 1, 1, 1], "
-         "\"metallicFactor\": 0, \"roughnessFactor\": 1}, \"extensions\": {\"KHR_materials_unlit\": {}}}],\n"
-      << "\"meshes\": [{\"name\": \"probes\", \"primitives\": [{\"attributes\": {\"POSITION\": 0, \"NORMAL\": 1, "
-         "\"COLOR_0\": 2}, \"indices\": 3, \"material\": 0, \"mode\": 4}]},\n"
-      << "  {\"name\": \"volume_box\", \"primitives\": [{\"attributes\": {\"POSITION\": 4}, \"indices\": 5, \"mode\": 1}]}],\n"
-      << "\"accessors\": [" << accessor(vPos, 5126, vertices, "VEC3", minMax(positions)) << ",\n  "
-      << accessor(vNrm, 5126, vertices, "VEC3") << ",\n  " << accessor(vCol, 5126, vertices, "VEC3") << ",\n  "
-      << accessor(vIdx, 5125, indices.size(), "SCALAR") << ",\n  " << accessor(vBox, 5126, 8, "VEC3", minMax(corners))
-      << ",\n  " << accessor(vEdge, 5125, edges.size(), "SCALAR") << "],\n"
-      << "\"bufferViews\": [";
-    for (std::size_t v = 0; v < views.size(); ++v)
-        j << (v ? ", " : "") << "{\"buffer\": 0, \"byteOffset\": " << views[v].offset << ", \"byteLength\": "
-          << views[v].length << ", \"target\": " << views[v].target << "}";
-    j << "],\n\"buffers\": [{\"byteLength\": " << (buf.bin.size() + 3) / 4 * 4 << "}]}\n";
-    const std::string glb = glbBytes(j.str(), std::move(buf.bin));
+    Json j;
+    j["asset"] = {{"version", "2.0"}, {"generator", "vdblight export --format gltf"}};
+    j["extensionsUsed"] = {"KHR_materials_unlit"};
+    j["scene"] = 0;
+    Json vdblight = {{"spheres", probes.size()}, {"colour_scale", summary.colourScale},
+                     {"colour", "per vertex: clamp(colour_scale * E(node, vertex normal) / pi, 0, 1), linear RGB; E in W/m^2"}};
+    j["scenes"] = Json::array({{{"name", "vdblight probes"}, {"nodes", {0, 1}}, {"extras", {{"vdblight", vdblight}}}}});
+    j["nodes"] = Json::array({{{"name", "probes"}, {"mesh", 0}}, {{"name", "volume_box"}, {"mesh", 1}}});
+    j["materials"] = Json::array(
+        {{{"name", "probe_irradiance"},
+          {"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 1}}},
+          {"extensions", {{"KHR_materials_unlit", Json::object()}}}}});
+    j["meshes"] = Json::array(
+        {{{"name", "probes"},
+          {"primitives", Json::array({{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}, {"COLOR_0", 2}}},
+                                       {"indices", 3}, {"material", 0}, {"mode", 4}}})}},
+         {{"name", "volume_box"},
+          {"primitives", Json::array({{{"attributes", {{"POSITION", 4}}}, {"indices", 5}, {"mode", 1}}})}}});
+    j["accessors"] = Json::array({withMinMax(accessor(vPos, 5126, vertices, "VEC3"), positions),
+                                  accessor(vNrm, 5126, vertices, "VEC3"), accessor(vCol, 5126, vertices, "VEC3"),
+                                  accessor(vIdx, 5125, indices.size(), "SCALAR"),
+                                  withMinMax(accessor(vBox, 5126, 8, "VEC3"), corners),
+                                  accessor(vEdge, 5125, edges.size(), "SCALAR")});
+    Json bufferViews = Json::array();
+    for (const View& v : views)
+        bufferViews.push_back({{"buffer", 0}, {"byteOffset", v.offset}, {"byteLength", v.length}, {"target", v.target}});
+    j["bufferViews"] = std::move(bufferViews);
+    j["buffers"] = Json::array({{{"byteLength", (buf.bin.size() + 3) / 4 * 4}}});
+    const std::string glb = glbBytes(j.dump() + "\n", std::move(buf.bin));
     writeFileAtomically(path, glb);
     summary.bytes = glb.size();
     return summary;

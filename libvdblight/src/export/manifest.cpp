@@ -1,49 +1,36 @@
 // manifest.json: everything a shader or loader needs to use the exported textures
-// (docs/engines.md explains each field).
+// (docs/engines.md explains each field). Built as a JSON object (nlohmann-json3-dev) whose
+// keys keep the order they are added in, so that the file reads top-down as the docs do:
+// the lattice, the formula and its constants, the layout's own objects, the textures.
+#include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
-#include <sstream>
+
+#include <nlohmann/json.hpp>
 
 #include "compact_sh.h"
 #include "export_internal.h"
 #include "vdblight/basis_desc.h"
 #include "vdblight/depth_moments.h"
+#include "vdblight/errors.h"
 #include "vdblight/sh.h"
 
 namespace vdblight::exporter {
 
 namespace {
-std::string quote(const std::string& s) {
-    std::string out = "\"";
-    for (char c : s) {
-        if (c == '"' || c == '\\') out += '\\';
-        if (static_cast<unsigned char>(c) < 0x20) {
-            char buf[8];
-            std::snprintf(buf, sizeof buf, "\\u%04x", c);
-            out += buf;
-            continue;
-        }
-        out += c;
-    }
-    return out + "\"";
-}
-std::string num(double v) {
+
+using Json = nlohmann::ordered_json;
+
+Json vec(const Vec3d& v) { return Json::array({v.x, v.y, v.z}); }
+Json ints3(const int v[3]) { return Json::array({v[0], v[1], v[2]}); }
+/// A float constant as the double of its shortest decimal that reads back as the same float
+/// (0.02f is written 0.02, not 0.019999999552965164).
+double shortestFloat(float v) {
     char buf[32];
-    std::snprintf(buf, sizeof buf, "%.17g", v);
-    return buf;
+    const std::to_chars_result r = std::to_chars(buf, buf + sizeof buf - 1, v);
+    *r.ptr = '\0';
+    return std::strtod(buf, nullptr);
 }
-/// A float constant as the shortest decimal that reads back as the same float.
-std::string numFloat(float v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.9g", double(v));
-    for (int digits = 1; digits <= 9; ++digits) {
-        std::snprintf(buf, sizeof buf, "%.*g", digits, double(v));
-        if (std::strtof(buf, nullptr) == v) break;
-    }
-    return buf;
-}
-std::string vec(const Vec3d& v) { return "[" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + "]"; }
 
 const char* irradianceFormula(ExportLayout layout) {
     switch (layout) {
@@ -86,92 +73,199 @@ const char* irradianceFormula(ExportLayout layout) {
     return "";
 }
 /// The "compact_sh" object of sh1-16 / sh2-32: the decode constants (compact_sh.h).
-std::string compactShJson(ExportLayout layout) {
-    std::ostringstream s;
-    s << "  \"compact_sh\": {\"l0_texture\": \"L0_L1Rx\", \"l1_range\": " << num(compact_sh::kL1Range);
-    if (layout == ExportLayout::Sh2x32)
-        s << ", \"l2_range\": [" << num(compact_sh::kL2Range[0]) << ", " << num(compact_sh::kL2Range[1]) << ", "
-          << num(compact_sh::kL2Range[2]) << ", " << num(compact_sh::kL2Range[3]) << "], \"l2c_range\": "
-          << num(compact_sh::kL2CRange);
-    s << ",\n    \"encode\": \"per colour c: a = A0*c0*L0 (stored as is in L0_L1Rx.rgb); every other value v is stored as "
-         "t = clamp(v / (range * a) + 0.5, 0, 1) (t = 0.5 where a <= 0), in 8-bit unorm except L0_L1Rx.a\",\n"
-      << "    \"decode\": \"v = (t - 0.5) * range * a with a of the same texel and colour; b_c = (A1*c1*L3, A1*c1*L1, "
-         "A1*c1*L2) = L1 values of colour c (red: L0_L1Rx.a, L1G_L1Ry.a, L1B_L1Rz.a; green: L1G_L1Ry.rgb; blue: "
-         "L1B_L1Rz.rgb), range l1_range; shA_c = (b_c, a_c - d_c)";
-    if (layout == ExportLayout::Sh2x32)
-        s << "; from L2_<c>.rgba with l2_range: (A2*c2*L4, A2*c2*L5, d = A2*c3*L6, A2*c2*L7), shB_c = (L4 term, L5 term, "
-             "3 d, L7 term); shC.c = (L2_C.c - 0.5) * l2c_range * a_c";
-    else
-        s << " with d_c = 0 (no band 2)";
-    s << "\",\n    \"ranges_why\": \"the largest |v / a| of a non-negative radiance: |L1 term| <= 2 a, |L4, L5, L7 terms| <= "
-         "15/8 a, -5/16 a <= d <= 5/8 a, |L8 term| <= 15/16 a (docs/engines.md)\",\n"
-      << "    \"bytes_per_probe\": \"" << (layout == ExportLayout::Sh2x32 ? 32 : 16)
-      << " with --half in ktx2, dds and raw (8 for L0_L1Rx, 4 for each other texture; the EXR atlas stores them all in "
-         "half or float)\"},\n";
-    return s.str();
+Json compactShJson(ExportLayout layout) {
+    const bool order2 = layout == ExportLayout::Sh2x32;
+    Json j;
+    j["l0_texture"] = "L0_L1Rx";
+    j["l1_range"] = compact_sh::kL1Range;
+    if (order2) {
+        j["l2_range"] = Json(compact_sh::kL2Range);
+        j["l2c_range"] = compact_sh::kL2CRange;
+    }
+    j["encode"] = "per colour c: a = A0*c0*L0 (stored as is in L0_L1Rx.rgb); every other value v is stored as "
+                  "t = clamp(v / (range * a) + 0.5, 0, 1) (t = 0.5 where a <= 0), in 8-bit unorm except L0_L1Rx.a";
+    j["decode"] = std::string("v = (t - 0.5) * range * a with a of the same texel and colour; b_c = (A1*c1*L3, A1*c1*L1, "
+                              "A1*c1*L2) = L1 values of colour c (red: L0_L1Rx.a, L1G_L1Ry.a, L1B_L1Rz.a; green: "
+                              "L1G_L1Ry.rgb; blue: L1B_L1Rz.rgb), range l1_range; shA_c = (b_c, a_c - d_c)") +
+                  (order2 ? "; from L2_<c>.rgba with l2_range: (A2*c2*L4, A2*c2*L5, d = A2*c3*L6, A2*c2*L7), shB_c = "
+                            "(L4 term, L5 term, 3 d, L7 term); shC.c = (L2_C.c - 0.5) * l2c_range * a_c"
+                          : " with d_c = 0 (no band 2)");
+    j["ranges_why"] = "the largest |v / a| of a non-negative radiance: |L1 term| <= 2 a, |L4, L5, L7 terms| <= 15/8 a, "
+                      "-5/16 a <= d <= 5/8 a, |L8 term| <= 15/16 a (docs/engines.md)";
+    j["bytes_per_probe"] = std::string(order2 ? "32" : "16") +
+                           " with --half in ktx2, dds and raw (8 for L0_L1Rx, 4 for each other texture; the EXR atlas "
+                           "stores them all in half or float)";
+    return j;
+}
+
+/// The "bins" object of the bins layout: how a direction picks and blends the bin textures.
+Json binsJson(const ManifestInput& in) {
+    const int R = in.binResolution;
+    Json j;
+    j["basis"] = in.basisKind;
+    j["resolution"] = R;
+    j["count"] = 2 * R * R;
+    j["moment_order"] = in.momentOrder;
+    j["texture_of_bin"] = "bin (h, iu, iv) is texture index h*R*R + iv*R + iu, named bin_h<h>_u<iu>_v<iv>; its rgb is "
+                          "the stored value, alpha 0";
+    j["bin_of_direction"] =
+        "unit d: h = 1 if d.z < 0 else 0; (px, py) = (d.x, d.y) / sqrt(1 + |d.z|); rho = |(px, py)|, phi = atan2(py, px) "
+        "in [-pi/4, 7pi/4); phi < pi/4: a = rho, b = a*phi/(pi/4); phi < 3pi/4: b = rho, a = -b*(phi - pi/2)/(pi/4); "
+        "phi < 5pi/4: a = -rho, b = a*(phi - pi)/(pi/4); else b = -rho, a = -b*(phi - 3pi/2)/(pi/4); u = clamp((a + 1)/2, "
+        "0, 1), v = clamp((b + 1)/2, 0, 1); bin (h, min(floor(u*R), R-1), min(floor(v*R), R-1)) (docs/format.md)";
+    j["blend"] = "vdblight query's default: gu = u*R - 0.5, gv = v*R - 0.5, iu0 = floor(gu), iv0 = floor(gv), fu = gu - "
+                 "iu0, fv = gv - iv0; bins (iu0 + a, iv0 + b), a, b in {0, 1}, weight (a ? fu : 1 - fu) * (b ? fv : 1 - "
+                 "fv); an index outside [0, R-1] is clamped and flips h (both outside: h flips twice)";
+    Json bins = Json::array();
+    for (int c = 0; c < 2 * R * R; ++c) bins.push_back(Json::array({c / (R * R), c % R, c % (R * R) / R}));
+    j["bin_of_texture"] = std::move(bins);
+    return j;
+}
+
+/// The "depth" object: the depth textures and their lookup, or why they were not exported.
+Json depthJson(const ManifestInput& in) {
+    Json j;
+    j["exported"] = in.depth > 0;
+    if (in.depth < 0) {
+        j["reason"] = "depth moments belong to the volume's nodes; this lattice is not the finest level's nodes "
+                      "(--resolution)";
+        return j;
+    }
+    const TexelFormat f = in.texelFormats.back();  // the depth textures come last
+    j["textures"] = {"depth_x", "depth_y", "depth_z"};
+    j["format"] = texelFormatName(f);
+    j["bytes_per_node"] = 3 * 4 * componentBytes(f);
+    j["bias"] = shortestFloat(depth::kDepthBias);
+    j["min_sigma"] = shortestFloat(depth::kDepthMinSigma);
+    j["floor"] = shortestFloat(depth::kDepthFloor);
+    j["units"] = "cells: distances divided by texel_spacing (the node spacing), clamped to 1";
+    j["values"] = f == TexelFormat::Unorm8 ? "multiples of 1/255 stored exactly as 8-bit unorm: a texture fetch returns "
+                                             "byte / 255, the value in cells"
+                                           : "multiples of 1/255 (no 8-bit type in this container; half rounds them by up "
+                                             "to 2^-12)";
+    j["components"] = "depth_a.rgba = (mean of the +a face, mean of the -a face, sigma of +a, sigma of -a): the axial "
+                      "depth along a of the first hits of the node's rays whose dominant axis is +a or -a";
+    j["lookup"] = "fetch the 8 corner texels (no hardware filtering); corner offset o = (x - corner) / texel_spacing; per "
+                  "axis a: mu, sigma = the face on the side of o_a, e = |o_a| - mu - bias, v_a = 1 if e <= 0 else s2 / "
+                  "(s2 + e^2) with s2 = sigma^2 + min_sigma^2; vis = (v_x v_y v_z)^3; weight = trilinear * (vis + floor); "
+                  "blend the layout's texels with the weights divided by their sum (docs/engines.md)";
+    return j;
+}
+
+/// One light of the "direct" object, as exact_irradiance.h evaluates it.
+Json lightJson(const DirectLight& l) {
+    Json j;
+    switch (l.kind) {
+        case DirectLight::Kind::Point:
+            j["kind"] = "point";
+            j["intensity"] = vec(Vec3d(l.value));
+            j["position"] = vec(l.position);
+            break;
+        case DirectLight::Kind::Spot:
+            j["kind"] = "spot";
+            j["intensity"] = vec(Vec3d(l.value));
+            j["position"] = vec(l.position);
+            j["direction"] = vec(l.direction);
+            j["inner_cone"] = double(l.innerCone);
+            j["outer_cone"] = double(l.outerCone);
+            break;
+        case DirectLight::Kind::Directional:
+            j["kind"] = "directional";
+            j["irradiance"] = vec(Vec3d(l.value));
+            j["direction"] = vec(l.direction);
+            break;
+        case DirectLight::Kind::Polygon:
+        case DirectLight::Kind::Mesh: {
+            j["kind"] = l.kind == DirectLight::Kind::Mesh ? "mesh" : "polygon";
+            j["radiance"] = vec(Vec3d(l.value));
+            j["two_sided"] = l.twoSided;
+            if (l.kind == DirectLight::Kind::Polygon) j["normal"] = vec(l.normal);
+            Json loops = Json::array();
+            for (const auto& loop : l.loops) {
+                Json points = Json::array();
+                for (const Vec3d& p : loop) points.push_back(vec(p));
+                loops.push_back(std::move(points));
+            }
+            j["loops"] = std::move(loops);
+            break;
+        }
+    }
+    return j;
 }
 
 /// The "direct" object (bake --direct; docs/engines.md, "Direct light").
-std::string directJson(const DirectLightSet& d, const std::vector<std::string>& visibility) {
-    std::ostringstream s;
-    s << "  \"direct\": {\"mode\": " << quote(directModeName(d.mode)) << ",\n";
+Json directJson(const DirectLightSet& d, const std::vector<std::string>& visibility) {
+    Json j;
+    j["mode"] = directModeName(d.mode);
     switch (d.mode) {
-        case DirectMode::Baked:
-            s << "    \"meaning\": \"the textures hold all light, direct included\",\n";
-            break;
+        case DirectMode::Baked: j["meaning"] = "the textures hold all light, direct included"; break;
         case DirectMode::Runtime:
-            s << "    \"meaning\": \"the textures hold indirect light only; add each listed light's direct light with "
-                 "your own shadows (docs/engines.md)\",\n";
+            j["meaning"] = "the textures hold indirect light only; add each listed light's direct light with your own "
+                           "shadows (docs/engines.md)";
             break;
         case DirectMode::Occlusion:
-            s << "    \"meaning\": \"the textures hold indirect light and the direct light of unlisted lights; add for each "
-                 "listed light exact_irradiance(light, x, n) * visibility, visibility = its component of its "
-                 "light_visibility texture sampled like the others (docs/engines.md)\",\n";
+            j["meaning"] = "the textures hold indirect light and the direct light of unlisted lights; add for each "
+                           "listed light exact_irradiance(light, x, n) * visibility, visibility = its component of its "
+                           "light_visibility texture sampled like the others (docs/engines.md)";
             break;
     }
-    s << "    \"lights\": [";
+    Json lights = Json::array();
     for (std::size_t i = 0; i < d.lights.size(); ++i) {
-        const DirectLight& l = d.lights[i];
-        s << (i ? ",\n" : "\n") << "      {";
-        switch (l.kind) {
-            case DirectLight::Kind::Point:
-                s << "\"kind\": \"point\", \"intensity\": " << vec(Vec3d(l.value)) << ", \"position\": " << vec(l.position);
-                break;
-            case DirectLight::Kind::Spot:
-                s << "\"kind\": \"spot\", \"intensity\": " << vec(Vec3d(l.value)) << ", \"position\": " << vec(l.position)
-                  << ", \"direction\": " << vec(l.direction) << ", \"inner_cone\": " << num(l.innerCone)
-                  << ", \"outer_cone\": " << num(l.outerCone);
-                break;
-            case DirectLight::Kind::Directional:
-                s << "\"kind\": \"directional\", \"irradiance\": " << vec(Vec3d(l.value)) << ", \"direction\": " << vec(l.direction);
-                break;
-            case DirectLight::Kind::Polygon:
-            case DirectLight::Kind::Mesh:
-                s << "\"kind\": " << (l.kind == DirectLight::Kind::Mesh ? "\"mesh\"" : "\"polygon\"") << ", \"radiance\": "
-                  << vec(Vec3d(l.value)) << ", \"two_sided\": " << (l.twoSided ? "true" : "false");
-                if (l.kind == DirectLight::Kind::Polygon) s << ", \"normal\": " << vec(l.normal);
-                s << ", \"loops\": [";
-                for (std::size_t k = 0; k < l.loops.size(); ++k) {
-                    s << (k ? ", [" : "[");
-                    for (std::size_t v = 0; v < l.loops[k].size(); ++v) s << (v ? ", " : "") << vec(l.loops[k][v]);
-                    s << "]";
-                }
-                s << "]";
-                break;
-        }
+        Json light = lightJson(d.lights[i]);
+        // Four lights share one RGBA visibility texture (visibilityTextures).
         if (d.hasVisibility() && i / 4 < visibility.size())
-            s << ", \"visibility\": {\"texture\": " << quote(visibility[i / 4]) << ", \"component\": \""
-              << "rgba"[i % 4] << "\"}";
-        s << "}";
+            light["visibility"] = {{"texture", visibility[i / 4]}, {"component", std::string(1, "rgba"[i % 4])}};
+        lights.push_back(std::move(light));
     }
-    s << (d.lights.empty() ? "]\n" : "\n    ]\n") << "  },\n";
-    return s.str();
+    j["lights"] = std::move(lights);
+    return j;
 }
-}  // namespace
 
-std::string manifestJson(const ManifestInput& in) {
+/// The container's own object ("ktx2", "dds", "exr_atlas" or "raw"): its key and value.
+std::pair<const char*, Json> containerJson(const ExportOptions& o, const TextureLattice& l) {
+    switch (o.format) {
+        case TextureFormat::Ktx2:
+            return {"ktx2", {{"vkFormat", vkFormatOf(lightingTexelFormat(o.halfFloat))}, {"KTXorientation", "ruo"}, {"levels", 1}}};
+        case TextureFormat::Dds:
+            return {"dds", {{"dxgiFormat", dxgiFormatOf(lightingTexelFormat(o.halfFloat))},
+                            {"resourceDimension", "TEXTURE3D"}, {"arraySize", 1}, {"mipLevels", 1}}};
+        case TextureFormat::ExrAtlas: {
+            const AtlasGrid g = atlasGrid(l.dims[2]);
+            return {"exr_atlas", {{"columns", g.columns}, {"rows", g.rows}, {"slice_width", l.dims[0]},
+                                  {"slice_height", l.dims[1]}, {"slices", l.dims[2]}, {"width", g.columns * l.dims[0]},
+                                  {"height", g.rows * l.dims[1]},
+                                  {"placement", "slice z is the tile at column z % columns, row z / columns (z = 0 top "
+                                                "left); image row r of a tile holds texel row j = r; unused tiles are 0"}}};
+        }
+        case TextureFormat::Raw: return {"raw", {{"header_bytes", 0}}};
+    }
+    return {"raw", {{"header_bytes", 0}}};
+}
+
+/// The "textures" list: per texture its file, texel format, where its texels start and what
+/// its four components hold.
+Json texturesJson(const ManifestInput& in) {
     const ExportOptions& o = *in.options;
-    const TextureLattice& l = *in.lattice;
+    Json list = Json::array();
+    for (std::size_t t = 0; t < in.textures.size(); ++t) {
+        const TextureDesc& d = in.textures[t];
+        const TexelFormat f = in.texelFormats.at(t);
+        Json j;
+        j["name"] = d.name;
+        j["file"] = in.fileNames.at(t);
+        j["format"] = texelFormatName(f);
+        j["bytes_per_texel"] = 4 * componentBytes(f);
+        if (o.format == TextureFormat::Ktx2) j["vkFormat"] = vkFormatOf(f);
+        if (o.format == TextureFormat::Dds) j["dxgiFormat"] = dxgiFormatOf(f);
+        if (o.format != TextureFormat::ExrAtlas) j["data_offset"] = in.dataOffsets.at(t);
+        j["components"] = d.components;
+        list.push_back(std::move(j));
+    }
+    return list;
+}
+
+/// The lattice and how a world position maps to texture coordinates.
+void addLattice(Json& m, const TextureLattice& l) {
     const Vec3d h = l.spacing();
     Vec3d scale, bias;
     for (int a = 0; a < 3; ++a) {
@@ -183,30 +277,42 @@ std::string manifestJson(const ManifestInput& in) {
             bias[a] = 0.5;
         }
     }
-    std::ostringstream s;
-    s << "{\n";
+    m["dims"] = ints3(l.dims);
+    m["bounds_min"] = vec(l.lo);
+    m["bounds_max"] = vec(l.hi);
+    m["texel_spacing"] = vec(h);
+    m["texel_points"] = "texel (i, j, k) holds the volume at bounds_min + texel_spacing * (i, j, k); between texel points "
+                        "the volume is trilinear";
+    m["uvw_scale"] = vec(scale);
+    m["uvw_bias"] = vec(bias);
+    m["uvw_formula"] = "uvw = x * uvw_scale + uvw_bias = ((x - bounds_min) / texel_spacing + 0.5) / dims (the half-texel "
+                       "offset puts texel centres on the texel points)";
+    m["sampler"] = {{"filter", "linear"}, {"address", "clamp-to-edge"}, {"mipmaps", false}, {"srgb", false}};
+    m["texel_order"] = "RGBA per texel; x fastest, then y, then z (texel (i, j, k) at index i + dims[0] * (j + dims[1] * k))";
+}
+
+/// The SH constants the layouts' formulas name (sh.h, docs/format.md).
+Json constantsJson() {
+    return {{"A0", sh::kCosineLobe[0]}, {"A1", sh::kCosineLobe[1]}, {"A2", sh::kCosineLobe[2]},
+            {"c0", 0.5 / std::sqrt(kPi)}, {"c1", std::sqrt(3.0 / (4.0 * kPi))}, {"c2", std::sqrt(15.0 / (4.0 * kPi))},
+            {"c3", std::sqrt(5.0 / (16.0 * kPi))}, {"c4", std::sqrt(15.0 / (16.0 * kPi))}};
+}
+
+}  // namespace
+
+std::string manifestJson(const ManifestInput& in) {
+    const ExportOptions& o = *in.options;
+    Json m;
     // Version 2: every texture states its own texel format (the depth textures are 8-bit unorm).
-    s << "  \"vdblight_export_version\": 2,\n";
-    s << "  \"volume_kind\": " << quote(in.volumeKind) << ",\n";
-    s << "  \"format\": " << quote(formatName(o.format)) << ",\n";
-    s << "  \"layout\": " << quote(layoutName(o.layout)) << ",\n";
-    s << "  \"component_type\": " << quote(o.halfFloat ? "float16" : "float32") << ",\n";
-    s << "  \"byte_order\": \"little-endian\",\n";
-    s << "  \"dims\": [" << l.dims[0] << ", " << l.dims[1] << ", " << l.dims[2] << "],\n";
-    s << "  \"bounds_min\": " << vec(l.lo) << ",\n";
-    s << "  \"bounds_max\": " << vec(l.hi) << ",\n";
-    s << "  \"texel_spacing\": " << vec(h) << ",\n";
-    s << "  \"texel_points\": \"texel (i, j, k) holds the volume at bounds_min + texel_spacing * (i, j, k); "
-         "between texel points the volume is trilinear\",\n";
-    s << "  \"uvw_scale\": " << vec(scale) << ",\n";
-    s << "  \"uvw_bias\": " << vec(bias) << ",\n";
-    s << "  \"uvw_formula\": \"uvw = x * uvw_scale + uvw_bias = ((x - bounds_min) / texel_spacing + 0.5) / dims "
-         "(the half-texel offset puts texel centres on the texel points)\",\n";
-    s << "  \"sampler\": {\"filter\": \"linear\", \"address\": \"clamp-to-edge\", \"mipmaps\": false, \"srgb\": false},\n";
-    s << "  \"texel_order\": \"RGBA per texel; x fastest, then y, then z (texel (i, j, k) at index i + dims[0] * (j + "
-         "dims[1] * k))\",\n";
-    s << "  \"irradiance\": " << quote(o.layout == ExportLayout::Basis ? in.basisFormula : irradianceFormula(o.layout)) << ",\n";
-    if (o.layout == ExportLayout::Basis) s << "  \"basis\": " << quote(in.basisKind) << ",\n";
+    m["vdblight_export_version"] = 2;
+    m["volume_kind"] = in.volumeKind;
+    m["format"] = formatName(o.format);
+    m["layout"] = layoutName(o.layout);
+    m["component_type"] = o.halfFloat ? "float16" : "float32";
+    m["byte_order"] = "little-endian";
+    addLattice(m, *in.lattice);
+    m["irradiance"] = o.layout == ExportLayout::Basis ? in.basisFormula : std::string(irradianceFormula(o.layout));
+    if (o.layout == ExportLayout::Basis) m["basis"] = in.basisKind;
     // An sh:N volume (N > 2; the default bake stores sh:4) in an SH order-2 layout: its bands
     // 0..2 (sh_truncate.h), which `vdblight query --sh-order 2` answers with.
     const bool shLayout = o.layout == ExportLayout::Sh2 || o.layout == ExportLayout::Sh2Packed || o.layout == ExportLayout::Sh1 ||
@@ -214,99 +320,23 @@ std::string manifestJson(const ManifestInput& in) {
     BasisDesc basis;
     basis.kind = in.basisKind;
     if (shLayout && basis.isRealSh() && !basis.isSh2() && basis.shOrder() != 2)
-        s << "  \"truncated_from\": {\"basis\": " << quote(in.basisKind)
-          << ", \"kept\": \"bands 0..2 of the volume's SH (the projection onto them); vdblight query --sh-order 2 "
-             "gives the same irradiance; export --layout basis holds every band\"},\n";
-    s << "  \"units\": \"irradiance in W/m^2 (or the scene's radiometric unit times sr); positions in scene units\",\n";
-    s << "  \"constants\": {\"A0\": " << num(sh::kCosineLobe[0]) << ", \"A1\": " << num(sh::kCosineLobe[1])
-      << ", \"A2\": " << num(sh::kCosineLobe[2]) << ", \"c0\": " << num(0.5 / std::sqrt(kPi))
-      << ", \"c1\": " << num(std::sqrt(3.0 / (4.0 * kPi))) << ", \"c2\": " << num(std::sqrt(15.0 / (4.0 * kPi)))
-      << ", \"c3\": " << num(std::sqrt(5.0 / (16.0 * kPi))) << ", \"c4\": " << num(std::sqrt(15.0 / (16.0 * kPi)))
-      << "},\n";
-    if (isCompactSh(o.layout)) s << compactShJson(o.layout);
-    if (o.layout == ExportLayout::Bins) {
-        const int R = in.binResolution;
-        s << "  \"bins\": {\"basis\": " << quote(in.basisKind) << ", \"resolution\": " << R
-          << ", \"count\": " << 2 * R * R << ", \"moment_order\": " << in.momentOrder << ",\n";
-        s << "    \"texture_of_bin\": \"bin (h, iu, iv) is texture index h*R*R + iv*R + iu, named "
-             "bin_h<h>_u<iu>_v<iv>; its rgb is the stored value, alpha 0\",\n";
-        s << "    \"bin_of_direction\": \"unit d: h = 1 if d.z < 0 else 0; (px, py) = (d.x, d.y) / sqrt(1 + |d.z|); "
-             "rho = |(px, py)|, phi = atan2(py, px) in [-pi/4, 7pi/4); phi < pi/4: a = rho, b = a*phi/(pi/4); "
-             "phi < 3pi/4: b = rho, a = -b*(phi - pi/2)/(pi/4); phi < 5pi/4: a = -rho, b = a*(phi - pi)/(pi/4); "
-             "else b = -rho, a = -b*(phi - 3pi/2)/(pi/4); u = clamp((a + 1)/2, 0, 1), v = clamp((b + 1)/2, 0, 1); "
-             "bin (h, min(floor(u*R), R-1), min(floor(v*R), R-1)) (docs/format.md)\",\n";
-        s << "    \"blend\": \"vdblight query's default: gu = u*R - 0.5, gv = v*R - 0.5, iu0 = floor(gu), iv0 = floor(gv), "
-             "fu = gu - iu0, fv = gv - iv0; bins (iu0 + a, iv0 + b), a, b in {0, 1}, weight (a ? fu : 1 - fu) * "
-             "(b ? fv : 1 - fv); an index outside [0, R-1] is clamped and flips h (both outside: h flips twice)\",\n";
-        s << "    \"bin_of_texture\": [";
-        for (int c = 0; c < 2 * R * R; ++c)
-            s << (c ? ", " : "") << "[" << c / (R * R) << ", " << c % R << ", " << c % (R * R) / R << "]";
-        s << "]},\n";
+        m["truncated_from"] = {{"basis", in.basisKind},
+                               {"kept", "bands 0..2 of the volume's SH (the projection onto them); vdblight query "
+                                        "--sh-order 2 gives the same irradiance; export --layout basis holds every band"}};
+    m["units"] = "irradiance in W/m^2 (or the scene's radiometric unit times sr); positions in scene units";
+    m["constants"] = constantsJson();
+    if (isCompactSh(o.layout)) m["compact_sh"] = compactShJson(o.layout);
+    if (o.layout == ExportLayout::Bins) m["bins"] = binsJson(in);
+    if (in.depth != 0) m["depth"] = depthJson(in);
+    if (in.direct) m["direct"] = directJson(*in.direct, in.visibilityTextures);
+    auto [container, containerFields] = containerJson(o, *in.lattice);
+    m[container] = std::move(containerFields);
+    m["textures"] = texturesJson(in);
+    try {
+        return m.dump(2) + "\n";
+    } catch (const nlohmann::json::type_error&) {  // a name from the volume's metadata that is not UTF-8
+        throw FormatError("manifest.json: a texture, basis or volume name is not valid UTF-8");
     }
-    if (in.depth != 0) {
-        s << "  \"depth\": {\"exported\": " << (in.depth > 0 ? "true" : "false");
-        if (in.depth > 0) {
-            const TexelFormat f = in.texelFormats.back();  // the depth textures come last
-            s << ", \"textures\": [\"depth_x\", \"depth_y\", \"depth_z\"], \"format\": " << quote(texelFormatName(f))
-              << ", \"bytes_per_node\": " << 3 * 4 * componentBytes(f) << ", \"bias\": " << numFloat(depth::kDepthBias)
-              << ", \"min_sigma\": " << numFloat(depth::kDepthMinSigma) << ", \"floor\": " << numFloat(depth::kDepthFloor)
-              << ",\n    \"units\": \"cells: distances divided by texel_spacing (the node spacing), clamped to 1\",\n"
-              << "    \"values\": " << quote(f == TexelFormat::Unorm8
-                                           ? "multiples of 1/255 stored exactly as 8-bit unorm: a texture fetch returns byte / 255, "
-                                             "the value in cells"
-                                           : "multiples of 1/255 (no 8-bit type in this container; half rounds them by up to 2^-12)")
-              << ",\n"
-              << "    \"components\": \"depth_a.rgba = (mean of the +a face, mean of the -a face, sigma of +a, sigma of -a): "
-                 "the axial depth along a of the first hits of the node's rays whose dominant axis is +a or -a\",\n"
-              << "    \"lookup\": \"fetch the 8 corner texels (no hardware filtering); corner offset o = (x - corner) / "
-                 "texel_spacing; per axis a: mu, sigma = the face on the side of o_a, e = |o_a| - mu - bias, v_a = 1 if e <= 0 "
-                 "else s2 / (s2 + e^2) with s2 = sigma^2 + min_sigma^2; vis = (v_x v_y v_z)^3; weight = trilinear * (vis + floor); "
-                 "blend the layout's texels with the weights divided by their sum (docs/engines.md)\"";
-        } else {
-            s << ", \"reason\": \"depth moments belong to the volume's nodes; this lattice is not the finest level's "
-                 "nodes (--resolution)\"";
-        }
-        s << "},\n";
-    }
-    if (in.direct) s << directJson(*in.direct, in.visibilityTextures);
-    switch (o.format) {
-        case TextureFormat::Ktx2:
-            s << "  \"ktx2\": {\"vkFormat\": " << vkFormatOf(lightingTexelFormat(o.halfFloat))
-              << ", \"KTXorientation\": \"ruo\", \"levels\": 1},\n";
-            break;
-        case TextureFormat::Dds:
-            s << "  \"dds\": {\"dxgiFormat\": " << dxgiFormatOf(lightingTexelFormat(o.halfFloat))
-              << ", \"resourceDimension\": \"TEXTURE3D\", \"arraySize\": 1, \"mipLevels\": 1},\n";
-            break;
-        case TextureFormat::ExrAtlas: {
-            const AtlasGrid g = atlasGrid(l.dims[2]);
-            s << "  \"exr_atlas\": {\"columns\": " << g.columns << ", \"rows\": " << g.rows
-              << ", \"slice_width\": " << l.dims[0] << ", \"slice_height\": " << l.dims[1]
-              << ", \"slices\": " << l.dims[2] << ", \"width\": " << g.columns * l.dims[0]
-              << ", \"height\": " << g.rows * l.dims[1]
-              << ", \"placement\": \"slice z is the tile at column z % columns, row z / columns (z = 0 top left); "
-                 "image row r of a tile holds texel row j = r; unused tiles are 0\"},\n";
-            break;
-        }
-        case TextureFormat::Raw:
-            s << "  \"raw\": {\"header_bytes\": 0},\n";
-            break;
-    }
-    s << "  \"textures\": [\n";
-    for (std::size_t t = 0; t < in.textures.size(); ++t) {
-        const TextureDesc& d = in.textures[t];
-        const TexelFormat f = in.texelFormats.at(t);
-        s << "    {\"name\": " << quote(d.name) << ", \"file\": " << quote(in.fileNames[t]) << ", \"format\": "
-          << quote(texelFormatName(f)) << ", \"bytes_per_texel\": " << 4 * componentBytes(f);
-        if (o.format == TextureFormat::Ktx2) s << ", \"vkFormat\": " << vkFormatOf(f);
-        if (o.format == TextureFormat::Dds) s << ", \"dxgiFormat\": " << dxgiFormatOf(f);
-        if (o.format != TextureFormat::ExrAtlas) s << ", \"data_offset\": " << in.dataOffsets[t];
-        s << ", \"components\": [" << quote(d.components[0]) << ", " << quote(d.components[1]) << ", "
-          << quote(d.components[2]) << ", " << quote(d.components[3]) << "]}"
-          << (t + 1 < in.textures.size() ? "," : "") << "\n";
-    }
-    s << "  ]\n}\n";
-    return s.str();
 }
 
 }  // namespace vdblight::exporter

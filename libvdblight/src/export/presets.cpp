@@ -6,7 +6,8 @@
 //   three  - export --format three: three.js LightProbeGridWebGL's SH atlas + probe_grid.json (export_three.h)
 #include <cmath>
 #include <filesystem>
-#include <sstream>
+
+#include <nlohmann/json.hpp>
 
 #include "engine_internal.h"
 #include "fold_direct.h"
@@ -40,6 +41,11 @@ const char* presetName(EnginePreset p) {
 
 namespace {
 
+// The preset manifests are built as JSON objects whose keys keep the order they are added in.
+using Json = nlohmann::ordered_json;
+
+Json vec(const Vec3d& v) { return Json::array({v.x, v.y, v.z}); }
+
 // The SH presets read the order-2 projection of the volume (sh2-packed): SH volumes of order
 // 2 or more only; other kinds would need a refit that these engines' shaders do not undo.
 void checkShVolume(const Volume& volume, EnginePreset preset) {
@@ -61,67 +67,69 @@ void checkShVolume(const Volume& volume, EnginePreset preset) {
 
 std::string presetManifest(EnginePreset preset, const EngineFrame& f, const TextureLattice& e,
                            const std::vector<TextureDesc>& descs, const std::vector<std::string>& textureFiles,
-                           const std::vector<SvtFile>& svt, const std::string& foldedDirect) {
+                           const std::vector<SvtFile>& svt, const Json& foldedDirect) {
     const Vec3d h = e.spacing();
-    std::ostringstream s;
-    s << "{\n  \"vdblight_export_version\": 2,\n  \"preset\": \"" << presetName(preset) << "\",\n"
-      << "  \"engine_frame\": \"" << f.description << "\",\n"
-      << "  \"from_volume\": \"engine[a] = " << jsonNumber(f.metresToUnit) << " * sign[a] * volume[axis[a]] (the volume: "
-      << "right-handed, +Y up, metres); normals the same without the scale\",\n"
-      << "  \"axis\": [" << f.axis[0] << ", " << f.axis[1] << ", " << f.axis[2] << "],\n"
-      << "  \"sign\": [" << f.sign[0] << ", " << f.sign[1] << ", " << f.sign[2] << "],\n"
-      << "  \"units_per_metre\": " << jsonNumber(f.metresToUnit) << ",\n"
-      << "  \"layout\": \"sh2-packed\",\n"
-      << "  \"formula\": \"E_c = dot(shAc, (n, 1)) + dot(shBc, (n.x*n.y, n.y*n.z, n.z*n.z, n.z*n.x)) + shC.c * "
-         "(n.x*n.x - n.y*n.y), n a unit normal in the engine's axes\",\n"
-      << "  \"irradiance_units\": \"W/m^2 per colour channel (the scene's unit; per square metre whatever the "
-         "length unit); a Lambertian surface of albedo rho leaves rho E / pi\",\n"
-      << "  \"dims\": [" << e.dims[0] << ", " << e.dims[1] << ", " << e.dims[2] << "],\n"
-      << "  \"bounds_min\": " << jsonVec(e.lo) << ",\n  \"bounds_max\": " << jsonVec(e.hi) << ",\n"
-      << "  \"texel_spacing\": " << jsonVec(h) << ",\n";
-    if (!foldedDirect.empty()) s << "  \"direct_light\": " << foldedDirect << ",\n";
+    Json m;
+    m["vdblight_export_version"] = 2;
+    m["preset"] = presetName(preset);
+    m["engine_frame"] = f.description;
+    m["from_volume"] = "engine[a] = " + jsonNumber(f.metresToUnit) +
+                       " * sign[a] * volume[axis[a]] (the volume: right-handed, +Y up, metres); normals the same without "
+                       "the scale";
+    m["axis"] = {f.axis[0], f.axis[1], f.axis[2]};
+    m["sign"] = {f.sign[0], f.sign[1], f.sign[2]};
+    m["units_per_metre"] = f.metresToUnit;
+    m["layout"] = "sh2-packed";
+    m["formula"] = "E_c = dot(shAc, (n, 1)) + dot(shBc, (n.x*n.y, n.y*n.z, n.z*n.z, n.z*n.x)) + shC.c * (n.x*n.x - "
+                   "n.y*n.y), n a unit normal in the engine's axes";
+    m["irradiance_units"] = "W/m^2 per colour channel (the scene's unit; per square metre whatever the length unit); a "
+                            "Lambertian surface of albedo rho leaves rho E / pi";
+    m["dims"] = {e.dims[0], e.dims[1], e.dims[2]};
+    m["bounds_min"] = vec(e.lo);
+    m["bounds_max"] = vec(e.hi);
+    m["texel_spacing"] = vec(h);
+    if (!foldedDirect.is_null()) m["direct_light"] = foldedDirect;
     Vec3d scale, bias;
     for (int a = 0; a < 3; ++a) {
         scale[a] = h[a] > 0 ? 1.0 / (h[a] * e.dims[a]) : 0.0;
         bias[a] = h[a] > 0 ? (0.5 - e.lo[a] / h[a]) / e.dims[a] : 0.5;
     }
-    s << "  \"uvw_scale\": " << jsonVec(scale) << ",\n  \"uvw_bias\": " << jsonVec(bias) << ",\n";
+    m["uvw_scale"] = vec(scale);
+    m["uvw_bias"] = vec(bias);
     if (!textureFiles.empty()) {
         const AtlasGrid g = atlasGrid(e.dims[2]);
-        s << "  \"exr_atlas\": {\"columns\": " << g.columns << ", \"rows\": " << g.rows << ", \"slice_width\": "
-          << e.dims[0] << ", \"slice_height\": " << e.dims[1] << ", \"slices\": " << e.dims[2] << "},\n";
+        m["exr_atlas"] = {{"columns", g.columns}, {"rows", g.rows}, {"slice_width", e.dims[0]},
+                          {"slice_height", e.dims[1]}, {"slices", e.dims[2]}};
     }
-    s << "  \"textures\": [\n";
+    Json textures = Json::array();
     for (std::size_t t = 0; t < descs.size(); ++t) {
         std::string file;
         for (const SvtFile& sf : svt)
             for (const std::string& name : sf.textures)
                 if (name == descs[t].name) file = sf.file;
         if (!textureFiles.empty()) file = textureFiles[t];
-        s << "    {\"name\": \"" << descs[t].name << "\", \"file\": \"" << file << "\", \"components\": [";
-        for (int c = 0; c < 4; ++c) s << (c ? ", " : "") << "\"" << descs[t].components[c] << "\"";
-        s << "]}" << (t + 1 < descs.size() ? "," : "") << "\n";
+        textures.push_back({{"name", descs[t].name}, {"file", file}, {"components", descs[t].components}});
     }
-    s << "  ]";
+    m["textures"] = std::move(textures);
     if (!svt.empty()) {
-        s << ",\n  \"svt_files\": [\n";
-        for (std::size_t i = 0; i < svt.size(); ++i) {
-            s << "    {\"file\": \"" << svt[i].file << "\"";
-            for (std::size_t t = 0; t < svt[i].textures.size(); ++t) {  // attribute A, then B
-                const std::string& name = svt[i].textures[t];
-                s << ", \"attribute_" << "ab"[t] << "\": \"" << name << "_rgb (RGB)";
-                for (const std::string& g : svt[i].grids)
-                    if (g == name + "_a") s << " + " << g << " (A)";
-                s << "\"";
+        Json files = Json::array();
+        for (const SvtFile& sf : svt) {
+            Json entry;
+            entry["file"] = sf.file;
+            for (std::size_t t = 0; t < sf.textures.size(); ++t) {  // attribute A, then B
+                const std::string& name = sf.textures[t];
+                std::string attribute = name + "_rgb (RGB)";
+                for (const std::string& g : sf.grids)
+                    if (g == name + "_a") attribute += " + " + g + " (A)";
+                entry[std::string("attribute_") + "ab"[t]] = attribute;
             }
-            s << ", \"grids\": [";
-            for (std::size_t g = 0; g < svt[i].grids.size(); ++g) s << (g ? ", " : "") << "\"" << svt[i].grids[g] << "\"";
-            s << "], \"precision\": \"half\"}" << (i + 1 < svt.size() ? "," : "") << "\n";
+            entry["grids"] = sf.grids;
+            entry["precision"] = "half";
+            files.push_back(std::move(entry));
         }
-        s << "  ]";
+        m["svt_files"] = std::move(files);
     }
-    s << "\n}\n";
-    return s.str();
+    return m.dump(2) + "\n";
 }
 
 }  // namespace
@@ -187,7 +195,7 @@ PresetSummary exportPreset(const Volume& volume, const std::string& outDir, Engi
     }
     const bool folds = foldsDirectLight(volume);
     const std::string json =
-        presetManifest(preset, frame, engine, descs, textureFiles, svtFiles, folds ? foldedDirectJson(volume, 2) : "");
+        presetManifest(preset, frame, engine, descs, textureFiles, svtFiles, folds ? foldedDirectJson(volume) : Json());
     writeBytes(staged.stage(outDir, "manifest.json"), std::vector<uint8_t>(json.begin(), json.end()));
     summary.files = staged.commit();
     for (const std::string& f : summary.files) summary.bytes += std::filesystem::file_size(f);

@@ -128,7 +128,7 @@ ThreeGridSummary exportThreeGrid(const Volume& volume, const std::string& outDir
     json.halfFloat = o.halfFloat;
     json.basisKind = volume.basis.kind;
     json.hasDepthMoments = volume.hasDepth();
-    if (foldsDirectLight(volume)) json.foldedDirect = foldedDirectJson(volume, 2);
+    if (foldsDirectLight(volume)) json.foldedDirect = foldedDirectJson(volume);
     StagedFiles staged;
     staged.createDirectory(outDir);
     const TexelFormat format = lightingTexelFormat(o.halfFloat);

@@ -4,6 +4,8 @@
 
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "vdblight/export.h"
 
 namespace vdblight::exporter {
@@ -14,7 +16,7 @@ struct ThreeGridJsonInput {
     bool halfFloat = true;
     std::string basisKind;       ///< the volume's vdblight:basis
     bool hasDepthMoments = false;
-    std::string foldedDirect;    ///< foldedDirectJson (fold_direct.h) of an occlusion volume, or empty
+    nlohmann::ordered_json foldedDirect;  ///< foldedDirectJson (fold_direct.h) of an occlusion volume, or null
 };
 
 /// The JSON text (docs/engines.md, "three.js" lists the fields).

@@ -10,10 +10,10 @@
 
 namespace vdblight {
 
-/// Mean linear RGB of a PNG image (8-bit gray, gray + alpha, RGB, RGBA or palette; 16-bit
-/// gray, gray + alpha, RGB or RGBA; not interlaced), its sRGB values decoded to linear; alpha
-/// is ignored. Decodes row by row (memory: two rows), refuses images over 2^28 pixels.
-/// Returns false and says why in `why` if the data cannot be read.
+/// Mean linear RGB of a PNG image of any kind (palette, grey, grey + alpha, RGB, RGBA, 1 to
+/// 16 bits, interlaced or not; decoded by libpng), its sRGB values decoded to linear; alpha
+/// and gamma chunks are ignored. Decodes row by row (memory: one row), refuses images over
+/// 2^28 pixels. Returns false and says why in `why` (libpng's reason) if the data cannot be read.
 bool pngMeanLinear(const uint8_t* data, std::size_t size, Rgb& mean, std::string& why);
 
 }  // namespace vdblight
