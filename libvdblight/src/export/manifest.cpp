@@ -9,6 +9,7 @@
 #include "export_internal.h"
 #include "vdblight/basis_desc.h"
 #include "vdblight/depth_moments.h"
+#include "vdblight/shadow_edges.h"
 #include "vdblight/sh.h"
 
 namespace vdblight::exporter {
@@ -112,7 +113,8 @@ std::string compactShJson(ExportLayout layout) {
 }
 
 /// The "direct" object (bake --direct; docs/engines.md, "Direct light").
-std::string directJson(const DirectLightSet& d, const std::vector<std::string>& visibility) {
+std::string directJson(const DirectLightSet& d, const std::vector<std::string>& visibility,
+                       const std::vector<std::string>& edges) {
     std::ostringstream s;
     s << "  \"direct\": {\"mode\": " << quote(directModeName(d.mode)) << ",\n";
     switch (d.mode) {
@@ -128,6 +130,14 @@ std::string directJson(const DirectLightSet& d, const std::vector<std::string>& 
                  "listed light exact_irradiance(light, x, n) * visibility, visibility = its component of its "
                  "light_visibility texture sampled like the others (docs/engines.md)\",\n";
             break;
+    }
+    if (!edges.empty()) {  // shadow_edges.h, docs/shadow_visibility.md
+        s << "    \"shadow_edges\": {\"textures\": [";
+        for (std::size_t t = 0; t < edges.size(); ++t) s << (t ? ", " : "") << quote(edges[t]);
+        s << "], \"units\": \"cells (texel_spacing)\", \"min_width\": " << numFloat(shadow_edge::kMinWidth)
+          << ",\n      \"lookup\": \"sample distance d, width w, ramp r and visibility v of the light like the other "
+             "textures; visibility = clamp(clamp(0.5 + d / max(w, min_width), 0, 1) + v - r, 0, 1) "
+             "(docs/shadow_visibility.md)\"},\n";
     }
     s << "    \"lights\": [";
     for (std::size_t i = 0; i < d.lights.size(); ++i) {
@@ -268,7 +278,7 @@ std::string manifestJson(const ManifestInput& in) {
         }
         s << "},\n";
     }
-    if (in.direct) s << directJson(*in.direct, in.visibilityTextures);
+    if (in.direct) s << directJson(*in.direct, in.visibilityTextures, in.edgeTextures);
     switch (o.format) {
         case TextureFormat::Ktx2:
             s << "  \"ktx2\": {\"vkFormat\": " << vkFormatOf(lightingTexelFormat(o.halfFloat))
