@@ -38,8 +38,10 @@ const std::string& blockDeclaring(const std::vector<std::string>& blocks, const 
     return *found;
 }
 
-std::string readEnginesDoc() {
-    const std::string path = std::string(VDBLIGHT_SOURCE_DIR) + "/docs/engines.md";
+std::string readEnginesDoc() { return readDoc("engines.md"); }
+
+std::string readDoc(const std::string& name) {
+    const std::string path = std::string(VDBLIGHT_SOURCE_DIR) + "/docs/" + name;
     std::ifstream in(path);
     if (!in) throw std::runtime_error("cannot read " + path);
     return std::string(std::istreambuf_iterator<char>(in), {});

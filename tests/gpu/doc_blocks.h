@@ -18,5 +18,7 @@ const std::string& blockDeclaring(const std::vector<std::string>& blocks, const 
 
 /// The text of docs/engines.md of this source tree.
 std::string readEnginesDoc();
+/// The text of docs/NAME of this source tree (e.g. "shadow_visibility.md").
+std::string readDoc(const std::string& name);
 
 }  // namespace vdblight::gpu
