@@ -27,8 +27,9 @@ namespace {
 // by kTurn about the vertical so that its edges cross the lattice obliquely.
 constexpr double kHalf = 0.6, kHeight = 1.5, kTurn = 0.4363;  // 25 degrees
 const Vec3d kSunTravel = normalize(Vec3d(0.3, -1.0, 0.2));
+const Vec3d kLamp(0.4, 3.0, -0.3);  // the point light of the second case: its shadow widens with depth
 
-Scene blockerUnderSun() {
+Scene blockerUnderSun(bool pointLight = false) {
     Scene s;
     s.name = "blocker_under_sun";
     Material grey;
@@ -42,15 +43,18 @@ Scene blockerUnderSun() {
     }
     addTriangle(s, c[0], c[1], c[2], m);
     addTriangle(s, c[0], c[2], c[3], m);
-    s.directionalLights.push_back({Vec3f(kSunTravel), Rgb(3, 3, 3)});
+    if (pointLight)
+        s.pointLights.push_back({Vec3f(kLamp), Rgb(3, 3, 3)});
+    else
+        s.directionalLights.push_back({Vec3f(kSunTravel), Rgb(3, 3, 3)});
     return s;
 }
 
 /// The exact answer, by the test's own geometry: where the ray towards the sun crosses the
 /// blocker's plane, in the square's frame; `edge` gets that point's distance to the outline.
-double exactVisibility(const Vec3d& x, double* edge) {
-    const double t = (kHeight - x.y) / -kSunTravel.y;
-    const Vec3d p = x - kSunTravel * t;
+double exactVisibility(const Vec3d& x, double* edge, bool pointLight) {
+    const Vec3d toLight = pointLight ? kLamp - x : -kSunTravel;
+    const Vec3d p = x + toLight * ((kHeight - x.y) / toLight.y);
     const double u = p.x * std::cos(kTurn) + p.z * std::sin(kTurn), v = -p.x * std::sin(kTurn) + p.z * std::cos(kTurn);
     const double du = std::abs(u) - kHalf, dv = std::abs(v) - kHalf;
     const bool inside = du < 0 && dv < 0;
@@ -59,8 +63,8 @@ double exactVisibility(const Vec3d& x, double* edge) {
 }
 
 /// Nodes 0.25 apart below the blocker, the sun's visibility and (optionally) edges baked.
-Volume bakeUnderSun(bool edges) {
-    const Scene scene = blockerUnderSun();
+Volume bakeUnderSun(bool edges, bool pointLight = false) {
+    const Scene scene = blockerUnderSun(pointLight);
     const Tracer tracer(scene);
     Volume v = test::randomShVolume(15, 5, 15, 0.25, 3);
     v.levels[0].grid.origin = Vec3d(-1.75, 0.0, -1.75);
@@ -85,14 +89,14 @@ struct Misses {
 
 constexpr double kFar = 0.25 * 0.25;  // a quarter of a cell (metres)
 
-Misses measure(const LightVisibility& lookup) {
+Misses measure(const LightVisibility& lookup, bool pointLight) {
     Rng rng(11);
     Misses m;
     const int n = 4000;
     for (int i = 0; i < n; ++i) {
         const Vec3d x(-1.75 + 3.5 * rng.uniform(), 1.0 * rng.uniform(), -1.75 + 3.5 * rng.uniform());
         double edge = 0;
-        const double exact = exactVisibility(x, &edge);
+        const double exact = exactVisibility(x, &edge, pointLight);
         float got = 0;
         lookup.visibility(x, &got);
         const double err = std::abs(got - exact);
@@ -107,18 +111,21 @@ Misses measure(const LightVisibility& lookup) {
 // Between the nodes the hard shadow's edge stays where the geometry puts it: every point a
 // quarter cell or more from the outline gets its exact visibility to within 0.05. The
 // trilinear visibility alone (the lookup before issue 32) spreads the edge over a cell.
+// The same for a point light, whose shadow boundary is a cone (the blocker's outline seen from it).
 TEST(ShadowEdges, HardShadowStaysSharpBetweenNodes) {
-    const Volume withEdges = bakeUnderSun(true), without = bakeUnderSun(false);
-    ASSERT_FALSE(withEdges.levels[0].lightShadowEdges.empty());
-    ASSERT_TRUE(without.levels[0].lightShadowEdges.empty());
-    EXPECT_EQ(withEdges.levels[0].lightVisibility, without.levels[0].lightVisibility);  // the channel is unchanged
-    const IrradianceQuery sharp(withEdges), blurred(without);
-    const Misses a = measure(visibilityOf(sharp)), b = measure(visibilityOf(blurred));
-    std::printf("points off by > 0.05 a quarter cell or more from the edge: %d with edges, %d trilinear; "
-                "mean |error| %.4f vs %.4f\n", a.far, b.far, a.meanAbs, b.meanAbs);
-    EXPECT_EQ(a.far, 0);
-    EXPECT_GT(b.far, 100);
-    EXPECT_LT(a.meanAbs, 0.25 * b.meanAbs);
+    for (const bool pointLight : {false, true}) {
+        const Volume withEdges = bakeUnderSun(true, pointLight), without = bakeUnderSun(false, pointLight);
+        ASSERT_FALSE(withEdges.levels[0].lightShadowEdges.empty());
+        ASSERT_TRUE(without.levels[0].lightShadowEdges.empty());
+        EXPECT_EQ(withEdges.levels[0].lightVisibility, without.levels[0].lightVisibility);  // the channel is unchanged
+        const IrradianceQuery sharp(withEdges), blurred(without);
+        const Misses a = measure(visibilityOf(sharp), pointLight), b = measure(visibilityOf(blurred), pointLight);
+        std::printf("%s: points off by > 0.05 a quarter cell or more from the edge: %d with edges, %d trilinear; "
+                    "mean |error| %.4f vs %.4f\n", pointLight ? "point light" : "sun", a.far, b.far, a.meanAbs, b.meanAbs);
+        EXPECT_EQ(a.far, 0);
+        EXPECT_GT(b.far, 100);
+        EXPECT_LT(a.meanAbs, 0.25 * b.meanAbs);
+    }
 }
 
 // Distances and widths within their ranges; lit nodes positive, shadowed negative.
