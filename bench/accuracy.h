@@ -94,7 +94,8 @@ Baked targetError(const Ctx& c, int resolution, double target, uint32_t maxRays)
 Baked photons(const Ctx& c, int resolution, uint64_t count, int bounces = 0, iv::Blend blend = iv::kDefaultBlend,
               uint32_t depthRays = 0);
 Baked binsBake(const Ctx& c, int resolution, int binResolution);
-Baked directGather(const Ctx& c, int resolution, uint32_t rays, DirectMode mode, int probePasses = 0);
+Baked directGather(const Ctx& c, int resolution, uint32_t rays, DirectMode mode, int probePasses = 0,
+                  bool shadowEdges = true);
 
 /// A candidate default (--try SPEC): `key=value` pairs separated by commas, e.g.
 /// "res=32,rays=512,passes=1,depth=1" or "nodes=32768,target=0.03,max=1024".

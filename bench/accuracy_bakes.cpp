@@ -215,9 +215,10 @@ void addRuntimeDirect(const Ctx& c, const std::vector<SceneLight>& planned, Bake
 /// direct light with shadow rays at each lookup (what `vdblight query --scene` does, 256 rays
 /// per polygon light); occlusion volumes answer through IrradianceQuery (exact direct x baked
 /// visibility). Occlusion in a scene without lights falls back to baked, as the command does.
-Baked directGather(const Ctx& c, int resolution, uint32_t rays, DirectMode mode, int probePasses) {
+Baked directGather(const Ctx& c, int resolution, uint32_t rays, DirectMode mode, int probePasses, bool shadowEdges) {
     DirectOptions d;
     d.mode = mode;
+    d.shadowEdges = shadowEdges;
     d.seed = c.seed;
     d.threads = c.settings.threads;
     const GridSpec grid = gridFor(c.scene, resolution);

@@ -52,6 +52,10 @@ std::vector<Config> configurations() {
                                      std::pair{DirectMode::Occlusion, "occlusion"}})
         v.push_back({std::string("direct_") + name, std::string("--direct ") + name + ", 16 nodes, 256 rays",
                      [mode = mode](const Ctx& c) { return directGather(c, c.settings.res(16), c.settings.rays(256), mode); }});
+    // --direct occlusion without the shadow edges (as before issue 32 item 2): the same bake's
+    // visibility channels, looked up trilinearly.
+    v.push_back({"direct_occlusion_no_edges", "--direct occlusion --no-shadow-edges, 16 nodes, 256 rays",
+                 [](const Ctx& c) { return directGather(c, c.settings.res(16), c.settings.rays(256), DirectMode::Occlusion, 0, false); }});
     for (const uint32_t rays : {64u, 1024u})
         v.push_back({"point_16_" + std::to_string(rays), "point gather, 16 nodes, " + std::to_string(rays) + " rays",
                      [rays](const Ctx& c) { return pointGather(c, c.settings.res(16), c.settings.rays(rays)); },

@@ -43,6 +43,25 @@
 
 using namespace vdblight;
 
+namespace {
+/// --config: a comma-separated list; an entry selects the configuration of exactly that name
+/// if there is one, else every configuration it is a prefix of (--config direct_).
+bool configSelected(const std::string& list, const std::string& name, const std::vector<accuracy::Config>& all) {
+    if (list.empty()) return true;
+    std::size_t pos = 0;
+    while (pos <= list.size()) {
+        std::size_t end = list.find(',', pos);
+        if (end == std::string::npos) end = list.size();
+        const std::string entry = list.substr(pos, end - pos);
+        pos = end + 1;
+        if (entry.empty()) continue;
+        const bool exact = std::any_of(all.begin(), all.end(), [&](const accuracy::Config& c) { return c.name == entry; });
+        if (exact ? name == entry : name.rfind(entry, 0) == 0) return true;
+    }
+    return false;
+}
+}  // namespace
+
 int main(int argc, char** argv) {
     using namespace vdblight::accuracy;
     bench::BenchArgs args("vdblight_bench_accuracy", {{"--csv", "FILE"},
@@ -126,7 +145,7 @@ int main(int argc, char** argv) {
         std::printf("  %-18s %9s %9s %10s %9s %10s %9s %8s %9s %8s\n", "config", "RMS", "p95", "max", "bias", "bake", "CPU",
                     "nodes", "B/node", "noise");
         for (const Config& c : configs) {
-            if (!onlyConfig.empty() && c.name.rfind(onlyConfig, 0) != 0) continue;  // a prefix: --config direct_
+            if (!configSelected(onlyConfig, c.name, configs)) continue;
             Row r{as.name, c.name};
             std::vector<double> rel, noiseRel;  // per point: error, and (E1 - E2) / sqrt 2 / E_ref
             try {

@@ -428,7 +428,17 @@ def direct_light(manifest, textures, x, n):
     for light in direct["lights"]:
         tex = textures[light["visibility"]["texture"]]
         sampled = sample_weighted(tex, *weighted) if weighted is not None else sample_trilinear(tex, uvw)
-        vis = sampled[:, "rgba".index(light["visibility"]["component"])]
+        component = "rgba".index(light["visibility"]["component"])
+        vis = sampled[:, component]
+        edges = direct.get("shadow_edges")
+        if edges:  # docs/shadow_visibility.md: the edge's ramp plus the residual v - r
+            group = light["visibility"]["texture"][len("light_visibility_"):]
+            def part(name):
+                t = textures["light_edge_" + name + "_" + group]
+                return (sample_weighted(t, *weighted) if weighted is not None else sample_trilinear(t, uvw))[:, component]
+            d, w, r = part("distance"), part("width"), part("ramp")
+            ramp = np.clip(0.5 + d / np.maximum(w, edges["min_width"]), 0.0, 1.0)
+            vis = np.clip(ramp + vis - r, 0.0, 1.0)
         for i in range(len(x)):
             out[i] += vis[i] * exact_irradiance(light, x[i], n[i])
     return out

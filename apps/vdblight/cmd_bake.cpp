@@ -39,6 +39,7 @@ struct BakeCommand {
     std::string basis;  // a spec of the basis registry (basis.h): sh2, sh:N, bins:R, moment:n[:R]; empty: the preset's
     std::string direct;            // baked | runtime | occlusion (bake_direct.h); empty: the default
     int directLights = 4;          // --direct occlusion: lights with a visibility channel
+    bool shadowEdges = true;       // --direct occlusion: their shadow edges (shadow_edges.h)
     bool reproducible = true;   // leave run-specific metadata out of the file (vdb_io.h)
     int tiles = 0;              // > 0: bake only tile `tile` of this many (tiles.h)
     int tile = -1;
@@ -167,6 +168,7 @@ BakeRequest toRequest(const BakeCommand& c, const GivenOptions& g) {
         if (f.cli->count() > 0) f.option.setText(r, f.option.flag ? (f.on ? "true" : "false") : f.text);
     r.direct = c.direct;
     r.directLights = c.directLights;
+    r.shadowEdges = c.shadowEdges;
     r.halfFloat = c.half;
     r.reproducible = c.reproducible;
     r.tiles = given(g.tiles, c.tiles);
@@ -376,6 +378,9 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
                     "with lights, baked otherwise");
     cmd->add_option("--direct-lights", c->directLights, "--direct occlusion: lights with a visibility channel (1..16)")
         ->capture_default_str();
+    cmd->add_flag("--shadow-edges,!--no-shadow-edges", c->shadowEdges,
+                  "--direct occlusion: also store each listed light's shadow edges, which keep its shadows sharp between "
+                  "the nodes (default; docs/shadow_visibility.md); --no-shadow-edges: the visibility channels alone");
     cmd->add_flag("--reproducible,!--no-reproducible", c->reproducible,
                   "Same inputs, parameters and seed give the same file bytes on any machine and thread count: "
                   "the wall-clock time and thread count are printed, not stored (default); --no-reproducible "

@@ -51,4 +51,11 @@ std::string readEngineDocs() {
     return text;
 }
 
+std::string readDoc(const std::string& name) {
+    const std::string path = std::string(VDBLIGHT_SOURCE_DIR) + "/docs/" + name;
+    std::ifstream in(path);
+    if (!in) throw std::runtime_error("cannot read " + path);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
 }  // namespace vdblight::gpu

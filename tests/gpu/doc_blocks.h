@@ -23,5 +23,7 @@ std::string readEngineDocs();
 
 /// The pages readEngineDocs reads, relative to the source tree.
 extern const char* const kEngineDocs[3];
+/// The text of docs/NAME of this source tree (e.g. "shadow_visibility.md").
+std::string readDoc(const std::string& name);
 
 }  // namespace vdblight::gpu

@@ -107,6 +107,14 @@ const char* const kCallBins =
     "uniform vec3 uvwScale, uvwBias;\n"
     "vec3 vdblightCheck(vec3 x, vec3 n) { return vdblightIrradianceBins(bins, x * uvwScale + uvwBias, n); }\n";
 
+// The shadow edges' GLSL of docs/shadow_visibility.md (the same light uniforms).
+const char* const kCallOcclusionEdges =
+    "uniform vec3 lightVertices[VDBLIGHT_MAX_VERTS], lightNormal, lightRadiance;\n"
+    "uniform int lightVertexCount;\n"
+    "vec3 vdblightCheck(vec3 x, vec3 n) {\n"
+    "    return vdblightIrradianceOcclusionEdges(x, n, lightVertices, lightVertexCount, lightNormal, lightRadiance);\n"
+    "}\n";
+
 // The sh1-16 / sh2-32 textures, named as the doc's GLSL names its samplers.
 Bindings compactShTextures(const Manifest& m) {
     Bindings b;
@@ -185,6 +193,17 @@ const std::vector<LayoutCase>& layoutCases() {
          [](const Manifest& m) {
              Bindings b = packedSh(m);
              b.emplace_back("lightVisibility0", "light_visibility_0_0");
+             return b;
+         },
+         2, false, setPolygonLight},
+        {"sh2-packed + --direct occlusion + shadow edges (ktx2, half)", "occlusion_edges.vdb", "--format ktx2 --layout sh2-packed",
+         {kPacked, kExactLights, "vec3 vdblightIrradianceOcclusion(", "vec3 vdblightIrradianceOcclusionEdges("}, nullptr, kCallOcclusionEdges,
+         [](const Manifest& m) {
+             Bindings b = packedSh(m);
+             b.emplace_back("lightVisibility0", "light_visibility_0_0");
+             b.emplace_back("lightEdgeDistance0", "light_edge_distance_0_0");
+             b.emplace_back("lightEdgeWidth0", "light_edge_width_0_0");
+             b.emplace_back("lightEdgeRamp0", "light_edge_ramp_0_0");
              return b;
          },
          2, false, setPolygonLight},

@@ -31,6 +31,9 @@ struct DirectOptions {
     int maxLights = 4;
     /// Shadow rays per node and polygon light for the visibility channels (stratified over its area).
     uint32_t visibilitySamples = 64;
+    /// Occlusion: also bake each light's shadow edges (shadow_edges.h), which keep its shadow
+    /// edges sharp between the nodes. false: the visibility channels alone (as before issue 32).
+    bool shadowEdges = true;
     /// Ranking: at most this many nodes (evenly strided) and shadow rays per polygon light there.
     uint32_t rankingNodes = 512;
     uint32_t rankingSamples = 16;
@@ -54,7 +57,8 @@ DirectPlan planDirectLight(const Scene& scene, const Tracer& tracer, const GridS
 /// Writes the plan into a baked single-level volume: Volume::direct (mode, lights) and, for
 /// occlusion, level 0's lightVisibility (lightVisibility() of scene_lights.h at each node; a
 /// node the light cannot reach at all -- behind a one-sided polygon, outside a spot's cone --
-/// gets 1, so that interpolating towards the lit side is not darkened by it). Deterministic:
+/// gets 1, so that interpolating towards the lit side is not darkened by it) and, with
+/// DirectOptions::shadowEdges, level 0's lightShadowEdges (shadow_edges.h). Deterministic:
 /// the samples of node n and light i depend on (seed, n, i) only. With `only` (one tile of a
 /// bake, tiles.h) only those nodes are baked (direct_visibility_rays counts their rays).
 void bakeLightVisibility(const Scene& scene, const Tracer& tracer, const DirectPlan& plan, const DirectOptions& options,

@@ -89,6 +89,7 @@ struct BakeRequest {
     /// direct light and the scene has lights, baked otherwise.
     std::string direct;
     int directLights = 4;                  ///< occlusion: lights with a visibility channel
+    bool shadowEdges = true;               ///< occlusion: their shadow edges too (DirectOptions::shadowEdges)
     std::optional<bool> depthMoments;      ///< default: the preset's
     std::optional<uint32_t> depthRays;     ///< default: as many as the rays
 

@@ -3,7 +3,8 @@
 // normal times its visibility interpolated between the nodes: trilinearly, or, when the
 // volume has depth moments, with the same visibility-aware weights as the SH
 // (depth_moments.h), so that a node behind a wall or inside a solid does not darken (or
-// light) a point it cannot see.
+// light) a point it cannot see; where the volume has shadow edges (shadow_edges.h), with
+// their ramp, which keeps hard shadow edges sharp between the nodes.
 //
 // IrradianceQuery wraps the lookup of such a volume in an OcclusionLookup on its own, so
 // `IrradianceQuery::irradiance` is the complete answer for baked and occlusion volumes. For a
@@ -43,6 +44,10 @@ public:
     /// keeps its weights).
     void setVisibilityDepthWeights(bool on) { depthWeights_ = on && !depth_.empty(); }
     bool visibilityDepthWeighted() const { return depthWeights_; }
+    /// The shadow edges (shadow_edges.h) on or off, where the volume has them (on by default):
+    /// off gives the visibility channels' interpolation alone (as before issue 32).
+    void setShadowEdges(bool on) { useEdges_ = on && !edges_.empty(); }
+    bool shadowEdges() const { return useEdges_; }
 
     /// Visibility of every listed light at x (between the nodes as above, x clamped to the box).
     void visibility(const Vec3d& x, float* out) const override;
@@ -55,8 +60,10 @@ private:
     std::vector<DirectLight> lights_;
     GridSpec grid_;
     std::vector<float> visibility_;  ///< node-major, lights_.size() per node
+    std::vector<float> edges_;       ///< shadow edges, node-major, kFloatsPerLight per light, or empty
     std::vector<float> depth_;       ///< level 0's depth moments (depth::kFloatsPerNode per node), or empty
     bool depthWeights_ = false;
+    bool useEdges_ = false;
 };
 
 }  // namespace vdblight

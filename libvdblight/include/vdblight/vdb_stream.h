@@ -54,6 +54,11 @@ public:
     /// of level-0 node (i, j, k), the values readVolume puts in lightVisibility.
     bool hasVisibility() const;
     void readVisibility(int i, int j, int k, float* out) const;
+    /// True if the volume also stores the lights' shadow edges (shadow_edges.h);
+    /// readShadowEdges then gives shadow_edge::kFloatsPerLight floats per listed light of
+    /// level-0 node (i, j, k), the values readVolume puts in lightShadowEdges.
+    bool hasShadowEdges() const;
+    void readShadowEdges(int i, int j, int k, float* out) const;
     /// Leaf buffers (over every grid opened) read from the file so far, and in all.
     uint64_t loadedLeaves() const;
     uint64_t totalLeaves() const;

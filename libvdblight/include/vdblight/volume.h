@@ -47,6 +47,10 @@ struct VolumeLevel : LevelTopology {
     /// (0..1) of each listed light, node-major: [node * lights + i]; written as the FloatGrids
     /// `light_visibility_<i>` (docs/format.md). Empty in the other modes.
     std::vector<float> lightVisibility;
+    /// Optional beside lightVisibility, empty or shadow_edge::kFloatsPerLight floats per node
+    /// and light: [(node * lights + i) * 2 + {0: distance, 1: width}] (shadow_edges.h); written
+    /// as the FloatGrids `light_edge_distance_<i>` and `light_edge_width_<i>`.
+    std::vector<float> lightShadowEdges;
     /// A tile's bake (tiles.h) holds only the window of stored positions that its nodes span:
     /// `data`, `depth` and `lightVisibility` then hold positions [windowFirst, windowFirst +
     /// windowNodes) (position n at n - windowFirst), so that a tile allocates memory for about

@@ -55,6 +55,7 @@ std::string skyText(const Scene& scene, const BakeRequest& r) {
 DirectOptions directOptions(const Scene& scene, const BakeRequest& r, const Pass& pass) {
     DirectOptions d;
     d.maxLights = r.directLights;
+    d.shadowEdges = r.shadowEdges;
     d.seed = r.seed;
     d.threads = r.threads;
     if (!r.direct.empty()) {

@@ -7,9 +7,11 @@
 
 #include "parallel_nodes.h"
 #include "pass_metadata.h"
+#include "shadow_edge_search.h"
 #include "vdblight/errors.h"
 #include "vdblight/sampling.h"
 #include "vdblight/scene.h"
+#include "vdblight/shadow_edges.h"
 #include "vdblight/trace.h"
 
 namespace vdblight {
@@ -79,6 +81,8 @@ void bakeLightVisibility(const Scene& scene, const Tracer& tracer, const DirectP
     const GridSpec& grid = level.grid;
     const std::size_t lights = plan.lights.size();
     level.lightVisibility.assign(level.heldNodes() * lights, 1.0f);  // a tile: its window (tiles.h)
+    level.lightShadowEdges.clear();
+    if (o.shadowEdges) level.lightShadowEdges.assign(level.heldNodes() * lights * shadow_edge::kFloatsPerLight, 0.0f);
     std::vector<std::size_t> selected;  // a tile's nodes (tiles.h)
     if (only) {
         if (only->size() != 1 || (*only)[0].size() != grid.nodeCount()) throw ValueError("the node mask does not match the grid");
@@ -90,6 +94,13 @@ void bakeLightVisibility(const Scene& scene, const Tracer& tracer, const DirectP
             const std::size_t n = only ? selected[item] : item;
             const Vec3f x(grid.node(n));
             for (std::size_t i = 0; i < lights; ++i) {
+                if (o.shadowEdges) {
+                    const bake_detail::ShadowEdge e =
+                        bake_detail::findShadowEdge(scene, tracer, plan.lights[i], x, grid.spacing, rays);
+                    float* out = &level.lightShadowEdges[(level.held(n) * lights + i) * shadow_edge::kFloatsPerLight];
+                    out[0] = e.distance;
+                    out[1] = e.width;
+                }
                 if (unreachable(plan.lights[i].light, Vec3d(x))) continue;  // stays 1 (see bake_direct.h)
                 const uint64_t stream = hashCombine(hashCombine(o.seed ^ kVisibilityStream, n), i);
                 level.lightVisibility[level.held(n) * lights + i] =

@@ -177,6 +177,19 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
     // nodes. They are multiples of 1/255, so 8-bit unorm holds them exactly (12 B per node
     // against 24 in half); the EXR atlas has no 8-bit type and keeps half or float (half
     // rounds k/255 by up to 2^-12).
+    // Shadow edges (shadow_edges.h) when the texels are the nodes, in the lighting format
+    // (distances are signed), before the depth textures (the manifest reads those last).
+    std::vector<std::vector<float>> edges = edgeTextures(volume, lattice);
+    std::vector<std::string> edgeNames;
+    if (!edges.empty()) {
+        for (TextureDesc& d : edgeTextureDescs(volume.direct)) {
+            edgeNames.push_back(d.name);
+            descs.push_back(std::move(d));
+        }
+        for (std::vector<float>& t : edges) textures.push_back(std::move(t));
+        if (o.halfFloat) checkHalfRange(textures, descs);
+        formats.resize(descs.size(), lightingTexelFormat(o.halfFloat));
+    }
     int depthExport = 0;
     if (volume.hasDepth()) {
         std::vector<std::vector<float>> depth = depthTextures(volume, lattice);
@@ -202,6 +215,7 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
     manifest.direct = &volume.direct;
     for (std::size_t t = layoutCount; t < layoutCount + visibility.size(); ++t) manifest.visibilityTextures.push_back(descs[t].name);
     manifest.depth = depthExport;
+    manifest.edgeTextures = edgeNames;
     for (std::size_t t = 0; t < descs.size(); ++t) {
         TextureImage image;
         image.rgba = textures[t].data();

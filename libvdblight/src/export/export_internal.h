@@ -137,6 +137,8 @@ struct ManifestInput {
     /// visibility is component i % 4 of texture visibilityTextures[i / 4].
     const DirectLightSet* direct = nullptr;
     std::vector<std::string> visibilityTextures;
+    /// Shadow edges (shadow_edges.h): their textures' names (edgeTextureDescs), or empty.
+    std::vector<std::string> edgeTextures;
     /// Depth moments (depth_moments.h): 0 = the volume has none; 1 = exported as the last
     /// three textures depth_x, depth_y, depth_z; -1 = the volume has them but the lattice is
     /// not its nodes (multi-level volume or --resolution), so they were not exported.
@@ -148,6 +150,13 @@ struct ManifestInput {
 std::vector<TextureDesc> visibilityTextures(const DirectLightSet& direct);
 std::vector<std::vector<float>> sampleVisibility(const IrradianceQuery& query, const TextureLattice& lattice,
                                                  std::size_t lights);
+/// Occlusion volumes with shadow edges (shadow_edges.h): per group of four lights the textures
+/// light_edge_distance_, light_edge_width_ and light_edge_ramp_<first>_<last> (the last: the
+/// ramp of the node's own edge, which a shader subtracts from the visibility texture to get
+/// the residual; docs/shadow_visibility.md), in that order. edgeTextures is empty unless the
+/// lattice is exactly the nodes of a single-level volume with shadow edges.
+std::vector<TextureDesc> edgeTextureDescs(const DirectLightSet& direct);
+std::vector<std::vector<float>> edgeTextures(const Volume& volume, const TextureLattice& lattice);
 /// The three depth textures: per texel point (a node) and axis a, RGBA = (mean of the +a
 /// face, mean of the -a face, sigma of +a, sigma of -a), in cells. Empty if the lattice is
 /// not exactly the nodes of a single-level volume with depth moments.

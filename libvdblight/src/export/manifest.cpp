@@ -13,6 +13,7 @@
 #include "vdblight/basis_desc.h"
 #include "vdblight/depth_moments.h"
 #include "vdblight/errors.h"
+#include "vdblight/shadow_edges.h"
 #include "vdblight/sh.h"
 
 namespace vdblight::exporter {
@@ -194,7 +195,8 @@ Json lightJson(const DirectLight& l) {
 }
 
 /// The "direct" object (bake --direct; docs/engines.md, "Direct light").
-Json directJson(const DirectLightSet& d, const std::vector<std::string>& visibility) {
+Json directJson(const DirectLightSet& d, const std::vector<std::string>& visibility,
+                const std::vector<std::string>& edges) {
     Json j;
     j["mode"] = directModeName(d.mode);
     switch (d.mode) {
@@ -209,6 +211,13 @@ Json directJson(const DirectLightSet& d, const std::vector<std::string>& visibil
                            "light_visibility texture sampled like the others (docs/engines.md)";
             break;
     }
+    if (!edges.empty())  // shadow_edges.h, docs/shadow_visibility.md
+        j["shadow_edges"] = {{"textures", edges},
+                             {"units", "cells (texel_spacing)"},
+                             {"min_width", shortestFloat(shadow_edge::kMinWidth)},
+                             {"lookup", "sample distance d, width w, ramp r and visibility v of the light like the other "
+                                        "textures; visibility = clamp(clamp(0.5 + d / max(w, min_width), 0, 1) + v - r, 0, 1) "
+                                        "(docs/shadow_visibility.md)"}};
     Json lights = Json::array();
     for (std::size_t i = 0; i < d.lights.size(); ++i) {
         Json light = lightJson(d.lights[i]);
@@ -328,7 +337,7 @@ std::string manifestJson(const ManifestInput& in) {
     if (isCompactSh(o.layout)) m["compact_sh"] = compactShJson(o.layout);
     if (o.layout == ExportLayout::Bins) m["bins"] = binsJson(in);
     if (in.depth != 0) m["depth"] = depthJson(in);
-    if (in.direct) m["direct"] = directJson(*in.direct, in.visibilityTextures);
+    if (in.direct) m["direct"] = directJson(*in.direct, in.visibilityTextures, in.edgeTextures);
     auto [container, containerFields] = containerJson(o, *in.lattice);
     m[container] = std::move(containerFields);
     m["textures"] = texturesJson(in);

@@ -3,6 +3,7 @@
 #include "vdblight/query_direct.h"
 
 #include "depth_weights.h"
+#include "vdblight/shadow_edges.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,12 +12,15 @@ namespace vdblight {
 
 OcclusionLookup::OcclusionLookup(std::unique_ptr<VolumeLookup> base, const Volume& volume)
     : base_(std::move(base)), lights_(volume.direct.lights), grid_(volume.levels.at(0).grid),
-      visibility_(volume.levels[0].lightVisibility), depth_(volume.levels[0].depth) {
+      visibility_(volume.levels[0].lightVisibility), edges_(volume.levels[0].lightShadowEdges), depth_(volume.levels[0].depth) {
     if (!volume.direct.hasVisibility() || visibility_.size() != grid_.nodeCount() * lights_.size())
         throw FormatError("occlusion lookup: the volume has no light visibility channels");
+    if (!edges_.empty() && edges_.size() != visibility_.size() * shadow_edge::kFloatsPerLight)
+        throw FormatError("occlusion lookup: the shadow edges do not match the visibility channels");
     if (!depth_.empty() && depth_.size() != grid_.nodeCount() * depth::kFloatsPerNode)
         throw FormatError("occlusion lookup: the depth moments do not match the grid");
     depthWeights_ = !depth_.empty();
+    useEdges_ = !edges_.empty();
 }
 
 void OcclusionLookup::visibility(const Vec3d& x, float* out) const {
@@ -44,6 +48,18 @@ void OcclusionLookup::visibility(const Vec3d& x, float* out) const {
     }
     // The SH lookups' weights (depth_weights.h): corners the point cannot see drop out.
     if (depthWeights_) query_detail::weightByDepth(w, depth, float(f[0]), float(f[1]), float(f[2]));
+    if (useEdges_) {  // shadow_edges.h: the edges' ramp plus the corners' residuals
+        for (std::size_t l = 0; l < m; ++l) {
+            float v[8], d[8], width[8];
+            for (int c = 0; c < 8; ++c) {
+                v[c] = visibility_[node[c] * m + l];
+                d[c] = edges_[(node[c] * m + l) * shadow_edge::kFloatsPerLight];
+                width[c] = edges_[(node[c] * m + l) * shadow_edge::kFloatsPerLight + 1];
+            }
+            out[l] = shadow_edge::visibility(w, v, d, width);
+        }
+        return;
+    }
     for (int c = 0; c < 8; ++c) {
         if (w[c] == 0) continue;
         const float* v = visibility_.data() + node[c] * m;

@@ -8,6 +8,7 @@
 #include "depth_weights.h"
 #include "stream_lookups.h"
 #include "vdblight/light_visibility.h"
+#include "vdblight/shadow_edges.h"
 
 namespace vdblight::query_detail {
 
@@ -20,6 +21,7 @@ public:
           grid_(volume_->header().levels.at(0).grid) {
         if (!volume_->hasVisibility()) throw FormatError("occlusion lookup: the volume has no light visibility channels");
         hasDepth_ = depthWeights_ = volume_->hasDepth();
+        edges_ = volume_->hasShadowEdges();
     }
 
     Rgb irradiance(const Vec3f& x, const Vec3f& n) const override { return base_->irradiance(x, n) + direct(Vec3d(x), n); }
@@ -60,6 +62,24 @@ public:
             depth[c] = d[c];
         }
         if (depthWeights_) weightByDepth(w, depth, float(f[0]), float(f[1]), float(f[2]));
+        if (edges_) {  // as OcclusionLookup: the edges' ramp plus the corners' residuals
+            std::vector<float> e(8 * m * shadow_edge::kFloatsPerLight);
+            for (int c = 0; c < 8; ++c) {
+                const int i = std::min(base[0] + (c & 1), dims[0] - 1), j = std::min(base[1] + ((c >> 1) & 1), dims[1] - 1),
+                          k = std::min(base[2] + ((c >> 2) & 1), dims[2] - 1);
+                volume_->readShadowEdges(i, j, k, e.data() + c * m * shadow_edge::kFloatsPerLight);
+            }
+            for (std::size_t l = 0; l < m; ++l) {
+                float vis[8], d[8], width[8];
+                for (int c = 0; c < 8; ++c) {
+                    vis[c] = v[c * m + l];
+                    d[c] = e[(c * m + l) * shadow_edge::kFloatsPerLight];
+                    width[c] = e[(c * m + l) * shadow_edge::kFloatsPerLight + 1];
+                }
+                out[l] = shadow_edge::visibility(w, vis, d, width);
+            }
+            return;
+        }
         for (int c = 0; c < 8; ++c) {
             if (w[c] == 0) continue;
             for (std::size_t l = 0; l < m; ++l) out[l] += w[c] * v[c * m + l];
@@ -82,7 +102,7 @@ private:
     std::shared_ptr<const StreamedVolume> volume_;
     std::vector<DirectLight> lights_;
     GridSpec grid_;  ///< level 0's, in world coordinates
-    bool hasDepth_ = false, depthWeights_ = false;
+    bool hasDepth_ = false, depthWeights_ = false, edges_ = false;
 };
 
 }  // namespace

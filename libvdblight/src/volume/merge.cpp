@@ -22,6 +22,7 @@
 #include "vdblight/errors.h"
 #include "vdblight/layout_levels.h"
 #include "vdblight/photon_sums.h"
+#include "vdblight/shadow_edges.h"
 #include "vdblight/tiles.h"
 #include "vdblight/volume_compact.h"
 
@@ -195,7 +196,7 @@ MergedTiles mergeTiles(const std::vector<std::string>& paths) {
     const std::size_t floats = std::size_t(channels) * 3;
     for (std::size_t i = 0; i < tiles.size(); ++i) {
         const TileFile& t = tiles[i];
-        if (t.photon || t.depth != first.depth || t.visibility != first.visibility || t.error != first.error ||
+        if (t.photon || t.depth != first.depth || t.visibility != first.visibility || t.edges != first.edges || t.error != first.error ||
             bool(t.part.surfaceBins) != bool(first.part.surfaceBins) ||
             t.part.direct.mode != first.part.direct.mode || t.part.direct.lights.size() != first.part.direct.lights.size())
             throw FormatError(quoted(paths[i]) + " and " + quoted(paths[order[0]]) + " differ in the grids or lights they carry");
@@ -230,6 +231,8 @@ MergedTiles mergeTiles(const std::vector<std::string>& paths) {
         if (first.depth) level.depth.resize(nodes.size() * depth::kFloatsPerNode);
         const std::size_t lights = first.visibility && l == 0 ? first.part.direct.lights.size() : 0;
         level.lightVisibility.resize(nodes.size() * lights);
+        const std::size_t edgeFloats = first.edges ? lights * shadow_edge::kFloatsPerLight : 0;
+        level.lightShadowEdges.resize(nodes.size() * edgeFloats);
         if (first.error && l == 0) error.resize(nodes.size());
         for (std::size_t n = 0; n < nodes.size(); ++n) {
             const auto& [linear, t, at] = nodes[n];
@@ -244,6 +247,10 @@ MergedTiles mergeTiles(const std::vector<std::string>& paths) {
                 std::copy(part.lightVisibility.begin() + std::ptrdiff_t(at * lights),
                           part.lightVisibility.begin() + std::ptrdiff_t((at + 1) * lights),
                           level.lightVisibility.begin() + std::ptrdiff_t(n * lights));
+            if (edgeFloats)
+                std::copy(part.lightShadowEdges.begin() + std::ptrdiff_t(at * edgeFloats),
+                          part.lightShadowEdges.begin() + std::ptrdiff_t((at + 1) * edgeFloats),
+                          level.lightShadowEdges.begin() + std::ptrdiff_t(n * edgeFloats));
             if (first.error && l == 0) error[n] = tiles[t].estimatedError.at(at);
         }
         v.levels.push_back(std::move(level));

@@ -20,6 +20,7 @@ struct TileFile {
     bool reproducible = true;
     bool depth = false;       ///< the volume has depth moments (in part's levels, tile nodes)
     bool visibility = false;  ///< level 0 has light visibility (part.levels[0], tile nodes)
+    bool edges = false;       ///< and the lights' shadow edges (shadow_edges.h)
     bool error = false;       ///< estimatedError holds level 0's per-node errors
     std::vector<float> estimatedError;  ///< TileNodeStats, in the order of part.levels[0].activeNodes
     /// A photon tile (writePhotonTile): the sums of its batches; part has the grid (level 0)

@@ -30,6 +30,9 @@ struct DelayedVolumeFile {
     Volume header;
     std::vector<DelayedLevel> levels;
     std::vector<openvdb::GridBase::Ptr> visibility;  ///< FloatGrid per listed light (bake --direct occlusion), or empty
+    /// FloatGrids of the shadow edges (shadow_edges.h): every light's distance, then every
+    /// light's width; or empty.
+    std::vector<openvdb::GridBase::Ptr> edges;
 };
 
 /// Opens `path` with the checks of readVolume that need no node values (header, metadata,

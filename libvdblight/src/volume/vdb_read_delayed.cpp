@@ -3,6 +3,7 @@
 #include "vdb_delayed.h"
 #include "vdb_read_parts.h"
 #include "vdblight/depth_moments.h"
+#include "vdblight/shadow_edges.h"
 
 namespace vdblight::vdb_detail {
 
@@ -73,10 +74,15 @@ DelayedVolumeFile openDelayedVolume(const std::string& path) {
         out.levels.push_back(std::move(level));
     }
     // bake --direct occlusion: one FloatGrid per listed light on level 0, as readDirect reads them.
+    // Their shadow edges (shadow_edges.h), when the file has them: distance and width per light.
     if (v.direct.hasVisibility()) {
         const GridSpec& g = v.levels[0].grid;
-        for (std::size_t i = 0; i < v.direct.lights.size(); ++i) {
-            const std::string name = visibilityGridName(i);
+        const bool edges = f.file->hasGrid(shadow_edge::distanceGridName(0));
+        for (std::size_t k = 0; k < v.direct.lights.size() * (edges ? 3 : 1); ++k) {
+            const std::size_t i = k % v.direct.lights.size(), part = k / v.direct.lights.size();
+            const std::string name = part == 0   ? visibilityGridName(i)
+                                     : part == 1 ? shadow_edge::distanceGridName(i)
+                                                 : shadow_edge::widthGridName(i);
             const openvdb::GridBase::Ptr base = read(name);
             auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
             if (!grid) formatError(path, "grid '" + name + "' has type " + base->valueType() + ", expected float");
@@ -87,7 +93,7 @@ DelayedVolumeFile openDelayedVolume(const std::string& path) {
                 box.max() != Coord(g.nx - 1, g.ny - 1, g.nz - 1))
                 formatError(path, "grid '" + name + "' does not have exactly one active voxel per node");
             grid->tree().voxelizeActiveTiles();
-            out.visibility.push_back(grid);
+            (part == 0 ? out.visibility : out.edges).push_back(grid);
         }
     }
     out.file = std::move(f.file);

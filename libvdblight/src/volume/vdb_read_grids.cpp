@@ -7,6 +7,7 @@
 
 #include "vdb_read_parts.h"
 #include "vdblight/depth_moments.h"
+#include "vdblight/shadow_edges.h"
 
 namespace vdblight::vdb_detail {
 
@@ -253,6 +254,17 @@ void readDirect(OpenedFile& f, Volume& volume, const std::string& path) {
         const std::vector<float> v = readScalarGrid(f, name, level.grid, path);
         for (std::size_t n = 0; n < v.size(); ++n) level.lightVisibility[n * lights + i] = v[n];
     }
+    // Shadow edges (shadow_edges.h): optional (files before issue 32 have none), all or none.
+    if (!f.file->hasGrid(shadow_edge::distanceGridName(0))) return;
+    constexpr int parts = shadow_edge::kFloatsPerLight;
+    level.lightShadowEdges.assign(level.grid.nodeCount() * lights * parts, 0.0f);
+    for (std::size_t i = 0; i < lights; ++i)
+        for (int part = 0; part < parts; ++part) {
+            const std::string name = part == 0 ? shadow_edge::distanceGridName(i) : shadow_edge::widthGridName(i);
+            if (!f.file->hasGrid(name)) formatError(path, "has shadow edges without grid '" + name + "'");
+            const std::vector<float> v = readScalarGrid(f, name, level.grid, path);
+            for (std::size_t n = 0; n < v.size(); ++n) level.lightShadowEdges[(n * lights + i) * parts + part] = v[n];
+        }
 }
 
 /// Reads the optional depth-moment grids of a level (depth_moments.h): all four or an error,

@@ -6,6 +6,7 @@
 #include "vdblight/depth_moments.h"
 #include "vdblight/irradiance_vectors.h"
 #include "vdblight/photon_sums.h"
+#include "vdblight/shadow_edges.h"
 #include "vdblight/tiles.h"
 
 namespace vdblight {
@@ -134,6 +135,8 @@ TileFile readTileFile(const std::string& path) {
     v.meta = userMetadata(meta);
     t.depth = metaNumber(v.meta, "tile_depth", 0) != 0;
     t.visibility = metaNumber(v.meta, "tile_visibility", 0) != 0;
+    t.edges = metaNumber(v.meta, "tile_shadow_edges", 0) != 0;
+    if (t.edges && !t.visibility) formatError(path, "has shadow edges without light visibility");
     t.error = metaNumber(v.meta, "tile_estimated_error", 0) != 0;
     if ((t.visibility || t.error) && levels != 1) formatError(path, "has per-node visibility or errors on several levels");
     // Depth moments, light visibility and errors of the tile's nodes (none on a level
@@ -150,6 +153,14 @@ TileFile readTileFile(const std::string& path) {
             const std::vector<float> values = readSparseScalar(f, visibilityGridName(i), level0, path);
             for (std::size_t n = 0; n < values.size(); ++n) level0.lightVisibility[n * lights + i] = values[n];
         }
+        constexpr int parts = shadow_edge::kFloatsPerLight;
+        if (t.edges) level0.lightShadowEdges.assign(level0.activeNodes.size() * lights * parts, 0.0f);
+        for (std::size_t i = 0; i < lights && t.edges; ++i)
+            for (int part = 0; part < parts; ++part) {
+                const std::string name = part == 0 ? shadow_edge::distanceGridName(i) : shadow_edge::widthGridName(i);
+                const std::vector<float> values = readSparseScalar(f, name, level0, path);
+                for (std::size_t n = 0; n < values.size(); ++n) level0.lightShadowEdges[(n * lights + i) * parts + part] = values[n];
+            }
     }
     if (t.error && !level0.activeNodes.empty()) t.estimatedError = readSparseScalar(f, kTileErrorName, level0, path);
     readSurfaceBins(f, v, path);  // a stage-0 tile of --probe-cache surface: its bins' sums

@@ -8,6 +8,7 @@
 
 #include "vdblight/depth_moments.h"
 #include "vdblight/errors.h"
+#include "vdblight/shadow_edges.h"
 #include "vdb_conventions.h"
 #include "vdb_delayed.h"
 
@@ -23,6 +24,7 @@ struct StreamedVolume::Impl {
     };
     std::vector<Level> levels;
     std::vector<const openvdb::FloatTree*> visibility;  ///< per listed light, level 0 (occlusion mode)
+    std::vector<const openvdb::FloatTree*> edges;       ///< distances, then widths (shadow_edges.h), or empty
     bool depth = false;
     /// Fills levels, visibility and depth from the opened file's grids.
     void collectTrees() {
@@ -38,6 +40,13 @@ struct StreamedVolume::Impl {
             levels.push_back(std::move(l));
         }
         for (const auto& g : file.visibility) visibility.push_back(&openvdb::gridPtrCast<openvdb::FloatGrid>(g)->tree());
+        edges.clear();
+        for (const auto& g : file.edges) edges.push_back(&openvdb::gridPtrCast<openvdb::FloatGrid>(g)->tree());
+    }
+    std::vector<const openvdb::FloatTree*> floatTrees() const {
+        std::vector<const openvdb::FloatTree*> out = visibility;
+        out.insert(out.end(), edges.begin(), edges.end());
+        return out;
     }
     std::vector<const Vec3STree*> allTrees() const {
         std::vector<const Vec3STree*> out;
@@ -60,13 +69,16 @@ void StreamedVolume::releaseLeaves() {
     // stays (callers hold references to it), only the grids are replaced.
     impl_->levels.clear();
     impl_->visibility.clear();
+    impl_->edges.clear();
     impl_->file.levels.clear();
     impl_->file.visibility.clear();
+    impl_->file.edges.clear();
     impl_->file.file.reset();
     DelayedVolumeFile again = openDelayedVolume(path_);
     impl_->file.file = std::move(again.file);
     impl_->file.levels = std::move(again.levels);
     impl_->file.visibility = std::move(again.visibility);
+    impl_->file.edges = std::move(again.edges);
     impl_->collectTrees();
 }
 
@@ -118,6 +130,18 @@ void StreamedVolume::readVisibility(int i, int j, int k, float* out) const {
     for (std::size_t l = 0; l < impl_->visibility.size(); ++l) out[l] = impl_->visibility[l]->getValue(c);
 }
 
+bool StreamedVolume::hasShadowEdges() const { return !impl_->edges.empty(); }
+
+void StreamedVolume::readShadowEdges(int i, int j, int k, float* out) const {
+    if (impl_->edges.empty()) throw FormatError("this streamed volume stores no shadow edges");
+    const Coord c(i, j, k);
+    const std::size_t lights = impl_->visibility.size();
+    for (std::size_t l = 0; l < lights; ++l) {
+        out[l * shadow_edge::kFloatsPerLight] = impl_->edges[l]->getValue(c);
+        out[l * shadow_edge::kFloatsPerLight + 1] = impl_->edges[lights + l]->getValue(c);
+    }
+}
+
 namespace {
 template <class Tree>
 uint64_t countLeaves(const std::vector<const Tree*>& trees, bool onlyLoaded) {
@@ -129,17 +153,17 @@ uint64_t countLeaves(const std::vector<const Tree*>& trees, bool onlyLoaded) {
 }  // namespace
 
 uint64_t StreamedVolume::loadedLeaves() const {
-    return countLeaves(impl_->allTrees(), true) + countLeaves(impl_->visibility, true);
+    return countLeaves(impl_->allTrees(), true) + countLeaves(impl_->floatTrees(), true);
 }
 
 uint64_t StreamedVolume::totalLeaves() const {
-    return countLeaves(impl_->allTrees(), false) + countLeaves(impl_->visibility, false);
+    return countLeaves(impl_->allTrees(), false) + countLeaves(impl_->floatTrees(), false);
 }
 
 uint64_t StreamedVolume::residentBytes() const {
     uint64_t n = 0;
     for (const Vec3STree* t : impl_->allTrees()) n += t->memUsage();
-    for (const openvdb::FloatTree* t : impl_->visibility) n += t->memUsage();
+    for (const openvdb::FloatTree* t : impl_->floatTrees()) n += t->memUsage();
     for (const Impl::Level& l : impl_->levels)
         if (l.mask) n += l.mask->memUsage();
     return n;

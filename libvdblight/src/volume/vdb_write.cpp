@@ -17,6 +17,7 @@
 #include "vdblight/atomic_file.h"
 #include "vdblight/depth_moments.h"
 #include "vdblight/errors.h"
+#include "vdblight/shadow_edges.h"
 #include "vdb_conventions.h"
 #include "vdb_surface_bins.h"
 #include "vdb_write_parts.h"
@@ -222,7 +223,7 @@ void checkWritable(const Volume& volume, const WriteOptions& options, bool tile)
         if (level.sparse() && !level.lightVisibility.empty() && !tile)
             throw ValueError("light visibility is stored for dense levels only");
     for (const std::string& c : volume.basis.channelNames)
-        if (c.compare(0, 17, "light_visibility_") == 0)
+        if (c.compare(0, 17, "light_visibility_") == 0 || c.compare(0, 11, "light_edge_") == 0)
             throw ValueError("channel name '" + c + "' is reserved for the light visibility grids");
     if (volume.levels.size() > 1)
         for (std::size_t l = 0; l + 1 < volume.levels.size(); ++l)
@@ -275,6 +276,21 @@ openvdb::GridCPtrVec buildGrids(const Volume& volume, const WriteOptions& option
             grid->insertMeta(kPrefix + "light", openvdb::Int64Metadata(int64_t(i)));
             grids.push_back(grid);
         }
+        // Their shadow edges, when baked: two grids per light (shadow_edges.h, docs/format.md).
+        for (std::size_t i = 0; i < lights && !level.lightShadowEdges.empty(); ++i)
+            for (int part = 0; part < shadow_edge::kFloatsPerLight; ++part) {
+                const std::size_t stride = lights * shadow_edge::kFloatsPerLight, at = i * shadow_edge::kFloatsPerLight + part;
+                openvdb::FloatGrid::Ptr grid =
+                    sparse ? buildSparseScalarGrid(level.grid, level.activeNodes, level.lightShadowEdges.data(), stride, at)
+                           : buildScalarGrid(level, origins, level.lightShadowEdges.data(), stride, at);
+                grid->setName(gridNameFor(part == 0 ? shadow_edge::distanceGridName(i) : shadow_edge::widthGridName(i), int(l)));
+                grid->setTransform(levelTransform(level.grid));
+                grid->setGridClass(openvdb::GRID_UNKNOWN);
+                grid->setSaveFloatAsHalf(options.halfFloat);
+                tagGrid(*grid, volume, int(l), -1);
+                grid->insertMeta(kPrefix + "light", openvdb::Int64Metadata(int64_t(i)));
+                grids.push_back(grid);
+            }
         if (level.hasDepth()) appendDepthGrids(volume, int(l), sparse, origins, options.halfFloat, grids);
         if (volume.levels.size() > 1 && l + 1 < volume.levels.size()) grids.push_back(buildMaskGrid(volume, int(l)));
     }

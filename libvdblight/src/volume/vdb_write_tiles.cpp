@@ -13,6 +13,7 @@
 #include "vdblight/errors.h"
 #include "vdblight/irradiance_vectors.h"
 #include "vdblight/photon_sums.h"
+#include "vdblight/shadow_edges.h"
 #include "vdblight/tiles.h"
 
 namespace vdblight {
@@ -51,7 +52,8 @@ void writeTile(const Volume& volume, const NodeMask& mask, const TileId& id, con
         for (std::size_t n = 0; n < mask[l].size(); ++n)
             if (mask[l][n] && (n < full.windowFirst || n - full.windowFirst >= full.heldNodes()))
                 throw ValueError("the tile's nodes lie outside the nodes the volume holds (level " + std::to_string(l) + ")");
-        const bool visibility = !full.lightVisibility.empty();
+        const bool visibility = !full.lightVisibility.empty(), edges = !full.lightShadowEdges.empty();
+        const std::size_t edgeFloats = lights * shadow_edge::kFloatsPerLight;
         VolumeLevel level;
         level.grid = full.grid;
         level.refinedCells = full.refinedCells;
@@ -65,6 +67,10 @@ void writeTile(const Volume& volume, const NodeMask& mask, const TileId& id, con
                 level.lightVisibility.insert(level.lightVisibility.end(),
                                              full.lightVisibility.begin() + std::ptrdiff_t(full.held(n) * lights),
                                              full.lightVisibility.begin() + std::ptrdiff_t((full.held(n) + 1) * lights));
+            if (edges)
+                level.lightShadowEdges.insert(level.lightShadowEdges.end(),
+                                              full.lightShadowEdges.begin() + std::ptrdiff_t(full.held(n) * edgeFloats),
+                                              full.lightShadowEdges.begin() + std::ptrdiff_t((full.held(n) + 1) * edgeFloats));
             if (error) tileError.push_back(stats->estimatedError[full.held(n)]);
         }
         nodes += int64_t(level.activeNodes.size());
@@ -80,6 +86,7 @@ void writeTile(const Volume& volume, const NodeMask& mask, const TileId& id, con
     part.meta["tile_reproducible"] = int64_t(options.reproducible ? 1 : 0);
     part.meta["tile_depth"] = int64_t(depth ? 1 : 0);
     part.meta["tile_visibility"] = int64_t(volume.levels[0].lightVisibility.empty() ? 0 : 1);
+    part.meta["tile_shadow_edges"] = int64_t(volume.levels[0].lightShadowEdges.empty() ? 0 : 1);
     part.meta["tile_estimated_error"] = int64_t(error ? 1 : 0);
     openvdb::GridCPtrVec extra;
     if (error && !tileError.empty()) {

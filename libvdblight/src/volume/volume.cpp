@@ -6,6 +6,7 @@
 #include <set>
 
 #include "vdblight/errors.h"
+#include "vdblight/shadow_edges.h"
 
 namespace vdblight {
 namespace {
@@ -75,6 +76,18 @@ void validateDirect(const Volume& v) {
                               std::to_string(level.heldNodes() * d.lights.size()));
         for (float x : level.lightVisibility)
             if (!(x >= 0.0f && x <= 1.0f)) throw FormatError("volume level 0 has a light visibility outside [0, 1]");
+    }
+    for (std::size_t l = 0; l < v.levels.size(); ++l) {
+        const std::vector<float>& edges = v.levels[l].lightShadowEdges;
+        if (edges.empty()) continue;
+        if (l != 0 || v.levels[0].lightVisibility.empty())
+            throw FormatError("shadow edges only beside the light visibility of level 0");
+        if (edges.size() != v.levels[0].lightVisibility.size() * shadow_edge::kFloatsPerLight)
+            throw FormatError("volume level 0 has " + std::to_string(edges.size()) + " shadow edge values, expected " +
+                              std::to_string(v.levels[0].lightVisibility.size() * shadow_edge::kFloatsPerLight));
+        for (std::size_t k = 0; k < edges.size(); k += shadow_edge::kFloatsPerLight)
+            if (!(std::fabs(edges[k]) <= shadow_edge::kRange && edges[k + 1] >= 0.0f && edges[k + 1] <= shadow_edge::kNoEdge))
+                throw FormatError("volume level 0 has a shadow edge outside its range (shadow_edges.h)");
     }
 }
 

@@ -1,0 +1,136 @@
+// findShadowEdge (shadow_edge_search.h): where the centre ray towards a light changes from
+// blocked to free around a node, and the penumbra's width there.
+
+#include "shadow_edge_search.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "vdblight/shadow_edges.h"
+#include "vdblight/trace.h"
+
+namespace vdblight::bake_detail {
+
+namespace {
+
+constexpr int kDirections = 12;      // 30 degrees apart: the nearest is at most 3.5 % too far
+constexpr float kStepCells = 0.25f;  // march step
+constexpr int kBisections = 4;       // a quarter cell / 16 = 1/64 cell
+constexpr float kShadowEnd = 1.0f - 1e-4f;  // as lightVisibility's rays: stop short of the light
+
+/// Area centroid of a planar polygon light (loops signed around its normal).
+Vec3d polygonCentroid(const DirectLight& l) {
+    Vec3d sum(0, 0, 0);
+    double area = 0;
+    for (const std::vector<Vec3d>& loop : l.loops)
+        for (std::size_t i = 1; i + 1 < loop.size(); ++i) {
+            const double a = 0.5 * dot(cross(loop[i] - loop[0], loop[i + 1] - loop[0]), l.normal);
+            sum = sum + (loop[0] + loop[i] + loop[i + 1]) * (a / 3.0);
+            area += a;
+        }
+    return area != 0 ? sum / area : (l.loops.empty() || l.loops[0].empty() ? l.position : l.loops[0][0]);
+}
+
+/// The light's extent along the unit direction e (its vertices' spread; 0 for a point).
+double extentAlong(const DirectLight& l, const Vec3d& e) {
+    double lo = 0, hi = 0;
+    bool first = true;
+    for (const std::vector<Vec3d>& loop : l.loops)
+        for (const Vec3d& v : loop) {
+            const double s = dot(v, e);
+            lo = first ? s : std::min(lo, s);
+            hi = first ? s : std::max(hi, s);
+            first = false;
+        }
+    return hi - lo;
+}
+
+class CentreRay {
+public:
+    CentreRay(const Scene& scene, const Tracer& tracer, const SceneLight& light)
+        : tracer_(tracer), light_(light.light), directional_(light_.kind == DirectLight::Kind::Directional),
+          centre_(light_.kind == DirectLight::Kind::Polygon ? polygonCentroid(light_) : light_.position) {
+        (void)scene;
+    }
+    Ray ray(const Vec3f& p) const {
+        if (directional_) return Ray{p, -Vec3f(light_.direction)};
+        return Ray{p, Vec3f(centre_) - p, 0.0f, kShadowEnd};
+    }
+    /// Blocked towards the centre; a point the light cannot reach counts as free (bake_direct.h).
+    bool blocked(const Vec3f& p, RayCount& rays) const {
+        if (maxComponent(meanIrradiance(light_, Vec3d(p))) <= 0.0f) return false;
+        ++rays.occluded;
+        return tracer_.occluded(ray(p));
+    }
+    /// Distance from p to the first blocker towards the centre, and to the centre (metres).
+    void distances(const Vec3f& p, double& blocker, double& centre, RayCount& rays) const {
+        const Ray r = ray(p);
+        ++rays.intersect;
+        const Hit h = tracer_.intersect(r);
+        centre = directional_ ? HUGE_VAL : double(length(r.direction));
+        blocker = h.hit() ? double(h.t) * double(length(r.direction)) : centre;
+    }
+    Vec3f towards(const Vec3f& x) const { return directional_ ? -Vec3f(light_.direction) : Vec3f(centre_) - x; }
+
+private:
+    const Tracer& tracer_;
+    const DirectLight& light_;
+    bool directional_;
+    Vec3d centre_;
+};
+
+}  // namespace
+
+ShadowEdge findShadowEdge(const Scene& scene, const Tracer& tracer, const SceneLight& light, const Vec3f& x, double spacing,
+                          RayCount& rays) {
+    const DirectLight& l = light.light;
+    if (l.kind == DirectLight::Kind::Mesh) return {0.0f, shadow_edge::kNoEdge};  // its centre is inside it
+    const CentreRay centre(scene, tracer, light);
+    const Vec3f axis = centre.towards(x);
+    if (!(dot(axis, axis) > 0)) return {shadow_edge::kRange, 0.0f};
+    Vec3f t, b;
+    orthonormalBasis(normalize(axis), t, b);
+    const bool blocked = centre.blocked(x, rays);
+    const float step = float(spacing) * kStepCells;
+    const int steps = int(std::lround(shadow_edge::kRange / kStepCells));
+    float best = float(spacing) * shadow_edge::kRange;  // metres
+    Vec3f bestDir(0, 0, 0), shadowSide(0, 0, 0);
+    bool found = false;
+    for (int k = 0; k < kDirections; ++k) {
+        const double angle = 2.0 * kPi * k / kDirections;
+        const Vec3f e = t * float(std::cos(angle)) + b * float(std::sin(angle));
+        for (int j = 1; j <= steps; ++j) {
+            float lo = step * float(j - 1), hi = step * float(j);
+            if (lo >= best) break;  // any change here is no nearer than the one found
+            if (centre.blocked(x + e * hi, rays) == blocked) continue;
+            for (int i = 0; i < kBisections; ++i) {  // keep lo on x's side, hi across
+                const float mid = 0.5f * (lo + hi);
+                (centre.blocked(x + e * mid, rays) == blocked ? lo : hi) = mid;
+            }
+            const float d = 0.5f * (lo + hi);
+            if (d < best) {
+                best = d;
+                bestDir = e;
+                shadowSide = x + e * (blocked ? lo : hi);
+                found = true;
+            }
+            break;
+        }
+    }
+    ShadowEdge edge;
+    // At least half the smallest ramp width from the edge: a node's own ramp then gives its
+    // own side exactly (0 or 1), so a hard light's node leaves no residual for the lookup to
+    // blend over the cell (shadow_edges.h); the edge moves by at most 1/32 cell.
+    const float cells = std::clamp(best / float(spacing), 0.5f * shadow_edge::kMinWidth, shadow_edge::kRange);
+    edge.distance = blocked ? -cells : cells;
+    if (found && l.kind == DirectLight::Kind::Polygon) {
+        double blocker = 0, toCentre = 0;
+        centre.distances(shadowSide, blocker, toCentre, rays);
+        const double size = extentAlong(l, Vec3d(bestDir));
+        const double width = size * blocker / std::max(toCentre - blocker, 1e-3 * toCentre) / spacing;
+        edge.width = float(std::min(width, 4.0 * shadow_edge::kRange));
+    }
+    return edge;
+}
+
+}  // namespace vdblight::bake_detail

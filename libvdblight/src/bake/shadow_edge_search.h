@@ -1,0 +1,30 @@
+// The search behind a node's shadow edge (shadow_edges.h), internal to the bake.
+#pragma once
+
+#include "vdblight/light.h"
+#include "vdblight/math.h"
+#include "vdblight/scene_lights.h"
+
+namespace vdblight {
+
+struct Scene;
+class Tracer;
+
+namespace bake_detail {
+
+struct ShadowEdge {
+    float distance = 0;  ///< cells, signed (+ lit), clamped to +-shadow_edge::kRange
+    float width = 0;     ///< cells
+};
+
+/// Light `light`'s edge at x for a lattice of the given spacing (see shadow_edges.h): the
+/// centre ray's visibility is marched outwards in kDirections directions of the plane
+/// perpendicular to it, in steps of a quarter cell, and the first change is bisected to 1/64
+/// of a cell; a direction stops once it is farther than the nearest change found so far.
+/// Deterministic (no random numbers). A point the light cannot reach counts as lit (its
+/// visibility channel holds 1 there, bake_direct.h).
+ShadowEdge findShadowEdge(const Scene& scene, const Tracer& tracer, const SceneLight& light, const Vec3f& x, double spacing,
+                          RayCount& rays);
+
+}  // namespace bake_detail
+}  // namespace vdblight

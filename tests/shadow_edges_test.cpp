@@ -1,0 +1,165 @@
+// Shadow edges of `--direct occlusion` volumes (shadow_edges.h, issue 32 item 2): a closed-form
+// hard shadow (a tilted square blocker under an oblique sun) looked up between the nodes, the
+// file round trip and the streamed lookup.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include "random_volumes.h"
+#include "test_util.h"
+#include "vdblight/bake_direct.h"
+#include "vdblight/query.h"
+#include "vdblight/query_direct.h"
+#include "vdblight/query_stream.h"
+#include "vdblight/scene.h"
+#include "vdblight/shadow_edges.h"
+#include "vdblight/trace.h"
+#include "vdblight/vdb_io.h"
+#include "vdblight/vdb_stream.h"
+
+using namespace vdblight;
+
+namespace {
+
+// The blocker: a square of half side kHalf, centred over the origin at height kHeight, turned
+// by kTurn about the vertical so that its edges cross the lattice obliquely.
+constexpr double kHalf = 0.6, kHeight = 1.5, kTurn = 0.4363;  // 25 degrees
+const Vec3d kSunTravel = normalize(Vec3d(0.3, -1.0, 0.2));
+const Vec3d kLamp(0.4, 3.0, -0.3);  // the point light of the second case: its shadow widens with depth
+
+Scene blockerUnderSun(bool pointLight = false) {
+    Scene s;
+    s.name = "blocker_under_sun";
+    Material grey;
+    grey.albedo = {0.5f, 0.5f, 0.5f};
+    const uint32_t m = addMaterial(s, grey);
+    Vec3f c[4];
+    for (int k = 0; k < 4; ++k) {
+        const double u = (k == 0 || k == 3) ? -kHalf : kHalf, v = k < 2 ? -kHalf : kHalf;
+        c[k] = Vec3f(float(u * std::cos(kTurn) - v * std::sin(kTurn)), float(kHeight),
+                     float(u * std::sin(kTurn) + v * std::cos(kTurn)));
+    }
+    addTriangle(s, c[0], c[1], c[2], m);
+    addTriangle(s, c[0], c[2], c[3], m);
+    if (pointLight)
+        s.pointLights.push_back({Vec3f(kLamp), Rgb(3, 3, 3)});
+    else
+        s.directionalLights.push_back({Vec3f(kSunTravel), Rgb(3, 3, 3)});
+    return s;
+}
+
+/// The exact answer, by the test's own geometry: where the ray towards the sun crosses the
+/// blocker's plane, in the square's frame; `edge` gets that point's distance to the outline.
+double exactVisibility(const Vec3d& x, double* edge, bool pointLight) {
+    const Vec3d toLight = pointLight ? kLamp - x : -kSunTravel;
+    const Vec3d p = x + toLight * ((kHeight - x.y) / toLight.y);
+    const double u = p.x * std::cos(kTurn) + p.z * std::sin(kTurn), v = -p.x * std::sin(kTurn) + p.z * std::cos(kTurn);
+    const double du = std::abs(u) - kHalf, dv = std::abs(v) - kHalf;
+    const bool inside = du < 0 && dv < 0;
+    *edge = inside ? std::min(-du, -dv) : std::hypot(std::max(du, 0.0), std::max(dv, 0.0));
+    return inside ? 0.0 : 1.0;
+}
+
+/// Nodes 0.25 apart below the blocker, the sun's visibility and (optionally) edges baked.
+Volume bakeUnderSun(bool edges, bool pointLight = false) {
+    const Scene scene = blockerUnderSun(pointLight);
+    const Tracer tracer(scene);
+    Volume v = test::randomShVolume(15, 5, 15, 0.25, 3);
+    v.levels[0].grid.origin = Vec3d(-1.75, 0.0, -1.75);
+    DirectOptions o;
+    o.mode = DirectMode::Occlusion;
+    o.shadowEdges = edges;
+    const DirectPlan plan = planDirectLight(scene, tracer, v.levels[0].grid, o);
+    bakeLightVisibility(scene, tracer, plan, o, v);
+    return v;
+}
+
+const LightVisibility& visibilityOf(const IrradianceQuery& q) {
+    const auto* l = dynamic_cast<const LightVisibility*>(&q.lookup());
+    if (!l) throw std::runtime_error("not an occlusion lookup");
+    return *l;
+}
+
+struct Misses {
+    int far = 0;           ///< points >= kFar from the outline whose visibility is off by more than 0.05
+    double meanAbs = 0;    ///< mean |visibility - exact| over all points
+};
+
+constexpr double kFar = 0.25 * 0.25;  // a quarter of a cell (metres)
+
+Misses measure(const LightVisibility& lookup, bool pointLight) {
+    Rng rng(11);
+    Misses m;
+    const int n = 4000;
+    for (int i = 0; i < n; ++i) {
+        const Vec3d x(-1.75 + 3.5 * rng.uniform(), 1.0 * rng.uniform(), -1.75 + 3.5 * rng.uniform());
+        double edge = 0;
+        const double exact = exactVisibility(x, &edge, pointLight);
+        float got = 0;
+        lookup.visibility(x, &got);
+        const double err = std::abs(got - exact);
+        m.meanAbs += err / n;
+        if (edge >= kFar && err > 0.05) ++m.far;
+    }
+    return m;
+}
+
+}  // namespace
+
+// Between the nodes the hard shadow's edge stays where the geometry puts it: every point a
+// quarter cell or more from the outline gets its exact visibility to within 0.05. The
+// trilinear visibility alone (the lookup before issue 32) spreads the edge over a cell.
+// The same for a point light, whose shadow boundary is a cone (the blocker's outline seen from it).
+TEST(ShadowEdges, HardShadowStaysSharpBetweenNodes) {
+    for (const bool pointLight : {false, true}) {
+        const Volume withEdges = bakeUnderSun(true, pointLight), without = bakeUnderSun(false, pointLight);
+        ASSERT_FALSE(withEdges.levels[0].lightShadowEdges.empty());
+        ASSERT_TRUE(without.levels[0].lightShadowEdges.empty());
+        EXPECT_EQ(withEdges.levels[0].lightVisibility, without.levels[0].lightVisibility);  // the channel is unchanged
+        const IrradianceQuery sharp(withEdges), blurred(without);
+        const Misses a = measure(visibilityOf(sharp), pointLight), b = measure(visibilityOf(blurred), pointLight);
+        std::printf("%s: points off by > 0.05 a quarter cell or more from the edge: %d with edges, %d trilinear; "
+                    "mean |error| %.4f vs %.4f\n", pointLight ? "point light" : "sun", a.far, b.far, a.meanAbs, b.meanAbs);
+        EXPECT_EQ(a.far, 0);
+        EXPECT_GT(b.far, 100);
+        EXPECT_LT(a.meanAbs, 0.25 * b.meanAbs);
+    }
+}
+
+// Distances and widths within their ranges; lit nodes positive, shadowed negative.
+TEST(ShadowEdges, SignFollowsTheNodesVisibility) {
+    const Volume v = bakeUnderSun(true);
+    const VolumeLevel& level = v.levels[0];
+    for (std::size_t n = 0; n < level.grid.nodeCount(); ++n) {
+        const float d = level.lightShadowEdges[n * 2], w = level.lightShadowEdges[n * 2 + 1];
+        EXPECT_LE(std::abs(d), shadow_edge::kRange);
+        EXPECT_EQ(w, 0.0f);  // a directional light has no penumbra
+        EXPECT_EQ(d > 0, level.lightVisibility[n] == 1.0f) << "node " << n;
+    }
+}
+
+// The edges go through a file and back bit for bit; the streamed lookup answers as the
+// in-memory one; a file without them (before issue 32) reads and looks up as trilinear.
+TEST(ShadowEdges, FileRoundTripAndStreamedLookup) {
+    const test::TempDir dir;
+    const Volume v = bakeUnderSun(true);
+    writeVolume(v, dir.file("edges.vdb"));
+    const Volume back = readVolume(dir.file("edges.vdb"));
+    EXPECT_EQ(back.levels[0].lightShadowEdges, v.levels[0].lightShadowEdges);
+    const IrradianceQuery memory(back);
+    const IrradianceQuery streamed =
+        makeStreamingQuery(std::make_shared<const StreamedVolume>(dir.file("edges.vdb")), OutsidePolicy::Clamp);
+    Rng rng(5);
+    for (int i = 0; i < 200; ++i) {
+        const Vec3d x(-1.75 + 3.5 * rng.uniform(), rng.uniform(), -1.75 + 3.5 * rng.uniform());
+        float a = 0, b = 0;
+        visibilityOf(memory).visibility(x, &a);
+        visibilityOf(streamed).visibility(x, &b);
+        ASSERT_EQ(a, b) << "at " << x.x << " " << x.y << " " << x.z;
+    }
+    const Volume old = bakeUnderSun(false);
+    writeVolume(old, dir.file("old.vdb"));
+    EXPECT_TRUE(readVolume(dir.file("old.vdb")).levels[0].lightShadowEdges.empty());
+}
