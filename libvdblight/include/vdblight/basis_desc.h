@@ -28,6 +28,9 @@ struct BasisDesc {
     /// The irradiance vectors of the photon pass (iv::basis), full or compact (iv::compactBasis).
     bool isIrradianceVectors() const;
     bool isCompactIrradianceVectors() const;
+    /// The same kind as `other` (channels not compared): e.g. a probe stage volume
+    /// (probeStageBasis) or the full irradiance vectors a compaction needs.
+    bool sameKind(const BasisDesc& other) const;
 };
 
 }  // namespace vdblight

@@ -38,6 +38,7 @@ struct BasisSpec {
     int resolution = 17;  ///< R: 2 R^2 bins (bins, moment)
     int order = 1;        ///< n: moment order (1 for bins)
     int binCount() const { return 2 * resolution * resolution; }
+    bool isSh2() const { return kind == Kind::Sh2; }  ///< not a bins basis: the bins passes refuse it
 };
 
 /// Parses "sh2", "bins:R" (R >= 1) or "moment:n" / "moment:n:R" (n >= 1, R >= 1, default

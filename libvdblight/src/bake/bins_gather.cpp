@@ -47,7 +47,7 @@ void gatherBinRadiance(const RadianceEstimator& estimator, const Vec3f& x, int r
 
 Volume bakeBins(const Scene& scene, const Tracer& tracer, const LevelLayout& layout, const BinsBakeOptions& options,
                 Interrupter* interrupter, LevelsBakeStats* stats) {
-    if (options.basis.kind == bins::BasisSpec::Kind::Sh2) throw ValueError("bakeBins needs a bins or moment basis");
+    if (options.basis.isSh2()) throw ValueError("bakeBins needs a bins or moment basis");
     bake_detail::checkLevelsBake(options.samplesPerBin, "samples per bin", options.threads, layout);
     const int R = options.basis.resolution, bins = options.basis.binCount();
     const std::size_t floats = std::size_t(bins) * 3;

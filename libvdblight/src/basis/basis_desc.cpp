@@ -34,4 +34,6 @@ bool BasisDesc::isIrradianceVectors() const { return kind == iv::basis().kind; }
 
 bool BasisDesc::isCompactIrradianceVectors() const { return kind == iv::compactBasis().kind; }
 
+bool BasisDesc::sameKind(const BasisDesc& other) const { return kind == other.kind; }
+
 }  // namespace vdblight

@@ -9,7 +9,7 @@ namespace vdblight {
 namespace iv {
 
 Volume compact(const Volume& full) {
-    if (full.basis.kind != basis().kind || full.basis.channelCount() != kChannels || full.levels.size() != 1 ||
+    if (!full.basis.isIrradianceVectors() || full.basis.channelCount() != kChannels || full.levels.size() != 1 ||
         full.levels[0].sparse())
         throw FormatError("the compact form needs a single-level irradiance-vector volume, got basis '" +
                           full.basis.kind + "'");
