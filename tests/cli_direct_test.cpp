@@ -8,8 +8,8 @@
 #include <sstream>
 
 #include "cli_util.h"
-#include "vdblight/scene.h"
-#include "vdblight/vdb_io.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/volume/vdb_io.h"
 
 using namespace vdblight;
 using test::runCli;

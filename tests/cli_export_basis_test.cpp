@@ -23,7 +23,7 @@
 
 #include "cli_baked_suite.h"
 #include "export_readers.h"
-#include "vdblight/basis.h"
+#include "vdblight/basis/basis.h"
 
 namespace fs = std::filesystem;
 using namespace vdblight;

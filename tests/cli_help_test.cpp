@@ -7,8 +7,8 @@
 #include <string>
 
 #include "cli_util.h"
-#include "vdblight/bake_volume.h"
-#include "vdblight/errors.h"
+#include "vdblight/bake/bake.h"
+#include "vdblight/core/errors.h"
 
 using namespace vdblight;
 using namespace vdblight::test;

@@ -7,8 +7,8 @@
 #include <string>
 
 #include "cli_util.h"
-#include "vdblight/vdb_io.h"
-#include "vdblight/volume.h"
+#include "vdblight/volume/vdb_io.h"
+#include "vdblight/volume/volume.h"
 
 namespace vdblight {
 namespace {

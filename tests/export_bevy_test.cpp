@@ -16,10 +16,10 @@
 #include "export_readers.h"
 #include "random_volumes.h"
 #include "test_util.h"
-#include "vdblight/errors.h"
-#include "vdblight/export_engines.h"
-#include "vdblight/query.h"
-#include "vdblight/sh.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/export/engines.h"
+#include "vdblight/query/query.h"
+#include "basis/sh.h"
 
 using namespace vdblight;
 

@@ -12,12 +12,12 @@
 #include "parallel_nodes.h"
 #include "pass_metadata.h"
 #include "stratified_sphere.h"
-#include "vdblight/tiles.h"
-#include "vdblight/bake_bins.h"
-#include "vdblight/errors.h"
-#include "vdblight/interrupter.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/volume/tiles.h"
+#include "bake/bake_bins.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/core/interrupter.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight {
 

@@ -1,16 +1,16 @@
 // `bake --direct runtime | occlusion` (bake_direct.h): light selection and visibility channels.
 
-#include "vdblight/bake_direct.h"
+#include "vdblight/bake/each_pass.h"
 
 #include <algorithm>
 #include <numeric>
 
 #include "parallel_nodes.h"
 #include "pass_metadata.h"
-#include "vdblight/errors.h"
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight {
 

@@ -4,9 +4,9 @@
 #include <cmath>
 
 #include "pass_metadata.h"
-#include "vdblight/errors.h"
-#include "vdblight/tiles.h"
-#include "vdblight/trace.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/volume/tiles.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight {
 namespace bake_detail {

@@ -7,9 +7,9 @@
 
 #include "compact_sh.h"
 #include "export_internal.h"
-#include "vdblight/basis_desc.h"
-#include "vdblight/depth_moments.h"
-#include "vdblight/sh.h"
+#include "vdblight/basis/basis.h"
+#include "vdblight/basis/depth_moments.h"
+#include "basis/sh.h"
 
 namespace vdblight::exporter {
 

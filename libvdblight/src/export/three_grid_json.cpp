@@ -4,7 +4,7 @@
 #include <iomanip>
 #include <sstream>
 
-#include "vdblight/export_three.h"
+#include "vdblight/export/engines.h"
 
 namespace vdblight::exporter {
 

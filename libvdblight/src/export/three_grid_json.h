@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "vdblight/export.h"
+#include "vdblight/export/export.h"
 
 namespace vdblight::exporter {
 

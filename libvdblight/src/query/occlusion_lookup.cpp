@@ -1,6 +1,6 @@
 // OcclusionLookup (query_direct.h): stored light + exact direct light x interpolated visibility.
 
-#include "vdblight/query_direct.h"
+#include "query/query_direct.h"
 
 #include "depth_weights.h"
 

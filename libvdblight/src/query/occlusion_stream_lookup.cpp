@@ -7,7 +7,7 @@
 
 #include "depth_weights.h"
 #include "stream_lookups.h"
-#include "vdblight/light_visibility.h"
+#include "query/light_visibility.h"
 
 namespace vdblight::query_detail {
 

@@ -1,9 +1,9 @@
 // The compact form of a whole irradiance-vector volume (bake --compact): the per-node
 // compaction is the basis's (irradiance_vectors_compact.h), the volume around it is ours.
-#include "vdblight/volume_compact.h"
+#include "volume/volume_compact.h"
 
-#include "vdblight/errors.h"
-#include "vdblight/irradiance_vectors_compact.h"
+#include "vdblight/core/errors.h"
+#include "basis/irradiance_vectors_compact.h"
 
 namespace vdblight {
 namespace iv {

@@ -6,8 +6,8 @@
 
 #include "vdb_read_parts.h"
 #include "vdb_surface_bins.h"
-#include "vdblight/tiles.h"
-#include "vdblight/vdb_io.h"
+#include "vdblight/volume/tiles.h"
+#include "vdblight/volume/vdb_io.h"
 
 namespace vdblight {
 namespace {

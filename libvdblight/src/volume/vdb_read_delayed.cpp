@@ -2,7 +2,7 @@
 // their leaf values stay in the mapped file until a voxel of the leaf is read.
 #include "vdb_delayed.h"
 #include "vdb_read_parts.h"
-#include "vdblight/depth_moments.h"
+#include "vdblight/basis/depth_moments.h"
 
 namespace vdblight::vdb_detail {
 

@@ -6,7 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include "vdb_read_parts.h"
-#include "vdblight/depth_moments.h"
+#include "vdblight/basis/depth_moments.h"
 
 namespace vdblight::vdb_detail {
 

@@ -9,11 +9,10 @@
 
 #include "vdb_conventions.h"
 #include "vdb_write_parts.h"
-#include "vdblight/depth_moments.h"
-#include "vdblight/errors.h"
-#include "vdblight/irradiance_vectors.h"
-#include "vdblight/photon_sums.h"
-#include "vdblight/tiles.h"
+#include "vdblight/basis/depth_moments.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/basis/irradiance_vectors.h"
+#include "vdblight/volume/tiles.h"
 
 namespace vdblight {
 using namespace vdb_detail;

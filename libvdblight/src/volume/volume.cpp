@@ -1,11 +1,11 @@
 // The in-memory volume: basis description, consistency checks, metadata accessors.
-#include "vdblight/volume.h"
+#include "vdblight/volume/volume.h"
 
 #include <cmath>
 #include <cstdio>
 #include <set>
 
-#include "vdblight/errors.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight {
 namespace {
