@@ -234,3 +234,17 @@ TEST(BasisDescQuestions, ShOrderAndFamilyOfEveryKind) {
         EXPECT_EQ(d.shOrder(), -1) << kind;
     }
 }
+
+// Modules outside src/basis/ ask whether two bases are of one kind instead of comparing
+// kind strings (issue 30): the probe stage check, the compaction's input, the bins passes.
+TEST(BasisDescQuestions, SameKindComparesKindsNotChannels) {
+    BasisDesc renamed = BasisDesc::sh2();
+    renamed.channelNames.assign(9, "other");
+    EXPECT_TRUE(BasisDesc::sh2().sameKind(renamed));
+    EXPECT_TRUE(probeStageBasis().sameKind(probeStageBasis()));
+    EXPECT_FALSE(probeStageBasis().sameKind(BasisDesc::sh2()));  // nine SH channels too, another kind
+    EXPECT_FALSE(iv::compactBasis().sameKind(iv::basis()));
+    EXPECT_TRUE(bins::parseBasisSpec("sh2").isSh2());
+    EXPECT_FALSE(bins::parseBasisSpec("bins:4").isSh2());
+    EXPECT_FALSE(bins::parseBasisSpec("moment:2").isSh2());
+}
