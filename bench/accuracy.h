@@ -20,13 +20,13 @@
 
 #include "accuracy_scenes.h"
 #include "bench_util.h"
-#include "vdblight/bake_antialiased.h"
-#include "vdblight/bake_direct.h"
-#include "vdblight/irradiance_vectors.h"
-#include "vdblight/light.h"
-#include "vdblight/query.h"
-#include "vdblight/sh.h"
-#include "vdblight/trace.h"
+#include "bake/bake_antialiased.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/basis/irradiance_vectors.h"
+#include "vdblight/light/light.h"
+#include "vdblight/query/query.h"
+#include "basis/sh.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight::accuracy {
 

@@ -2,29 +2,23 @@
 // bake` command does through the library, answering E(x, n) through the run-time lookup.
 #include "accuracy.h"
 
-#include "vdblight/basis.h"
+#include "vdblight/basis/basis.h"
 
 #include <cstring>
 #include <memory>
 
 #include <unistd.h>
 
-#include "vdblight/bake.h"
-#include "vdblight/bake_adaptive.h"
-#include "vdblight/bake_antialiased.h"
-#include "vdblight/bake_bins.h"
-#include "vdblight/bake_depth.h"
-#include "vdblight/bake_direct.h"
-#include "vdblight/bake_levels.h"
-#include "vdblight/bake_volume.h"
-#include "vdblight/errors.h"
-#include "vdblight/layout_levels.h"
-#include "vdblight/node_budget.h"
-#include "vdblight/photons.h"
-#include "vdblight/query_direct.h"
-#include "vdblight/scene_lights.h"
-#include "vdblight/vdb_io.h"
-#include "vdblight/vector_grid_lookup.h"
+#include "vdblight/bake/each_pass.h"
+#include "bake/bake_antialiased.h"
+#include "bake/bake_bins.h"
+#include "vdblight/bake/bake.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/layout/layout.h"
+#include "query/query_direct.h"
+#include "vdblight/light/light.h"
+#include "vdblight/volume/vdb_io.h"
+#include "vdblight/query/query.h"
 
 
 namespace vdblight::accuracy {

@@ -2,7 +2,7 @@
 // is one entry here.
 #include "accuracy.h"
 
-#include "vdblight/bake.h"
+#include "vdblight/bake/each_pass.h"
 
 namespace vdblight::accuracy {
 

@@ -11,10 +11,10 @@
 #include <half.h>
 
 #include "../libvdblight/src/export/compact_sh.h"  // internal: the texel encoding, for the filtered read
-#include "vdblight/export_compact.h"
-#include "vdblight/query.h"
-#include "vdblight/sh.h"
-#include "vdblight/sh_truncate.h"
+#include "export/export_compact.h"
+#include "vdblight/query/query.h"
+#include "basis/sh.h"
+#include "volume/sh_truncate.h"
 
 namespace vdblight::accuracy {
 

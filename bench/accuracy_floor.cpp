@@ -5,8 +5,8 @@
 
 #include <tbb/parallel_for.h>
 
-#include "vdblight/basis.h"
-#include "vdblight/vector_grid_lookup.h"
+#include "vdblight/basis/basis.h"
+#include "vdblight/query/query.h"
 
 namespace vdblight::accuracy {
 

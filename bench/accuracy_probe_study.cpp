@@ -6,9 +6,8 @@
 #include <tbb/parallel_for.h>
 
 #include "../libvdblight/src/bake/surface_cache.h"  // the probe pass's own cache
-#include "vdblight/bake.h"
-#include "vdblight/bake_direct.h"
-#include "vdblight/scene_lights.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/light/light.h"
 
 namespace vdblight::accuracy {
 

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "vdblight/scene.h"
+#include "vdblight/scene/scene.h"
 
 #include "support/office_scene.h"
 #include "support/scene_generators.h"

@@ -3,8 +3,8 @@
 
 #include <tbb/parallel_for.h>
 
-#include "vdblight/bake_direct.h"
-#include "vdblight/scene_lights.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/light/light.h"
 
 namespace vdblight::accuracy {
 

@@ -7,7 +7,7 @@
 
 #include <tbb/parallel_for.h>
 
-#include "vdblight/reference.h"
+#include "vdblight/reference/reference.h"
 
 namespace vdblight::accuracy {
 

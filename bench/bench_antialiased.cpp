@@ -41,12 +41,12 @@
 #include <tbb/parallel_for.h>
 
 #include "bench_args.h"
-#include "vdblight/bake_antialiased.h"
-#include "vdblight/query.h"
-#include "vdblight/reference.h"
-#include "vdblight/sh.h"
-#include "vdblight/trace.h"
-#include "vdblight/vdb_io.h"
+#include "bake/bake_antialiased.h"
+#include "vdblight/query/query.h"
+#include "vdblight/reference/reference.h"
+#include "basis/sh.h"
+#include "vdblight/trace/trace.h"
+#include "vdblight/volume/vdb_io.h"
 #include "../libvdblight/src/bake/project_incident.h"  // internal: projectIncidentRadiance
 
 #include "support/leak_scenes.h"

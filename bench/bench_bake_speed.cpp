@@ -13,12 +13,11 @@
 
 #include <sys/resource.h>
 
-#include "vdblight/bake.h"
-#include "vdblight/bake_levels.h"
-#include "vdblight/errors.h"
-#include "vdblight/layout_levels.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/layout/layout.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 
 using namespace vdblight;
 

@@ -15,13 +15,13 @@
 #include <tbb/task_arena.h>
 #include <vector>
 
-#include "vdblight/bake_bins.h"
-#include "vdblight/bins_lookup.h"
-#include "vdblight/query_levels.h"
-#include "vdblight/reference.h"
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "bake/bake_bins.h"
+#include "query/bins_lookup.h"
+#include "query/query_levels.h"
+#include "vdblight/reference/reference.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 #include "../libvdblight/src/query/sh_uniform_lookup.h"  // internal: ShUniformLookup
 #include "bench_args.h"
 #include "bench_util.h"

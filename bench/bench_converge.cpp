@@ -25,10 +25,9 @@
 #include <string>
 #include <vector>
 
-#include "vdblight/bake.h"
-#include "vdblight/bake_adaptive.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 #include "bench_args.h"
 #include "bench_scenes.h"
 #include "bench_util.h"

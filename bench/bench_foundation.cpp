@@ -17,15 +17,14 @@
 #include <cstdio>
 #include <string>
 
-#include "vdblight/bake.h"
-#include "vdblight/bake_direct.h"
-#include "vdblight/basis.h"
-#include "vdblight/channel_lookup.h"
-#include "vdblight/depth_moments.h"
-#include "vdblight/errors.h"
-#include "vdblight/query.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/basis/basis.h"
+#include "query/channel_lookup.h"
+#include "vdblight/basis/depth_moments.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/query/query.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 #include "../libvdblight/src/query/sh4_uniform_lookup.h"  // internal: the lookups' layouts, for the bound
 #include "../libvdblight/src/query/sh_trilinear.h"
 #include "../libvdblight/src/trace/random_rays.h"  // internal: traceRandomRays, the raw Embree probe

@@ -27,15 +27,14 @@
 
 #include "bench_util.h"
 #include "layouts.h"
-#include "vdblight/bake.h"
-#include "vdblight/bake_levels.h"
-#include "vdblight/light.h"
-#include "vdblight/query_levels.h"
-#include "vdblight/reference.h"
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
-#include "vdblight/sh.h"
-#include "vdblight/trace.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/light/light.h"
+#include "query/query_levels.h"
+#include "vdblight/reference/reference.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
+#include "basis/sh.h"
+#include "vdblight/trace/trace.h"
 #include "../libvdblight/src/bake/project_incident.h"  // internal: projectIncidentRadiance
 
 #include "support/office_scene.h"

@@ -22,16 +22,14 @@
 #include <filesystem>
 #include <unistd.h>
 
-#include "vdblight/bake.h"
-#include "vdblight/irradiance_vectors_compact.h"
-#include "vdblight/vdb_io.h"
-#include "vdblight/photons.h"
-#include "vdblight/query.h"
-#include "vdblight/reference.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
-#include "vdblight/vector_grid_lookup.h"
-#include "vdblight/volume_compact.h"
+#include "vdblight/bake/each_pass.h"
+#include "basis/irradiance_vectors_compact.h"
+#include "vdblight/volume/vdb_io.h"
+#include "vdblight/query/query.h"
+#include "vdblight/reference/reference.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
+#include "volume/volume_compact.h"
 #include "../libvdblight/src/trace/random_rays.h"  // internal: traceRandomRays, the raw Embree probe
 #include "bench_args.h"
 #include "bench_scenes.h"

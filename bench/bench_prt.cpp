@@ -31,13 +31,12 @@
 #include <string>
 #include <vector>
 
-#include "vdblight/bake.h"
-#include "vdblight/prt.h"
-#include "vdblight/prt_io.h"
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
-#include "vdblight/sh.h"
-#include "vdblight/trace.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/prt/prt.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
+#include "basis/sh.h"
+#include "vdblight/trace/trace.h"
 
 using namespace vdblight;
 

@@ -18,10 +18,9 @@
 #include <vector>
 
 #include "bench_args.h"
-#include "vdblight/prt.h"
-#include "vdblight/prt_io.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/prt/prt.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 
 #include "support/office_scene.h"
 

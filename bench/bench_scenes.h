@@ -3,8 +3,8 @@
 
 #include <string>
 
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
 
 #include "support/scene_generators.h"
 

@@ -21,12 +21,11 @@
 #include <vector>
 
 #include "bench_util.h"
-#include "vdblight/bake.h"
-#include "vdblight/bake_adaptive.h"
-#include "vdblight/query.h"
-#include "vdblight/reference.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/query/query.h"
+#include "vdblight/reference/reference.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 
 #include "support/leak_scenes.h"
 #include "support/office_scene.h"

@@ -7,9 +7,9 @@
 #include <cstddef>
 #include <vector>
 
-#include "vdblight/layout.h"
-#include "vdblight/sampling.h"
-#include "vdblight/trace.h"
+#include "vdblight/layout/layout.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight::bench {
 

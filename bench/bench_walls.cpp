@@ -25,15 +25,13 @@
 
 #include "bench_args.h"
 #include "bench_util.h"
-#include "vdblight/bake.h"
-#include "vdblight/bake_antialiased.h"
-#include "vdblight/bake_depth.h"
-#include "vdblight/bake_levels.h"
-#include "vdblight/layout_levels.h"
-#include "vdblight/query.h"
-#include "vdblight/reference.h"
-#include "vdblight/sh.h"
-#include "vdblight/trace.h"
+#include "vdblight/bake/each_pass.h"
+#include "bake/bake_antialiased.h"
+#include "vdblight/layout/layout.h"
+#include "vdblight/query/query.h"
+#include "vdblight/reference/reference.h"
+#include "basis/sh.h"
+#include "vdblight/trace/trace.h"
 #include "../libvdblight/src/bake/project_incident.h"  // internal: projectIncidentRadiance
 
 #include "support/leak_scenes.h"

@@ -14,11 +14,11 @@
 #include <utility>
 #include <vector>
 
-#include "vdblight/bins.h"
-#include "vdblight/layout_levels.h"
-#include "vdblight/reference.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/basis/bins.h"
+#include "vdblight/layout/layout.h"
+#include "vdblight/reference/reference.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight::bench_layouts {
 

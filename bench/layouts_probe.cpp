@@ -6,16 +6,14 @@
 
 #include <tbb/parallel_for.h>
 
-#include "vdblight/bake.h"
-#include "vdblight/bake_bins.h"
-#include "vdblight/bake_levels.h"
-#include "vdblight/bins_lookup.h"
-#include "vdblight/errors.h"
-#include "vdblight/light.h"
-#include "vdblight/query_levels.h"
-#include "vdblight/sampling.h"
-#include "vdblight/sh.h"
-#include "vdblight/solid_cull.h"
+#include "vdblight/bake/each_pass.h"
+#include "bake/bake_bins.h"
+#include "query/bins_lookup.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/light/light.h"
+#include "query/query_levels.h"
+#include "vdblight/sampling/sampling.h"
+#include "basis/sh.h"
 #include "../libvdblight/src/bake/bins_gather.h"  // internal: gatherBinRadiance
 #include "../libvdblight/src/bake/project_incident.h"  // internal: projectIncidentRadiance
 

@@ -6,7 +6,7 @@
 
 #include <cstdio>
 
-#include "vdblight/errors.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight::bench_layouts {
 

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "bench_util.h"
-#include "vdblight/layout.h"
+#include "vdblight/layout/layout.h"
 
 namespace vdblight::bench {
 

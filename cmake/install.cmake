@@ -1,5 +1,5 @@
 # `cmake --install build --prefix PREFIX` installs the library the way a user links it:
-# every module's static library, the public headers (vdblight/vdblight.h includes them all)
+# every module's static library, the public headers (vdblight/<module>/*.h, all included by vdblight/vdblight.h)
 # and a CMake package, so that `find_package(vdblight)` gives `vdblight::vdblight`
 # (examples/CMakeLists.txt; tests/install_example_test.sh builds the example against it).
 include(CMakePackageConfigHelpers)

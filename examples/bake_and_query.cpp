@@ -1,5 +1,5 @@
 // The smallest complete use of vdblight as a library: load a scene, bake an SH irradiance
-// volume into a .vdb (bakeToFile, bake_volume.h), read it back and query it, as an engine tool
+// volume into a .vdb (bakeToFile, bake/bake.h), read it back and query it, as an engine tool
 // would.
 //
 //   bake_and_query SCENE OUT.vdb

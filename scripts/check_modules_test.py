@@ -85,20 +85,20 @@ class ModuleCheck(unittest.TestCase):
 
     def test_injected_cycle_fails(self):
         # layout is below query (query -> layout); layout including a query header closes a loop.
-        self.append("libvdblight/src/layout/levels.cpp", '\n#include "vdblight/query.h"\n')
+        self.append("libvdblight/src/layout/levels.cpp", '\n#include "vdblight/query/query.h"\n')
         errors = self.assertFailsWith(r"^cycle between modules: .*layout.*query|^cycle between modules: .*query.*layout")
         self.assertTrue(any(e.startswith("edge layout -> query is not listed") for e in errors), errors)
 
     def test_cycle_listed_in_doc_fails(self):
         # Even when the doc lists both directions (so no edge is "unlisted"), a cycle fails.
-        self.append("libvdblight/src/layout/levels.cpp", '\n#include "vdblight/query.h"\n')
+        self.append("libvdblight/src/layout/levels.cpp", '\n#include "vdblight/query/query.h"\n')
         self.set_deps("layout", self.deps_cell("layout").replace("—", "").strip(", ") + ", `query`")
         self.edit("libvdblight/CMakeLists.txt", "src/layout/seams.cpp", "src/layout/seams.cpp DEPS vdblight_query")
         errors = self.assertFailsWith(r"^cycle between modules")
         self.assertTrue(any("module table has a cycle" in e for e in errors), errors)
 
     def test_unlisted_edge_fails(self):
-        self.append("libvdblight/src/trace/tracer.cpp", '\n#include "vdblight/sh.h"\n')
+        self.append("libvdblight/src/trace/tracer.cpp", '\n#include "basis/sh.h"\n')
         errors = self.assertFailsWith(r"^edge trace -> basis is not listed in docs/architecture.md \(libvdblight/src/trace/tracer.cpp:\d+\)")
         self.assertFalse(any(e.startswith("cycle") for e in errors), errors)
 
@@ -135,7 +135,7 @@ class ModuleCheck(unittest.TestCase):
                   "DEPS vdblight_layout vdblight_basis vdblight_light_exact OpenVDB")
         self.assertFailsWith(r"vdblight_volume does not link vdblight_core")
         # ... and core must not reach back up.
-        self.append("libvdblight/src/core/atomic_file.cpp", '#include "vdblight/volume.h"\n')
+        self.append("libvdblight/src/core/atomic_file.cpp", '#include "vdblight/volume/volume.h"\n')
         self.assertFailsWith(r"^cycle between modules: .*core.*volume|^cycle between modules: .*volume.*core")
 
     def test_library_including_a_test_scene_fails(self):
@@ -154,7 +154,7 @@ class ModuleCheck(unittest.TestCase):
     def test_test_scenes_edges_are_checked(self):
         # An include the row does not list fails, as in the library; so does a header in no row
         # and a link that differs from the table.
-        self.append("tests/support/office_scene.cpp", '\n#include "vdblight/trace.h"\n')
+        self.append("tests/support/office_scene.cpp", '\n#include "vdblight/trace/trace.h"\n')
         self.assertFailsWith(r"^edge test_scenes -> trace is not listed .*tests/support/office_scene.cpp")
         self.append("tests/support/new_scene.h", "#pragma once\n")
         self.assertFailsWith(r"tests/support/new_scene.h: test-support header in no row")

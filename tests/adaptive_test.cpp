@@ -8,12 +8,11 @@
 #include <cstring>
 
 #include "grids.h"
-#include "vdblight/bake.h"
-#include "vdblight/bake_adaptive.h"
-#include "vdblight/errors.h"
-#include "vdblight/scene.h"
-#include "vdblight/sh.h"
-#include "vdblight/trace.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/scene/scene.h"
+#include "basis/sh.h"
+#include "vdblight/trace/trace.h"
 #include "../libvdblight/src/bake/project_incident.h"  // internal: projectIncidentRadiance
 
 using namespace vdblight;

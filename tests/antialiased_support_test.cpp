@@ -2,10 +2,10 @@
 // visibleSupport): a node's support does not reach across a wall thinner than a cell.
 #include <gtest/gtest.h>
 
-#include "vdblight/bake_antialiased.h"
-#include "vdblight/scene.h"
-#include "vdblight/sh.h"
-#include "vdblight/trace.h"
+#include "bake/bake_antialiased.h"
+#include "vdblight/scene/scene.h"
+#include "basis/sh.h"
+#include "vdblight/trace/trace.h"
 
 #include "support/scene_generators.h"
 

@@ -10,13 +10,13 @@
 
 #include "grids.h"
 #include "test_util.h"
-#include "vdblight/bake_antialiased.h"
-#include "vdblight/errors.h"
-#include "vdblight/query.h"
-#include "vdblight/reference.h"
-#include "vdblight/sh.h"
-#include "vdblight/trace.h"
-#include "vdblight/vdb_io.h"
+#include "bake/bake_antialiased.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/query/query.h"
+#include "vdblight/reference/reference.h"
+#include "basis/sh.h"
+#include "vdblight/trace/trace.h"
+#include "vdblight/volume/vdb_io.h"
 #include "../libvdblight/src/bake/domain_classification.h"  // internal: classifyCell
 #include "../libvdblight/src/bake/project_incident.h"  // internal: projectIncidentRadiance
 

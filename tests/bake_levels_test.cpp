@@ -10,12 +10,12 @@
 #include <random>
 
 #include "test_util.h"
-#include "vdblight/bake_levels.h"
-#include "vdblight/errors.h"
-#include "vdblight/query_levels.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
-#include "vdblight/vdb_io.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/core/errors.h"
+#include "query/query_levels.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
+#include "vdblight/volume/vdb_io.h"
 
 using namespace vdblight;
 

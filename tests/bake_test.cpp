@@ -8,11 +8,11 @@
 #include <cstring>
 
 #include "test_util.h"
-#include "vdblight/bake.h"
-#include "vdblight/query.h"
-#include "vdblight/reference.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/query/query.h"
+#include "vdblight/reference/reference.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 
 using namespace vdblight;
 

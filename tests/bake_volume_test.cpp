@@ -9,11 +9,9 @@
 #include <string>
 
 #include "cli_util.h"
-#include "vdblight/bake_volume.h"
-#include "vdblight/errors.h"
-#include "vdblight/pass.h"
-#include "vdblight/scene.h"
-#include "vdblight/scene_load.h"
+#include "vdblight/bake/bake.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/scene/scene.h"
 
 namespace vdblight {
 namespace {

@@ -13,19 +13,19 @@
 
 #include "grids.h"
 #include "test_util.h"
-#include "vdblight/bake.h"
-#include "vdblight/bake_basis.h"
-#include "vdblight/bake_bins.h"
-#include "vdblight/basis.h"
-#include "vdblight/bins.h"
-#include "vdblight/channel_lookup.h"
-#include "vdblight/errors.h"
-#include "vdblight/export.h"
-#include "vdblight/sh.h"
-#include "vdblight/irradiance_vectors.h"
-#include "vdblight/irradiance_vectors_compact.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/bake/each_pass.h"
+#include "bake/bake_basis.h"
+#include "bake/bake_bins.h"
+#include "vdblight/basis/basis.h"
+#include "vdblight/basis/bins.h"
+#include "query/channel_lookup.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/export/export.h"
+#include "basis/sh.h"
+#include "vdblight/basis/irradiance_vectors.h"
+#include "basis/irradiance_vectors_compact.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 
 using namespace vdblight;
 
@@ -233,4 +233,18 @@ TEST(BasisDescQuestions, ShOrderAndFamilyOfEveryKind) {
         d.kind = kind;
         EXPECT_EQ(d.shOrder(), -1) << kind;
     }
+}
+
+// Modules outside src/basis/ ask whether two bases are of one kind instead of comparing
+// kind strings (issue 30): the probe stage check, the compaction's input, the bins passes.
+TEST(BasisDescQuestions, SameKindComparesKindsNotChannels) {
+    BasisDesc renamed = BasisDesc::sh2();
+    renamed.channelNames.assign(9, "other");
+    EXPECT_TRUE(BasisDesc::sh2().sameKind(renamed));
+    EXPECT_TRUE(probeStageBasis().sameKind(probeStageBasis()));
+    EXPECT_FALSE(probeStageBasis().sameKind(BasisDesc::sh2()));  // nine SH channels too, another kind
+    EXPECT_FALSE(iv::compactBasis().sameKind(iv::basis()));
+    EXPECT_TRUE(bins::parseBasisSpec("sh2").isSh2());
+    EXPECT_FALSE(bins::parseBasisSpec("bins:4").isSh2());
+    EXPECT_FALSE(bins::parseBasisSpec("moment:2").isSh2());
 }

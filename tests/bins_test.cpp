@@ -11,13 +11,13 @@
 
 #include "grids.h"
 #include "test_util.h"
-#include "vdblight/bake_bins.h"
-#include "vdblight/bins_lookup.h"
-#include "vdblight/errors.h"
-#include "vdblight/reference.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
-#include "vdblight/vdb_io.h"
+#include "bake/bake_bins.h"
+#include "query/bins_lookup.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/reference/reference.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
+#include "vdblight/volume/vdb_io.h"
 #include "../libvdblight/src/bake/bins_gather.h"  // internal: gatherBinRadiance
 
 using namespace vdblight;

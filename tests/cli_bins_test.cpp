@@ -7,9 +7,9 @@
 
 #include "cli_util.h"
 #include "test_util.h"
-#include "vdblight/bins.h"
-#include "vdblight/bins_lookup.h"
-#include "vdblight/vdb_io.h"
+#include "vdblight/basis/bins.h"
+#include "query/bins_lookup.h"
+#include "vdblight/volume/vdb_io.h"
 
 using namespace vdblight;
 namespace fs = std::filesystem;

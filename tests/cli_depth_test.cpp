@@ -11,8 +11,8 @@
 #include "cli_util.h"
 #include "manifest_util.h"
 #include "test_util.h"
-#include "vdblight/depth_moments.h"
-#include "vdblight/vdb_io.h"
+#include "vdblight/basis/depth_moments.h"
+#include "vdblight/volume/vdb_io.h"
 
 using namespace vdblight;
 

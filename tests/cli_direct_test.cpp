@@ -9,8 +9,8 @@
 
 #include "cli_util.h"
 #include "manifest_util.h"
-#include "vdblight/scene.h"
-#include "vdblight/vdb_io.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/volume/vdb_io.h"
 
 using namespace vdblight;
 using test::runCli;

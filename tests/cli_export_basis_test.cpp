@@ -24,7 +24,7 @@
 #include "cli_baked_suite.h"
 #include "export_readers.h"
 #include "manifest_util.h"
-#include "vdblight/basis.h"
+#include "vdblight/basis/basis.h"
 
 namespace fs = std::filesystem;
 using namespace vdblight;

@@ -9,9 +9,9 @@
 #include <string>
 
 #include "cli_util.h"
-#include "vdblight/bake_volume.h"
-#include "vdblight/errors.h"
-#include "vdblight/node_budget.h"
+#include "vdblight/bake/bake.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/layout/layout.h"
 
 using namespace vdblight;
 using namespace vdblight::test;

@@ -8,7 +8,7 @@
 
 #include "cli_util.h"
 #include "test_util.h"
-#include "vdblight/vdb_io.h"
+#include "vdblight/volume/vdb_io.h"
 
 using namespace vdblight;
 using namespace vdblight::test;

@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "test_util.h"
-#include "vdblight/math.h"
+#include "vdblight/core/math.h"
 
 namespace fs = std::filesystem;
 using namespace vdblight;

@@ -11,11 +11,11 @@
 #include "cli_util.h"
 #include "one_point_light.h"
 #include "test_util.h"
-#include "vdblight/bake.h"
-#include "vdblight/query.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
-#include "vdblight/vdb_io.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/query/query.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
+#include "vdblight/volume/vdb_io.h"
 
 using namespace vdblight;
 using vdblight::test::runCommand;

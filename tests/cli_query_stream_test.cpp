@@ -30,12 +30,12 @@
 #include "cli_util.h"
 #include "test_util.h"
 #include "random_volumes.h"
-#include "vdblight/basis.h"
-#include "vdblight/bins.h"
-#include "vdblight/depth_moments.h"
-#include "vdblight/query.h"
-#include "vdblight/sampling.h"
-#include "vdblight/vdb_io.h"
+#include "vdblight/basis/basis.h"
+#include "vdblight/basis/bins.h"
+#include "vdblight/basis/depth_moments.h"
+#include "vdblight/query/query.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/volume/vdb_io.h"
 
 using namespace vdblight;
 namespace fs = std::filesystem;

@@ -9,8 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_util.h"
-#include "vdblight/vdb_io.h"
-#include "vdblight/volume.h"
+#include "vdblight/volume/vdb_io.h"
+#include "vdblight/volume/volume.h"
 
 namespace vdblight {
 namespace {

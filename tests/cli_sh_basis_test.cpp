@@ -15,10 +15,10 @@
 #include "cli_util.h"
 #include "manifest_util.h"
 #include "test_util.h"
-#include "vdblight/basis.h"
-#include "vdblight/sh_truncate.h"
-#include "vdblight/query.h"
-#include "vdblight/vdb_io.h"
+#include "vdblight/basis/basis.h"
+#include "volume/sh_truncate.h"
+#include "vdblight/query/query.h"
+#include "vdblight/volume/vdb_io.h"
 
 using namespace vdblight;
 using test::CliRun;

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "cli_util.h"
-#include "vdblight/vdb_io.h"
+#include "vdblight/volume/vdb_io.h"
 
 namespace vdblight {
 namespace {

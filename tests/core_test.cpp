@@ -17,9 +17,9 @@
 #include "../libvdblight/src/core/grid_index.h"    // internal
 #include "../libvdblight/src/core/parallel_for.h"  // internal
 #include "test_util.h"
-#include "vdblight/atomic_file.h"
-#include "vdblight/errors.h"
-#include "vdblight/layout.h"
+#include "vdblight/core/atomic_file.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/layout/layout.h"
 
 namespace fs = std::filesystem;
 using namespace vdblight;

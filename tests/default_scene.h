@@ -2,8 +2,8 @@
 // the tests that only read it.
 #pragma once
 
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight::test {
 

@@ -6,16 +6,14 @@
 #include <cmath>
 
 #include "test_util.h"
-#include "vdblight/bake_depth.h"
-#include "vdblight/depth_moments.h"
-#include "vdblight/irradiance_vectors_compact.h"
-#include "vdblight/photons.h"
-#include "vdblight/query.h"
-#include "vdblight/sampling.h"
-#include "vdblight/trace.h"
-#include "vdblight/vdb_io.h"
-#include "vdblight/vector_grid_lookup.h"
-#include "vdblight/volume_compact.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/basis/depth_moments.h"
+#include "basis/irradiance_vectors_compact.h"
+#include "vdblight/query/query.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/trace/trace.h"
+#include "vdblight/volume/vdb_io.h"
+#include "volume/volume_compact.h"
 
 #include "thin_wall_util.h"
 

@@ -5,15 +5,14 @@
 #include <cmath>
 
 #include "test_util.h"
-#include "vdblight/bake.h"
-#include "vdblight/bake_direct.h"
-#include "vdblight/query.h"
-#include "vdblight/query_direct.h"
-#include "vdblight/reference.h"
-#include "vdblight/scene.h"
-#include "vdblight/scene_lights.h"
-#include "vdblight/trace.h"
-#include "vdblight/vdb_io.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/query/query.h"
+#include "query/query_direct.h"
+#include "vdblight/reference/reference.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/light/light.h"
+#include "vdblight/trace/trace.h"
+#include "vdblight/volume/vdb_io.h"
 
 #include "support/scene_generators.h"
 

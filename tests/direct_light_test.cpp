@@ -4,12 +4,12 @@
 
 #include <cmath>
 
-#include "vdblight/direct_light.h"
-#include "vdblight/errors.h"
-#include "vdblight/reference.h"
-#include "vdblight/scene.h"
-#include "vdblight/scene_lights.h"
-#include "vdblight/trace.h"
+#include "vdblight/light/direct_light.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/reference/reference.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/light/light.h"
+#include "vdblight/trace/trace.h"
 
 using namespace vdblight;
 

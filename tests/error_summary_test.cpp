@@ -14,10 +14,10 @@
 #include <variant>
 
 #include "support/scene_generators.h"
-#include "vdblight/bake.h"
-#include "vdblight/error_summary.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/volume/volume.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 
 using namespace vdblight;
 

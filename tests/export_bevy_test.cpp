@@ -17,10 +17,10 @@
 #include "manifest_util.h"
 #include "random_volumes.h"
 #include "test_util.h"
-#include "vdblight/errors.h"
-#include "vdblight/export_engines.h"
-#include "vdblight/query.h"
-#include "vdblight/sh.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/export/engines.h"
+#include "vdblight/query/query.h"
+#include "basis/sh.h"
 
 using namespace vdblight;
 

@@ -8,10 +8,10 @@
 #include <random>
 
 #include "random_volumes.h"
-#include "vdblight/bins.h"
-#include "vdblight/bins_lookup.h"
-#include "vdblight/errors.h"
-#include "vdblight/layout_levels.h"
+#include "vdblight/basis/bins.h"
+#include "query/bins_lookup.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/layout/layout.h"
 
 using namespace vdblight;
 

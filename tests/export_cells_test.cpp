@@ -13,13 +13,12 @@
 #include "manifest_util.h"
 #include "random_volumes.h"
 #include "test_util.h"
-#include "vdblight/basis.h"
-#include "vdblight/errors.h"
-#include "vdblight/sampling.h"
-#include "vdblight/export.h"
-#include "vdblight/export_cells.h"
-#include "vdblight/query_stream.h"
-#include "vdblight/vdb_io.h"
+#include "vdblight/basis/basis.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/export/export.h"
+#include "vdblight/query/query.h"
+#include "vdblight/volume/vdb_io.h"
 
 using namespace vdblight;
 namespace fs = std::filesystem;

@@ -17,10 +17,10 @@
 #include "manifest_util.h"
 #include "random_volumes.h"
 #include "test_util.h"
-#include "vdblight/depth_moments.h"
-#include "vdblight/export.h"
-#include "vdblight/layout_levels.h"
-#include "vdblight/sampling.h"
+#include "vdblight/basis/depth_moments.h"
+#include "vdblight/export/export.h"
+#include "vdblight/layout/layout.h"
+#include "vdblight/sampling/sampling.h"
 
 #include "thin_wall_util.h"
 

@@ -13,9 +13,9 @@
 #include "export_file_checks.h"
 #include "occlusion_volumes.h"
 #include "test_util.h"
-#include "vdblight/errors.h"
-#include "vdblight/export_three.h"
-#include "vdblight/query.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/export/engines.h"
+#include "vdblight/query/query.h"
 
 using namespace vdblight;
 using namespace vdblight::test;

@@ -10,16 +10,16 @@
 
 #include "random_volumes.h"
 #include "test_util.h"
-#include "vdblight/errors.h"
-#include "vdblight/export.h"
-#include "vdblight/irradiance_vectors.h"
-#include "vdblight/irradiance_vectors_compact.h"
-#include "vdblight/layout_levels.h"
-#include "vdblight/query_levels.h"
-#include "vdblight/sh.h"
-#include "vdblight/slice.h"
-#include "vdblight/vector_grid_lookup.h"
-#include "vdblight/volume_compact.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/export/export.h"
+#include "vdblight/basis/irradiance_vectors.h"
+#include "basis/irradiance_vectors_compact.h"
+#include "vdblight/layout/layout.h"
+#include "query/query_levels.h"
+#include "basis/sh.h"
+#include "vdblight/export/slice.h"
+#include "vdblight/query/query.h"
+#include "volume/volume_compact.h"
 
 using namespace vdblight;
 namespace fs = std::filesystem;

@@ -13,11 +13,11 @@
 #include "cli_util.h"
 #include "random_volumes.h"
 #include "test_util.h"
-#include "vdblight/errors.h"
-#include "vdblight/export_engines.h"
-#include "vdblight/irradiance_vectors.h"
-#include "vdblight/query.h"
-#include "vdblight/vdb_io.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/export/engines.h"
+#include "vdblight/basis/irradiance_vectors.h"
+#include "vdblight/query/query.h"
+#include "vdblight/volume/vdb_io.h"
 
 using namespace vdblight;
 namespace fs = std::filesystem;

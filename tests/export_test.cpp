@@ -15,11 +15,11 @@
 #include "export_file_checks.h"
 #include "random_volumes.h"
 #include "test_util.h"
-#include "vdblight/errors.h"
-#include "vdblight/export.h"
-#include "vdblight/query.h"
-#include "vdblight/sampling.h"
-#include "vdblight/sh.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/export/export.h"
+#include "vdblight/query/query.h"
+#include "vdblight/sampling/sampling.h"
+#include "basis/sh.h"
 
 using namespace vdblight;
 using namespace vdblight::test;

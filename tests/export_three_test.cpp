@@ -9,11 +9,11 @@
 #include "export_file_checks.h"
 #include "random_volumes.h"
 #include "test_util.h"
-#include "vdblight/basis.h"
-#include "vdblight/direct_light.h"
-#include "vdblight/errors.h"
-#include "vdblight/export_three.h"
-#include "vdblight/irradiance_vectors.h"
+#include "vdblight/basis/basis.h"
+#include "vdblight/light/direct_light.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/export/engines.h"
+#include "vdblight/basis/irradiance_vectors.h"
 
 using namespace vdblight;
 using namespace vdblight::test;

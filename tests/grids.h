@@ -1,7 +1,7 @@
 // Node grids for tests: an explicit lattice, or the usual placement over a box.
 #pragma once
 
-#include "vdblight/layout.h"
+#include "vdblight/layout/layout.h"
 
 namespace vdblight::test {
 

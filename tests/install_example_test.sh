@@ -2,7 +2,8 @@
 # Issue 16: a user links the installed library. Installs BUILD into a temporary prefix,
 # builds examples/ against it with find_package(vdblight), runs the example on the bundled
 # Cornell box, and checks its summary line and that the volume it wrote opens in this
-# build's `vdblight info`. Also checks that test scenes and internal headers are not installed.
+# build's `vdblight info`. Also checks that test scenes and internal headers are not installed,
+# that at most 30 headers are, and that every one is reachable from vdblight.h (issue 30).
 #
 #   install_example_test.sh BUILD_DIR SOURCE_DIR VDBLIGHT_CLI
 set -euo pipefail
@@ -14,9 +15,34 @@ test -f "$TMP/prefix/include/vdblight/vdblight.h" || { echo "FAIL: vdblight.h no
 test -f "$TMP/prefix/lib/cmake/vdblight/vdblightConfig.cmake" || { echo "FAIL: no package config installed"; exit 1; }
 # Test scenes and internals are not part of the installed API (docs/architecture.md).
 for h in leak_scenes.h office_scene.h scene_generators.h radical_inverse_fast.h node_least_squares.h pca.h \
-         face_crossing.h project_incident.h domain_classification.h bins_gather.h sh_uniform_lookup.h random_rays.h; do
-  if [ -e "$TMP/prefix/include/vdblight/$h" ]; then echo "FAIL: $h is installed: not part of the public API"; exit 1; fi
+         face_crossing.h project_incident.h domain_classification.h bins_gather.h sh_uniform_lookup.h random_rays.h \
+         channel_lookup.h bins_lookup.h query_levels.h bake_antialiased.h sh_window.h volume_compact.h; do
+  if [ -n "$(find "$TMP/prefix/include/vdblight" -name "$h")" ]; then echo "FAIL: $h is installed: not part of the public API"; exit 1; fi
 done
+# Issue 30: a small public surface. At most MAX_HEADERS headers are installed (the shaders'
+# two included), and every C++ one is reachable from vdblight.h through #include "vdblight/..."
+# (shaders/ holds the PNanoVDB lookups for GLSL / HLSL / C, which no C++ header includes).
+MAX_HEADERS=30
+INC="$TMP/prefix/include"
+count="$(find "$INC/vdblight" -name '*.h' | wc -l)"
+if [ "$count" -gt "$MAX_HEADERS" ]; then
+  echo "FAIL: $count headers installed, more than $MAX_HEADERS:"; (cd "$INC" && find vdblight -name '*.h' | sort); exit 1
+fi
+declare -A reached=([vdblight/vdblight.h]=1)
+queue=(vdblight/vdblight.h)
+while [ ${#queue[@]} -gt 0 ]; do
+  h="${queue[0]}"; queue=("${queue[@]:1}")
+  [ -f "$INC/$h" ] || { echo "FAIL: $h is included by an installed header but not installed"; exit 1; }
+  for next in $(sed -nE 's|^[[:space:]]*#[[:space:]]*include[[:space:]]*"(vdblight/[^"]+)".*|\1|p' "$INC/$h"); do
+    if [ -z "${reached[$next]:-}" ]; then reached[$next]=1; queue+=("$next"); fi
+  done
+done
+unreached=""
+for h in $(cd "$INC" && find vdblight -name '*.h' -not -path 'vdblight/shaders/*' | sort); do
+  [ -n "${reached[$h]:-}" ] || unreached="$unreached $h"
+done
+[ -z "$unreached" ] || { echo "FAIL: installed but not reachable from vdblight/vdblight.h:$unreached"; exit 1; }
+echo "installed headers: $count (at most $MAX_HEADERS), ${#reached[@]} reachable from vdblight.h"
 # (No `| grep -q` under pipefail: grep quits at the first match and the writer's SIGPIPE would
 # turn a found match into a failed pipeline, i.e. a silent pass; capture the output instead.)
 if [ -n "$(find "$TMP/prefix" -name '*test_scenes*')" ]; then

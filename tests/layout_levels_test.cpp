@@ -10,10 +10,10 @@
 #include <random>
 
 #include "refinement_box.h"
-#include "vdblight/errors.h"
-#include "vdblight/layout_levels.h"
-#include "vdblight/query_levels.h"
-#include "vdblight/sh.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/layout/layout.h"
+#include "query/query_levels.h"
+#include "basis/sh.h"
 
 using namespace vdblight;
 

@@ -5,9 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "vdblight/errors.h"
-#include "vdblight/layout.h"
-#include "vdblight/node_budget.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/layout/layout.h"
 
 using namespace vdblight;
 

@@ -8,11 +8,11 @@
 #include <cmath>
 
 #include "../libvdblight/src/light/light_tree.h"
-#include "vdblight/light.h"
-#include "vdblight/reference.h"
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/light/light.h"
+#include "vdblight/reference/reference.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 
 using namespace vdblight;
 

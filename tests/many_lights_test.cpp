@@ -6,11 +6,11 @@
 
 #include <cmath>
 
-#include "vdblight/bake.h"
-#include "vdblight/bake_antialiased.h"
-#include "vdblight/reference.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/bake/each_pass.h"
+#include "bake/bake_antialiased.h"
+#include "vdblight/reference/reference.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 #include "../libvdblight/src/bake/project_incident.h"  // internal: projectIncidentRadiance
 
 using namespace vdblight;

@@ -18,13 +18,13 @@
 #include "nanovdb_lookup_c.h"
 #include "random_volumes.h"
 #include "test_util.h"
-#include "vdblight/basis.h"
-#include "vdblight/channel_lookup.h"
-#include "vdblight/errors.h"
-#include "vdblight/export_nanovdb.h"
-#include "vdblight/query.h"
-#include "vdblight/query_direct.h"
-#include "vdblight/vdb_io.h"
+#include "vdblight/basis/basis.h"
+#include "query/channel_lookup.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/export/engines.h"
+#include "vdblight/query/query.h"
+#include "query/query_direct.h"
+#include "vdblight/volume/vdb_io.h"
 
 namespace vdblight {
 namespace {

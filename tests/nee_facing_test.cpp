@@ -7,10 +7,10 @@
 #include <cstring>
 
 #include "test_util.h"
-#include "vdblight/light.h"
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/light/light.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 
 using namespace vdblight;
 

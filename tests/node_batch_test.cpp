@@ -12,14 +12,12 @@
 #include <cstring>
 #include <vector>
 
-#include "vdblight/bake.h"
-#include "vdblight/bake_adaptive.h"
-#include "vdblight/bake_levels.h"
-#include "vdblight/layout_levels.h"
-#include "vdblight/light.h"
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/layout/layout.h"
+#include "vdblight/light/light.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 #include "../libvdblight/src/bake/project_incident.h"  // internal: projectIncidentRadiance
 
 #include "support/office_scene.h"

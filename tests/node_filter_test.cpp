@@ -4,11 +4,11 @@
 
 #include <cmath>
 
-#include "vdblight/depth_moments.h"
-#include "vdblight/errors.h"
-#include "vdblight/node_filter.h"
-#include "vdblight/sampling.h"
-#include "vdblight/volume.h"
+#include "vdblight/basis/depth_moments.h"
+#include "vdblight/core/errors.h"
+#include "bake/node_filter.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/volume/volume.h"
 
 namespace vdblight {
 namespace {

@@ -9,14 +9,14 @@
 #include <limits>
 
 #include "test_util.h"
-#include "vdblight/bake_antialiased.h"
-#include "vdblight/errors.h"
+#include "bake/bake_antialiased.h"
+#include "vdblight/core/errors.h"
 #include "../libvdblight/src/bake/node_least_squares.h"  // internal
-#include "vdblight/query.h"
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
-#include "vdblight/sh.h"
-#include "vdblight/trace.h"
+#include "vdblight/query/query.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
+#include "basis/sh.h"
+#include "vdblight/trace/trace.h"
 
 using namespace vdblight;
 

@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "random_volumes.h"
-#include "vdblight/direct_light.h"
+#include "vdblight/light/direct_light.h"
 
 namespace vdblight::test {
 

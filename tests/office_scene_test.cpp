@@ -2,9 +2,9 @@
 // that reaches the desks.
 #include <gtest/gtest.h>
 
-#include "vdblight/errors.h"
-#include "vdblight/reference.h"
-#include "vdblight/trace.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/reference/reference.h"
+#include "vdblight/trace/trace.h"
 
 #include "support/office_scene.h"
 

@@ -1,9 +1,9 @@
 // The SH ringing case (docs/measurements/robustness.md, "SH ringing"): one point light, direct light only.
 #pragma once
 
-#include "vdblight/bake.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight::test {
 

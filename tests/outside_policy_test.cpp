@@ -14,21 +14,17 @@
 #include <string>
 #include <vector>
 
-#include "vdblight/bake.h"
-#include "vdblight/bake_basis.h"
-#include "vdblight/bake_bins.h"
-#include "vdblight/bake_direct.h"
-#include "vdblight/bake_levels.h"
-#include "vdblight/errors.h"
-#include "vdblight/irradiance_vectors_compact.h"
-#include "vdblight/layout_levels.h"
-#include "vdblight/photons.h"
-#include "vdblight/query.h"
-#include "vdblight/query_direct.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
-#include "vdblight/vector_grid_lookup.h"
-#include "vdblight/volume_compact.h"
+#include "vdblight/bake/each_pass.h"
+#include "bake/bake_basis.h"
+#include "bake/bake_bins.h"
+#include "vdblight/core/errors.h"
+#include "basis/irradiance_vectors_compact.h"
+#include "vdblight/layout/layout.h"
+#include "vdblight/query/query.h"
+#include "query/query_direct.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
+#include "volume/volume_compact.h"
 #include "../libvdblight/src/query/sh_uniform_lookup.h"  // internal: ShUniformLookup
 
 using namespace vdblight;

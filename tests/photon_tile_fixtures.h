@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "test_util.h"
-#include "vdblight/bake_volume.h"
+#include "vdblight/bake/bake.h"
 
 namespace vdblight::test {
 

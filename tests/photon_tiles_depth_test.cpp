@@ -10,12 +10,11 @@
 #include "cli_util.h"
 #include "grids.h"
 #include "photon_tile_fixtures.h"
-#include "vdblight/depth_moments.h"
-#include "vdblight/errors.h"
-#include "vdblight/irradiance_vectors.h"
-#include "vdblight/photon_sums.h"
-#include "vdblight/tiles.h"
-#include "vdblight/vdb_io.h"
+#include "vdblight/basis/depth_moments.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/basis/irradiance_vectors.h"
+#include "vdblight/volume/tiles.h"
+#include "vdblight/volume/vdb_io.h"
 
 namespace vdblight {
 namespace {

@@ -9,12 +9,11 @@
 #include "grids.h"
 #include "photon_tile_fixtures.h"
 #include "test_util.h"
-#include "vdblight/bake_volume.h"
-#include "vdblight/errors.h"
-#include "vdblight/irradiance_vectors.h"
-#include "vdblight/photon_sums.h"
-#include "vdblight/tiles.h"
-#include "vdblight/vdb_io.h"
+#include "vdblight/bake/bake.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/basis/irradiance_vectors.h"
+#include "vdblight/volume/tiles.h"
+#include "vdblight/volume/vdb_io.h"
 
 namespace vdblight {
 namespace {

@@ -14,13 +14,13 @@
 #include <vector>
 
 #include "grids.h"
-#include "vdblight/irradiance_vectors.h"
-#include "vdblight/photons.h"
-#include "vdblight/reference.h"
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
-#include "vdblight/vector_grid_lookup.h"
+#include "vdblight/basis/irradiance_vectors.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/reference/reference.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
+#include "vdblight/query/query.h"
 
 using namespace vdblight;
 

@@ -8,17 +8,16 @@
 
 #include "grids.h"
 #include "test_util.h"
-#include "vdblight/errors.h"
-#include "vdblight/irradiance_vectors.h"
-#include "vdblight/irradiance_vectors_compact.h"
-#include "vdblight/photons.h"
-#include "vdblight/query.h"
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
-#include "vdblight/vdb_io.h"
-#include "vdblight/vector_grid_lookup.h"
-#include "vdblight/volume_compact.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/basis/irradiance_vectors.h"
+#include "basis/irradiance_vectors_compact.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/query/query.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
+#include "vdblight/volume/vdb_io.h"
+#include "volume/volume_compact.h"
 
 using namespace vdblight;
 

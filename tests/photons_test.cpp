@@ -12,16 +12,15 @@
 
 #include "grids.h"
 #include "test_util.h"
-#include "vdblight/errors.h"
-#include "vdblight/irradiance_vectors.h"
-#include "vdblight/photon_emitter.h"
-#include "vdblight/photons.h"
-#include "vdblight/query.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/basis/irradiance_vectors.h"
+#include "light/photon_emitter.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/query/query.h"
 #include "../libvdblight/src/sampling/radical_inverse_fast.h"  // internal
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
-#include "vdblight/vector_grid_lookup.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 #include "../libvdblight/src/bake/face_crossing.h"  // internal: forEachFaceCrossing
 
 #include "support/scene_generators.h"

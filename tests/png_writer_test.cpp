@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "test_util.h"
-#include "vdblight/errors.h"
-#include "vdblight/slice.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/export/slice.h"
 
 namespace vdblight {
 namespace {

@@ -21,13 +21,13 @@
 #include <memory>
 
 #include "../libvdblight/src/bake/surface_cache.h"
-#include "vdblight/bake.h"
-#include "vdblight/light.h"
-#include "vdblight/reference.h"
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
-#include "vdblight/sh.h"
-#include "vdblight/trace.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/light/light.h"
+#include "vdblight/reference/reference.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
+#include "basis/sh.h"
+#include "vdblight/trace/trace.h"
 
 #include "support/leak_scenes.h"
 

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <cstddef>
 
-#include "vdblight/prt.h"
-#include "vdblight/scene.h"
+#include "vdblight/prt/prt.h"
+#include "vdblight/scene/scene.h"
 
 #include "support/scene_generators.h"
 

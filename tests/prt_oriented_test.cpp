@@ -7,10 +7,10 @@
 #include <cmath>
 #include <cstdio>
 
-#include "vdblight/errors.h"
-#include "vdblight/prt.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/prt/prt.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 #include "../libvdblight/src/prt/pca.h"  // internal: pcaProject, pcaReconstruct
 #include "../libvdblight/src/prt/prt_internal.h"  // internal: trainingLights
 

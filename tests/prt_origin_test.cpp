@@ -9,13 +9,12 @@
 
 #include "prt_fixtures.h"
 #include "test_util.h"
-#include "vdblight/prt.h"
-#include "vdblight/prt_io.h"
-#include "vdblight/query.h"
-#include "vdblight/scene.h"
-#include "vdblight/scene_origin.h"
-#include "vdblight/sh.h"
-#include "vdblight/trace.h"
+#include "vdblight/prt/prt.h"
+#include "vdblight/query/query.h"
+#include "vdblight/scene/scene.h"
+#include "scene/scene_origin.h"
+#include "basis/sh.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight {
 namespace {

@@ -10,11 +10,11 @@
 
 #include "../libvdblight/src/prt/prt_internal.h"
 #include "../libvdblight/src/prt/sample_grid.h"
-#include "vdblight/bake.h"
-#include "vdblight/prt.h"
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/prt/prt.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 
 #include "support/scene_generators.h"
 

@@ -6,8 +6,8 @@
 #include <cstdio>
 #include <cstring>
 
-#include "vdblight/depth_moments.h"
-#include "vdblight/sampling.h"
+#include "vdblight/basis/depth_moments.h"
+#include "vdblight/sampling/sampling.h"
 #include "../libvdblight/src/query/depth_weights.h"  // internal: query_detail::weightByDepth
 
 namespace vdblight {

@@ -6,17 +6,15 @@
 
 #include "random_volumes.h"
 #include "test_util.h"
-#include "vdblight/basis.h"
-#include "vdblight/bins.h"
-#include "vdblight/light_visibility.h"
-#include "vdblight/depth_moments.h"
-#include "vdblight/errors.h"
-#include "vdblight/query.h"
-#include "vdblight/query_levels.h"
-#include "vdblight/query_stream.h"
-#include "vdblight/sampling.h"
-#include "vdblight/vdb_io.h"
-#include "vdblight/vdb_stream.h"
+#include "vdblight/basis/basis.h"
+#include "vdblight/basis/bins.h"
+#include "query/light_visibility.h"
+#include "vdblight/basis/depth_moments.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/query/query.h"
+#include "query/query_levels.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/volume/vdb_io.h"
 
 namespace vdblight {
 namespace {

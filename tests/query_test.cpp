@@ -3,10 +3,10 @@
 #include <gtest/gtest.h>
 
 #include "random_volumes.h"
-#include "vdblight/errors.h"
-#include "vdblight/query.h"
-#include "vdblight/sampling.h"
-#include "vdblight/sh.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/query/query.h"
+#include "vdblight/sampling/sampling.h"
+#include "basis/sh.h"
 #include "../libvdblight/src/query/sh_uniform_lookup.h"  // internal: ShUniformLookup
 
 using namespace vdblight;

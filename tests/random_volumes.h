@@ -6,10 +6,10 @@
 #include <random>
 #include <vector>
 
-#include "vdblight/depth_moments.h"
-#include "vdblight/layout_levels.h"
-#include "vdblight/sampling.h"
-#include "vdblight/volume.h"
+#include "vdblight/basis/depth_moments.h"
+#include "vdblight/layout/layout.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/volume/volume.h"
 
 namespace vdblight::test {
 

@@ -11,9 +11,9 @@
 
 #include "refinement_box.h"
 #include "test_util.h"
-#include "vdblight/errors.h"
-#include "vdblight/layout_levels.h"
-#include "vdblight/scene.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/layout/layout.h"
+#include "vdblight/scene/scene.h"
 
 using namespace vdblight;
 

@@ -2,7 +2,7 @@
 // node box are tested extended outwards by half a level-0 spacing.
 #pragma once
 
-#include "vdblight/layout.h"
+#include "vdblight/layout/layout.h"
 
 namespace vdblight::test {
 

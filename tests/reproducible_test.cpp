@@ -10,9 +10,9 @@
 
 #include "../libvdblight/src/volume/sha256.h"  // internal, tested against FIPS 180-4 vectors
 #include "test_util.h"
-#include "vdblight/errors.h"
-#include "vdblight/vdb_io.h"
-#include "vdblight/volume.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/volume/vdb_io.h"
+#include "vdblight/volume/volume.h"
 
 namespace vdblight {
 namespace {

@@ -9,7 +9,7 @@
 #include <limits>
 #include <vector>
 
-#include "vdblight/sampling.h"
+#include "vdblight/sampling/sampling.h"
 
 using namespace vdblight;
 

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "vdblight/sampling.h"
+#include "vdblight/sampling/sampling.h"
 
 using namespace vdblight;
 

@@ -4,10 +4,10 @@
 #include <algorithm>
 #include <set>
 
-#include "vdblight/errors.h"
-#include "vdblight/scene.h"
-#include "vdblight/scene_check.h"
-#include "vdblight/trace.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/bake/scene_check.h"
+#include "vdblight/trace/trace.h"
 
 #include "support/leak_scenes.h"
 #include "support/scene_generators.h"

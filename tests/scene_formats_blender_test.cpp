@@ -12,8 +12,7 @@
 #include "blender_scene.h"
 #include "scene_formats_util.h"
 #include "test_util.h"
-#include "vdblight/scene.h"
-#include "vdblight/scene_load.h"
+#include "vdblight/scene/scene.h"
 
 using namespace vdblight;
 using vdblight::test::expectVec;

@@ -14,9 +14,8 @@
 
 #include "scene_formats_util.h"
 #include "test_util.h"
-#include "vdblight/errors.h"
-#include "vdblight/scene.h"
-#include "vdblight/scene_load.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/scene/scene.h"
 
 using namespace vdblight;
 using vdblight::test::expectVec;

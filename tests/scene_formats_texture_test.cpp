@@ -18,8 +18,7 @@
 #include "../libvdblight/src/scene/texture_mean.h"  // internal: the reader itself, for every PNG kind
 #include "scene_formats_util.h"
 #include "test_util.h"
-#include "vdblight/scene.h"
-#include "vdblight/scene_load.h"
+#include "vdblight/scene/scene.h"
 
 using namespace vdblight;
 using vdblight::test::expectVec;

@@ -20,8 +20,8 @@
 
 #include "cli_util.h"
 #include "test_util.h"
-#include "vdblight/errors.h"
-#include "vdblight/scene.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/scene/scene.h"
 
 namespace fs = std::filesystem;
 

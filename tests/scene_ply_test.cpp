@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "test_util.h"
-#include "vdblight/errors.h"
-#include "vdblight/scene.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/scene/scene.h"
 
 using namespace vdblight;
 using vdblight::test::TempDir;

@@ -13,8 +13,8 @@
 
 #include "expect_throw.h"
 #include "test_util.h"
-#include "vdblight/errors.h"
-#include "vdblight/scene.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/scene/scene.h"
 
 using namespace vdblight;
 using vdblight::test::expectThrowWith;

@@ -11,15 +11,15 @@
 #include <string>
 
 #include "random_volumes.h"
-#include "vdblight/bake.h"
-#include "vdblight/basis.h"
-#include "vdblight/channel_lookup.h"
-#include "vdblight/depth_moments.h"
-#include "vdblight/errors.h"
-#include "vdblight/query.h"
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/basis/basis.h"
+#include "query/channel_lookup.h"
+#include "vdblight/basis/depth_moments.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/query/query.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 #include "../libvdblight/src/query/sh4_uniform_lookup.h"  // internal: ShFourUniformLookup
 
 using namespace vdblight;

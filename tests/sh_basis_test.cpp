@@ -16,16 +16,16 @@
 #include <vector>
 
 #include "test_util.h"
-#include "vdblight/bake.h"
-#include "vdblight/bake_basis.h"
-#include "vdblight/bake_bins.h"
-#include "vdblight/basis.h"
-#include "vdblight/channel_lookup.h"
-#include "vdblight/errors.h"
-#include "vdblight/query.h"
-#include "vdblight/scene.h"
-#include "vdblight/sh.h"
-#include "vdblight/trace.h"
+#include "vdblight/bake/each_pass.h"
+#include "bake/bake_basis.h"
+#include "bake/bake_bins.h"
+#include "vdblight/basis/basis.h"
+#include "query/channel_lookup.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/query/query.h"
+#include "vdblight/scene/scene.h"
+#include "basis/sh.h"
+#include "vdblight/trace/trace.h"
 #include "../libvdblight/src/query/sh_uniform_lookup.h"  // internal: ShUniformLookup
 
 using namespace vdblight;

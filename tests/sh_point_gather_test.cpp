@@ -15,13 +15,13 @@
 #include <cstring>
 
 #include "test_util.h"
-#include "vdblight/bake.h"
-#include "vdblight/basis.h"
-#include "vdblight/errors.h"
-#include "vdblight/query.h"
-#include "vdblight/scene.h"
-#include "vdblight/sh.h"
-#include "vdblight/trace.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/basis/basis.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/query/query.h"
+#include "vdblight/scene/scene.h"
+#include "basis/sh.h"
+#include "vdblight/trace/trace.h"
 
 using namespace vdblight;
 

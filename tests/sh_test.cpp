@@ -6,8 +6,8 @@
 #include <cmath>
 #include <functional>
 
-#include "vdblight/sampling.h"
-#include "vdblight/sh.h"
+#include "vdblight/sampling/sampling.h"
+#include "basis/sh.h"
 
 using namespace vdblight;
 

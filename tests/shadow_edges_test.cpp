@@ -9,15 +9,13 @@
 
 #include "random_volumes.h"
 #include "test_util.h"
-#include "vdblight/bake_direct.h"
-#include "vdblight/query.h"
-#include "vdblight/query_direct.h"
-#include "vdblight/query_stream.h"
-#include "vdblight/scene.h"
-#include "vdblight/shadow_edges.h"
-#include "vdblight/trace.h"
-#include "vdblight/vdb_io.h"
-#include "vdblight/vdb_stream.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/query/query.h"
+#include "query/query_direct.h"
+#include "vdblight/scene/scene.h"
+#include "basis/shadow_edges.h"
+#include "vdblight/trace/trace.h"
+#include "vdblight/volume/vdb_io.h"
 
 using namespace vdblight;
 

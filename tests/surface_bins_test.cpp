@@ -15,12 +15,12 @@
 
 #include "../libvdblight/src/bake/node_sampler.h"
 #include "../libvdblight/src/bake/surface_bins.h"
-#include "vdblight/bake.h"
-#include "vdblight/light.h"
-#include "vdblight/errors.h"
-#include "vdblight/query.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/light/light.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/query/query.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 #include "test_util.h"
 
 using namespace vdblight;

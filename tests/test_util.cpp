@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "vdblight/scene.h"
+#include "vdblight/scene/scene.h"
 
 #include <sstream>
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "vdblight/scene.h"
+#include "vdblight/scene/scene.h"
 
 namespace vdblight::test {
 

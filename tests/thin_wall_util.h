@@ -6,10 +6,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "vdblight/layout_levels.h"
-#include "vdblight/query.h"
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
+#include "vdblight/layout/layout.h"
+#include "vdblight/query/query.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
 
 #include "random_volumes.h"
 #include "support/scene_generators.h"

@@ -8,10 +8,10 @@
 #include <iterator>
 
 #include "test_util.h"
-#include "vdblight/error_summary.h"
-#include "vdblight/errors.h"
-#include "vdblight/tiles.h"
-#include "vdblight/vdb_io.h"
+#include "vdblight/volume/volume.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/volume/tiles.h"
+#include "vdblight/volume/vdb_io.h"
 
 namespace vdblight {
 namespace {

@@ -9,9 +9,9 @@
 #include <limits>
 #include <vector>
 
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 
 #include "support/office_scene.h"
 

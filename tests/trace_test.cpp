@@ -7,10 +7,10 @@
 #include <vector>
 
 #include "test_util.h"
-#include "vdblight/errors.h"
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 #include "../libvdblight/src/trace/random_rays.h"  // internal: traceRandomRays
 
 using namespace vdblight;

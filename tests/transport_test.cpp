@@ -11,13 +11,12 @@
 #include <cstdio>
 
 #include "test_util.h"
-#include "vdblight/bake.h"
-#include "vdblight/bake_adaptive.h"
-#include "vdblight/query.h"
-#include "vdblight/reference.h"
-#include "vdblight/scene.h"
-#include "vdblight/sh.h"
-#include "vdblight/trace.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/query/query.h"
+#include "vdblight/reference/reference.h"
+#include "vdblight/scene/scene.h"
+#include "basis/sh.h"
+#include "vdblight/trace/trace.h"
 
 #include "support/leak_scenes.h"
 

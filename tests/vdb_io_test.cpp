@@ -18,9 +18,9 @@
 #include <openvdb/io/File.h>
 
 #include "test_util.h"
-#include "vdblight/errors.h"
-#include "vdblight/vdb_io.h"
-#include "vdblight/volume.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/volume/vdb_io.h"
+#include "vdblight/volume/volume.h"
 
 namespace vdblight {
 namespace {

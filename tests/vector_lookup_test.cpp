@@ -11,13 +11,12 @@
 
 #include "grids.h"
 #include "test_util.h"
-#include "vdblight/errors.h"
-#include "vdblight/irradiance_vectors.h"
-#include "vdblight/query.h"
-#include "vdblight/sampling.h"
-#include "vdblight/sh.h"
-#include "vdblight/vdb_io.h"
-#include "vdblight/vector_grid_lookup.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/basis/irradiance_vectors.h"
+#include "vdblight/query/query.h"
+#include "vdblight/sampling/sampling.h"
+#include "basis/sh.h"
+#include "vdblight/volume/vdb_io.h"
 
 using namespace vdblight;
 

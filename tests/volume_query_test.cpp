@@ -15,13 +15,13 @@
 #include "cli_util.h"
 #include "one_point_light.h"
 #include "test_util.h"
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
-#include "vdblight/scene_lights.h"
-#include "vdblight/sh_truncate.h"
-#include "vdblight/trace.h"
-#include "vdblight/vdb_io.h"
-#include "vdblight/volume_query.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/light/light.h"
+#include "volume/sh_truncate.h"
+#include "vdblight/trace/trace.h"
+#include "vdblight/volume/vdb_io.h"
+#include "vdblight/query/volume_query.h"
 
 using namespace vdblight;
 using test::runCli;

@@ -12,8 +12,8 @@
 #include <iostream>
 #include <sstream>
 
-#include "vdblight/atomic_file.h"
-#include "vdblight/errors.h"
+#include "vdblight/core/atomic_file.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight::app {
 

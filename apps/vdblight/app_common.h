@@ -8,12 +8,11 @@
 #include <string>
 #include <vector>
 
-#include "vdblight/interrupter.h"
-#include "vdblight/light.h"
-#include "vdblight/math.h"
-#include "vdblight/reference.h"
-#include "vdblight/scene.h"
-#include "vdblight/scene_load.h"
+#include "vdblight/core/interrupter.h"
+#include "vdblight/light/light.h"
+#include "vdblight/core/math.h"
+#include "vdblight/reference/reference.h"
+#include "vdblight/scene/scene.h"
 
 namespace vdblight::app {
 

@@ -9,15 +9,14 @@
 
 #include "app_common.h"
 #include "commands.h"
-#include "vdblight/bake_volume.h"
-#include "vdblight/basis.h"
-#include "vdblight/bins.h"
-#include "vdblight/depth_moments.h"
-#include "vdblight/error_summary.h"
-#include "vdblight/errors.h"
-#include "vdblight/node_budget.h"
-#include "vdblight/pass.h"
-#include "vdblight/scene.h"
+#include "vdblight/bake/bake.h"
+#include "vdblight/basis/basis.h"
+#include "vdblight/basis/bins.h"
+#include "vdblight/basis/depth_moments.h"
+#include "vdblight/volume/volume.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/layout/layout.h"
+#include "vdblight/scene/scene.h"
 
 namespace vdblight::app {
 

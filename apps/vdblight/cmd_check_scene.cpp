@@ -4,8 +4,8 @@
 
 #include "app_common.h"
 #include "commands.h"
-#include "vdblight/scene_check.h"
-#include "vdblight/trace.h"
+#include "vdblight/bake/scene_check.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight::app {
 

@@ -4,17 +4,12 @@
 
 #include "app_common.h"
 #include "commands.h"
-#include "vdblight/errors.h"
-#include "vdblight/export.h"
-#include "vdblight/export_cells.h"
-#include "vdblight/export_nanovdb.h"
-#include "vdblight/export_three.h"
-#include "vdblight/export_engines.h"
-#include "vdblight/export_gltf.h"
-#include "vdblight/query_stream.h"
-#include "vdblight/vdb_stream.h"
-#include "vdblight/preview.h"
-#include "vdblight/vdb_io.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/export/export.h"
+#include "vdblight/export/engines.h"
+#include "vdblight/query/query.h"
+#include "vdblight/volume/vdb_io.h"
+#include "vdblight/export/slice.h"
 
 namespace vdblight::app {
 

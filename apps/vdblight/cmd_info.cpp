@@ -6,11 +6,11 @@
 
 #include "app_common.h"
 #include "commands.h"
-#include "vdblight/basis.h"
-#include "vdblight/errors.h"
-#include "vdblight/prt_io.h"
-#include "vdblight/tiles.h"
-#include "vdblight/vdb_io.h"
+#include "vdblight/basis/basis.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/prt/prt.h"
+#include "vdblight/volume/tiles.h"
+#include "vdblight/volume/vdb_io.h"
 
 namespace vdblight::app {
 

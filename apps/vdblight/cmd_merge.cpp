@@ -4,8 +4,8 @@
 
 #include "app_common.h"
 #include "commands.h"
-#include "vdblight/tiles.h"
-#include "vdblight/vdb_io.h"
+#include "vdblight/volume/tiles.h"
+#include "vdblight/volume/vdb_io.h"
 
 namespace vdblight::app {
 

@@ -11,13 +11,12 @@
 
 #include "app_common.h"
 #include "commands.h"
-#include "vdblight/errors.h"
-#include "vdblight/prt.h"
-#include "vdblight/prt_io.h"
-#include "vdblight/scene.h"
-#include "vdblight/scene_lights.h"
-#include "vdblight/trace.h"
-#include "vdblight/vdb_io.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/prt/prt.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/light/light.h"
+#include "vdblight/trace/trace.h"
+#include "vdblight/volume/vdb_io.h"
 
 namespace vdblight::app {
 

@@ -6,9 +6,9 @@
 
 #include "app_common.h"
 #include "commands.h"
-#include "vdblight/errors.h"
-#include "vdblight/vdb_stream.h"
-#include "vdblight/volume_query.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/volume/vdb_io.h"
+#include "vdblight/query/volume_query.h"
 
 namespace vdblight::app {
 

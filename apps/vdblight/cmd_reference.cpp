@@ -4,8 +4,8 @@
 
 #include "app_common.h"
 #include "commands.h"
-#include "vdblight/errors.h"
-#include "vdblight/trace.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight::app {
 

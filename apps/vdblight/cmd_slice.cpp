@@ -3,9 +3,9 @@
 
 #include "app_common.h"
 #include "commands.h"
-#include "vdblight/errors.h"
-#include "vdblight/slice.h"
-#include "vdblight/vdb_io.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/export/slice.h"
+#include "vdblight/volume/vdb_io.h"
 
 namespace vdblight::app {
 

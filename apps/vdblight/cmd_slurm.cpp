@@ -15,9 +15,9 @@
 
 #include "app_common.h"
 #include "commands.h"
-#include "vdblight/atomic_file.h"
-#include "vdblight/errors.h"
-#include "vdblight/tiles.h"
+#include "vdblight/core/atomic_file.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/volume/tiles.h"
 
 namespace vdblight::app {
 

@@ -4,7 +4,7 @@
 
 #include "app_common.h"
 #include "commands.h"
-#include "vdblight/errors.h"
+#include "vdblight/core/errors.h"
 
 int main(int argc, char** argv) {
     CLI::App app{"vdblight: precomputed volumetric lighting baked into OpenVDB grids"};

@@ -8,8 +8,8 @@
 #include <cstdint>
 
 #include "fuzz_util.h"
-#include "vdblight/errors.h"
-#include "vdblight/scene.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/scene/scene.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
     const std::string& path = vdblight::fuzz::writeInput(data, size, VDBLIGHT_FUZZ_EXTENSION);

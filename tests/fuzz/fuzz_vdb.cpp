@@ -10,9 +10,9 @@
 
 #include "fuzz_util.h"
 #include "../../libvdblight/src/volume/content_hash.h"  // internal: stampContentUuid
-#include "vdblight/errors.h"
-#include "vdblight/query.h"
-#include "vdblight/vdb_io.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/query/query.h"
+#include "vdblight/volume/vdb_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
     using namespace vdblight;

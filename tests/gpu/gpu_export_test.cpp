@@ -17,12 +17,12 @@
 #include "gpu/gl_compute.h"
 #include "gpu/layout_cases.h"
 #include "test_util.h"
-#include "vdblight/bins_lookup.h"
-#include "vdblight/export_compact.h"
-#include "vdblight/query.h"
-#include "vdblight/sampling.h"
-#include "vdblight/sh_truncate.h"
-#include "vdblight/vdb_io.h"
+#include "query/bins_lookup.h"
+#include "export/export_compact.h"
+#include "vdblight/query/query.h"
+#include "vdblight/sampling/sampling.h"
+#include "volume/sh_truncate.h"
+#include "vdblight/volume/vdb_io.h"
 
 using namespace vdblight;
 using namespace vdblight::gpu;

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "export_loader.h"
-#include "vdblight/export.h"
+#include "vdblight/export/export.h"
 
 namespace vdblight::gpu {
 

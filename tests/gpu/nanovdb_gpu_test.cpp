@@ -16,9 +16,9 @@
 #include "gpu/gl_compute.h"
 #include "random_volumes.h"
 #include "test_util.h"
-#include "vdblight/basis.h"
-#include "vdblight/export_nanovdb.h"
-#include "vdblight/query.h"
+#include "vdblight/basis/basis.h"
+#include "vdblight/export/engines.h"
+#include "vdblight/query/query.h"
 
 using namespace vdblight;
 using namespace vdblight::gpu;

@@ -9,8 +9,8 @@
 
 #include <vector>
 
-#include "vdblight/math.h"
-#include "vdblight/scene.h"
+#include "vdblight/core/math.h"
+#include "vdblight/scene/scene.h"
 
 namespace vdblight {
 

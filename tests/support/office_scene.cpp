@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "vdblight/errors.h"
-#include "vdblight/sampling.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/sampling/sampling.h"
 
 #include "support/scene_generators.h"
 

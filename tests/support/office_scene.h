@@ -5,7 +5,7 @@
 // (tests/support), for tests and benchmarks; not part of the installed library.
 #pragma once
 
-#include "vdblight/scene.h"
+#include "vdblight/scene/scene.h"
 
 namespace vdblight {
 

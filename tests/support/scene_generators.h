@@ -5,7 +5,7 @@
 
 #include <cstdint>
 
-#include "vdblight/scene.h"
+#include "vdblight/scene/scene.h"
 
 namespace vdblight {
 

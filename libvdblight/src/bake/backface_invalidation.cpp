@@ -9,12 +9,12 @@
 #include "project_incident.h"
 #include "parallel_nodes.h"
 #include "pass_metadata.h"
-#include "vdblight/bake_antialiased.h"
-#include "vdblight/errors.h"
-#include "vdblight/interrupter.h"
-#include "vdblight/scene.h"
-#include "vdblight/sh.h"
-#include "vdblight/trace.h"
+#include "bake/bake_antialiased.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/core/interrupter.h"
+#include "vdblight/scene/scene.h"
+#include "basis/sh.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight {
 

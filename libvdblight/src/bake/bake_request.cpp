@@ -5,11 +5,10 @@
 #include <cmath>
 
 #include "pass_options.h"
-#include "vdblight/bake_volume.h"
-#include "vdblight/bins.h"
-#include "vdblight/errors.h"
-#include "vdblight/layout_levels.h"
-#include "vdblight/node_budget.h"
+#include "vdblight/bake/bake.h"
+#include "vdblight/basis/bins.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/layout/layout.h"
 
 namespace vdblight {
 

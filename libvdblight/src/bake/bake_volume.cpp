@@ -1,7 +1,7 @@
 // bakeVolume / bakeToFile (bake_volume.h): everything around a pass (pass.h) that makes a
 // bake's file, in one place, so that the command line and a library caller write the
 // same bytes.
-#include "vdblight/bake_volume.h"
+#include "vdblight/bake/bake.h"
 
 #include <algorithm>
 #include <filesystem>
@@ -9,17 +9,16 @@
 
 #include "pass_metadata.h"
 #include "pass_options.h"
-#include "vdblight/bake_depth.h"
-#include "vdblight/bake_direct.h"
-#include "vdblight/depth_moments.h"
-#include "vdblight/errors.h"
-#include "vdblight/node_budget.h"
-#include "vdblight/scene.h"
-#include "vdblight/scene_lights.h"
-#include "vdblight/sh_window.h"
-#include "vdblight/tiles.h"
-#include "vdblight/trace.h"
-#include "vdblight/world_frame.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/basis/depth_moments.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/layout/layout.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/light/light.h"
+#include "bake/sh_window.h"
+#include "vdblight/volume/tiles.h"
+#include "vdblight/trace/trace.h"
+#include "core/world_frame.h"
 
 namespace vdblight {
 

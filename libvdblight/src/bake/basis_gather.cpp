@@ -8,11 +8,11 @@
 #include "parallel_nodes.h"
 #include "pass_metadata.h"
 #include "stratified_sphere.h"
-#include "vdblight/bake_basis.h"
-#include "vdblight/errors.h"
-#include "vdblight/scene.h"
-#include "vdblight/tiles.h"
-#include "vdblight/trace.h"
+#include "bake/bake_basis.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/volume/tiles.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight {
 

@@ -12,12 +12,12 @@
 #include "parallel_nodes.h"
 #include "pass_metadata.h"
 #include "stratified_sphere.h"
-#include "vdblight/tiles.h"
-#include "vdblight/bake_bins.h"
-#include "vdblight/errors.h"
-#include "vdblight/interrupter.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/volume/tiles.h"
+#include "bake/bake_bins.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/core/interrupter.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight {
 
@@ -47,7 +47,7 @@ void gatherBinRadiance(const RadianceEstimator& estimator, const Vec3f& x, int r
 
 Volume bakeBins(const Scene& scene, const Tracer& tracer, const LevelLayout& layout, const BinsBakeOptions& options,
                 Interrupter* interrupter, LevelsBakeStats* stats) {
-    if (options.basis.kind == bins::BasisSpec::Kind::Sh2) throw ValueError("bakeBins needs a bins or moment basis");
+    if (options.basis.isSh2()) throw ValueError("bakeBins needs a bins or moment basis");
     bake_detail::checkLevelsBake(options.samplesPerBin, "samples per bin", options.threads, layout);
     const int R = options.basis.resolution, bins = options.basis.binCount();
     const std::size_t floats = std::size_t(bins) * 3;

@@ -5,8 +5,8 @@
 
 #include <cstdint>
 
-#include "vdblight/light.h"
-#include "vdblight/math.h"
+#include "vdblight/light/light.h"
+#include "vdblight/core/math.h"
 
 namespace vdblight {
 

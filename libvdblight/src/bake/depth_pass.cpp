@@ -1,5 +1,5 @@
 // The depth-moment pass (bake_depth.h): first-hit rays from every node, binned by face.
-#include "vdblight/bake_depth.h"
+#include "vdblight/bake/each_pass.h"
 
 #include <algorithm>
 #include <limits>
@@ -8,10 +8,10 @@
 
 #include "parallel_nodes.h"
 #include "pass_metadata.h"
-#include "vdblight/depth_moments.h"
-#include "vdblight/errors.h"
-#include "vdblight/sampling.h"
-#include "vdblight/trace.h"
+#include "vdblight/basis/depth_moments.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight {
 

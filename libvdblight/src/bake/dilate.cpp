@@ -2,8 +2,8 @@
 // bake_antialiased.h and docs/methods.md).
 #include <vector>
 
-#include "vdblight/bake_antialiased.h"
-#include "vdblight/errors.h"
+#include "bake/bake_antialiased.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight {
 

@@ -1,6 +1,6 @@
 // `bake --direct runtime | occlusion` (bake_direct.h): light selection and visibility channels.
 
-#include "vdblight/bake_direct.h"
+#include "vdblight/bake/each_pass.h"
 
 #include <algorithm>
 #include <numeric>
@@ -8,11 +8,11 @@
 #include "parallel_nodes.h"
 #include "pass_metadata.h"
 #include "shadow_edge_search.h"
-#include "vdblight/errors.h"
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
-#include "vdblight/shadow_edges.h"
-#include "vdblight/trace.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
+#include "basis/shadow_edges.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight {
 

@@ -4,13 +4,13 @@
 #include <cmath>
 
 #include "domain_classification.h"
-#include "vdblight/bake_antialiased.h"
+#include "bake/bake_antialiased.h"
 #include "core/grid_index.h"
-#include "vdblight/errors.h"
+#include "vdblight/core/errors.h"
 #include "sampling/radical_inverse_fast.h"
-#include "vdblight/scene.h"
-#include "vdblight/sampling.h"
-#include "vdblight/trace.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight {
 

@@ -8,10 +8,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "vdblight/bake_antialiased.h"
-#include "vdblight/layout.h"
-#include "vdblight/light.h"
-#include "vdblight/trace.h"
+#include "bake/bake_antialiased.h"
+#include "vdblight/layout/layout.h"
+#include "vdblight/light/light.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight {
 

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <utility>
 
-#include "vdblight/math.h"
+#include "vdblight/core/math.h"
 
 namespace vdblight {
 

@@ -5,11 +5,11 @@
 
 #include "pass_metadata.h"
 #include "probe_passes.h"
-#include "vdblight/bake_adaptive.h"
-#include "vdblight/errors.h"
-#include "vdblight/tiles.h"
-#include "vdblight/interrupter.h"
-#include "vdblight/scene.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/volume/tiles.h"
+#include "vdblight/core/interrupter.h"
+#include "vdblight/scene/scene.h"
 
 namespace vdblight {
 

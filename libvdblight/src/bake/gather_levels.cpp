@@ -9,14 +9,13 @@
 #include "levels_bake.h"
 #include "parallel_nodes.h"
 #include "pass_metadata.h"
-#include "vdblight/tiles.h"
-#include "vdblight/bake_depth.h"
-#include "vdblight/bake_levels.h"
-#include "vdblight/errors.h"
-#include "vdblight/interrupter.h"
-#include "vdblight/scene.h"
-#include "vdblight/sh.h"
-#include "vdblight/trace.h"
+#include "vdblight/volume/tiles.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/core/interrupter.h"
+#include "vdblight/scene/scene.h"
+#include "basis/sh.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight {
 

@@ -3,8 +3,8 @@
 #include <string>
 
 #include "pass_metadata.h"
-#include "vdblight/errors.h"
-#include "vdblight/tiles.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/volume/tiles.h"
 
 namespace vdblight::bake_detail {
 

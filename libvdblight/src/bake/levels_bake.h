@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "parallel_nodes.h"
-#include "vdblight/bake_levels.h"
-#include "vdblight/layout_levels.h"
-#include "vdblight/math.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/layout/layout.h"
+#include "vdblight/core/math.h"
 
 namespace vdblight::bake_detail {
 

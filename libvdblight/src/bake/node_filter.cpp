@@ -1,13 +1,13 @@
 // Filtering across nodes with depth-aware weights (node_filter.h, issue 32).
-#include "vdblight/node_filter.h"
+#include "bake/node_filter.h"
 
 #include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
 
-#include "vdblight/depth_moments.h"
-#include "vdblight/errors.h"
+#include "vdblight/basis/depth_moments.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight {
 

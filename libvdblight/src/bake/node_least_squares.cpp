@@ -6,7 +6,7 @@
 #include <cmath>
 #include <string>
 
-#include "vdblight/errors.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight {
 

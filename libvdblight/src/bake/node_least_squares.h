@@ -21,7 +21,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "vdblight/layout.h"
+#include "vdblight/layout/layout.h"
 
 namespace vdblight {
 

@@ -19,13 +19,13 @@
 #include <limits>
 #include <vector>
 
-#include "vdblight/bake.h"
-#include "vdblight/basis.h"
-#include "vdblight/depth_moments.h"
-#include "vdblight/light.h"
-#include "vdblight/sampling.h"
-#include "vdblight/sh.h"
-#include "vdblight/trace.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/basis/basis.h"
+#include "vdblight/basis/depth_moments.h"
+#include "vdblight/light/light.h"
+#include "vdblight/sampling/sampling.h"
+#include "basis/sh.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight::detail {
 

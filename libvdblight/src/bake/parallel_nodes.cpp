@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
-#include "vdblight/bake.h"
-#include "vdblight/basis.h"
-#include "vdblight/error_summary.h"
-#include "vdblight/layout_levels.h"
-#include "vdblight/sh.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/basis/basis.h"
+#include "vdblight/volume/volume.h"
+#include "vdblight/layout/layout.h"
+#include "basis/sh.h"
 
 namespace vdblight {
 namespace bake_detail {

@@ -13,10 +13,10 @@
 #include <vector>
 
 #include "core/parallel_for.h"
-#include "vdblight/interrupter.h"
-#include "vdblight/light.h"
-#include "vdblight/tiles.h"
-#include "vdblight/volume.h"
+#include "vdblight/core/interrupter.h"
+#include "vdblight/light/light.h"
+#include "vdblight/volume/tiles.h"
+#include "vdblight/volume/volume.h"
 
 namespace vdblight {
 

@@ -2,9 +2,9 @@
 #include "passes.h"
 
 #include "pass_options.h"
-#include "vdblight/errors.h"
-#include "vdblight/layout_levels.h"
-#include "vdblight/sh.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/layout/layout.h"
+#include "basis/sh.h"
 
 namespace vdblight::bake_detail {
 

@@ -3,8 +3,8 @@
 #include "passes.h"
 
 #include "pass_options.h"
-#include "vdblight/bake_antialiased.h"
-#include "vdblight/sh.h"
+#include "bake/bake_antialiased.h"
+#include "basis/sh.h"
 
 namespace vdblight::bake_detail {
 

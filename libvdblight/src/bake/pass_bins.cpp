@@ -6,12 +6,12 @@
 #include <algorithm>
 
 #include "pass_options.h"
-#include "vdblight/bake_basis.h"
-#include "vdblight/bake_bins.h"
-#include "vdblight/basis.h"
-#include "vdblight/bins.h"
-#include "vdblight/layout_levels.h"
-#include "vdblight/scene.h"
+#include "bake/bake_basis.h"
+#include "bake/bake_bins.h"
+#include "vdblight/basis/basis.h"
+#include "vdblight/basis/bins.h"
+#include "vdblight/layout/layout.h"
+#include "vdblight/scene/scene.h"
 
 namespace vdblight::bake_detail {
 

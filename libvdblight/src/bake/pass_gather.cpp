@@ -6,10 +6,10 @@
 
 #include "pass_options.h"
 #include "surface_bins.h"
-#include "vdblight/bake_antialiased.h"
-#include "vdblight/basis.h"
-#include "vdblight/errors.h"
-#include "vdblight/sh.h"
+#include "bake/bake_antialiased.h"
+#include "vdblight/basis/basis.h"
+#include "vdblight/core/errors.h"
+#include "basis/sh.h"
 
 namespace vdblight::bake_detail {
 

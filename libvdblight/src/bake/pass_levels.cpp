@@ -4,11 +4,10 @@
 #include "passes.h"
 
 #include "pass_options.h"
-#include "vdblight/bake_levels.h"
-#include "vdblight/errors.h"
-#include "vdblight/sh.h"
-#include "vdblight/scene.h"
-#include "vdblight/solid_cull.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/core/errors.h"
+#include "basis/sh.h"
+#include "vdblight/scene/scene.h"
 
 namespace vdblight::bake_detail {
 

@@ -1,9 +1,9 @@
 #include "pass_metadata.h"
 
 #include "parallel_nodes.h"
-#include "vdblight/bake.h"
-#include "vdblight/error_summary.h"
-#include "vdblight/scene.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/volume/volume.h"
+#include "vdblight/scene/scene.h"
 
 namespace vdblight::bake_detail {
 

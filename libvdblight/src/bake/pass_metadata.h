@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "vdblight/layout.h"
-#include "vdblight/light.h"
-#include "vdblight/volume.h"
+#include "vdblight/layout/layout.h"
+#include "vdblight/light/light.h"
+#include "vdblight/volume/volume.h"
 
 namespace vdblight {
 

@@ -6,11 +6,11 @@
 #include <sstream>
 #include <type_traits>
 
-#include "vdblight/bake.h"
-#include "vdblight/basis.h"
-#include "vdblight/bins.h"
-#include "vdblight/errors.h"
-#include "vdblight/layout_levels.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/basis/basis.h"
+#include "vdblight/basis/bins.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/layout/layout.h"
 
 namespace vdblight {
 

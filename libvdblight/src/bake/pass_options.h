@@ -11,9 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "vdblight/bake_volume.h"
-#include "vdblight/errors.h"
-#include "vdblight/pass.h"
+#include "vdblight/bake/bake.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight::bake_detail {
 

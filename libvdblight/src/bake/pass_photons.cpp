@@ -2,10 +2,10 @@
 #include "passes.h"
 
 #include "pass_options.h"
-#include "vdblight/errors.h"
-#include "vdblight/irradiance_vectors.h"
-#include "vdblight/photons.h"
-#include "vdblight/volume_compact.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/basis/irradiance_vectors.h"
+#include "vdblight/bake/each_pass.h"
+#include "volume/volume_compact.h"
 
 namespace vdblight::bake_detail {
 

@@ -3,7 +3,7 @@
 #include "passes.h"
 
 #include "pass_options.h"
-#include "vdblight/errors.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight {
 

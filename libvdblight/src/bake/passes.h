@@ -5,8 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "vdblight/bake_volume.h"
-#include "vdblight/pass.h"
+#include "vdblight/bake/bake.h"
 
 namespace vdblight::bake_detail {
 

@@ -12,7 +12,7 @@
 #include "parallel_nodes.h"
 #include "surface_bins.h"
 #include "surface_cache.h"
-#include "vdblight/sampling.h"
+#include "vdblight/sampling/sampling.h"
 
 namespace vdblight::bake_detail {
 

@@ -1,14 +1,14 @@
 // Faces whose back side is seen from open space (scene_check.h).
-#include "vdblight/scene_check.h"
+#include "vdblight/bake/scene_check.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "core/parallel_for.h"
-#include "vdblight/errors.h"
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight {
 

@@ -1,8 +1,8 @@
-#include "vdblight/sh_window.h"
+#include "bake/sh_window.h"
 
 #include "pass_metadata.h"
-#include "vdblight/errors.h"
-#include "vdblight/sh.h"
+#include "vdblight/core/errors.h"
+#include "basis/sh.h"
 
 namespace vdblight {
 

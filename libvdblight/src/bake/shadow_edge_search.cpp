@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "vdblight/shadow_edges.h"
-#include "vdblight/trace.h"
+#include "basis/shadow_edges.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight::bake_detail {
 

@@ -1,9 +1,8 @@
 // The search behind a node's shadow edge (shadow_edges.h), internal to the bake.
 #pragma once
 
-#include "vdblight/light.h"
-#include "vdblight/math.h"
-#include "vdblight/scene_lights.h"
+#include "vdblight/light/light.h"
+#include "vdblight/core/math.h"
 
 namespace vdblight {
 

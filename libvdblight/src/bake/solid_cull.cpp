@@ -1,5 +1,5 @@
 // Solid culling: connected regions of geometry-free leaf cells, classified by back-face rays.
-#include "vdblight/solid_cull.h"
+#include "vdblight/bake/each_pass.h"
 
 #include <tbb/parallel_for.h>
 
@@ -9,8 +9,8 @@
 
 #include "core/union_find.h"
 #include "core/grid_index.h"
-#include "vdblight/errors.h"
-#include "vdblight/trace.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight {
 

@@ -13,9 +13,9 @@
 #include <cmath>
 #include <vector>
 
-#include "vdblight/bins.h"
-#include "vdblight/light.h"
-#include "vdblight/sampling.h"
+#include "vdblight/basis/bins.h"
+#include "vdblight/light/light.h"
+#include "vdblight/sampling/sampling.h"
 
 namespace vdblight::bake_detail {
 

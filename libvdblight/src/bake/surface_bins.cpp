@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "vdblight/errors.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight::bake_detail {
 

@@ -25,11 +25,11 @@
 #include <cstdint>
 #include <memory>
 
-#include "vdblight/layout.h"
-#include "vdblight/light.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
-#include "vdblight/volume.h"
+#include "vdblight/layout/layout.h"
+#include "vdblight/light/light.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
+#include "vdblight/volume/volume.h"
 
 namespace vdblight::bake_detail {
 

@@ -4,9 +4,9 @@
 #include <cmath>
 
 #include "pass_metadata.h"
-#include "vdblight/errors.h"
-#include "vdblight/tiles.h"
-#include "vdblight/trace.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/volume/tiles.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight {
 namespace bake_detail {
@@ -52,7 +52,7 @@ PassRange stagePasses(int probePasses, int stage, const Volume* input, const Gri
                                    : std::string("stage 0 reads no stage input"));
     if (input) {
         const VolumeLevel* level = input->levels.size() == 1 ? &input->levels[0] : nullptr;
-        if (input->basis.kind != probeStageBasis().kind || !level || level->sparse() || level->grid.nx != grid.nx ||
+        if (!input->basis.sameKind(probeStageBasis()) || !level || level->sparse() || level->grid.nx != grid.nx ||
             level->grid.ny != grid.ny || level->grid.nz != grid.nz || std::abs(level->grid.spacing - grid.spacing) > 1e-9 * grid.spacing)
             throw ValueError("the stage input is not a probe stage volume of this grid");
         if (metaNumber(input->meta, "probe_stage", -1) != stage - 1 || metaNumber(input->meta, "probe_passes", -1) != probePasses)

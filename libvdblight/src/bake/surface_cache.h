@@ -20,11 +20,11 @@
 #include <cstddef>
 #include <vector>
 
-#include "vdblight/layout.h"
-#include "vdblight/light.h"
-#include "vdblight/sh.h"
-#include "vdblight/trace.h"
-#include "vdblight/volume.h"
+#include "vdblight/layout/layout.h"
+#include "vdblight/light/light.h"
+#include "basis/sh.h"
+#include "vdblight/trace/trace.h"
+#include "vdblight/volume/volume.h"
 
 namespace vdblight {
 namespace bake_detail {

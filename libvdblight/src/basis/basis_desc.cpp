@@ -1,9 +1,9 @@
 // BasisDesc::sh2 beside the SH code it names (the other bases build theirs in their files).
-#include "vdblight/basis_desc.h"
+#include "vdblight/basis/basis.h"
 
-#include "vdblight/irradiance_vectors.h"
-#include "vdblight/irradiance_vectors_compact.h"
-#include "vdblight/sh.h"
+#include "vdblight/basis/irradiance_vectors.h"
+#include "basis/irradiance_vectors_compact.h"
+#include "basis/sh.h"
 
 namespace vdblight {
 
@@ -33,5 +33,7 @@ int BasisDesc::shOrder() const {
 bool BasisDesc::isIrradianceVectors() const { return kind == iv::basis().kind; }
 
 bool BasisDesc::isCompactIrradianceVectors() const { return kind == iv::compactBasis().kind; }
+
+bool BasisDesc::sameKind(const BasisDesc& other) const { return kind == other.kind; }
 
 }  // namespace vdblight

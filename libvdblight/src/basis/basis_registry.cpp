@@ -2,8 +2,8 @@
 // A new basis adds its BasisKind's declaration and one entry to the list below.
 #include <cmath>
 
-#include "vdblight/basis.h"
-#include "vdblight/errors.h"
+#include "vdblight/basis/basis.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight {
 

@@ -1,12 +1,12 @@
 // Greger bins: the equal-area sphere map, bin names, basis parsing and quadrature weights.
-#include "vdblight/bins.h"
+#include "vdblight/basis/bins.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 
-#include "vdblight/errors.h"
-#include "vdblight/sampling.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/sampling/sampling.h"
 
 namespace vdblight {
 namespace bins {

@@ -5,8 +5,8 @@
 #include <memory>
 #include <mutex>
 
-#include "vdblight/basis.h"
-#include "vdblight/bins.h"
+#include "vdblight/basis/basis.h"
+#include "vdblight/basis/bins.h"
 
 namespace vdblight {
 

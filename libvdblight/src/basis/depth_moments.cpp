@@ -1,5 +1,5 @@
 // Names of the depth-moment channels (depth_moments.h; docs/format.md "Depth moments").
-#include "vdblight/depth_moments.h"
+#include "vdblight/basis/depth_moments.h"
 
 #include <stdexcept>
 

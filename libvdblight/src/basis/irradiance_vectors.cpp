@@ -1,9 +1,9 @@
-#include "vdblight/irradiance_vectors.h"
+#include "vdblight/basis/irradiance_vectors.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "vdblight/errors.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight {
 namespace iv {

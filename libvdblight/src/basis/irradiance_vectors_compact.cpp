@@ -1,8 +1,8 @@
-#include "vdblight/irradiance_vectors_compact.h"
+#include "basis/irradiance_vectors_compact.h"
 
 #include <cmath>
 
-#include "vdblight/errors.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight {
 namespace iv {

@@ -1,4 +1,4 @@
-#include "vdblight/sh.h"
+#include "basis/sh.h"
 
 #include <cmath>
 #include <vector>

@@ -3,8 +3,8 @@
 // export what the basis is.
 #include <memory>
 
-#include "vdblight/basis.h"
-#include "vdblight/sh.h"
+#include "vdblight/basis/basis.h"
+#include "basis/sh.h"
 
 namespace vdblight {
 

@@ -12,8 +12,8 @@
 #include <memory>
 #include <string>
 
-#include "vdblight/basis.h"
-#include "vdblight/errors.h"
+#include "vdblight/basis/basis.h"
+#include "vdblight/core/errors.h"
 #include "sh_polynomials.h"
 
 namespace vdblight {

@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "vdblight/math.h"
+#include "vdblight/core/math.h"
 
 namespace vdblight::sh {
 

@@ -1,6 +1,6 @@
 // The one atomic file writer (vdblight/atomic_file.h): every file the library and the program
 // write goes through it.
-#include "vdblight/atomic_file.h"
+#include "vdblight/core/atomic_file.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -13,7 +13,7 @@
 #include <filesystem>
 #include <random>
 
-#include "vdblight/errors.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight {
 

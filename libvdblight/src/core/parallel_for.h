@@ -14,8 +14,8 @@
 #include <cstdint>
 #include <string>
 
-#include "vdblight/errors.h"
-#include "vdblight/interrupter.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/core/interrupter.h"
 
 namespace vdblight::core {
 

@@ -16,8 +16,8 @@
 
 #include "export_internal.h"
 #include "staged_files.h"
-#include "vdblight/errors.h"
-#include "vdblight/export_engines.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/export/engines.h"
 
 namespace vdblight {
 

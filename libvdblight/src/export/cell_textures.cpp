@@ -7,7 +7,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "vdblight/depth_moments.h"
+#include "vdblight/basis/depth_moments.h"
 
 namespace vdblight::exporter {
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "export_internal.h"
-#include "vdblight/light_visibility.h"
+#include "query/light_visibility.h"
 
 namespace vdblight::exporter {
 

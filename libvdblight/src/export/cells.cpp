@@ -1,6 +1,6 @@
 // exportCells (export_cells.h): the export lattice cut into cells with one shared texel plane
 // between neighbours, each sampled and written like a small whole-volume export.
-#include "vdblight/export_cells.h"
+#include "vdblight/export/export.h"
 
 
 #include <filesystem>
@@ -14,8 +14,8 @@
 #include "cell_textures.h"
 #include "export_internal.h"
 #include "staged_files.h"
-#include "vdblight/depth_moments.h"
-#include "vdblight/errors.h"
+#include "vdblight/basis/depth_moments.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight {
 

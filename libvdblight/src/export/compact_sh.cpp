@@ -7,10 +7,10 @@
 #include <cmath>
 
 #include "export_internal.h"
-#include "vdblight/errors.h"
-#include "vdblight/export_compact.h"
-#include "vdblight/sh.h"
-#include "vdblight/sh_truncate.h"
+#include "vdblight/core/errors.h"
+#include "export/export_compact.h"
+#include "basis/sh.h"
+#include "volume/sh_truncate.h"
 
 namespace vdblight::exporter {
 

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "export_internal.h"
-#include "vdblight/shadow_edges.h"
+#include "basis/shadow_edges.h"
 
 namespace vdblight::exporter {
 

@@ -2,7 +2,7 @@
 #include <cstdio>
 
 #include "engine_internal.h"
-#include "vdblight/errors.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight {
 

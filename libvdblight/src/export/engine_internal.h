@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "export_internal.h"
-#include "vdblight/export_engines.h"
+#include "vdblight/export/engines.h"
 
 namespace vdblight::exporter {
 

@@ -12,12 +12,12 @@
 #include "compact_sh.h"
 #include "export_internal.h"
 #include "staged_files.h"
-#include "vdblight/atomic_file.h"
-#include "vdblight/bins.h"
-#include "vdblight/sh.h"
-#include "vdblight/errors.h"
-#include "vdblight/irradiance_vectors_compact.h"
-#include "vdblight/query_direct.h"
+#include "vdblight/core/atomic_file.h"
+#include "vdblight/basis/bins.h"
+#include "basis/sh.h"
+#include "vdblight/core/errors.h"
+#include "basis/irradiance_vectors_compact.h"
+#include "query/query_direct.h"
 
 namespace vdblight {
 

@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "vdblight/basis.h"
-#include "vdblight/export.h"
-#include "vdblight/query.h"
-#include "vdblight/sh.h"
+#include "vdblight/basis/basis.h"
+#include "vdblight/export/export.h"
+#include "vdblight/query/query.h"
+#include "basis/sh.h"
 
 namespace vdblight::exporter {
 

@@ -7,9 +7,9 @@
 #include <array>
 #include <cmath>
 
-#include "vdblight/errors.h"
-#include "vdblight/query_direct.h"  // OcclusionLookup, and DirectLight / formatDirectLight through it
-#include "vdblight/sh.h"
+#include "vdblight/core/errors.h"
+#include "query/query_direct.h"  // OcclusionLookup, and DirectLight / formatDirectLight through it
+#include "basis/sh.h"
 
 namespace vdblight::exporter {
 

@@ -12,10 +12,10 @@
 
 #include "engine_internal.h"
 #include "glb_writer.h"
-#include "vdblight/atomic_file.h"
-#include "vdblight/errors.h"
-#include "vdblight/export_gltf.h"
-#include "vdblight/query.h"
+#include "vdblight/core/atomic_file.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/export/engines.h"
+#include "vdblight/query/query.h"
 
 namespace vdblight {
 

@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "export_internal.h"
-#include "vdblight/errors.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight {
 

@@ -5,10 +5,10 @@
 
 #include "compact_sh.h"
 #include "export_internal.h"
-#include "vdblight/bins.h"
-#include "vdblight/errors.h"
-#include "vdblight/irradiance_vectors.h"
-#include "vdblight/sh.h"
+#include "vdblight/basis/bins.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/basis/irradiance_vectors.h"
+#include "basis/sh.h"
 
 namespace vdblight {
 

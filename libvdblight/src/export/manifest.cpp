@@ -10,11 +10,11 @@
 
 #include "compact_sh.h"
 #include "export_internal.h"
-#include "vdblight/basis_desc.h"
-#include "vdblight/depth_moments.h"
-#include "vdblight/errors.h"
-#include "vdblight/shadow_edges.h"
-#include "vdblight/sh.h"
+#include "vdblight/basis/basis.h"
+#include "vdblight/basis/depth_moments.h"
+#include "vdblight/core/errors.h"
+#include "basis/shadow_edges.h"
+#include "basis/sh.h"
 
 namespace vdblight::exporter {
 

@@ -1,7 +1,7 @@
 // exportNanoVdb (export_nanovdb.h): the volume's grids built with NanoVDB's GridBuilder (no
 // OpenVDB grids in between: the Volume's plain arrays go straight into NanoVDB trees) and
 // written with io::writeGrids through an AtomicFile.
-#include "vdblight/export_nanovdb.h"
+#include "vdblight/export/engines.h"
 
 #include <cmath>
 #include <cstring>
@@ -13,9 +13,9 @@
 #include <nanovdb/util/IO.h>
 
 #include "core/grid_index.h"
-#include "vdblight/atomic_file.h"
-#include "vdblight/depth_moments.h"
-#include "vdblight/errors.h"
+#include "vdblight/core/atomic_file.h"
+#include "vdblight/basis/depth_moments.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight {
 

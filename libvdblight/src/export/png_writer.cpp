@@ -3,9 +3,9 @@
 // exception crosses C code. The buffer is then written atomically like every other output.
 #include <png.h>
 
-#include "vdblight/atomic_file.h"
-#include "vdblight/errors.h"
-#include "vdblight/slice.h"
+#include "vdblight/core/atomic_file.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/export/slice.h"
 
 namespace vdblight {
 

@@ -12,10 +12,10 @@
 #include "engine_internal.h"
 #include "fold_direct.h"
 #include "staged_files.h"
-#include "vdblight/bins.h"
-#include "vdblight/errors.h"
-#include "vdblight/export_three.h"
-#include "vdblight/sh.h"
+#include "vdblight/basis/bins.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/export/engines.h"
+#include "basis/sh.h"
 
 namespace vdblight {
 

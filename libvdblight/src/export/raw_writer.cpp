@@ -4,7 +4,7 @@
 #include <cstring>
 
 #include "export_internal.h"
-#include "vdblight/errors.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight::exporter {
 

@@ -16,10 +16,10 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "vdblight/atomic_file.h"
-#include "vdblight/errors.h"
-#include "vdblight/query.h"
-#include "vdblight/slice.h"
+#include "vdblight/core/atomic_file.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/query/query.h"
+#include "vdblight/export/slice.h"
 
 namespace vdblight {
 

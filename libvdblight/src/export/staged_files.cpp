@@ -1,7 +1,7 @@
 // An export's files written all or nothing (staged_files.h).
 #include "staged_files.h"
 
-#include "vdblight/errors.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight::exporter {
 

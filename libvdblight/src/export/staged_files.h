@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "vdblight/atomic_file.h"
+#include "vdblight/core/atomic_file.h"
 
 namespace vdblight::exporter {
 

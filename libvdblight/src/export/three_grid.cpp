@@ -10,11 +10,11 @@
 #include "fold_direct.h"
 #include "staged_files.h"
 #include "three_grid_json.h"
-#include "vdblight/basis.h"
-#include "vdblight/bins.h"
-#include "vdblight/errors.h"
-#include "vdblight/export_three.h"
-#include "vdblight/sh.h"
+#include "vdblight/basis/basis.h"
+#include "vdblight/basis/bins.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/export/engines.h"
+#include "basis/sh.h"
 
 namespace vdblight {
 

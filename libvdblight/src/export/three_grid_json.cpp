@@ -1,7 +1,7 @@
 // probe_grid.json of `export --format three` (three_grid_json.h).
 #include "three_grid_json.h"
 
-#include "vdblight/export_three.h"
+#include "vdblight/export/engines.h"
 
 namespace vdblight::exporter {
 

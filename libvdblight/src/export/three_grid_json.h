@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "vdblight/export.h"
+#include "vdblight/export/export.h"
 
 namespace vdblight::exporter {
 

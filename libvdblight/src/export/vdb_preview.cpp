@@ -7,10 +7,10 @@
 #include <cstdio>
 #include <mutex>
 
-#include "vdblight/atomic_file.h"
-#include "vdblight/errors.h"
-#include "vdblight/preview.h"
-#include "vdblight/query.h"
+#include "vdblight/core/atomic_file.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/export/slice.h"
+#include "vdblight/query/query.h"
 
 namespace vdblight {
 

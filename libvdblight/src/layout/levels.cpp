@@ -5,8 +5,8 @@
 #include <utility>
 
 #include "core/grid_index.h"
-#include "vdblight/errors.h"
-#include "vdblight/layout_levels.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/layout/layout.h"
 
 namespace vdblight {
 

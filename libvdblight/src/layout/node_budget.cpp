@@ -1,9 +1,9 @@
-#include "vdblight/node_budget.h"
+#include "vdblight/layout/layout.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "vdblight/errors.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight {
 

@@ -5,8 +5,8 @@
 #include <cmath>
 
 #include "core/grid_index.h"
-#include "vdblight/errors.h"
-#include "vdblight/level_topology.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/layout/layout.h"
 
 namespace vdblight {
 

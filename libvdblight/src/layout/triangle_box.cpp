@@ -3,7 +3,7 @@
 // 9 cross products of box axes with triangle edges. Computed in double; touching overlaps.
 #include <algorithm>
 
-#include "vdblight/layout_levels.h"
+#include "vdblight/layout/layout.h"
 
 namespace vdblight {
 

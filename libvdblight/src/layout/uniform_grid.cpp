@@ -2,8 +2,8 @@
 #include <sstream>
 
 #include "core/grid_index.h"
-#include "vdblight/errors.h"
-#include "vdblight/layout.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/layout/layout.h"
 
 namespace vdblight {
 

@@ -2,12 +2,12 @@
 // one-line text form. Everything in double: a lookup adds this to interpolated indirect light,
 // and the polygon test compares it with numerical integration to 1e-4.
 
-#include "vdblight/direct_light.h"
+#include "vdblight/light/direct_light.h"
 
 #include <cstdio>
 #include <sstream>
 
-#include "vdblight/errors.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight {
 

@@ -21,7 +21,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "vdblight/math.h"
+#include "vdblight/core/math.h"
 
 namespace vdblight {
 

@@ -1,12 +1,12 @@
 // Photon emission (see photon_emitter.h for the lights and their power).
-#include "vdblight/photon_emitter.h"
+#include "light/photon_emitter.h"
 
 #include <algorithm>
 
-#include "vdblight/errors.h"
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <numeric>
 
-#include "vdblight/scene.h"
+#include "vdblight/scene/scene.h"
 
 namespace vdblight {
 

@@ -1,13 +1,13 @@
-#include "vdblight/light.h"
+#include "vdblight/light/light.h"
 
 #include <algorithm>
 #include <type_traits>
 
 #include "light_tree.h"
 #include "punctual_sampler.h"
-#include "vdblight/errors.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight {
 

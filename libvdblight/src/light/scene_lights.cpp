@@ -1,7 +1,7 @@
 // A scene's lights for `bake --direct` (scene_lights.h): emissive triangles grouped into
 // polygon lights, punctual lights as they are, and visibility by shadow rays.
 
-#include "vdblight/scene_lights.h"
+#include "vdblight/light/light.h"
 
 #include <algorithm>
 #include <array>
@@ -9,10 +9,10 @@
 #include <numeric>
 
 #include "core/union_find.h"
-#include "vdblight/errors.h"
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight {
 

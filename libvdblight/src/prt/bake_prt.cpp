@@ -5,11 +5,11 @@
 
 #include "pca.h"
 #include "prt_internal.h"
-#include "vdblight/errors.h"
-#include "vdblight/interrupter.h"
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
-#include "vdblight/scene_lights.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/core/interrupter.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/light/light.h"
 
 namespace vdblight {
 

@@ -4,9 +4,9 @@
 #include <limits>
 
 #include "prt_internal.h"
-#include "vdblight/errors.h"
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
 
 namespace vdblight {
 

@@ -18,9 +18,9 @@
 
 #include "pca.h"
 #include "prt_internal.h"
-#include "vdblight/errors.h"
-#include "vdblight/interrupter.h"
-#include "vdblight/sh.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/core/interrupter.h"
+#include "basis/sh.h"
 
 namespace vdblight {
 

@@ -7,7 +7,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "vdblight/prt.h"
+#include "vdblight/prt/prt.h"
 
 namespace vdblight {
 

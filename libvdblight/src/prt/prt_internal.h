@@ -3,10 +3,10 @@
 
 #include "../core/parallel_for.h"  // relative: tests include this header too
 
-#include "vdblight/prt.h"
-#include "vdblight/sampling.h"
-#include "vdblight/sh.h"
-#include "vdblight/trace.h"
+#include "vdblight/prt/prt.h"
+#include "vdblight/sampling/sampling.h"
+#include "basis/sh.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight::prt_detail {
 

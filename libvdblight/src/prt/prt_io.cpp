@@ -1,13 +1,13 @@
 // PRT files (docs/prt_format.md): writePrt and readPrt put together the file's
 // three sections, header, samples and matrices (prt_io_sections.h, one file each).
-#include "vdblight/prt_io.h"
+#include "vdblight/prt/prt.h"
 
 #include <cmath>
 #include <filesystem>
 #include <mutex>
 
 #include "prt_io_sections.h"
-#include "vdblight/atomic_file.h"
+#include "vdblight/core/atomic_file.h"
 
 namespace vdblight {
 namespace {

@@ -16,8 +16,8 @@
 #include <openvdb/openvdb.h>
 #include <openvdb/points/PointDataGrid.h>
 
-#include "vdblight/errors.h"
-#include "vdblight/prt_io.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/prt/prt.h"
 
 namespace vdblight::prt_io {
 

@@ -8,8 +8,8 @@
 
 #include "pca.h"
 #include "prt_internal.h"
-#include "vdblight/errors.h"
-#include "vdblight/scene_lights.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/light/light.h"
 
 namespace vdblight {
 

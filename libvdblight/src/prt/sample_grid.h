@@ -9,7 +9,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "vdblight/math.h"
+#include "vdblight/core/math.h"
 
 namespace vdblight::prt_detail {
 

@@ -21,9 +21,9 @@
 
 #include "prt_internal.h"
 #include "sample_grid.h"
-#include "vdblight/errors.h"
-#include "vdblight/interrupter.h"
-#include "vdblight/sh.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/core/interrupter.h"
+#include "basis/sh.h"
 
 namespace vdblight::prt_detail {
 

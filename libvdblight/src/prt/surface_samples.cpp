@@ -13,10 +13,10 @@
 #include <unordered_map>
 
 #include "sample_grid.h"
-#include "vdblight/errors.h"
-#include "vdblight/prt.h"
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/prt/prt.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
 
 namespace vdblight {
 

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "vdblight/prt.h"
-#include "vdblight/sampling.h"
+#include "vdblight/prt/prt.h"
+#include "vdblight/sampling/sampling.h"
 
 namespace vdblight {
 

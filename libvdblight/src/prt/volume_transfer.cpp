@@ -11,11 +11,11 @@
 #include <cmath>
 
 #include "prt_internal.h"
-#include "vdblight/bake_direct.h"
-#include "vdblight/errors.h"
-#include "vdblight/scene_lights.h"
-#include "vdblight/scene_origin.h"
-#include "vdblight/sh.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/light/light.h"
+#include "scene/scene_origin.h"
+#include "basis/sh.h"
 
 namespace vdblight {
 

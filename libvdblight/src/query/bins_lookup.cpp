@@ -1,9 +1,9 @@
 // Bins / moment lookup: the generic ChannelLookup with the bins basis, and the simple
 // reference it is tested against.
-#include "vdblight/bins_lookup.h"
+#include "query/bins_lookup.h"
 
-#include "vdblight/errors.h"
-#include "vdblight/layout_levels.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/layout/layout.h"
 
 namespace vdblight {
 

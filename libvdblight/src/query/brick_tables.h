@@ -8,7 +8,7 @@
 
 #include "core/grid_index.h"
 #include "lattice_locate.h"
-#include "vdblight/level_topology.h"
+#include "vdblight/layout/layout.h"
 
 namespace vdblight::query_detail {
 

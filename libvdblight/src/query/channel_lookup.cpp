@@ -1,8 +1,8 @@
 // The generic lookup of registry bases: descend through refined cells, trilinear in space,
 // the basis's terms for the direction.
-#include "vdblight/channel_lookup.h"
+#include "query/channel_lookup.h"
 
-#include "vdblight/sh.h"
+#include "basis/sh.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,9 +11,8 @@
 #include "brick_tables.h"
 #include "depth_weights.h"
 #include "lattice_locate.h"
-#include "vdblight/errors.h"
-#include "vdblight/layout_levels.h"
-#include "vdblight/sh.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/layout/layout.h"
 
 namespace vdblight {
 

@@ -9,7 +9,7 @@
 #include "depth_weights.h"
 #include "lattice_locate.h"
 #include "stream_lookups.h"
-#include "vdblight/sh.h"
+#include "basis/sh.h"
 
 namespace vdblight::query_detail {
 

@@ -3,10 +3,10 @@
 // out again rather than called, so that a mistake in either shows as a difference.
 #include <cmath>
 
-#include "vdblight/errors.h"
-#include "vdblight/layout_levels.h"
-#include "vdblight/query.h"
-#include "vdblight/sh.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/layout/layout.h"
+#include "vdblight/query/query.h"
+#include "basis/sh.h"
 
 namespace vdblight {
 

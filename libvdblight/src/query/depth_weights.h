@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "lattice_locate.h"
-#include "vdblight/depth_moments.h"
+#include "vdblight/basis/depth_moments.h"
 
 namespace vdblight::query_detail {
 

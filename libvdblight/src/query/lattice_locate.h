@@ -12,9 +12,9 @@
 #include <sstream>
 #include <vector>
 
-#include "vdblight/errors.h"
-#include "vdblight/layout.h"
-#include "vdblight/query.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/layout/layout.h"
+#include "vdblight/query/query.h"
 
 namespace vdblight {
 namespace query_detail {

@@ -1,9 +1,9 @@
 // OcclusionLookup (query_direct.h): stored light + exact direct light x interpolated visibility.
 
-#include "vdblight/query_direct.h"
+#include "query/query_direct.h"
 
 #include "depth_weights.h"
-#include "vdblight/shadow_edges.h"
+#include "basis/shadow_edges.h"
 
 #include <algorithm>
 #include <cmath>

@@ -7,8 +7,8 @@
 
 #include "depth_weights.h"
 #include "stream_lookups.h"
-#include "vdblight/light_visibility.h"
-#include "vdblight/shadow_edges.h"
+#include "query/light_visibility.h"
+#include "basis/shadow_edges.h"
 
 namespace vdblight::query_detail {
 

@@ -1,14 +1,13 @@
 // The kinds of volume that IrradianceQuery can read. A new kind adds one line here.
 #include "sh_uniform_lookup.h"
 #include "sh4_uniform_lookup.h"
-#include "vdblight/basis.h"
-#include "vdblight/channel_lookup.h"
-#include "vdblight/errors.h"
-#include "vdblight/query.h"
-#include "vdblight/vector_grid_lookup.h"
-#include "vdblight/query_levels.h"
-#include "vdblight/bins_lookup.h"
-#include "vdblight/query_direct.h"
+#include "vdblight/basis/basis.h"
+#include "query/channel_lookup.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/query/query.h"
+#include "query/query_levels.h"
+#include "query/bins_lookup.h"
+#include "query/query_direct.h"
 #include "shifted_lookup.h"
 
 namespace vdblight {

@@ -6,8 +6,8 @@
 #include "../basis/sh_polynomials.h"
 #include "depth_weights.h"
 #include "lattice_locate.h"
-#include "vdblight/basis.h"
-#include "vdblight/errors.h"
+#include "vdblight/basis/basis.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight {
 

@@ -15,8 +15,8 @@
 #include <cstddef>
 #include <vector>
 
-#include "vdblight/layout.h"
-#include "vdblight/query.h"
+#include "vdblight/layout/layout.h"
+#include "vdblight/query/query.h"
 
 namespace vdblight {
 

@@ -7,10 +7,10 @@
 #include "depth_weights.h"
 #include "lattice_locate.h"
 #include "sh_trilinear.h"
-#include "vdblight/errors.h"
-#include "vdblight/layout_levels.h"
-#include "vdblight/query_levels.h"
-#include "vdblight/sh.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/layout/layout.h"
+#include "query/query_levels.h"
+#include "basis/sh.h"
 
 namespace vdblight {
 

@@ -10,8 +10,8 @@
 #include "depth_weights.h"
 #include "lattice_locate.h"
 #include "sh_trilinear.h"
-#include "vdblight/errors.h"
-#include "vdblight/sh.h"
+#include "vdblight/core/errors.h"
+#include "basis/sh.h"
 
 namespace vdblight {
 

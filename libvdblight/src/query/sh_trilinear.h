@@ -6,8 +6,8 @@
 #include <cstddef>
 
 #include "depth_weights.h"
-#include "vdblight/math.h"
-#include "vdblight/sh.h"
+#include "vdblight/core/math.h"
+#include "basis/sh.h"
 
 namespace vdblight::query_detail {
 

@@ -2,13 +2,13 @@
 #include "depth_weights.h"
 #include "lattice_locate.h"
 #include "sh_trilinear.h"
-#include "vdblight/query.h"
+#include "vdblight/query/query.h"
 
 #include <cmath>
 #include <sstream>
 
-#include "vdblight/errors.h"
-#include "vdblight/sh.h"
+#include "vdblight/core/errors.h"
+#include "basis/sh.h"
 
 namespace vdblight {
 

@@ -5,8 +5,8 @@
 
 #include <vector>
 
-#include "vdblight/layout.h"
-#include "vdblight/query.h"
+#include "vdblight/layout/layout.h"
+#include "vdblight/query/query.h"
 
 namespace vdblight {
 

@@ -4,8 +4,8 @@
 
 #include <sstream>
 
-#include "vdblight/errors.h"
-#include "vdblight/world_frame.h"
+#include "vdblight/core/errors.h"
+#include "core/world_frame.h"
 
 namespace vdblight {
 

@@ -3,7 +3,7 @@
 
 #include <memory>
 
-#include "vdblight/query.h"
+#include "vdblight/query/query.h"
 
 namespace vdblight {
 

@@ -5,9 +5,9 @@
 
 #include <memory>
 
-#include "vdblight/basis.h"
-#include "vdblight/query.h"
-#include "vdblight/vdb_stream.h"
+#include "vdblight/basis/basis.h"
+#include "vdblight/query/query.h"
+#include "vdblight/volume/vdb_io.h"
 
 namespace vdblight::query_detail {
 

@@ -1,12 +1,12 @@
 // makeStreamingQuery (query_stream.h): which streamed lookup reads a file, anchored far from
 // the origin, wrapped for per-light visibility, as IrradianceQuery builds the in-memory one
 // (registry.cpp).
-#include "vdblight/query_stream.h"
+#include "vdblight/query/query.h"
 
 #include "shifted_lookup.h"
 #include "stream_lookups.h"
-#include "vdblight/errors.h"
-#include "vdblight/world_frame.h"
+#include "vdblight/core/errors.h"
+#include "core/world_frame.h"
 
 namespace vdblight {
 

@@ -1,4 +1,4 @@
-#include "vdblight/vector_grid_lookup.h"
+#include "vdblight/query/query.h"
 
 #include "core/grid_index.h"
 #include "depth_weights.h"
@@ -8,9 +8,9 @@
 #include <cmath>
 #include <sstream>
 
-#include "vdblight/errors.h"
-#include "vdblight/irradiance_vectors.h"
-#include "vdblight/irradiance_vectors_compact.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/basis/irradiance_vectors.h"
+#include "basis/irradiance_vectors_compact.h"
 
 namespace vdblight {
 

@@ -1,21 +1,20 @@
 // Query: a volume opened for `vdblight query`'s questions (volume_query.h).
-#include "vdblight/volume_query.h"
+#include "vdblight/query/volume_query.h"
 
 #include <algorithm>
 #include <filesystem>
 #include <sstream>
 
-#include "vdblight/basis.h"
-#include "vdblight/errors.h"
-#include "vdblight/query_stream.h"
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
-#include "vdblight/scene_lights.h"
-#include "vdblight/sh_truncate.h"
-#include "vdblight/trace.h"
-#include "vdblight/vdb_io.h"
-#include "vdblight/vdb_stream.h"
-#include "vdblight/world_frame.h"
+#include "vdblight/basis/basis.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/query/query.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/light/light.h"
+#include "volume/sh_truncate.h"
+#include "vdblight/trace/trace.h"
+#include "vdblight/volume/vdb_io.h"
+#include "core/world_frame.h"
 
 namespace vdblight {
 

@@ -1,15 +1,15 @@
 // Ground-truth irradiance by direct hemisphere integration (no SH, no grid).
-#include "vdblight/reference.h"
+#include "vdblight/reference/reference.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "core/parallel_for.h"
-#include "vdblight/errors.h"
-#include "vdblight/interrupter.h"
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
-#include "vdblight/trace.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/core/interrupter.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight {
 

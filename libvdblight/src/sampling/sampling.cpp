@@ -1,4 +1,4 @@
-#include "vdblight/sampling.h"
+#include "vdblight/sampling/sampling.h"
 
 namespace vdblight {
 

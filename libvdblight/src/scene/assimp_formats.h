@@ -8,7 +8,7 @@
 #include <assimp/Importer.hpp>
 #include <assimp/scene.h>
 
-#include "vdblight/scene_load.h"
+#include "vdblight/scene/scene.h"
 
 namespace vdblight {
 

@@ -11,7 +11,7 @@
 #include <string>
 
 #include "declared_sizes.h"
-#include "vdblight/errors.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight::declared_sizes {
 

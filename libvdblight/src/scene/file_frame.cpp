@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "vdblight/errors.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight {
 

@@ -5,8 +5,8 @@
 
 #include <string>
 
-#include "vdblight/math.h"
-#include "vdblight/scene_load.h"
+#include "vdblight/core/math.h"
+#include "vdblight/scene/scene.h"
 
 namespace vdblight {
 

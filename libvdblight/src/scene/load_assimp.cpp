@@ -28,10 +28,9 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
-#include "vdblight/errors.h"
-#include "vdblight/scene.h"
-#include "vdblight/scene_load.h"
-#include "vdblight/scene_origin.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/scene/scene.h"
+#include "scene/scene_origin.h"
 #include "assimp_formats.h"
 #include "declared_sizes.h"
 #include "file_frame.h"

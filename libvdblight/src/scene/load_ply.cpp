@@ -22,8 +22,8 @@
 #include <string>
 #include <vector>
 
-#include "vdblight/errors.h"
-#include "vdblight/scene_origin.h"
+#include "vdblight/core/errors.h"
+#include "scene/scene_origin.h"
 #include "file_frame.h"
 
 namespace vdblight {

@@ -4,8 +4,7 @@
 
 #include <string>
 
-#include "vdblight/scene.h"
-#include "vdblight/scene_load.h"
+#include "vdblight/scene/scene.h"
 
 namespace vdblight {
 

@@ -1,7 +1,7 @@
 // Scene building blocks every loader shares: adding materials and triangles (with the
 // degenerate-triangle filter), the invariants consumers rely on, the content hash that
 // ties a baked volume to its scene, and where the bundled Cornell box lives.
-#include "vdblight/scene.h"
+#include "vdblight/scene/scene.h"
 
 #include <cstdlib>
 #include <cstring>
@@ -10,7 +10,7 @@
 #include <system_error>
 #include <vector>
 
-#include "vdblight/errors.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight {
 

@@ -1,9 +1,9 @@
 // Scene origin and recentring (scene_origin.h).
-#include "vdblight/scene_origin.h"
+#include "scene/scene_origin.h"
 
 #include <cmath>
 
-#include "vdblight/scene.h"
+#include "vdblight/scene/scene.h"
 
 namespace vdblight {
 

@@ -9,8 +9,8 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 
-#include "vdblight/errors.h"
-#include "vdblight/scene.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/scene/scene.h"
 
 namespace vdblight {
 

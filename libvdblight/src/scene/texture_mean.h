@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string>
 
-#include "vdblight/math.h"
+#include "vdblight/core/math.h"
 
 namespace vdblight {
 

@@ -6,8 +6,8 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "vdblight/math.h"
-#include "vdblight/trace.h"
+#include "vdblight/core/math.h"
+#include "vdblight/trace/trace.h"
 
 namespace vdblight {
 

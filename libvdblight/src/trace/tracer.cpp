@@ -1,5 +1,5 @@
 // Embree 3 behind vdblight's Tracer: one device, one triangle geometry, one BVH.
-#include "vdblight/trace.h"
+#include "vdblight/trace/trace.h"
 
 #include <embree3/rtcore.h>
 
@@ -8,9 +8,9 @@
 #include <string>
 
 #include "random_rays.h"
-#include "vdblight/errors.h"
-#include "vdblight/sampling.h"
-#include "vdblight/scene.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/scene/scene.h"
 
 namespace vdblight {
 

@@ -1,15 +1,15 @@
 // The compact form of a whole irradiance-vector volume (bake --compact): the per-node
 // compaction is the basis's (irradiance_vectors_compact.h), the volume around it is ours.
-#include "vdblight/volume_compact.h"
+#include "volume/volume_compact.h"
 
-#include "vdblight/errors.h"
-#include "vdblight/irradiance_vectors_compact.h"
+#include "vdblight/core/errors.h"
+#include "basis/irradiance_vectors_compact.h"
 
 namespace vdblight {
 namespace iv {
 
 Volume compact(const Volume& full) {
-    if (full.basis.kind != basis().kind || full.basis.channelCount() != kChannels || full.levels.size() != 1 ||
+    if (!full.basis.isIrradianceVectors() || full.basis.channelCount() != kChannels || full.levels.size() != 1 ||
         full.levels[0].sparse())
         throw FormatError("the compact form needs a single-level irradiance-vector volume, got basis '" +
                           full.basis.kind + "'");

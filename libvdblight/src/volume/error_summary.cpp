@@ -1,5 +1,5 @@
 // Summaries of per-node statistics (error_summary.h), shared by the bakes and the merge.
-#include "vdblight/error_summary.h"
+#include "vdblight/volume/volume.h"
 
 #include <algorithm>
 #include <cmath>

@@ -3,8 +3,8 @@
 #include <cmath>
 
 #include "core/grid_index.h"
-#include "vdblight/errors.h"
-#include "vdblight/volume.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/volume/volume.h"
 
 namespace vdblight {
 

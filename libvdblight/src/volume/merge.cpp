@@ -18,13 +18,12 @@
 #include <set>
 
 #include "tile_io.h"
-#include "vdblight/error_summary.h"
-#include "vdblight/errors.h"
-#include "vdblight/layout_levels.h"
-#include "vdblight/photon_sums.h"
-#include "vdblight/shadow_edges.h"
-#include "vdblight/tiles.h"
-#include "vdblight/volume_compact.h"
+#include "vdblight/volume/volume.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/layout/layout.h"
+#include "vdblight/volume/tiles.h"
+#include "basis/shadow_edges.h"
+#include "volume/volume_compact.h"
 
 namespace vdblight {
 namespace {

@@ -1,11 +1,11 @@
 // Exact photon sums (photon_sums.h): the scale, the tiles' runs of batches, and the one
 // normalisation the single bake and the merge of photon tiles share.
-#include "vdblight/photon_sums.h"
+#include "vdblight/volume/tiles.h"
 
 #include <tbb/parallel_for.h>
 
-#include "vdblight/errors.h"
-#include "vdblight/irradiance_vectors.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/basis/irradiance_vectors.h"
 
 namespace vdblight {
 

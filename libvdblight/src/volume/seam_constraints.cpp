@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "vdblight/errors.h"
-#include "vdblight/volume.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/volume/volume.h"
 
 namespace vdblight {
 

@@ -1,13 +1,13 @@
 // truncateSh (sh_truncate.h): keeps the first (order + 1)^2 channels of every node. The
 // channel order of sh2 and sh:N is the same (j = l (l + 1) + m, basis.h), so bands 0..order
 // are a prefix of each node's values.
-#include "vdblight/sh_truncate.h"
+#include "volume/sh_truncate.h"
 
 #include <memory>
 #include <string>
 
-#include "vdblight/basis.h"
-#include "vdblight/errors.h"
+#include "vdblight/basis/basis.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight {
 

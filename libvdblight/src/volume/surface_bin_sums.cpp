@@ -1,11 +1,11 @@
 // The sparse, exact sums of the surface probe cache's bins (surface_bin_sums.h): the merge of
 // stage-0 tiles adds them; stage 1 checks them before it reads them.
-#include "vdblight/surface_bin_sums.h"
+#include "vdblight/volume/volume.h"
 
 #include <cmath>
 #include <string>
 
-#include "vdblight/errors.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight {
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "vdblight/tiles.h"
+#include "vdblight/volume/tiles.h"
 
 namespace vdblight {
 namespace vdb_detail {

@@ -1,12 +1,12 @@
 // The fixed partition of a volume's nodes into tiles (tiles.h): bricks of 8^3 nodes of every
 // level, cut into contiguous runs of about equal cost.
-#include "vdblight/tiles.h"
+#include "vdblight/volume/tiles.h"
 
 #include <algorithm>
 
 #include "sha256.h"
 #include "core/grid_index.h"
-#include "vdblight/errors.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight {
 namespace {

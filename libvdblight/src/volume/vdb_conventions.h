@@ -11,7 +11,7 @@
 #include <openvdb/openvdb.h>
 
 #include "core/grid_index.h"
-#include "vdblight/vdb_io.h"
+#include "vdblight/volume/vdb_io.h"
 
 namespace vdblight {
 namespace vdb_detail {

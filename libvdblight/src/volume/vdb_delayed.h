@@ -9,7 +9,7 @@
 #include <openvdb/openvdb.h>
 #include <openvdb/io/File.h>
 
-#include "vdblight/volume.h"
+#include "vdblight/volume/volume.h"
 
 namespace vdblight {
 namespace vdb_detail {

@@ -6,8 +6,8 @@
 
 #include "vdb_read_parts.h"
 #include "vdb_surface_bins.h"
-#include "vdblight/tiles.h"
-#include "vdblight/vdb_io.h"
+#include "vdblight/volume/tiles.h"
+#include "vdblight/volume/vdb_io.h"
 
 namespace vdblight {
 namespace {
@@ -78,7 +78,7 @@ Volume readVolume(const std::string& path, ContentHash* hash) { return readVolum
 
 Volume readProbeStage(const std::string& path, const ContentHash* knownHash) {
     Volume v = readVolumeFile(path, true, knownHash, nullptr);
-    if (v.basis.kind != probeStageBasis().kind || v.levels.size() != 1)
+    if (!v.basis.sameKind(probeStageBasis()) || v.levels.size() != 1)
         throw FormatError("'" + path + "' is a probe stage file of another kind (basis " + v.basis.kind + ")");
     return v;
 }

@@ -2,8 +2,8 @@
 // their leaf values stay in the mapped file until a voxel of the leaf is read.
 #include "vdb_delayed.h"
 #include "vdb_read_parts.h"
-#include "vdblight/depth_moments.h"
-#include "vdblight/shadow_edges.h"
+#include "vdblight/basis/depth_moments.h"
+#include "basis/shadow_edges.h"
 
 namespace vdblight::vdb_detail {
 

@@ -6,8 +6,8 @@
 #include <tbb/parallel_for.h>
 
 #include "vdb_read_parts.h"
-#include "vdblight/depth_moments.h"
-#include "vdblight/shadow_edges.h"
+#include "vdblight/basis/depth_moments.h"
+#include "basis/shadow_edges.h"
 
 namespace vdblight::vdb_detail {
 

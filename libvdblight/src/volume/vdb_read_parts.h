@@ -18,8 +18,8 @@
 
 #include "content_hash.h"
 #include "vdb_conventions.h"
-#include "vdblight/errors.h"
-#include "vdblight/volume.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/volume/volume.h"
 
 namespace vdblight::vdb_detail {
 

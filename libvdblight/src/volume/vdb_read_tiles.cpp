@@ -3,11 +3,10 @@
 #include "tile_io.h"
 #include "vdb_read_parts.h"
 #include "vdb_surface_bins.h"
-#include "vdblight/depth_moments.h"
-#include "vdblight/irradiance_vectors.h"
-#include "vdblight/photon_sums.h"
-#include "vdblight/shadow_edges.h"
-#include "vdblight/tiles.h"
+#include "vdblight/basis/depth_moments.h"
+#include "vdblight/basis/irradiance_vectors.h"
+#include "vdblight/volume/tiles.h"
+#include "basis/shadow_edges.h"
 
 namespace vdblight {
 namespace vdb_detail {

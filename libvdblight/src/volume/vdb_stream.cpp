@@ -1,14 +1,14 @@
 // StreamedVolume: nodes read through OpenVDB's delayed loading (vdb_stream.h). The checks
 // live in vdb_read.cpp (openDelayedVolume); this file only reads voxels.
-#include "vdblight/vdb_stream.h"
+#include "vdblight/volume/vdb_io.h"
 
 #include <algorithm>
 #include <cstdint>
 #include <filesystem>
 
-#include "vdblight/depth_moments.h"
-#include "vdblight/errors.h"
-#include "vdblight/shadow_edges.h"
+#include "vdblight/basis/depth_moments.h"
+#include "vdblight/core/errors.h"
+#include "basis/shadow_edges.h"
 #include "vdb_conventions.h"
 #include "vdb_delayed.h"
 

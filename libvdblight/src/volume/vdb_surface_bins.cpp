@@ -5,7 +5,7 @@
 #include <map>
 #include <memory>
 
-#include "vdblight/errors.h"
+#include "vdblight/core/errors.h"
 
 namespace vdblight::vdb_detail {
 

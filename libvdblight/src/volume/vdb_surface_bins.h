@@ -8,7 +8,7 @@
 #include <openvdb/openvdb.h>
 
 #include "vdb_read_parts.h"
-#include "vdblight/volume.h"
+#include "vdblight/volume/volume.h"
 
 namespace vdblight::vdb_detail {
 

@@ -5,7 +5,7 @@
 // parallel. Writing goes through the atomic file writer (atomic_file.h): a temporary file in
 // the target directory, renamed over the destination only once complete. Tile files are
 // written by vdb_write_tiles.cpp with the pieces vdb_write_parts.h exposes.
-#include "vdblight/vdb_io.h"
+#include "vdblight/volume/vdb_io.h"
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -14,10 +14,10 @@
 #include <openvdb/openvdb.h>
 #include <openvdb/io/File.h>
 #include <tbb/parallel_for.h>
-#include "vdblight/atomic_file.h"
-#include "vdblight/depth_moments.h"
-#include "vdblight/errors.h"
-#include "vdblight/shadow_edges.h"
+#include "vdblight/core/atomic_file.h"
+#include "vdblight/basis/depth_moments.h"
+#include "vdblight/core/errors.h"
+#include "basis/shadow_edges.h"
 #include "vdb_conventions.h"
 #include "vdb_surface_bins.h"
 #include "vdb_write_parts.h"

@@ -9,8 +9,8 @@
 #include <openvdb/openvdb.h>
 
 #include "vdb_conventions.h"
-#include "vdblight/vdb_io.h"
-#include "vdblight/volume.h"
+#include "vdblight/volume/vdb_io.h"
+#include "vdblight/volume/volume.h"
 
 namespace vdblight::vdb_detail {
 

@@ -9,12 +9,11 @@
 
 #include "vdb_conventions.h"
 #include "vdb_write_parts.h"
-#include "vdblight/depth_moments.h"
-#include "vdblight/errors.h"
-#include "vdblight/irradiance_vectors.h"
-#include "vdblight/photon_sums.h"
-#include "vdblight/shadow_edges.h"
-#include "vdblight/tiles.h"
+#include "vdblight/basis/depth_moments.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/basis/irradiance_vectors.h"
+#include "vdblight/volume/tiles.h"
+#include "basis/shadow_edges.h"
 
 namespace vdblight {
 using namespace vdb_detail;

@@ -1,12 +1,12 @@
 // The in-memory volume: basis description, consistency checks, metadata accessors.
-#include "vdblight/volume.h"
+#include "vdblight/volume/volume.h"
 
 #include <cmath>
 #include <cstdio>
 #include <set>
 
-#include "vdblight/errors.h"
-#include "vdblight/shadow_edges.h"
+#include "vdblight/core/errors.h"
+#include "basis/shadow_edges.h"
 
 namespace vdblight {
 namespace {

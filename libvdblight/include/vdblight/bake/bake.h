@@ -1,0 +1,285 @@
+// The bake: the Pass interface (below) and bakeVolume / bakeToFile, the one entry point of
+// every bake (second part).
+//
+// The Pass interface: one kind of bake (point gather, error-targeted gather, anti-aliased
+// gather, multi-level gather, bins, photons) behind one small contract, so that
+// bakeVolume (bake/bake.h) and `vdblight bake` treat every pass alike.
+//
+// A pass
+//  - declares the options it takes (PassOption: name, meaning, default, accepted range or
+//    words), which BakeRequest fields they are;
+//  - validates a request (typed exceptions with one-line messages, before anything is
+//    loaded or allocated);
+//  - estimates the bytes per node it needs, which the grid placement uses to refuse a bake
+//    that would not fit in memory before allocating it;
+//  - runs on a BakeContext shared by every pass (scene, tracer, transport, seed, threads,
+//    interrupter, the tile being baked) and writes its metadata through the bake module's
+//    one metadata writer (bake/pass_metadata.h).
+// The passes are listed once, in passRegistry() (bake/pass_registry.cpp); adding one is a
+// file in libvdblight/src/bake/ and one line there (docs/architecture.md, "Adding a pass").
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/layout/layout.h"
+#include "vdblight/light/light.h"
+#include "vdblight/core/math.h"
+#include "vdblight/volume/tiles.h"
+#include "vdblight/volume/vdb_io.h"
+#include "vdblight/volume/volume.h"
+
+namespace vdblight {
+
+struct Scene;
+class Tracer;
+class Interrupter;
+struct BakeRequest;
+struct BakeReport;
+
+/// One option of a pass: a BakeRequest field, named as on the command line (`--name`).
+struct PassOption {
+    std::string name;          ///< "rays": `vdblight bake --rays`
+    std::string help;          ///< what it means, one sentence
+    std::string defaultValue;  ///< the default, as text ("256", "interior", "off")
+    /// Numbers: the accepted range [min, max] (minExclusive: (min, max]); checked by
+    /// Pass::validate with the message "--name must be <range>, got <value>".
+    double min = 0, max = 0;
+    bool minExclusive = false;
+    std::string range;  ///< the range in words ("at least 2"); empty: "between min and max"
+    /// Words: the accepted values (empty for numbers and flags).
+    std::vector<std::string> choices;
+    /// The request's value if it was given (nullopt: the pass's default). Numbers and flags
+    /// set `number` (flags: 1 when on), words `word`.
+    std::function<std::optional<double>(const BakeRequest&)> number;
+    std::function<std::optional<std::string>(const BakeRequest&)> word;
+    /// Sets the option in a request (numbers and flags), for tests and generic callers.
+    std::function<void(BakeRequest&, double)> setNumber;
+    /// Sets the option from its text, as a command line gives it (numbers: ValueError naming
+    /// the option for text that is not one; words as given; flags: "true" / "false").
+    std::function<void(BakeRequest&, const std::string&)> setText;
+    bool flag = false;       ///< an on/off switch (`--name`)
+    bool negatable = false;  ///< a flag that may also be switched off (`--no-name`): its default is not "off"
+    /// The one-line refusal when the option is given to a pass that does not declare it
+    /// ("--fit needs --sampling antialiased"); empty: other passes ignore it.
+    std::string needs;
+};
+
+/// What every pass runs on. Built once per bake by bakeVolume.
+struct BakeContext {
+    const Scene& scene;
+    const Tracer& tracer;
+    /// The request's transport, with the direct-light plan's receiver filter (bake/each_pass.h).
+    TransportOptions transport;
+    uint64_t seed = 1;
+    int threads = 0;  ///< 0 = all hardware threads
+    Interrupter* interrupter = nullptr;
+    /// A tile of a bake (volume/tiles.h): called once the pass knows its levels, returns the nodes
+    /// to bake (null: every node). Empty function: not tiled.
+    std::function<const NodeMask*(const std::vector<LevelTopology>&)> selectTile;
+    /// A staged bake with probe passes (volume/tiles.h): -1 = every pass; else this pass only, from
+    /// `stageInput` (the merged stage before) when stage > 0.
+    int stage = -1;
+    const Volume* stageInput = nullptr;
+};
+
+class Pass {
+public:
+    virtual ~Pass() = default;
+
+    /// Registry name: "gather", "adaptive", "antialiased", "levels", "bins", "photons".
+    virtual std::string name() const = 0;
+    /// One line: what the pass does (for --help and docs).
+    virtual std::string description() const = 0;
+    /// The options the pass takes.
+    virtual std::vector<PassOption> options() const = 0;
+    /// Throws ValueError (one line) for a given option outside its declared range or words,
+    /// and for combinations the pass cannot bake. The base checks the declared ranges and
+    /// words; passes add their own rules first and call it.
+    virtual void validate(const BakeRequest& request) const;
+    /// Bytes per node while baking and writing (a resolved request, resolveBakeRequest),
+    /// before anything is allocated: placeUniformGrid refuses grids that would not fit.
+    virtual std::size_t bytesPerNode(const BakeRequest& request) const = 0;
+    /// Why a bake with these options cannot be split into tiles, or "" if it can.
+    virtual std::string untileable(const BakeRequest& request) const = 0;
+    /// The shared features a pass may take: direct light out of the basis (bake/each_pass.h),
+    /// the SH window (sh_window.h), depth moments (bake/each_pass.h).
+    virtual bool takesDirectLight() const { return false; }
+    virtual bool takesShWindow() const { return false; }
+    virtual bool takesDepthMoments() const { return true; }
+    /// Bakes the volume on `grid` (level 0; passes with levels place them over it) for a
+    /// resolved request. Fills report.stats and the pass's own parts of the report.
+    virtual Volume run(const BakeContext& context, const BakeRequest& request, const GridSpec& grid,
+                       BakeReport& report) const = 0;
+    /// The last step before writing (photons --compact: the compact form, half floats).
+    virtual void finish(Volume& volume, WriteOptions& write, const BakeRequest& request) const;
+};
+
+/// Every pass, in the order `vdblight bake --help` lists them.
+const std::vector<const Pass*>& passRegistry();
+/// The pass of that name; ValueError naming the known ones otherwise.
+const Pass& findPass(const std::string& name);
+
+}  // namespace vdblight
+
+// ---------------------------------------------------------------------------------------------
+// bakeVolume: the one entry point of a bake, the same one `vdblight bake` calls, so that a
+// library caller and the command line get the same file for the same request (tested:
+// tests/bake_volume_test.cpp).
+//
+// It does what a bake needs around its pass (bake/bake.h): picks the pass the options select,
+// applies the --quality preset, checks every option and combination (ValueError, one line,
+// before anything is allocated), places the grid with the pass's memory estimate (refusing
+// grids that would not fit), plans the direct light out of the basis, runs the pass, adds
+// depth moments and light visibility, places the volume in the world (the scene's origin),
+// writes the provenance metadata and, for bakeToFile, writes the file or one tile of it.
+//
+//   BakeRequest request;              // the defaults of `vdblight bake`
+//   request.resolution = 16;
+//   request.quality = "preview";
+//   bakeToFile(scene, request, "room.vdb");
+
+namespace vdblight {
+
+/// Everything a bake is asked to do: the options of `vdblight bake`, with its defaults. An
+/// empty optional means "not given": the pass's default or the --quality preset's.
+struct BakeRequest {
+    /// Registry name (bake/bake.h); empty: the pass the options below select, as the command
+    /// line does (photons for method "photons", bins for a bins/moment basis, levels for a
+    /// bilevel/adaptive layout, adaptive for an error target, antialiased for that
+    /// sampling, gather otherwise).
+    std::string pass;
+    std::string method = "gather";    ///< gather | photons
+    std::string sampling = "point";   ///< point | antialiased
+    std::string layout = "uniform";   ///< uniform | bilevel | adaptive
+    /// sh2 | sh:N | bins:R | moment:n[:R] (basis/basis.h); empty: the --quality preset's (sh:4 for
+    /// the point gather at `default`, sh2 for every other pass and preset).
+    std::string basis;
+    /// preview | default | high: node budget, rays, error target, probe passes and depth
+    /// moments of the uniform SH point gather (docs/methods.md, "The default bake").
+    std::string quality = "default";
+
+    // Shared by every pass (BakeContext).
+    uint64_t seed = 1;
+    int threads = 0;  ///< 0 = all hardware threads
+    TransportOptions transport;
+
+    // Where the nodes go (layout/layout.h, layout/layout.h).
+    std::optional<double> spacing;     ///< distance between nodes
+    std::optional<int> resolution;     ///< nodes along the longest axis (default 16)
+    std::optional<uint64_t> nodes;     ///< about this many nodes by volume (the preset's)
+    std::optional<Bounds> bounds;      ///< node box in world coordinates (default: inset scene box)
+    std::optional<int> refine;         ///< bilevel/adaptive: K (default 3)
+    std::optional<int> levels;         ///< adaptive: levels (default 3)
+    std::optional<double> refineDistance;  ///< bilevel/adaptive: refine within this distance
+    bool cullSolids = false;           ///< bilevel/adaptive with sh2 (bake/each_pass.h)
+
+    // Pass options (declared by the passes: Pass::options()).
+    std::optional<uint32_t> rays;          ///< rays per node and pass (antialiased: per cell)
+    std::optional<double> targetError;     ///< error-targeted gather (bake/each_pass.h)
+    std::optional<uint32_t> minRays, maxRays;
+    std::optional<int> probePasses;        ///< probe-to-probe passes (GatherOptions)
+    std::string probeCache;                ///< nodes | surface (GatherOptions::surfaceProbeCache); unset:
+                                           ///< surface with exactly one probe pass, nodes otherwise
+    /// Passes of the filter across nodes after the point gather (node_filter.h, weighted by the
+    /// depth moments and the nodes' error estimates; GatherOptions::nodeFilterPasses); unset:
+    /// the preset's (1 with --quality preview, 0 otherwise).
+    std::optional<int> nodeFilter;
+    std::optional<double> invalidateBackface;  ///< point gather with back-face invalidation
+    std::string domain;                    ///< antialiased: all | interior (default)
+    std::string fit;                       ///< antialiased: projection (default) | least-squares
+    std::optional<uint64_t> photons;       ///< photons: emitted in total (default 4 M; --quality preview 1 M)
+    bool compact = false;                  ///< photons: the compact colour + direction form
+    bool shWindow = false;                 ///< SH passes: window the bands (sh_window.h)
+
+    // Shared features the passes take or refuse (Pass::takes*).
+    /// baked | runtime | occlusion (bake/each_pass.h); empty: occlusion where the pass takes
+    /// direct light and the scene has lights, baked otherwise.
+    std::string direct;
+    int directLights = 4;                  ///< occlusion: lights with a visibility channel
+    bool shadowEdges = true;               ///< occlusion: their shadow edges too (DirectOptions::shadowEdges)
+    std::optional<bool> depthMoments;      ///< default: the preset's
+    std::optional<uint32_t> depthRays;     ///< default: as many as the rays
+
+    // The file.
+    bool halfFloat = false;
+    bool reproducible = true;  ///< leave run-specific metadata out (volume/vdb_io.h)
+    /// One tile of a bake (volume/tiles.h, bakeToFile only): `tiles` > 0 and 0 <= tile < tiles.
+    std::optional<int> tiles, tile;
+    std::optional<int> stage;         ///< one stage of a bake with probe passes
+    std::string stageInput;           ///< stage > 0: the merged tiles of the stage before
+    /// Tiles: the canonical text of every option that changes the result, the same for
+    /// every tile of one bake (the command line's: each option as given); required with tiles.
+    std::string tileParameters;
+
+    // Provenance, written as vdblight:scene_file and vdblight:sky.
+    std::string sceneFile;  ///< empty: "(in memory)"
+    std::string sky;        ///< empty: the scene's constant sky "r,g,b" (or "map")
+};
+
+/// The shape of a bilevel / adaptive layout, for summaries.
+struct LayoutSummary {
+    int levels = 1;
+    int refine = 1;
+    uint64_t nodes = 0;              ///< stored nodes of every level
+    double denseEquivalentNodes = 0; ///< a dense grid at the finest spacing
+    uint64_t culledNodes = 0;        ///< left out inside solids (bake/each_pass.h)
+};
+
+/// What a bake did, for summaries (the command line prints them).
+struct BakeReport {
+    const Pass* pass = nullptr;
+    BakeRequest resolved;           ///< the request with every default and preset filled in
+    GridSpec grid;                  ///< level 0
+    LevelsBakeStats stats;          ///< nodes, rays, time, per-node error, seam nodes
+    std::optional<AdaptiveStats> adaptive;      ///< error-targeted bakes
+    std::optional<LayoutSummary> layout;        ///< bilevel/adaptive
+    std::optional<SolidCullStats> cull;         ///< cullSolids
+    DirectPlan direct;                          ///< the lights kept out of the basis
+    std::optional<DepthStats> depth;            ///< depth moments from their own pass
+    std::optional<PhotonStats> photons;
+    WriteOptions write;                         ///< how the volume is (to be) written
+    // Tiles (bakeToFile).
+    bool skipped = false;      ///< the tile was on disk already, with the same scene and parameters
+    uint64_t tileNodes = 0;    ///< nodes of the tile
+    bool lastStage = true;     ///< false: a probe stage file for the next stage
+    /// A tile of a photon bake: the sums of its batches (volume/tiles.h), which bakeToFile
+    /// writes with writePhotonTile; the returned volume then holds the grid and metadata only.
+    std::shared_ptr<PhotonSums> photonSums;
+};
+
+/// The request with the --quality preset and every default applied (optionals filled where
+/// the pass uses them, `pass` set to the selected pass). Does not validate.
+BakeRequest resolveBakeRequest(const BakeRequest& request);
+
+/// The --quality presets, in order of cost: preview, default, high.
+const std::vector<std::string>& qualityNames();
+
+/// What a --quality preset bakes with the point gather (and the photon pass), in one line for
+/// --help and the README, read off resolveBakeRequest's answer for that preset, so that the
+/// help cannot drift from the code (issue 29): grid, rays and probe passes, stored basis,
+/// depth moments, direct light, photons. Throws ValueError for an unknown preset.
+std::string describeQuality(const std::string& quality);
+
+/// Checks every option and combination (the shared rules, then the selected pass's
+/// Pass::validate) and returns the pass that will run. Throws ValueError with one line.
+/// Cheap: call it before loading the scene to refuse bad options early.
+const Pass& checkBakeRequest(const BakeRequest& request);
+
+/// Bakes a complete volume (no tiles): checked, placed in the world, with every metadata
+/// key a file of `vdblight bake` has. Throws ValueError, SceneError, Cancelled.
+Volume bakeVolume(const Scene& scene, const BakeRequest& request, Interrupter* interrupter = nullptr,
+                  BakeReport* report = nullptr);
+
+/// bakeVolume, then writes `path` atomically (the volume, or with tiles one tile file; a
+/// tile already on disk with the same scene and parameters is skipped: report->skipped).
+/// Returns the volume written (empty when skipped).
+Volume bakeToFile(const Scene& scene, const BakeRequest& request, const std::string& path,
+                  Interrupter* interrupter = nullptr, BakeReport* report = nullptr);
+
+}  // namespace vdblight
