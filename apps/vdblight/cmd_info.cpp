@@ -1,145 +1,14 @@
 // vdblight info VOLUME: grids, resolution, bounds, node count, bytes and bake metadata.
 #include <iostream>
-#include <sstream>
 
 #include "app_common.h"
 #include "commands.h"
-#include "vdblight/basis.h"
 #include "vdblight/errors.h"
 #include "vdblight/prt_io.h"
 #include "vdblight/tiles.h"
 #include "vdblight/vdb_io.h"
 
 namespace vdblight::app {
-
-namespace {
-std::string jsonString(const std::string& s) {
-    std::string out = "\"";
-    for (char ch : s) {
-        switch (ch) {
-            case '"': out += "\\\""; break;
-            case '\\': out += "\\\\"; break;
-            case '\n': out += "\\n"; break;
-            case '\t': out += "\\t"; break;
-            default:
-                if (static_cast<unsigned char>(ch) < 0x20) {
-                    char buf[8];
-                    std::snprintf(buf, sizeof buf, "\\u%04x", ch);
-                    out += buf;
-                } else {
-                    out += ch;
-                }
-        }
-    }
-    return out + "\"";
-}
-
-std::string metaText(const MetaValue& v, bool json) {
-    if (auto s = std::get_if<std::string>(&v)) return json ? jsonString(*s) : *s;
-    std::ostringstream o;
-    o.precision(10);
-    if (auto i = std::get_if<int64_t>(&v)) o << *i;
-    else o << std::get<double>(v);
-    return o.str();
-}
-
-std::string vec(const Vec3d& v, bool json) {
-    std::ostringstream o;
-    o.precision(9);
-    o << (json ? "[" : "(") << v.x << ", " << v.y << ", " << v.z << (json ? "]" : ")");
-    return o.str();
-}
-
-/// What the channels of a basis hold, for the human-readable listing: the registered basis's
-/// own phrase (basis.h), or the irradiance-vector kinds, which the registry does not hold.
-std::string describeChannels(const BasisDesc& basis) {
-    if (const std::unique_ptr<Basis> b = basisOf(basis)) return " RGB channels: " + b->describe();
-    if (basis.isIrradianceVectors()) return " channels: irradiance vectors per direction and colour";
-    if (basis.isCompactIrradianceVectors()) return " channels: colour and direction per direction";
-    return " channels";
-}
-
-void printHuman(const Volume& v, const FileInfo& f) {
-    std::cout << f.path << ": " << formatBytes(double(f.fileBytes)) << " on disk\n"
-              << "  content hash: sha256 " << f.hash.sha256 << " (header UUID " << f.hash.headerUuid
-              << (f.hash.uuidFromContent ? ", derived from it" : ", random: not written by this version") << ")\n"
-              << "  basis: " << v.basis.kind << " (" << v.basis.channelCount() << describeChannels(v.basis) << ")\n";
-    // bake --direct (docs/format.md, "Direct light").
-    std::cout << "  direct light: " << directModeName(v.direct.mode);
-    if (!v.direct.lights.empty())
-        std::cout << ", " << v.direct.lights.size() << " listed light" << (v.direct.lights.size() == 1 ? "" : "s")
-                  << (v.direct.hasVisibility() ? " with visibility grids" : " (added at run time)");
-    std::cout << "\n";
-    for (std::size_t l = 0; l < v.levels.size(); ++l) {
-        const GridSpec& g = v.levels[l].grid;
-        std::cout << "  level " << l << ": " << g.nx << " x " << g.ny << " x " << g.nz << " box, "
-                  << v.levels[l].storedNodes() << (v.levels[l].sparse() ? " active" : "") << " nodes, "
-                  << v.levels[l].refinedCells.size() << " refined cells, spacing " << g.spacing << ", node bounds " << vec(g.nodeBounds().lo, false) << " - "
-                  << vec(g.nodeBounds().hi, false) << "\n";
-    }
-    if (v.levels.size() > 1) {  // multi-level: what the sparse topology saves against the dense box
-        uint64_t stored = 0;
-        for (const VolumeLevel& l : v.levels) stored += l.storedNodes();
-        const double dense = double(v.levels.back().grid.nodeCount());
-        std::cout << "  nodes: " << stored << " stored vs " << dense << " in a dense box at the finest spacing ("
-                  << 100.0 * (1.0 - double(stored) / dense) << " % saved); "
-                  << int64_t(metaNumber(v.meta, "nodes_culled", 0)) << " culled inside closed solids\n";
-    }
-    std::cout << "  grids:\n";
-    for (const GridInfo& g : f.grids)
-        std::cout << "    " << g.name << "  " << g.valueType << "  " << g.activeVoxels << " active voxels  "
-                  << formatBytes(double(g.memoryBytes)) << " in memory\n";
-    std::cout << "  metadata (vdblight:*):\n";
-    for (const auto& [key, value] : v.meta) std::cout << "    " << key << " = " << metaText(value, false) << "\n";
-}
-
-void printJson(const Volume& v, const FileInfo& f) {
-    std::ostringstream o;
-    o << "{\n  \"path\": " << jsonString(f.path) << ",\n  \"file_bytes\": " << f.fileBytes
-      << ",\n  \"content_sha256\": " << jsonString(f.hash.sha256) << ",\n  \"header_uuid\": " << jsonString(f.hash.headerUuid)
-      << ",\n  \"uuid_from_content\": " << (f.hash.uuidFromContent ? "true" : "false")
-      << ",\n  \"basis\": " << jsonString(v.basis.kind) << ",\n  \"levels\": [";
-    for (std::size_t l = 0; l < v.levels.size(); ++l) {
-        const GridSpec& g = v.levels[l].grid;
-        o << (l ? ", " : "") << "{\"dims\": [" << g.nx << ", " << g.ny << ", " << g.nz << "], \"nodes\": " << v.levels[l].storedNodes()
-          << ", \"refined_cells\": " << v.levels[l].refinedCells.size()
-          << ", \"spacing\": " << g.spacing << ", \"origin\": " << vec(g.origin, true)
-          << ", \"node_bounds_min\": " << vec(g.nodeBounds().lo, true) << ", \"node_bounds_max\": " << vec(g.nodeBounds().hi, true) << "}";
-    }
-    o << "],\n  \"grids\": [";
-    for (std::size_t i = 0; i < f.grids.size(); ++i) {
-        const GridInfo& g = f.grids[i];
-        o << (i ? ",\n    " : "\n    ") << "{\"name\": " << jsonString(g.name) << ", \"type\": " << jsonString(g.valueType)
-          << ", \"active_voxels\": " << g.activeVoxels << ", \"memory_bytes\": " << g.memoryBytes
-          << ", \"level\": " << g.level << ", \"voxel_size\": " << g.voxelSize << "}";
-    }
-    o << "\n  ],\n  \"metadata\": {";
-    bool first = true;
-    for (const auto& [key, value] : v.meta) {
-        o << (first ? "\n    " : ",\n    ") << jsonString(key) << ": " << metaText(value, true);
-        first = false;
-    }
-    o << "\n  }\n}\n";
-    std::cout << o.str();
-}
-/// A tile of a bake (bake --tiles): its identity, grids and content hash.
-void printTile(const std::string& path, const TileId& id, bool json) {
-    const FileInfo f = inspectVolumeFile(path);
-    if (json) {
-        std::cout << "{\n  \"path\": " << jsonString(path) << ",\n  \"file_bytes\": " << f.fileBytes
-                  << ",\n  \"content_sha256\": " << jsonString(f.hash.sha256) << ",\n  \"tile_index\": " << id.index
-                  << ",\n  \"tile_count\": " << id.count << ",\n  \"tile_params_hash\": " << jsonString(id.paramsHash)
-                  << "\n}\n";
-        return;
-    }
-    std::cout << path << ": tile " << id.index << " of " << id.count << " of a bake (merge with 'vdblight merge'), "
-              << formatBytes(double(f.fileBytes)) << " on disk\n"
-              << "  parameter hash: " << id.paramsHash << "\n"
-              << "  content hash: sha256 " << f.hash.sha256 << "\n  grids:\n";
-    for (const GridInfo& g : f.grids)
-        std::cout << "    " << g.name << "  " << g.valueType << "  " << g.activeVoxels << " active voxels\n";
-}
-}  // namespace
 
 void addInfoCommand(CLI::App& app) {
     auto path = std::make_shared<std::string>();
@@ -155,12 +24,15 @@ void addInfoCommand(CLI::App& app) {
         }  // readVolume below reports unreadable files as before
         if (prt) return printPrtInfo(*path);
         TileId tile;
-        if (readTileId(*path, tile)) return printTile(*path, tile, *json);
+        if (readTileId(*path, tile)) {  // a tile of a bake (bake --tiles)
+            const FileInfo info = inspectVolumeFile(*path);
+            std::cout << (*json ? tileInfoJson(tile, info) : tileInfoText(tile, info));
+            return;
+        }
         ContentHash hash;  // the damage check's, reused: the file is hashed once
         const Volume volume = readVolume(*path, &hash);
         const FileInfo info = inspectVolumeFile(*path, &hash);
-        if (*json) printJson(volume, info);
-        else printHuman(volume, info);
+        std::cout << (*json ? volumeInfoJson(volume, info) : volumeInfoText(volume, info));
     });
 }
 

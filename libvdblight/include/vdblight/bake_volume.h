@@ -135,6 +135,25 @@ struct BakeReport {
     std::shared_ptr<PhotonSums> photonSums;
 };
 
+/// What the summary of a bake reads (bakeSummary).
+struct BakeSummaryInput {
+    const Scene& scene;
+    std::string sceneSource;     ///< how the scene file was read (describeSceneSource, scene_load.h)
+    std::string output;          ///< the file written
+    const BakeRequest& request;  ///< as given (the tile numbers of a skipped tile)
+    const BakeReport& report;
+    const Volume& volume;        ///< bakeToFile's answer
+};
+
+/// What `vdblight bake` prints after bakeToFile, lines ending in '\n': the tile skipped, or
+/// the summary of the pass that baked (Pass::summary: grid, rays, time, the file's contents,
+/// the noise estimate, or a tile and what to do with it next).
+std::string bakeSummary(const BakeSummaryInput& in);
+
+/// The stages of a tiled bake with these options (its probe passes + 1), after the presets;
+/// ValueError when they cannot be tiled (for `vdblight slurm`, before any script is written).
+int tiledBakeStages(const BakeRequest& request);
+
 /// The request with the --quality preset and every default applied (optionals filled where
 /// the pass uses them, `pass` set to the selected pass). Does not validate.
 BakeRequest resolveBakeRequest(const BakeRequest& request);

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -87,5 +88,10 @@ struct ExportSummary {
 /// does not fit the volume kind), ValueError (texture larger than the format allows, memory
 /// above maxBytes, values beyond the half-float range) or IoError (directory not writable).
 ExportSummary exportTextures(const Volume& volume, const std::string& outDir, const ExportOptions& options);
+
+/// Runs `write`, an export of one file into the directory `outDir` (exportGltfProbes,
+/// exportPreviewVdb): creates the directory if it is missing and removes it again if `write`
+/// throws, so that a failed export leaves nothing behind.
+void intoOutputDirectory(const std::string& outDir, const std::function<void()>& write);
 
 }  // namespace vdblight

@@ -54,4 +54,9 @@ constexpr uint64_t kCellsLeafMemory = 1ull << 30;
 CellsSummary exportCells(const IrradianceQuery& query, StreamedVolume& volume, const std::string& outDir,
                          const ExportOptions& options, int cellSize, uint64_t leafMemory = kCellsLeafMemory);
 
+/// exportCells of the volume file `path`: streamed when it is large (kStreamAboveBytes) and
+/// its kind streams, as `vdblight query` does, read whole otherwise; the same texels either way.
+CellsSummary exportCellsOfFile(const std::string& path, const std::string& outDir, const ExportOptions& options,
+                               int cellSize, uint64_t leafMemory = kCellsLeafMemory);
+
 }  // namespace vdblight

@@ -34,4 +34,8 @@ struct PrtFileInfo {
 };
 PrtFileInfo inspectPrt(const std::string& path);
 
+/// What `vdblight prt info` lists of a PRT file: scene, samples and clusters, visibility and
+/// direct-light bases, transfer, relightable volume, values and bytes stored, bake times.
+std::string prtInfoText(const std::string& path);
+
 }  // namespace vdblight
