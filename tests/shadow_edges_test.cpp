@@ -14,6 +14,7 @@
 #include "query/query_direct.h"
 #include "vdblight/scene/scene.h"
 #include "basis/shadow_edges.h"
+#include "bake/shadow_edge_search.h"
 #include "vdblight/trace/trace.h"
 #include "vdblight/volume/vdb_io.h"
 
@@ -60,9 +61,23 @@ double exactVisibility(const Vec3d& x, double* edge, bool pointLight) {
     return inside ? 0.0 : 1.0;
 }
 
-/// Nodes 0.25 apart below the blocker, the sun's visibility and (optionally) edges baked.
-Volume bakeUnderSun(bool edges, bool pointLight = false) {
-    const Scene scene = blockerUnderSun(pointLight);
+/// The blocker under a panel light instead (1.2 x 0.6 at height 3, emitting downwards): a
+/// polygon light, whose shadow has a penumbra.
+Scene blockerUnderPanel() {
+    Scene s = blockerUnderSun();
+    s.directionalLights.clear();
+    Material lamp;
+    lamp.albedo = {0, 0, 0};
+    lamp.emission = {4, 4, 4};
+    const uint32_t m = addMaterial(s, lamp);
+    const Vec3f a(-0.4f, 3.0f, -0.1f), b(0.8f, 3.0f, -0.1f), c(0.8f, 3.0f, 0.5f), d(-0.4f, 3.0f, 0.5f);
+    addTriangle(s, a, b, c, m);  // (b - a) x (c - a) points down: the front face
+    addTriangle(s, a, c, d, m);
+    return s;
+}
+
+/// Nodes 0.25 apart below the blocker, the light's visibility and (optionally) edges baked.
+Volume bakeUnder(const Scene& scene, bool edges) {
     const Tracer tracer(scene);
     Volume v = test::randomShVolume(15, 5, 15, 0.25, 3);
     v.levels[0].grid.origin = Vec3d(-1.75, 0.0, -1.75);
@@ -71,6 +86,25 @@ Volume bakeUnderSun(bool edges, bool pointLight = false) {
     o.shadowEdges = edges;
     const DirectPlan plan = planDirectLight(scene, tracer, v.levels[0].grid, o);
     bakeLightVisibility(scene, tracer, plan, o, v);
+    return v;
+}
+
+Volume bakeUnderSun(bool edges, bool pointLight = false) { return bakeUnder(blockerUnderSun(pointLight), edges); }
+
+/// The reference: `baked` with findShadowEdge's answer at every node.
+Volume searchedEverywhere(const Scene& scene, const Volume& baked) {
+    const Tracer tracer(scene);
+    Volume v = baked;
+    VolumeLevel& level = v.levels[0];
+    const std::vector<SceneLight> lights = sceneLights(scene);
+    EXPECT_EQ(lights.size(), 1u);
+    RayCount rays;
+    for (std::size_t n = 0; n < level.grid.nodeCount(); ++n) {
+        const bake_detail::ShadowEdge e =
+            bake_detail::findShadowEdge(scene, tracer, lights[0], Vec3f(level.grid.node(n)), level.grid.spacing, rays);
+        level.lightShadowEdges[n * 2] = e.distance;
+        level.lightShadowEdges[n * 2 + 1] = e.width;
+    }
     return v;
 }
 
@@ -160,4 +194,47 @@ TEST(ShadowEdges, FileRoundTripAndStreamedLookup) {
     const Volume old = bakeUnderSun(false);
     writeVolume(old, dir.file("old.vdb"));
     EXPECT_TRUE(readVolume(dir.file("old.vdb")).levels[0].lightShadowEdges.empty());
+}
+
+// The bake searches a node's edge only where a lookup can read it (bake/shadow_edge_lattice.h):
+// elsewhere it stores "no edge in range" with the node's sign. Against findShadowEdge at every
+// node (the reference), a hard light's lookups are the same to float rounding and a polygon
+// light's within 0.01, though many nodes' stored distances differ (they were not searched).
+TEST(ShadowEdges, BakeSearchesOnlyWhereALookupReadsTheEdge) {
+    struct Case {
+        const char* name;
+        Scene scene;
+        double tolerance;
+        int skippedAtLeast;  // nodes not searched though the reference finds an edge in range
+    };
+    const Case cases[] = {{"sun", blockerUnderSun(false), 1e-5, 100}, {"point light", blockerUnderSun(true), 1e-5, 100},
+                          {"panel", blockerUnderPanel(), 0.01, 10}};
+    for (const Case& c : cases) {
+        const Volume baked = bakeUnder(c.scene, true), reference = searchedEverywhere(c.scene, baked);
+        const std::vector<float>& got = baked.levels[0].lightShadowEdges;
+        const std::vector<float>& want = reference.levels[0].lightShadowEdges;
+        int skippedInRange = 0;
+        for (std::size_t n = 0; n < baked.levels[0].grid.nodeCount(); ++n) {
+            if (got[2 * n] == want[2 * n] && got[2 * n + 1] == want[2 * n + 1]) continue;
+            // Not searched: no edge in range, on the node's own side.
+            EXPECT_EQ(std::abs(got[2 * n]), shadow_edge::kRange) << c.name << ", node " << n;
+            EXPECT_EQ(got[2 * n + 1], 0.0f) << c.name << ", node " << n;
+            EXPECT_EQ(got[2 * n] > 0, want[2 * n] > 0) << c.name << ", node " << n;
+            ++skippedInRange;
+        }
+        const IrradianceQuery fast(baked), slow(reference);
+        Rng rng(23);
+        double worst = 0;
+        for (int i = 0; i < 4000; ++i) {
+            const Vec3d x(-1.75 + 3.5 * rng.uniform(), rng.uniform(), -1.75 + 3.5 * rng.uniform());
+            float a = 0, b = 0;
+            visibilityOf(fast).visibility(x, &a);
+            visibilityOf(slow).visibility(x, &b);
+            worst = std::max(worst, std::abs(double(a) - double(b)));
+        }
+        std::printf("%s: %d of %zu nodes not searched with an edge in range; lookups differ by at most %.3g\n", c.name,
+                    skippedInRange, baked.levels[0].grid.nodeCount(), worst);
+        EXPECT_GE(skippedInRange, c.skippedAtLeast) << c.name;
+        EXPECT_LE(worst, c.tolerance) << c.name;
+    }
 }

@@ -7,7 +7,7 @@
 
 #include "parallel_nodes.h"
 #include "pass_metadata.h"
-#include "shadow_edge_search.h"
+#include "shadow_edge_lattice.h"
 #include "vdblight/core/errors.h"
 #include "vdblight/sampling/sampling.h"
 #include "vdblight/scene/scene.h"
@@ -89,24 +89,29 @@ void bakeLightVisibility(const Scene& scene, const Tracer& tracer, const DirectP
         for (std::size_t n = 0; n < grid.nodeCount(); ++n)
             if ((*only)[0][n]) selected.push_back(n);
     }
-    const bake_detail::ParallelRun run = bake_detail::forEachItemInParallel(
+    // The visibility channels first: the edges' search reads them (shadow_edge_lattice.h).
+    const auto visibilityOf = [&](std::size_t n, std::size_t i, RayCount& rays) {
+        const Vec3f x(grid.node(n));
+        if (unreachable(plan.lights[i].light, Vec3d(x))) return 1.0f;  // see bake_direct.h
+        const uint64_t stream = hashCombine(hashCombine(o.seed ^ kVisibilityStream, n), i);
+        return float(lightVisibility(scene, tracer, plan.lights[i], x, o.visibilitySamples, stream, rays));
+    };
+    bake_detail::ParallelRun run = bake_detail::forEachItemInParallel(
         only ? selected.size() : grid.nodeCount(), o.threads, interrupter, [&](std::size_t item, RayCount& rays) {
             const std::size_t n = only ? selected[item] : item;
-            const Vec3f x(grid.node(n));
-            for (std::size_t i = 0; i < lights; ++i) {
-                if (o.shadowEdges) {
-                    const bake_detail::ShadowEdge e =
-                        bake_detail::findShadowEdge(scene, tracer, plan.lights[i], x, grid.spacing, rays);
-                    float* out = &level.lightShadowEdges[(level.held(n) * lights + i) * shadow_edge::kFloatsPerLight];
-                    out[0] = e.distance;
-                    out[1] = e.width;
-                }
-                if (unreachable(plan.lights[i].light, Vec3d(x))) continue;  // stays 1 (see bake_direct.h)
-                const uint64_t stream = hashCombine(hashCombine(o.seed ^ kVisibilityStream, n), i);
-                level.lightVisibility[level.held(n) * lights + i] =
-                    float(lightVisibility(scene, tracer, plan.lights[i], x, o.visibilitySamples, stream, rays));
-            }
+            for (std::size_t i = 0; i < lights; ++i) level.lightVisibility[level.held(n) * lights + i] = visibilityOf(n, i, rays);
         });
+    if (o.shadowEdges) {
+        // A neighbour outside a tile is computed again, with its own stream: the same value.
+        const auto storedOrComputed = [&](std::size_t n, std::size_t i, RayCount& rays) {
+            const bool stored = only ? bool((*only)[0][n]) : true;
+            return stored ? level.lightVisibility[level.held(n) * lights + i] : visibilityOf(n, i, rays);
+        };
+        const bake_detail::EdgeLatticeRun edges = bake_detail::bakeShadowEdgesOnLattice(
+            scene, tracer, plan.lights, level, selected, storedOrComputed, o.threads, interrupter);
+        run.rays += edges.rays;
+        run.seconds += edges.seconds;
+    }
     bake_detail::PassMetadata(volume.meta)
         .count("direct_visibility_samples", int64_t(o.visibilitySamples))
         .count("direct_visibility_rays", int64_t(run.rays.total()));

@@ -47,11 +47,9 @@ double extentAlong(const DirectLight& l, const Vec3d& e) {
 
 class CentreRay {
 public:
-    CentreRay(const Scene& scene, const Tracer& tracer, const SceneLight& light)
+    CentreRay(const Tracer& tracer, const SceneLight& light)
         : tracer_(tracer), light_(light.light), directional_(light_.kind == DirectLight::Kind::Directional),
-          centre_(light_.kind == DirectLight::Kind::Polygon ? polygonCentroid(light_) : light_.position) {
-        (void)scene;
-    }
+          centre_(light_.kind == DirectLight::Kind::Polygon ? polygonCentroid(light_) : light_.position) {}
     Ray ray(const Vec3f& p) const {
         if (directional_) return Ray{p, -Vec3f(light_.direction)};
         return Ray{p, Vec3f(centre_) - p, 0.0f, kShadowEnd};
@@ -81,11 +79,17 @@ private:
 
 }  // namespace
 
+bool centreRayBlocked(const Tracer& tracer, const SceneLight& light, const Vec3f& x, RayCount& rays) {
+    if (light.light.kind == DirectLight::Kind::Mesh) return false;  // findShadowEdge traces none
+    return CentreRay(tracer, light).blocked(x, rays);
+}
+
 ShadowEdge findShadowEdge(const Scene& scene, const Tracer& tracer, const SceneLight& light, const Vec3f& x, double spacing,
                           RayCount& rays) {
     const DirectLight& l = light.light;
     if (l.kind == DirectLight::Kind::Mesh) return {0.0f, shadow_edge::kNoEdge};  // its centre is inside it
-    const CentreRay centre(scene, tracer, light);
+    (void)scene;
+    const CentreRay centre(tracer, light);
     const Vec3f axis = centre.towards(x);
     if (!(dot(axis, axis) > 0)) return {shadow_edge::kRange, 0.0f};
     Vec3f t, b;
@@ -121,7 +125,8 @@ ShadowEdge findShadowEdge(const Scene& scene, const Tracer& tracer, const SceneL
     // At least half the smallest ramp width from the edge: a node's own ramp then gives its
     // own side exactly (0 or 1), so a hard light's node leaves no residual for the lookup to
     // blend over the cell (shadow_edges.h); the edge moves by at most 1/32 cell.
-    const float cells = std::clamp(best / float(spacing), 0.5f * shadow_edge::kMinWidth, shadow_edge::kRange);
+    const float cells = found ? std::clamp(best / float(spacing), 0.5f * shadow_edge::kMinWidth, shadow_edge::kRange)
+                              : shadow_edge::kRange;  // exactly: what a skipped search stores (shadow_edge_lattice.h)
     edge.distance = blocked ? -cells : cells;
     if (found && l.kind == DirectLight::Kind::Polygon) {
         double blocker = 0, toCentre = 0;

@@ -25,5 +25,9 @@ struct ShadowEdge {
 ShadowEdge findShadowEdge(const Scene& scene, const Tracer& tracer, const SceneLight& light, const Vec3f& x, double spacing,
                           RayCount& rays);
 
+/// The centre ray's answer at x, as findShadowEdge starts from it: true if blocked (a point the
+/// light cannot reach counts as free). Its sign is the sign of x's stored distance.
+bool centreRayBlocked(const Tracer& tracer, const SceneLight& light, const Vec3f& x, RayCount& rays);
+
 }  // namespace bake_detail
 }  // namespace vdblight

@@ -1,0 +1,155 @@
+// vdblight_bench_shadow_edges: where the shadow edges' rays go, and what the lattice's skipping
+// saves (issue 32; bake/shadow_edge_lattice.h). On the accuracy benchmark's four scenes at the
+// default bake's grid (~16384 nodes) and lights (--direct occlusion, at most 4 listed):
+//  - the visibility channels alone (bake --no-shadow-edges): CPU seconds and rays;
+//  - the edges as the bake finds them (bakeShadowEdgesOnLattice): CPU seconds, rays, searches;
+//  - the reference, findShadowEdge at every node and light: CPU seconds, rays, and where they
+//    go (nodes whose search found an edge in range, or none, lit or shadowed);
+//  - the two volumes' lookups at random points of the node box: the largest visibility
+//    difference and how many points differ by more than 0.01, per kind of light.
+// --quick: 1/8 of the nodes. --scene NAME: one scene.
+#include <sys/resource.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "accuracy_scenes.h"
+#include "bake/parallel_nodes.h"
+#include "bake/shadow_edge_lattice.h"
+#include "bake/shadow_edge_search.h"
+#include "basis/shadow_edges.h"
+#include "bench_args.h"
+#include "query/light_visibility.h"
+#include "vdblight/bake/each_pass.h"
+#include "vdblight/query/query.h"
+#include "vdblight/sampling/sampling.h"
+#include "vdblight/trace/trace.h"
+
+using namespace vdblight;
+
+namespace {
+
+double cpuSeconds() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+const char* kindName(DirectLight::Kind k) {
+    switch (k) {
+        case DirectLight::Kind::Polygon: return "polygon";
+        case DirectLight::Kind::Mesh: return "mesh";
+        case DirectLight::Kind::Directional: return "directional";
+        case DirectLight::Kind::Spot: return "spot";
+        default: return "point";
+    }
+}
+
+/// The reference: findShadowEdge at every node and light, with where its rays go.
+void referenceEdges(const Scene& scene, const Tracer& tracer, const DirectPlan& plan, VolumeLevel& level, int threads) {
+    const std::size_t lights = plan.lights.size();
+    std::vector<RayCount> perItem(level.grid.nodeCount() * lights);
+    const double c0 = cpuSeconds();
+    bake_detail::forEachItemInParallel(level.grid.nodeCount(), threads, nullptr, [&](std::size_t n, RayCount& rays) {
+        for (std::size_t l = 0; l < lights; ++l) {
+            RayCount mine;
+            const bake_detail::ShadowEdge e =
+                bake_detail::findShadowEdge(scene, tracer, plan.lights[l], Vec3f(level.grid.node(n)), level.grid.spacing, mine);
+            float* out = &level.lightShadowEdges[(n * lights + l) * shadow_edge::kFloatsPerLight];
+            out[0] = e.distance;
+            out[1] = e.width;
+            perItem[n * lights + l] = mine;
+            rays += mine;
+        }
+    });
+    const double cpu = cpuSeconds() - c0;
+    // Where the rays go: pairs whose search found an edge in range, and those that found none.
+    uint64_t found = 0, lit = 0, shadowed = 0, raysFound = 0, raysNone = 0, total = 0;
+    for (std::size_t p = 0; p < perItem.size(); ++p) {
+        const float d = level.lightShadowEdges[p * shadow_edge::kFloatsPerLight];
+        const uint64_t r = perItem[p].total();
+        total += r;
+        if (std::abs(d) < shadow_edge::kRange) ++found, raysFound += r;
+        else (d > 0 ? lit : shadowed) += 1, raysNone += r;
+    }
+    const double pairs = double(perItem.size());
+    std::printf("  reference (findShadowEdge everywhere): CPU %.2f s, %llu rays (%.1f per node and light)\n", cpu,
+                (unsigned long long)total, total / pairs);
+    std::printf("    edge found in range: %.1f %% of pairs, %.1f rays each; none: lit %.1f %%, shadowed %.1f %%, %.1f rays each\n",
+                100.0 * found / pairs, found ? double(raysFound) / found : 0.0, 100.0 * lit / pairs, 100.0 * shadowed / pairs,
+                lit + shadowed ? double(raysNone) / double(lit + shadowed) : 0.0);
+}
+
+/// The largest difference between two volumes' looked-up visibility, per light, at random points.
+void compareLookups(const Volume& fast, const Volume& reference, const DirectPlan& plan) {
+    const IrradianceQuery a(fast), b(reference);
+    const auto& va = dynamic_cast<const LightVisibility&>(a.lookup());
+    const auto& vb = dynamic_cast<const LightVisibility&>(b.lookup());
+    const Bounds box = fast.levels[0].grid.nodeBounds();
+    const std::size_t lights = plan.lights.size();
+    std::vector<double> worst(lights, 0.0);
+    std::vector<int> over(lights, 0);
+    Rng rng(17);
+    const int points = 20000;
+    std::vector<float> fa(lights), fb(lights);
+    for (int i = 0; i < points; ++i) {
+        const Vec3d x = box.lo + (box.hi - box.lo) * Vec3d(rng.uniform(), rng.uniform(), rng.uniform());
+        va.visibility(x, fa.data());
+        vb.visibility(x, fb.data());
+        for (std::size_t l = 0; l < lights; ++l) {
+            const double d = std::abs(double(fa[l]) - double(fb[l]));
+            worst[l] = std::max(worst[l], d);
+            if (d > 0.01) ++over[l];
+        }
+    }
+    for (std::size_t l = 0; l < lights; ++l)
+        std::printf("  light %zu (%s): lookups at %d points, max |difference| %.2g, %d points beyond 0.01\n", l,
+                    kindName(plan.lights[l].light.kind), points, worst[l], over[l]);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    bench::BenchArgs args("vdblight_bench_shadow_edges", {{"--scene", "NAME"}, {"--threads", "N"}});
+    if (!args.parse(argc, argv)) return 1;
+    const bool quick = args.quick();
+    const int threads = args.integer("--threads", 2);
+    const std::string only = args.text("--scene");
+    for (bench::AccuracyScene& as : bench::accuracyScenes()) {
+        if (!only.empty() && as.name.rfind(only, 0) != 0) continue;
+        const Tracer tracer(as.scene);
+        GridPlacement gp;
+        gp.spacing = spacingForNodeBudget(as.scene.bounds(), quick ? 16384 / 8 : 16384);
+        const GridSpec grid = placeUniformGrid(as.scene.bounds(), gp, 1);
+        DirectOptions o;
+        o.mode = DirectMode::Occlusion;
+        o.threads = threads;
+        const DirectPlan plan = planDirectLight(as.scene, tracer, grid, o);
+        std::printf("%s: %zu nodes (%d x %d x %d), %zu listed lights\n", as.name.c_str(), grid.nodeCount(), grid.nx, grid.ny,
+                    grid.nz, plan.lights.size());
+        // The visibility channels alone, then the bake's edges over them.
+        Volume fast = bake_detail::emptyShVolume(grid);
+        o.shadowEdges = false;
+        double c0 = cpuSeconds();
+        bakeLightVisibility(as.scene, tracer, plan, o, fast);
+        const double channels = cpuSeconds() - c0;
+        const int64_t channelRays = std::get<int64_t>(fast.meta.at("direct_visibility_rays"));
+        VolumeLevel& level = fast.levels[0];
+        const std::size_t lights = plan.lights.size();
+        level.lightShadowEdges.assign(level.heldNodes() * lights * shadow_edge::kFloatsPerLight, 0.0f);
+        c0 = cpuSeconds();
+        const bake_detail::EdgeLatticeRun run = bake_detail::bakeShadowEdgesOnLattice(
+            as.scene, tracer, plan.lights, level, {},
+            [&](std::size_t n, std::size_t l, RayCount&) { return level.lightVisibility[n * lights + l]; }, threads, nullptr);
+        const double edges = cpuSeconds() - c0;
+        std::printf("  visibility channels alone: CPU %.2f s, %lld rays\n", channels, (long long)channelRays);
+        std::printf("  edges as baked (lattice): CPU %.2f s, %llu rays; searched %llu of %llu node-light pairs (%.1f %%)\n", edges,
+                    (unsigned long long)run.rays.total(), (unsigned long long)run.searched,
+                    (unsigned long long)(run.searched + run.skipped), 100.0 * run.searched / double(run.searched + run.skipped));
+        Volume reference = fast;
+        referenceEdges(as.scene, tracer, plan, reference.levels[0], threads);
+        compareLookups(fast, reference, plan);
+    }
+    return 0;
+}
