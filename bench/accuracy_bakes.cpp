@@ -254,6 +254,7 @@ TrySpec parseTry(const std::string& spec) {
         else if (k == "cache") t.surfaceCache = v == "surface";
         else if (k == "filter") t.filter = std::stoi(v);
         else if (k == "bilateral") t.filterByNoise = v == "1";
+        else if (k == "edges") t.shadowEdges = v == "1";
         else throw ValueError("--try: unknown key '" + k + "'");
     }
     return t;
@@ -305,6 +306,7 @@ GridSpec tryGrid(const Scene& s, const TrySpec& t, const Settings& st) {
 Volume tryVolume(const Ctx& c, const TrySpec& t, std::string& note, std::vector<SceneLight>* runtimeLights) {
     DirectOptions d;
     d.mode = t.direct;
+    d.shadowEdges = t.shadowEdges;
     d.seed = c.seed;
     d.threads = c.settings.threads;
     const GridSpec grid = tryGrid(c.scene, t, c.settings);

@@ -34,6 +34,11 @@ std::vector<Config> configurations() {
     runtime.direct = DirectMode::Runtime;
     v.push_back({"default_direct_runtime", "the default bake with --direct runtime (direct light with shadow rays at lookup)",
                  [runtime](const Ctx& c) { return tryBake(c, runtime); }});
+    // The default without the shadow edges (bake --no-shadow-edges): what they cost and give.
+    TrySpec noEdges = def;
+    noEdges.shadowEdges = false;
+    v.push_back({"default_no_edges", "the default bake with --no-shadow-edges (the visibility channels alone)",
+                 [noEdges](const Ctx& c) { return tryBake(c, noEdges); }});
     // The default with the light visibility interpolated trilinearly (as before issue 15 item 2).
     v.push_back({"default_vis_trilinear", "the default bake, light visibility looked up trilinearly (not depth-weighted)",
                  [def](const Ctx& c) { return tryBake(c, def, &fromVolumeVisibilityTrilinear); }});

@@ -7,9 +7,10 @@
 //    go (nodes whose search found an edge in range, or none, lit or shadowed);
 //  - the two volumes' lookups at random points of the node box: the largest visibility
 //    difference and how many points differ by more than 0.01, per kind of light.
-// --quick: 1/8 of the nodes. --scene NAME: one scene.
+// --quick: 1/8 of the nodes. --scene NAME: one scene. --at X,Y,Z: the cell around a point.
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -108,10 +109,46 @@ void compareLookups(const Volume& fast, const Volume& reference, const DirectPla
                     kindName(plan.lights[l].light.kind), points, worst[l], over[l]);
 }
 
+/// --at X,Y,Z: the cell around a point, corner by corner (what the lookup blends), and the
+/// centre ray's answer at the point itself.
+void printCell(const Scene& scene, const Tracer& tracer, const DirectPlan& plan, const Volume& v, const Vec3d& x) {
+    const VolumeLevel& level = v.levels[0];
+    const GridSpec& g = level.grid;
+    const std::size_t lights = plan.lights.size();
+    const Vec3d u = (x - g.origin) / g.spacing;
+    const int i0 = std::clamp(int(std::floor(u.x)), 0, g.nx - 2), j0 = std::clamp(int(std::floor(u.y)), 0, g.ny - 2),
+              k0 = std::clamp(int(std::floor(u.z)), 0, g.nz - 2);
+    std::printf("  at (%.3f, %.3f, %.3f): cell (%d, %d, %d), offsets (%.2f, %.2f, %.2f)\n", x.x, x.y, x.z, i0, j0, k0, u.x - i0,
+                u.y - j0, u.z - k0);
+    const IrradianceQuery q(v);
+    std::vector<float> looked(lights);
+    dynamic_cast<const LightVisibility&>(q.lookup()).visibility(x, looked.data());
+    for (std::size_t l = 0; l < lights; ++l) {
+        RayCount rays;
+        const bake_detail::ShadowEdge here = bake_detail::findShadowEdge(scene, tracer, plan.lights[l], Vec3f(x), g.spacing, rays);
+        std::printf("  light %zu: looked-up visibility %.3f; at the point itself: centre ray %s, its edge d %.3f w %.3f\n", l,
+                    looked[l], bake_detail::centreRayBlocked(tracer, plan.lights[l], Vec3f(x), rays) ? "blocked" : "free",
+                    here.distance, here.width);
+        for (int c = 0; c < 8; ++c) {
+            const int i = i0 + (c & 1), j = j0 + ((c >> 1) & 1), k = k0 + ((c >> 2) & 1);
+            const std::size_t n = g.index(i, j, k);
+            const float* e = &level.lightShadowEdges[(n * lights + l) * shadow_edge::kFloatsPerLight];
+            const Vec3d p = g.node(i, j, k);
+            const DirectLight& dl = plan.lights[l].light;
+            const Vec3f towards = dl.kind == DirectLight::Kind::Directional ? -Vec3f(dl.direction) : Vec3f(dl.position) - Vec3f(p);
+            const Hit h = tracer.intersect(Ray{Vec3f(p), normalize(towards)});
+            const Vec3f at = Vec3f(p) + normalize(towards) * h.t;
+            std::printf("    corner (%d, %d, %d) at (%.2f, %.2f, %.2f): visibility %.3f, d %.3f, w %.3f; towards the light: %s "
+                        "(%.2f, %.2f, %.2f)\n", i, j, k, p.x, p.y, p.z, level.lightVisibility[n * lights + l], e[0], e[1],
+                        h.hit() ? "hits" : "free", h.hit() ? at.x : 0.0f, h.hit() ? at.y : 0.0f, h.hit() ? at.z : 0.0f);
+        }
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-    bench::BenchArgs args("vdblight_bench_shadow_edges", {{"--scene", "NAME"}, {"--threads", "N"}});
+    bench::BenchArgs args("vdblight_bench_shadow_edges", {{"--scene", "NAME"}, {"--threads", "N"}, {"--at", "X,Y,Z"}});
     if (!args.parse(argc, argv)) return 1;
     const bool quick = args.quick();
     const int threads = args.integer("--threads", 2);
@@ -150,6 +187,11 @@ int main(int argc, char** argv) {
         Volume reference = fast;
         referenceEdges(as.scene, tracer, plan, reference.levels[0], threads);
         compareLookups(fast, reference, plan);
+        if (args.given("--at")) {
+            Vec3d x;
+            if (std::sscanf(args.text("--at").c_str(), "%lf,%lf,%lf", &x.x, &x.y, &x.z) != 3) return 1;
+            printCell(as.scene, tracer, plan, fast, x);
+        }
     }
     return 0;
 }
