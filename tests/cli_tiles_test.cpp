@@ -23,7 +23,7 @@ std::string fileBytes(const std::string& path) {
 
 /// Bakes without probe-to-probe passes tile in one stage (the default bake's pass is staged:
 /// DefaultBakeTiledInStagesMergesToTheSingleBake): the preview before issue 32 (since then it
-/// has a probe pass and the node filter, which cannot be tiled).
+/// has a probe pass and the node filter, which the merge runs: the staged test has it).
 const std::string kTileable =
     " --direct baked --quality preview --probe-passes 0 --node-filter 0 --no-depth-moments";
 
@@ -106,10 +106,12 @@ TEST(CliTiles, SurfaceProbeCacheTiledInStagesMergesToTheSingleBake) {
 }
 
 TEST(CliTiles, DefaultBakeTiledInStagesMergesToTheSingleBake) {
-    // The default bake (one probe-to-probe pass, --direct occlusion, the per-node error
-    // summary) at a small size, plus depth moments: stage 0, merge, stage 1, merge.
+    // The default bake (one probe-to-probe pass, --direct occlusion with shadow edges, the
+    // per-node error summary) at a small size, plus depth moments and one pass of the node
+    // filter, whose kernel crosses tile borders (the merge of the last stage runs it, with the
+    // tiles' per-node errors): stage 0, merge, stage 1, merge.
     test::TempDir dir;
-    expectStagedMergeIdentical(dir, "--resolution 10 --rays 32 --seed 4 --depth-moments", 3, 1);
+    expectStagedMergeIdentical(dir, "--resolution 10 --rays 32 --seed 4 --depth-moments --node-filter 1", 3, 1);
     const test::CliRun info = runCli("info " + dir.file("stage1.vdb"));
     EXPECT_NE(info.output.find("light_visibility_0"), std::string::npos) << info.output;
     EXPECT_NE(info.output.find("estimated_error_worst_nodes"), std::string::npos) << info.output;
@@ -236,7 +238,7 @@ TEST(CliTiles, PassesThatCannotBeTiledSaySo) {
     ASSERT_EQ(runCli("bake -q --quality preview --resolution 4 -o " + volume).status, 0);
     test::expectRefusal("bake --stage 1 --stage-input " + volume + uniformTile, "no probe stage file", out, "a volume as input");
     test::expectRefusal("bake --tiles 2 --resolution 4 -o " + out, "--tiles and --tile go together", out, "no --tile");
-    test::expectRefusal("bake --quality preview" + uniformTile, "--node-filter cannot be tiled", out, "the preview's node filter");
+    test::expectRefusal("bake --quality preview" + uniformTile, "tiled in stages", out, "the preview's probe pass");
     test::expectRefusal("bake --tiles 2 --tile 2 --resolution 4 -o " + out, "--tile must be between 0 and 1", out, "range");
     test::expectRefusal("bake --tiles 9 --tile 0 --layout bilevel --refine 2 --resolution 4 -o " + out + kTileable, "bricks of 8^3 nodes", out, "too many");
 }

@@ -6,7 +6,7 @@
 
 #include "vdblight/basis/depth_moments.h"
 #include "vdblight/core/errors.h"
-#include "bake/node_filter.h"
+#include "volume/node_filter.h"
 #include "vdblight/sampling/sampling.h"
 #include "vdblight/volume/volume.h"
 

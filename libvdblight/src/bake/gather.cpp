@@ -13,7 +13,7 @@
 #include "vdblight/volume/volume.h"
 #include "vdblight/core/errors.h"
 #include "vdblight/core/interrupter.h"
-#include "bake/node_filter.h"
+#include "volume/node_filter.h"
 #include "vdblight/scene/scene.h"
 #include "basis/sh.h"
 #include "vdblight/volume/tiles.h"
@@ -41,7 +41,6 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     std::vector<std::size_t> selected;  // a tile's nodes (tiles.h); empty = all
     if (options.only) {
         if (options.only->size() != 1 || (*options.only)[0].size() != nodes) throw ValueError("the node mask does not match the grid");
-        if (options.nodeFilterPasses > 0) throw ValueError("the node filter cannot run on a tile (its kernel crosses tile borders)");
         if (options.probePasses > 0 && options.stage < 0)  // a probe pass reads every node of the pass before
             throw ValueError("a tile of a bake with probe-to-probe passes is baked in stages (GatherOptions::stage; tiles.h)");
         for (std::size_t n = 0; n < nodes; ++n)
@@ -133,7 +132,12 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
         }
         return volume;
     }
-    filterNodes(volume, options.nodeFilterPasses, options.nodeFilterByNoise ? &error : nullptr);
+    if (!options.only) {
+        filterNodes(volume, options.nodeFilterPasses, options.nodeFilterByNoise ? &error : nullptr);
+    } else if (options.nodeFilterPasses > 0) {  // its kernel crosses tile borders: the merge filters (tiles.h)
+        volume.meta["tile_node_filter_passes"] = int64_t(options.nodeFilterPasses);
+        volume.meta["tile_node_filter_by_noise"] = int64_t(options.nodeFilterByNoise ? 1 : 0);
+    }
     if (options.nodeFilterPasses > 0) m.count("node_filter_passes", options.nodeFilterPasses);
     m.method("gather", "point")
         .count("rays_per_node", options.raysPerNode)

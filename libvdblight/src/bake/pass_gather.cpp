@@ -94,8 +94,6 @@ std::string GatherPass::untileable(const BakeRequest& r) const {
 
 std::string pointGatherUntileable(const BakeRequest& r) {
     if (r.invalidateBackface) return "--invalidate-backface cannot be tiled (its dilation crosses tile borders)";
-    if (r.nodeFilter.value_or(0) > 0)
-        return "--node-filter cannot be tiled (its kernel crosses tile borders; --node-filter 0 to tile)";
     if (r.shWindow) return "--sh-window cannot be tiled yet (the window would have to follow the seams at merge)";
     // Each probe-to-probe pass reads every node of the pass before: one stage per pass.
     const int passes = r.probePasses.value_or(0);

@@ -17,6 +17,7 @@
 #include <map>
 #include <set>
 
+#include "node_filter.h"
 #include "tile_io.h"
 #include "vdblight/volume/volume.h"
 #include "vdblight/core/errors.h"
@@ -274,6 +275,13 @@ MergedTiles mergeTiles(const std::vector<std::string>& paths) {
     if (v.meta.count("samples_total") && v.meta.count("max_rays") && v.meta.count("rays_per_node_mean"))
         addSampleSummary(v.meta);
     if (v.levels.size() > 1) applySeamConstraints(v);  // seams cross tile borders
+    // So does the node filter's kernel: a tile's bake leaves it to the merge, which runs it
+    // on every node with the single bake's inputs (values, depth moments, per-node errors).
+    if (const int64_t passes = int64_t(metaNumber(first.part.meta, "tile_node_filter_passes", 0)); passes > 0) {
+        const bool byNoise = metaNumber(first.part.meta, "tile_node_filter_by_noise", 0) != 0;
+        if (byNoise && !first.error) throw FormatError("the tiles ask for the node filter by noise but carry no per-node errors");
+        filterNodes(v, int(passes), byNoise ? &error : nullptr);
+    }
     try {
         v.validate();
     } catch (const FormatError& e) {

@@ -130,7 +130,7 @@ Volume photonVolume(const PhotonSums& sums, Metadata meta);
 // runs of about equal estimated cost. Tile i bakes only the nodes of its bricks and writes a
 // partial .vdb that records its identity and a hash of the scene and every bake parameter.
 // mergeTiles puts the tiles back together, applies what crosses tile borders (seam
-// constraints of bilevel / adaptive layouts) and gives exactly the volume a single-process
+// constraints of bilevel / adaptive layouts, the point gather's node filter) and gives exactly the volume a single-process
 // bake gives, so that writing it gives the same bytes.
 //
 // The photon pass is tiled by photon batches instead (its photons cross every node): tile i

@@ -1,6 +1,6 @@
 // Filtering across nodes (issue 32): a small smoothing kernel over a uniform level's node
 // values, with the lookups' own depth weights, to trade the noise of a bake with few rays per
-// node for a little blur. `--quality preview` uses it (docs/time_to_accuracy.md).
+// node for a little blur. In the volume module: the merge of tiles runs it too (tiles.h). `--quality preview` uses it (docs/time_to_accuracy.md).
 //
 // One pass replaces each node's values by the weighted mean over its 3x3x3 neighbourhood:
 // weight = binomial kernel (1/4, 1/2, 1/4 per axis) x visibility of the node from the
@@ -23,8 +23,8 @@ namespace vdblight {
 
 /// Filters the values (VolumeLevel::data) of every level of `volume`, `passes` times (0:
 /// nothing). Throws ValueError for negative passes, a sparse level (bilevel / adaptive
-/// layouts: not supported) or a tile's window of the nodes (the kernel would cross tile
-/// borders). `relativeError` (optional, one-level volumes): each node's relative standard
+/// layouts: not supported) or a tile's window of the nodes (the kernel crosses tile borders:
+/// a tiled bake leaves the filter to mergeTiles, which runs it on the merged nodes). `relativeError` (optional, one-level volumes): each node's relative standard
 /// error of its mean irradiance (BakeStats::estimatedError; negative = inside a solid, left
 /// out); with it a neighbour's weight also falls with the two nodes' difference in mean
 /// luminance over their noise (exp(-d^2 / 2 (s_n^2 + s_m^2))): a bilateral filter that smooths

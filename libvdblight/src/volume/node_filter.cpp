@@ -1,5 +1,5 @@
 // Filtering across nodes with depth-aware weights (node_filter.h, issue 32).
-#include "bake/node_filter.h"
+#include "volume/node_filter.h"
 
 #include <algorithm>
 #include <cmath>
