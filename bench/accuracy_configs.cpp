@@ -39,6 +39,12 @@ std::vector<Config> configurations() {
     noEdges.shadowEdges = false;
     v.push_back({"default_no_edges", "the default bake with --no-shadow-edges (the visibility channels alone)",
                  [noEdges](const Ctx& c) { return tryBake(c, noEdges); }});
+    // The default with one pass of the node filter (--node-filter 1, bilateral): the candidate
+    // default since a tiled bake's merge runs the filter (volume/node_filter.h).
+    TrySpec filtered = def;
+    filtered.filter = 1;
+    v.push_back({"default_filter", "the default bake with --node-filter 1 (one bilateral pass of the node filter)",
+                 [filtered](const Ctx& c) { return tryBake(c, filtered); }});
     // The default with the light visibility interpolated trilinearly (as before issue 15 item 2).
     v.push_back({"default_vis_trilinear", "the default bake, light visibility looked up trilinearly (not depth-weighted)",
                  [def](const Ctx& c) { return tryBake(c, def, &fromVolumeVisibilityTrilinear); }});
