@@ -7,7 +7,8 @@
 //    go (nodes whose search found an edge in range, or none, lit or shadowed);
 //  - the two volumes' lookups at random points of the node box: the largest visibility
 //    difference and how many points differ by more than 0.01, per kind of light.
-// --quick: 1/8 of the nodes. --scene NAME: one scene. --at X,Y,Z: the cell around a point.
+// --quick: 1/8 of the nodes. --scene NAME: one scene; --file SCENE: a scene file instead. --at X,Y,Z:
+// the cell around a point.
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -148,12 +149,18 @@ void printCell(const Scene& scene, const Tracer& tracer, const DirectPlan& plan,
 }  // namespace
 
 int main(int argc, char** argv) {
-    bench::BenchArgs args("vdblight_bench_shadow_edges", {{"--scene", "NAME"}, {"--threads", "N"}, {"--at", "X,Y,Z"}});
+    bench::BenchArgs args("vdblight_bench_shadow_edges", {{"--scene", "NAME"}, {"--file", "SCENE"}, {"--threads", "N"}, {"--at", "X,Y,Z"}});
     if (!args.parse(argc, argv)) return 1;
     const bool quick = args.quick();
     const int threads = args.integer("--threads", 2);
     const std::string only = args.text("--scene");
-    for (bench::AccuracyScene& as : bench::accuracyScenes()) {
+    std::vector<bench::AccuracyScene> scenes;
+    if (args.given("--file")) {  // a scene file instead (e.g. data/cornell_box.obj, the default scene)
+        scenes.push_back({args.text("--file"), loadScene(args.text("--file")), 1, {}});
+    } else {
+        scenes = bench::accuracyScenes();
+    }
+    for (bench::AccuracyScene& as : scenes) {
         if (!only.empty() && as.name.rfind(only, 0) != 0) continue;
         const Tracer tracer(as.scene);
         GridPlacement gp;
