@@ -107,6 +107,11 @@ const char* const kCallBins =
     "uniform vec3 uvwScale, uvwBias;\n"
     "vec3 vdblightCheck(vec3 x, vec3 n) { return vdblightIrradianceBins(bins, x * uvwScale + uvwBias, n); }\n";
 
+// bins with depth moments (docs/engine_visibility.md): the corners weighted by depth.
+const char* const kCallBinsVisible =
+    "uniform sampler3D bins[2 * R * R];\n"
+    "vec3 vdblightCheck(vec3 x, vec3 n) { return vdblightIrradianceBinsVisible(bins, x, n); }\n";
+
 // The shadow edges' GLSL of docs/shadow_visibility.md (the same light uniforms).
 const char* const kCallOcclusionEdges =
     "uniform vec3 lightVertices[VDBLIGHT_MAX_VERTS], lightNormal, lightRadiance;\n"
@@ -233,6 +238,9 @@ const std::vector<LayoutCase>& layoutCases() {
          {"vec3 vdblightIrradianceBins("}, binsResolutionDefine, kCallBins, binTextures},
         {"bins of a bilevel bins:4 volume (dds, half)", "bins4_bilevel.vdb", "--format dds --layout bins",
          {"vec3 vdblightIrradianceBins("}, binsResolutionDefine, kCallBins, binTextures},
+        {"bins of a bins:3 volume with depth moments (ktx2, half; depth rgba8_unorm)", "bins3_depth.vdb", "--format ktx2 --layout bins",
+         {"vec3 vdblightIrradianceBins(", kDepthWeight, "vec3 vdblightIrradianceBinsVisible("}, binsResolutionDefine, kCallBinsVisible,
+         [](const Manifest& m) { return withDepth(binTextures(m)); }, 0, true},
         {"sh2-32 (ktx2; L0 half, rgba8_unorm)", "sh4.vdb", "--format ktx2 --layout sh2-32", {"vec3 vdblightIrradianceSh2x32("},
          nullptr, kCallSh2x32, compactShTextures, 2, false, nullptr, ExportLayout::Sh2x32, kSh2x32Quantisation},
         {"sh2-32 (dds; L0 half, rgba8_unorm)", "sh4.vdb", "--format dds --layout sh2-32", {"vec3 vdblightIrradianceSh2x32("},
