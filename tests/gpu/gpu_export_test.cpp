@@ -58,6 +58,7 @@ const std::map<std::string, std::string>& bakeOptions() {
     static const std::map<std::string, std::string> options = {
         {"sh4.vdb", "--resolution 5 --rays 32 --bounces 2 --no-depth-moments --direct baked"},
         {"sh4_bilevel.vdb", "--resolution 4 --rays 32 --bounces 2 --no-depth-moments --direct baked --layout bilevel --refine 2"},
+        {"sh4_bilevel_depth.vdb", "--resolution 6 --rays 32 --bounces 2 --depth-moments --direct baked --layout bilevel --refine 2"},
         {"sh4_depth.vdb", "--resolution 5 --rays 32 --bounces 2 --depth-moments --direct baked"},
         {"occlusion.vdb", "--resolution 5 --rays 32 --bounces 2 --no-depth-moments --direct occlusion --no-shadow-edges"},
         {"occlusion_edges.vdb", "--resolution 5 --rays 32 --bounces 2 --no-depth-moments --direct occlusion"},

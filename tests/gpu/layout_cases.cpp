@@ -202,6 +202,8 @@ const std::vector<LayoutCase>& layoutCases() {
          {kDepthWeight, "vec3 vdblightIrradianceVisible("}, nullptr, kCallVisible, [](const Manifest& m) { return withDepth(packedSh(m)); }, 2, true},
         {"sh2-packed + depth moments (dds, half; depth rgba8_unorm)", "sh4_depth.vdb", "--format dds --layout sh2-packed",
          {kDepthWeight, "vec3 vdblightIrradianceVisible("}, nullptr, kCallVisible, [](const Manifest& m) { return withDepth(packedSh(m)); }, 2, true},
+        {"sh2-packed + depth moments, bilevel (ktx2, half; the finest lattice)", "sh4_bilevel_depth.vdb", "--format ktx2 --layout sh2-packed",
+         {kDepthWeight, "vec3 vdblightIrradianceVisible("}, nullptr, kCallVisible, [](const Manifest& m) { return withDepth(packedSh(m)); }, 2, true},
         {"sh2-packed + --direct occlusion (ktx2, half)", "occlusion.vdb", "--format ktx2 --layout sh2-packed",
          {kPacked, kExactLights, "vec3 vdblightIrradianceOcclusion("}, nullptr, kCallOcclusion,
          [](const Manifest& m) {
