@@ -309,17 +309,32 @@ TEST(BakeVolume, RefusesOptionsThePassDoesNotTake) {
         }
         return "accepted";
     };
-    EXPECT_EQ(refusal([](BakeRequest& r) { r.params.set("fit", "least-squares"); }), "--fit needs --sampling antialiased");
-    EXPECT_EQ(refusal([](BakeRequest& r) { r.params.set("compact", true); }), "--compact applies to --method photons only");
-    EXPECT_NE(refusal([](BakeRequest& r) { r.method = "photons"; r.params.set("sh-window", true); }).find("--sh-window applies"),
+    EXPECT_EQ(refusal([](BakeRequest& r) { r.params.set("fit", "least-squares"); }),
+              "--fit needs --sampling antialiased");
+    EXPECT_EQ(refusal([](BakeRequest& r) { r.params.set("compact", true); }),
+              "--compact applies to --method photons only");
+    EXPECT_NE(refusal([](BakeRequest& r) {
+                  r.method = "photons";
+                  r.params.set("sh-window", true);
+              }).find("--sh-window applies"),
               std::string::npos);
     // Every pass takes depth moments, the photon pass in tiles too (each tile bakes a run of nodes').
-    EXPECT_EQ(refusal([](BakeRequest& r) { r.method = "photons"; r.params.set("depth-moments", true); r.tiles = 2; r.tile = 0; }),
+    EXPECT_EQ(refusal([](BakeRequest& r) {
+                  r.method = "photons";
+                  r.params.set("depth-moments", true);
+                  r.tiles = 2;
+                  r.tile = 0;
+              }),
               "accepted");
-    EXPECT_NE(refusal([](BakeRequest& r) { r.sampling = "antialiased"; r.params.set("probe-passes", 2); }).find("--probe-passes works"),
+    EXPECT_NE(refusal([](BakeRequest& r) {
+                  r.sampling = "antialiased";
+                  r.params.set("probe-passes", 2);
+              }).find("--probe-passes works"),
               std::string::npos);
-    EXPECT_NE(refusal([](BakeRequest& r) { r.sampling = "antialiased"; r.params.set("domain", "nowhere"); })
-                  .find("--domain must be all or interior, got 'nowhere'"),
+    EXPECT_NE(refusal([](BakeRequest& r) {
+                  r.sampling = "antialiased";
+                  r.params.set("domain", "nowhere");
+              }).find("--domain must be all or interior, got 'nowhere'"),
               std::string::npos);
     EXPECT_NE(refusal([](BakeRequest& r) { r.pass = "wavelets"; }).find("unknown pass 'wavelets'"), std::string::npos);
     EXPECT_EQ(refusal([](BakeRequest&) {}), "accepted");

@@ -109,10 +109,10 @@ std::string AdaptivePass::summaryLead(const BakeSummaryInput& in) const {
     const uint32_t maxRays = r.params.get<uint32_t>("max-rays");
     std::ostringstream out;
     out << "Error-targeted: relative standard error of mean irradiance p50 " << as.errorQuantile(0.5) << ", p95 "
-        << as.errorQuantile(0.95) << ", max " << as.errorQuantile(1.0) << " (target " << r.params.get<double>("target-error")
-        << ", "
-        << as.nodesAtMax << " nodes stopped at --max-rays " << maxRays << "); " << formatCount(double(as.samples))
-        << " gathered rays, " << formatCount(double(as.samples) / double(as.nodes)) << " per node, "
+        << as.errorQuantile(0.95) << ", max " << as.errorQuantile(1.0) << " (target "
+        << r.params.get<double>("target-error") << ", " << as.nodesAtMax << " nodes stopped at --max-rays " << maxRays
+        << "); " << formatCount(double(as.samples)) << " gathered rays, "
+        << formatCount(double(as.samples) / double(as.nodes)) << " per node, "
         << formatCount(double(uint64_t(maxRays) * as.nodes - as.samples)) << " ("
         << int(100.0 * (1.0 - double(as.samples) / (double(maxRays) * as.nodes))) << " %) saved against " << maxRays
         << " rays on every node.\n";

@@ -110,8 +110,9 @@ std::string LevelsPass::summaryLead(const BakeSummaryInput& in) const {
             << " nodes (" << report.stats.seamNodes << " seam nodes set from the coarser level) vs "
             << l.denseEquivalentNodes << " in a dense grid at the finest spacing ("
             << 100.0 * (1.0 - double(l.nodes) / l.denseEquivalentNodes) << " % saved"
-            << (r.params.get<bool>("cull-solids") ? ", " + std::to_string(l.culledNodes) + " of them culled inside solids"
-                                                  : "")
+            << (r.params.get<bool>("cull-solids")
+                    ? ", " + std::to_string(l.culledNodes) + " of them culled inside solids"
+                    : "")
             << ").\n";
     }
     return out.str();

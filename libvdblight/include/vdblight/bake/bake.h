@@ -246,6 +246,7 @@ std::vector<PassOptionEntry> passOptionTable();
 //   BakeRequest request;              // the defaults of `vdblight bake`
 //   request.resolution = 16;
 //   request.quality = "preview";
+//   request.params.set("rays", 64);   // a pass's own option, named as on the command line
 //   bakeToFile(scene, request, "room.vdb");
 
 namespace vdblight {
