@@ -395,6 +395,17 @@ TEST(BakeVolume, PassParametersKnowTheDeclarationsNamesKindsAndDefaults) {
     EXPECT_TRUE(r.params.get<bool>("compact"));
     r.params.unset("rays");
     EXPECT_FALSE(r.params.has("rays"));
+    // One name, one meaning: every pass that declares an option gives it the same kind and
+    // default, so that the default get answers is every such pass's.
+    for (const PassOptionEntry& e : passOptionTable())
+        for (const Pass* pass : passRegistry())
+            for (const PassOption& o : pass->options()) {
+                if (o.name != e.option.name) continue;
+                SCOPED_TRACE(pass->name() + " --" + o.name);
+                EXPECT_EQ(o.kind(), e.option.kind());
+                EXPECT_EQ(o.integer, e.option.integer);
+                EXPECT_EQ(o.defaultValue, e.option.defaultValue);
+            }
 }
 
 TEST(BakeVolume, RefusesAGridThatWouldNotFitBeforeBaking) {

@@ -128,9 +128,6 @@ public:
     const PassValue* value(const std::string& name) const;
     void preset(const std::string& name, PassValue value) { values_[name] = std::move(value); }
 
-    /// Every value set, by name.
-    const std::map<std::string, PassValue>& values() const { return values_; }
-
 private:
     template <typename T>
     static PassOption::Kind kindOf() {
