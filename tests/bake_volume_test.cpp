@@ -376,6 +376,7 @@ TEST(BakeVolume, PassParametersKnowTheDeclarationsNamesKindsAndDefaults) {
     EXPECT_THROW(r.params.set("compact", 1.0), ValueError);
     EXPECT_THROW(r.params.set("rays", 2.5), ValueError);  // a whole number
     EXPECT_THROW(r.params.get<std::string>("rays"), ValueError);
+    EXPECT_THROW(BakeRequest().params.set("rays", -4).get<uint32_t>("rays"), ValueError);  // no wrap-around
     // Not given: the declared default, where the declaration has one of its own...
     EXPECT_EQ(r.params.get<std::string>("domain"), "interior");
     EXPECT_EQ(r.params.get<std::string>("fit"), "projection");

@@ -1,6 +1,7 @@
 // PassParameters (bake/bake.h): the passes' options in a request, by name, checked against
 // the passes' declarations (Pass::options, gathered once from the registry).
 #include <map>
+#include <sstream>
 
 #include "pass_options.h"
 #include "vdblight/bake/bake.h"
@@ -97,6 +98,12 @@ PassParameters& PassParameters::unset(const std::string& name) {
     (void)declaration(name);
     values_.erase(name);
     return *this;
+}
+
+void PassParameters::outOfRange(const std::string& name, double value) {
+    std::ostringstream text;
+    text << value;
+    throw ValueError("--" + name + " " + text.str() + " does not fit the type it is read as");
 }
 
 const PassValue* PassParameters::value(const std::string& name) const {

@@ -22,6 +22,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -113,13 +114,13 @@ public:
     /// resolveBakeRequest fills in, asked of a request that was not resolved).
     template <typename T>
     T get(const std::string& name) const {
-        return convert<T>(*lookup(name, kindOf<T>(), true));  // with a default: never empty
+        return convert<T>(name, *lookup(name, kindOf<T>(), true));  // with a default: never empty
     }
     /// The value as set, or nullopt (no default); the same checks of the name and kind.
     template <typename T>
     std::optional<T> find(const std::string& name) const {
         const std::optional<PassValue> v = lookup(name, kindOf<T>(), false);
-        return v ? std::optional<T>(convert<T>(*v)) : std::nullopt;
+        return v ? std::optional<T>(convert<T>(name, *v)) : std::nullopt;
     }
 
     /// For the presets only (resolveBakeRequest), which run while the declarations are being
@@ -135,11 +136,21 @@ private:
         else if constexpr (std::is_same_v<T, std::string>) return PassOption::Kind::Word;
         else return PassOption::Kind::Number;
     }
+    /// A number as T; ValueError for one T cannot hold (-4 asked for as uint32_t: Pass::validate
+    /// refuses it first where the range is declared).
     template <typename T>
-    static T convert(const PassValue& v) {
-        if constexpr (std::is_same_v<T, bool> || std::is_same_v<T, std::string>) return std::get<T>(v);
-        else return T(std::get<double>(v));
+    static T convert(const std::string& name, const PassValue& v) {
+        if constexpr (std::is_same_v<T, bool> || std::is_same_v<T, std::string>) {
+            return std::get<T>(v);
+        } else {
+            const double number = std::get<double>(v);
+            if (std::is_integral_v<T> && !(number >= double(std::numeric_limits<T>::lowest()) &&
+                                           number <= double(std::numeric_limits<T>::max())))
+                outOfRange(name, number);
+            return T(number);
+        }
     }
+    [[noreturn]] static void outOfRange(const std::string& name, double value);
     PassParameters& setValue(const std::string& name, PassValue value);
     std::optional<PassValue> lookup(const std::string& name, PassOption::Kind kind, bool withDefault) const;
 
