@@ -396,6 +396,8 @@ TEST(BakeVolume, PassParametersKnowTheDeclarationsNamesKindsAndDefaults) {
     EXPECT_TRUE(r.params.get<bool>("compact"));
     r.params.unset("rays");
     EXPECT_FALSE(r.params.has("rays"));
+    r.params.set("domain", "");  // no word is not given, as `--domain ""` on the command line
+    EXPECT_FALSE(r.params.has("domain"));
     // One name, one meaning: every pass that declares an option gives it the same kind and
     // default, so that the default get answers is every such pass's.
     for (const PassOptionEntry& e : passOptionTable())

@@ -71,6 +71,10 @@ PassParameters& PassParameters::setValue(const std::string& name, PassValue valu
     checkKind(o, kindOfValue(value));
     if (const double* v = std::get_if<double>(&value); v && o.integer && !bake_detail::isWholeNumber(*v))
         throw ValueError("--" + name + " must be a whole number, got " + std::to_string(*v));
+    if (const std::string* w = std::get_if<std::string>(&value); w && w->empty()) {
+        values_.erase(name);  // no word is not given (`--domain ""`: the default)
+        return *this;
+    }
     values_[name] = std::move(value);
     return *this;
 }
@@ -83,7 +87,10 @@ PassParameters& PassParameters::setText(const std::string& name, const std::stri
             else if (text == "false" || text == "0") values_[name] = false;
             else throw ValueError("--" + name + " is on or off (true or false), got '" + text + "'");
             break;
-        case PassOption::Kind::Word: values_[name] = text; break;
+        case PassOption::Kind::Word:
+            if (text.empty()) values_.erase(name);  // no word is not given: the default
+            else values_[name] = text;
+            break;
         case PassOption::Kind::Number: {
             const double v = bake_detail::parseOptionNumber(name, text, o.integer);
             if (o.nonNegative && v < 0) throw ValueError("--" + name + " must not be negative, got " + text);

@@ -102,7 +102,7 @@ public:
     PassParameters& set(const std::string& name, std::string word) { return setValue(name, std::move(word)); }
     PassParameters& set(const std::string& name, const char* word) { return setValue(name, std::string(word)); }
     /// As a command line gives it: numbers parsed (ValueError naming the option for text that
-    /// is not one), words as given, flags "true" / "false".
+    /// is not one), words as given, flags "true" / "false". An empty word unsets the option.
     PassParameters& setText(const std::string& name, const std::string& text);
     PassParameters& unset(const std::string& name);
     /// Set (given, or filled in by resolveBakeRequest).
