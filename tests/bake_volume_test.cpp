@@ -27,7 +27,7 @@ struct Case {
     void (*fill)(BakeRequest&); ///< the same request, filled by hand as a library caller would
 };
 
-// Each case: the command line's options and the BakeRequest fields a library caller sets for
+// Each case: the command line's options and what a library caller sets in a BakeRequest for
 // them. Small grids and ray counts keep the bakes short; every pass and the presets run.
 const Case kCases[] = {
     // The default bake (--quality default: node budget, 1024 rays, one probe pass, depth
