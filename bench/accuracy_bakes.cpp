@@ -266,16 +266,16 @@ TrySpec presetTry(const std::string& quality) {
     BakeRequest given;
     given.quality = quality;
     const BakeRequest r = resolveBakeRequest(given);
-    if (r.pass != "gather" || r.targetError || !r.nodes)
+    if (r.pass != "gather" || r.params.has("target-error") || !r.nodes)
         throw ValueError("--quality " + quality + " is no longer a fixed-budget point gather on a node budget: update presetTry");
     TrySpec t;
     t.nodes = *r.nodes;
-    t.rays = *r.rays;
-    t.passes = *r.probePasses;
-    t.depth = *r.depthMoments;
+    t.rays = r.params.get<uint32_t>("rays");
+    t.passes = r.params.get<int>("probe-passes");
+    t.depth = r.params.get<bool>("depth-moments");
     t.basis = r.basis;
-    t.surfaceCache = r.probeCache == "surface";
-    t.filter = *r.nodeFilter;
+    t.surfaceCache = r.params.get<std::string>("probe-cache") == "surface";
+    t.filter = r.params.get<int>("node-filter");
     t.filterByNoise = true;  // what the gather pass asks for (pass_options.cpp)
     return t;
 }

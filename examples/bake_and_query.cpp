@@ -27,7 +27,7 @@ int main(int argc, char** argv) {
         BakeRequest request;
         request.quality = "preview";
         request.resolution = 8;
-        request.rays = 64;
+        request.params.set("rays", 64);
         request.seed = 1;
         BakeReport report;
         bakeToFile(scene, request, argv[2], nullptr, &report);

@@ -150,6 +150,22 @@ def depth_weights(manifest, textures, x):
     return idx, w / w.sum(axis=0)
 
 
+def corner_weights(manifest, x):
+    """The 8 corner texel indices and trilinear weights of points x (texel points at
+    bounds_min + texel_spacing * i, clamped to the lattice): hardware filtering as corners."""
+    dims = np.array(manifest["dims"], dtype=np.int64)
+    g = np.clip((x - np.array(manifest["bounds_min"])) / np.array(manifest["texel_spacing"]), 0.0,
+                (dims - 1).astype(np.float64))
+    i0 = np.minimum(np.floor(g).astype(np.int64), np.maximum(dims - 2, 0))
+    f = g - i0
+    idx, w = [], []
+    for corner in range(8):
+        bits = np.array([(corner >> a) & 1 for a in range(3)])
+        idx.append(np.minimum(i0 + bits, dims - 1))
+        w.append(np.prod(np.where(bits == 1, f, 1.0 - f), axis=1))
+    return idx, np.array(w)
+
+
 def sample_weighted(tex, idx, w):
     return sum(w[c][:, None] * tex[idx[c][:, 2], idx[c][:, 1], idx[c][:, 0]] for c in range(8))
 
@@ -436,9 +452,17 @@ def direct_light(manifest, textures, x, n):
             def part(name):
                 t = textures["light_edge_" + name + "_" + group]
                 return (sample_weighted(t, *weighted) if weighted is not None else sample_trilinear(t, uvw))[:, component]
-            d, w, r = part("distance"), part("width"), part("ramp")
-            ramp = np.clip(0.5 + d / np.maximum(w, edges["min_width"]), 0.0, 1.0)
-            vis = np.clip(ramp + vis - r, 0.0, 1.0)
+            def ramp_of(d, w):
+                return np.clip(0.5 + d / np.maximum(w, edges["min_width"]), 0.0, 1.0)
+            d, w = part("distance"), part("width")
+            if "light_edge_ramp_" + group in textures:
+                r = part("ramp")
+            else:  # the engine-size layouts: each corner's ramp from its own d and w, blended
+                idx, wt = weighted if weighted is not None else corner_weights(manifest, x)
+                dt, wdt = textures["light_edge_distance_" + group], textures["light_edge_width_" + group]
+                r = sum(wt[c] * ramp_of(dt[idx[c][:, 2], idx[c][:, 1], idx[c][:, 0], component],
+                                        wdt[idx[c][:, 2], idx[c][:, 1], idx[c][:, 0], component]) for c in range(8))
+            vis = np.clip(ramp_of(d, w) + vis - r, 0.0, 1.0)
         for i in range(len(x)):
             out[i] += vis[i] * exact_irradiance(light, x[i], n[i])
     return out

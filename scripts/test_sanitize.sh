@@ -37,22 +37,11 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:abort_on_error=1
 build() { cmake --build "$BUILD" -j "${JOBS:-$(nproc)}" "$@" 2>&1 | { grep -v "Cannot export local symbol '__asan_" || true; }; }
 if [ ${#TESTS[@]} -eq 0 ]; then
   build
-  # slurm_cluster_test (label `cluster`) starts Slurm daemons and runs whole bakes through
-  # them: 43 s under ASan for code that the CLI tiles and slurm tests already run here;
-  # install_example_test (label `install`) links an example without sanitizer flags;
-  # quickstart_long_path_test (label `quickstart`) runs the quick start's default bake, whose
-  # code the CLI tests run here at smaller sizes; the web page's test (label `web`) drives Chromium.
-  # Also left out, to keep CI within 40 min: the accuracy tests at default sizes (white
-  # furnaces, comparisons with the reference, photon tile merges at scale) and Blender's
-  # importers, 200 of the suite's 1 240 test-seconds under ASan (issue 29's session); the
-  # same sampling, merge and export code runs here in the smaller tests. The GPU-driver
-  # checks do run (45 test-seconds; llvmpipe itself is not instrumented).
-  # Issue 30's session: CI landed in 2 301 s, too near its 40 min, so four tests that compare
-  # whole files bit for bit (library vs CLI, one vs two threads, photon tile merges through the
-  # CLI and with depth) stay out too: 86 test-seconds here; the bakes they repeat run above in
-  # smaller tests, and the Release suite runs them all.
-  (cd "$BUILD" && ctest --output-on-failure -j "${JOBS:-$(nproc)}" -LE "cluster|install|quickstart|web" \
-     -E "^(BlenderFormats|BlenderPreview|PhotonReference|PhotonTiles|PhotonTilesDepth)\.|^(PhotonPass\.WhiteFurnaceAtDefaultBounces|Bake\.DefaultSceneAgainstReference|DirectBake\.OcclusionAndRuntimeMatchReferenceNearTheLuminaire|Transport\.ProbePassesKeepTheFurnace|Transport\.ClosedFurnaceBakeAtDefaults|BakeVolume\.LibraryAndCommandLineWriteIdenticalFiles|CliTiles\.PhotonBakesMergeToTheSingleBake|CliReproducible\.OneAndTwoThreadsGiveIdenticalFilesForEveryPass)$")
+  # The tests left out here run in the Release suite (scripts/sanitize_exclusions.sh says which
+  # and why); the GPU-driver checks do run here (45 test-seconds; llvmpipe itself is not
+  # instrumented).
+  source "$ROOT/scripts/sanitize_exclusions.sh"
+  (cd "$BUILD" && ctest --output-on-failure -j "${JOBS:-$(nproc)}" -LE "$SANITIZE_SKIP_LABELS" -E "$SANITIZE_SKIP_TESTS")
 else
   build --target "${TESTS[@]}"
   for t in "${TESTS[@]}"; do "$BUILD/tests/$t"; done

@@ -27,58 +27,58 @@ struct Case {
     void (*fill)(BakeRequest&); ///< the same request, filled by hand as a library caller would
 };
 
-// Each case: the command line's options and the BakeRequest fields a library caller sets for
+// Each case: the command line's options and what a library caller sets in a BakeRequest for
 // them. Small grids and ray counts keep the bakes short; every pass and the presets run.
 const Case kCases[] = {
     // The default bake (--quality default: node budget, 1024 rays, one probe pass, depth
     // moments, --direct occlusion, SH order 4) with fewer rays, so that the test stays short.
-    {"default", "--rays 16", [](BakeRequest& r) { r.rays = 16; }},
+    {"default", "--rays 16", [](BakeRequest& r) { r.params.set("rays", 16); }},
     {"preview", "--quality preview", [](BakeRequest& r) { r.quality = "preview"; }},
     {"high", "--quality high --resolution 3 --rays 24",
      [](BakeRequest& r) {
          r.quality = "high";
          r.resolution = 3;
-         r.rays = 24;
+         r.params.set("rays", 24);
      }},
     {"error-targeted", "--target-error 0.03 --resolution 5 --min-rays 8 --max-rays 32",
      [](BakeRequest& r) {
-         r.targetError = 0.03;
+         r.params.set("target-error", 0.03);
          r.resolution = 5;
-         r.minRays = 8;
-         r.maxRays = 32;
+         r.params.set("min-rays", 8);
+         r.params.set("max-rays", 32);
      }},
     {"layout adaptive", "--layout adaptive --levels 2 --refine 2 --resolution 5 --rays 16",
      [](BakeRequest& r) {
          r.layout = "adaptive";
-         r.levels = 2;
-         r.refine = 2;
+         r.params.set("levels", 2);
+         r.params.set("refine", 2);
          r.resolution = 5;
-         r.rays = 16;
+         r.params.set("rays", 16);
      }},
     {"sampling antialiased", "--sampling antialiased --resolution 5 --rays 16",
      [](BakeRequest& r) {
          r.sampling = "antialiased";
          r.resolution = 5;
-         r.rays = 16;
+         r.params.set("rays", 16);
      }},
     {"basis bins:3", "--basis bins:3 --resolution 5 --rays 18",
      [](BakeRequest& r) {
          r.basis = "bins:3";
          r.resolution = 5;
-         r.rays = 18;
+         r.params.set("rays", 18);
      }},
     {"basis sh:3 (the generic gather of a registry basis)", "--basis sh:3 --resolution 5 --rays 18",
      [](BakeRequest& r) {
          r.basis = "sh:3";
          r.resolution = 5;
-         r.rays = 18;
+         r.params.set("rays", 18);
      }},
     {"method photons, compact", "--method photons --photons 20000 --resolution 6 --compact",
      [](BakeRequest& r) {
          r.method = "photons";
-         r.photons = 20000;
+         r.params.set("photons", 20000);
          r.resolution = 6;
-         r.compact = true;
+         r.params.set("compact", true);
      }},
 };
 
@@ -117,7 +117,7 @@ TEST(BakeVolume, SelectsThePassTheOptionsName) {
     };
     EXPECT_EQ(selected([](BakeRequest&) {}), "gather");
     EXPECT_EQ(selected([](BakeRequest& r) { r.quality = "high"; }), "gather");
-    EXPECT_EQ(selected([](BakeRequest& r) { r.quality = "high"; r.targetError = 0.03; }), "adaptive");
+    EXPECT_EQ(selected([](BakeRequest& r) { r.quality = "high"; r.params.set("target-error", 0.03); }), "adaptive");
     EXPECT_EQ(selected([](BakeRequest& r) { r.sampling = "antialiased"; }), "antialiased");
     EXPECT_EQ(selected([](BakeRequest& r) { r.layout = "bilevel"; }), "levels");
     EXPECT_EQ(selected([](BakeRequest& r) { r.basis = "moment:2"; r.layout = "adaptive"; }), "bins");
@@ -127,48 +127,48 @@ TEST(BakeVolume, SelectsThePassTheOptionsName) {
 TEST(BakeVolume, PresetsResolveAsTheCommandLineDocumentsThem) {
     BakeRequest r;
     BakeRequest d = resolveBakeRequest(r);
-    EXPECT_EQ(*d.rays, 1024u);
-    EXPECT_EQ(*d.probePasses, 1);
+    EXPECT_EQ(d.params.get<uint32_t>("rays"), 1024u);
+    EXPECT_EQ(d.params.get<int>("probe-passes"), 1);
     EXPECT_EQ(*d.nodes, 16384u);
-    EXPECT_TRUE(*d.depthMoments);
+    EXPECT_TRUE(d.params.get<bool>("depth-moments"));
     EXPECT_EQ(d.basis, "sh:4");
     EXPECT_EQ(d.pass, "gather");
-    EXPECT_EQ(*d.nodeFilter, 0);
+    EXPECT_EQ(d.params.get<int>("node-filter"), 0);
     // Issue 32: the preview is the default's method on fewer nodes and rays, filtered across nodes.
     r.quality = "preview";
     d = resolveBakeRequest(r);
-    EXPECT_EQ(*d.rays, 128u);
-    EXPECT_EQ(*d.probePasses, 1);
+    EXPECT_EQ(d.params.get<uint32_t>("rays"), 128u);
+    EXPECT_EQ(d.params.get<int>("probe-passes"), 1);
     EXPECT_EQ(*d.nodes, 2048u);
-    EXPECT_TRUE(*d.depthMoments);
+    EXPECT_TRUE(d.params.get<bool>("depth-moments"));
     EXPECT_EQ(d.basis, "sh:4");
-    EXPECT_EQ(d.probeCache, "surface");
-    EXPECT_EQ(*d.nodeFilter, 1);
+    EXPECT_EQ(d.params.get<std::string>("probe-cache"), "surface");
+    EXPECT_EQ(d.params.get<int>("node-filter"), 1);
     EXPECT_EQ(d.pass, "gather");
-    r.targetError = 0.05;  // the adaptive pass has no node filter
-    EXPECT_EQ(*resolveBakeRequest(r).nodeFilter, 0);
-    r.targetError.reset();
+    r.params.set("target-error", 0.05);  // the adaptive pass has no node filter
+    EXPECT_EQ(resolveBakeRequest(r).params.get<int>("node-filter"), 0);
+    r.params.unset("target-error");
     r.quality = "high";
     d = resolveBakeRequest(r);
-    EXPECT_FALSE(d.targetError.has_value());
-    EXPECT_EQ(*d.rays, 2048u);
-    EXPECT_EQ(*d.probePasses, 1);
+    EXPECT_FALSE(d.params.has("target-error"));
+    EXPECT_EQ(d.params.get<uint32_t>("rays"), 2048u);
+    EXPECT_EQ(d.params.get<int>("probe-passes"), 1);
     EXPECT_EQ(*d.nodes, 16384u);
-    EXPECT_TRUE(*d.depthMoments);
+    EXPECT_TRUE(d.params.get<bool>("depth-moments"));
     EXPECT_EQ(d.basis, "sh:4");
-    r.targetError = 0.03;  // an error target: the adaptive pass, SH order 2, its own ray caps
+    r.params.set("target-error", 0.03);  // an error target: the adaptive pass, SH order 2, its own ray caps
     d = resolveBakeRequest(r);
     EXPECT_EQ(d.pass, "adaptive");
     EXPECT_EQ(d.basis, "sh2");
-    EXPECT_EQ(*d.minRays, 64u);
-    EXPECT_EQ(*d.maxRays, 2048u);
-    EXPECT_EQ(*d.probePasses, 1);
-    r.targetError.reset();
+    EXPECT_EQ(d.params.get<uint32_t>("min-rays"), 64u);
+    EXPECT_EQ(d.params.get<uint32_t>("max-rays"), 2048u);
+    EXPECT_EQ(d.params.get<int>("probe-passes"), 1);
+    r.params.unset("target-error");
     r.quality = "default";
     r.sampling = "antialiased";  // presets apply to the uniform SH point gather only
     d = resolveBakeRequest(r);
-    EXPECT_EQ(*d.rays, 256u);
-    EXPECT_EQ(*d.probePasses, 0);
+    EXPECT_EQ(d.params.get<uint32_t>("rays"), 256u);
+    EXPECT_EQ(d.params.get<int>("probe-passes"), 0);
     EXPECT_FALSE(d.nodes.has_value());
     EXPECT_EQ(d.basis, "sh2");
 }
@@ -182,20 +182,20 @@ TEST(BakeVolume, TheDefaultBasisIsShFourOnlyForThePointGather) {
         return resolveBakeRequest(r).basis;
     };
     EXPECT_EQ(basisOf([](BakeRequest&) {}), "sh:4");
-    EXPECT_EQ(basisOf([](BakeRequest& r) { r.rays = 64; r.resolution = 8; }), "sh:4");
-    EXPECT_EQ(basisOf([](BakeRequest& r) { r.targetError = 0.05; }), "sh2");
-    EXPECT_EQ(basisOf([](BakeRequest& r) { r.shWindow = true; }), "sh2");
+    EXPECT_EQ(basisOf([](BakeRequest& r) { r.params.set("rays", 64); r.resolution = 8; }), "sh:4");
+    EXPECT_EQ(basisOf([](BakeRequest& r) { r.params.set("target-error", 0.05); }), "sh2");
+    EXPECT_EQ(basisOf([](BakeRequest& r) { r.params.set("sh-window", true); }), "sh2");
     EXPECT_EQ(basisOf([](BakeRequest& r) { r.layout = "bilevel"; }), "sh2");
     EXPECT_EQ(basisOf([](BakeRequest& r) { r.sampling = "antialiased"; }), "sh2");
     EXPECT_EQ(basisOf([](BakeRequest& r) { r.method = "photons"; }), "sh2");
-    EXPECT_EQ(basisOf([](BakeRequest& r) { r.invalidateBackface = 0.1; }), "sh2");
+    EXPECT_EQ(basisOf([](BakeRequest& r) { r.params.set("invalidate-backface", 0.1); }), "sh2");
     EXPECT_EQ(basisOf([](BakeRequest& r) { r.quality = "preview"; }), "sh:4");
     EXPECT_EQ(basisOf([](BakeRequest& r) { r.basis = "sh2"; }), "sh2");
     EXPECT_EQ(basisOf([](BakeRequest& r) { r.basis = "sh:3"; }), "sh:3");
     // An explicit sh2 keeps the preset's rays: only the basis is the caller's.
     BakeRequest r;
     r.basis = "sh2";
-    EXPECT_EQ(*resolveBakeRequest(r).rays, 1024u);
+    EXPECT_EQ(resolveBakeRequest(r).params.get<uint32_t>("rays"), 1024u);
     EXPECT_EQ(&checkBakeRequest(r), &checkBakeRequest(BakeRequest{}));
 }
 
@@ -205,23 +205,23 @@ TEST(BakeVolume, TheDefaultProbeCacheIsTheSurfaceBinsWithOneProbePass) {
     const auto cacheOf = [](void (*fill)(BakeRequest&)) {
         BakeRequest r;
         fill(r);
-        return resolveBakeRequest(r).probeCache;
+        return resolveBakeRequest(r).params.get<std::string>("probe-cache");
     };
     EXPECT_EQ(cacheOf([](BakeRequest&) {}), "surface");
     EXPECT_EQ(cacheOf([](BakeRequest& r) { r.quality = "high"; }), "surface");
-    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.basis = "sh2"; r.rays = 64; }), "surface");
+    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.basis = "sh2"; r.params.set("rays", 64); }), "surface");
     EXPECT_EQ(cacheOf([](BakeRequest& r) { r.quality = "preview"; }), "surface");
-    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.quality = "preview"; r.probePasses = 0; }), "nodes");
-    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.probePasses = 2; }), "nodes");
-    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.targetError = 0.05; }), "nodes");  // the adaptive pass
+    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.quality = "preview"; r.params.set("probe-passes", 0); }), "nodes");
+    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.params.set("probe-passes", 2); }), "nodes");
+    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.params.set("target-error", 0.05); }), "nodes");  // the adaptive pass
     EXPECT_EQ(cacheOf([](BakeRequest& r) { r.method = "photons"; }), "nodes");
-    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.probeCache = "nodes"; }), "nodes");
+    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.params.set("probe-cache", "nodes"); }), "nodes");
     BakeRequest r;
     EXPECT_NO_THROW(checkBakeRequest(r));
     r.quality = "preview";
     EXPECT_NO_THROW(checkBakeRequest(r));
-    r.probePasses = 0;
-    r.probeCache = "surface";  // asked for, without a probe pass
+    r.params.set("probe-passes", 0);
+    r.params.set("probe-cache", "surface");  // asked for, without a probe pass
     EXPECT_THROW(checkBakeRequest(r), ValueError);
 }
 
@@ -234,30 +234,30 @@ TEST(BakeVolume, PhotonsTakeTheDefaultGridUnlessTold) {
     EXPECT_EQ(d.pass, "photons");
     ASSERT_TRUE(d.nodes.has_value());
     EXPECT_EQ(*d.nodes, 16384u);
-    EXPECT_EQ(*d.probePasses, 0);  // the gather's presets stay the gather's
-    EXPECT_TRUE(*d.depthMoments);  // but its depth moments apply (docs/methods.md)
-    EXPECT_EQ(*d.photons, 4'000'000u);
+    EXPECT_EQ(d.params.get<int>("probe-passes"), 0);  // the gather's presets stay the gather's
+    EXPECT_TRUE(d.params.get<bool>("depth-moments"));  // but its depth moments apply (docs/methods.md)
+    EXPECT_EQ(d.params.get<uint64_t>("photons"), 4'000'000u);
     r.quality = "high";
-    EXPECT_TRUE(*resolveBakeRequest(r).depthMoments);
+    EXPECT_TRUE(resolveBakeRequest(r).params.get<bool>("depth-moments"));
     r.quality = "preview";
     EXPECT_FALSE(resolveBakeRequest(r).nodes.has_value());
-    EXPECT_EQ(*resolveBakeRequest(r).photons, 1'000'000u);
-    EXPECT_FALSE(*resolveBakeRequest(r).depthMoments);
+    EXPECT_EQ(resolveBakeRequest(r).params.get<uint64_t>("photons"), 1'000'000u);
+    EXPECT_FALSE(resolveBakeRequest(r).params.get<bool>("depth-moments"));
     r.quality = "default";
     r.resolution = 6;
     d = resolveBakeRequest(r);
     EXPECT_FALSE(d.nodes.has_value());
     EXPECT_EQ(*d.resolution, 6);
-    EXPECT_TRUE(*d.depthMoments);
-    r.depthMoments = false;  // --no-depth-moments
-    EXPECT_FALSE(*resolveBakeRequest(r).depthMoments);
+    EXPECT_TRUE(d.params.get<bool>("depth-moments"));
+    r.params.set("depth-moments", false);  // --no-depth-moments
+    EXPECT_FALSE(resolveBakeRequest(r).params.get<bool>("depth-moments"));
 }
 
 /// A request that selects `pass`.
 BakeRequest requestFor(const Pass& pass) {
     BakeRequest r;
     const std::string n = pass.name();
-    if (n == "adaptive") r.targetError = 0.1;
+    if (n == "adaptive") r.params.set("target-error", 0.1);
     if (n == "antialiased") r.sampling = "antialiased";
     if (n == "levels") r.layout = "adaptive";
     if (n == "bins") r.basis = "bins:2";
@@ -278,14 +278,11 @@ TEST(BakeVolume, EveryPassRefusesAnOptionOutsideItsRangeWithOneLine) {
             SCOPED_TRACE(o.name);
             EXPECT_FALSE(o.help.empty());
             EXPECT_FALSE(o.defaultValue.empty());
-            if (!o.number || !o.setNumber) continue;
+            if (o.kind() != PassOption::Kind::Number) continue;
             // Just outside the range: above a finite maximum, else below the minimum.
             BakeRequest r = base;
             const double outside = std::isfinite(o.max) && o.max < 1e12 ? o.max + 1 : o.minExclusive ? o.min : o.min - 1;
-            o.setNumber(r, outside);
-            const std::optional<double> stored = o.number(r);
-            if (!stored || (*stored >= o.min && *stored <= o.max && !(o.minExclusive && *stored == o.min)))
-                continue;  // a flag, or a value its field cannot hold
+            r.params.set(o.name, outside);
             try {
                 pass->validate(r);
                 ADD_FAILURE() << "--" << o.name << " " << outside << " was accepted";
@@ -312,17 +309,32 @@ TEST(BakeVolume, RefusesOptionsThePassDoesNotTake) {
         }
         return "accepted";
     };
-    EXPECT_EQ(refusal([](BakeRequest& r) { r.fit = "least-squares"; }), "--fit needs --sampling antialiased");
-    EXPECT_EQ(refusal([](BakeRequest& r) { r.compact = true; }), "--compact applies to --method photons only");
-    EXPECT_NE(refusal([](BakeRequest& r) { r.method = "photons"; r.shWindow = true; }).find("--sh-window applies"),
+    EXPECT_EQ(refusal([](BakeRequest& r) { r.params.set("fit", "least-squares"); }),
+              "--fit needs --sampling antialiased");
+    EXPECT_EQ(refusal([](BakeRequest& r) { r.params.set("compact", true); }),
+              "--compact applies to --method photons only");
+    EXPECT_NE(refusal([](BakeRequest& r) {
+                  r.method = "photons";
+                  r.params.set("sh-window", true);
+              }).find("--sh-window applies"),
               std::string::npos);
     // Every pass takes depth moments, the photon pass in tiles too (each tile bakes a run of nodes').
-    EXPECT_EQ(refusal([](BakeRequest& r) { r.method = "photons"; r.depthMoments = true; r.tiles = 2; r.tile = 0; }),
+    EXPECT_EQ(refusal([](BakeRequest& r) {
+                  r.method = "photons";
+                  r.params.set("depth-moments", true);
+                  r.tiles = 2;
+                  r.tile = 0;
+              }),
               "accepted");
-    EXPECT_NE(refusal([](BakeRequest& r) { r.sampling = "antialiased"; r.probePasses = 2; }).find("--probe-passes works"),
+    EXPECT_NE(refusal([](BakeRequest& r) {
+                  r.sampling = "antialiased";
+                  r.params.set("probe-passes", 2);
+              }).find("--probe-passes works"),
               std::string::npos);
-    EXPECT_NE(refusal([](BakeRequest& r) { r.sampling = "antialiased"; r.domain = "nowhere"; })
-                  .find("--domain must be all or interior, got 'nowhere'"),
+    EXPECT_NE(refusal([](BakeRequest& r) {
+                  r.sampling = "antialiased";
+                  r.params.set("domain", "nowhere");
+              }).find("--domain must be all or interior, got 'nowhere'"),
               std::string::npos);
     EXPECT_NE(refusal([](BakeRequest& r) { r.pass = "wavelets"; }).find("unknown pass 'wavelets'"), std::string::npos);
     EXPECT_EQ(refusal([](BakeRequest&) {}), "accepted");
@@ -332,26 +344,71 @@ TEST(BakeVolume, OptionsSetFromTextAsTheCommandLineGivesThem) {
     for (const Pass* pass : passRegistry())
         for (const PassOption& o : pass->options()) {
             SCOPED_TRACE(pass->name() + " --" + o.name);
-            ASSERT_TRUE(o.setText);
             BakeRequest r;
             if (o.flag) {
-                o.setText(r, "true");
-                EXPECT_EQ(o.number(r), std::optional<double>(1.0));
-                EXPECT_THROW(o.setText(r, "maybe"), ValueError);
+                r.params.setText(o.name, "true");
+                EXPECT_TRUE(r.params.get<bool>(o.name));
+                EXPECT_THROW(r.params.setText(o.name, "maybe"), ValueError);
             } else if (!o.choices.empty()) {
-                o.setText(r, o.choices.back());
-                EXPECT_EQ(o.word(r), std::optional<std::string>(o.choices.back()));
+                r.params.setText(o.name, o.choices.back());
+                EXPECT_EQ(r.params.get<std::string>(o.name), o.choices.back());
             } else {
-                o.setText(r, "2");
-                EXPECT_EQ(o.number(r), std::optional<double>(2.0));
+                r.params.setText(o.name, "2");
+                EXPECT_EQ(r.params.get<double>(o.name), 2.0);
                 try {
-                    o.setText(r, "2x");
+                    r.params.setText(o.name, "2x");
                     ADD_FAILURE() << "'2x' accepted";
                 } catch (const ValueError& e) {
                     EXPECT_NE(std::string(e.what()).find("--" + o.name), std::string::npos) << e.what();
                 }
             }
         }
+}
+
+TEST(BakeVolume, PassParametersKnowTheDeclarationsNamesKindsAndDefaults) {
+    BakeRequest r;
+    // Unknown names and values of another kind are refused, naming the option.
+    EXPECT_THROW(r.params.set("rayz", 64), ValueError);
+    EXPECT_THROW(r.params.get<int>("rayz"), ValueError);
+    EXPECT_THROW(r.params.find<int>("rayz"), ValueError);
+    EXPECT_THROW(r.params.set("rays", "many"), ValueError);
+    EXPECT_THROW(r.params.set("domain", 3), ValueError);
+    EXPECT_THROW(r.params.set("compact", 1.0), ValueError);
+    EXPECT_THROW(r.params.set("rays", 2.5), ValueError);  // a whole number
+    EXPECT_THROW(r.params.get<std::string>("rays"), ValueError);
+    EXPECT_THROW(BakeRequest().params.set("rays", -4).get<uint32_t>("rays"), ValueError);  // no wrap-around
+    // Not given: the declared default, where the declaration has one of its own...
+    EXPECT_EQ(r.params.get<std::string>("domain"), "interior");
+    EXPECT_EQ(r.params.get<std::string>("fit"), "projection");
+    EXPECT_EQ(r.params.get<int>("refine"), 3);
+    EXPECT_EQ(r.params.get<double>("refine-distance"), 0.0);
+    EXPECT_EQ(r.params.get<uint32_t>("max-rays"), 2048u);
+    EXPECT_FALSE(r.params.get<bool>("compact"));
+    EXPECT_EQ(r.params.find<int>("refine"), std::nullopt);
+    // ...and the presets' where it depends on them (resolveBakeRequest fills it in).
+    EXPECT_THROW(r.params.get<uint32_t>("rays"), ValueError);
+    EXPECT_EQ(resolveBakeRequest(r).params.get<uint32_t>("rays"), 1024u);
+    // Given: the value, of the type asked for.
+    r.params.set("rays", 64).set("domain", "all").set("compact", true);
+    EXPECT_EQ(r.params.get<uint32_t>("rays"), 64u);
+    EXPECT_EQ(r.params.find<double>("rays"), std::optional<double>(64.0));
+    EXPECT_EQ(r.params.get<std::string>("domain"), "all");
+    EXPECT_TRUE(r.params.get<bool>("compact"));
+    r.params.unset("rays");
+    EXPECT_FALSE(r.params.has("rays"));
+    r.params.set("domain", "");  // no word is not given, as `--domain ""` on the command line
+    EXPECT_FALSE(r.params.has("domain"));
+    // One name, one meaning: every pass that declares an option gives it the same kind and
+    // default, so that the default get answers is every such pass's.
+    for (const PassOptionEntry& e : passOptionTable())
+        for (const Pass* pass : passRegistry())
+            for (const PassOption& o : pass->options()) {
+                if (o.name != e.option.name) continue;
+                SCOPED_TRACE(pass->name() + " --" + o.name);
+                EXPECT_EQ(o.kind(), e.option.kind());
+                EXPECT_EQ(o.integer, e.option.integer);
+                EXPECT_EQ(o.defaultValue, e.option.defaultValue);
+            }
 }
 
 TEST(BakeVolume, RefusesAGridThatWouldNotFitBeforeBaking) {

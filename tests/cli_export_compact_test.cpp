@@ -64,6 +64,13 @@ TEST_F(CliExportCompact, RoundTripMatchesQueryWithinTheEightBitBound) {
         EXPECT_EQ(l1g.value("bytes_per_texel", 0), 4) << label;
         EXPECT_EQ(vis.value("file", ""), "light_visibility_0_0" + extension) << label;
         EXPECT_EQ(vis.value("format", ""), "rgba8_unorm") << label << ": the visibility in 8 bits";
+        // The default bake's shadow edges: distance and width in half, no ramp texture (the
+        // shader computes each corner's ramp; check_export.py does the same).
+        if (std::string(c.volume) == "cornell.vdb") {
+            const nlohmann::json expected = {"light_edge_distance_0_0", "light_edge_width_0_0"};
+            EXPECT_EQ(manifest.value("/direct/shadow_edges/textures"_json_pointer, nlohmann::json()), expected) << label;
+            EXPECT_EQ(texture("light_edge_distance_0_0").value("format", ""), "rgba16_sfloat") << label;
+        }
         const int status = checkExport(file(c.volume), where, &log);
         EXPECT_EQ(status, 0) << label << ": " << log;
         EXPECT_NE(log.find("8-bit bound"), std::string::npos) << label << ": " << log;

@@ -41,13 +41,16 @@ TEST(CliHelp, EachPresetIsDescribedFromWhatItResolvesTo) {
         const BakeRequest r = resolved(q);
         const std::string text = describeQuality(q);
         SCOPED_TRACE(q + ": " + text);
-        EXPECT_NE(text.find(std::to_string(*r.rays) + " rays per node"), std::string::npos);
+        EXPECT_NE(text.find(std::to_string(r.params.get<uint32_t>("rays")) + " rays per node"), std::string::npos);
         EXPECT_NE(text.find("basis " + r.basis + ","), std::string::npos);
-        EXPECT_NE(text.find(*r.depthMoments ? ", depth moments" : "no depth moments"), std::string::npos);
+        EXPECT_NE(text.find(r.params.get<bool>("depth-moments") ? ", depth moments" : "no depth moments"),
+                  std::string::npos);
         if (r.nodes) EXPECT_NE(text.find("about " + std::to_string(*r.nodes) + " nodes"), std::string::npos);
-        const int passes = r.probePasses.value_or(0);
+        const int passes = r.params.find<int>("probe-passes").value_or(0);
         EXPECT_EQ(text.find(std::to_string(passes) + " probe-to-probe pass") != std::string::npos, passes > 0);
-        EXPECT_NE(text.find(std::to_string(*resolved(q, "photons").photons / 1000000) + " M photons"), std::string::npos);
+        EXPECT_NE(
+            text.find(std::to_string(resolved(q, "photons").params.get<uint64_t>("photons") / 1000000) + " M photons"),
+            std::string::npos);
     }
     EXPECT_THROW(describeQuality("ultra"), ValueError);
 }
@@ -63,16 +66,20 @@ TEST(CliHelp, TopLevelAndBakeHelpShowThePresetsAndTheirDefaults) {
     for (const std::string& q : qualityNames())
         EXPECT_NE(bake.output.find(q + ": " + describeQuality(q)), std::string::npos) << q << "\n" << bake.output;
     // The passes' options whose defaults follow the preset.
-    const std::string rays = perPreset([](const BakeRequest& r) { return std::to_string(*r.rays); });
-    const std::string passes = perPreset([](const BakeRequest& r) { return std::to_string(*r.probePasses); });
-    const std::string photons = perPreset([](const BakeRequest& r) { return std::to_string(*r.photons); }, "photons");
-    const std::string depth = perPreset([](const BakeRequest& r) { return std::string(*r.depthMoments ? "on" : "off"); });
+    const std::string rays =
+        perPreset([](const BakeRequest& r) { return std::to_string(r.params.get<uint32_t>("rays")); });
+    const std::string passes =
+        perPreset([](const BakeRequest& r) { return std::to_string(r.params.get<int>("probe-passes")); });
+    const std::string photons =
+        perPreset([](const BakeRequest& r) { return std::to_string(r.params.get<uint64_t>("photons")); }, "photons");
+    const std::string depth =
+        perPreset([](const BakeRequest& r) { return std::string(r.params.get<bool>("depth-moments") ? "on" : "off"); });
     EXPECT_NE(bake.output.find("--rays NUMBER=" + rays + " for the uniform SH point gather"), std::string::npos) << rays;
     EXPECT_NE(bake.output.find("--probe-passes NUMBER=" + passes), std::string::npos) << passes;
     EXPECT_NE(bake.output.find("--photons NUMBER=" + photons), std::string::npos) << photons;
     EXPECT_NE(bake.output.find("--method photons): " + depth), std::string::npos) << depth;
     // No option claims a preset samples to an error target: none does.
-    EXPECT_EQ(resolved("high").targetError, std::nullopt);
+    EXPECT_EQ(resolved("high").params.find<double>("target-error"), std::nullopt);
     EXPECT_EQ(bake.output.find("0.03 with high"), std::string::npos);
 }
 
@@ -81,7 +88,9 @@ TEST(CliHelp, APreviewBakeDoesWhatItsHelpSays) {
     const BakeRequest r = resolved("preview");
     const CliRun run = runCli("bake --quality preview --threads 2 -o " + (dir.path() / "p.vdb").string());
     ASSERT_EQ(run.status, 0) << run.output;
-    EXPECT_NE(run.output.find("with " + std::to_string(*r.rays) + " rays per node (+ 1 probe-to-probe pass)"), std::string::npos)
+    EXPECT_NE(run.output.find("with " + std::to_string(r.params.get<uint32_t>("rays")) +
+                              " rays per node (+ 1 probe-to-probe pass)"),
+              std::string::npos)
         << run.output;
     ASSERT_TRUE(r.nodes.has_value());  // a node budget (issue 32)
     const std::size_t baked = run.output.find("Baked ");
@@ -94,5 +103,7 @@ TEST(CliHelp, APreviewBakeDoesWhatItsHelpSays) {
     const CliRun info = runCli("info " + (dir.path() / "p.vdb").string());
     ASSERT_EQ(info.status, 0) << info.output;
     EXPECT_NE(info.output.find("basis: " + r.basis + " "), std::string::npos) << info.output;
-    EXPECT_NE(info.output.find("node_filter_passes = " + std::to_string(*r.nodeFilter)), std::string::npos) << info.output;
+    EXPECT_NE(info.output.find("node_filter_passes = " + std::to_string(r.params.get<int>("node-filter"))),
+              std::string::npos)
+        << info.output;
 }

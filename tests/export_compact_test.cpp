@@ -183,6 +183,45 @@ TEST(CompactSh, RoundTripVolumeIsWhatTheFilesDecodeTo) {
     }
 }
 
+// A --direct occlusion volume with shadow edges: the engine-size export writes each node's edge
+// distance and width (half, no ramp texture) and compactShRoundTrip holds exactly those values,
+// so that the GPU-driver check's decoded volume is what the shader reads.
+TEST(CompactSh, RoundTripShadowEdgesAreTheExportedHalfTexels) {
+    Volume v = test::randomShVolume(4, 3, 3, 0.5, 5);
+    VolumeLevel& level = v.levels[0];
+    v.direct.mode = DirectMode::Occlusion;
+    v.direct.lights.push_back(DirectLight{});  // a point light at the origin
+    Rng rng(11);
+    const std::size_t nodes = level.grid.nodeCount();
+    for (std::size_t n = 0; n < nodes; ++n) {
+        level.lightVisibility.push_back(rng.uniform());
+        // Distances in +-3 cells and widths in [0, 2): values half rounds.
+        level.lightShadowEdges.push_back(6.0f * rng.uniform() - 3.0f);
+        level.lightShadowEdges.push_back(2.0f * rng.uniform());
+    }
+    for (ExportLayout layout : kLayouts) {
+        test::TempDir dir;
+        ExportOptions o;
+        o.format = TextureFormat::Raw;
+        o.layout = layout;
+        exportTextures(v, dir.file("out"), o);
+        EXPECT_FALSE(fs::exists(dir.file("out/light_edge_ramp_0_0.raw"))) << "the engine-size layouts have no ramp texture";
+        const std::vector<uint8_t> distance = test::readFile(dir.file("out/light_edge_distance_0_0.raw"));
+        const std::vector<uint8_t> width = test::readFile(dir.file("out/light_edge_width_0_0.raw"));
+        ASSERT_EQ(distance.size(), nodes * 8);  // RGBA16F
+        ASSERT_EQ(width.size(), nodes * 8);
+        const Volume trip = compactShRoundTrip(v, layout);
+        int rounded = 0;
+        for (std::size_t n = 0; n < nodes; ++n) {
+            const float d = trip.levels[0].lightShadowEdges[2 * n], w = trip.levels[0].lightShadowEdges[2 * n + 1];
+            EXPECT_EQ(d, test::f16(distance, n * 8)) << n;  // light 0: component r
+            EXPECT_EQ(w, test::f16(width, n * 8)) << n;
+            rounded += d != level.lightShadowEdges[2 * n];
+        }
+        EXPECT_GT(rounded, int(nodes) / 2) << "the stored distances should need rounding to half";
+    }
+}
+
 TEST(CompactSh, VolumesWhoseBasisCannotTakeThemAreRefusedBeforeWriting) {
     bins::BasisSpec spec;
     spec.kind = bins::BasisSpec::Kind::Bins;

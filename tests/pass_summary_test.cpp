@@ -32,8 +32,8 @@ TEST(PassSummary, TheSummaryIsWrittenByThePassThatBaked) {
     const Scene scene = loadScene(defaultScenePath(), SceneLoadOptions{});
     BakeRequest request;
     request.resolution = 3;
-    request.rays = 8;
-    request.probePasses = 0;
+    request.params.set("rays", 8);
+    request.params.set("probe-passes", 0);
     BakeReport report;
     const Volume volume = bakeVolume(scene, request, nullptr, &report);
     ASSERT_EQ(report.pass->name(), "gather");

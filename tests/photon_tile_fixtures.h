@@ -29,7 +29,7 @@ inline Scene photonRoom() {
 inline BakeRequest photonRequest() {
     BakeRequest r;
     r.method = "photons";
-    r.photons = 40000;
+    r.params.set("photons", 40000);
     r.resolution = 6;
     r.seed = 5;
     r.threads = 2;

@@ -27,9 +27,9 @@ TEST(PhotonTilesDepth, TwoAndThreeTilesMergeToTheSingleBakeFullAndCompact) {
         SCOPED_TRACE(compact ? "compact" : "full");
         test::TempDir dir;
         BakeRequest r = test::photonRequest();
-        r.depthMoments = true;  // the default's too; explicit so that the test does not follow the default
+        r.params.set("depth-moments", true);  // the default's too; explicit so that the test does not follow the default
         r.tileParameters += "--depth-moments=true\n";
-        r.compact = compact;
+        r.params.set("compact", compact);
         if (compact) r.tileParameters += "--compact=true\n";
         bakeToFile(scene, r, dir.file("whole.vdb"));
         const Volume whole = readVolume(dir.file("whole.vdb"));

@@ -61,7 +61,7 @@ TEST(PhotonTiles, CompactAndHalfFloatMergesAreTheSingleBake) {
     test::TempDir dir;
     const Scene scene = photonRoom();
     BakeRequest r = photonRequest();
-    r.compact = true;
+    r.params.set("compact", true);
     r.tileParameters += "--compact=true\n";
     bakeToFile(scene, r, dir.file("whole.vdb"));
     const MergedTiles merged = mergeTiles(bakePhotonTiles(scene, r, dir, 3, "c"));

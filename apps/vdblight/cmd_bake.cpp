@@ -119,7 +119,7 @@ BakeRequest toRequest(const BakeCommand& c, const GivenOptions& g) {
     r.resolution = given(g.resolution, c.resolution);
     if (!c.bounds.empty()) r.bounds = parseBounds(c.bounds);
     for (const BakeCommand::PassFlag& f : c.passOptions)
-        if (f.cli->count() > 0) f.option.setText(r, f.option.flag ? (f.on ? "true" : "false") : f.text);
+        if (f.cli->count() > 0) r.params.setText(f.option.name, f.option.flag ? (f.on ? "true" : "false") : f.text);
     r.direct = c.direct;
     r.directLights = c.directLights;
     r.shadowEdges = c.shadowEdges;

@@ -58,13 +58,16 @@ const std::map<std::string, std::string>& bakeOptions() {
     static const std::map<std::string, std::string> options = {
         {"sh4.vdb", "--resolution 5 --rays 32 --bounces 2 --no-depth-moments --direct baked"},
         {"sh4_bilevel.vdb", "--resolution 4 --rays 32 --bounces 2 --no-depth-moments --direct baked --layout bilevel --refine 2"},
+        {"sh4_bilevel_depth.vdb", "--resolution 6 --rays 32 --bounces 2 --depth-moments --direct baked --layout bilevel --refine 2"},
         {"sh4_depth.vdb", "--resolution 5 --rays 32 --bounces 2 --depth-moments --direct baked"},
         {"occlusion.vdb", "--resolution 5 --rays 32 --bounces 2 --no-depth-moments --direct occlusion --no-shadow-edges"},
         {"occlusion_edges.vdb", "--resolution 5 --rays 32 --bounces 2 --no-depth-moments --direct occlusion"},
-        // The 8-bit layouts' shaders (docs/engine_visibility.md) do not apply shadow edges yet.
-        {"default_kind.vdb", "--resolution 5 --rays 32 --bounces 2 --depth-moments --direct occlusion --no-shadow-edges"},
+        {"default_kind.vdb", "--resolution 5 --rays 32 --bounces 2 --depth-moments --direct occlusion"},
         {"photons.vdb", "--method photons --photons 20000 --resolution 5 --no-depth-moments"},
         {"bins4.vdb", "--basis bins:4 --resolution 5 --rays 32 --bounces 2 --no-depth-moments --direct baked"},
+        // bins:3 (18 textures): with the 3 depth textures bins:4 would need 35 samplers, over
+        // llvmpipe's 32 per compute shader.
+        {"bins3_depth.vdb", "--basis bins:3 --resolution 5 --rays 32 --bounces 2 --depth-moments --direct baked"},
         {"bins4_bilevel.vdb", "--basis bins:4 --resolution 4 --rays 32 --bounces 2 --no-depth-moments --direct baked --layout bilevel --refine 2"},
         {"photons_compact.vdb", "--method photons --photons 20000 --resolution 5 --no-depth-moments --compact"},
     };
@@ -253,8 +256,13 @@ TEST_P(GpuExport, DocGlslOnLlvmpipeMatchesQuery) {
     const bool bins = manifest.root.value("layout", "") == "bins";
     const std::unique_ptr<IrradianceQuery> nearestBin =
         bins ? std::make_unique<IrradianceQuery>(std::make_unique<BinsLookup>(v, OutsidePolicy::Clamp, false), "bins") : nullptr;
+    // Shadow edges: the same volume without them, to prove that the rows exercise them.
+    const bool edges = !v.levels[0].lightShadowEdges.empty();
+    Volume withoutEdges = edges ? v : Volume();
+    for (VolumeLevel& level : withoutEdges.levels) level.lightShadowEdges.clear();
+    const std::unique_ptr<IrradianceQuery> noEdges = edges ? std::make_unique<IrradianceQuery>(withoutEdges) : nullptr;
     double worst = 0;
-    int worstAt = 0, weightsMatter = 0, blendMatters = 0;
+    int worstAt = 0, weightsMatter = 0, blendMatters = 0, edgesMatter = 0;
     std::vector<double> errors;
     for (int i = 0; i < kPoints; ++i) {
         const Vec3f p(x[3 * i], x[3 * i + 1], x[3 * i + 2]), d(n[3 * i], n[3 * i + 1], n[3 * i + 2]);
@@ -264,6 +272,7 @@ TEST_P(GpuExport, DocGlslOnLlvmpipeMatchesQuery) {
         if (errors.back() > worst) worst = errors.back(), worstAt = i;
         if (c.depthWeighted && relativeError(clampedQuery(unweighted, p, d), want, scale) > 10 * kTolerance) ++weightsMatter;
         if (bins && relativeError(clampedQuery(*nearestBin, p, d), want, scale) > 10 * kTolerance) ++blendMatters;
+        if (edges && relativeError(clampedQuery(*noEdges, p, d), want, scale) > 10 * kTolerance) ++edgesMatter;
     }
     std::sort(errors.begin(), errors.end());
     const int i = worstAt;
@@ -278,6 +287,11 @@ TEST_P(GpuExport, DocGlslOnLlvmpipeMatchesQuery) {
     if (bins) {
         std::printf("[%s] the nearest bin alone differs by more than 10x the tolerance at %d points\n", c.name, blendMatters);
         EXPECT_GT(blendMatters, kPoints / 10) << "the four-bin blend changes too few points to prove it";
+    }
+    if (edges) {
+        std::printf("[%s] the lookup without the shadow edges differs by more than 10x the tolerance at %d points\n", c.name,
+                    edgesMatter);
+        EXPECT_GT(edgesMatter, kPoints / 100) << "the shadow edges change too few points to prove them";
     }
     if (c.depthWeighted) {
         std::printf("[%s] the unweighted lookup differs by more than 10x the tolerance at %d points\n", c.name, weightsMatter);

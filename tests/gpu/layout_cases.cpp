@@ -107,6 +107,11 @@ const char* const kCallBins =
     "uniform vec3 uvwScale, uvwBias;\n"
     "vec3 vdblightCheck(vec3 x, vec3 n) { return vdblightIrradianceBins(bins, x * uvwScale + uvwBias, n); }\n";
 
+// bins with depth moments (docs/engine_visibility.md): the corners weighted by depth.
+const char* const kCallBinsVisible =
+    "uniform sampler3D bins[2 * R * R];\n"
+    "vec3 vdblightCheck(vec3 x, vec3 n) { return vdblightIrradianceBinsVisible(bins, x, n); }\n";
+
 // The shadow edges' GLSL of docs/shadow_visibility.md (the same light uniforms).
 const char* const kCallOcclusionEdges =
     "uniform vec3 lightVertices[VDBLIGHT_MAX_VERTS], lightNormal, lightRadiance;\n"
@@ -132,6 +137,7 @@ std::string engineSizeDefines(const Manifest& m) {
     if (m.root.value("layout", "") == "sh1-16") s += "#define VDBLIGHT_SH1_16\n";
     if (m.root.value("/depth/exported"_json_pointer, false)) s += "#define VDBLIGHT_DEPTH_MOMENTS\n";
     if (m.root.value("/direct/mode"_json_pointer, "") == "occlusion") s += "#define VDBLIGHT_LIGHT_VISIBILITY\n";
+    if (m.root.contains("/direct/shadow_edges"_json_pointer)) s += "#define VDBLIGHT_SHADOW_EDGES\n";
     return s;
 }
 
@@ -139,6 +145,14 @@ Bindings engineSizeWithExtras(const Manifest& m) {
     Bindings b = compactShTextures(m);
     if (m.root.value("/depth/exported"_json_pointer, false)) b = withDepth(b);
     if (m.root.value("/direct/mode"_json_pointer, "") == "occlusion") b.emplace_back("lightVisibility0", "light_visibility_0_0");
+    if (m.root.contains("/direct/shadow_edges"_json_pointer)) {
+        // The shader computes each corner's ramp: these layouts export no ramp texture.
+        const nlohmann::json expected = {"light_edge_distance_0_0", "light_edge_width_0_0"};
+        if (m.root.at("/direct/shadow_edges/textures"_json_pointer) != expected)
+            throw std::runtime_error("an engine-size export's shadow_edges.textures should be " + expected.dump());
+        b.emplace_back("lightEdgeDistance0", "light_edge_distance_0_0");
+        b.emplace_back("lightEdgeWidth0", "light_edge_width_0_0");
+    }
     return b;
 }
 
@@ -188,6 +202,8 @@ const std::vector<LayoutCase>& layoutCases() {
          {kDepthWeight, "vec3 vdblightIrradianceVisible("}, nullptr, kCallVisible, [](const Manifest& m) { return withDepth(packedSh(m)); }, 2, true},
         {"sh2-packed + depth moments (dds, half; depth rgba8_unorm)", "sh4_depth.vdb", "--format dds --layout sh2-packed",
          {kDepthWeight, "vec3 vdblightIrradianceVisible("}, nullptr, kCallVisible, [](const Manifest& m) { return withDepth(packedSh(m)); }, 2, true},
+        {"sh2-packed + depth moments, bilevel (ktx2, half; the finest lattice)", "sh4_bilevel_depth.vdb", "--format ktx2 --layout sh2-packed",
+         {kDepthWeight, "vec3 vdblightIrradianceVisible("}, nullptr, kCallVisible, [](const Manifest& m) { return withDepth(packedSh(m)); }, 2, true},
         {"sh2-packed + --direct occlusion (ktx2, half)", "occlusion.vdb", "--format ktx2 --layout sh2-packed",
          {kPacked, kExactLights, "vec3 vdblightIrradianceOcclusion("}, nullptr, kCallOcclusion,
          [](const Manifest& m) {
@@ -224,13 +240,16 @@ const std::vector<LayoutCase>& layoutCases() {
          {"vec3 vdblightIrradianceBins("}, binsResolutionDefine, kCallBins, binTextures},
         {"bins of a bilevel bins:4 volume (dds, half)", "bins4_bilevel.vdb", "--format dds --layout bins",
          {"vec3 vdblightIrradianceBins("}, binsResolutionDefine, kCallBins, binTextures},
+        {"bins of a bins:3 volume with depth moments (ktx2, half; depth rgba8_unorm)", "bins3_depth.vdb", "--format ktx2 --layout bins",
+         {"vec3 vdblightIrradianceBins(", kDepthWeight, "vec3 vdblightIrradianceBinsVisible("}, binsResolutionDefine, kCallBinsVisible,
+         [](const Manifest& m) { return withDepth(binTextures(m)); }, 0, true},
         {"sh2-32 (ktx2; L0 half, rgba8_unorm)", "sh4.vdb", "--format ktx2 --layout sh2-32", {"vec3 vdblightIrradianceSh2x32("},
          nullptr, kCallSh2x32, compactShTextures, 2, false, nullptr, ExportLayout::Sh2x32, kSh2x32Quantisation},
         {"sh2-32 (dds; L0 half, rgba8_unorm)", "sh4.vdb", "--format dds --layout sh2-32", {"vec3 vdblightIrradianceSh2x32("},
          nullptr, kCallSh2x32, compactShTextures, 2, false, nullptr, ExportLayout::Sh2x32, kSh2x32Quantisation},
         {"sh1-16 (ktx2; L0 half, rgba8_unorm)", "sh4.vdb", "--format ktx2 --layout sh1-16", {"vec3 vdblightIrradianceSh1x16("},
          nullptr, kCallSh1x16, compactShTextures, 1, false, nullptr, ExportLayout::Sh1x16, kSh1x16Quantisation},
-        {"sh2-32 + depth moments + --direct occlusion (ktx2; the default bake's kind, 48 B per probe)", "default_kind.vdb",
+        {"sh2-32 + depth moments + --direct occlusion + shadow edges (ktx2; the default bake's kind, 64 B per probe)", "default_kind.vdb",
          "--format ktx2 --layout sh2-32", {"vec3 vdblightIrradianceSh2x32(", kDepthWeight, kExactLights, kEngineSizeBlend},
          engineSizeDefines, kCallEngineSizeOcclusion, engineSizeWithExtras, 2, true, setPolygonLight, ExportLayout::Sh2x32,
          kSh2x32Quantisation + kVisibilityQuantisation},
@@ -238,6 +257,9 @@ const std::vector<LayoutCase>& layoutCases() {
          {"vec3 vdblightIrradianceSh1x16(", kDepthWeight, kEngineSizeBlend}, engineSizeDefines, kCallEngineSize,
          engineSizeWithExtras, 1, true, nullptr, ExportLayout::Sh1x16, kSh1x16Quantisation},
         {"sh1-16 + --direct occlusion (ktx2; 8-bit visibility, trilinear)", "occlusion.vdb", "--format ktx2 --layout sh1-16",
+         {"vec3 vdblightIrradianceSh1x16(", kExactLights, kEngineSizeBlend}, engineSizeDefines, kCallEngineSizeOcclusion,
+         engineSizeWithExtras, 1, false, setPolygonLight, ExportLayout::Sh1x16, kSh1x16Quantisation + kVisibilityQuantisation},
+        {"sh1-16 + --direct occlusion + shadow edges (dds; trilinear)", "occlusion_edges.vdb", "--format dds --layout sh1-16",
          {"vec3 vdblightIrradianceSh1x16(", kExactLights, kEngineSizeBlend}, engineSizeDefines, kCallEngineSizeOcclusion,
          engineSizeWithExtras, 1, false, setPolygonLight, ExportLayout::Sh1x16, kSh1x16Quantisation + kVisibilityQuantisation},
     };

@@ -66,11 +66,26 @@ QualityPreset qualityPreset(const std::string& quality) {
     throw ValueError("--quality must be " + bake_detail::joinChoices(qualityNames()) + ", got '" + quality + "'");
 }
 
+// The presets read and fill the passes' options without their declarations (value, preset:
+// PassParameters), since the declarations' help quotes the presets (presetValues).
+std::optional<double> givenNumber(const BakeRequest& r, const char* name) {
+    const PassValue* v = r.params.value(name);
+    return v ? std::optional<double>(std::get<double>(*v)) : std::nullopt;
+}
+bool givenOn(const BakeRequest& r, const char* name) {
+    const PassValue* v = r.params.value(name);
+    return v && std::get<bool>(*v);
+}
+std::string givenWord(const BakeRequest& r, const char* name) {
+    const PassValue* v = r.params.value(name);
+    return v ? std::get<std::string>(*v) : std::string();
+}
+
 /// The uniform SH point gather (SH order 2, or real SH of another order: sh:N), where the
 /// presets' grid, rays, probe passes and depth moments apply (the error target: sh2 only, the
 /// error-targeted pass stores SH order 2).
 bool targetable(const BakeRequest& r) {
-    return r.method == "gather" && r.sampling == "point" && !r.invalidateBackface &&
+    return r.method == "gather" && r.sampling == "point" && !r.params.value("invalidate-backface") &&
            parseLayoutKind(r.layout) == LayoutKind::Uniform && bake_detail::isRealSh(r.basis);
 }
 
@@ -80,10 +95,10 @@ std::string selectPassName(const BakeRequest& r) {
     // sh:N goes through the point gather where it can (uniform grid, point sampling, a fixed
     // budget), every other basis and layout through the bins / generic basis gathers.
     const bool pointGatherSh = bake_detail::isRealSh(r.basis) && parseLayoutKind(r.layout) == LayoutKind::Uniform &&
-                               r.sampling == "point" && !r.targetError;
+                               r.sampling == "point" && !r.params.value("target-error");
     if (!bake_detail::isSh2(r.basis) && !pointGatherSh) return "bins";
     if (parseLayoutKind(r.layout) != LayoutKind::Uniform) return "levels";
-    if (r.targetError) return "adaptive";
+    if (r.params.value("target-error")) return "adaptive";
     if (r.sampling == "antialiased") return "antialiased";
     return "gather";
 }
@@ -106,13 +121,13 @@ void checkTiles(const BakeRequest& given, const BakeRequest& r, const Pass& pass
         std::vector<const Pass*> named = {&pass};
         if (r.method == "photons") named.push_back(&findPass("photons"));
         if (r.sampling == "antialiased") named.push_back(&findPass("antialiased"));
-        if (r.invalidateBackface) named.push_back(&findPass("gather"));
+        if (r.params.has("invalidate-backface")) named.push_back(&findPass("gather"));
         for (const Pass* p : named) {
             const std::string why = p->untileable(r);
             if (!why.empty()) throw ValueError(why);
         }
     }
-    const int passes = r.probePasses.value_or(0);
+    const int passes = r.params.get<int>("probe-passes");
     if (given.stage) {
         if (!given.tiles)
             throw ValueError("--stage needs --tiles and --tile (one stage of a tiled bake; --tiles 1 --tile 0 for all nodes)");
@@ -138,12 +153,13 @@ void checkDirect(const BakeRequest& r, const Pass& pass) {
     if (r.directLights < 1 || r.directLights > 16)
         throw ValueError("--direct-lights must be between 1 and 16, got " + std::to_string(r.directLights));
     if (r.direct.empty()) return;
-    if (pass.takesDirectLight() && !r.shWindow) return;
+    const bool shWindow = r.params.get<bool>("sh-window");
+    if (pass.takesDirectLight() && !shWindow) return;
     const std::string other = r.method != "gather"           ? "--method photons"
                               : r.sampling != "point"        ? "--sampling antialiased"
                               : r.layout != "uniform"        ? "--layout bilevel/adaptive"
                               : !bake_detail::isSh2(r.basis) ? "--basis other than sh2"
-                              : r.shWindow                   ? "--sh-window"
+                              : shWindow                     ? "--sh-window"
                                                              : "pass " + pass.name();
     throw ValueError("--direct " + r.direct + " is implemented for the uniform SH point gather only, not with " + other);
 }
@@ -159,7 +175,7 @@ BakeRequest resolveBakeRequest(const BakeRequest& given) {
         sh2.basis = "sh2";
         const BakeRequest r = resolveBakeRequest(sh2);
         const std::string preset = qualityPreset(given.quality).basis;
-        if (!targetable(r) || r.targetError || r.shWindow || preset == "sh2") return r;
+        if (!targetable(r) || r.params.value("target-error") || givenOn(r, "sh-window") || preset == "sh2") return r;
         BakeRequest other = given;
         other.basis = preset;
         return resolveBakeRequest(other);
@@ -167,23 +183,27 @@ BakeRequest resolveBakeRequest(const BakeRequest& given) {
     BakeRequest r = given;
     const QualityPreset preset = qualityPreset(r.quality);
     const bool presetApplies = targetable(r);
-    if (r.targetError) {
-        if (!r.minRays) r.minRays = bake_detail::kTargetMinRays;
-        if (!r.maxRays) r.maxRays = std::max(bake_detail::kTargetMaxRays, *r.minRays);
+    PassParameters& p = r.params;
+    const bool target = p.value("target-error") != nullptr;
+    if (target) {
+        if (!p.value("min-rays")) p.preset("min-rays", double(bake_detail::kTargetMinRays));
+        if (!p.value("max-rays"))
+            p.preset("max-rays", std::max(double(bake_detail::kTargetMaxRays), *givenNumber(r, "min-rays")));
     }
-    if (!r.probePasses) r.probePasses = presetApplies ? preset.probePasses : 0;
+    if (!p.value("probe-passes")) p.preset("probe-passes", double(presetApplies ? preset.probePasses : 0));
     const bool photonGrid = selectPassName(r) == "photons" && preset.photonGrid;
     if ((presetApplies || photonGrid) && !r.spacing && !r.resolution && !r.nodes && preset.nodes > 0) r.nodes = preset.nodes;
-    if (!r.rays) r.rays = presetApplies && !r.targetError ? preset.rays : kPlainRays;
-    if (!r.photons) r.photons = preset.photons;
-    if (!r.depthMoments) r.depthMoments = (presetApplies || photonGrid) && preset.depthMoments;
+    if (!p.value("rays")) p.preset("rays", double(presetApplies && !target ? preset.rays : kPlainRays));
+    if (!p.value("photons")) p.preset("photons", double(preset.photons));
+    if (!p.value("depth-moments")) p.preset("depth-moments", (presetApplies || photonGrid) && preset.depthMoments);
     // The probe pass's cache: the surface bins where the bake runs exactly one probe pass (the
     // presets' point gather), the nodes otherwise (docs/methods.md, "The surface probe cache").
-    if (r.probeCache.empty()) r.probeCache = *r.probePasses == 1 && selectPassName(r) == "gather" ? "surface" : "nodes";
-    if (!r.nodeFilter) r.nodeFilter = presetApplies && selectPassName(r) == "gather" ? preset.nodeFilter : 0;
-    if (!r.refine) r.refine = 3;
-    if (!r.levels) r.levels = 3;
-    if (!r.refineDistance) r.refineDistance = 0.0;
+    if (givenWord(r, "probe-cache").empty())
+        p.preset("probe-cache", std::string(*givenNumber(r, "probe-passes") == 1 && selectPassName(r) == "gather"
+                                                ? "surface"
+                                                : "nodes"));
+    if (!p.value("node-filter"))
+        p.preset("node-filter", double(presetApplies && selectPassName(r) == "gather" ? preset.nodeFilter : 0));
     r.pass = selectPassName(r);
     return r;
 }
@@ -222,21 +242,24 @@ std::string describeQuality(const std::string& quality) {
                                      std::to_string(kBudgetMinNodesOnLongestAxis) + ".." +
                                      std::to_string(kBudgetMaxNodesOnLongestAxis) + " on its longest axis)"
                                : std::to_string(kDefaultResolution) + " nodes on the longest axis";
-    text += ", " + std::to_string(*r.rays) + " rays per node of full paths";
-    const int passes = r.probePasses.value_or(0);
+    const PassParameters& o = r.params;
+    const std::string rays = std::to_string(o.get<uint32_t>("rays"));
+    text += ", " + rays + " rays per node of full paths";
+    const int passes = o.get<int>("probe-passes");
     if (passes > 0)
-        text += " + " + std::to_string(passes) + " probe-to-probe pass" + (passes > 1 ? "es" : "") + " of " +
-                std::to_string(*r.rays) + (r.probeCache == "surface" ? " (surface probe cache)" : "");
+        text += " + " + std::to_string(passes) + " probe-to-probe pass" + (passes > 1 ? "es" : "") + " of " + rays +
+                (o.get<std::string>("probe-cache") == "surface" ? " (surface probe cache)" : "");
     text += ", basis " + r.basis;
-    text += *r.depthMoments ? ", depth moments" : ", no depth moments";
-    if (*r.nodeFilter > 0) text += ", " + std::to_string(*r.nodeFilter) + " pass of the filter across nodes";
-    const bool occlusion = r.direct.empty() && pass.takesDirectLight() && !r.shWindow;
+    text += o.get<bool>("depth-moments") ? ", depth moments" : ", no depth moments";
+    const int filter = o.get<int>("node-filter");
+    if (filter > 0) text += ", " + std::to_string(filter) + " pass of the filter across nodes";
+    const bool occlusion = r.direct.empty() && pass.takesDirectLight() && !o.get<bool>("sh-window");
     text += occlusion ? ", direct light of up to " + std::to_string(r.directLights) +
                             " lights exact with baked visibility (--direct occlusion) where the scene has lights"
                       : ", direct light baked into the basis";
-    text += "; --method photons: " + std::to_string(*p.photons / 1000000) + " M photons" +
+    text += "; --method photons: " + std::to_string(p.params.get<uint64_t>("photons") / 1000000) + " M photons" +
             (p.nodes ? std::string(" on this grid") : " on " + std::to_string(kDefaultResolution) + " nodes on the longest axis") +
-            (*p.depthMoments ? " with depth moments" : "");
+            (p.params.get<bool>("depth-moments") ? " with depth moments" : "");
     return text;
 }
 
@@ -253,25 +276,33 @@ const Pass& checkBakeRequest(const BakeRequest& given) {
     BakeRequest asked = given;
     asked.basis = r.basis;
 
-    if (given.targetError && given.rays)
+    const PassParameters& givenParams = given.params;
+    const PassParameters& resolved = r.params;
+    const bool backface = givenParams.has("invalidate-backface");
+    if (givenParams.has("target-error") && givenParams.has("rays"))
         throw ValueError("--target-error and --rays exclude each other (an error target or a fixed budget)");
-    if (given.depthMoments.value_or(false) && !pass.takesDepthMoments())
+    if (givenOn(given, "depth-moments") && !pass.takesDepthMoments())
         throw ValueError("--depth-moments does not apply to pass " + pass.name());
-    if (given.depthRays && !*r.depthMoments) throw ValueError("--depth-rays needs --depth-moments");
+    if (givenParams.has("depth-rays") && !resolved.get<bool>("depth-moments"))
+        throw ValueError("--depth-rays needs --depth-moments");
     checkTiles(asked, r, pass);
-    if (r.probeCache == "surface" && *r.probePasses != 1)  // after the preset's passes (preview: 0)
+    // After the preset's passes (preview: 0).
+    if (resolved.get<std::string>("probe-cache") == "surface" && resolved.get<int>("probe-passes") != 1)
         throw ValueError("--probe-cache surface needs exactly one probe pass (--probe-passes 1, the default's)");
-    if (r.shWindow && !pass.takesShWindow()) throw ValueError("--sh-window applies to --method gather with --basis sh2 only");
-    if (!sh2 && (r.method != "gather" || r.sampling != "point" || r.invalidateBackface))
+    const bool shWindow = resolved.get<bool>("sh-window");
+    if (shWindow && !pass.takesShWindow())
+        throw ValueError("--sh-window applies to --method gather with --basis sh2 only");
+    if (!sh2 && (r.method != "gather" || r.sampling != "point" || backface))
         throw ValueError("--basis " + (bake_detail::isBinsOrMoment(r.basis) ? std::string("bins/moment") : r.basis) +
                          " works with --method gather and --sampling point only");
-    if (kind == LayoutKind::Uniform && given.refine) throw ValueError("--refine needs --layout bilevel or adaptive");
-    if (kind != LayoutKind::Adaptive && given.levels) throw ValueError("--levels needs --layout adaptive");
-    if (kind != LayoutKind::Uniform && (r.sampling != "point" || r.invalidateBackface || r.method != "gather"))
+    if (kind == LayoutKind::Uniform && givenParams.has("refine"))
+        throw ValueError("--refine needs --layout bilevel or adaptive");
+    if (kind != LayoutKind::Adaptive && givenParams.has("levels")) throw ValueError("--levels needs --layout adaptive");
+    if (kind != LayoutKind::Uniform && (r.sampling != "point" || backface || r.method != "gather"))
         throw ValueError("--layout bilevel/adaptive works with --method gather and --sampling point only");
-    if (given.refineDistance && kind == LayoutKind::Uniform)
+    if (givenParams.has("refine-distance") && kind == LayoutKind::Uniform)
         throw ValueError("--refine-distance needs --layout bilevel or adaptive");
-    if (r.cullSolids && (kind == LayoutKind::Uniform || !sh2))
+    if (resolved.get<bool>("cull-solids") && (kind == LayoutKind::Uniform || !sh2))
         throw ValueError("--cull-solids needs --layout bilevel or adaptive and --basis sh2");
     // Zero or negative values are refused here: unset is the default.
     if (given.spacing && !(*given.spacing > 0))
@@ -279,7 +310,7 @@ const Pass& checkBakeRequest(const BakeRequest& given) {
     if (given.resolution && *given.resolution < 1)
         throw ValueError("--resolution must be at least 1, got " + std::to_string(*given.resolution));
     if (given.spacing && given.resolution) throw ValueError("--spacing and --resolution exclude each other");
-    if (r.method == "photons" && (r.sampling != "point" || !r.domain.empty() || r.invalidateBackface))
+    if (r.method == "photons" && (r.sampling != "point" || !givenWord(r, "domain").empty() || backface))
         throw ValueError("--sampling, --domain and --invalidate-backface apply to --method gather only");
     if (r.threads < 0) throw ValueError("--threads must be at least 0 (0 = all cores), got " + std::to_string(r.threads));
 
@@ -290,8 +321,7 @@ const Pass& checkBakeRequest(const BakeRequest& given) {
     for (const Pass* other : passRegistry())
         for (const PassOption& o : other->options()) {
             if (o.needs.empty() || std::find(declared.begin(), declared.end(), o.name) != declared.end()) continue;
-            const bool given_ = (o.number && o.number(asked)) || (o.word && o.word(asked));
-            if (given_) throw ValueError(o.needs);
+            if (bake_detail::givenToRefuse(o, asked.params)) throw ValueError(o.needs);
         }
     checkDirect(r, pass);
     return pass;
@@ -299,11 +329,12 @@ const Pass& checkBakeRequest(const BakeRequest& given) {
 
 int tiledBakeStages(const BakeRequest& request) {
     BakeRequest staged = resolveBakeRequest(request);
-    if (staged.depthRays && !*staged.depthMoments) throw ValueError("--depth-rays needs --depth-moments");
+    if (staged.params.has("depth-rays") && !staged.params.get<bool>("depth-moments"))
+        throw ValueError("--depth-rays needs --depth-moments");
     staged.stage = 0;
     const std::string why = findPass(staged.pass).untileable(staged);
     if (!why.empty()) throw ValueError(why);
-    return *staged.probePasses + 1;
+    return staged.params.get<int>("probe-passes") + 1;
 }
 
 }  // namespace vdblight

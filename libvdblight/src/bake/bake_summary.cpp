@@ -62,7 +62,9 @@ void writeTile(std::ostream& out, const BakeSummaryInput& in) {
     const BakeRequest& r = in.report.resolved;
     const int stage = r.stage.value_or(-1);
     out << "Baked tile " << *in.request.tile << " of " << *in.request.tiles
-        << (stage >= 0 ? " (stage " + std::to_string(stage) + " of 0.." + std::to_string(*r.probePasses) + ")" : "")
+        << (stage >= 0 ? " (stage " + std::to_string(stage) + " of 0.." +
+                             std::to_string(r.params.get<int>("probe-passes")) + ")"
+                       : "")
         << ": " << in.report.tileNodes << " of " << in.report.stats.nodes << " nodes, "
         << formatCount(double(in.report.stats.rays.total())) << " rays in " << formatSeconds(in.report.stats.seconds)
         << ". Wrote " << in.output
@@ -73,7 +75,9 @@ void writeTile(std::ostream& out, const BakeSummaryInput& in) {
 }
 }  // namespace
 
-std::string Pass::summaryRays(const BakeSummaryInput& in) const { return std::to_string(*in.report.resolved.rays); }
+std::string Pass::summaryRays(const BakeSummaryInput& in) const {
+    return std::to_string(in.report.resolved.params.get<uint32_t>("rays"));
+}
 
 namespace bake_detail {
 std::string storedBasisSummary(const BakeSummaryInput& in) {
@@ -104,7 +108,7 @@ std::string Pass::summary(const BakeSummaryInput& in) const {
         writeTile(out, in);
         return out.str();
     }
-    if (*r.depthMoments)
+    if (r.params.get<bool>("depth-moments"))
         out << "Depth moments: " << (report.depth && report.depth->rays
                                          ? formatCount(double(report.depth->rays)) + " first-hit rays in " +
                                                formatSeconds(report.depth->seconds)
@@ -117,10 +121,11 @@ std::string Pass::summary(const BakeSummaryInput& in) const {
     if (scene.stats.degenerateTrianglesSkipped)
         out << ", " << scene.stats.degenerateTrianglesSkipped << " degenerate skipped";
     const int bounces = r.transport.maxBounces;
+    const int probePasses = r.params.get<int>("probe-passes");
     out << ") with " << summaryRays(in) << " rays per node"
-        << (*r.probePasses > 0 ? " (+ " + std::to_string(*r.probePasses) + " probe-to-probe pass" +
-                                     (*r.probePasses > 1 ? "es" : "") + ")"
-                               : std::string())
+        << (probePasses > 0
+                ? " (+ " + std::to_string(probePasses) + " probe-to-probe pass" + (probePasses > 1 ? "es" : "") + ")"
+                : std::string())
         << " and "
         << (bounces >= kSafetyBounces ? std::string("all bounces (Russian roulette)")
                                       : "up to " + std::to_string(bounces) + " bounces")

@@ -60,7 +60,7 @@ DirectOptions directOptions(const Scene& scene, const BakeRequest& r, const Pass
     if (!r.direct.empty()) {
         d.mode = parseDirectMode(r.direct);
     } else {
-        const bool applies = pass.takesDirectLight() && !r.shWindow;
+        const bool applies = pass.takesDirectLight() && !r.params.get<bool>("sh-window");
         d.mode = applies && !sceneLights(scene).empty() ? DirectMode::Occlusion : DirectMode::Baked;
     }
     return d;
@@ -97,7 +97,8 @@ Volume bakeImpl(const Scene& scene, const BakeRequest& given, Interrupter* inter
                              std::to_string(*r.stage) + " here");
         context.stageInput = &stageInput;
     }
-    report.lastStage = !r.stage || *r.stage == *r.probePasses;
+    const PassParameters& options = r.params;
+    report.lastStage = !r.stage || *r.stage == options.get<int>("probe-passes");
     if (tile)
         context.selectTile = [tile, &r](const std::vector<LevelTopology>& levels) -> const NodeMask* {
             tile->mask = tileNodeMask(volumeLevels(levels), *r.tiles, *r.tile);
@@ -105,7 +106,8 @@ Volume bakeImpl(const Scene& scene, const BakeRequest& given, Interrupter* inter
         };
 
     Volume volume = pass.run(context, r, grid, report);
-    if (tile && report.photonSums && *r.depthMoments) {
+    const bool depthMoments = options.get<bool>("depth-moments");
+    if (tile && report.photonSums && depthMoments) {
         // A photon tile holds every node's sums of its batches; depth moments are per node, so
         // it bakes those of its run of nodes only (photonTileDepthNodes, tiles.h).
         tile->mask = photonTileDepthNodes(grid, *r.tiles, *r.tile);
@@ -115,11 +117,13 @@ Volume bakeImpl(const Scene& scene, const BakeRequest& given, Interrupter* inter
     const NodeMask* only = tile ? &tile->mask : nullptr;
     if (direct.mode != DirectMode::Baked && report.lastStage)
         bakeLightVisibility(scene, tracer, report.direct, direct, volume, interrupter, only);
-    if (*r.refineDistance > 0) bake_detail::PassMetadata(volume.meta).number("refine_distance", *r.refineDistance);
-    if (r.shWindow) applyShWindow(volume);
-    if (*r.depthMoments && !volume.hasDepth() && report.lastStage) {  // passes without the gather's hook (bake_depth.h)
+    // The levels' refine distance (the passes that place levels declare it; 0 elsewhere).
+    const double refineDistance = options.find<double>("refine-distance").value_or(0.0);
+    if (refineDistance > 0) bake_detail::PassMetadata(volume.meta).number("refine_distance", refineDistance);
+    if (options.get<bool>("sh-window")) applyShWindow(volume);
+    if (depthMoments && !volume.hasDepth() && report.lastStage) {  // passes without the gather's hook (bake_depth.h)
         DepthOptions depthOptions;
-        depthOptions.raysPerNode = r.depthRays.value_or(*r.rays);
+        depthOptions.raysPerNode = options.find<uint32_t>("depth-rays").value_or(options.get<uint32_t>("rays"));
         depthOptions.seed = r.seed;
         depthOptions.threads = r.threads;
         depthOptions.only = only;
@@ -187,14 +191,16 @@ Volume bakeToFile(const Scene& scene, const BakeRequest& request, const std::str
             tileDepth.activeNodes.push_back(n);
             tileDepth.depth.insert(tileDepth.depth.end(), level.nodeDepth(n), level.nodeDepth(n) + depth::kFloatsPerNode);
         }
-        writePhotonTile(*report.photonSums, volume.meta, tile.id, path, report.write, report.resolved.compact,
+        writePhotonTile(*report.photonSums, volume.meta, tile.id, path, report.write,
+                        report.resolved.params.get<bool>("compact"),
                         level.hasDepth() ? &tileDepth : nullptr);
         report.tileNodes = volume.levels[0].grid.nodeCount();
         return volume;
     }
-    // The per-node errors of the uniform point gathers, for the merge's error summary.
+    // The per-node errors of a uniform grid, for the merge's error summary: those the pass
+    // estimated (the point gathers; the other passes leave BakeStats::estimatedError empty).
     TileNodeStats nodeStats;
-    if (volume.levels.size() == 1 && report.pass->name() != "bins") nodeStats.estimatedError = report.stats.estimatedError;
+    if (volume.levels.size() == 1) nodeStats.estimatedError = report.stats.estimatedError;
     if (!report.lastStage) {
         report.write.halfFloat = false;  // the next stage reads the reflected light exactly
         bake_detail::PassMetadata(volume.meta).text("probe_stage_params_hash", tile.sameBake);

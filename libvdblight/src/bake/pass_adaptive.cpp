@@ -35,35 +35,46 @@ public:
 namespace {
 const char* const kNeedsTarget =
     "--max-rays and --min-rays need an error-targeted bake (--target-error)";
+
+/// The pass's own options of a resolved request (the error target and its ray caps, probe passes).
+AdaptiveOptions adaptiveOptions(const BakeRequest& r) {
+    AdaptiveOptions a;
+    a.targetError = r.params.get<double>("target-error");
+    a.minRays = r.params.get<uint32_t>("min-rays");
+    a.maxRays = r.params.get<uint32_t>("max-rays");
+    a.probePasses = r.params.get<int>("probe-passes");
+    return a;
 }
+}  // namespace
 
 std::vector<PassOption> AdaptivePass::options() const {
-    PassOption target = numberOption("target-error",
+    PassOption target = numberOption<double>("target-error",
                                      "sample each node in doubling rounds until the relative standard error of its "
                                      "mean irradiance is below this (e.g. 0.02), up to --max-rays",
-                                     "none: every preset has a fixed --rays budget", 0, 1, &BakeRequest::targetError,
+                                     "none: every preset has a fixed --rays budget", 0, 1,
                                      "--target-error works with --method gather, --sampling point, --layout uniform "
                                      "and --basis sh2 only");
     target.minExclusive = true;
     return {target,
-            numberOption("min-rays", "error-targeted bakes: rays of the first round", std::to_string(kTargetMinRays), 2, double(1u << 30), &BakeRequest::minRays,
-                         kNeedsTarget),
-            numberOption("max-rays", "error-targeted bakes: most rays a node may take", std::to_string(kTargetMaxRays), 2, double(1u << 30), &BakeRequest::maxRays,
-                         kNeedsTarget),
+            numberOption<uint32_t>("min-rays", "error-targeted bakes: rays of the first round",
+                                   std::to_string(kTargetMinRays), 2, double(1u << 30), kNeedsTarget),
+            numberOption<uint32_t>("max-rays", "error-targeted bakes: most rays a node may take",
+                                   std::to_string(kTargetMaxRays), 2, double(1u << 30), kNeedsTarget),
             probePassesOption(), depthMomentsOption(), depthRaysOption(), shWindowOption()};
 }
 
 void AdaptivePass::validate(const BakeRequest& request) const {
     const BakeRequest r = resolveBakeRequest(request);
-    if (r.method != "gather" || r.sampling != "point" || r.invalidateBackface ||
+    const AdaptiveOptions a = adaptiveOptions(r);
+    if (r.method != "gather" || r.sampling != "point" || r.params.has("invalidate-backface") ||
         parseLayoutKind(r.layout) != LayoutKind::Uniform || !isSh2(r.basis))
         throw ValueError("--target-error works with --method gather, --sampling point, --layout uniform and --basis "
                          "sh2 only");
-    if (!(*r.targetError > 0 && *r.targetError <= 1))
-        throw ValueError("--target-error must be in (0, 1], got " + std::to_string(*r.targetError));
-    if (*r.minRays < 2 || *r.maxRays < *r.minRays)
+    if (!(a.targetError > 0 && a.targetError <= 1))
+        throw ValueError("--target-error must be in (0, 1], got " + std::to_string(a.targetError));
+    if (a.minRays < 2 || a.maxRays < a.minRays)
         throw ValueError("--min-rays must be at least 2 and --max-rays at least --min-rays, got " +
-                         std::to_string(*r.minRays) + " and " + std::to_string(*r.maxRays));
+                         std::to_string(a.minRays) + " and " + std::to_string(a.maxRays));
     Pass::validate(request);
 }
 
@@ -72,14 +83,10 @@ std::size_t AdaptivePass::bytesPerNode(const BakeRequest&) const { return 2 * sh
 std::string AdaptivePass::untileable(const BakeRequest& r) const { return pointGatherUntileable(r); }
 
 Volume AdaptivePass::run(const BakeContext& c, const BakeRequest& r, const GridSpec& grid, BakeReport& report) const {
-    AdaptiveOptions a;
-    a.targetError = *r.targetError;
-    a.minRays = *r.minRays;
-    a.maxRays = *r.maxRays;
+    AdaptiveOptions a = adaptiveOptions(r);
     a.seed = c.seed;
     a.threads = c.threads;
     a.transport = c.transport;
-    a.probePasses = *r.probePasses;
     LevelTopology shape;
     shape.grid = grid;
     a.only = selectTile(c, {shape});
@@ -99,12 +106,13 @@ std::string AdaptivePass::summaryLead(const BakeSummaryInput& in) const {
     const BakeRequest& r = report.resolved;
     if (!report.adaptive || report.adaptive->estimatedError.empty() || r.tiles) return {};
     const AdaptiveStats& as = *report.adaptive;
-    const uint32_t maxRays = *r.maxRays;
+    const uint32_t maxRays = r.params.get<uint32_t>("max-rays");
     std::ostringstream out;
     out << "Error-targeted: relative standard error of mean irradiance p50 " << as.errorQuantile(0.5) << ", p95 "
-        << as.errorQuantile(0.95) << ", max " << as.errorQuantile(1.0) << " (target " << *r.targetError << ", "
-        << as.nodesAtMax << " nodes stopped at --max-rays " << maxRays << "); " << formatCount(double(as.samples))
-        << " gathered rays, " << formatCount(double(as.samples) / double(as.nodes)) << " per node, "
+        << as.errorQuantile(0.95) << ", max " << as.errorQuantile(1.0) << " (target "
+        << r.params.get<double>("target-error") << ", " << as.nodesAtMax << " nodes stopped at --max-rays " << maxRays
+        << "); " << formatCount(double(as.samples)) << " gathered rays, "
+        << formatCount(double(as.samples) / double(as.nodes)) << " per node, "
         << formatCount(double(uint64_t(maxRays) * as.nodes - as.samples)) << " ("
         << int(100.0 * (1.0 - double(as.samples) / (double(maxRays) * as.nodes))) << " %) saved against " << maxRays
         << " rays on every node.\n";

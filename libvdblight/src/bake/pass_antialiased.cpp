@@ -32,13 +32,13 @@ public:
 std::vector<PassOption> AntialiasedPass::options() const {
     return {raysOption("candidate ray origins (one ray each) per cell"),
             wordOption("domain", "all, or interior = only origins that see no back-face", "interior",
-                       {"all", "interior"}, &BakeRequest::domain,
+                       {"all", "interior"},
                        "--domain needs --sampling antialiased (point sampling has --invalidate-backface)"),
             wordOption("fit",
                        "projection = eq. 6, or least-squares = fit the node values to the samples over the domain "
                        "(docs/methods.md)",
                        "projection",
-                       {"projection", "least-squares"}, &BakeRequest::fit, "--fit needs --sampling antialiased"),
+                       {"projection", "least-squares"}, "--fit needs --sampling antialiased"),
             depthMomentsOption(), depthRaysOption(), shWindowOption()};
 }
 
@@ -49,7 +49,7 @@ std::size_t AntialiasedPass::bytesPerNode(const BakeRequest& r) const {
     // + 2 weights). The least-squares fit adds its 27-entry Gram row, and its solve a prior
     // and six CG vectors of all 27 values per node (node_least_squares.h).
     const std::size_t values = sh::kCoeffs * 3;
-    const std::size_t lsq = r.fit == "least-squares" ? values + 7 * values : 0;
+    const std::size_t lsq = r.params.get<std::string>("fit") == "least-squares" ? values + 7 * values : 0;
     return 2 * values * sizeof(float) + (values + 2 + lsq) * sizeof(double);
 }
 
@@ -59,12 +59,12 @@ std::string AntialiasedPass::untileable(const BakeRequest&) const {
 
 Volume AntialiasedPass::run(const BakeContext& c, const BakeRequest& r, const GridSpec& grid, BakeReport& report) const {
     AntialiasedOptions aa;
-    aa.raysPerCell = *r.rays;
+    aa.raysPerCell = r.params.get<uint32_t>("rays");
     aa.seed = c.seed;
     aa.threads = c.threads;
     aa.transport = c.transport;
-    aa.domain = r.domain == "all" ? DomainMode::All : DomainMode::Interior;
-    aa.fit = r.fit == "least-squares" ? NodeFit::LeastSquares : NodeFit::Projection;
+    aa.domain = r.params.get<std::string>("domain") == "all" ? DomainMode::All : DomainMode::Interior;
+    aa.fit = r.params.get<std::string>("fit") == "least-squares" ? NodeFit::LeastSquares : NodeFit::Projection;
     return bakeShAntialiased(c.scene, c.tracer, grid, aa, c.interrupter, &report.stats);
 }
 

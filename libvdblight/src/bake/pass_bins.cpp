@@ -67,7 +67,7 @@ Volume BinsPass::run(const BakeContext& c, const BakeRequest& r, const GridSpec&
     if (!bake_detail::isBinsOrMoment(r.basis)) {  // any other basis of the registry
         const std::unique_ptr<Basis> basis = makeBasis(r.basis);
         BasisBakeOptions bo;
-        bo.raysPerNode = *r.rays;
+        bo.raysPerNode = r.params.get<uint32_t>("rays");
         bo.seed = c.seed;
         bo.threads = c.threads;
         bo.transport = c.transport;
@@ -77,7 +77,8 @@ Volume BinsPass::run(const BakeContext& c, const BakeRequest& r, const GridSpec&
     const bins::BasisSpec spec = bins::parseBasisSpec(r.basis);
     BinsBakeOptions bo;
     bo.basis = spec;
-    bo.samplesPerBin = std::max<uint32_t>(1, uint32_t((uint64_t(*r.rays) + spec.binCount() - 1) / spec.binCount()));
+    const uint64_t rays = r.params.get<uint32_t>("rays");
+    bo.samplesPerBin = std::max<uint32_t>(1, uint32_t((rays + spec.binCount() - 1) / spec.binCount()));
     bo.seed = c.seed;
     bo.threads = c.threads;
     bo.transport = c.transport;

@@ -34,18 +34,14 @@ public:
 namespace {
 /// --node-filter N (node_filter.h). 0 is what every other pass does: only more is refused there.
 PassOption nodeFilterOption() {
-    PassOption o = numberOption("node-filter",
+    PassOption o = numberOption<int>("node-filter",
                  "passes of the filter across nodes after the bake: a 3x3x3 kernel weighted by the depth "
                  "moments (not across walls) and by the nodes' error estimates (differences the noise does "
                  "not explain are kept); less noise, some blur (docs/time_to_accuracy.md)",
-                 presetValues([](const BakeRequest& r) { return std::to_string(r.nodeFilter.value_or(0)); }), 0, 8,
-                 &BakeRequest::nodeFilter,
+                 presetNumbers("node-filter"), 0, 8,
                  "--node-filter works with the uniform point gather (--method gather, --sampling point, "
                  "--layout uniform, a fixed budget) only");
-    o.number = [](const BakeRequest& r) -> std::optional<double> {
-        if (!r.nodeFilter || *r.nodeFilter == 0) return std::nullopt;
-        return double(*r.nodeFilter);
-    };
+    o.zeroIsUnset = true;
     return o;
 }
 }  // namespace
@@ -60,22 +56,23 @@ std::vector<PassOption> GatherPass::options() const {
                        "it (DDGI-style), surface = irradiance samples that the first pass's own paths took at the "
                        "surfaces (less bias near walls and openings; docs/methods.md). Default: surface with exactly "
                        "one probe pass (the presets'), nodes otherwise",
-                       "surface", {"nodes", "surface"}, &BakeRequest::probeCache,
+                       "surface", {"nodes", "surface"},
                        "--probe-cache works with --method gather --sampling point only"),
-            numberOption("invalidate-backface",
+            numberOption<double>("invalidate-backface",
                          "nodes whose rays hit back-faces more than this fraction (0..1) are replaced by dilating "
                          "valid neighbours (the engines' heuristic)",
-                         "off", 0, 1, &BakeRequest::invalidateBackface,
+                         "off", 0, 1,
                          "--invalidate-backface applies to --sampling point only", "in [0, 1]"),
             nodeFilterOption(),
             depthMomentsOption(), depthRaysOption(), shWindowOption()};
 }
 
 void GatherPass::validate(const BakeRequest& request) const {
-    if (request.invalidateBackface && request.probePasses && *request.probePasses > 0)
+    const PassParameters& p = request.params;
+    if (p.has("invalidate-backface") && p.find<int>("probe-passes").value_or(0) > 0)
         throw ValueError("--probe-passes works with --method gather, --sampling point, --layout uniform and "
                          "--basis sh2 or sh:N only");
-    if (request.shWindow && !isSh2(request.basis)) throw ValueError("--sh-window applies to --basis sh2 only");
+    if (p.get<bool>("sh-window") && !isSh2(request.basis)) throw ValueError("--sh-window applies to --basis sh2 only");
     Pass::validate(request);
 }
 
@@ -83,7 +80,8 @@ std::size_t GatherPass::bytesPerNode(const BakeRequest& r) const {
     // Float values plus OpenVDB's copy while writing (and, for sh:N, the probe passes' SH order-2
     // cache), and --probe-cache surface's bins (about one cell per node: a pointer each, and at
     // most the bins themselves; they are allocated only where samples land, on surfaces).
-    const std::size_t bins = r.probeCache == "surface" ? SurfaceBins::kBytesPerGridCell + SurfaceBins::kBytesPerCell : 0;
+    const bool surfaceBins = r.params.get<std::string>("probe-cache") == "surface";
+    const std::size_t bins = surfaceBins ? SurfaceBins::kBytesPerGridCell + SurfaceBins::kBytesPerCell : 0;
     if (!isSh2(r.basis)) return (2 * makeBasis(r.basis)->floatsPerNode() + sh::kCoeffs * 3) * sizeof(float) + bins;
     return 2 * sh::kCoeffs * 3 * sizeof(float) + bins;
 }
@@ -93,10 +91,12 @@ std::string GatherPass::untileable(const BakeRequest& r) const {
 }
 
 std::string pointGatherUntileable(const BakeRequest& r) {
-    if (r.invalidateBackface) return "--invalidate-backface cannot be tiled (its dilation crosses tile borders)";
-    if (r.shWindow) return "--sh-window cannot be tiled yet (the window would have to follow the seams at merge)";
+    const PassParameters& p = r.params;
+    if (p.has("invalidate-backface")) return "--invalidate-backface cannot be tiled (its dilation crosses tile borders)";
+    if (p.get<bool>("sh-window"))
+        return "--sh-window cannot be tiled yet (the window would have to follow the seams at merge)";
     // Each probe-to-probe pass reads every node of the pass before: one stage per pass.
-    const int passes = r.probePasses.value_or(0);
+    const int passes = p.find<int>("probe-passes").value_or(0);
     if (passes > 0 && !r.stage)
         return "probe-to-probe passes are tiled in stages (each pass reads every node of the pass before): bake "
                "every tile with --stage 0, merge them, then every tile with --stage 1 --stage-input STAGE0.vdb, ... up "
@@ -111,9 +111,8 @@ Volume GatherPass::run(const BakeContext& c, const BakeRequest& r, const GridSpe
     LevelTopology shape;
     shape.grid = grid;
     options.only = selectTile(c, {shape});
-    if (r.invalidateBackface)
-        return bakeShGatherInvalidated(c.scene, c.tracer, grid, options, *r.invalidateBackface, c.interrupter,
-                                       &report.stats);
+    if (const std::optional<double> backface = r.params.find<double>("invalidate-backface"))
+        return bakeShGatherInvalidated(c.scene, c.tracer, grid, options, *backface, c.interrupter, &report.stats);
     return bakeShGather(c.scene, c.tracer, grid, options, c.interrupter, &report.stats);
 }
 

@@ -33,20 +33,21 @@ public:
 }  // namespace
 
 std::vector<PassOption> layoutOptions() {
-    return {numberOption("refine", "bilevel/adaptive: split refined cells K x K x K", "3", 2, kNoMax, &BakeRequest::refine,
+    return {numberOption<int>("refine", "bilevel/adaptive: split refined cells K x K x K", "3", 2, kNoMax,
                          "--refine needs --layout bilevel or adaptive"),
-            numberOption("levels", "adaptive: number of levels including the first", "3", 1, 16, &BakeRequest::levels,
+            numberOption<int>("levels", "adaptive: number of levels including the first", "3", 1, 16,
                          "--levels needs --layout adaptive", "at least 1"),
-            numberOption("refine-distance",
+            numberOption<double>("refine-distance",
                          "bilevel/adaptive: refine every cell within this distance (scene units, max-norm) of a "
                          "triangle, not only cells that contain one (0 = Greger's rule)",
-                         "0", 0, kNoMax, &BakeRequest::refineDistance, "--refine-distance needs --layout bilevel or adaptive",
+                         "0", 0, kNoMax, "--refine-distance needs --layout bilevel or adaptive",
                          "a finite distance >= 0")};
 }
 
 void checkLayoutOptions(const BakeRequest& r) {
-    if (r.levels && *r.levels > 16)
-        throw ValueError("--levels " + std::to_string(*r.levels) +
+    const std::optional<int> levels = r.params.find<int>("levels");
+    if (levels && *levels > 16)
+        throw ValueError("--levels " + std::to_string(*levels) +
                          " is absurd (each level multiplies the resolution by --refine); use at most 16");
 }
 
@@ -56,7 +57,7 @@ std::vector<PassOption> LevelsPass::options() const {
     o.push_back(flagOption("cull-solids",
                            "bilevel/adaptive with sh2: leave out nodes whose every cell lies inside a closed solid "
                            "(docs/format.md, Levels); queries there return 0",
-                           &BakeRequest::cullSolids, "--cull-solids needs --layout bilevel or adaptive and --basis sh2"));
+                           "--cull-solids needs --layout bilevel or adaptive and --basis sh2"));
     o.push_back(depthMomentsOption());
     o.push_back(depthRaysOption());
     o.push_back(shWindowOption());
@@ -71,15 +72,17 @@ void LevelsPass::validate(const BakeRequest& request) const {
 std::size_t LevelsPass::bytesPerNode(const BakeRequest&) const { return 2 * sh::kCoeffs * 3 * sizeof(float); }
 
 std::string LevelsPass::untileable(const BakeRequest& r) const {
-    if (r.shWindow) return "--sh-window cannot be tiled yet (the window would have to follow the seams at merge)";
+    if (r.params.get<bool>("sh-window"))
+        return "--sh-window cannot be tiled yet (the window would have to follow the seams at merge)";
     return "";
 }
 
 Volume LevelsPass::run(const BakeContext& c, const BakeRequest& r, const GridSpec& grid, BakeReport& report) const {
+    const bool cullSolids = r.params.get<bool>("cull-solids");
     LevelsPlacement placement = levelsPlacement(r);
-    placement.keepFinestGeometry = r.cullSolids;
+    placement.keepFinestGeometry = cullSolids;
     LevelLayout layout = placeLevels(grid, c.scene.positions, c.scene.indices, placement, bytesPerNode(r));
-    if (r.cullSolids) {
+    if (cullSolids) {
         SolidCullStats cull;
         cullSolidNodes(layout, c.tracer, SolidCullOptions(), &cull);
         report.cull = cull;
@@ -107,7 +110,10 @@ std::string LevelsPass::summaryLead(const BakeSummaryInput& in) const {
             << " nodes (" << report.stats.seamNodes << " seam nodes set from the coarser level) vs "
             << l.denseEquivalentNodes << " in a dense grid at the finest spacing ("
             << 100.0 * (1.0 - double(l.nodes) / l.denseEquivalentNodes) << " % saved"
-            << (r.cullSolids ? ", " + std::to_string(l.culledNodes) + " of them culled inside solids" : "") << ").\n";
+            << (r.params.get<bool>("cull-solids")
+                    ? ", " + std::to_string(l.culledNodes) + " of them culled inside solids"
+                    : "")
+            << ").\n";
     }
     return out.str();
 }

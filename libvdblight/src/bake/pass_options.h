@@ -1,4 +1,4 @@
-// Declaring a pass's options (PassOption, pass.h) in one line each: the BakeRequest field,
+// Declaring a pass's options (PassOption, bake/bake.h) in one line each: the name and type,
 // its range or words, and the refusal when another pass is given it. (Internal to the bake
 // module; the passes' files use it.)
 #pragma once
@@ -18,44 +18,31 @@ namespace vdblight::bake_detail {
 
 constexpr double kNoMax = std::numeric_limits<double>::infinity();
 
-/// `text` as a number of type T for option `name` (ValueError: one line naming the option).
+/// `text` as a number for option `name` (ValueError: one line naming the option).
 double parseOptionNumber(const std::string& name, const std::string& text, bool integer);
+bool isWholeNumber(double v);
 
-template <typename T>
-T parseOptionValue(const std::string& name, const std::string& text) {
-    const double v = parseOptionNumber(name, text, std::is_integral_v<T>);
-    if (std::is_unsigned_v<T> && v < 0)
-        throw ValueError("--" + name + " must not be negative, got " + text);
-    return T(v);
-}
-
-/// An option's description (name, help, default, range, refusal elsewhere), without the
-/// functions that reach its BakeRequest field yet.
+/// An option's description (name, help, default, range, refusal elsewhere).
 PassOption describeOption(std::string name, std::string help, std::string defaultValue, double min, double max,
                           std::string needs = {}, std::string range = {});
 
-/// A number held in a std::optional field of BakeRequest (given = set).
+/// A number of type T (whole for integer types, not negative for unsigned ones).
 template <typename T>
 PassOption numberOption(std::string name, std::string help, std::string defaultValue, double min, double max,
-                        std::optional<T> BakeRequest::*field, std::string needs = {}, std::string range = {}) {
+                        std::string needs = {}, std::string range = {}) {
     PassOption o = describeOption(std::move(name), std::move(help), std::move(defaultValue), min, max, std::move(needs),
                                   std::move(range));
-    o.number = [field](const BakeRequest& r) -> std::optional<double> {
-        if (!(r.*field)) return std::nullopt;
-        return double(*(r.*field));
-    };
-    o.setNumber = [field](BakeRequest& r, double v) { r.*field = T(v); };
-    o.setText = [field, n = o.name](BakeRequest& r, const std::string& text) { r.*field = parseOptionValue<T>(n, text); };
+    o.integer = std::is_integral_v<T>;
+    o.nonNegative = std::is_unsigned_v<T>;
     return o;
 }
 
-/// An on/off flag (given = on).
-PassOption flagOption(std::string name, std::string help, bool BakeRequest::*field, std::string needs = {});
-PassOption flagOption(std::string name, std::string help, std::optional<bool> BakeRequest::*field, std::string needs = {});
+/// An on/off flag, off by default (given = on).
+PassOption flagOption(std::string name, std::string help, std::string needs = {});
 
-/// A word among `choices` held in a string field (given = non-empty).
+/// A word among `choices` (given = set).
 PassOption wordOption(std::string name, std::string help, std::string defaultValue, std::vector<std::string> choices,
-                      std::string BakeRequest::*field, std::string needs = {});
+                      std::string needs = {});
 
 /// The declared options every pass that gathers SH or bins at nodes shares.
 PassOption raysOption(const std::string& help);
@@ -83,11 +70,17 @@ std::string joinChoices(const std::vector<std::string>& words);
 /// gives V, else "V1 with --quality preview, V2 with default, V3 with high". The help of the
 /// presets' options comes from here, so that it cannot drift from the code (issue 29).
 std::string presetValues(const std::function<std::string(const BakeRequest&)>& field, const std::string& method = "gather");
+/// presetValues of a number option ("1024 with --quality preview, ...").
+std::string presetNumbers(const std::string& option, const std::string& method = "gather");
 
 /// The tile selection of a context as a function of the levels (null without tiles).
 inline const NodeMask* selectTile(const BakeContext& c, const std::vector<LevelTopology>& levels) {
     return c.selectTile ? c.selectTile(levels) : nullptr;
 }
+
+/// Whether the option is given in a way another pass refuses: a number (but a zeroIsUnset
+/// option's 0), a flag switched on, a word.
+bool givenToRefuse(const PassOption& option, const PassParameters& params);
 
 /// The point gather's options from a resolved request (bake.h): shared by gather and levels.
 GatherOptions gatherOptions(const BakeContext& c, const BakeRequest& r);

@@ -35,26 +35,19 @@ public:
 }  // namespace
 
 std::vector<PassOption> PhotonsPass::options() const {
-    PassOption photons = describeOption(
-        "photons", "photons emitted in total",
-        presetValues([](const BakeRequest& r) { return std::to_string(*r.photons); }, "photons"), 1, double(kMaxPhotons));
-    photons.number = [](const BakeRequest& r) -> std::optional<double> {
-        return r.photons ? std::optional<double>(double(*r.photons)) : std::nullopt;
-    };
-    photons.setNumber = [](BakeRequest& r, double v) { r.photons = uint64_t(v); };
-    photons.setText = [](BakeRequest& r, const std::string& text) {
-        r.photons = parseOptionValue<uint64_t>("photons", text);
-    };
+    const PassOption photons = numberOption<uint64_t>("photons", "photons emitted in total",
+                                                      presetNumbers("photons", "photons"), 1, double(kMaxPhotons));
     return {photons, flagOption("compact",
                                 "write the compact colour + direction form (Pacanowski et al. 4.2; 12 half-float "
                                 "grids) instead of the 18 full grids",
-                                &BakeRequest::compact, "--compact applies to --method photons only"),
+                                "--compact applies to --method photons only"),
             depthMomentsOption(), depthRaysOption()};
 }
 
 void PhotonsPass::validate(const BakeRequest& request) const {
     try {
-        if (request.photons) checkPhotonCount(*request.photons);  // its message says how long too many would take
+        // Its message says how long too many would take.
+        if (const std::optional<uint64_t> photons = request.params.find<uint64_t>("photons")) checkPhotonCount(*photons);
     } catch (const ValueError& e) {
         throw ValueError(std::string("--photons: ") + e.what());
     }
@@ -76,7 +69,7 @@ std::string PhotonsPass::untileable(const BakeRequest&) const {
 
 Volume PhotonsPass::run(const BakeContext& c, const BakeRequest& r, const GridSpec& grid, BakeReport& report) const {
     PhotonOptions options;
-    options.photons = *r.photons;  // resolveBakeRequest sets the default
+    options.photons = r.params.get<uint64_t>("photons");  // resolveBakeRequest sets the default
     options.seed = c.seed;
     options.threads = c.threads;
     options.transport = c.transport;
@@ -101,7 +94,7 @@ Volume PhotonsPass::run(const BakeContext& c, const BakeRequest& r, const GridSp
 }
 
 void PhotonsPass::finish(Volume& volume, WriteOptions& write, const BakeRequest& r) const {
-    if (!r.compact || r.tiles) return;  // a tile holds sums: the merge makes the compact form
+    if (!r.params.get<bool>("compact") || r.tiles) return;  // a tile holds sums: the merge makes the compact form
     volume = iv::compact(volume);
     write.halfFloat = true;
 }
@@ -115,7 +108,7 @@ std::string PhotonsPass::summary(const BakeSummaryInput& in) const {
         const PhotonSums& sums = *report.photonSums;
         out << "Baked tile " << *in.request.tile << " of " << *in.request.tiles << ": photon batches " << sums.firstBatch
             << ".." << sums.endBatch - 1 << " of " << sums.batches << " (" << formatCount(double(stats.photons)) << " of "
-            << formatCount(double(report.resolved.photons.value_or(0))) << " photons), "
+            << formatCount(double(report.resolved.params.find<uint64_t>("photons").value_or(0))) << " photons), "
             << formatCount(double(stats.rays.total())) << " rays in " << formatSeconds(stats.seconds)
             << (report.depth ? "; depth moments of its share of the nodes, " + formatCount(double(report.depth->rays)) +
                                    " first-hit rays in " + formatSeconds(report.depth->seconds)
@@ -133,8 +126,9 @@ std::string PhotonsPass::summary(const BakeSummaryInput& in) const {
         << " face crossings, " << formatCount(double(stats.rays.total())) << " rays in " << formatSeconds(stats.seconds)
         << " (" << formatCount(stats.seconds > 0 ? double(stats.photons) / stats.seconds : 0.0)
         << " photons/s). Wrote " << in.output
-        << (report.resolved.compact ? " (compact irradiance vectors: colour + direction, 12 half-float Vec3 grids).\n"
-                                    : " (irradiance vectors, 18 Vec3f grids).\n");
+        << (report.resolved.params.get<bool>("compact")
+                ? " (compact irradiance vectors: colour + direction, 12 half-float Vec3 grids).\n"
+                : " (irradiance vectors, 18 Vec3f grids).\n");
     if (report.depth)  // the default's (--no-depth-moments: none)
         out << "Depth moments: " << formatCount(double(report.depth->rays)) << " first-hit rays in "
             << formatSeconds(report.depth->seconds) << " (" << depth::kBytesPerNode << " B per node at 8 bits).\n";

@@ -126,6 +126,9 @@ Volume compactShRoundTrip(const Volume& volume, ExportLayout layout, bool halfFl
             for (int j = 0; j < 9; ++j) d[3 * j] = L[j].x, d[3 * j + 1] = L[j].y, d[3 * j + 2] = L[j].z;
         }
         for (float& v : level.lightVisibility) v = float(unorm8(v)) / 255.0f;
+        // The shadow edges' distance and width go in the lighting format (signed, in cells).
+        if (first == TexelFormat::Float16)
+            for (float& e : level.lightShadowEdges) e = float(Imath::half(e));
     }
     return out;
 }

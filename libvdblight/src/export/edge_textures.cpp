@@ -9,11 +9,12 @@
 
 namespace vdblight::exporter {
 
-std::vector<TextureDesc> edgeTextureDescs(const DirectLightSet& direct) {
+std::vector<TextureDesc> edgeTextureDescs(const DirectLightSet& direct, bool withRamp) {
     std::vector<TextureDesc> out;
     if (!direct.hasVisibility()) return out;
     const std::size_t n = direct.lights.size();
-    for (const char* part : {"distance", "width", "ramp"})
+    for (const char* part : {"distance", "width", "ramp"}) {
+        if (!withRamp && std::string(part) == "ramp") continue;
         for (std::size_t first = 0; first < n; first += 4) {
             const std::size_t last = std::min(n, first + 4) - 1;
             TextureDesc d;
@@ -22,10 +23,11 @@ std::vector<TextureDesc> edgeTextureDescs(const DirectLightSet& direct) {
                 d.components[c] = first + c <= last ? std::string("edge ") + part + " of light " + std::to_string(first + c) : "0";
             out.push_back(d);
         }
+    }
     return out;
 }
 
-std::vector<std::vector<float>> edgeTextures(const Volume& volume, const TextureLattice& lattice) {
+std::vector<std::vector<float>> edgeTextures(const Volume& volume, const TextureLattice& lattice, bool withRamp) {
     if (volume.levels.size() != 1 || volume.levels[0].lightShadowEdges.empty()) return {};
     // As the depth textures: the edges belong to the nodes (distances in cells), so only a
     // lattice that is the nodes carries them.
@@ -36,14 +38,14 @@ std::vector<std::vector<float>> edgeTextures(const Volume& volume, const Texture
     for (int a = 0; a < 3; ++a)
         if (std::fabs(lattice.lo[a] - g.origin[a]) > tol) return {};
     const std::size_t lights = volume.direct.lights.size(), groups = (lights + 3) / 4;
-    std::vector<std::vector<float>> out(3 * groups, std::vector<float>(g.nodeCount() * 4, 0.0f));
+    std::vector<std::vector<float>> out((withRamp ? 3 : 2) * groups, std::vector<float>(g.nodeCount() * 4, 0.0f));
     for (std::size_t n = 0; n < g.nodeCount(); ++n)
         for (std::size_t l = 0; l < lights; ++l) {
             const float* e = &level.lightShadowEdges[(n * lights + l) * shadow_edge::kFloatsPerLight];
             const std::size_t texel = n * 4 + l % 4;
             out[l / 4][texel] = e[0];
             out[groups + l / 4][texel] = e[1];
-            out[2 * groups + l / 4][texel] = shadow_edge::ramp(e[0], e[1]);
+            if (withRamp) out[2 * groups + l / 4][texel] = shadow_edge::ramp(e[0], e[1]);
         }
     return out;
 }

@@ -178,11 +178,14 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
     // against 24 in half); the EXR atlas has no 8-bit type and keeps half or float (half
     // rounds k/255 by up to 2^-12).
     // Shadow edges (shadow_edges.h) when the texels are the nodes, in the lighting format
-    // (distances are signed), before the depth textures (the manifest reads those last).
-    std::vector<std::vector<float>> edges = edgeTextures(volume, lattice);
+    // (distances are signed), before the depth textures (the manifest reads those last). The
+    // engine-size layouts' shaders fetch the eight corner texels anyway, so they compute each
+    // corner's ramp from its d and w: no ramp texture there (8 B per probe less in half).
+    const bool withRamp = !isCompactSh(o.layout);
+    std::vector<std::vector<float>> edges = edgeTextures(volume, lattice, withRamp);
     std::vector<std::string> edgeNames;
     if (!edges.empty()) {
-        for (TextureDesc& d : edgeTextureDescs(volume.direct)) {
+        for (TextureDesc& d : edgeTextureDescs(volume.direct, withRamp)) {
             edgeNames.push_back(d.name);
             descs.push_back(std::move(d));
         }

@@ -15,8 +15,8 @@ namespace vdblight {
 /// `volume` (real SH of order 2 or more) cut to SH order 2, with every node's coefficients
 /// replaced by what its texel of `layout` decodes to: L0 rounded to half (float with
 /// halfFloat false), the higher bands to UNORM8 after division by L0 (band 2 zero for
-/// sh1-16), and the light visibility of --direct occlusion to 8 bits. Depth moments are kept
-/// (the depth textures hold them exactly). For a uniform volume exported at its nodes (no
+/// sh1-16), the light visibility of --direct occlusion to 8 bits and its shadow edges to half
+/// (with halfFloat). Depth moments are kept (the depth textures hold them exactly). For a uniform volume exported at its nodes (no
 /// --resolution) the nodes are the texels, so IrradianceQuery on the result is what the
 /// exported textures give through docs/engines.md's shader, to float rounding.
 /// Throws FormatError for another layout or a volume without real SH of order >= 2.

@@ -154,9 +154,11 @@ std::vector<std::vector<float>> sampleVisibility(const IrradianceQuery& query, c
 /// light_edge_distance_, light_edge_width_ and light_edge_ramp_<first>_<last> (the last: the
 /// ramp of the node's own edge, which a shader subtracts from the visibility texture to get
 /// the residual; docs/shadow_visibility.md), in that order. edgeTextures is empty unless the
-/// lattice is exactly the nodes of a single-level volume with shadow edges.
-std::vector<TextureDesc> edgeTextureDescs(const DirectLightSet& direct);
-std::vector<std::vector<float>> edgeTextures(const Volume& volume, const TextureLattice& lattice);
+/// lattice is exactly the nodes of a single-level volume with shadow edges. Without withRamp
+/// (the engine-size layouts, whose shaders fetch the corner texels and compute each corner's
+/// ramp from its d and w) the ramp textures are left out.
+std::vector<TextureDesc> edgeTextureDescs(const DirectLightSet& direct, bool withRamp);
+std::vector<std::vector<float>> edgeTextures(const Volume& volume, const TextureLattice& lattice, bool withRamp);
 /// The three depth textures: per texel point (a node) and axis a, RGBA = (mean of the +a
 /// face, mean of the -a face, sigma of +a, sigma of -a), in cells. Empty if the lattice is
 /// not exactly the nodes of a single-level volume with depth moments.

@@ -2,6 +2,7 @@
 // (docs/engines.md explains each field). Built as a JSON object (nlohmann-json3-dev) whose
 // keys keep the order they are added in, so that the file reads top-down as the docs do:
 // the lattice, the formula and its constants, the layout's own objects, the textures.
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
@@ -211,13 +212,23 @@ Json directJson(const DirectLightSet& d, const std::vector<std::string>& visibil
                            "light_visibility texture sampled like the others (docs/engines.md)";
             break;
     }
-    if (!edges.empty())  // shadow_edges.h, docs/shadow_visibility.md
+    // shadow_edges.h, docs/shadow_visibility.md. The engine-size layouts export no ramp
+    // textures: their lookup fetches the corners and computes each corner's ramp.
+    const bool rampTextures =
+        std::any_of(edges.begin(), edges.end(), [](const std::string& e) { return e.rfind("light_edge_ramp_", 0) == 0; });
+    if (!edges.empty())
         j["shadow_edges"] = {{"textures", edges},
                              {"units", "cells (texel_spacing)"},
                              {"min_width", shortestFloat(shadow_edge::kMinWidth)},
-                             {"lookup", "sample distance d, width w, ramp r and visibility v of the light like the other "
-                                        "textures; visibility = clamp(clamp(0.5 + d / max(w, min_width), 0, 1) + v - r, 0, 1) "
-                                        "(docs/shadow_visibility.md)"}};
+                             {"lookup", rampTextures
+                                            ? "sample distance d, width w, ramp r and visibility v of the light like the other "
+                                              "textures; visibility = clamp(clamp(0.5 + d / max(w, min_width), 0, 1) + v - r, "
+                                              "0, 1) (docs/shadow_visibility.md)"
+                                            : "fetch distance d_c, width w_c and visibility v_c of the light at the 8 corner "
+                                              "texels and blend them with the corners' normalised weights wt_c (trilinear, or "
+                                              "the depth weights); with ramp(d, w) = clamp(0.5 + d / max(w, min_width), 0, 1): "
+                                              "visibility = clamp(ramp(sum wt_c d_c, sum wt_c w_c) + sum wt_c (v_c - "
+                                              "ramp(d_c, w_c)), 0, 1) (docs/engine_visibility.md)"}};
     Json lights = Json::array();
     for (std::size_t i = 0; i < d.lights.size(); ++i) {
         Json light = lightJson(d.lights[i]);

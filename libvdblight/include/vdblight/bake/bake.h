@@ -7,7 +7,7 @@
 //
 // A pass
 //  - declares the options it takes (PassOption: name, meaning, default, accepted range or
-//    words), which BakeRequest fields they are;
+//    words) and reads them from the request's PassParameters;
 //  - validates a request (typed exceptions with one-line messages, before anything is
 //    loaded or allocated);
 //  - estimates the bytes per node it needs, which the grid placement uses to refuse a bake
@@ -22,9 +22,13 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 #include "vdblight/bake/each_pass.h"
@@ -44,32 +48,113 @@ struct BakeRequest;
 struct BakeReport;
 struct BakeSummaryInput;
 
-/// One option of a pass: a BakeRequest field, named as on the command line (`--name`).
+/// One option of a pass, named as on the command line (`--name`): its value lives in the
+/// request's PassParameters under that name.
 struct PassOption {
+    enum class Kind { Number, Word, Flag };
     std::string name;          ///< "rays": `vdblight bake --rays`
     std::string help;          ///< what it means, one sentence
-    std::string defaultValue;  ///< the default, as text ("256", "interior", "off")
+    /// The default, as text ("256", "interior", "off"). A number, one of the words or a flag's
+    /// "off" is also the value PassParameters::get answers when the option is not given; other
+    /// text ("the --quality preset's") is a default resolveBakeRequest fills in.
+    std::string defaultValue;
     /// Numbers: the accepted range [min, max] (minExclusive: (min, max]); checked by
     /// Pass::validate with the message "--name must be <range>, got <value>".
     double min = 0, max = 0;
     bool minExclusive = false;
     std::string range;  ///< the range in words ("at least 2"); empty: "between min and max"
+    bool integer = false;      ///< numbers: whole numbers only
+    bool nonNegative = false;  ///< numbers: text with a minus sign is refused as it is read
+    /// Numbers: 0 is what passes without the option do (--probe-passes 0), so 0 counts as
+    /// not given: another pass does not refuse it.
+    bool zeroIsUnset = false;
     /// Words: the accepted values (empty for numbers and flags).
     std::vector<std::string> choices;
-    /// The request's value if it was given (nullopt: the pass's default). Numbers and flags
-    /// set `number` (flags: 1 when on), words `word`.
-    std::function<std::optional<double>(const BakeRequest&)> number;
-    std::function<std::optional<std::string>(const BakeRequest&)> word;
-    /// Sets the option in a request (numbers and flags), for tests and generic callers.
-    std::function<void(BakeRequest&, double)> setNumber;
-    /// Sets the option from its text, as a command line gives it (numbers: ValueError naming
-    /// the option for text that is not one; words as given; flags: "true" / "false").
-    std::function<void(BakeRequest&, const std::string&)> setText;
     bool flag = false;       ///< an on/off switch (`--name`)
     bool negatable = false;  ///< a flag that may also be switched off (`--no-name`): its default is not "off"
     /// The one-line refusal when the option is given to a pass that does not declare it
     /// ("--fit needs --sampling antialiased"); empty: other passes ignore it.
     std::string needs;
+
+    Kind kind() const { return flag ? Kind::Flag : choices.empty() ? Kind::Number : Kind::Word; }
+};
+
+/// A pass option's value as given: a number, a flag or a word.
+using PassValue = std::variant<double, bool, std::string>;
+
+/// The options of the passes in a request, by name (pbrt-v4's ParameterDictionary, Mitsuba's
+/// Properties): the request carries them, and each pass reads those it declares
+/// (Pass::options) into its own options struct, so that a new pass needs no new field here.
+///
+///   request.params.set("rays", 64).set("domain", "all").set("compact", true);
+///   const uint32_t rays = request.params.get<uint32_t>("rays");
+///
+/// Names and kinds are checked against the passes' declarations (passOptionTable): a name no
+/// pass declares, or a value of another kind (a word for a number), is a ValueError.
+class PassParameters {
+public:
+    /// Numbers (any arithmetic type but bool).
+    template <typename T, std::enable_if_t<std::is_arithmetic_v<T> && !std::is_same_v<T, bool>, int> = 0>
+    PassParameters& set(const std::string& name, T value) {
+        return setValue(name, double(value));
+    }
+    PassParameters& set(const std::string& name, bool on) { return setValue(name, on); }
+    PassParameters& set(const std::string& name, std::string word) { return setValue(name, std::move(word)); }
+    PassParameters& set(const std::string& name, const char* word) { return setValue(name, std::string(word)); }
+    /// As a command line gives it: numbers parsed (ValueError naming the option for text that
+    /// is not one), words as given, flags "true" / "false". An empty word unsets the option.
+    PassParameters& setText(const std::string& name, const std::string& text);
+    PassParameters& unset(const std::string& name);
+    /// Set (given, or filled in by resolveBakeRequest).
+    bool has(const std::string& name) const { return values_.count(name) > 0; }
+
+    /// The value as set, else the declared default (PassOption::defaultValue); T an arithmetic
+    /// type for numbers, bool for flags, std::string for words. ValueError for an unknown name,
+    /// another kind, or an option with neither a value nor a default of its own (one that
+    /// resolveBakeRequest fills in, asked of a request that was not resolved).
+    template <typename T>
+    T get(const std::string& name) const {
+        return convert<T>(name, *lookup(name, kindOf<T>(), true));  // with a default: never empty
+    }
+    /// The value as set, or nullopt (no default); the same checks of the name and kind.
+    template <typename T>
+    std::optional<T> find(const std::string& name) const {
+        const std::optional<PassValue> v = lookup(name, kindOf<T>(), false);
+        return v ? std::optional<T>(convert<T>(name, *v)) : std::nullopt;
+    }
+
+    /// For the presets only (resolveBakeRequest), which run while the declarations are being
+    /// built (their help quotes the presets): the value as set (null if not) and setting one,
+    /// without looking at the declarations.
+    const PassValue* value(const std::string& name) const;
+    void preset(const std::string& name, PassValue value) { values_[name] = std::move(value); }
+
+private:
+    template <typename T>
+    static PassOption::Kind kindOf() {
+        if constexpr (std::is_same_v<T, bool>) return PassOption::Kind::Flag;
+        else if constexpr (std::is_same_v<T, std::string>) return PassOption::Kind::Word;
+        else return PassOption::Kind::Number;
+    }
+    /// A number as T; ValueError for one T cannot hold (-4 asked for as uint32_t: Pass::validate
+    /// refuses it first where the range is declared).
+    template <typename T>
+    static T convert(const std::string& name, const PassValue& v) {
+        if constexpr (std::is_same_v<T, bool> || std::is_same_v<T, std::string>) {
+            return std::get<T>(v);
+        } else {
+            const double number = std::get<double>(v);
+            if (std::is_integral_v<T> && !(number >= double(std::numeric_limits<T>::lowest()) &&
+                                           number <= double(std::numeric_limits<T>::max())))
+                outOfRange(name, number);
+            return T(number);
+        }
+    }
+    [[noreturn]] static void outOfRange(const std::string& name, double value);
+    PassParameters& setValue(const std::string& name, PassValue value);
+    std::optional<PassValue> lookup(const std::string& name, PassOption::Kind kind, bool withDefault) const;
+
+    std::map<std::string, PassValue> values_;
 };
 
 /// What every pass runs on. Built once per bake by bakeVolume.
@@ -169,6 +254,7 @@ std::vector<PassOptionEntry> passOptionTable();
 //   BakeRequest request;              // the defaults of `vdblight bake`
 //   request.resolution = 16;
 //   request.quality = "preview";
+//   request.params.set("rays", 64);   // a pass's own option, named as on the command line
 //   bakeToFile(scene, request, "room.vdb");
 
 namespace vdblight {
@@ -196,42 +282,24 @@ struct BakeRequest {
     int threads = 0;  ///< 0 = all hardware threads
     TransportOptions transport;
 
-    // Where the nodes go (layout/layout.h, layout/layout.h).
+    // Where the nodes go (layout/layout.h); the bilevel/adaptive levels are the options of the
+    // passes that place them (params: refine, levels, refine-distance).
     std::optional<double> spacing;     ///< distance between nodes
     std::optional<int> resolution;     ///< nodes along the longest axis (default 16)
     std::optional<uint64_t> nodes;     ///< about this many nodes by volume (the preset's)
     std::optional<Bounds> bounds;      ///< node box in world coordinates (default: inset scene box)
-    std::optional<int> refine;         ///< bilevel/adaptive: K (default 3)
-    std::optional<int> levels;         ///< adaptive: levels (default 3)
-    std::optional<double> refineDistance;  ///< bilevel/adaptive: refine within this distance
-    bool cullSolids = false;           ///< bilevel/adaptive with sh2 (bake/each_pass.h)
 
-    // Pass options (declared by the passes: Pass::options()).
-    std::optional<uint32_t> rays;          ///< rays per node and pass (antialiased: per cell)
-    std::optional<double> targetError;     ///< error-targeted gather (bake/each_pass.h)
-    std::optional<uint32_t> minRays, maxRays;
-    std::optional<int> probePasses;        ///< probe-to-probe passes (GatherOptions)
-    std::string probeCache;                ///< nodes | surface (GatherOptions::surfaceProbeCache); unset:
-                                           ///< surface with exactly one probe pass, nodes otherwise
-    /// Passes of the filter across nodes after the point gather (node_filter.h, weighted by the
-    /// depth moments and the nodes' error estimates; GatherOptions::nodeFilterPasses); unset:
-    /// the preset's (1 with --quality preview, 0 otherwise).
-    std::optional<int> nodeFilter;
-    std::optional<double> invalidateBackface;  ///< point gather with back-face invalidation
-    std::string domain;                    ///< antialiased: all | interior (default)
-    std::string fit;                       ///< antialiased: projection (default) | least-squares
-    std::optional<uint64_t> photons;       ///< photons: emitted in total (default 4 M; --quality preview 1 M)
-    bool compact = false;                  ///< photons: the compact colour + direction form
-    bool shWindow = false;                 ///< SH passes: window the bands (sh_window.h)
+    /// The passes' own options (Pass::options), by name as on the command line:
+    /// `params.set("rays", 64)`. Unset: the pass's default or the --quality preset's.
+    PassParameters params;
 
-    // Shared features the passes take or refuse (Pass::takes*).
+    // Direct light out of the basis, a step of bakeVolume around every pass (the passes that
+    // take it: Pass::takesDirectLight; the others bake it into the basis).
     /// baked | runtime | occlusion (bake/each_pass.h); empty: occlusion where the pass takes
     /// direct light and the scene has lights, baked otherwise.
     std::string direct;
     int directLights = 4;                  ///< occlusion: lights with a visibility channel
     bool shadowEdges = true;               ///< occlusion: their shadow edges too (DirectOptions::shadowEdges)
-    std::optional<bool> depthMoments;      ///< default: the preset's
-    std::optional<uint32_t> depthRays;     ///< default: as many as the rays
 
     // The file.
     bool halfFloat = false;
