@@ -21,7 +21,7 @@ SECONDS=0
 "$ROOT/scripts/setup.sh"
 stage_done setup+build
 # Quick smoke runs of every benchmark (the figures are noisy; full runs: drop --quick).
-for bench in vdblight_bench vdblight_bench_photons vdblight_bench_antialiased vdblight_bench_layouts vdblight_bench_bins vdblight_bench_prt vdblight_bench_converge vdblight_bench_error vdblight_bench_bake_speed vdblight_bench_prt_scale vdblight_bench_accuracy; do
+for bench in vdblight_bench vdblight_bench_photons vdblight_bench_antialiased vdblight_bench_layouts vdblight_bench_bins vdblight_bench_prt vdblight_bench_converge vdblight_bench_error vdblight_bench_bake_speed vdblight_bench_prt_scale vdblight_bench_accuracy vdblight_bench_shadow_edges; do
   "$ROOT/build/bin/$bench" --quick
 done
 stage_done benchmarks
