@@ -254,6 +254,7 @@ TrySpec parseTry(const std::string& spec) {
         else if (k == "cache") t.surfaceCache = v == "surface";
         else if (k == "filter") t.filter = std::stoi(v);
         else if (k == "bilateral") t.filterByNoise = v == "1";
+        else if (k == "guide") t.guide = v == "1";
         else throw ValueError("--try: unknown key '" + k + "'");
     }
     return t;
@@ -286,6 +287,7 @@ std::string describeTry(const TrySpec& t) {
     if (t.depth) s += ", depth moments";
     if (t.surfaceCache) s += ", surface probe cache";
     if (t.filter) s += ", node filter x" + std::to_string(t.filter) + (t.filterByNoise ? " (bilateral)" : "");
+    if (t.guide) s += ", guided probe directions";
     return s + ", basis " + t.basis;
 }
 
@@ -338,6 +340,7 @@ Volume tryVolume(const Ctx& c, const TrySpec& t, std::string& note, std::vector<
         g.surfaceProbeCache = t.surfaceCache;
         g.nodeFilterPasses = t.filter;
         g.nodeFilterByNoise = t.filterByNoise;
+        g.guideProbeDirections = t.guide;
         if (t.basis != "sh2") g.basis = makeBasis(t.basis);
         v = bakeShGather(c.scene, c.tracer, grid, g);
     }

@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <memory>
+#include <optional>
 #include <vector>
 
+#include "direction_guide.h"
 #include "project_incident.h"
 #include "pass_metadata.h"
 #include "probe_passes.h"
@@ -71,6 +73,12 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
         const auto from = in.begin() + std::ptrdiff_t(level.windowFirst * depth::kFloatsPerNode);
         level.depth.assign(from, from + std::ptrdiff_t(held * depth::kFloatsPerNode));
     }
+    // Guided probe directions (direction_guide.h): pass 0's luminance per direction cell.
+    using bake_detail::DirectionGuide;
+    const bool guided = options.guideProbeDirections && options.probePasses > 0;
+    if (guided && options.stage >= 0) throw ValueError("guided probe directions need every pass in one bake (not staged)");
+    std::vector<float> guideSums(guided ? held * DirectionGuide::kCells : 0, 0.0f);
+    std::vector<uint32_t> guideCounts(guideSums.size(), 0);
     std::unique_ptr<bake_detail::SurfaceBins> bins;
     if (options.surfaceProbeCache) {
         if (options.probePasses != 1) throw ValueError("the surface probe cache needs exactly one probe pass");
@@ -86,6 +94,7 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
         estimator, tracer, grid, options.seed, options.probePasses, range,
         range.first > 0 ? options.stageInput->levels[0].data.data() : nullptr, reflected,
         [&](const bake_detail::ProbePass& pass) {
+            if (guided && pass.index == 1) bake_detail::poolGuideSums(grid, DirectionGuide::kPoolRadius, guideSums, guideCounts);
             return bake_detail::forEachItemInParallel(
                 options.only ? selected.size() : nodes, options.threads, interrupter, [&](std::size_t item, RayCount& count) {
                     const std::size_t n = options.only ? selected[item] : item;
@@ -99,8 +108,20 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
                     const bool recordDepth = options.depthMoments && pass.index == 0;
                     if (recordDepth) sampler.recordDepth(&depthAcc, grid.spacing);
                     if (bins && pass.index == 0) sampler.recordSurface(bins.get());
+                    const bool guidedPass = guided && pass.index > 0;
+                    float density[DirectionGuide::kCells];
+                    std::optional<DirectionGuide> guide;
+                    if (guided && pass.index == 0) {
+                        sampler.recordGuide(&guideSums[h * DirectionGuide::kCells], &guideCounts[h * DirectionGuide::kCells]);
+                    } else if (guidedPass) {
+                        DirectionGuide::build(&guideSums[h * DirectionGuide::kCells], &guideCounts[h * DirectionGuide::kCells],
+                                              DirectionGuide::kUniformShare, density);
+                        guide.emplace(density);
+                        sampler.guideDirections(&*guide);
+                    }
                     uint32_t backFaces = 0;
-                    const bool classify = options.depthMoments;
+                    // A guided pass's back-face count is not a uniform fraction: pass 0's stays.
+                    const bool classify = options.depthMoments && !guidedPass;
                     sampler.addSamples(0, options.raysPerNode, count, classify ? &tracer : nullptr,
                                        classify ? &backFaces : nullptr);
                     sampler.coefficients(coeffs, count);
@@ -135,6 +156,9 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     }
     filterNodes(volume, options.nodeFilterPasses, options.nodeFilterByNoise ? &error : nullptr);
     if (options.nodeFilterPasses > 0) m.count("node_filter_passes", options.nodeFilterPasses);
+    if (guided)
+        m.text("probe_directions", "guided: drawn from pass 0's luminance per direction cell, pooled over the nodes within " +
+                                       std::to_string(DirectionGuide::kPoolRadius) + " steps, half uniform (direction_guide.h)");
     m.method("gather", "point")
         .count("rays_per_node", options.raysPerNode)
         .text("direction_sampling", "scrambled Sobol (0,2) uniform sphere + NEE on emissive triangles; punctual lights exact")
