@@ -277,6 +277,7 @@ TrySpec presetTry(const std::string& quality) {
     t.surfaceCache = r.probeCache == "surface";
     t.filter = *r.nodeFilter;
     t.filterByNoise = true;  // what the gather pass asks for (pass_options.cpp)
+    t.guide = r.guideProbeDirections.value_or(false);
     return t;
 }
 

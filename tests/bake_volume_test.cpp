@@ -134,6 +134,7 @@ TEST(BakeVolume, PresetsResolveAsTheCommandLineDocumentsThem) {
     EXPECT_EQ(d.basis, "sh:4");
     EXPECT_EQ(d.pass, "gather");
     EXPECT_EQ(*d.nodeFilter, 0);
+    EXPECT_FALSE(*d.guideProbeDirections);
     // Issue 32: the preview is the default's method on fewer nodes and rays, filtered across nodes.
     r.quality = "preview";
     d = resolveBakeRequest(r);
@@ -145,6 +146,10 @@ TEST(BakeVolume, PresetsResolveAsTheCommandLineDocumentsThem) {
     EXPECT_EQ(d.probeCache, "surface");
     EXPECT_EQ(*d.nodeFilter, 1);
     EXPECT_EQ(d.pass, "gather");
+    EXPECT_TRUE(*d.guideProbeDirections);  // its probe pass's directions from pass 0's map (direction_guide.h)
+    r.tiles = 2;  // a tile's probe pass runs in a stage of its own, without that map
+    EXPECT_FALSE(*resolveBakeRequest(r).guideProbeDirections);
+    r.tiles.reset();
     r.targetError = 0.05;  // the adaptive pass has no node filter
     EXPECT_EQ(*resolveBakeRequest(r).nodeFilter, 0);
     r.targetError.reset();

@@ -58,9 +58,10 @@ struct QualityPreset {
     const char* basis;   ///< what the point gather stores when --basis is not given
     int nodeFilter;      ///< passes of the filter across nodes (point gather)
     bool photonGrid;     ///< the photon pass takes the preset's grid and depth moments
+    bool guideProbeDirections = false;  ///< the probe pass's directions from pass 0's map (direction_guide.h)
 };
 QualityPreset qualityPreset(const std::string& quality) {
-    if (quality == "preview") return {1, kPreviewNodes, kPreviewRays, true, 1'000'000, kDefaultBasis, 1, false};
+    if (quality == "preview") return {1, kPreviewNodes, kPreviewRays, true, 1'000'000, kDefaultBasis, 1, false, true};
     if (quality == "default") return {1, kDefaultNodes, kDefaultRays, true, 4'000'000, kDefaultBasis, 0, true};
     if (quality == "high") return {1, kDefaultNodes, kHighRays, true, 4'000'000, kDefaultBasis, 0, true};
     throw ValueError("--quality must be " + bake_detail::joinChoices(qualityNames()) + ", got '" + quality + "'");
@@ -181,6 +182,10 @@ BakeRequest resolveBakeRequest(const BakeRequest& given) {
     // presets' point gather), the nodes otherwise (docs/methods.md, "The surface probe cache").
     if (r.probeCache.empty()) r.probeCache = *r.probePasses == 1 && selectPassName(r) == "gather" ? "surface" : "nodes";
     if (!r.nodeFilter) r.nodeFilter = presetApplies && selectPassName(r) == "gather" ? preset.nodeFilter : 0;
+    // Not in a tiled bake: its probe pass runs in a stage of its own, without pass 0's map.
+    if (!r.guideProbeDirections)
+        r.guideProbeDirections =
+            presetApplies && selectPassName(r) == "gather" && *r.probePasses > 0 && !r.tiles && preset.guideProbeDirections;
     if (!r.refine) r.refine = 3;
     if (!r.levels) r.levels = 3;
     if (!r.refineDistance) r.refineDistance = 0.0;
@@ -230,6 +235,7 @@ std::string describeQuality(const std::string& quality) {
     text += ", basis " + r.basis;
     text += *r.depthMoments ? ", depth moments" : ", no depth moments";
     if (*r.nodeFilter > 0) text += ", " + std::to_string(*r.nodeFilter) + " pass of the filter across nodes";
+    if (*r.guideProbeDirections) text += ", probe directions guided by the first pass";
     const bool occlusion = r.direct.empty() && pass.takesDirectLight() && !r.shWindow;
     text += occlusion ? ", direct light of up to " + std::to_string(r.directLights) +
                             " lights exact with baked visibility (--direct occlusion) where the scene has lights"

@@ -217,6 +217,9 @@ struct BakeRequest {
     /// depth moments and the nodes' error estimates; GatherOptions::nodeFilterPasses); unset:
     /// the preset's (1 with --quality preview, 0 otherwise).
     std::optional<int> nodeFilter;
+    /// The probe pass draws its directions from pass 0's light per direction (bake/each_pass.h,
+    /// GatherOptions::guideProbeDirections); unset: the preset's (on with --quality preview).
+    std::optional<bool> guideProbeDirections;
     std::optional<double> invalidateBackface;  ///< point gather with back-face invalidation
     std::string domain;                    ///< antialiased: all | interior (default)
     std::string fit;                       ///< antialiased: projection (default) | least-squares
