@@ -117,6 +117,7 @@ struct TrySpec {
     bool surfaceCache = false;  ///< `cache=surface`: --probe-cache surface (fixed budgets only)
     int filter = 0;             ///< `filter=N`: passes of the node filter (node_filter.h; fixed budgets only)
     bool filterByNoise = false; ///< `bilateral=1`: its weights also from the nodes' error estimates
+    bool blend = false;         ///< `blend=1`: GatherOptions::blendFirstPass
     bool guide = false;         ///< `guide=1`: guided probe directions (GatherOptions::guideProbeDirections)
 };
 

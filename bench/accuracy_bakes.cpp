@@ -255,6 +255,7 @@ TrySpec parseTry(const std::string& spec) {
         else if (k == "filter") t.filter = std::stoi(v);
         else if (k == "bilateral") t.filterByNoise = v == "1";
         else if (k == "guide") t.guide = v == "1";
+        else if (k == "blend") t.blend = v == "1";
         else throw ValueError("--try: unknown key '" + k + "'");
     }
     return t;
@@ -278,6 +279,7 @@ TrySpec presetTry(const std::string& quality) {
     t.filter = *r.nodeFilter;
     t.filterByNoise = true;  // what the gather pass asks for (pass_options.cpp)
     t.guide = r.guideProbeDirections.value_or(false);
+    t.blend = r.blendFirstPass.value_or(false);
     return t;
 }
 
@@ -289,6 +291,7 @@ std::string describeTry(const TrySpec& t) {
     if (t.surfaceCache) s += ", surface probe cache";
     if (t.filter) s += ", node filter x" + std::to_string(t.filter) + (t.filterByNoise ? " (bilateral)" : "");
     if (t.guide) s += ", guided probe directions";
+    if (t.blend) s += ", pass 0 blended in";
     return s + ", basis " + t.basis;
 }
 
@@ -342,6 +345,7 @@ Volume tryVolume(const Ctx& c, const TrySpec& t, std::string& note, std::vector<
         g.nodeFilterPasses = t.filter;
         g.nodeFilterByNoise = t.filterByNoise;
         g.guideProbeDirections = t.guide;
+        g.blendFirstPass = t.blend;
         if (t.basis != "sh2") g.basis = makeBasis(t.basis);
         v = bakeShGather(c.scene, c.tracer, grid, g);
     }

@@ -135,6 +135,7 @@ TEST(BakeVolume, PresetsResolveAsTheCommandLineDocumentsThem) {
     EXPECT_EQ(d.pass, "gather");
     EXPECT_EQ(*d.nodeFilter, 0);
     EXPECT_FALSE(*d.guideProbeDirections);
+    EXPECT_FALSE(*d.blendFirstPass);
     // Issue 32: the preview is the default's method on fewer nodes and rays, filtered across nodes.
     r.quality = "preview";
     d = resolveBakeRequest(r);
@@ -147,8 +148,10 @@ TEST(BakeVolume, PresetsResolveAsTheCommandLineDocumentsThem) {
     EXPECT_EQ(*d.nodeFilter, 1);
     EXPECT_EQ(d.pass, "gather");
     EXPECT_TRUE(*d.guideProbeDirections);  // its probe pass's directions from pass 0's map (direction_guide.h)
-    r.tiles = 2;  // a tile's probe pass runs in a stage of its own, without that map
+    EXPECT_TRUE(*d.blendFirstPass);        // and pass 0's values blended in (pass_blend.h)
+    r.tiles = 2;  // a tile's probe pass runs in a stage of its own, without pass 0's
     EXPECT_FALSE(*resolveBakeRequest(r).guideProbeDirections);
+    EXPECT_FALSE(*resolveBakeRequest(r).blendFirstPass);
     r.tiles.reset();
     r.targetError = 0.05;  // the adaptive pass has no node filter
     EXPECT_EQ(*resolveBakeRequest(r).nodeFilter, 0);

@@ -59,9 +59,10 @@ struct QualityPreset {
     int nodeFilter;      ///< passes of the filter across nodes (point gather)
     bool photonGrid;     ///< the photon pass takes the preset's grid and depth moments
     bool guideProbeDirections = false;  ///< the probe pass's directions from pass 0's map (direction_guide.h)
+    bool blendFirstPass = false;        ///< pass 0's values blended into the probe pass's (pass_blend.h)
 };
 QualityPreset qualityPreset(const std::string& quality) {
-    if (quality == "preview") return {1, kPreviewNodes, kPreviewRays, true, 1'000'000, kDefaultBasis, 1, false, true};
+    if (quality == "preview") return {1, kPreviewNodes, kPreviewRays, true, 1'000'000, kDefaultBasis, 1, false, true, true};
     if (quality == "default") return {1, kDefaultNodes, kDefaultRays, true, 4'000'000, kDefaultBasis, 0, true};
     if (quality == "high") return {1, kDefaultNodes, kHighRays, true, 4'000'000, kDefaultBasis, 0, true};
     throw ValueError("--quality must be " + bake_detail::joinChoices(qualityNames()) + ", got '" + quality + "'");
@@ -186,6 +187,8 @@ BakeRequest resolveBakeRequest(const BakeRequest& given) {
     if (!r.guideProbeDirections)
         r.guideProbeDirections =
             presetApplies && selectPassName(r) == "gather" && *r.probePasses > 0 && !r.tiles && preset.guideProbeDirections;
+    if (!r.blendFirstPass)
+        r.blendFirstPass = presetApplies && selectPassName(r) == "gather" && *r.probePasses == 1 && !r.tiles && preset.blendFirstPass;
     if (!r.refine) r.refine = 3;
     if (!r.levels) r.levels = 3;
     if (!r.refineDistance) r.refineDistance = 0.0;
@@ -236,6 +239,7 @@ std::string describeQuality(const std::string& quality) {
     text += *r.depthMoments ? ", depth moments" : ", no depth moments";
     if (*r.nodeFilter > 0) text += ", " + std::to_string(*r.nodeFilter) + " pass of the filter across nodes";
     if (*r.guideProbeDirections) text += ", probe directions guided by the first pass";
+    if (*r.blendFirstPass) text += ", the first pass's values blended in";
     const bool occlusion = r.direct.empty() && pass.takesDirectLight() && !r.shWindow;
     text += occlusion ? ", direct light of up to " + std::to_string(r.directLights) +
                             " lights exact with baked visibility (--direct occlusion) where the scene has lights"

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "direction_guide.h"
+#include "pass_blend.h"
 #include "project_incident.h"
 #include "pass_metadata.h"
 #include "probe_passes.h"
@@ -79,6 +80,8 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     if (guided && options.stage >= 0) throw ValueError("guided probe directions need every pass in one bake (not staged)");
     std::vector<float> guideSums(guided ? held * DirectionGuide::kCells : 0, 0.0f);
     std::vector<uint32_t> guideCounts(guideSums.size(), 0);
+    const bool blend = options.blendFirstPass && options.probePasses == 1 && range.first == 0 && range.last == 1;
+    std::vector<float> firstValues, firstError;
     std::unique_ptr<bake_detail::SurfaceBins> bins;
     if (options.surfaceProbeCache) {
         if (options.probePasses != 1) throw ValueError("the surface probe cache needs exactly one probe pass");
@@ -95,6 +98,10 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
         range.first > 0 ? options.stageInput->levels[0].data.data() : nullptr, reflected,
         [&](const bake_detail::ProbePass& pass) {
             if (guided && pass.index == 1) bake_detail::poolGuideSums(grid, DirectionGuide::kPoolRadius, guideSums, guideCounts);
+            if (blend && pass.index == 1) {
+                firstValues = level.data;
+                firstError = error;
+            }
             return bake_detail::forEachItemInParallel(
                 options.only ? selected.size() : nodes, options.threads, interrupter, [&](std::size_t item, RayCount& count) {
                     const std::size_t n = options.only ? selected[item] : item;
@@ -154,8 +161,11 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
         }
         return volume;
     }
+    if (blend) bake_detail::blendWithFirstPass(grid, floats, firstValues, firstError, level.data, error);
     filterNodes(volume, options.nodeFilterPasses, options.nodeFilterByNoise ? &error : nullptr);
     if (options.nodeFilterPasses > 0) m.count("node_filter_passes", options.nodeFilterPasses);
+    if (blend)
+        m.text("first_pass_blend", "pass 0's values blended into the probe pass's by pooled inverse variance (pass_blend.h)");
     if (guided)
         m.text("probe_directions", "guided: drawn from pass 0's luminance per direction cell, pooled over the nodes within " +
                                        std::to_string(DirectionGuide::kPoolRadius) + " steps, half uniform (direction_guide.h)");

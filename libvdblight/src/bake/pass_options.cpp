@@ -212,6 +212,7 @@ GatherOptions gatherOptions(const BakeContext& c, const BakeRequest& r) {
     o.nodeFilterPasses = r.nodeFilter.value_or(0);
     o.nodeFilterByNoise = true;
     o.guideProbeDirections = r.guideProbeDirections.value_or(false);
+    o.blendFirstPass = r.blendFirstPass.value_or(false);
     // The point gather records depth moments from its own first rays (no extra rays).
     o.depthMoments = *r.depthMoments && (!r.depthRays || *r.depthRays == *r.rays);
     o.stage = c.stage;

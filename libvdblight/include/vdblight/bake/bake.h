@@ -220,6 +220,9 @@ struct BakeRequest {
     /// The probe pass draws its directions from pass 0's light per direction (bake/each_pass.h,
     /// GatherOptions::guideProbeDirections); unset: the preset's (on with --quality preview).
     std::optional<bool> guideProbeDirections;
+    /// Pass 0's values blended into the probe pass's by pooled inverse variance (bake/each_pass.h,
+    /// GatherOptions::blendFirstPass); unset: the preset's (on with --quality preview).
+    std::optional<bool> blendFirstPass;
     std::optional<double> invalidateBackface;  ///< point gather with back-face invalidation
     std::string domain;                    ///< antialiased: all | interior (default)
     std::string fit;                       ///< antialiased: projection (default) | least-squares
