@@ -111,7 +111,7 @@ struct ThinWallBake {
         g.ny = g.nz = 7;
         return g;
     }
-    Volume bake(bool guided, uint64_t seed, uint32_t rays, int threads = 2) const {
+    GatherOptions options(bool guided, uint64_t seed, uint32_t rays, int threads = 2) const {
         GatherOptions o;
         o.raysPerNode = rays;
         o.seed = seed;
@@ -120,7 +120,11 @@ struct ThinWallBake {
         o.surfaceProbeCache = true;
         o.depthMoments = true;
         o.guideProbeDirections = guided;
-        return bakeShGather(room.scene, tracer, grid(), o);
+        return o;
+    }
+    Volume bake(const GatherOptions& o) const { return bakeShGather(room.scene, tracer, grid(), o); }
+    Volume bake(bool guided, uint64_t seed, uint32_t rays, int threads = 2) const {
+        return bake(options(guided, seed, rays, threads));
     }
 };
 
@@ -149,6 +153,20 @@ TEST(GuidedProbePass, SameBitsForAnyThreadCount) {
     const Volume one = b.bake(true, 5, 32, 1), two = b.bake(true, 5, 32, 2);
     ASSERT_EQ(one.levels[0].data.size(), two.levels[0].data.size());
     EXPECT_EQ(std::memcmp(one.levels[0].data.data(), two.levels[0].data.data(), one.levels[0].data.size() * sizeof(float)), 0);
+}
+
+TEST(GuidedProbePass, RaysOneByOneGiveThePacketsBits) {
+    // The reference sampling (addSamplesOneByOne) and the packets warp, weight and record alike
+    // (both with the nodes' cache: the surface cache takes packeted samples only).
+    const ThinWallBake b;
+    GatherOptions o = b.options(true, 7, 32);
+    o.surfaceProbeCache = false;
+    const Volume packets = b.bake(o);
+    o.transport.packetRays = false;
+    const Volume single = b.bake(o);
+    ASSERT_EQ(packets.levels[0].data.size(), single.levels[0].data.size());
+    EXPECT_EQ(std::memcmp(packets.levels[0].data.data(), single.levels[0].data.data(),
+                          packets.levels[0].data.size() * sizeof(float)), 0);
 }
 
 TEST(GuidedProbePass, RefusedInAStagedBake) {
