@@ -118,6 +118,8 @@ struct TrySpec {
     int filter = 0;             ///< `filter=N`: passes of the node filter (node_filter.h; fixed budgets only)
     bool filterByNoise = false; ///< `bilateral=1`: its weights also from the nodes' error estimates
     bool shadowEdges = true;    ///< `edges=0`: bake --no-shadow-edges
+    bool blend = false;         ///< `blend=1`: GatherOptions::blendFirstPass
+    bool guide = false;         ///< `guide=1`: guided probe directions (GatherOptions::guideProbeDirections)
 };
 
 TrySpec parseTry(const std::string& spec);

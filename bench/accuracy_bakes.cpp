@@ -255,6 +255,8 @@ TrySpec parseTry(const std::string& spec) {
         else if (k == "filter") t.filter = std::stoi(v);
         else if (k == "bilateral") t.filterByNoise = v == "1";
         else if (k == "edges") t.shadowEdges = v == "1";
+        else if (k == "guide") t.guide = v == "1";
+        else if (k == "blend") t.blend = v == "1";
         else throw ValueError("--try: unknown key '" + k + "'");
     }
     return t;
@@ -277,6 +279,8 @@ TrySpec presetTry(const std::string& quality) {
     t.surfaceCache = r.params.get<std::string>("probe-cache") == "surface";
     t.filter = r.params.get<int>("node-filter");
     t.filterByNoise = true;  // what the gather pass asks for (pass_options.cpp)
+    t.guide = r.params.get<bool>("guide-probe-directions");
+    t.blend = r.params.get<bool>("blend-first-pass");
     return t;
 }
 
@@ -287,6 +291,8 @@ std::string describeTry(const TrySpec& t) {
     if (t.depth) s += ", depth moments";
     if (t.surfaceCache) s += ", surface probe cache";
     if (t.filter) s += ", node filter x" + std::to_string(t.filter) + (t.filterByNoise ? " (bilateral)" : "");
+    if (t.guide) s += ", guided probe directions";
+    if (t.blend) s += ", pass 0 blended in";
     return s + ", basis " + t.basis;
 }
 
@@ -340,6 +346,8 @@ Volume tryVolume(const Ctx& c, const TrySpec& t, std::string& note, std::vector<
         g.surfaceProbeCache = t.surfaceCache;
         g.nodeFilterPasses = t.filter;
         g.nodeFilterByNoise = t.filterByNoise;
+        g.guideProbeDirections = t.guide;
+        g.blendFirstPass = t.blend;
         if (t.basis != "sh2") g.basis = makeBasis(t.basis);
         v = bakeShGather(c.scene, c.tracer, grid, g);
     }

@@ -79,6 +79,13 @@ std::vector<Config> configurations() {
     const TrySpec preview = presetTry("preview");
     v.push_back({"preview", "vdblight bake --quality preview (" + describeTry(preview) + ", --direct occlusion)",
                  [preview](const Ctx& c) { return tryBake(c, preview); }, true});
+    // The same without the guided probe directions (direction_guide.h) and pass 0's blend
+    // (pass_blend.h): the preview until issue 32's second session.
+    TrySpec unguided = preview;
+    unguided.guide = false;
+    unguided.blend = false;
+    v.push_back({"preview_unguided", "--quality preview with uniform probe directions and without pass 0 blended in (" + describeTry(unguided) + ")",
+                 [unguided](const Ctx& c) { return tryBake(c, unguided); }, true});
     // The preview before issue 32.
     v.push_back({"preview_before", "--quality preview before issue 32: 16 nodes, 256 rays of full paths, no probe pass, "
                                    "no depth moments, SH order 2, --direct occlusion",

@@ -76,6 +76,7 @@ int main(int argc, char** argv) {
                                                       {"--try", "SPECS"},
                                                       {"--no-decompose", ""},
                                                       {"--no-noise", ""},
+                                                      {"--seed", "N"},
                                                       {"--study", "R"},
                                                       {"--study-floor", "F"},
                                                       {"--time-to", "E"},
@@ -150,7 +151,10 @@ int main(int argc, char** argv) {
             std::vector<double> rel, noiseRel;  // per point: error, and (E1 - E2) / sqrt 2 / E_ref
             try {
                 const double cpu0 = cpuSeconds();
-                const Baked b = c.bake(Ctx{s, tracer, st, 1});
+                // --seed N: the bakes' seed (default 1; the noise bake takes N + 1), to see a
+                // row's spread over seeds.
+                const uint64_t seed = uint64_t(args.integer("--seed", 1));
+                const Baked b = c.bake(Ctx{s, tracer, st, seed});
                 r.cpu = cpuSeconds() - cpu0;
                 const std::vector<double> got = values(b.irradiance, pts);
                 rel = relative(got, truth.e, truth);
@@ -161,7 +165,7 @@ int main(int argc, char** argv) {
                 r.bytesPerNode = b.nodes ? double(b.bytes) / double(b.nodes) : 0;
                 r.note = b.note;
                 if (c.noise && !args.given("--no-noise")) {  // --no-noise: one bake per row (time curves)
-                    const Baked b2 = c.bake(Ctx{s, tracer, st, 2});
+                    const Baked b2 = c.bake(Ctx{s, tracer, st, seed + 1});
                     const std::vector<double> got2 = values(b2.irradiance, pts);
                     double s2 = 0;
                     for (std::size_t i = 0; i < got.size(); ++i) {

@@ -58,9 +58,11 @@ struct QualityPreset {
     const char* basis;   ///< what the point gather stores when --basis is not given
     int nodeFilter;      ///< passes of the filter across nodes (point gather)
     bool photonGrid;     ///< the photon pass takes the preset's grid and depth moments
+    bool guideProbeDirections = false;  ///< the probe pass's directions from pass 0's map (direction_guide.h)
+    bool blendFirstPass = false;        ///< pass 0's values blended into the probe pass's (pass_blend.h)
 };
 QualityPreset qualityPreset(const std::string& quality) {
-    if (quality == "preview") return {1, kPreviewNodes, kPreviewRays, true, 1'000'000, kDefaultBasis, 1, false};
+    if (quality == "preview") return {1, kPreviewNodes, kPreviewRays, true, 1'000'000, kDefaultBasis, 1, false, true, true};
     if (quality == "default") return {1, kDefaultNodes, kDefaultRays, true, 4'000'000, kDefaultBasis, 0, true};
     if (quality == "high") return {1, kDefaultNodes, kHighRays, true, 4'000'000, kDefaultBasis, 0, true};
     throw ValueError("--quality must be " + bake_detail::joinChoices(qualityNames()) + ", got '" + quality + "'");
@@ -204,6 +206,13 @@ BakeRequest resolveBakeRequest(const BakeRequest& given) {
                                                 : "nodes"));
     if (!p.value("node-filter"))
         p.preset("node-filter", double(presetApplies && selectPassName(r) == "gather" ? preset.nodeFilter : 0));
+    // Not in a tiled bake: its probe pass runs in a stage of its own, without pass 0's map.
+    const bool untiledGather = presetApplies && selectPassName(r) == "gather" && !r.tiles;
+    const double probePasses = *givenNumber(r, "probe-passes");
+    if (!p.value("guide-probe-directions"))
+        p.preset("guide-probe-directions", untiledGather && probePasses > 0 && preset.guideProbeDirections);
+    if (!p.value("blend-first-pass"))
+        p.preset("blend-first-pass", untiledGather && probePasses == 1 && preset.blendFirstPass);
     r.pass = selectPassName(r);
     return r;
 }
@@ -253,6 +262,8 @@ std::string describeQuality(const std::string& quality) {
     text += o.get<bool>("depth-moments") ? ", depth moments" : ", no depth moments";
     const int filter = o.get<int>("node-filter");
     if (filter > 0) text += ", " + std::to_string(filter) + " pass of the filter across nodes";
+    if (o.get<bool>("guide-probe-directions")) text += ", probe directions guided by the first pass";
+    if (o.get<bool>("blend-first-pass")) text += ", the first pass's values blended in";
     const bool occlusion = r.direct.empty() && pass.takesDirectLight() && !o.get<bool>("sh-window");
     text += occlusion ? ", direct light of up to " + std::to_string(r.directLights) +
                             " lights exact with baked visibility (--direct occlusion) where the scene has lights"

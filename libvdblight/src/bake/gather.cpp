@@ -3,8 +3,11 @@
 
 #include <algorithm>
 #include <memory>
+#include <optional>
 #include <vector>
 
+#include "direction_guide.h"
+#include "pass_blend.h"
 #include "project_incident.h"
 #include "pass_metadata.h"
 #include "probe_passes.h"
@@ -70,6 +73,14 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
         const auto from = in.begin() + std::ptrdiff_t(level.windowFirst * depth::kFloatsPerNode);
         level.depth.assign(from, from + std::ptrdiff_t(held * depth::kFloatsPerNode));
     }
+    // Guided probe directions (direction_guide.h): pass 0's luminance per direction cell.
+    using bake_detail::DirectionGuide;
+    const bool guided = options.guideProbeDirections && options.probePasses > 0;
+    if (guided && options.stage >= 0) throw ValueError("guided probe directions need every pass in one bake (not staged)");
+    std::vector<float> guideSums(guided ? held * DirectionGuide::kCells : 0, 0.0f);
+    std::vector<uint32_t> guideCounts(guideSums.size(), 0);
+    const bool blend = options.blendFirstPass && options.probePasses == 1 && range.first == 0 && range.last == 1;
+    std::vector<float> firstValues, firstError;
     std::unique_ptr<bake_detail::SurfaceBins> bins;
     if (options.surfaceProbeCache) {
         if (options.probePasses != 1) throw ValueError("the surface probe cache needs exactly one probe pass");
@@ -85,6 +96,11 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
         estimator, tracer, grid, options.seed, options.probePasses, range,
         range.first > 0 ? options.stageInput->levels[0].data.data() : nullptr, reflected,
         [&](const bake_detail::ProbePass& pass) {
+            if (guided && pass.index == 1) bake_detail::poolGuideSums(grid, DirectionGuide::kPoolRadius, guideSums, guideCounts);
+            if (blend && pass.index == 1) {
+                firstValues = level.data;
+                firstError = error;
+            }
             return bake_detail::forEachItemInParallel(
                 options.only ? selected.size() : nodes, options.threads, interrupter, [&](std::size_t item, RayCount& count) {
                     const std::size_t n = options.only ? selected[item] : item;
@@ -98,8 +114,20 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
                     const bool recordDepth = options.depthMoments && pass.index == 0;
                     if (recordDepth) sampler.recordDepth(&depthAcc, grid.spacing);
                     if (bins && pass.index == 0) sampler.recordSurface(bins.get());
+                    const bool guidedPass = guided && pass.index > 0;
+                    float density[DirectionGuide::kCells];
+                    std::optional<DirectionGuide> guide;
+                    if (guided && pass.index == 0) {
+                        sampler.recordGuide(&guideSums[h * DirectionGuide::kCells], &guideCounts[h * DirectionGuide::kCells]);
+                    } else if (guidedPass) {
+                        DirectionGuide::build(&guideSums[h * DirectionGuide::kCells], &guideCounts[h * DirectionGuide::kCells],
+                                              DirectionGuide::kUniformShare, density);
+                        guide.emplace(density);
+                        sampler.guideDirections(&*guide);
+                    }
                     uint32_t backFaces = 0;
-                    const bool classify = options.depthMoments;
+                    // A guided pass's back-face count is not a uniform fraction: pass 0's stays.
+                    const bool classify = options.depthMoments && !guidedPass;
                     sampler.addSamples(0, options.raysPerNode, count, classify ? &tracer : nullptr,
                                        classify ? &backFaces : nullptr);
                     sampler.coefficients(coeffs, count);
@@ -132,6 +160,7 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
         }
         return volume;
     }
+    if (blend) bake_detail::blendWithFirstPass(grid, floats, firstValues, firstError, level.data, error);
     if (!options.only) {
         filterNodes(volume, options.nodeFilterPasses, options.nodeFilterByNoise ? &error : nullptr);
     } else if (options.nodeFilterPasses > 0) {  // its kernel crosses tile borders: the merge filters (tiles.h)
@@ -139,6 +168,11 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
         volume.meta["tile_node_filter_by_noise"] = int64_t(options.nodeFilterByNoise ? 1 : 0);
     }
     if (options.nodeFilterPasses > 0) m.count("node_filter_passes", options.nodeFilterPasses);
+    if (blend)
+        m.text("first_pass_blend", "pass 0's values blended into the probe pass's by pooled inverse variance (pass_blend.h)");
+    if (guided)
+        m.text("probe_directions", "guided: drawn from pass 0's luminance per direction cell, pooled over the nodes within " +
+                                       std::to_string(DirectionGuide::kPoolRadius) + " steps, half uniform (direction_guide.h)");
     m.method("gather", "point")
         .count("rays_per_node", options.raysPerNode)
         .text("direction_sampling", "scrambled Sobol (0,2) uniform sphere + NEE on emissive triangles; punctual lights exact")

@@ -19,6 +19,7 @@
 #include <limits>
 #include <vector>
 
+#include "direction_guide.h"
 #include "vdblight/bake/each_pass.h"
 #include "vdblight/basis/basis.h"
 #include "vdblight/basis/depth_moments.h"
@@ -55,6 +56,19 @@ public:
     /// sampling only). The rays are the ones traced anyway.
     void recordSurface(SurfaceSampleSink* sink) { surface_ = sink; }
 
+    /// Also add every sample's gathered luminance to its direction cell (DirectionGuide::kCells
+    /// sums and counts, direction_guide.h): the map a later pass's guide is built from. The
+    /// rays are the ones traced anyway.
+    void recordGuide(float* luminanceSums, uint32_t* counts) {
+        guideSums_ = luminanceSums;
+        guideCounts_ = counts;
+    }
+
+    /// Draw the directions from `guide` instead of uniformly (direction_guide.h): each sample
+    /// weighted by the inverse of the guide's density, and the emitters' MIS weights from the
+    /// guided pdf. Null: uniform (the same bits as without the call).
+    void guideDirections(const bake_detail::DirectionGuide* guide) { guide_ = guide; }
+
     /// Also accumulate every sample into `basis` (basis.h; kept for the node's lifetime), whose
     /// values basisValues() returns. Call before the first addSamples.
     void projectAlsoInto(const Basis* basis) {
@@ -88,6 +102,8 @@ public:
             // Reflected light and sky: stratified directions, uniform over the sphere.
             float u, v;
             sobol02(i, hashCombine(stream_, kDirection), u, v);
+            const float density = guide_ ? guide_->warp(u, v) : 1.0f;
+            const float dirPdf = kSpherePdf * density;
             const Vec3f dir = uniformSphere(u, v);
             Rgb l, emitted;
             if ((tracer && backFaceHits) || depth_) {
@@ -95,9 +111,14 @@ public:
                 const Hit hit = (tracer ? *tracer : estimator_.tracer()).intersect(Ray{x_, dir});
                 if (backFaceHits && hit.hit() && dot(hit.geometricNormal, dir) > 0.0f) ++*backFaceHits;
                 if (depth_) depth_->add(dir, hit.hit() ? hit.t : std::numeric_limits<float>::infinity(), depthSpacing_);
-                l = estimator_.gatherRadiance(x_, dir, kSpherePdf, rng_, count, &hit, &emitted);
+                l = estimator_.gatherRadiance(x_, dir, dirPdf, rng_, count, &hit, &emitted);
             } else {
-                l = estimator_.gatherRadiance(x_, dir, kSpherePdf, rng_, count, nullptr, &emitted);
+                l = estimator_.gatherRadiance(x_, dir, dirPdf, rng_, count, nullptr, &emitted);
+            }
+            recordGuideSample(u, v, l);
+            if (guide_) {  // the guided sample's weight (1 / density); unguided samples keep their bits
+                l = l * (1.0f / density);
+                emitted = emitted * (1.0f / density);
             }
             sh::evalUnrolled(dir, y);
             addGathered(dir, l, emitted, y);
@@ -112,7 +133,7 @@ public:
                 if (estimator_.emissiveCandidate(x_, u, v, float(w), s, shadow) && !estimator_.skipsAtReceiver(s) &&
                     (++count.occluded, !estimator_.tracer().occluded(shadow))) {
                     sh::evalUnrolled(s.direction, y);
-                    const Rgb weight = s.weight * misWeight(s.pdf, kSpherePdf);
+                    const Rgb weight = s.weight * misWeight(s.pdf, directionPdf(s.direction));
                     addLight(s.direction, weight, y);
                     ebar += 0.25 * double(luminance(weight));
                 }
@@ -150,9 +171,13 @@ public:
         Vec3f* dirs = scratch.dirs.data();
         Ray* rays = scratch.rays.data();
         Hit* hits = scratch.hits.data();
+        float* density = scratch.density.data();
+        uint16_t* cell = scratch.cell.data();
         for (uint32_t k = 0; k < n; ++k) {
             float u, v;
             sobol02Mixed(first + k, dirScramble, u, v);
+            density[k] = guide_ ? guide_->warp(u, v) : 1.0f;
+            if (guideSums_) cell[k] = uint16_t(bake_detail::DirectionGuide::cellOf(u, v));
             dirs[k] = uniformSphere(u, v);
             rays[k] = Ray{x_, dirs[k]};
         }
@@ -187,7 +212,7 @@ public:
         }
         // The paths, in sample order: they share rng_.
         for (uint32_t k = 0; k < n; ++k)
-            estimator_.gatherRadianceDeferred(x_, dirs[k], kSpherePdf, rng_, count, hits[k], paths_);
+            estimator_.gatherRadianceDeferred(x_, dirs[k], kSpherePdf * density[k], rng_, count, hits[k], paths_);
         paths_.trace(estimator_.tracer());
         if (surface_) {
             Vec3f p, nrm;
@@ -199,14 +224,22 @@ public:
         float y[sh::kCoeffs];
         for (uint32_t k = 0; k < n; ++k) {
             const uint32_t i = first + k;
-            const Rgb l = paths_.radiance(k);
+            Rgb l = paths_.radiance(k), emitted = paths_.firstEmission(k);
+            if (guideSums_) {
+                guideSums_[cell[k]] += luminance(l);
+                ++guideCounts_[cell[k]];
+            }
+            if (guide_) {  // the guided sample's weight (1 / density); unguided samples keep their bits
+                l = l * (1.0f / density[k]);
+                emitted = emitted * (1.0f / density[k]);
+            }
             sh::evalUnrolled(dirs[k], y);
-            addGathered(dirs[k], l, paths_.firstEmission(k), y);
+            addGathered(dirs[k], l, emitted, y);
             double ebar = kPi * double(luminance(l));
             if (lightRay[k] != DeferredPaths::kNoShadowRay && !paths_.blocked(lightRay[k])) {
                 const LightSample& s = lights[k];
                 sh::evalUnrolled(s.direction, y);
-                const Rgb weight = s.weight * misWeight(s.pdf, kSpherePdf);
+                const Rgb weight = s.weight * misWeight(s.pdf, directionPdf(s.direction));
                 addLight(s.direction, weight, y);
                 ebar += 0.25 * double(luminance(weight));
             }
@@ -303,6 +336,19 @@ private:
     double directionScale() const { return samples_ > 0 ? 4.0 * kPi / samples_ : 0.0; }
     double lightSampleScale() const { return samples_ > 0 ? 1.0 / samples_ : 0.0; }
 
+    /// The pdf of the direction sampling at `dir` (per steradian): uniform, or the guide's.
+    float directionPdf(const Vec3f& dir) const {
+        constexpr float kSpherePdf = float(1.0 / (4.0 * kPi));
+        return guide_ ? kSpherePdf * guide_->density(dir) : kSpherePdf;
+    }
+    /// recordGuide's sums for the one-by-one sampling (the packeted loop adds its own).
+    void recordGuideSample(float u, float v, const Rgb& l) {
+        if (!guideSums_) return;
+        const int c = bake_detail::DirectionGuide::cellOf(u, v);
+        guideSums_[c] += luminance(l);
+        ++guideCounts_[c];
+    }
+
     void addGathered(const Vec3f& dir, const Rgb& l, const Rgb& emitted, const float y[sh::kCoeffs]) {
         if (basis_) basis_->accumulate(dir, Rgbd(l), 1.0, basisDir_.data());
         const Rgb r = l - emitted;
@@ -333,8 +379,12 @@ private:
         std::vector<Hit> hits;
         std::vector<LightSample> lights;
         std::vector<uint32_t> lightRay;
+        std::vector<float> density;   ///< the guide's density at each direction (1: uniform)
+        std::vector<uint16_t> cell;   ///< each direction's guide cell (recordGuide)
         void resize(std::size_t n) {
             if (dirs.size() >= n) return;
+            density.resize(n);
+            cell.resize(n);
             dirs.resize(n);
             rays.resize(n);
             hits.resize(n);
@@ -360,6 +410,9 @@ private:
     depth::Accumulator* depth_ = nullptr;
     double depthSpacing_ = 1.0;
     const Basis* basis_ = nullptr;  ///< projectAlsoInto's basis, or null
+    const bake_detail::DirectionGuide* guide_ = nullptr;  ///< guideDirections's, or null (uniform)
+    float* guideSums_ = nullptr;       ///< recordGuide's, or null
+    uint32_t* guideCounts_ = nullptr;
     std::vector<Rgbd> basisDir_, basisLight_, basisExact_;  ///< its sums, weighted as acc_, lightAcc_, exact_
 };
 

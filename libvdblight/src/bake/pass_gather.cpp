@@ -44,6 +44,19 @@ PassOption nodeFilterOption() {
     o.zeroIsUnset = true;
     return o;
 }
+/// --guide-probe-directions, --blend-first-pass (issue 32): what the preview adds to its one
+/// probe pass. They need pass 0 and the probe pass in one bake, so a tiled bake (whose probe
+/// pass is a stage of its own) leaves them off, and refuses them when given.
+PassOption previewProbeFlag(const std::string& name, const std::string& help) {
+    PassOption o = flagOption(name,
+                              help + ". Default: " + presetValues([name](const BakeRequest& r) {
+                                  return std::string(r.params.get<bool>(name) ? "on" : "off");
+                              }) + " (never in a tiled bake); --no-" + name + " turns it off",
+                              "--" + name + " works with the uniform point gather with probe passes only");
+    o.negatable = true;  // the preview's default is on
+    o.defaultValue = "the --quality preset's";
+    return o;
+}
 }  // namespace
 
 std::vector<PassOption> GatherPass::options() const {
@@ -64,6 +77,13 @@ std::vector<PassOption> GatherPass::options() const {
                          "off", 0, 1,
                          "--invalidate-backface applies to --sampling point only", "in [0, 1]"),
             nodeFilterOption(),
+            previewProbeFlag("guide-probe-directions",
+                             "draw the probe pass's directions from the first pass's light per direction, pooled "
+                             "over neighbouring nodes and weighted back (unbiased; less noise through doors; "
+                             "docs/time_to_accuracy.md)"),
+            previewProbeFlag("blend-first-pass",
+                             "blend the first pass's values into the probe pass's by their noise estimates "
+                             "(one probe pass; docs/time_to_accuracy.md)"),
             depthMomentsOption(), depthRaysOption(), shWindowOption()};
 }
 
@@ -95,6 +115,9 @@ std::string pointGatherUntileable(const BakeRequest& r) {
     if (p.has("invalidate-backface")) return "--invalidate-backface cannot be tiled (its dilation crosses tile borders)";
     if (p.get<bool>("sh-window"))
         return "--sh-window cannot be tiled yet (the window would have to follow the seams at merge)";
+    for (const char* name : {"guide-probe-directions", "blend-first-pass"})
+        if (p.find<bool>(name).value_or(false))
+            return std::string("--") + name + " cannot be tiled (it needs the first pass and the probe pass in one bake)";
     // Each probe-to-probe pass reads every node of the pass before: one stage per pass.
     const int passes = p.find<int>("probe-passes").value_or(0);
     if (passes > 0 && !r.stage)

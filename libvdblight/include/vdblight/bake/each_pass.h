@@ -60,6 +60,14 @@ struct GatherOptions {
     /// The filter's weights also from the nodes' error estimates (bilateral: differences the
     /// noise does not explain are kept; node_filter.h).
     bool nodeFilterByNoise = false;
+    /// Probe passes draw their directions from each node's map of pass 0's radiance per
+    /// direction (bake/direction_guide.h), weighted back to unbiased, instead of uniformly:
+    /// fewer rays spent on dark directions where the light comes through an opening. Needs
+    /// probe passes; not with staged bakes (the map is not kept between stages).
+    bool guideProbeDirections = false;
+    /// With one probe pass, blend pass 0's values into the probe pass's by pooled inverse
+    /// variance (bake/pass_blend.h): pass 0's full paths are not thrown away. Not staged.
+    bool blendFirstPass = false;
     /// Bake only these nodes (one tile of a bake, volume/tiles.h); the others stay 0. Null = all.
     const NodeMask* only = nullptr;
     /// Staged probe passes (volume/tiles.h, "Staged bakes"): -1 = every pass; s in 0..probePasses =

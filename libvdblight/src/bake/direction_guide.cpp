@@ -1,0 +1,105 @@
+// Probe-pass directions guided by pass 0's radiance per direction cell (direction_guide.h).
+
+#include "bake/direction_guide.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace vdblight::bake_detail {
+
+namespace {
+/// The index of the interval of `cdf` (n + 1 increasing values from 0) holding x, and x's
+/// fraction within it, both clamped so that a rounding at the ends stays inside.
+int invert(const float* cdf, int n, float x, float& fraction) {
+    int i = int(std::upper_bound(cdf + 1, cdf + n, x) - (cdf + 1));
+    i = std::clamp(i, 0, n - 1);
+    const float width = cdf[i + 1] - cdf[i];
+    fraction = width > 0 ? std::clamp((x - cdf[i]) / width, 0.0f, 1.0f) : 0.5f;
+    return i;
+}
+/// (i + fraction) / n, kept below 1 (uniformSphere's square is [0, 1)).
+float cellPoint(int i, float fraction, int n) {
+    return std::min((float(i) + fraction) / float(n), 0x1.fffffep-1f);
+}
+}  // namespace
+
+void poolGuideSums(const GridSpec& grid, int radius, std::vector<float>& sums, std::vector<uint32_t>& counts) {
+    constexpr int kCells = DirectionGuide::kCells;
+    if (radius <= 0) return;
+    std::vector<float> pooledSums(sums.size(), 0.0f);
+    std::vector<uint32_t> pooledCounts(counts.size(), 0);
+    for (int k = 0; k < grid.nz; ++k)
+        for (int j = 0; j < grid.ny; ++j)
+            for (int i = 0; i < grid.nx; ++i) {
+                const std::size_t to = grid.index(i, j, k) * kCells;
+                for (int dk = -radius; dk <= radius; ++dk)
+                    for (int dj = -radius; dj <= radius; ++dj)
+                        for (int di = -radius; di <= radius; ++di) {
+                            const int a = i + di, b = j + dj, c = k + dk;
+                            if (a < 0 || b < 0 || c < 0 || a >= grid.nx || b >= grid.ny || c >= grid.nz) continue;
+                            const std::size_t from = grid.index(a, b, c) * kCells;
+                            for (int cell = 0; cell < kCells; ++cell) {
+                                pooledSums[to + cell] += sums[from + cell];
+                                pooledCounts[to + cell] += counts[from + cell];
+                            }
+                        }
+            }
+    sums.swap(pooledSums);
+    counts.swap(pooledCounts);
+}
+
+int DirectionGuide::cellOf(float u, float v) {
+    const int r = std::clamp(int(u * float(kRows)), 0, kRows - 1);
+    const int c = std::clamp(int(v * float(kCols)), 0, kCols - 1);
+    return r * kCols + c;
+}
+
+int DirectionGuide::cellOfDirection(const Vec3f& dir) {
+    const float u = 0.5f * (1.0f - std::clamp(dir.z, -1.0f, 1.0f));
+    float v = float(std::atan2(double(dir.y), double(dir.x)) / (2.0 * kPi));
+    if (v < 0) v += 1.0f;
+    return cellOf(u, v);
+}
+
+void DirectionGuide::build(const float* luminanceSums, const uint32_t* counts, float uniformShare, float* density) {
+    double total = 0;
+    float mean[kCells];
+    for (int c = 0; c < kCells; ++c) {
+        mean[c] = counts[c] ? std::max(0.0f, luminanceSums[c]) / float(counts[c]) : 0.0f;
+        total += mean[c];
+    }
+    // Cells pass 0 did not sample get the node's mean (neutral), so they are not left dark.
+    int sampled = 0;
+    for (int c = 0; c < kCells; ++c) sampled += counts[c] ? 1 : 0;
+    const double fill = sampled ? total / sampled : 0.0;
+    if (sampled < kCells) {
+        for (int c = 0; c < kCells; ++c)
+            if (!counts[c]) mean[c] = float(fill);
+        total = fill * kCells;
+    }
+    const bool dark = !(total > 0) || !std::isfinite(total);
+    for (int c = 0; c < kCells; ++c)
+        density[c] = dark ? 1.0f : uniformShare + (1.0f - uniformShare) * float(mean[c] * kCells / total);
+}
+
+DirectionGuide::DirectionGuide(const float* density) : density_(density) {
+    rowCdf_[0] = 0;
+    for (int r = 0; r < kRows; ++r) {
+        colCdf_[r][0] = 0;
+        for (int c = 0; c < kCols; ++c) colCdf_[r][c + 1] = colCdf_[r][c] + density[r * kCols + c];
+        rowCdf_[r + 1] = rowCdf_[r] + colCdf_[r][kCols];
+    }
+}
+
+float DirectionGuide::warp(float& u, float& v) const {
+    float fu, fv;
+    const int r = invert(rowCdf_, kRows, u * rowCdf_[kRows], fu);
+    const int c = invert(colCdf_[r], kCols, v * colCdf_[r][kCols], fv);
+    u = cellPoint(r, fu, kRows);
+    v = cellPoint(c, fv, kCols);
+    // The density of the warped point: the cell's value over the mean of all cells (1 for
+    // build's densities, up to rounding: normalised here so the weights stay exact).
+    return density_[r * kCols + c] * float(kCells) / rowCdf_[kRows];
+}
+
+}  // namespace vdblight::bake_detail
