@@ -74,6 +74,10 @@ TEST_F(ThinWall, DarkSideGetsNoneOfTheLitSidesLightWithWeightsAndPlentyWithout) 
 TEST_F(ThinWall, LightVisibilityDoesNotLeakThroughTheWallWithWeights) {
     DirectOptions d;
     d.mode = DirectMode::Occlusion;
+    // The visibility channels alone: the shadow edges (issue 32, on by default) keep this wall's
+    // shadow out of the lit side's cells by themselves, so the trilinear case below would no
+    // longer show what the weights do.
+    d.shadowEdges = false;
     const GridSpec grid = thinWallGrid();
     const DirectPlan plan = planDirectLight(*scene_, *tracer_, grid, d);
     ASSERT_EQ(plan.lights.size(), 1u);

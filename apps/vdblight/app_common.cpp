@@ -4,13 +4,9 @@
 
 #include <atomic>
 #include <cmath>
-#include <chrono>
 #include <csignal>
-#include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
-#include <sstream>
 
 #include "vdblight/core/atomic_file.h"
 #include "vdblight/core/errors.h"
@@ -88,46 +84,16 @@ Scene loadSceneFromOptions(const SceneOptions& o, bool quiet, SceneLoadReport* r
     return scene;
 }
 
-std::string describeSceneSource(const SceneLoadReport& s) {
-    std::ostringstream out;
-    out << s.format << ": " << s.meshes << (s.meshes == 1 ? " mesh" : " meshes") << " in " << s.meshInstances
-        << (s.meshInstances == 1 ? " instance" : " instances") << ", " << s.units << ", up axis " << s.up;
-    if (s.defaultAlbedoOnly) out << ", no materials: default albedo 0.8";
-    return out.str();
-}
-
 TransportOptions transportFromOptions(const SceneOptions& o) {
     TransportOptions t;
     t.maxBounces = o.bounces;
     return t;
 }
 
-namespace {
-std::vector<double> parseNumbers(const std::string& text) {
-    std::vector<double> values;
-    std::stringstream ss(text);
-    std::string item;
-    while (std::getline(ss, item, ',')) {
-        std::size_t used = 0;
-        double v;
-        try {
-            v = std::stod(item, &used);
-        } catch (const std::exception&) {
-            throw ValueError("'" + item + "' is not a number");
-        }
-        while (used < item.size() && std::isspace(static_cast<unsigned char>(item[used]))) ++used;
-        if (used != item.size()) throw ValueError("'" + item + "' is not a number");
-        if (!std::isfinite(v)) throw ValueError("'" + item + "' is not a finite number");
-        values.push_back(v);
-    }
-    return values;
-}
-}  // namespace
-
 Vec3d parseTriple(const std::string& text, const char* what) {
     std::vector<double> v;
     try {
-        v = parseNumbers(text);
+        v = parseNumberList(text);
     } catch (const ValueError& e) {
         throw ValueError(std::string(what) + ": " + e.what());
     }
@@ -138,7 +104,7 @@ Vec3d parseTriple(const std::string& text, const char* what) {
 Bounds parseBounds(const std::string& text) {
     std::vector<double> v;
     try {
-        v = parseNumbers(text);
+        v = parseNumberList(text);
     } catch (const ValueError& e) {
         throw ValueError(std::string("--bounds: ") + e.what());
     }
@@ -149,39 +115,6 @@ Bounds parseBounds(const std::string& text) {
     if (!(b.lo.x < b.hi.x && b.lo.y < b.hi.y && b.lo.z < b.hi.z))
         throw ValueError("--bounds must have x0 < x1, y0 < y1 and z0 < z1");
     return b;
-}
-
-std::vector<ReferencePoint> readPointsCsv(const std::string& path, std::vector<Vec3d>* worldPositions) {
-    std::ifstream in(path);
-    if (!in) throw IoError("cannot read points file '" + path + "'");
-    std::vector<ReferencePoint> points;
-    std::string line;
-    int lineNo = 0;
-    while (std::getline(in, line)) {
-        ++lineNo;
-        if (!line.empty() && line.back() == '\r') line.pop_back();
-        const auto first = line.find_first_not_of(" \t");
-        if (first == std::string::npos || line[first] == '#') continue;
-        std::vector<double> v;
-        try {
-            v = parseNumbers(line);
-        } catch (const ValueError& e) {
-            if (points.empty() && lineNo == 1) continue;  // a header line
-            throw ValueError(path + ":" + std::to_string(lineNo) + ": " + e.what());
-        }
-        if (v.size() != 6)
-            throw ValueError(path + ":" + std::to_string(lineNo) + ": expected x,y,z,nx,ny,nz (6 numbers), got " +
-                             std::to_string(v.size()));
-        ReferencePoint p;
-        p.position = Vec3f(float(v[0]), float(v[1]), float(v[2]));
-        p.normal = Vec3f(float(v[3]), float(v[4]), float(v[5]));
-        if (!(length(p.normal) > 0))
-            throw ValueError(path + ":" + std::to_string(lineNo) + ": the normal is zero");
-        points.push_back(p);
-        if (worldPositions) worldPositions->emplace_back(v[0], v[1], v[2]);
-    }
-    if (points.empty()) throw ValueError("points file '" + path + "' has no rows");
-    return points;
 }
 
 void checkOutputWritable(const std::string& path) {
@@ -206,10 +139,6 @@ void emitText(const std::string& path, const std::string& text) {
 namespace {
 std::atomic<bool> gInterrupted{false};
 extern "C" void onSignal(int) { gInterrupted = true; }
-
-double nowSeconds() {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 }  // namespace
 
 void installInterruptHandler() {
@@ -217,75 +146,5 @@ void installInterruptHandler() {
     std::signal(SIGTERM, onSignal);
 }
 bool interruptRequested() { return gInterrupted.load(); }
-
-ProgressBar::ProgressBar(bool quiet) : enabled_(!quiet && ::isatty(STDERR_FILENO)) {}
-
-void ProgressBar::start(const char* task, uint64_t total) {
-    task_ = task;
-    total_ = total;
-    startTime_ = nowSeconds();
-    lastDraw_ = 0;
-    if (enabled_) draw(0, false);
-}
-
-void ProgressBar::progress(uint64_t done) {
-    if (!enabled_) return;
-    const double now = nowSeconds();
-    double last = lastDraw_.load();
-    if (now - last < 0.2 && done < total_) return;  // at most five redraws a second
-    if (!lastDraw_.compare_exchange_strong(last, now)) return;
-    bool expected = false;
-    if (!drawing_.compare_exchange_strong(expected, true)) return;
-    draw(done, false);
-    drawing_ = false;
-}
-
-bool ProgressBar::wasInterrupted() { return interruptRequested(); }
-
-void ProgressBar::end() {
-    if (enabled_) std::fprintf(stderr, "\r\033[K");
-}
-
-void ProgressBar::draw(uint64_t done, bool) {
-    const double fraction = total_ ? double(done) / double(total_) : 1.0;
-    const double elapsed = nowSeconds() - startTime_;
-    const int width = 30;
-    const int filled = int(fraction * width);
-    std::string bar(std::size_t(filled), '#');
-    bar.resize(width, '.');
-    std::string eta = fraction > 0.001 ? formatSeconds(elapsed / fraction - elapsed) : "?";
-    std::fprintf(stderr, "\r\033[K%s [%s] %5.1f%%  %s/%s  ETA %s", task_, bar.c_str(), 100.0 * fraction,
-                 formatCount(double(done)).c_str(), formatCount(double(total_)).c_str(), eta.c_str());
-    std::fflush(stderr);
-}
-
-std::string formatSeconds(double s) {
-    char buf[64];
-    if (s < 60) std::snprintf(buf, sizeof buf, "%.1f s", s);
-    else if (s < 3600) std::snprintf(buf, sizeof buf, "%d min %02d s", int(s) / 60, int(s) % 60);
-    else std::snprintf(buf, sizeof buf, "%d h %02d min", int(s) / 3600, (int(s) % 3600) / 60);
-    return buf;
-}
-
-std::string formatCount(double n) {
-    char buf[64];
-    if (n >= 1e9) std::snprintf(buf, sizeof buf, "%.2f G", n / 1e9);
-    else if (n >= 1e6) std::snprintf(buf, sizeof buf, "%.2f M", n / 1e6);
-    else if (n >= 1e4) std::snprintf(buf, sizeof buf, "%.1f k", n / 1e3);
-    else std::snprintf(buf, sizeof buf, "%.0f", n);
-    return buf;
-}
-
-std::string formatBytes(double bytes) {
-    const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB"};
-    int u = 0;
-    while (bytes >= 1024 && u < 4) {
-        bytes /= 1024;
-        ++u;
-    }
-    char buf[64];
-    std::snprintf(buf, sizeof buf, u == 0 ? "%.0f %s" : "%.1f %s", bytes, units[u]);
-    return buf;
-}
 
 }  // namespace vdblight::app

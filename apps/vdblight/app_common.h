@@ -38,19 +38,11 @@ Scene loadSceneFile(const std::string& path, const SceneOptions& frame, bool qui
 /// refuses a scene without light unless allowed. `report`, if given, says how it was read.
 Scene loadSceneFromOptions(const SceneOptions& o, bool quiet, SceneLoadReport* report = nullptr);
 TransportOptions transportFromOptions(const SceneOptions& o);
-/// How the scene file was read, for summaries: "FBX (binary): 3 meshes in 4 instances,
-/// 1 unit = 0.01 m (FBX UnitScaleFactor 1 cm), Y up (FBX UpAxis)".
-std::string describeSceneSource(const SceneLoadReport& report);
 
 /// "x,y,z" -> three numbers (ValueError naming `what` otherwise).
 Vec3d parseTriple(const std::string& text, const char* what);
 /// "x0,y0,z0,x1,y1,z1" -> a box with lo < hi.
 Bounds parseBounds(const std::string& text);
-
-/// Reads "x,y,z,nx,ny,nz" rows (a header line and '#' comments are skipped).
-/// `worldPositions`, if given, receives the positions in double (world points far from the
-/// origin keep their precision; see docs/scene.md, "Large coordinates").
-std::vector<ReferencePoint> readPointsCsv(const std::string& path, std::vector<Vec3d>* worldPositions = nullptr);
 
 /// Checks before any long work that `path` can be created (its directory exists and is
 /// writable, and it is not a directory). Throws IoError.
@@ -64,29 +56,10 @@ void emitText(const std::string& path, const std::string& text);
 void installInterruptHandler();
 bool interruptRequested();
 
-/// Progress bar with ETA on stderr when it is a terminal; silent otherwise or if quiet.
-/// Also turns a pending Ctrl-C into a cancel request.
-class ProgressBar : public Interrupter {
+/// The library's progress bar (TerminalProgress, interrupter.h), cancelled by Ctrl-C.
+class ProgressBar : public TerminalProgress {
 public:
-    explicit ProgressBar(bool quiet);
-    void start(const char* task, uint64_t total) override;
-    void progress(uint64_t done) override;
-    bool wasInterrupted() override;
-    void end() override;
-
-private:
-    void draw(uint64_t done, bool final);
-    bool enabled_;
-    const char* task_ = "";
-    uint64_t total_ = 0;
-    double startTime_ = 0;
-    std::atomic<double> lastDraw_{0};
-    std::atomic<bool> drawing_{false};
+    explicit ProgressBar(bool quiet) : TerminalProgress(quiet, interruptRequested) {}
 };
-
-/// Human-readable duration and counts for summaries.
-std::string formatSeconds(double s);
-std::string formatCount(double n);
-std::string formatBytes(double bytes);
 
 }  // namespace vdblight::app

@@ -1,8 +1,7 @@
 // vdblight bake [SCENE] -o OUT.vdb: parses the options into a BakeRequest and calls the
 // library's bakeToFile (bake_volume.h), which selects the pass (pass.h), checks the options,
-// bakes and writes the file; this file only prints what the bake did.
+// bakes and writes the file; the pass writes the summary printed (bakeSummary).
 #include <algorithm>
-#include <cmath>
 #include <deque>
 #include <iostream>
 #include <string>
@@ -11,9 +10,6 @@
 #include "commands.h"
 #include "vdblight/bake/bake.h"
 #include "vdblight/basis/basis.h"
-#include "vdblight/basis/bins.h"
-#include "vdblight/basis/depth_moments.h"
-#include "vdblight/volume/volume.h"
 #include "vdblight/core/errors.h"
 #include "vdblight/layout/layout.h"
 #include "vdblight/scene/scene.h"
@@ -50,7 +46,6 @@ struct BakeCommand {
     /// The passes' own options (pass.h), one command-line option each: the table of passes.
     struct PassFlag {
         PassOption option;
-        std::vector<std::string> passes;  // that declare it
         std::string text;
         bool on = false;
         CLI::Option* cli = nullptr;
@@ -78,34 +73,6 @@ std::string bakeParameters(const CLI::App& cmd) {
     return text;
 }
 
-/// The bake's own noise estimate, honestly labelled: per node the relative standard error of
-/// its mean irradiance from the sample variance, over the nodes that lookups in free space read
-/// (error_summary.h); what it does not measure is said, and the nodes left out are counted.
-void printNoiseSummary(const BakeStats& stats, const Volume& volume, const GridSpec& grid) {
-    auto percent = [](double e) { return std::to_string(int(std::lround(e * 1000.0)) / 10) + "." +
-                                         std::to_string(int(std::lround(e * 1000.0)) % 10) + " %"; };
-    const std::vector<float>& err = stats.estimatedError;
-    std::size_t worst = err.size();  // the largest error a free-space lookup reads
-    for (std::size_t n = 0; n < err.size(); ++n)
-        if (err[n] >= 0.0f && (worst == err.size() || err[n] > err[worst])) worst = n;
-    const std::size_t inside = nodesInsideSolids(err);
-    if (worst == err.size()) {
-        std::cout << "Noise per node: every one of the " << inside << " nodes lies inside solids.\n";
-        return;
-    }
-    std::cout << "Noise per node (relative standard error of its irradiance, from the sample variance"
-              << (inside ? ", over the nodes that lookups in free space read" : "") << "): p50 "
-              << percent(stats.errorQuantile(0.5)) << ", p95 " << percent(stats.errorQuantile(0.95)) << ", max "
-              << percent(err[worst]) << " at node " << worst % grid.nx << "," << (worst / grid.nx) % grid.ny << ","
-              << worst / (std::size_t(grid.nx) * grid.ny);
-    if (volume.meta.count("nodes_at_max_rays"))
-        std::cout << "; " << metaString(volume.meta, "nodes_at_max_rays") << " nodes stopped at the ray cap above the target";
-    std::cout << ". Not included: SH truncation, interpolation between nodes.\n";
-    if (inside)
-        std::cout << inside << " nodes inside solids (most of their rays hit back faces), not read by free-space "
-                     "lookups (the depth weights keep them out).\n";
-}
-
 /// The shared options whose absence means "the default" (the passes' own are in
 /// BakeCommand::passOptions).
 struct GivenOptions {
@@ -123,28 +90,16 @@ std::string choiceList(const std::vector<std::string>& words) {
     return text;
 }
 
-/// Declares every option the passes declare (pass.h), once per name, in the order of the
-/// registry, with the first declaration's help, its default and the passes that take it.
+/// Declares every option the passes declare (passOptionTable, pass.h), once per name, in the
+/// order of the registry, with its help, its default and the passes that take it.
 void addPassOptions(CLI::App& cmd, BakeCommand& c) {
-    for (const Pass* pass : passRegistry())
-        for (const PassOption& o : pass->options()) {
-            auto same = std::find_if(c.passOptions.begin(), c.passOptions.end(),
-                                     [&](const BakeCommand::PassFlag& f) { return f.option.name == o.name; });
-            if (same != c.passOptions.end()) {
-                same->passes.push_back(pass->name());
-                continue;
-            }
-            c.passOptions.push_back({o, {pass->name()}, {}, false, nullptr});
-        }
-    for (BakeCommand::PassFlag& f : c.passOptions) {
-        std::string takers;
-        for (const std::string& p : f.passes) takers += (takers.empty() ? "" : ", ") + p;
+    for (const PassOptionEntry& entry : passOptionTable()) {
+        BakeCommand::PassFlag& f = c.passOptions.emplace_back(BakeCommand::PassFlag{entry.option, {}, false, nullptr});
         const std::string name = "--" + f.option.name;
-        const std::string help = f.option.help + " [pass" + (f.passes.size() > 1 ? "es " : " ") + takers + "]";
         if (f.option.flag)
-            f.cli = cmd.add_flag(f.option.negatable ? name + ",!--no-" + f.option.name : name, f.on, help);
+            f.cli = cmd.add_flag(f.option.negatable ? name + ",!--no-" + f.option.name : name, f.on, entry.help);
         else
-            f.cli = cmd.add_option(name, f.text, help)
+            f.cli = cmd.add_option(name, f.text, entry.help)
                         ->type_name(f.option.choices.empty() ? "NUMBER" : choiceList(f.option.choices))
                         ->default_str(f.option.defaultValue);
     }
@@ -180,111 +135,6 @@ BakeRequest toRequest(const BakeCommand& c, const GivenOptions& g) {
     return r;
 }
 
-void printPhotonSummary(const BakeCommand& c, const Scene& scene, const SceneLoadReport& read, const BakeReport& report) {
-    const GridSpec& grid = report.grid;
-    const PhotonStats& stats = *report.photons;
-    std::cout << "Baked " << grid.nodeCount() << " nodes (" << grid.nx << " x " << grid.ny << " x " << grid.nz
-              << ", spacing " << grid.spacing << ") of scene '" << scene.name << "' (" << scene.triangleCount()
-              << " triangles; " << describeSceneSource(read) << ") with " << formatCount(double(stats.photons)) << " photons: "
-              << formatCount(double(stats.segments)) << " segments, " << formatCount(double(stats.crossings))
-              << " face crossings, " << formatCount(double(stats.rays.total())) << " rays in "
-              << formatSeconds(stats.seconds) << " ("
-              << formatCount(stats.seconds > 0 ? double(stats.photons) / stats.seconds : 0.0) << " photons/s). Wrote "
-              << c.output
-              << (report.resolved.compact ? " (compact irradiance vectors: colour + direction, 12 half-float Vec3 grids).\n"
-                            : " (irradiance vectors, 18 Vec3f grids).\n");
-    if (report.depth)  // the default's (--no-depth-moments: none)
-        std::cout << "Depth moments: " << formatCount(double(report.depth->rays)) << " first-hit rays in "
-                  << formatSeconds(report.depth->seconds) << " (" << depth::kBytesPerNode << " B per node at 8 bits).\n";
-}
-
-/// What the pass did before the file was written (error target, layout, direct light).
-void printPassLines(const BakeReport& report) {
-    const BakeRequest& r = report.resolved;
-    if (report.adaptive && !report.adaptive->estimatedError.empty() && !r.tiles) {
-        const AdaptiveStats& as = *report.adaptive;
-        const uint32_t maxRays = *r.maxRays;
-        std::cout << "Error-targeted: relative standard error of mean irradiance p50 " << as.errorQuantile(0.5)
-                  << ", p95 " << as.errorQuantile(0.95) << ", max " << as.errorQuantile(1.0) << " (target "
-                  << *r.targetError << ", " << as.nodesAtMax << " nodes stopped at --max-rays " << maxRays << "); "
-                  << formatCount(double(as.samples)) << " gathered rays, "
-                  << formatCount(double(as.samples) / double(as.nodes)) << " per node, "
-                  << formatCount(double(uint64_t(maxRays) * as.nodes - as.samples)) << " ("
-                  << int(100.0 * (1.0 - double(as.samples) / (double(maxRays) * as.nodes)))
-                  << " %) saved against " << maxRays << " rays on every node.\n";
-    }
-    if (report.cull)
-        std::cout << "Solid culling: " << report.cull->nodesCulled << " of " << report.cull->nodesBefore
-                  << " nodes left out (inside closed solids: " << report.cull->solidRegions << " of " << report.cull->regions
-                  << " regions of geometry-free cells, " << report.cull->solidCells << " solid cells).\n";
-    if (report.layout) {
-        const LayoutSummary& l = *report.layout;
-        std::cout << "Layout " << r.layout << ": " << l.levels << " levels refined by " << l.refine << ", " << l.nodes
-                  << " nodes (" << report.stats.seamNodes << " seam nodes set from the coarser level) vs "
-                  << l.denseEquivalentNodes << " in a dense grid at the finest spacing ("
-                  << 100.0 * (1.0 - double(l.nodes) / l.denseEquivalentNodes) << " % saved"
-                  << (r.cullSolids ? ", " + std::to_string(l.culledNodes) + " of them culled inside solids" : "") << ").\n";
-    }
-    const DirectPlan& plan = report.direct;
-    if (plan.mode != DirectMode::Baked && report.lastStage) {
-        std::cout << "Direct light (" << directModeName(plan.mode) << "): " << plan.lights.size() << " of "
-                  << plan.sceneLightCount << " lights kept out of the SH";
-        if (plan.mode == DirectMode::Occlusion) {
-            std::cout << ", with visibility channels; measured share of the direct light:";
-            for (double share : plan.contribution) std::cout << ' ' << int(100.0 * share + 0.5) << " %";
-        }
-        std::cout << ".\n";
-    }
-}
-
-void printSummary(const BakeCommand& c, const Scene& scene, const SceneLoadReport& read, const BakeReport& report,
-                  Volume& volume) {
-    const BakeRequest& r = report.resolved;
-    const GridSpec& grid = report.grid;
-    const LevelsBakeStats& stats = report.stats;
-    const bool binned = report.pass->name() == "bins";
-    if (*r.depthMoments)
-        std::cout << "Depth moments: " << (report.depth && report.depth->rays
-                                               ? formatCount(double(report.depth->rays)) + " first-hit rays in " +
-                                                     formatSeconds(report.depth->seconds)
-                                               : std::string("from the gather's own first hits"))
-                  << " (" << depth::kBytesPerNode << " B per node at 8 bits).\n";
-    std::cout << "Baked " << stats.nodes << " nodes (" << (volume.levels.size() > 1 ? "level 0: " : "") << grid.nx << " x "
-              << grid.ny << " x " << grid.nz << ", spacing " << grid.spacing << ") of scene '" << scene.name << "' ("
-              << scene.triangleCount() << " triangles";
-    std::cout << "; " << describeSceneSource(read);
-    if (scene.stats.degenerateTrianglesSkipped)
-        std::cout << ", " << scene.stats.degenerateTrianglesSkipped << " degenerate skipped";
-    std::cout << ") with " << (r.targetError ? std::string("error-targeted")
-                               : binned      ? metaString(volume.meta, "rays_per_node")
-                                             : std::to_string(*r.rays))
-              << " rays per node"
-              << (*r.probePasses > 0 ? " (+ " + std::to_string(*r.probePasses) + " probe-to-probe pass" +
-                                           (*r.probePasses > 1 ? "es" : "") + ")"
-                                     : std::string())
-              << " and "
-              << (c.scene.bounces >= kSafetyBounces ? std::string("all bounces (Russian roulette)")
-                                                    : "up to " + std::to_string(c.scene.bounces) + " bounces")
-              << ": " << formatCount(double(stats.rays.total())) << " rays (" << formatCount(double(stats.rays.intersect))
-              << " closest-hit, " << formatCount(double(stats.rays.occluded)) << " shadow) in "
-              << formatSeconds(stats.seconds) << ", " << formatCount(stats.raysPerSecond()) << " rays/s on "
-              << int64_t(std::get<int64_t>(volume.meta["threads"])) << " threads";
-    if (r.sampling == "antialiased") std::cout << " (sampling antialiased, domain " << metaString(volume.meta, "domain") << ")";
-    if (volume.meta.count("nodes_dilated"))
-        std::cout << "; " << metaString(volume.meta, "nodes_dilated") << " nodes filled by dilation";
-    if (binned && volume.meta.count("samples_per_bin"))
-        std::cout << ". Wrote " << c.output << " (basis " << volume.basis.kind << ", "
-                  << volume.basis.channelCount() << " Vec3f grids, "
-                  << metaString(volume.meta, "samples_per_bin") << " samples per bin).\n";
-    else if (binned || !volume.basis.isSh2())  // a registry basis (basis.h): generic or point gather
-        std::cout << ". Wrote " << c.output << " (basis " << volume.basis.kind << ": " << makeBasis(r.basis)->describe()
-                  << ", " << volume.basis.channelCount() << " Vec3f grids).\n";
-    else
-        std::cout << ". Wrote " << c.output << " (SH order 2 radiance, 9 Vec3f grids"
-                  << (volume.levels[0].validity.empty() ? "" : " + validity") << ").\n";
-    if (!stats.estimatedError.empty()) printNoiseSummary(stats, volume, grid);
-}
-
 void run(const BakeCommand& c, const BakeRequest& request) {
     checkBakeRequest(request);  // every option, before anything is loaded
     checkOutputWritable(c.output);
@@ -292,44 +142,8 @@ void run(const BakeCommand& c, const BakeRequest& request) {
     const Scene scene = loadSceneFromOptions(c.scene, c.quiet, &read);
     ProgressBar progress(c.quiet);
     BakeReport report;
-    Volume volume = bakeToFile(scene, request, c.output, &progress, &report);
-    if (c.quiet) return;
-    if (report.skipped) {
-        std::cout << "Tile " << c.tile << " of " << c.tiles << " is already baked with the same scene and parameters ("
-                  << c.output << "): skipped.\n";
-        return;
-    }
-    if (report.photons && report.photonSums) {
-        const PhotonSums& sums = *report.photonSums;
-        std::cout << "Baked tile " << c.tile << " of " << c.tiles << ": photon batches " << sums.firstBatch << ".."
-                  << sums.endBatch - 1 << " of " << sums.batches << " (" << formatCount(double(report.photons->photons))
-                  << " of " << formatCount(double(report.resolved.photons.value_or(0))) << " photons), "
-                  << formatCount(double(report.photons->rays.total())) << " rays in "
-                  << formatSeconds(report.photons->seconds)
-                  << (report.depth ? "; depth moments of its share of the nodes, " + formatCount(double(report.depth->rays)) +
-                                         " first-hit rays in " + formatSeconds(report.depth->seconds)
-                                   : std::string())
-                  << ". Wrote " << c.output
-                  << " (the whole grid's sums of these batches; merge the tiles with 'vdblight merge').\n";
-        return;
-    }
-    if (report.photons) return printPhotonSummary(c, scene, read, report);
-    printPassLines(report);
-    const BakeRequest& r = report.resolved;
-    if (r.tiles) {
-        const int stage = r.stage.value_or(-1);
-        std::cout << "Baked tile " << c.tile << " of " << c.tiles
-                  << (stage >= 0 ? " (stage " + std::to_string(stage) + " of 0.." + std::to_string(*r.probePasses) + ")" : "")
-                  << ": " << report.tileNodes << " of " << report.stats.nodes << " nodes, "
-                  << formatCount(double(report.stats.rays.total())) << " rays in " << formatSeconds(report.stats.seconds)
-                  << ". Wrote " << c.output
-                  << (report.lastStage ? " (merge the tiles with 'vdblight merge')"
-                                       : " (merge this stage's tiles with 'vdblight merge', then bake stage " +
-                                             std::to_string(stage + 1) + " with --stage-input MERGED.vdb)")
-                  << ".\n";
-        return;
-    }
-    printSummary(c, scene, read, report, volume);
+    const Volume volume = bakeToFile(scene, request, c.output, &progress, &report);
+    if (!c.quiet) std::cout << bakeSummary({scene, describeSceneSource(read), c.output, request, report, volume});
 }
 }  // namespace
 
@@ -404,12 +218,7 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
     const GivenOptions g{spacing, resolution, tilesOpt, tileOpt, stageOpt};
     cmd->callback([c, cmd, g] {
         if (c->planOnly) {  // vdblight slurm: refuse what would not tile before writing any script
-            BakeRequest staged = resolveBakeRequest(toRequest(*c, g));
-            if (staged.depthRays && !*staged.depthMoments) throw ValueError("--depth-rays needs --depth-moments");
-            staged.stage = 0;
-            const std::string why = findPass(staged.pass).untileable(staged);
-            if (!why.empty()) throw ValueError(why);
-            c->stages = *staged.probePasses + 1;
+            c->stages = tiledBakeStages(toRequest(*c, g));
             return;
         }
         // Every option that changes the result, for the tile hash.

@@ -7,9 +7,8 @@
 #include "vdblight/core/errors.h"
 #include "vdblight/export/export.h"
 #include "vdblight/export/engines.h"
-#include "vdblight/query/query.h"
-#include "vdblight/volume/vdb_io.h"
 #include "vdblight/export/slice.h"
+#include "vdblight/volume/vdb_io.h"
 
 namespace vdblight::app {
 
@@ -31,23 +30,6 @@ struct ExportCommand {
 };
 
 /// export --format gltf: OUTDIR/probes.glb (export_gltf.h).
-/// Runs `write`, a one-file export into the directory `outDir`: creates the directory if it
-/// is missing and removes it again if the export fails, so that nothing is left behind.
-template <typename Write>
-auto intoOutputDirectory(const std::string& outDir, Write write) -> decltype(write()) {
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    const bool created = !fs::is_directory(outDir, ec);
-    if (created && !fs::create_directories(outDir, ec))
-        throw IoError("cannot create output directory '" + outDir + "'" + (ec ? ": " + ec.message() : ""));
-    try {
-        return write();
-    } catch (...) {
-        if (created) fs::remove(outDir, ec);  // leave nothing behind
-        throw;
-    }
-}
-
 void runGltf(const ExportCommand& c) {
     GltfProbeOptions o;
     o.every = c.every;
@@ -66,7 +48,8 @@ void runGltf(const ExportCommand& c) {
     }
     const Volume volume = readVolume(c.volume);
     const std::string file = (std::filesystem::path(c.output) / "probes.glb").string();
-    const GltfProbeSummary s = intoOutputDirectory(c.output, [&] { return exportGltfProbes(volume, file, o); });
+    GltfProbeSummary s;
+    intoOutputDirectory(c.output, [&] { s = exportGltfProbes(volume, file, o); });
     if (!c.quiet)
         std::cout << "Wrote " << s.spheres << " probe spheres (vertex colour = " << s.colourScale
                   << " * E(n) / pi) and the volume's box to " << file << " (" << formatBytes(double(s.bytes)) << ")\n";
@@ -83,21 +66,6 @@ void runPreset(const ExportCommand& c) {
         std::cout << "Folded the direct light of " << s.foldedLights << " light(s) (bake --direct occlusion) into the SH\n";
 }
 
-/// export --cells K: the volume streamed when it is large and its kind streams (as `query`
-/// does), read whole otherwise; the same texels either way.
-CellsSummary exportByCells(const ExportCommand& c, const ExportOptions& o) {
-    std::error_code ec;
-    const uint64_t bytes = std::filesystem::file_size(c.volume, ec);
-    if (!ec && bytes >= kStreamAboveBytes) {
-        auto streamed = std::make_shared<StreamedVolume>(c.volume);
-        if (streamingSupported(*streamed).empty())
-            return exportCells(makeStreamingQuery(streamed, OutsidePolicy::Clamp), *streamed, c.output, o, c.cells,
-                               uint64_t(c.leafMemoryMiB * double(1 << 20)));
-    }
-    const Volume volume = readVolume(c.volume);
-    return exportCells(IrradianceQuery(volume), volume, c.output, o, c.cells);
-}
-
 void run(const ExportCommand& c) {
     if (c.half && c.full) throw ValueError("give --half or --float, not both");
     if (!c.preset.empty()) return runPreset(c);
@@ -105,7 +73,8 @@ void run(const ExportCommand& c) {
     if (c.format == "vdb-preview") {  // preview grids for Blender / Houdini (preview.h)
         const Volume volume = readVolume(c.volume);
         const std::string file = (std::filesystem::path(c.output) / "preview.vdb").string();
-        const TextureLattice l = intoOutputDirectory(c.output, [&] { return exportPreviewVdb(volume, file, c.resolution); });
+        TextureLattice l;
+        intoOutputDirectory(c.output, [&] { l = exportPreviewVdb(volume, file, c.resolution); });
         if (!c.quiet)
             std::cout << "Wrote preview grids (irradiance_avg, irradiance_<axis><pos|neg>, density) of " << l.dims[0]
                       << " x " << l.dims[1] << " x " << l.dims[2] << " voxels to " << file << "\n";
@@ -139,7 +108,7 @@ void run(const ExportCommand& c) {
     o.halfFloat = !c.full;
     o.resolution = c.resolution;
     if (c.cells != 0) {
-        const CellsSummary s = exportByCells(c, o);
+        const CellsSummary s = exportCellsOfFile(c.volume, c.output, o, c.cells, uint64_t(c.leafMemoryMiB * double(1 << 20)));
         if (!c.quiet)
             std::cout << "Exported " << s.cells[0] << " x " << s.cells[1] << " x " << s.cells[2] << " cells of "
                       << formatName(o.format) << " textures (" << layoutName(o.layout) << ", "

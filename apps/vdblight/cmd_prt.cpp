@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <initializer_list>
-#include <iomanip>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -80,118 +78,14 @@ void runBake(PrtBakeCommand& c) {
               << " (" << c.output << ")\n";
 }
 
-/// The comma-separated numbers of `option` '`text`': one of `counts` of them, all finite.
-std::vector<double> parseNumbers(const std::string& text, const std::string& option, const std::string& form,
-                                 std::initializer_list<std::size_t> counts) {
-    const std::string what = option + " '" + text + "': ";
-    std::vector<double> v;
-    std::stringstream ss(text);
-    std::string item;
-    while (std::getline(ss, item, ',')) {
-        try {
-            std::size_t used = 0;
-            v.push_back(std::stod(item, &used));
-            if (used != item.size()) throw std::invalid_argument(item);
-        } catch (const std::exception&) {
-            throw ValueError(what + "expected " + form + " numbers");
-        }
-    }
-    if (std::find(counts.begin(), counts.end(), v.size()) == counts.end()) throw ValueError(what + "expected " + form);
-    for (double x : v)
-        if (!std::isfinite(x)) throw ValueError(what + "numbers must be finite");
-    return v;
-}
-
-/// The optional r,g,b at v[first..first+2] (W/sr, not negative); white without them.
-Rgb parseIntensity(const std::vector<double>& v, std::size_t first, const std::string& option, const std::string& text) {
-    if (v.size() < first + 3) return Rgb{1, 1, 1};
-    if (v[first] < 0 || v[first + 1] < 0 || v[first + 2] < 0) {
-        throw ValueError(option + " '" + text + "': intensity must not be negative");
-    }
-    return Rgb(Vec3d{v[first], v[first + 1], v[first + 2]});
-}
-
-/// A parsed light: given in world coordinates (double), its lights (DirectLight) are moved into
-/// the PRT file's local frame once the file is read (prtLocal).
-struct ParsedLight {
-    std::vector<DirectLight> lights;  ///< world frame
-    Vec3d world;                      ///< the position given (for warnings)
-};
-
-/// --area-light x,y,z,nx,ny,nz,size[,r,g,b]: a square emitting on the side of the normal, the
-/// intensity along the normal (a polygon light: squareLight).
-ParsedLight parseAreaLight(const std::string& text) {
-    const std::vector<double> v =
-        parseNumbers(text, "--area-light", "x,y,z,nx,ny,nz,size or x,y,z,nx,ny,nz,size,r,g,b", {7, 10});
-    const Vec3d centre{v[0], v[1], v[2]}, normal{v[3], v[4], v[5]};
-    if (!(length(normal) > 0)) throw ValueError("--area-light '" + text + "': the normal must not be zero");
-    if (!(v[6] > 0)) throw ValueError("--area-light '" + text + "': size must be positive");
-    return {{squareLight(centre, normal, v[6], parseIntensity(v, 7, "--area-light", text))}, centre};
-}
-
-/// --light x,y,z[,r,g,b]: a point light, or, with --area-size > 0, an isotropic square of that
-/// side in the XZ plane: samples x samples point lights at its cell centres sharing the intensity.
-ParsedLight parseLight(const std::string& text, float size, int samples) {
-    const std::vector<double> v = parseNumbers(text, "--light", "x,y,z or x,y,z,r,g,b", {3, 6});
-    const Vec3d centre{v[0], v[1], v[2]};
-    DirectLight point;
-    point.kind = DirectLight::Kind::Point;
-    point.value = parseIntensity(v, 3, "--light", text);
-    if (!(size > 0)) {
-        point.position = centre;
-        return {{point}, centre};
-    }
-    ParsedLight out{{}, centre};
-    const int m = std::max(1, samples);
-    point.value = Rgb(Rgbd(point.value) / double(m * m));
-    for (int a = 0; a < m * m; ++a) {
-        const double u = size * ((double(a % m) + 0.5) / m - 0.5), w = size * ((double(a / m) + 0.5) / m - 0.5);
-        point.position = centre + Vec3d{u, 0, w};
-        out.lights.push_back(point);
-    }
-    return out;
-}
-
-std::string formatLighting(const PrtData& prt, const PrtLighting& lit, bool ply) {
-    const SurfaceSamples& s = prt.samples;
-    std::ostringstream out;
-    out.precision(7);
-    if (ply) {
-        out << "ply\nformat ascii 1.0\ncomment vdblight prt relight: irradiance W/m^2, radiance W/(m^2 sr)\n"
-            << "element vertex " << s.size() << "\n";
-        for (const char* p : {"x", "y", "z", "nx", "ny", "nz"}) out << "property float " << p << "\n";
-        out << "property int cluster\n";
-        for (const char* p : {"direct", "indirect", "radiance"})
-            for (const char* ch : {"_r", "_g", "_b"}) out << "property float " << p << ch << "\n";
-        out << "end_header\n";
-    } else {
-        out << "x,y,z,nx,ny,nz,cluster,direct_r,direct_g,direct_b,indirect_r,indirect_g,indirect_b,radiance_r,"
-               "radiance_g,radiance_b\n";
-    }
-    const char sep = ply ? ' ' : ',';
-    // Far from the origin, positions need their double digits (near it, 7 as the values).
-    const int positionDigits = prt.origin == Vec3d(0, 0, 0) ? 7 : 15;
-    for (std::size_t i = 0; i < s.size(); ++i) {
-        const Vec3d p = prt.origin + Vec3d(s.position[i]);  // world position
-        const Vec3f& n = s.normal[i];
-        const Rgb& d = lit.direct[i];
-        const Rgb& e = lit.indirect[i];
-        const Rgb l = s.albedo[i] * (d + e) * float(kInvPi);
-        out << std::setprecision(positionDigits) << p.x << sep << p.y << sep << p.z << std::setprecision(7) << sep << n.x << sep << n.y << sep << n.z << sep << s.cluster[i];
-        for (const Rgb& v : {d, e, l}) out << sep << v.x << sep << v.y << sep << v.z;
-        out << '\n';
-    }
-    return out.str();
-}
-
 void runRelight(const PrtRelightCommand& c) {
     if (c.sceneLights && c.scene.empty()) throw ValueError("--scene-lights needs --scene (the scene whose lights to use)");
     if (c.lights.empty() && c.areaLights.empty() && !c.sceneLights) {
         throw ValueError("give at least one --light x,y,z[,r,g,b], --area-light or --scene-lights");
     }
-    std::vector<ParsedLight> parsed;
-    for (const std::string& t : c.lights) parsed.push_back(parseLight(t, c.areaSize, c.areaSamples));
-    for (const std::string& t : c.areaLights) parsed.push_back(parseAreaLight(t));
+    std::vector<PrtLightSpec> parsed;
+    for (const std::string& t : c.lights) parsed.push_back(parsePointLightSpec(t, c.areaSize, c.areaSamples));
+    for (const std::string& t : c.areaLights) parsed.push_back(parseAreaLightSpec(t));
     bool ply = c.format == "ply";
     if (c.format.empty()) ply = c.output.size() > 4 && c.output.substr(c.output.size() - 4) == ".ply";
     else if (c.format != "csv" && c.format != "ply") throw ValueError("--format must be csv or ply");
@@ -199,7 +93,7 @@ void runRelight(const PrtRelightCommand& c) {
     if (!c.volumeOutput.empty()) checkOutputWritable(c.volumeOutput);
     const PrtData prt = readPrt(c.input);
     std::vector<DirectLight> lights;  // in the file's local frame (the scene's, scene_origin.h)
-    for (const ParsedLight& p : parsed)
+    for (const PrtLightSpec& p : parsed)
         for (DirectLight l : p.lights) {
             l.translate(Vec3d(0, 0, 0) - prt.origin);
             lights.push_back(l);
@@ -226,17 +120,8 @@ void runRelight(const PrtRelightCommand& c) {
         if (lights.size() == before) throw ValueError("--scene-lights: '" + c.scene + "' has no lights");
     }
     for (std::size_t i = 0; i < parsed.size(); ++i) {
-        std::ostringstream name;
-        name.precision(10);
-        name << "light " << i + 1 << " at " << parsed[i].world.x << "," << parsed[i].world.y << "," << parsed[i].world.z;
-        const Vec3f local = prtLocal(prt, parsed[i].world);
-        if (!prt.bounds.contains(Vec3d(local))) {
-            std::cerr << "vdblight: warning: " << name.str()
-                      << " is outside the scene bounds (lit as given; the basis was trained inside)\n";
-        } else if (tracer ? insideSolid(*tracer, local) : prtInsideSolid(prt, local)) {
-            std::cerr << "vdblight: warning: " << name.str() << " is inside a solid (lit as given"
-                      << (tracer ? "" : "; judged from the samples, give --scene for the exact test") << ")\n";
-        }
+        const std::string why = prtLightWarning(prt, tracer.get(), parsed[i].world);
+        if (!why.empty()) std::cerr << "vdblight: warning: light " << i + 1 << " at " << why << "\n";
     }
     PrtRelightOptions options;
     options.areaSamples = c.areaSamples;
@@ -255,16 +140,8 @@ void runRelight(const PrtRelightCommand& c) {
             std::cerr << "vdblight: warning: --reference scene differs from the baked one\n";
         }
         const Tracer tracer(scene);
-        std::vector<Rgb> direct(prt.samples.size(), Rgb{0, 0, 0});
-        for (const DirectLight& l : lights) {
-            const std::vector<float> d = exactDirectLight(prt.samples, scene, tracer, l, c.threads);
-            for (std::size_t i = 0; i < d.size(); ++i) direct[i] += l.value * d[i];
-        }
-        // Uncompressed bounces with the bake's form factors (closure-normalised as baked).
-        const std::vector<float> F = sampleFormFactors(prt.samples, tracer, c.threads, nullptr, prt.closureNormalise);
-        const std::vector<Rgb> indirect = bounceIndirect(prt.samples, F, direct, prt.bounces);
-        std::cerr << "reference: RMS relative error direct " << rmsRelativeError(lit.direct, direct) << ", indirect "
-                  << rmsRelativeError(lit.indirect, indirect) << "\n";
+        const PrtReferenceErrors e = prtReferenceErrors(prt, lit, lights, scene, tracer, c.threads);
+        std::cerr << "reference: RMS relative error direct " << e.direct << ", indirect " << e.indirect << "\n";
     }
     if (!c.volumeOutput.empty()) {
         const double v0 = seconds();
@@ -278,53 +155,12 @@ void runRelight(const PrtRelightCommand& c) {
                       << formatSeconds(v1 - v0) << " -> " << c.volumeOutput << "\n";
         }
     }
-    emitText(c.output, formatLighting(prt, lit, ply));
+    emitText(c.output, prtLightingTable(prt, lit, ply));
 }
 
 }  // namespace
 
-static std::string formatNumber(double v) {
-    std::ostringstream out;
-    out << v;
-    return out.str();
-}
-
-void printPrtInfo(const std::string& path) {
-    const PrtData prt = readPrt(path);
-    const PrtFileInfo info = inspectPrt(path);
-    std::cout << path << ": PRT file, " << formatBytes(double(info.fileBytes)) << " on disk\n"
-              << "  scene " << prt.sceneName << " (" << prt.sceneHash << ")\n"
-              << "  " << info.samples << " samples in " << info.clusters << " clusters (radius "
-              << prt.samples.radius << ")\n"
-              << "  visibility: " << prt.visGrid * prt.visGrid << " directions -> " << prt.visCoeffStride
-              << " coefficients\n"
-              << "  direct-light basis: " << prt.trainLights << " training lights -> "
-              << prt.transferStride - 1 - prt.orientedCoeffs
-              << " vectors per cluster"
-              << (prt.orientedTraining > 0 ? " (+ " + formatNumber(prt.orientedTraining) +
-                                                 " one-sided per point light -> " + std::to_string(prt.orientedCoeffs) +
-                                                 " vectors)"
-                                           : std::string())
-              << "\n"
-              << "  scene origin: " << std::setprecision(15) << prt.origin.x << ", " << prt.origin.y << ", "
-              << prt.origin.z << std::setprecision(6) << "\n"
-              << "  transfer: " << prt.bounces << (prt.bounces == 1 ? " bounce" : " bounces")
-              << (prt.closureNormalise ? ", closure-normalised" : ", raw")
-              << (prt.formFactorRays ? " sampled form factors (" + std::to_string(prt.formFactorRays) + " rays per receiver)"
-                                     : std::string(" disk form factors between all sample pairs"))
-              << "\n"
-              << "  relightable volume: "
-              << (prt.hasVolume() ? std::to_string(prt.volumeGrid.nx) + " x " + std::to_string(prt.volumeGrid.ny) + " x " +
-                                        std::to_string(prt.volumeGrid.nz) + " nodes"
-                                  : std::string("none"))
-              << "\n"
-              << "  values: " << info.values << " (" << info.droppedValues << " dropped as near zero)\n"
-              << "  bytes: " << info.bytesFloat32 << " as dense 32-bit floats, " << info.bytesStored
-              << " stored (sparse" << (info.bytesStored * 2 <= info.bytesFloat32 + 8 ? ", 16-bit" : "") << ")\n"
-              << "  bake time: samples " << formatSeconds(prt.secondsSamples) << ", visibility "
-              << formatSeconds(prt.secondsVisibility) << ", basis " << formatSeconds(prt.secondsBasis)
-              << ", transfer " << formatSeconds(prt.secondsTransfer) << "\n";
-}
+void printPrtInfo(const std::string& path) { std::cout << prtInfoText(path); }
 
 void addPrtCommand(CLI::App& app) {
     CLI::App* prt = app.add_subcommand("prt", "Precomputed radiance transfer for moving lights (Leonhardt & Bohn)");

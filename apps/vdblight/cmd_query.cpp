@@ -2,7 +2,6 @@
 // The answers are the library's (volume_query.h); this file parses options and prints.
 #include <iostream>
 #include <limits>
-#include <sstream>
 
 #include "app_common.h"
 #include "commands.h"
@@ -70,22 +69,8 @@ void run(const QueryCommand& c) {
     options.note = [](const std::string& note) { std::cerr << "vdblight: note: " << note << "\n"; };
     const Query query(c.volume, options);
 
-    std::ostringstream out;
-    out.precision(9);
-    out << "x,y,z,nx,ny,nz,E_r,E_g,E_b\n";
-    std::size_t clamped = 0, culled = 0, negative = 0;
-    for (std::size_t i = 0; i < world.size(); ++i) {
-        const QueryAnswer a = query.at(world[i], normals[i], i);
-        clamped += a.outside;
-        culled += a.culled;
-        negative += a.negative;
-        const Vec3d x = query.farFromOrigin() ? world[i] : Vec3d(Vec3f(world[i]));  // near the origin: printed as before
-        const Vec3f& n = a.normal;
-        const Rgb& e = a.irradiance;
-        out << x.x << ',' << x.y << ',' << x.z << ',' << n.x << ',' << n.y << ',' << n.z
-            << ',' << e.x << ',' << e.y << ',' << e.z << '\n';
-    }
-    emitText(c.output, out.str());
+    const QueryCsv answers = queryCsv(query, world, normals);
+    emitText(c.output, answers.text);
     if (c.streamReport) {
         if (const StreamedVolume* streamed = query.streamed())
             std::cerr << "vdblight: streamed '" << c.volume << "': read " << streamed->loadedLeaves() << " of "
@@ -95,6 +80,7 @@ void run(const QueryCommand& c) {
             std::cerr << "vdblight: read all of '" << c.volume << "'\n";
     }
     const std::size_t count = world.size();
+    const std::size_t clamped = answers.clamped, culled = answers.culled, negative = answers.negative;
     if (clamped > 0)
         std::cerr << "vdblight: warning: " << clamped << " of " << count
                   << " points lie outside the volume's node box and were clamped to its boundary\n";

@@ -1,5 +1,4 @@
 // vdblight reference [SCENE] --points FILE.csv: ground-truth irradiance without SH or grid.
-#include <sstream>
 #include <iostream>
 
 #include "app_common.h"
@@ -35,19 +34,7 @@ void run(const ReferenceCommand& c) {
     ProgressBar progress(c.quiet);
     const std::vector<ReferenceResult> results = referenceIrradiance(scene, tracer, points, options, &progress);
 
-    std::ostringstream out;
-    out.precision(9);
-    out << "x,y,z,nx,ny,nz,E_r,E_g,E_b,stderr_r,stderr_g,stderr_b\n";
-    for (std::size_t i = 0; i < points.size(); ++i) {
-        const ReferencePoint& p = points[i];
-        const Vec3f n = normalize(p.normal);
-        const ReferenceResult& r = results[i];
-        const Vec3d x = scene.toWorld(p.position);
-        out << x.x << ',' << x.y << ',' << x.z << ',' << n.x << ',' << n.y << ',' << n.z
-            << ',' << r.irradiance.x << ',' << r.irradiance.y << ',' << r.irradiance.z << ',' << r.standardError.x
-            << ',' << r.standardError.y << ',' << r.standardError.z << '\n';
-    }
-    emitText(c.output, out.str());
+    emitText(c.output, referenceCsv(scene, points, results));
 }
 }  // namespace
 

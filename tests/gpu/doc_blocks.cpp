@@ -38,16 +38,11 @@ const std::string& blockDeclaring(const std::vector<std::string>& blocks, const 
     return *found;
 }
 
-const char* const kEngineDocs[3] = {"docs/engines.md", "docs/engine_layouts.md", "docs/engine_visibility.md"};
+const char* const kEngineDocs[3] = {"engines.md", "engine_layouts.md", "engine_visibility.md"};
 
 std::string readEngineDocs() {
     std::string text;
-    for (const char* page : kEngineDocs) {
-        const std::string path = std::string(VDBLIGHT_SOURCE_DIR) + "/" + page;
-        std::ifstream in(path);
-        if (!in) throw std::runtime_error("cannot read " + path);
-        text += std::string(std::istreambuf_iterator<char>(in), {}) + "\n";
-    }
+    for (const char* page : kEngineDocs) text += readDoc(page) + "\n";
     return text;
 }
 

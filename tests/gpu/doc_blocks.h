@@ -21,7 +21,7 @@ const std::string& blockDeclaring(const std::vector<std::string>& blocks, const 
 /// by what it declares, whichever page it is on.
 std::string readEngineDocs();
 
-/// The pages readEngineDocs reads, relative to the source tree.
+/// The pages readEngineDocs reads, relative to docs/.
 extern const char* const kEngineDocs[3];
 /// The text of docs/NAME of this source tree (e.g. "shadow_visibility.md").
 std::string readDoc(const std::string& name);

@@ -297,4 +297,13 @@ const Pass& checkBakeRequest(const BakeRequest& given) {
     return pass;
 }
 
+int tiledBakeStages(const BakeRequest& request) {
+    BakeRequest staged = resolveBakeRequest(request);
+    if (staged.depthRays && !*staged.depthMoments) throw ValueError("--depth-rays needs --depth-moments");
+    staged.stage = 0;
+    const std::string why = findPass(staged.pass).untileable(staged);
+    if (!why.empty()) throw ValueError(why);
+    return *staged.probePasses + 1;
+}
+
 }  // namespace vdblight

@@ -1,7 +1,10 @@
 // The error-targeted point gather as a Pass (bake_adaptive.h).
 #include "passes.h"
 
+#include <sstream>
+
 #include "pass_options.h"
+#include "vdblight/core/interrupter.h"
 #include "vdblight/core/errors.h"
 #include "vdblight/layout/layout.h"
 #include "basis/sh.h"
@@ -24,6 +27,8 @@ public:
     bool takesShWindow() const override { return true; }
     Volume run(const BakeContext& context, const BakeRequest& request, const GridSpec& grid,
                BakeReport& report) const override;
+    std::string summaryLead(const BakeSummaryInput& in) const override;
+    std::string summaryRays(const BakeSummaryInput&) const override { return "error-targeted"; }
 };
 }  // namespace
 
@@ -85,6 +90,25 @@ Volume AdaptivePass::run(const BakeContext& c, const BakeRequest& r, const GridS
     static_cast<BakeStats&>(report.stats) = stats;
     report.adaptive = std::move(stats);
     return v;
+}
+
+/// The error reached against the target, and the rays that saved (a tile's errors are the
+/// merge's to summarise).
+std::string AdaptivePass::summaryLead(const BakeSummaryInput& in) const {
+    const BakeReport& report = in.report;
+    const BakeRequest& r = report.resolved;
+    if (!report.adaptive || report.adaptive->estimatedError.empty() || r.tiles) return {};
+    const AdaptiveStats& as = *report.adaptive;
+    const uint32_t maxRays = *r.maxRays;
+    std::ostringstream out;
+    out << "Error-targeted: relative standard error of mean irradiance p50 " << as.errorQuantile(0.5) << ", p95 "
+        << as.errorQuantile(0.95) << ", max " << as.errorQuantile(1.0) << " (target " << *r.targetError << ", "
+        << as.nodesAtMax << " nodes stopped at --max-rays " << maxRays << "); " << formatCount(double(as.samples))
+        << " gathered rays, " << formatCount(double(as.samples) / double(as.nodes)) << " per node, "
+        << formatCount(double(uint64_t(maxRays) * as.nodes - as.samples)) << " ("
+        << int(100.0 * (1.0 - double(as.samples) / (double(maxRays) * as.nodes))) << " %) saved against " << maxRays
+        << " rays on every node.\n";
+    return out.str();
 }
 
 const Pass& adaptivePass() {

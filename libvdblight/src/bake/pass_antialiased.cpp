@@ -21,6 +21,9 @@ public:
     std::size_t bytesPerNode(const BakeRequest& request) const override;
     std::string untileable(const BakeRequest& request) const override;
     bool takesShWindow() const override { return true; }
+    std::string summaryRayNote(const BakeSummaryInput& in) const override {
+        return " (sampling antialiased, domain " + metaString(in.volume.meta, "domain") + ")";
+    }
     Volume run(const BakeContext& context, const BakeRequest& request, const GridSpec& grid,
                BakeReport& report) const override;
 };

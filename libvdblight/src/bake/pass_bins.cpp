@@ -30,6 +30,11 @@ public:
     std::string untileable(const BakeRequest& request) const override;
     Volume run(const BakeContext& context, const BakeRequest& request, const GridSpec& grid,
                BakeReport& report) const override;
+    /// The rays per node and the samples per bin as the gather counted them (bins_gather.cpp).
+    std::string summaryRays(const BakeSummaryInput& in) const override {
+        return metaString(in.volume.meta, "rays_per_node");
+    }
+    std::string summaryStored(const BakeSummaryInput& in) const override;
 };
 }  // namespace
 
@@ -78,6 +83,13 @@ Volume BinsPass::run(const BakeContext& c, const BakeRequest& r, const GridSpec&
     bo.transport = c.transport;
     bo.only = selectTile(c, layout.levels);
     return bakeBins(c.scene, c.tracer, layout, bo, c.interrupter, &report.stats);
+}
+
+std::string BinsPass::summaryStored(const BakeSummaryInput& in) const {
+    const Volume& volume = in.volume;
+    if (!volume.meta.count("samples_per_bin")) return storedBasisSummary(in);  // the generic basis gather
+    return "(basis " + volume.basis.kind + ", " + std::to_string(volume.basis.channelCount()) + " Vec3f grids, " +
+           metaString(volume.meta, "samples_per_bin") + " samples per bin)";
 }
 
 const Pass& binsPass() {

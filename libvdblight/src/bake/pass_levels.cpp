@@ -3,6 +3,8 @@
 // with the bins pass.
 #include "passes.h"
 
+#include <sstream>
+
 #include "pass_options.h"
 #include "vdblight/bake/each_pass.h"
 #include "vdblight/core/errors.h"
@@ -24,6 +26,7 @@ public:
     std::size_t bytesPerNode(const BakeRequest& request) const override;
     std::string untileable(const BakeRequest& request) const override;
     bool takesShWindow() const override { return true; }
+    std::string summaryLead(const BakeSummaryInput& in) const override;
     Volume run(const BakeContext& context, const BakeRequest& request, const GridSpec& grid,
                BakeReport& report) const override;
 };
@@ -87,6 +90,26 @@ Volume LevelsPass::run(const BakeContext& c, const BakeRequest& r, const GridSpe
     report.layout = LayoutSummary{int(volume.levels.size()), layout.refine, layout.totalNodes(),
                                   layout.denseEquivalentNodes(), layout.culledNodes};
     return volume;
+}
+
+/// The nodes culled inside solids and what the levels saved against a dense grid.
+std::string LevelsPass::summaryLead(const BakeSummaryInput& in) const {
+    const BakeReport& report = in.report;
+    const BakeRequest& r = report.resolved;
+    std::ostringstream out;
+    if (report.cull)
+        out << "Solid culling: " << report.cull->nodesCulled << " of " << report.cull->nodesBefore
+            << " nodes left out (inside closed solids: " << report.cull->solidRegions << " of " << report.cull->regions
+            << " regions of geometry-free cells, " << report.cull->solidCells << " solid cells).\n";
+    if (report.layout) {
+        const LayoutSummary& l = *report.layout;
+        out << "Layout " << r.layout << ": " << l.levels << " levels refined by " << l.refine << ", " << l.nodes
+            << " nodes (" << report.stats.seamNodes << " seam nodes set from the coarser level) vs "
+            << l.denseEquivalentNodes << " in a dense grid at the finest spacing ("
+            << 100.0 * (1.0 - double(l.nodes) / l.denseEquivalentNodes) << " % saved"
+            << (r.cullSolids ? ", " + std::to_string(l.culledNodes) + " of them culled inside solids" : "") << ").\n";
+    }
+    return out.str();
 }
 
 const Pass& levelsPass() {

@@ -1,7 +1,13 @@
 // The photon pass as a Pass (photons.h), with its memory formula and the compact form.
 #include "passes.h"
 
+#include <sstream>
+
 #include "pass_options.h"
+#include "vdblight/basis/depth_moments.h"
+#include "vdblight/core/interrupter.h"
+#include "vdblight/volume/tiles.h"
+#include "vdblight/scene/scene.h"
 #include "vdblight/core/errors.h"
 #include "vdblight/basis/irradiance_vectors.h"
 #include "vdblight/bake/each_pass.h"
@@ -24,6 +30,7 @@ public:
     Volume run(const BakeContext& context, const BakeRequest& request, const GridSpec& grid,
                BakeReport& report) const override;
     void finish(Volume& volume, WriteOptions& write, const BakeRequest& request) const override;
+    std::string summary(const BakeSummaryInput& in) const override;
 };
 }  // namespace
 
@@ -97,6 +104,41 @@ void PhotonsPass::finish(Volume& volume, WriteOptions& write, const BakeRequest&
     if (!r.compact || r.tiles) return;  // a tile holds sums: the merge makes the compact form
     volume = iv::compact(volume);
     write.halfFloat = true;
+}
+
+/// The photons traced and the file written; a tile: its batches, summed over the whole grid.
+std::string PhotonsPass::summary(const BakeSummaryInput& in) const {
+    const BakeReport& report = in.report;
+    const PhotonStats& stats = *report.photons;
+    std::ostringstream out;
+    if (report.photonSums) {
+        const PhotonSums& sums = *report.photonSums;
+        out << "Baked tile " << *in.request.tile << " of " << *in.request.tiles << ": photon batches " << sums.firstBatch
+            << ".." << sums.endBatch - 1 << " of " << sums.batches << " (" << formatCount(double(stats.photons)) << " of "
+            << formatCount(double(report.resolved.photons.value_or(0))) << " photons), "
+            << formatCount(double(stats.rays.total())) << " rays in " << formatSeconds(stats.seconds)
+            << (report.depth ? "; depth moments of its share of the nodes, " + formatCount(double(report.depth->rays)) +
+                                   " first-hit rays in " + formatSeconds(report.depth->seconds)
+                             : std::string())
+            << ". Wrote " << in.output
+            << " (the whole grid's sums of these batches; merge the tiles with 'vdblight merge').\n";
+        return out.str();
+    }
+    const GridSpec& grid = report.grid;
+    const Scene& scene = in.scene;
+    out << "Baked " << grid.nodeCount() << " nodes (" << grid.nx << " x " << grid.ny << " x " << grid.nz
+        << ", spacing " << grid.spacing << ") of scene '" << scene.name << "' (" << scene.triangleCount()
+        << " triangles; " << in.sceneSource << ") with " << formatCount(double(stats.photons)) << " photons: "
+        << formatCount(double(stats.segments)) << " segments, " << formatCount(double(stats.crossings))
+        << " face crossings, " << formatCount(double(stats.rays.total())) << " rays in " << formatSeconds(stats.seconds)
+        << " (" << formatCount(stats.seconds > 0 ? double(stats.photons) / stats.seconds : 0.0)
+        << " photons/s). Wrote " << in.output
+        << (report.resolved.compact ? " (compact irradiance vectors: colour + direction, 12 half-float Vec3 grids).\n"
+                                    : " (irradiance vectors, 18 Vec3f grids).\n");
+    if (report.depth)  // the default's (--no-depth-moments: none)
+        out << "Depth moments: " << formatCount(double(report.depth->rays)) << " first-hit rays in "
+            << formatSeconds(report.depth->seconds) << " (" << depth::kBytesPerNode << " B per node at 8 bits).\n";
+    return out.str();
 }
 
 const Pass& photonsPass() {

@@ -2,6 +2,8 @@
 // passes.h and one entry here.
 #include "passes.h"
 
+#include <algorithm>
+
 #include "pass_options.h"
 #include "vdblight/core/errors.h"
 
@@ -21,6 +23,23 @@ const Pass& findPass(const std::string& name) {
         names.push_back(p->name());
     }
     throw ValueError("unknown pass '" + name + "': the passes are " + bake_detail::joinChoices(names));
+}
+
+std::vector<PassOptionEntry> passOptionTable() {
+    std::vector<PassOptionEntry> table;
+    for (const Pass* pass : passRegistry())
+        for (const PassOption& o : pass->options()) {
+            auto same = std::find_if(table.begin(), table.end(),
+                                     [&](const PassOptionEntry& e) { return e.option.name == o.name; });
+            if (same != table.end()) same->passes.push_back(pass->name());
+            else table.push_back({o, {pass->name()}, {}});
+        }
+    for (PassOptionEntry& e : table) {
+        std::string takers;
+        for (const std::string& p : e.passes) takers += (takers.empty() ? "" : ", ") + p;
+        e.help = e.option.help + " [pass" + (e.passes.size() > 1 ? "es " : " ") + takers + "]";
+    }
+    return table;
 }
 
 }  // namespace vdblight

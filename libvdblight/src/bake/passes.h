@@ -21,6 +21,10 @@ const Pass& photonsPass();      ///< Pacanowski photons into irradiance vectors 
 std::vector<PassOption> layoutOptions();
 void checkLayoutOptions(const BakeRequest& request);
 
+/// What a volume of a registry basis holds, for Pass::summaryStored: "(basis sh:4: radiance
+/// SH coefficients, bands 0..4, 25 Vec3f grids)" (bake_summary.cpp).
+std::string storedBasisSummary(const BakeSummaryInput& in);
+
 /// Why the point gathers (gather, adaptive) cannot tile these options, or "".
 std::string pointGatherUntileable(const BakeRequest& request);
 

@@ -12,6 +12,7 @@
 //    loaded or allocated);
 //  - estimates the bytes per node it needs, which the grid placement uses to refuse a bake
 //    that would not fit in memory before allocating it;
+//  - writes the summary `vdblight bake` prints of what it baked (summary and its parts);
 //  - runs on a BakeContext shared by every pass (scene, tracer, transport, seed, threads,
 //    interrupter, the tile being baked) and writes its metadata through the bake module's
 //    one metadata writer (bake/pass_metadata.h).
@@ -41,6 +42,7 @@ class Tracer;
 class Interrupter;
 struct BakeRequest;
 struct BakeReport;
+struct BakeSummaryInput;
 
 /// One option of a pass: a BakeRequest field, named as on the command line (`--name`).
 struct PassOption {
@@ -118,12 +120,37 @@ public:
                        BakeReport& report) const = 0;
     /// The last step before writing (photons --compact: the compact form, half floats).
     virtual void finish(Volume& volume, WriteOptions& write, const BakeRequest& request) const;
+
+    /// What `vdblight bake` prints after this pass baked a file or a tile of it (bakeSummary,
+    /// below): lines ending in '\n'. The base writes the node gathers' summary
+    /// (bake/bake_summary.cpp) with the parts below, which passes override; the photon pass
+    /// writes its own.
+    virtual std::string summary(const BakeSummaryInput& in) const;
+    /// Lines before the shared ones: what the pass did before the file was written (the error
+    /// target reached, the levels and the nodes culled). None by default.
+    virtual std::string summaryLead(const BakeSummaryInput&) const { return {}; }
+    /// The rays per node of the summary's "Baked" line ("1024", "error-targeted").
+    virtual std::string summaryRays(const BakeSummaryInput& in) const;
+    /// Appended to the line's rays per second (" (sampling antialiased, domain interior)").
+    virtual std::string summaryRayNote(const BakeSummaryInput&) const { return {}; }
+    /// What the file holds, after "Wrote OUT": "(basis sh:4: ..., 25 Vec3f grids)".
+    virtual std::string summaryStored(const BakeSummaryInput& in) const;
 };
 
 /// Every pass, in the order `vdblight bake --help` lists them.
 const std::vector<const Pass*>& passRegistry();
 /// The pass of that name; ValueError naming the known ones otherwise.
 const Pass& findPass(const std::string& name);
+
+/// An option as a command line offers it: declared by one or more passes, once per name.
+struct PassOptionEntry {
+    PassOption option;                ///< the first declaration (its help, default, range)
+    std::vector<std::string> passes;  ///< the passes that declare it, in the registry's order
+    std::string help;                 ///< option.help + " [pass gather]" or " [passes gather, levels]"
+};
+/// Every option the passes declare, in the order of the registry: what `vdblight bake` offers
+/// and lists in --help, so that a new pass's options need no edit of the command line.
+std::vector<PassOptionEntry> passOptionTable();
 
 }  // namespace vdblight
 
@@ -252,6 +279,25 @@ struct BakeReport {
     /// writes with writePhotonTile; the returned volume then holds the grid and metadata only.
     std::shared_ptr<PhotonSums> photonSums;
 };
+
+/// What the summary of a bake reads (bakeSummary).
+struct BakeSummaryInput {
+    const Scene& scene;
+    std::string sceneSource;     ///< how the scene file was read (describeSceneSource, scene_load.h)
+    std::string output;          ///< the file written
+    const BakeRequest& request;  ///< as given (the tile numbers of a skipped tile)
+    const BakeReport& report;
+    const Volume& volume;        ///< bakeToFile's answer
+};
+
+/// What `vdblight bake` prints after bakeToFile, lines ending in '\n': the tile skipped, or
+/// the summary of the pass that baked (Pass::summary: grid, rays, time, the file's contents,
+/// the noise estimate, or a tile and what to do with it next).
+std::string bakeSummary(const BakeSummaryInput& in);
+
+/// The stages of a tiled bake with these options (its probe passes + 1), after the presets;
+/// ValueError when they cannot be tiled (for `vdblight slurm`, before any script is written).
+int tiledBakeStages(const BakeRequest& request);
 
 /// The request with the --quality preset and every default applied (optionals filled where
 /// the pass uses them, `pass` set to the selected pass). Does not validate.

@@ -19,6 +19,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -93,6 +94,11 @@ struct ExportSummary {
 /// above maxBytes, values beyond the half-float range) or IoError (directory not writable).
 ExportSummary exportTextures(const Volume& volume, const std::string& outDir, const ExportOptions& options);
 
+/// Runs `write`, an export of one file into the directory `outDir` (exportGltfProbes,
+/// exportPreviewVdb): creates the directory if it is missing and removes it again if `write`
+/// throws, so that a failed export leaves nothing behind.
+void intoOutputDirectory(const std::string& outDir, const std::function<void()>& write);
+
 }  // namespace vdblight
 
 // ---------------------------------------------------------------------------------------------
@@ -144,5 +150,10 @@ constexpr uint64_t kCellsLeafMemory = 1ull << 30;
 /// cell's textures, whatever the volume's size.
 CellsSummary exportCells(const IrradianceQuery& query, StreamedVolume& volume, const std::string& outDir,
                          const ExportOptions& options, int cellSize, uint64_t leafMemory = kCellsLeafMemory);
+
+/// exportCells of the volume file `path`: streamed when it is large (kStreamAboveBytes) and
+/// its kind streams, as `vdblight query` does, read whole otherwise; the same texels either way.
+CellsSummary exportCellsOfFile(const std::string& path, const std::string& outDir, const ExportOptions& options,
+                               int cellSize, uint64_t leafMemory = kCellsLeafMemory);
 
 }  // namespace vdblight

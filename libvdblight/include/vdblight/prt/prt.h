@@ -327,6 +327,36 @@ inline float diskSolidAngle(const Vec3f& p, const Vec3f& q, const Vec3f& m, floa
 /// sqrt(sum |a - b|^2 / sum |b|^2) over RGB components.
 double rmsRelativeError(const std::vector<Rgb>& a, const std::vector<Rgb>& b);
 
+/// What `vdblight prt relight` prints: per sample its world position, normal, cluster and
+/// direct, indirect (W/m^2) and outgoing radiance (W/(m^2 sr)), as CSV or ASCII PLY.
+std::string prtLightingTable(const PrtData& prt, const PrtLighting& lit, bool ply);
+
+/// A light of `prt relight` given as text: its lights (DirectLight) in world coordinates, which
+/// the caller moves into the PRT file's local frame (prtLocal), and the position given.
+struct PrtLightSpec {
+    std::vector<DirectLight> lights;
+    Vec3d world;
+};
+/// --light x,y,z[,r,g,b] (intensity W/sr, white without it): a point light, or with `areaSize`
+/// > 0 an isotropic square of that side in the XZ plane, `areaSamples`^2 point lights at its
+/// cell centres sharing the intensity. ValueError naming the option and the text.
+PrtLightSpec parsePointLightSpec(const std::string& text, double areaSize, int areaSamples);
+/// --area-light x,y,z,nx,ny,nz,size[,r,g,b]: a square emitting on the side of the normal, the
+/// intensity along the normal (a polygon light: squareLight).
+PrtLightSpec parseAreaLightSpec(const std::string& text);
+/// "x,y,z is outside the scene bounds (...)" or "... is inside a solid (...)" for a light at
+/// `world` where the basis was not trained, or "". `tracer`: the scene's for the exact
+/// inside-a-solid test (null: judged from the samples, prtInsideSolid).
+std::string prtLightWarning(const PrtData& prt, const Tracer* tracer, const Vec3d& world);
+
+/// A relighting against its ground truth (`prt relight --reference`): exact direct light by
+/// shadow rays, uncompressed bounces with the bake's form factors; RMS relative errors.
+struct PrtReferenceErrors {
+    double direct = 0, indirect = 0;
+};
+PrtReferenceErrors prtReferenceErrors(const PrtData& prt, const PrtLighting& lit, const std::vector<DirectLight>& lights,
+                                      const Scene& scene, const Tracer& tracer, int threads = 0);
+
 }  // namespace vdblight
 
 // ---------------------------------------------------------------------------------------------
@@ -359,5 +389,9 @@ struct PrtFileInfo {
     uint64_t bytesStored = 0;    ///< what they take as stored (16-bit if quantised, sparse)
 };
 PrtFileInfo inspectPrt(const std::string& path);
+
+/// What `vdblight prt info` lists of a PRT file: scene, samples and clusters, visibility and
+/// direct-light bases, transfer, relightable volume, values and bytes stored, bake times.
+std::string prtInfoText(const std::string& path);
 
 }  // namespace vdblight

@@ -122,4 +122,13 @@ private:
     bool far_ = false;
 };
 
+/// `vdblight query`'s answers at the points `world` with `normals`, as CSV rows
+/// x,y,z,nx,ny,nz,E_r,E_g,E_b after a header (positions in float near the origin, as given far
+/// from it), and how many answers were clamped to the node box, in culled cells or negative.
+struct QueryCsv {
+    std::string text;
+    std::size_t clamped = 0, culled = 0, negative = 0;
+};
+QueryCsv queryCsv(const Query& query, const std::vector<Vec3d>& world, const std::vector<Vec3f>& normals);
+
 }  // namespace vdblight

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "vdblight/light/light.h"
@@ -47,5 +48,19 @@ std::vector<ReferenceResult> referenceIrradiance(const Scene& scene, const Trace
                                                  const std::vector<ReferencePoint>& points,
                                                  const ReferenceOptions& options,
                                                  Interrupter* interrupter = nullptr);
+
+/// Comma-separated finite numbers ("1, 2.5,-3") as values: a row of readPointsCsv, or an
+/// option such as --bounds. ValueError "'x' is not a number" / "is not a finite number".
+std::vector<double> parseNumberList(const std::string& text);
+
+/// Reads "x,y,z,nx,ny,nz" rows (a header line and '#' comments are skipped).
+/// `worldPositions`, if given, receives the positions in double (world points far from the
+/// origin keep their precision; see docs/scene.md, "Large coordinates").
+std::vector<ReferencePoint> readPointsCsv(const std::string& path, std::vector<Vec3d>* worldPositions = nullptr);
+
+/// `vdblight reference`'s answers as CSV rows x,y,z,nx,ny,nz,E_r,E_g,E_b,stderr_r,stderr_g,
+/// stderr_b after a header: the points (in `scene`'s local frame) back in world coordinates.
+std::string referenceCsv(const Scene& scene, const std::vector<ReferencePoint>& points,
+                         const std::vector<ReferenceResult>& results);
 
 }  // namespace vdblight

@@ -213,6 +213,11 @@ void writePhotonTile(const PhotonSums& sums, const Metadata& meta, const TileId&
 /// volume); throws as readVolume for unreadable files.
 bool readTileId(const std::string& path, TileId& id);
 
+/// What `vdblight info` lists of a tile file: its identity, size, content hash and grids;
+/// tileInfoJson: identity, size and content hash as JSON.
+std::string tileInfoText(const TileId& id, const FileInfo& info);
+std::string tileInfoJson(const TileId& id, const FileInfo& info);
+
 /// The merged volume and how to write it (the tiles' half-float and reproducible settings).
 struct MergedTiles {
     Volume volume;
@@ -256,5 +261,38 @@ void addEarlierStageSums(Metadata& tileMeta, const Metadata& stageInput);
 /// content hash if the caller has computed it (a stage tile hashes its input for its parameter
 /// hash), so the check for damaged files does not hash the file again.
 Volume readProbeStage(const std::string& path, const ContentHash* knownHash = nullptr);
+
+// ---------------------------------------------------------------------------------------
+// A tiled bake as Slurm jobs (`vdblight slurm`, docs/scaling.md): per stage a job array of
+// tiles and a merge job after it (afterok), each stage's array after the merge before.
+
+struct SlurmJobs {
+    std::string program;  ///< the vdblight executable the jobs run
+    std::string scene;    ///< the scene file
+    std::string output;   ///< the merged .vdb; scripts and tiles go to OUTPUT.tiles/
+    int tiles = 1;        ///< array tasks per stage
+    int stages = 1;       ///< the bake's probe passes + 1 (tiledBakeStages, bake_volume.h)
+    std::vector<std::string> bakeArgs;  ///< the bake options of every tile, as given
+    std::string sbatch;   ///< extra sbatch options for every job ("--partition=bake --cpus-per-task=8")
+};
+
+/// Writes OUTPUT.tiles/: tiles[-S].sbatch and merge[-S].sbatch per stage S, submit.sh (submits
+/// them in order and records the job ids in `jobs`) and `tiles` (tile and stage counts), each
+/// atomically. Returns the directory.
+std::string writeSlurmJobs(const SlurmJobs& jobs);
+
+/// What OUTPUT.tiles/ holds (`vdblight slurm --status`): the counts writeSlurmJobs recorded,
+/// the tiles of each stage on disk, the job ids submit.sh recorded (tiles, merge, per stage).
+struct SlurmJobsState {
+    std::string directory;
+    int tiles = 0, stages = 1;
+    std::vector<int> tilesOnDisk;
+    std::vector<std::string> jobIds;
+};
+/// IoError if `output` has no tiled bake (no OUTPUT.tiles/tiles).
+SlurmJobsState readSlurmJobs(const std::string& output);
+
+/// `text` single-quoted for sh.
+std::string shellQuote(const std::string& text);
 
 }  // namespace vdblight

@@ -78,6 +78,11 @@ struct FileInfo {
 /// is computed here.
 FileInfo inspectVolumeFile(const std::string& path, const ContentHash* knownHash = nullptr);
 
+/// What `vdblight info` lists of a volume file: size, content hash, basis, direct light,
+/// levels, grids and metadata; volumeInfoJson: the same as one JSON object, keys in a fixed order.
+std::string volumeInfoText(const Volume& volume, const FileInfo& info);
+std::string volumeInfoJson(const Volume& volume, const FileInfo& info);
+
 }  // namespace vdblight
 
 // ---------------------------------------------------------------------------------------------
