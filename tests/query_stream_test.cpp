@@ -2,13 +2,7 @@
 // of the same file, read only the leaves they touch, and refuse the kinds they do not read.
 #include <gtest/gtest.h>
 
-#include <sys/resource.h>
-#include <unistd.h>
-
-#include <cstdio>
 #include <cstring>
-#include <fstream>
-#include <new>
 
 #include "random_volumes.h"
 #include "test_util.h"
@@ -271,73 +265,6 @@ TEST(QueryStream, DefaultKindReadsOnlyTheLeavesItTouchesAndReleasesThem) {
     EXPECT_LT(file->residentBytes(), loaded);
     EXPECT_TRUE(sameBits(q.irradianceWorld(x, Vec3f(0, 1, 0)), first));
     EXPECT_EQ(file->loadedLeaves(), kGrids);
-}
-
-// The process's data segment now (VmData of /proc/self/status: heap and private writable
-// mappings, what RLIMIT_DATA limits), in bytes.
-uint64_t dataSegmentBytes() {
-    std::ifstream status("/proc/self/status");
-    std::string key;
-    uint64_t kb = 0;
-    while (status >> key)
-        if (key == "VmData:" && status >> kb) return kb * 1024;
-    return 0;
-}
-
-// At its memory limit a streamed query stops with an exception, OutOfMemory (typed: the app
-// names the limit) or std::bad_alloc, never a crash: Blosc, which decompresses each leaf into
-// buffers it mallocs, dereferences the null pointer of a failed malloc (the process died of
-// SIGSEGV inside libblosc), so StreamedVolume checks before each leaf that the memory is there.
-// The limit (RLIMIT_DATA, this process's own, restored after each try; docs/scaling.md says
-// why that one) is set at the data segment in use plus 0, 128 KiB, 256 KiB, ... of room, and the query reads every leaf of a
-// file whose leaves take about 4 MB in memory, so the room runs out at every allocation of a
-// leaf's reading in turn.
-TEST(QueryStream, StopsWithAnExceptionAtItsMemoryLimit) {
-#ifdef __SANITIZE_ADDRESS__
-    GTEST_SKIP() << "under AddressSanitizer: its shadow memory counts against RLIMIT_DATA";
-#endif
-    rlimit saved{};
-    ASSERT_EQ(getrlimit(RLIMIT_DATA, &saved), 0);
-    test::TempDir dir;
-    Volume v = withLights(test::randomUniformVolume(makeBasis("sh:4")->desc(), 24, 24, 24, 0.1, 7), 8);
-    test::randomDepth(v, 9);
-    writeVolume(v, dir.file("default.vdb"));
-    auto file = std::make_shared<StreamedVolume>(dir.file("default.vdb"));
-    const IrradianceQuery q = makeStreamingQuery(file, OutsidePolicy::Clamp);
-    const GridSpec& g = file->header().levels[0].grid;
-    std::vector<Vec3d> points;  // one in every leaf (8^3 nodes), lit by the square light above
-    for (int k = 4; k < g.nz; k += 8)
-        for (int j = 4; j < g.ny; j += 8)
-            for (int i = 4; i < g.nx; i += 8) points.push_back(g.node(i, j, k) + Vec3d(0.03, 0.02, 0.01));
-    std::vector<Rgb> expected;
-    for (const Vec3d& x : points) expected.push_back(q.irradianceWorld(x, Vec3f(0, 1, 0)));
-    const uint64_t allLeaves = file->loadedLeaves();
-    ASSERT_EQ(allLeaves, file->totalLeaves());
-    int typed = 0, untyped = 0, completed = 0;
-    for (uint64_t room = 0; room <= (8u << 20) && completed == 0; room += 128u << 10) {
-        file->releaseLeaves();
-        rlimit limited = saved;
-        limited.rlim_cur = dataSegmentBytes() + room;
-        if (saved.rlim_max != RLIM_INFINITY && limited.rlim_cur > saved.rlim_max) GTEST_SKIP() << "the hard limit is lower";
-        std::vector<Rgb> got;
-        got.reserve(points.size());
-        ASSERT_EQ(setrlimit(RLIMIT_DATA, &limited), 0);
-        try {
-            for (const Vec3d& x : points) got.push_back(q.irradianceWorld(x, Vec3f(0, 1, 0)));
-        } catch (const OutOfMemory&) {
-            ++typed;
-        } catch (const std::bad_alloc&) {
-            ++untyped;
-        }
-        ASSERT_EQ(setrlimit(RLIMIT_DATA, &saved), 0);
-        if (got.size() < points.size()) continue;
-        ++completed;
-        for (std::size_t p = 0; p < points.size(); ++p) EXPECT_TRUE(sameBits(got[p], expected[p])) << "point " << p;
-    }
-    std::printf("[ info ] %d limits stopped with OutOfMemory, %d with std::bad_alloc, then one read all %llu leaves\n", typed,
-                untyped, (unsigned long long)allLeaves);
-    EXPECT_GT(typed, 0);      // the check before a leaf did stop it
-    EXPECT_EQ(completed, 1);  // and with room enough it answers as without a limit
 }
 
 TEST(QueryStream, RefusesKindsItDoesNotRead) {

@@ -189,6 +189,10 @@ OpenedFile openVolumeFile(const std::string& path, OpenFor purpose, const Conten
     } catch (const std::bad_alloc&) {  // out of memory, not a corrupt file
         throw;
     } catch (const std::exception& e) {
+        // Mapping the file for delayed loading fails with ENOMEM under a low RLIMIT_AS: the
+        // process's limit, not the file, is at fault (OpenVDB passes on only the message).
+        if (std::strstr(e.what(), std::strerror(ENOMEM)))
+            throw OutOfMemory("'" + path + "' could not be opened: " + e.what());
         formatError(path, std::string("is not a readable .vdb file (truncated or corrupt?): ") + e.what());
     }
     if (auto kind = f.meta->getMetadata<openvdb::StringMetadata>(kPrefix + "kind"); kind && kind->value() == "prt") {

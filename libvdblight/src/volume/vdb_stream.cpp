@@ -171,8 +171,8 @@ void StreamedVolume::readShadowEdges(int i, int j, int k, float* out) const {
     const Coord c(i, j, k);
     const std::size_t lights = impl_->visibility.size();
     for (std::size_t l = 0; l < lights; ++l) {
-        out[l * shadow_edge::kFloatsPerLight] = impl_->edges[l]->getValue(c);
-        out[l * shadow_edge::kFloatsPerLight + 1] = impl_->edges[lights + l]->getValue(c);
+        out[l * shadow_edge::kFloatsPerLight] = valueAt(*impl_->edges[l], c, path_);
+        out[l * shadow_edge::kFloatsPerLight + 1] = valueAt(*impl_->edges[lights + l], c, path_);
     }
 }
 
