@@ -15,6 +15,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <memory>
 #include <string>
 
 #include "vdblight/bake/each_pass.h"
@@ -27,6 +28,8 @@
 #include "vdblight/trace/trace.h"
 #include "../libvdblight/src/query/sh4_uniform_lookup.h"  // internal: the lookups' layouts, for the bound
 #include "../libvdblight/src/query/sh_trilinear.h"
+#include "../libvdblight/src/query/sh_uniform_lookup.h"
+#include "query/query_direct.h"
 #include "../libvdblight/src/trace/random_rays.h"  // internal: traceRandomRays, the raw Embree probe
 #include "bench_args.h"
 #include "bench_scenes.h"
@@ -109,6 +112,28 @@ int coefficientFloatsRead(const std::string& kind) {
     throw ValueError("vdblight_bench: no bound for lookup kind " + kind);
 }
 
+/// The lookup of `kind` as it ran before issue 33's fourth session, or null: the portable
+/// (SSE2) blend, and with `visibility` the occlusion lookup that locates the visibility again
+/// in double and evaluates the lights in double (OcclusionLookup::setShareBaseCell(false)).
+std::unique_ptr<VolumeLookup> previousLookup(const Volume& volume, const std::string& kind, bool visibility) {
+    std::unique_ptr<VolumeLookup> base;
+    if (kind == "sh2-uniform") {
+        auto sh2 = std::make_unique<ShUniformLookup>(volume, OutsidePolicy::Clamp);
+        sh2->setWideVectors(false);
+        base = std::move(sh2);
+    } else if (kind == "sh4-uniform") {
+        auto sh4 = std::make_unique<ShFourUniformLookup>(volume, OutsidePolicy::Clamp);
+        sh4->setWideVectors(false);
+        base = std::move(sh4);
+    } else {
+        return nullptr;
+    }
+    if (!visibility) return base;
+    auto occlusion = std::make_unique<OcclusionLookup>(std::move(base), volume);
+    occlusion->setShareBaseCell(false);
+    return occlusion;
+}
+
 /// `basis` as in benchScene; `depth`: the volume carries depth moments (GatherOptions::
 /// depthMoments), which the lookup then weights its corners by, as the default bake's;
 /// `visibility`: also `--direct occlusion`'s per-light visibility (the default bake's: the
@@ -157,6 +182,20 @@ void benchQuery(bool quick, const char* basis, bool depth, bool visibility, doub
                 "(gather and sum of the same %d B per corner) | lookup/bound %.2f  [checksum %.9g, %g]\n",
                 name.c_str(), query.kind(), visibility ? " + occlusion" : "", best / 1e6, goal, bound / 1e6, bytes,
                 best / bound, double(sink.x), double(boundSink));
+    // The previous path on the same volume and inputs, timed alternately with the lookup, so
+    // that one run gives the ratio (the same checksum: the same sums; the default volume's
+    // differs in its direct light, float against double).
+    if (std::unique_ptr<VolumeLookup> before = previousLookup(volume, query.kind(), visibility)) {
+        Rgb beforeSink{0, 0, 0}, again{0, 0, 0};
+        double rate = 0, now = 0;
+        for (int r = 0; r < (quick ? 1 : 5); ++r) {
+            rate = std::max(rate, bench::lookupRate(*before, in, 1, beforeSink));
+            now = std::max(now, bench::lookupRate(query, in, 1, again));
+        }
+        std::printf("query %-16s (the previous path: portable blend%s): %.2f M lookups/s | now %.2f M/s, %.2fx  [checksum %.9g]\n",
+                    name.c_str(), visibility ? ", visibility located again, lights in double" : "", rate / 1e6, now / 1e6,
+                    now / rate, double(beforeSink.x));
+    }
     // The generic lookup on the same volume and inputs (what sh:4 volumes were read by before
     // their own lookup), so that one run shows the ratio; the same checksum means the same sums.
     if (basis && !visibility && std::string(query.kind()) != "basis") {

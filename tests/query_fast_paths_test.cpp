@@ -1,7 +1,7 @@
 // The query paths rearranged for speed (issue 33, part 4) against the plain forms they
 // replace: the depth weights of every SH lookup (query/depth_weights.h) against
 // depth::visibility applied corner by corner, as depth_moments.h writes the formula, bit for
-// bit; the sh:4 lookup's AVX2 version against its portable one, bit for bit; the occlusion
+// bit; the sh2 and sh:4 lookups' AVX2 versions against their portable ones, bit for bit; the occlusion
 // lookup sharing its base's cell against base + direct() (query/shared_cell.h), bit for bit
 // where both locate a point alike, shadow edges (issue 32) included; the polygon lights' float contour and its atan2 against
 // exactIrradiance and std::atan2 in double, within float rounding.
@@ -28,6 +28,7 @@
 #include "../libvdblight/src/query/depth_weights.h"       // internal: query_detail::weightByDepth
 #include "../libvdblight/src/query/fast_exact_lights.h"   // internal: the float polygon term
 #include "../libvdblight/src/query/sh4_uniform_lookup.h"  // internal: the default's sh:4 lookup
+#include "../libvdblight/src/query/sh_uniform_lookup.h"   // internal: the sh2 lookup
 #include "../libvdblight/src/query/wide_vectors.h"        // internal: cpuHasAvx2
 
 namespace vdblight {
@@ -137,6 +138,32 @@ TEST(QueryFastPaths, WideVectorsGiveTheBitsOfThePortableSh4Lookup) {
             const Rgb a = wide.irradiance(x, n), c = portable.irradiance(x, n);
             ASSERT_TRUE(sameBits(a, c)) << "depth " << depth << " at " << x.x << " " << x.y << " " << x.z << ": " << a.x
                                         << " vs " << c.x;
+        }
+    }
+    std::printf("[ info ] this CPU %s AVX2\n", query_detail::cpuHasAvx2() ? "runs the lookup's version for" : "has no");
+}
+
+TEST(QueryFastPaths, WideVectorsGiveTheBitsOfThePortableSh2Lookup) {
+    Volume v = test::randomShVolume(6, 5, 7, 0.25, 13);
+    Rng rng(14);
+    fillDepthAsTheBake(v.levels[0], rng);
+    for (const bool depth : {true, false}) {
+        ShUniformLookup wide(v, OutsidePolicy::Clamp), portable(v, OutsidePolicy::Clamp);
+        wide.setDepthWeights(depth);
+        portable.setDepthWeights(depth);
+        portable.setWideVectors(false);
+        const Bounds b = wide.bounds();
+        for (int t = 0; t < 20000; ++t) {
+            Vec3f x;
+            for (int a = 0; a < 3; ++a) x[a] = float(b.lo[a] - 0.1 + (b.hi[a] - b.lo[a] + 0.2) * rng.uniform());
+            const Vec3f n(uniformSphere(float(rng.uniform()), float(rng.uniform())));
+            const Rgb a = wide.irradiance(x, n), c = portable.irradiance(x, n);
+            ASSERT_TRUE(sameBits(a, c)) << "depth " << depth << " at " << x.x << " " << x.y << " " << x.z << ": " << a.x
+                                        << " vs " << c.x;
+            if (!depth) {  // and the simple reference (double, trilinear, x clamped) within float rounding
+                const Rgbd r = referenceLookup(v, Vec3d(x), Vec3d(n));
+                ASSERT_NEAR(a.x, r.x, 1e-4 * (1 + std::fabs(r.x))) << t;
+            }
         }
     }
     std::printf("[ info ] this CPU %s AVX2\n", query_detail::cpuHasAvx2() ? "runs the lookup's version for" : "has no");
