@@ -126,6 +126,7 @@ TEST(QueryFastPaths, WideVectorsGiveTheBitsOfThePortableSh4Lookup) {
     const Volume v = defaultKindVolume({}, 11);
     for (const bool depth : {true, false}) {
         ShFourUniformLookup wide(v, OutsidePolicy::Clamp), portable(v, OutsidePolicy::Clamp);
+        wide.setWideVectors(true);
         wide.setDepthWeights(depth);
         portable.setDepthWeights(depth);
         portable.setWideVectors(false);

@@ -33,7 +33,8 @@ public:
     Rgb irradianceSharingCell(const Vec3f& x, const Vec3f& n, query_detail::SharedCell& cell) const override {
         return blend(x, n, &cell);
     }
-    /// Off: the portable (SSE2) code even where the CPU has AVX2 (the same bits; for comparisons).
+    /// On: the AVX2 build where the CPU has it (the same bits; off by default, it measured
+    /// slower: sh4_uniform_lookup.cpp).
     void setWideVectors(bool on);
     Bounds bounds() const override { return grid_.nodeBounds(); }
     /// The 25 stored RGB coefficients interpolated at x (ChannelLookup::channelValues: located
