@@ -15,6 +15,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <memory>
 #include <string>
 
 #include "vdblight/bake/each_pass.h"
@@ -27,6 +28,8 @@
 #include "vdblight/trace/trace.h"
 #include "../libvdblight/src/query/sh4_uniform_lookup.h"  // internal: the lookups' layouts, for the bound
 #include "../libvdblight/src/query/sh_trilinear.h"
+#include "../libvdblight/src/query/sh_uniform_lookup.h"
+#include "query/query_direct.h"
 #include "../libvdblight/src/trace/random_rays.h"  // internal: traceRandomRays, the raw Embree probe
 #include "bench_args.h"
 #include "bench_scenes.h"
@@ -109,6 +112,32 @@ int coefficientFloatsRead(const std::string& kind) {
     throw ValueError("vdblight_bench: no bound for lookup kind " + kind);
 }
 
+/// The sh2 / sh:4 lookup of `kind` in its portable (SSE2) or its AVX2 build (`wide`; the same
+/// bits, query/wide_vectors.h), or null for other kinds.
+std::unique_ptr<VolumeLookup> buildOf(const Volume& volume, const std::string& kind, bool wide) {
+    if (kind == "sh2-uniform") {
+        auto sh2 = std::make_unique<ShUniformLookup>(volume, OutsidePolicy::Clamp);
+        sh2->setWideVectors(wide);
+        return sh2;
+    }
+    if (kind == "sh4-uniform") {
+        auto sh4 = std::make_unique<ShFourUniformLookup>(volume, OutsidePolicy::Clamp);
+        sh4->setWideVectors(wide);
+        return sh4;
+    }
+    return nullptr;
+}
+
+/// The default volume's lookup as it ran before issue 33's fourth session: the portable blend,
+/// the visibility located again in double, the lights in double (setShareBaseCell(false)).
+std::unique_ptr<VolumeLookup> previousOcclusionLookup(const Volume& volume, const std::string& kind) {
+    std::unique_ptr<VolumeLookup> base = buildOf(volume, kind, false);
+    if (!base) return nullptr;
+    auto occlusion = std::make_unique<OcclusionLookup>(std::move(base), volume);
+    occlusion->setShareBaseCell(false);
+    return occlusion;
+}
+
 /// `basis` as in benchScene; `depth`: the volume carries depth moments (GatherOptions::
 /// depthMoments), which the lookup then weights its corners by, as the default bake's;
 /// `visibility`: also `--direct occlusion`'s per-light visibility (the default bake's: the
@@ -157,6 +186,33 @@ void benchQuery(bool quick, const char* basis, bool depth, bool visibility, doub
                 "(gather and sum of the same %d B per corner) | lookup/bound %.2f  [checksum %.9g, %g]\n",
                 name.c_str(), query.kind(), visibility ? " + occlusion" : "", best / 1e6, goal, bound / 1e6, bytes,
                 best / bound, double(sink.x), double(boundSink));
+    // On the same volume and inputs, timed alternately so that one run gives the ratios: the
+    // portable and the AVX2 builds of the blend (the same checksum: the same sums; the lookup
+    // picks one of them, sh_uniform_lookup.h, sh4_uniform_lookup.cpp), and for the default
+    // volume its previous path (its checksum differs in the direct light, float against double).
+    if (!visibility) {
+        const std::unique_ptr<VolumeLookup> portable = buildOf(volume, query.kind(), false), wide = buildOf(volume, query.kind(), true);
+        if (portable && wide) {
+            Rgb portableSink{0, 0, 0}, wideSink{0, 0, 0};
+            double p = 0, w = 0;
+            for (int r = 0; r < (quick ? 1 : 5); ++r) {
+                p = std::max(p, bench::lookupRate(*portable, in, 1, portableSink));
+                w = std::max(w, bench::lookupRate(*wide, in, 1, wideSink));
+            }
+            std::printf("query %-16s (the blend's builds): portable %.2f M lookups/s | AVX2 %.2f M/s, %.2fx  [checksums %.9g, %.9g]\n",
+                        name.c_str(), p / 1e6, w / 1e6, w / p, double(portableSink.x), double(wideSink.x));
+        }
+    } else if (std::unique_ptr<VolumeLookup> before = previousOcclusionLookup(volume, query.kind())) {
+        Rgb beforeSink{0, 0, 0}, again{0, 0, 0};
+        double rate = 0, now = 0;
+        for (int r = 0; r < (quick ? 1 : 5); ++r) {
+            rate = std::max(rate, bench::lookupRate(*before, in, 1, beforeSink));
+            now = std::max(now, bench::lookupRate(query, in, 1, again));
+        }
+        std::printf("query %-16s (the previous path: portable blend, visibility located again, lights in double): %.2f M lookups/s | "
+                    "now %.2f M/s, %.2fx  [checksum %.9g]\n",
+                    name.c_str(), rate / 1e6, now / 1e6, now / rate, double(beforeSink.x));
+    }
     // The generic lookup on the same volume and inputs (what sh:4 volumes were read by before
     // their own lookup), so that one run shows the ratio; the same checksum means the same sums.
     if (basis && !visibility && std::string(query.kind()) != "basis") {

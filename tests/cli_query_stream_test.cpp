@@ -218,6 +218,67 @@ TEST(CliQueryStream, LargerThanItsMemoryLimit) {
     EXPECT_FALSE(fs::exists(dir.file("whole.csv")));
 }
 
+// One point in every leaf (8^3 nodes) of an n^3 volume, with normals as points() makes them.
+std::vector<Point> oneInEveryLeaf(int n) {
+    std::vector<Point> out;
+    for (int k = 4; k < n; k += 8)
+        for (int j = 4; j < n; j += 8)
+            for (int i = 4; i < n; i += 8) out.push_back({kOrigin + Vec3d(i + 0.3, j + 0.2, k + 0.1) * kSpacing, Vec3d(0, 1, 0)});
+    return out;
+}
+
+// At its memory limit a streamed query ends like any other error: exit status 1, one line that
+// says it ran out of memory and names the limit, no output file; never a crash. (libblosc,
+// which decompresses each leaf into buffers it mallocs, dereferences the null pointer of a
+// failed malloc, so StreamedVolume checks before each leaf that the memory is there, vdb_stream.cpp.)
+// In a child process, as a user meets it: a fresh process's heap only grows as leaves are
+// read, so its limit binds where the reading is (within one process, the heap that earlier
+// reads freed serves the next ones whatever the limit: the limit never bound). The smallest
+// limit at which the query of every leaf completes is found by bisection to 2 MB (each run that
+// completes prints the answers of no limit); the same query then runs under 2, 4 and 8 MB less,
+// inside the 20 MB that the leaves take.
+TEST(CliQueryStream, StopsWithOneLineAtItsMemoryLimit) {
+#ifdef VDBLIGHT_SANITIZED
+    GTEST_SKIP() << "under AddressSanitizer: its shadow memory counts against RLIMIT_DATA, so no memory limit applies";
+#endif
+    if (!havePrlimit()) GTEST_SKIP() << "prlimit or taskset (util-linux) is not available";
+    test::TempDir dir;
+    constexpr int kNodes = 40;  // 5^3 leaves in each of 31 grids: about 20 MB of leaves in memory
+    const std::string vdb = dir.file("world.vdb"), csv = dir.file("points.csv"), out = dir.file("out.csv");
+    writeVolume(syntheticVolume(kNodes), vdb);
+    writePoints(csv, oneInEveryLeaf(kNodes));
+    const auto query = [&](uint64_t limit, std::string& log) {
+        return test::runCommand("taskset -c 0 prlimit --data=" + std::to_string(limit) + ":" + std::to_string(limit) + " " +
+                                    kCli + " query " + vdb + " --points " + csv + " --raw --stream on -o " + out + " 2>&1",
+                                &log);
+    };
+    std::string log;
+    uint64_t fails = 0, completes = 512ull << 20;
+    ASSERT_EQ(query(completes, log), 0) << log;
+    const std::string expected = test::readTextFile(out);
+    while (completes - fails > (2u << 20)) {
+        const uint64_t mid = (fails + completes) / 2;
+        fs::remove(out);
+        const bool completed = query(mid, log) == 0;
+        (completed ? completes : fails) = mid;
+        if (completed) EXPECT_EQ(test::readTextFile(out), expected) << "under " << mid << " B";  // the answers of no limit
+    }
+    std::printf("the streamed query of %d^3 nodes completes with a data segment of %.1f MB\n", kNodes, completes / 1e6);
+    int leafStops = 0;
+    for (const uint64_t less : {2u << 20, 4u << 20, 8u << 20}) {
+        fs::remove(out);
+        const int status = query(completes - less, log);
+        std::printf("%.1f MB: exit %d: %s", (completes - less) / 1e6, status, log.c_str());
+        EXPECT_EQ(status, 1) << log;  // a signal gives 128 + its number
+        EXPECT_EQ(test::countLines(log), 1) << log;
+        EXPECT_EQ(log.rfind("vdblight: error: out of memory", 0), 0u) << log;
+        EXPECT_NE(log.find("RLIMIT_DATA"), std::string::npos) << log;
+        EXPECT_FALSE(fs::exists(out));
+        leafStops += log.find("the next leaf of") != std::string::npos;
+    }
+    EXPECT_GT(leafStops, 0);  // stopped by the check before a leaf (OutOfMemory), not elsewhere
+}
+
 // Same points, byte-identical output, streamed or read whole, for the default bake's kind.
 TEST(CliQueryStream, SameOutputStreamedOrWhole) {
     test::TempDir dir;

@@ -5,8 +5,10 @@
 #include "app_common.h"
 #include "commands.h"
 #include "vdblight/core/errors.h"
+#include "out_of_memory.h"
 
 int main(int argc, char** argv) {
+    vdblight::app::installMemoryReserve();
     CLI::App app{"vdblight: precomputed volumetric lighting baked into OpenVDB grids"};
     app.require_subcommand(1);
     app.set_version_flag("--version", "vdblight 0.1.0 (volume format 1)");
@@ -29,11 +31,14 @@ int main(int argc, char** argv) {
     } catch (const vdblight::Cancelled& e) {
         std::cerr << "vdblight: interrupted; no output written\n";
         return 130;
+    } catch (const vdblight::OutOfMemory& e) {
+        std::cerr << "vdblight: error: " << vdblight::app::outOfMemoryMessage(e.what()) << "\n";
+        return 1;
     } catch (const vdblight::Error& e) {
         std::cerr << "vdblight: error: " << e.what() << "\n";
         return 1;
     } catch (const std::bad_alloc&) {
-        std::cerr << "vdblight: error: out of memory\n";
+        std::cerr << "vdblight: error: " << vdblight::app::outOfMemoryMessage("") << "\n";
         return 1;
     } catch (const std::exception& e) {
         std::cerr << "vdblight: internal error: " << e.what() << "\n";

@@ -8,6 +8,7 @@
 
 #include "depth_weights.h"
 #include "lattice_locate.h"
+#include "shared_cell.h"
 #include "stream_lookups.h"
 #include "basis/sh.h"
 
@@ -15,7 +16,7 @@ namespace vdblight::query_detail {
 
 namespace {
 
-class StreamingChannelLookup final : public VolumeLookup {
+class StreamingChannelLookup final : public VolumeLookup, public SharesCell {
 public:
     StreamingChannelLookup(std::shared_ptr<const StreamedVolume> volume, const GridSpec& grid0, OutsidePolicy outside,
                            std::unique_ptr<Basis> basis)
@@ -34,30 +35,16 @@ public:
         invSpacing_ = float(1.0 / grid_.spacing);
         floatsPerNode_ = std::size_t(basis_->floatsPerNode());
         hasDepth_ = depthWeights_ = volume_->hasDepth();
+        // Offers its cell where the in-memory lookup does (ShFourUniformLookup: sh:4 on one
+        // level), so that OcclusionLookup and its streamed twin blend the visibility alike.
+        sharesCell_ = !h.basis.isSh2() && h.basis.shOrder() == 4 && levels_ == 1;
     }
 
-    Rgb irradiance(const Vec3f& x, const Vec3f& d) const override {
-        int channels[kMaxTerms];
-        float bw[kMaxTerms];
-        const int nb = basis_->terms(d, channels, bw);
-        const Vec3f gv = (x - origin_) * invSpacing_;
-        checkInside(gv, grid_, x, outside_);
-        const float g[3] = {gv.x, gv.y, gv.z};
-        Corners corners;
-        locate(g, corners, basis_->channelCount());
-        // As ChannelLookup::sumTerms: each term's channel blended over the corners, then weighted.
-        Rgb e{0, 0, 0};
-        for (int b = 0; b < nb; ++b) {
-            const std::size_t f = std::size_t(3 * channels[b]);
-            Rgb t{0, 0, 0};
-            for (int c = 0; c < 8; ++c) {
-                const float* p = corners.values.data() + c * floatsPerNode_;
-                t += Rgb(p[f], p[f + 1], p[f + 2]) * corners.weight[c];
-            }
-            e += t * bw[b];
-        }
-        return e;
+    Rgb irradiance(const Vec3f& x, const Vec3f& d) const override { return blendIrradiance(x, d, nullptr); }
+    Rgb irradianceSharingCell(const Vec3f& x, const Vec3f& d, SharedCell& cell) const override {
+        return blendIrradiance(x, d, &cell);
     }
+    bool sharesCell() const override { return sharesCell_; }
 
     Bounds bounds() const override { return grid_.nodeBounds(); }
 
@@ -92,6 +79,30 @@ private:
         float weight[8];
     };
 
+    /// irradiance, and in `cell` (if not null; one level only) the corners and weights blended.
+    Rgb blendIrradiance(const Vec3f& x, const Vec3f& d, SharedCell* cell) const {
+        int channels[kMaxTerms];
+        float bw[kMaxTerms];
+        const int nb = basis_->terms(d, channels, bw);
+        const Vec3f gv = (x - origin_) * invSpacing_;
+        checkInside(gv, grid_, x, outside_);
+        const float g[3] = {gv.x, gv.y, gv.z};
+        Corners corners;
+        locate(g, corners, basis_->channelCount(), cell);
+        // As ChannelLookup::sumTerms: each term's channel blended over the corners, then weighted.
+        Rgb e{0, 0, 0};
+        for (int b = 0; b < nb; ++b) {
+            const std::size_t f = std::size_t(3 * channels[b]);
+            Rgb t{0, 0, 0};
+            for (int c = 0; c < 8; ++c) {
+                const float* p = corners.values.data() + c * floatsPerNode_;
+                t += Rgb(p[f], p[f + 1], p[f + 2]) * corners.weight[c];
+            }
+            e += t * bw[b];
+        }
+        return e;
+    }
+
     /// ChannelLookup::channelValues for the first `channels` channels: located in double, each
     /// float summed over the corners in order.
     void blendChannels(const double g[3], int channels, float* out) const {
@@ -109,7 +120,7 @@ private:
     /// box), the descent through refined cells, trilinear weights in T and, in cells of the
     /// finest level, the depth weights.
     template <class T>
-    void locate(const T g[3], Corners& out, int channels) const {
+    void locate(const T g[3], Corners& out, int channels, SharedCell* shared = nullptr) const {
         int cell[3] = {0, 0, 0};
         T f[3] = {0, 0, 0};
         const int dims[3] = {grid_.nx, grid_.ny, grid_.nz};
@@ -145,6 +156,13 @@ private:
             }
             weightByDepth(out.weight, depth, float(f[0]), float(f[1]), float(f[2]));
         }
+        if (shared) {
+            for (int a = 0; a < 3; ++a) {
+                shared->lower[a] = cell[a];
+                shared->step[a] = step[a];
+            }
+            for (int c = 0; c < 8; ++c) shared->weight[c] = out.weight[c];
+        }
     }
 
     std::shared_ptr<const StreamedVolume> volume_;
@@ -158,6 +176,7 @@ private:
     float invSpacing_ = 1;
     std::size_t floatsPerNode_ = 0;
     bool hasDepth_ = false, depthWeights_ = false;
+    bool sharesCell_ = false;
 };
 
 }  // namespace

@@ -4,6 +4,9 @@
 
 #include "depth_weights.h"
 #include "basis/shadow_edges.h"
+#include "direct_sum.h"
+#include "fast_exact_lights.h"
+#include "shared_cell.h"
 
 #include <algorithm>
 #include <cmath>
@@ -21,6 +24,11 @@ OcclusionLookup::OcclusionLookup(std::unique_ptr<VolumeLookup> base, const Volum
         throw FormatError("occlusion lookup: the depth moments do not match the grid");
     depthWeights_ = !depth_.empty();
     useEdges_ = !edges_.empty();
+    // A lookup anchored far from the origin (shifted_lookup.cpp) offers no cell: it is read as before.
+    const auto* shares = dynamic_cast<const query_detail::SharesCell*>(base_.get());
+    if (shares && shares->sharesCell()) shares_ = shares;
+    if (shares_) fastLights_ = std::make_shared<const query_detail::FastExactLights>(lights_);
+    updateSharing();
 }
 
 void OcclusionLookup::visibility(const Vec3d& x, float* out) const {
@@ -67,41 +75,48 @@ void OcclusionLookup::visibility(const Vec3d& x, float* out) const {
     }
 }
 
+
 Rgb OcclusionLookup::direct(const Vec3d& x, const Vec3f& n) const {
-    // Each light's exact irradiance first: where the normal faces away from every light (half
-    // of all normals, for a light on the ceiling) the visibility is not needed at all. Adding a
-    // light's zero would not change the sum's bits, so skipping it gives the same answer.
-    float vis[16];
-    Rgb exact[16];
-    std::vector<float> manyVis;
-    std::vector<Rgb> manyExact;
-    float* v = vis;
-    Rgb* e = exact;
-    if (lights_.size() > 16) {
-        manyVis.resize(lights_.size());
-        manyExact.resize(lights_.size());
-        v = manyVis.data();
-        e = manyExact.data();
-    }
-    const Vec3d nd = normalize(Vec3d(n));
-    bool any = false;
-    for (std::size_t i = 0; i < lights_.size(); ++i) {
-        e[i] = exactIrradiance(lights_[i], x, nd);
-        any = any || e[i] != Rgb(0, 0, 0);
-    }
-    Rgb sum(0, 0, 0);
-    if (!any) return sum;
-    visibility(x, v);
-    for (std::size_t i = 0; i < lights_.size(); ++i)
-        if (v[i] > 0) sum += e[i] * v[i];
-    return sum;
+    return query_detail::directLight(
+        lights_.size(), x, n, [&](std::size_t i, const Vec3d& at, const Vec3d& nd) { return exactIrradiance(lights_[i], at, nd); },
+        [&](float* v) { visibility(x, v); });
+}
+
+void OcclusionLookup::updateSharing() {
+    sharing_ = shareWanted_ && shares_ && depthWeights_ == base_->depthWeighted() ? shares_ : nullptr;
+}
+
+Rgb OcclusionLookup::irradianceSharingCell(const Vec3f& xf, const Vec3d& x, const Vec3f& n) const {
+    query_detail::SharedCell cell;
+    const Rgb indirect = sharing_->irradianceSharingCell(xf, n, cell);
+    const std::size_t m = lights_.size();
+    const query_detail::FastExactLights& exact = *fastLights_;
+    return indirect + query_detail::directLight(
+                          m, x, n, [&](std::size_t i, const Vec3d& at, const Vec3d& nd) { return exact.irradiance(i, at, nd); },
+                          [&](float* v) {
+                              const std::size_t sx = cell.step[0], sy = cell.step[1] * std::size_t(grid_.nx),
+                                                sz = cell.step[2] * std::size_t(grid_.nx) * grid_.ny;
+                              const std::size_t node0 = cell.node(grid_, 0);
+                              const auto node = [&](int c) { return node0 + (c & 1) * sx + ((c >> 1) & 1) * sy + (c >> 2) * sz; };
+                              const auto values = [&](int c) { return visibility_.data() + node(c) * m; };
+                              if (useEdges_)  // as visibility(): the edges' ramp plus the corners' residuals
+                                  query_detail::blendCellWithEdges(
+                                      cell, m, values,
+                                      [&](int c) { return edges_.data() + node(c) * m * shadow_edge::kFloatsPerLight; }, v);
+                              else
+                                  query_detail::blendCell(cell, m, values, v);
+                          });
 }
 
 Rgb OcclusionLookup::irradiance(const Vec3f& x, const Vec3f& n) const {
+    if (sharing_) return irradianceSharingCell(x, Vec3d(x), n);
     return base_->irradiance(x, n) + direct(Vec3d(x), n);
 }
 
 Rgb OcclusionLookup::irradianceWorld(const Vec3d& x, const Vec3f& n) const {
+    // The sharing bases read x as a float (VolumeLookup::irradianceWorld); the exact direct
+    // light keeps it in double, as direct() does.
+    if (sharing_) return irradianceSharingCell(Vec3f(x), x, n);
     return base_->irradianceWorld(x, n) + direct(x, n);
 }
 

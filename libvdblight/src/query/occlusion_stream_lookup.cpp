@@ -6,6 +6,9 @@
 #include <vector>
 
 #include "depth_weights.h"
+#include "direct_sum.h"
+#include "fast_exact_lights.h"
+#include "shared_cell.h"
 #include "stream_lookups.h"
 #include "query/light_visibility.h"
 #include "basis/shadow_edges.h"
@@ -22,16 +25,28 @@ public:
         if (!volume_->hasVisibility()) throw FormatError("occlusion lookup: the volume has no light visibility channels");
         hasDepth_ = depthWeights_ = volume_->hasDepth();
         edges_ = volume_->hasShadowEdges();
+        const auto* shares = dynamic_cast<const SharesCell*>(base_.get());
+        if (shares && shares->sharesCell()) shares_ = shares;
+        if (shares_) fastLights_ = std::make_unique<FastExactLights>(lights_);
+        updateSharing();
     }
 
-    Rgb irradiance(const Vec3f& x, const Vec3f& n) const override { return base_->irradiance(x, n) + direct(Vec3d(x), n); }
-    Rgb irradianceWorld(const Vec3d& x, const Vec3f& n) const override { return base_->irradianceWorld(x, n) + direct(x, n); }
+    // As OcclusionLookup::irradiance and irradianceWorld: with the base's cell where it offers it.
+    Rgb irradiance(const Vec3f& x, const Vec3f& n) const override {
+        if (sharing_) return irradianceSharingCell(x, Vec3d(x), n);
+        return base_->irradiance(x, n) + direct(Vec3d(x), n);
+    }
+    Rgb irradianceWorld(const Vec3d& x, const Vec3f& n) const override {
+        if (sharing_) return irradianceSharingCell(Vec3f(x), x, n);
+        return base_->irradianceWorld(x, n) + direct(x, n);
+    }
     Bounds bounds() const override { return base_->bounds(); }
     void shRadiance(const Vec3d& x, Rgb out[9]) const override { base_->shRadiance(x, out); }
     void channelValues(const Vec3d& x, float* out) const override { base_->channelValues(x, out); }
     void setDepthWeights(bool on) override {
         base_->setDepthWeights(on);
         depthWeights_ = on && hasDepth_;
+        updateSharing();
     }
     bool depthWeighted() const override { return base_->depthWeighted(); }
 
@@ -87,6 +102,32 @@ public:
     }
 
 private:
+    void updateSharing() { sharing_ = shares_ && depthWeights_ == base_->depthWeighted() ? shares_ : nullptr; }
+
+    // As OcclusionLookup::irradianceSharingCell.
+    Rgb irradianceSharingCell(const Vec3f& xf, const Vec3d& x, const Vec3f& n) const {
+        SharedCell cell;
+        const Rgb indirect = sharing_->irradianceSharingCell(xf, n, cell);
+        const std::size_t m = lights_.size();
+        return indirect + directLight(
+                              m, x, n, [&](std::size_t i, const Vec3d& at, const Vec3d& nd) { return fastLights_->irradiance(i, at, nd); },
+                              [&](float* v) {
+                                  std::vector<float> node(8 * m);
+                                  const auto values = [&](int c) {
+                                      volume_->readVisibility(cell.i(c), cell.j(c), cell.k(c), node.data() + c * m);
+                                      return node.data() + c * m;
+                                  };
+                                  if (!edges_) return blendCell(cell, m, values, v);
+                                  // As visibility(): the edges' ramp plus the corners' residuals.
+                                  std::vector<float> edge(8 * m * shadow_edge::kFloatsPerLight);
+                                  blendCellWithEdges(cell, m, values, [&](int c) {
+                                      float* e = edge.data() + c * m * shadow_edge::kFloatsPerLight;
+                                      volume_->readShadowEdges(cell.i(c), cell.j(c), cell.k(c), e);
+                                      return e;
+                                  }, v);
+                              });
+    }
+
     // As OcclusionLookup::direct.
     Rgb direct(const Vec3d& x, const Vec3f& n) const {
         std::vector<float> v(lights_.size());
@@ -103,6 +144,9 @@ private:
     std::vector<DirectLight> lights_;
     GridSpec grid_;  ///< level 0's, in world coordinates
     bool hasDepth_ = false, depthWeights_ = false, edges_ = false;
+    const SharesCell* shares_ = nullptr;   ///< base_ if it offers its cell
+    const SharesCell* sharing_ = nullptr;  ///< shares_ while both weight by depth alike
+    std::unique_ptr<FastExactLights> fastLights_;  ///< lights_ for the sharing path
 };
 
 }  // namespace

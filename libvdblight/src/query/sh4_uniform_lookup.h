@@ -17,17 +17,25 @@
 
 #include "vdblight/layout/layout.h"
 #include "vdblight/query/query.h"
+#include "shared_cell.h"
 
 namespace vdblight {
 
-class ShFourUniformLookup final : public VolumeLookup {
+class ShFourUniformLookup final : public VolumeLookup, public query_detail::SharesCell {
 public:
     /// True for an `sh:4` volume (the registered basis's channels) of one dense level.
     static bool accepts(const Volume& volume);
     /// FormatError if the volume is not one that accepts() takes or its arrays do not match its grid.
     ShFourUniformLookup(const Volume& volume, OutsidePolicy outside);
 
-    Rgb irradiance(const Vec3f& x, const Vec3f& n) const override;
+    Rgb irradiance(const Vec3f& x, const Vec3f& n) const override { return blend(x, n, nullptr); }
+    /// irradiance, and the cell it blended (the default volume's visibility reuses it).
+    Rgb irradianceSharingCell(const Vec3f& x, const Vec3f& n, query_detail::SharedCell& cell) const override {
+        return blend(x, n, &cell);
+    }
+    /// On: the AVX2 build where the CPU has it (the same bits; off by default, it measured
+    /// slower: sh4_uniform_lookup.cpp).
+    void setWideVectors(bool on);
     Bounds bounds() const override { return grid_.nodeBounds(); }
     /// The 25 stored RGB coefficients interpolated at x (ChannelLookup::channelValues: located
     /// in double, exact at a node; clamped into the box whatever the outside policy).
@@ -45,9 +53,18 @@ public:
 
 private:
     /// The eight corner nodes around the lattice coordinate g (clamped into the node box) and
-    /// their weights, trilinear or depth-weighted, as ChannelLookup::locate on a single level.
+    /// their weights, trilinear or depth-weighted, as ChannelLookup::locate on a single level;
+    /// also as a SharedCell if `cell` is not null.
     template <class T>
-    void locate(const T g[3], std::size_t corner[8], float weight[8]) const;
+    void locate(const T g[3], std::size_t corner[8], float weight[8], query_detail::SharedCell* cell = nullptr) const;
+    Rgb blendIrradiance(const Vec3f& x, const Vec3f& n, query_detail::SharedCell* cell) const;
+    /// blendIrradiance compiled for AVX2 (no FMA, so the same operations in the same order: the
+    /// same bits), picked at run time where the CPU has it (query/wide_vectors.h).
+    Rgb blendIrradianceAvx2(const Vec3f& x, const Vec3f& n, query_detail::SharedCell* cell) const;
+    Rgb blendIrradianceBody(const Vec3f& x, const Vec3f& n, query_detail::SharedCell* cell) const;
+    Rgb blend(const Vec3f& x, const Vec3f& n, query_detail::SharedCell* cell) const {
+        return avx2_ ? blendIrradianceAvx2(x, n, cell) : blendIrradiance(x, n, cell);
+    }
 
     GridSpec grid_;
     OutsidePolicy outside_;
@@ -58,6 +75,7 @@ private:
     std::vector<float> dark_;      ///< per node kDarkFloats: band 3, [coefficient][colour] as stored
     std::vector<float> depth_;     ///< per node depth::kFloatsPerNode floats, or empty
     bool depthWeights_ = false;
+    bool avx2_ = false;
 };
 
 }  // namespace vdblight

@@ -2,6 +2,7 @@
 #include "depth_weights.h"
 #include "lattice_locate.h"
 #include "sh_trilinear.h"
+#include "wide_vectors.h"
 #include "vdblight/query/query.h"
 
 #include <cmath>
@@ -35,9 +36,10 @@ ShUniformLookup::ShUniformLookup(const Volume& volume, OutsidePolicy outside) : 
     }
     depth_ = level.depth;
     depthWeights_ = !depth_.empty();
+    setWideVectors(true);
 }
 
-void ShUniformLookup::locate(const Vec3f& x, int& i, int& j, int& k, float& fx, float& fy, float& fz) const {
+VDBLIGHT_ALWAYS_INLINE void ShUniformLookup::locate(const Vec3f& x, int& i, int& j, int& k, float& fx, float& fy, float& fz) const {
     const Vec3f g = (x - origin_) * invSpacing_;
     query_detail::checkInside(g, grid_, x, outside_);
     splitCell(g.x, grid_.nx, i, fx);
@@ -93,7 +95,13 @@ void ShUniformLookup::shRadiance(const Vec3d& x, Rgb out[9]) const {
     }
 }
 
-Rgb ShUniformLookup::irradiance(const Vec3f& x, const Vec3f& n) const {
+void ShUniformLookup::setWideVectors(bool on) { avx2_ = on && query_detail::cpuHasAvx2(); }
+
+Rgb ShUniformLookup::irradiancePortable(const Vec3f& x, const Vec3f& n) const { return irradianceBody(x, n); }
+
+VDBLIGHT_AVX2 Rgb ShUniformLookup::irradianceAvx2(const Vec3f& x, const Vec3f& n) const { return irradianceBody(x, n); }
+
+VDBLIGHT_ALWAYS_INLINE Rgb ShUniformLookup::irradianceBody(const Vec3f& x, const Vec3f& n) const {
     int i, j, k;
     float fx, fy, fz;
     locate(x, i, j, k, fx, fy, fz);

@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <new>
 #include <fstream>
 
 #include "vdb_read_parts.h"
@@ -20,6 +21,8 @@ namespace fs = std::filesystem;
 openvdb::GridBase::Ptr readGridChecked(OpenedFile& f, const std::string& name, const std::string& path) {
     try {
         return f.file->readGrid(name);
+    } catch (const std::bad_alloc&) {  // out of memory, not a corrupt file
+        throw;
     } catch (const std::exception& e) {
         formatError(path, "grid '" + name + "' cannot be read (truncated or corrupt?): " + e.what());
     }
@@ -142,6 +145,8 @@ void checkNotTruncated(const std::string& path) {
     int64_t end = 0;
     try {
         end = GridTableScanner().dataEnd(is, bytes);
+    } catch (const std::bad_alloc&) {  // out of memory, not a corrupt file
+        throw;
     } catch (const std::exception& e) {
         formatError(path, std::string("is not a readable .vdb file (truncated or corrupt?): ") + e.what());
     }
@@ -181,7 +186,13 @@ OpenedFile openVolumeFile(const std::string& path, OpenFor purpose, const Conten
         if (delayLoad) f.file->setCopyMaxBytes(0);
         f.file->open(delayLoad);
         f.meta = f.file->getMetadata();
+    } catch (const std::bad_alloc&) {  // out of memory, not a corrupt file
+        throw;
     } catch (const std::exception& e) {
+        // Mapping the file for delayed loading fails with ENOMEM under a low RLIMIT_AS: the
+        // process's limit, not the file, is at fault (OpenVDB passes on only the message).
+        if (std::strstr(e.what(), std::strerror(ENOMEM)))
+            throw OutOfMemory("'" + path + "' could not be opened: " + e.what());
         formatError(path, std::string("is not a readable .vdb file (truncated or corrupt?): ") + e.what());
     }
     if (auto kind = f.meta->getMetadata<openvdb::StringMetadata>(kPrefix + "kind"); kind && kind->value() == "prt") {
@@ -214,6 +225,8 @@ ContentHash fileContentHash(const std::string& path) {
     vdb_detail::FileDigest d;
     try {
         d = vdb_detail::digestVdbFile(path);
+    } catch (const std::bad_alloc&) {  // out of memory, not a corrupt file
+        throw;
     } catch (const std::exception& e) {
         throw FormatError(e.what());
     }

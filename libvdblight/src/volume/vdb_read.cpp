@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <climits>
 #include <filesystem>
+#include <new>
 
 #include "vdb_read_parts.h"
 #include "vdb_surface_bins.h"
@@ -96,6 +97,8 @@ FileInfo inspectVolumeFile(const std::string& path, const ContentHash* knownHash
             const auto channel = grid->getMetadata<openvdb::Int64Metadata>(kPrefix + "channel");
             grids.emplace_back(channel ? channel->value() : INT64_MAX, describeGrid(*f.file, *grid));
         }
+    } catch (const std::bad_alloc&) {  // out of memory, not a corrupt file
+        throw;
     } catch (const std::exception& e) {
         formatError(path, std::string("has unreadable grids: ") + e.what());
     }

@@ -1,5 +1,7 @@
 // Delayed loading of a vdblight .vdb (vdb_stream.h): the grids' topology is read and checked,
 // their leaf values stay in the mapped file until a voxel of the leaf is read.
+#include <new>
+
 #include "vdb_delayed.h"
 #include "vdb_read_parts.h"
 #include "vdblight/basis/depth_moments.h"
@@ -35,6 +37,8 @@ DelayedVolumeFile openDelayedVolume(const std::string& path) {
         if (!f.file->hasGrid(name)) formatError(path, "has no grid '" + name + "'");
         try {
             return f.file->readGrid(name);
+        } catch (const std::bad_alloc&) {  // out of memory, not a corrupt file
+            throw;
         } catch (const std::exception& e) {
             formatError(path, "grid '" + name + "' cannot be read (truncated or corrupt?): " + e.what());
         }

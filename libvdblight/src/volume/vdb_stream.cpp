@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <filesystem>
+#include <new>
 
 #include "vdblight/basis/depth_moments.h"
 #include "vdblight/core/errors.h"
@@ -89,23 +90,56 @@ const Volume& StreamedVolume::header() const { return impl_->file.header; }
 bool StreamedVolume::hasDepth() const { return impl_->depth; }
 
 namespace {
-// Reads voxel (i, j, k) of every tree into out (3 floats each). A tree's getValue pages in
-// the leaf under the mutex of its buffer, so concurrent readers are safe.
-void readVoxels(const std::vector<const Vec3STree*>& trees, int i, int j, int k, float* out, std::size_t count = SIZE_MAX) {
+// Memory that must be free before a leaf is paged in. Blosc decompresses a leaf into buffers
+// it mallocs and does not check (libblosc 1.21 dereferences the null pointer a failed malloc
+// returns: the process died of SIGSEGV at its memory limit). A leaf's buffers are a few KiB
+// (8^3 values, the compressed bytes, Blosc's block and its scratch): when this much can be
+// allocated and freed, they fit in the space it leaves, on one thread.
+constexpr std::size_t kLeafHeadroom = 64u << 10;
+
+[[noreturn]] void leafOutOfMemory(const std::string& path) {
+    throw OutOfMemory("not enough memory left to read the next leaf of '" + path + "'");
+}
+
+// Throws OutOfMemory unless kLeafHeadroom bytes can be allocated now. Through operator new,
+// so that an application's new-handler sees the failure (vdblight's frees its reserve).
+void requireLeafHeadroom(const std::string& path) {
+    void* p = ::operator new(kLeafHeadroom, std::nothrow);
+    if (!p) leafOutOfMemory(path);
+    ::operator delete(p);
+}
+
+// The value at c of a tree read with delayed loading: a leaf still in the file is paged in
+// (under the mutex of its buffer, so concurrent readers are safe) after the headroom check.
+template <class Tree>
+typename Tree::ValueType valueAt(const Tree& tree, const Coord& c, const std::string& path) {
+    const auto* leaf = tree.probeConstLeaf(c);
+    if (!leaf) return tree.getValue(c);  // a tile or the background: nothing to page in
+    if (leaf->buffer().isOutOfCore()) requireLeafHeadroom(path);
+    try {
+        return leaf->getValue(c);
+    } catch (const std::bad_alloc&) {  // OpenVDB's own allocations for the leaf
+        leafOutOfMemory(path);
+    }
+}
+
+// Reads voxel (i, j, k) of every tree into out (3 floats each).
+void readVoxels(const std::vector<const Vec3STree*>& trees, int i, int j, int k, float* out, const std::string& path,
+                std::size_t count = SIZE_MAX) {
     const Coord c(i, j, k);
     for (std::size_t t = 0; t < std::min(count, trees.size()); ++t) {
-        const openvdb::Vec3s v = trees[t]->getValue(c);
+        const openvdb::Vec3s v = valueAt(*trees[t], c, path);
         out[3 * t] = v.x(), out[3 * t + 1] = v.y(), out[3 * t + 2] = v.z();
     }
 }
 }  // namespace
 
 void StreamedVolume::readNode(int level, int i, int j, int k, float* out) const {
-    readVoxels(impl_->levels.at(std::size_t(level)).channels, i, j, k, out);
+    readVoxels(impl_->levels.at(std::size_t(level)).channels, i, j, k, out, path_);
 }
 
 void StreamedVolume::readChannels(int level, int i, int j, int k, int channels, float* out) const {
-    readVoxels(impl_->levels.at(std::size_t(level)).channels, i, j, k, out, std::size_t(std::max(channels, 0)));
+    readVoxels(impl_->levels.at(std::size_t(level)).channels, i, j, k, out, path_, std::size_t(std::max(channels, 0)));
 }
 
 bool StreamedVolume::nodeStored(int level, int i, int j, int k) const {
@@ -119,7 +153,7 @@ bool StreamedVolume::cellRefined(int level, int i, int j, int k) const {
 
 void StreamedVolume::readDepth(int level, int i, int j, int k, float* out) const {
     if (!impl_->depth) throw FormatError("this streamed volume has no depth moments");
-    readVoxels(impl_->levels.at(std::size_t(level)).depth, i, j, k, out);
+    readVoxels(impl_->levels.at(std::size_t(level)).depth, i, j, k, out, path_);
 }
 
 bool StreamedVolume::hasVisibility() const { return !impl_->visibility.empty(); }
@@ -127,7 +161,7 @@ bool StreamedVolume::hasVisibility() const { return !impl_->visibility.empty(); 
 void StreamedVolume::readVisibility(int i, int j, int k, float* out) const {
     if (impl_->visibility.empty()) throw FormatError("this streamed volume stores no light visibility");
     const Coord c(i, j, k);
-    for (std::size_t l = 0; l < impl_->visibility.size(); ++l) out[l] = impl_->visibility[l]->getValue(c);
+    for (std::size_t l = 0; l < impl_->visibility.size(); ++l) out[l] = valueAt(*impl_->visibility[l], c, path_);
 }
 
 bool StreamedVolume::hasShadowEdges() const { return !impl_->edges.empty(); }
@@ -137,8 +171,8 @@ void StreamedVolume::readShadowEdges(int i, int j, int k, float* out) const {
     const Coord c(i, j, k);
     const std::size_t lights = impl_->visibility.size();
     for (std::size_t l = 0; l < lights; ++l) {
-        out[l * shadow_edge::kFloatsPerLight] = impl_->edges[l]->getValue(c);
-        out[l * shadow_edge::kFloatsPerLight + 1] = impl_->edges[lights + l]->getValue(c);
+        out[l * shadow_edge::kFloatsPerLight] = valueAt(*impl_->edges[l], c, path_);
+        out[l * shadow_edge::kFloatsPerLight + 1] = valueAt(*impl_->edges[lights + l], c, path_);
     }
 }
 

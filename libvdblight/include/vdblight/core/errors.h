@@ -19,6 +19,11 @@ struct SceneError : Error { using Error::Error; };
 struct IoError : Error { using Error::Error; };
 /// A file was read but is not a (valid) vdblight volume.
 struct FormatError : Error { using Error::Error; };
+/// An allocation failed where the library can still stop cleanly: the process reached its
+/// memory limit (a streamed volume's next leaf could not be read, vdb_stream.h; a file could
+/// not be mapped for delayed loading). The app names the limit. Other allocations throw
+/// std::bad_alloc as usual.
+struct OutOfMemory : Error { using Error::Error; };
 /// A long operation was cancelled through its Interrupter.
 struct Cancelled : Error { using Error::Error; };
 

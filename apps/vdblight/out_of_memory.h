@@ -1,0 +1,20 @@
+// Running out of memory ends a command with one line, like every other error (issue 33): the
+// line names the process's memory limit and how to raise it.
+#pragma once
+
+#include <string>
+
+namespace vdblight::app {
+
+/// Sets aside a few MiB and a new-handler that gives them back at the first allocation that
+/// fails (then lets it fail): the destructors that run while the error unwinds (OpenVDB's
+/// trees allocate as they free their nodes) find memory, instead of ending the process with
+/// std::terminate. Call once, first thing in main.
+void installMemoryReserve();
+
+/// "out of memory (<what>): the process may use at most 205.0 MB of address space (RLIMIT_AS;
+/// `ulimit -v` or `prlimit --as` raises it)", or the data-segment limit (RLIMIT_DATA;
+/// `ulimit -d`, `prlimit --data`), or that no limit is set and the machine's memory ran out.
+std::string outOfMemoryMessage(const std::string& what);
+
+}  // namespace vdblight::app

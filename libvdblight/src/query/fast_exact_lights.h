@@ -1,0 +1,43 @@
+// The exact direct light of the lights an occlusion volume lists, as the lookups add it at
+// every query: the same closed forms as exactIrradiance (direct_light.h), with the polygon's
+// contour sum in float instead of double (issue 33, part 4: the double contour with its four
+// double atan2 calls was 853 of the default lookup's 3 285 instructions).
+//
+// Only the polygon term changes: its vertices are taken relative to the receiver in double
+// (no cancellation however far the volume is from the origin), then clipped and summed in
+// float with float atan2, each edge's term added in double. exactIrradiance stays the
+// reference (export, OcclusionLookup::direct, the tests compare against it). Other kinds, and
+// polygons with a loop of more than kMaxVertices vertices, are evaluated by exactIrradiance.
+// (Internal to the query module.)
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "vdblight/light/direct_light.h"
+
+namespace vdblight::query_detail {
+
+/// atan2(y, x) for y >= 0 (an angle in [0, pi]) in float, within 2e-7 of it relative (the
+/// polygon's edge angles; query_fast_paths_test checks it against std::atan2 in double). No
+/// library call: the libm float atan2 was a third of the float contour's instructions.
+float atan2NonNegative(float y, float x);
+
+class FastExactLights {
+public:
+    /// Loops of at most this many vertices take the float path (every quad and triangle light).
+    static constexpr std::size_t kMaxVertices = 8;
+
+    explicit FastExactLights(const std::vector<DirectLight>& lights);
+    std::size_t size() const { return lights_.size(); }
+    /// exactIrradiance(lights[i], x, n) within float rounding; n of unit length.
+    Rgb irradiance(std::size_t i, const Vec3d& x, const Vec3d& n) const;
+    /// True if light i takes the float path.
+    bool floatPath(std::size_t i) const { return float_[i]; }
+
+private:
+    std::vector<DirectLight> lights_;
+    std::vector<char> float_;
+};
+
+}  // namespace vdblight::query_detail
