@@ -45,7 +45,9 @@ TEST(CliHelp, EachPresetIsDescribedFromWhatItResolvesTo) {
         EXPECT_NE(text.find("basis " + r.basis + ","), std::string::npos);
         EXPECT_NE(text.find(r.params.get<bool>("depth-moments") ? ", depth moments" : "no depth moments"),
                   std::string::npos);
-        if (r.nodes) EXPECT_NE(text.find("about " + std::to_string(*r.nodes) + " nodes"), std::string::npos);
+        if (r.nodes) {
+            EXPECT_NE(text.find("about " + std::to_string(*r.nodes) + " nodes"), std::string::npos);
+        }
         const int passes = r.params.find<int>("probe-passes").value_or(0);
         EXPECT_EQ(text.find(std::to_string(passes) + " probe-to-probe pass") != std::string::npos, passes > 0);
         EXPECT_NE(
