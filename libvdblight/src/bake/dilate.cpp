@@ -4,6 +4,7 @@
 
 #include "bake/bake_antialiased.h"
 #include "vdblight/core/errors.h"
+#include "layout/grid_neighbours.h"
 
 namespace vdblight {
 
@@ -33,20 +34,16 @@ int dilateUnfilledNodes(VolumeLevel& level, int channels, std::vector<uint8_t>& 
                     std::fill(sum.begin(), sum.end(), 0.0);
                     double total = 0, donorWeight = 0;
                     int donors = 0;
-                    for (int dk = -1; dk <= 1; ++dk)
-                        for (int dj = -1; dj <= 1; ++dj)
-                            for (int di = -1; di <= 1; ++di) {
-                                const int a = i + di, b = j + dj, c = k + dk;
-                                if (a < 0 || b < 0 || c < 0 || a >= g.nx || b >= g.ny || c >= g.nz) continue;
-                                const std::size_t m = g.index(a, b, c);
-                                if (!filled[m]) continue;
-                                const double w = weight[m] / double(di * di + dj * dj + dk * dk);
-                                const float* src = level.data.data() + m * values;
-                                for (std::size_t v = 0; v < values; ++v) sum[v] += w * src[v];
-                                total += w;
-                                donorWeight += weight[m];
-                                ++donors;
-                            }
+                    forEachNodeAround(g, i, j, k, 1, [&](int a, int b, int c, int di, int dj, int dk) {
+                        const std::size_t m = g.index(a, b, c);
+                        if (!filled[m]) return;
+                        const double w = weight[m] / double(di * di + dj * dj + dk * dk);
+                        const float* src = level.data.data() + m * values;
+                        for (std::size_t v = 0; v < values; ++v) sum[v] += w * src[v];
+                        total += w;
+                        donorWeight += weight[m];
+                        ++donors;
+                    });
                     if (donors == 0 || !(total > 0)) continue;
                     newNodes.push_back(n);
                     for (std::size_t v = 0; v < values; ++v) newData.push_back(float(sum[v] / total));

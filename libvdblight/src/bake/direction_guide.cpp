@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "layout/grid_neighbours.h"
+
 namespace vdblight::bake_detail {
 
 namespace {
@@ -32,17 +34,13 @@ void poolGuideSums(const GridSpec& grid, int radius, std::vector<float>& sums, s
         for (int j = 0; j < grid.ny; ++j)
             for (int i = 0; i < grid.nx; ++i) {
                 const std::size_t to = grid.index(i, j, k) * kCells;
-                for (int dk = -radius; dk <= radius; ++dk)
-                    for (int dj = -radius; dj <= radius; ++dj)
-                        for (int di = -radius; di <= radius; ++di) {
-                            const int a = i + di, b = j + dj, c = k + dk;
-                            if (a < 0 || b < 0 || c < 0 || a >= grid.nx || b >= grid.ny || c >= grid.nz) continue;
-                            const std::size_t from = grid.index(a, b, c) * kCells;
-                            for (int cell = 0; cell < kCells; ++cell) {
-                                pooledSums[to + cell] += sums[from + cell];
-                                pooledCounts[to + cell] += counts[from + cell];
-                            }
-                        }
+                forEachNodeAround(grid, i, j, k, radius, [&](int a, int b, int c, int, int, int) {
+                    const std::size_t from = grid.index(a, b, c) * kCells;
+                    for (int cell = 0; cell < kCells; ++cell) {
+                        pooledSums[to + cell] += sums[from + cell];
+                        pooledCounts[to + cell] += counts[from + cell];
+                    }
+                });
             }
     sums.swap(pooledSums);
     counts.swap(pooledCounts);

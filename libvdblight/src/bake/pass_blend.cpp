@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "layout/grid_neighbours.h"
+
 namespace vdblight::bake_detail {
 
 namespace {
@@ -11,15 +13,12 @@ namespace {
 double pooledVariance(const GridSpec& grid, const std::vector<float>& error, int i, int j, int k) {
     double sum = 0;
     int n = 0;
-    for (int c = k - 1; c <= k + 1; ++c)
-        for (int b = j - 1; b <= j + 1; ++b)
-            for (int a = i - 1; a <= i + 1; ++a) {
-                if (a < 0 || b < 0 || c < 0 || a >= grid.nx || b >= grid.ny || c >= grid.nz) continue;
-                const double e = error[grid.index(a, b, c)];
-                if (!(e >= 0) || !std::isfinite(e)) continue;
-                sum += e * e;
-                ++n;
-            }
+    forEachNodeAround(grid, i, j, k, 1, [&](int a, int b, int c, int, int, int) {
+        const double e = error[grid.index(a, b, c)];
+        if (!(e >= 0) || !std::isfinite(e)) return;
+        sum += e * e;
+        ++n;
+    });
     return n ? sum / n : INFINITY;
 }
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include "vdblight/basis/depth_moments.h"
 #include "vdblight/core/errors.h"
+#include "layout/grid_neighbours.h"
 
 namespace vdblight {
 
@@ -33,33 +34,29 @@ void filterOnce(const VolumeLevel& level, int channels, const std::vector<float>
                 const std::size_t n = g.index(i, j, k);
                 std::fill(sum.begin(), sum.end(), 0.0);
                 double total = 0;
-                for (int dk = -1; dk <= 1; ++dk)
-                    for (int dj = -1; dj <= 1; ++dj)
-                        for (int di = -1; di <= 1; ++di) {
-                            const int a = i + di, b = j + dj, c = k + dk;
-                            if (a < 0 || b < 0 || c < 0 || a >= g.nx || b >= g.ny || c >= g.nz) continue;
-                            const std::size_t m = g.index(a, b, c);
-                            double w = kTap[di + 1] * kTap[dj + 1] * kTap[dk + 1];
-                            if (depth && m != n) {
-                                // Each must see the other: the lookup's test in both directions.
-                                w *= depth::visibility(level.depth.data() + n * depth::kFloatsPerNode, float(di), float(dj), float(dk));
-                                w *= depth::visibility(level.depth.data() + m * depth::kFloatsPerNode, float(-di), float(-dj), float(-dk));
-                            }
-                            if (relativeError && m != n) {
-                                // A neighbour counts as far as the two nodes' difference is what
-                                // their noise explains: a larger difference is light, not noise.
-                                const float en = (*relativeError)[n], em = (*relativeError)[m];
-                                if (em < 0) continue;  // inside a solid (error_summary.h)
-                                const double ln = meanLuminance(in.data() + n * floats), lm = meanLuminance(in.data() + m * floats);
-                                const double sn = std::max(0.0f, en) * std::fabs(ln), sm = em * std::fabs(lm);
-                                const double var = kRangeScale * kRangeScale * (sn * sn + sm * sm), d = ln - lm;
-                                w *= var > 0 ? std::exp(-0.5 * d * d / var) : (d == 0 ? 1.0 : 0.0);
-                            }
-                            if (w <= 0) continue;
-                            total += w;
-                            const float* v = in.data() + m * floats;
-                            for (std::size_t f = 0; f < floats; ++f) sum[f] += w * double(v[f]);
-                        }
+                forEachNodeAround(g, i, j, k, 1, [&](int a, int b, int c, int di, int dj, int dk) {
+                    const std::size_t m = g.index(a, b, c);
+                    double w = kTap[di + 1] * kTap[dj + 1] * kTap[dk + 1];
+                    if (depth && m != n) {
+                        // Each must see the other: the lookup's test in both directions.
+                        w *= depth::visibility(level.depth.data() + n * depth::kFloatsPerNode, float(di), float(dj), float(dk));
+                        w *= depth::visibility(level.depth.data() + m * depth::kFloatsPerNode, float(-di), float(-dj), float(-dk));
+                    }
+                    if (relativeError && m != n) {
+                        // A neighbour counts as far as the two nodes' difference is what
+                        // their noise explains: a larger difference is light, not noise.
+                        const float en = (*relativeError)[n], em = (*relativeError)[m];
+                        if (em < 0) return;  // inside a solid (error_summary.h)
+                        const double ln = meanLuminance(in.data() + n * floats), lm = meanLuminance(in.data() + m * floats);
+                        const double sn = std::max(0.0f, en) * std::fabs(ln), sm = em * std::fabs(lm);
+                        const double var = kRangeScale * kRangeScale * (sn * sn + sm * sm), d = ln - lm;
+                        w *= var > 0 ? std::exp(-0.5 * d * d / var) : (d == 0 ? 1.0 : 0.0);
+                    }
+                    if (w <= 0) return;
+                    total += w;
+                    const float* v = in.data() + m * floats;
+                    for (std::size_t f = 0; f < floats; ++f) sum[f] += w * double(v[f]);
+                });
                 float* o = out.data() + n * floats;
                 for (std::size_t f = 0; f < floats; ++f) o[f] = float(sum[f] / total);  // total >= the centre's 1/8
             }
