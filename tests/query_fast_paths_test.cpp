@@ -93,6 +93,13 @@ TEST(QueryFastPaths, DepthWeightsHaveTheBitsOfTheCornerByCornerFormula) {
 
 bool sameBits(const Rgb& a, const Rgb& b) { return std::memcmp(&a, &b, sizeof(Rgb)) == 0; }
 
+/// A random point of the lookup's box widened by 0.1 on every side (so the clamp is exercised too).
+Vec3f pointAround(const Bounds& b, Rng& rng) {
+    Vec3f x;
+    for (int a = 0; a < 3; ++a) x[a] = float(b.lo[a] - 0.1 + (b.hi[a] - b.lo[a] + 0.2) * rng.uniform());
+    return x;
+}
+
 /// The default bake's kind, small: sh:4 coefficients, depth moments as the bake stores them
 /// (k / 255, sigmas below 0.3 cells), visibility in [0, 1] per listed light. 6 x 5 x 7 nodes
 /// 0.25 apart from (-0.5, 0.25, 1.0) (randomUniformVolume): lattice coordinates of points on a
@@ -133,8 +140,7 @@ TEST(QueryFastPaths, WideVectorsGiveTheBitsOfThePortableSh4Lookup) {
         Rng rng(5);
         const Bounds b = wide.bounds();
         for (int t = 0; t < 20000; ++t) {
-            Vec3f x;
-            for (int a = 0; a < 3; ++a) x[a] = float(b.lo[a] - 0.1 + (b.hi[a] - b.lo[a] + 0.2) * rng.uniform());
+            const Vec3f x = pointAround(b, rng);
             const Vec3f n(uniformSphere(float(rng.uniform()), float(rng.uniform())));
             const Rgb a = wide.irradiance(x, n), c = portable.irradiance(x, n);
             ASSERT_TRUE(sameBits(a, c)) << "depth " << depth << " at " << x.x << " " << x.y << " " << x.z << ": " << a.x
@@ -155,8 +161,7 @@ TEST(QueryFastPaths, WideVectorsGiveTheBitsOfThePortableSh2Lookup) {
         portable.setWideVectors(false);
         const Bounds b = wide.bounds();
         for (int t = 0; t < 20000; ++t) {
-            Vec3f x;
-            for (int a = 0; a < 3; ++a) x[a] = float(b.lo[a] - 0.1 + (b.hi[a] - b.lo[a] + 0.2) * rng.uniform());
+            const Vec3f x = pointAround(b, rng);
             const Vec3f n(uniformSphere(float(rng.uniform()), float(rng.uniform())));
             const Rgb a = wide.irradiance(x, n), c = portable.irradiance(x, n);
             ASSERT_TRUE(sameBits(a, c)) << "depth " << depth << " at " << x.x << " " << x.y << " " << x.z << ": " << a.x
