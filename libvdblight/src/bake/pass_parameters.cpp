@@ -83,19 +83,15 @@ PassParameters& PassParameters::setText(const std::string& name, const std::stri
     const PassOption& o = declaration(name);
     switch (o.kind()) {
         case PassOption::Kind::Flag:
-            if (text == "true" || text == "1") values_[name] = true;
-            else if (text == "false" || text == "0") values_[name] = false;
-            else throw ValueError("--" + name + " is on or off (true or false), got '" + text + "'");
-            break;
+            if (text == "true" || text == "1") return setValue(name, true);
+            if (text == "false" || text == "0") return setValue(name, false);
+            throw ValueError("--" + name + " is on or off (true or false), got '" + text + "'");
         case PassOption::Kind::Word:
-            if (text.empty()) values_.erase(name);  // no word is not given: the default
-            else values_[name] = text;
-            break;
+            return setValue(name, text);  // an empty word unsets it there
         case PassOption::Kind::Number: {
             const double v = bake_detail::parseOptionNumber(name, text, o.integer);
             if (o.nonNegative && v < 0) throw ValueError("--" + name + " must not be negative, got " + text);
-            values_[name] = v;
-            break;
+            return setValue(name, v);
         }
     }
     return *this;
