@@ -18,7 +18,12 @@ fail() { echo "FAILED: $*"; exit 1; }
   fail "three / playwright-core are not installed in examples/web (scripts/setup.sh runs npm ci there)"
 [ -x "${VDBLIGHT_CHROMIUM:-/usr/bin/chromium}" ] || fail "no Chromium at /usr/bin/chromium (scripts/setup.sh installs Debian's)"
 W=$(mktemp -d "${TMPDIR:-/tmp}/vdblight-web.XXXXXX")
-trap 'rm -rf "$W"' EXIT
+# Chromium puts its singleton socket in TMPDIR (org.chromium.Chromium.XXXXXX/SingletonSocket) and
+# aborts when that path passes the 107 bytes a Unix socket's address holds ("Socket path too
+# long"): the tests' TMPDIR is in the build tree, as long as the clone's path. Chromium, its
+# profile and the page check get a short one of their own under /tmp.
+CHROMIUM_TMP=$(mktemp -d /tmp/vdbl-web.XXXXXX)
+trap 'rm -rf "$W" "$CHROMIUM_TMP"' EXIT
 
 # The default bake's kind (sh:4, depth moments) at a test's cost (16 nodes on the longest axis),
 # with direct light in the SH (--direct baked): three's grid has nothing else to hold it.
@@ -30,6 +35,6 @@ GLTF_OUT=$("$B" export "$W/cornell.vdb" -o "$W/data" --format gltf --every 2) ||
 SPHERES=$(printf '%s\n' "$GLTF_OUT" | sed -n 's/^Wrote \([0-9][0-9]*\) probe spheres.*/\1/p')
 [ -n "$SPHERES" ] || fail "export --format gltf did not say how many spheres it wrote: $GLTF_OUT"
 node "$WEB/tools/obj_to_gltf.mjs" "$SRC/data/cornell_box.obj" "$W/data/scene.gltf" || fail "obj_to_gltf"
-node "$WEB/test/check_page.mjs" --data "$W/data" --volume "$W/cornell.vdb" --cli "$B" --screenshot "$SHOT" \
+TMPDIR="$CHROMIUM_TMP" node "$WEB/test/check_page.mjs" --data "$W/data" --volume "$W/cornell.vdb" --cli "$B" --screenshot "$SHOT" \
   --probe-spheres "$SPHERES" ||
   fail "the page does not match vdblight query, or its probe view does not match probes.glb"
