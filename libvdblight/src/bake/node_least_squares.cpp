@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string>
 
+#include "layout/grid_neighbours.h"
 #include "vdblight/core/errors.h"
 
 namespace vdblight {
@@ -48,19 +49,12 @@ void multiplyT(const GridSpec& g, const std::vector<double>& entries, double lam
                 double* __restrict out = &y[n * V];
                 const double* self = &x[n * V];
                 for (std::size_t v = 0; v < V; ++v) out[v] = lambda * self[v];
-                for (int dk = -1; dk <= 1; ++dk) {
-                    if (k + dk < 0 || k + dk >= g.nz) continue;
-                    for (int dj = -1; dj <= 1; ++dj) {
-                        if (j + dj < 0 || j + dj >= g.ny) continue;
-                        for (int di = -1; di <= 1; ++di) {
-                            if (i + di < 0 || i + di >= g.nx) continue;
-                            const double a = row[(di + 1) + 3 * (dj + 1) + 9 * (dk + 1)];
-                            if (a == 0.0) continue;
-                            const double* __restrict in = &x[g.index(i + di, j + dj, k + dk) * V];
-                            for (std::size_t v = 0; v < V; ++v) out[v] += a * in[v];
-                        }
-                    }
-                }
+                forEachNodeAround(g, i, j, k, 1, [&](int a, int b, int c, int di, int dj, int dk) {
+                    const double w = row[(di + 1) + 3 * (dj + 1) + 9 * (dk + 1)];
+                    if (w == 0.0) return;
+                    const double* __restrict in = &x[g.index(a, b, c) * V];
+                    for (std::size_t v = 0; v < V; ++v) out[v] += w * in[v];
+                });
             }
 }
 
