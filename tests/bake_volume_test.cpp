@@ -139,9 +139,9 @@ TEST(BakeVolume, PresetsResolveAsTheCommandLineDocumentsThem) {
     // Issue 32: the preview is the default's method on fewer nodes and rays, filtered across nodes.
     r.quality = "preview";
     d = resolveBakeRequest(r);
-    EXPECT_EQ(d.params.get<uint32_t>("rays"), 128u);
+    EXPECT_EQ(d.params.get<uint32_t>("rays"), 64u);
     EXPECT_EQ(d.params.get<int>("probe-passes"), 1);
-    EXPECT_EQ(*d.nodes, 2048u);
+    EXPECT_EQ(*d.nodes, 8192u);
     EXPECT_TRUE(d.params.get<bool>("depth-moments"));
     EXPECT_EQ(d.basis, "sh:4");
     EXPECT_EQ(d.params.get<std::string>("probe-cache"), "surface");

@@ -20,6 +20,11 @@ namespace {
 /// estimates: sub-second bakes to iterate on a scene, measured against the accuracy benchmark's
 /// ground truth (docs/time_to_accuracy.md; until issue 32: 16 nodes on the longest axis, 256
 /// rays of full paths, no probe pass, no depth moments, SH order 2: 48.7 % RMS in the two rooms).
+/// Nodes rather than rays since issue 32's third session: the preview's error was mostly
+/// interpolation between nodes (the same bake on the default's ~16384 nodes: office 5.2 -> 2.5 %,
+/// two rooms 7.4 -> 4.3 %; with 8 x the rays instead: 4.0 and 5.3 %), so 8192 nodes at 64 rays
+/// replace 2048 at 128: twice the rays, within the sub-second budget, the best balance of
+/// nodes and rays measured over seeds (docs/time_to_accuracy.md, "Nodes rather than rays").
 /// The photon pass keeps 16 nodes on the longest axis, 1 M photons and no depth moments there.
 /// `default`: about kDefaultNodes nodes in the scene box (node_budget.h: the spacing
 /// follows the scene's volume, 16..64 nodes on its longest axis), kDefaultRays rays of full
@@ -41,8 +46,8 @@ namespace {
 /// nowhere worse, docs/methods.md "Visibility-aware interpolation"). Other passes take 16
 /// nodes on the longest axis and a fixed 256 rays.
 constexpr uint64_t kDefaultNodes = 16384;
-constexpr uint64_t kPreviewNodes = 2048;
-constexpr uint32_t kPreviewRays = 128;
+constexpr uint64_t kPreviewNodes = 8192;
+constexpr uint32_t kPreviewRays = 64;
 constexpr uint32_t kDefaultRays = 1024;
 constexpr uint32_t kHighRays = 2048;
 constexpr const char* kDefaultBasis = "sh:4";
