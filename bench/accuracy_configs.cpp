@@ -86,8 +86,14 @@ std::vector<Config> configurations() {
     unguided.blend = false;
     v.push_back({"preview_unguided", "--quality preview with uniform probe directions and without pass 0 blended in (" + describeTry(unguided) + ")",
                  [unguided](const Ctx& c) { return tryBake(c, unguided); }, true});
-    // The preview until issue 32's third session: ~2048 nodes, 128 rays (the rest as now).
-    TrySpec previewFewerNodes = preview;
+    // The preview without its extra paths for the surface cache (extra_cache_paths.h).
+    TrySpec previewNoExtra = preview;
+    previewNoExtra.extraPaths = false;
+    v.push_back({"preview_no_extra_paths", "--quality preview --no-extra-cache-paths (" + describeTry(previewNoExtra) + ")",
+                 [previewNoExtra](const Ctx& c) { return tryBake(c, previewNoExtra); }, true});
+    // The preview until issue 32's third session: ~2048 nodes, 128 rays (the rest as now but the
+    // extra cache paths).
+    TrySpec previewFewerNodes = previewNoExtra;
     previewFewerNodes.nodes = 2048;
     previewFewerNodes.rays = 128;
     v.push_back({"preview_2048", "--quality preview until issue 32's third session (" + describeTry(previewFewerNodes) + ")",

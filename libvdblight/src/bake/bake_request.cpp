@@ -65,9 +65,10 @@ struct QualityPreset {
     bool photonGrid;     ///< the photon pass takes the preset's grid and depth moments
     bool guideProbeDirections = false;  ///< the probe pass's directions from pass 0's map (direction_guide.h)
     bool blendFirstPass = false;        ///< pass 0's values blended into the probe pass's (pass_blend.h)
+    bool extraCachePaths = false;       ///< more paths for the surface cache where pass 0 is noisiest (extra_cache_paths.h)
 };
 QualityPreset qualityPreset(const std::string& quality) {
-    if (quality == "preview") return {1, kPreviewNodes, kPreviewRays, true, 1'000'000, kDefaultBasis, 1, false, true, true};
+    if (quality == "preview") return {1, kPreviewNodes, kPreviewRays, true, 1'000'000, kDefaultBasis, 1, false, true, true, true};
     if (quality == "default") return {1, kDefaultNodes, kDefaultRays, true, 4'000'000, kDefaultBasis, 0, true};
     if (quality == "high") return {1, kDefaultNodes, kHighRays, true, 4'000'000, kDefaultBasis, 0, true};
     throw ValueError("--quality must be " + bake_detail::joinChoices(qualityNames()) + ", got '" + quality + "'");
@@ -218,6 +219,9 @@ BakeRequest resolveBakeRequest(const BakeRequest& given) {
         p.preset("guide-probe-directions", untiledGather && probePasses > 0 && preset.guideProbeDirections);
     if (!p.value("blend-first-pass"))
         p.preset("blend-first-pass", untiledGather && probePasses == 1 && preset.blendFirstPass);
+    if (!p.value("extra-cache-paths"))
+        p.preset("extra-cache-paths", untiledGather && probePasses == 1 && givenWord(r, "probe-cache") != "nodes" &&
+                                          preset.extraCachePaths);
     r.pass = selectPassName(r);
     return r;
 }
@@ -269,6 +273,7 @@ std::string describeQuality(const std::string& quality) {
     if (filter > 0) text += ", " + std::to_string(filter) + " pass of the filter across nodes";
     if (o.get<bool>("guide-probe-directions")) text += ", probe directions guided by the first pass";
     if (o.get<bool>("blend-first-pass")) text += ", the first pass's values blended in";
+    if (o.get<bool>("extra-cache-paths")) text += ", more first-pass paths for the surface cache where it is noisiest";
     const bool occlusion = r.direct.empty() && pass.takesDirectLight() && !o.get<bool>("sh-window");
     text += occlusion ? ", direct light of up to " + std::to_string(r.directLights) +
                             " lights exact with baked visibility (--direct occlusion) where the scene has lights"
