@@ -25,6 +25,9 @@ namespace {
 /// two rooms 7.4 -> 4.3 %; with 8 x the rays instead: 4.0 and 5.3 %), so 8192 nodes at 64 rays
 /// replace 2048 at 128: twice the rays, within the sub-second budget, the best balance of
 /// nodes and rays measured over seeds (docs/time_to_accuracy.md, "Nodes rather than rays").
+/// Its probe pass's directions are guided by pass 0 (direction_guide.h), pass 0's values are
+/// blended in (pass_blend.h), and the nodes where pass 0 is noisiest trace more paths for the
+/// surface cache (extra_cache_paths.h: a room lit through a door, two rooms 7.0 -> 5.5 %).
 /// The photon pass keeps 16 nodes on the longest axis, 1 M photons and no depth moments there.
 /// `default`: about kDefaultNodes nodes in the scene box (node_budget.h: the spacing
 /// follows the scene's volume, 16..64 nodes on its longest axis), kDefaultRays rays of full
