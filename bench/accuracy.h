@@ -104,6 +104,7 @@ Baked directGather(const Ctx& c, int resolution, uint32_t rays, DirectMode mode,
 ///   passes=N   probe-to-probe passes (1); depth=1: depth moments, weighted lookups
 ///   direct=baked|runtime|occlusion (occlusion); cache=nodes|surface: the probe pass's cache
 ///   filter=N   passes of the filter across nodes (--filter-passes; node_filter.h)
+///   guide=1, blend=1, extra=1: the preview's --guide-probe-directions, --blend-first-pass, --extra-cache-paths
 /// Every bake of the command is reproduced (bake_direct.h plan, gather, visibility, depth).
 struct TrySpec {
     int res = 16;
@@ -120,6 +121,7 @@ struct TrySpec {
     bool shadowEdges = true;    ///< `edges=0`: bake --no-shadow-edges
     bool blend = false;         ///< `blend=1`: GatherOptions::blendFirstPass
     bool guide = false;         ///< `guide=1`: guided probe directions (GatherOptions::guideProbeDirections)
+    bool extraPaths = false;    ///< `extra=1`: GatherOptions::extraCachePaths
 };
 
 TrySpec parseTry(const std::string& spec);

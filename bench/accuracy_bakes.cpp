@@ -257,6 +257,7 @@ TrySpec parseTry(const std::string& spec) {
         else if (k == "edges") t.shadowEdges = v == "1";
         else if (k == "guide") t.guide = v == "1";
         else if (k == "blend") t.blend = v == "1";
+        else if (k == "extra") t.extraPaths = v == "1";
         else throw ValueError("--try: unknown key '" + k + "'");
     }
     return t;
@@ -281,6 +282,7 @@ TrySpec presetTry(const std::string& quality) {
     t.filterByNoise = true;  // what the gather pass asks for (pass_options.cpp)
     t.guide = r.params.get<bool>("guide-probe-directions");
     t.blend = r.params.get<bool>("blend-first-pass");
+    t.extraPaths = r.params.get<bool>("extra-cache-paths");
     return t;
 }
 
@@ -293,6 +295,7 @@ std::string describeTry(const TrySpec& t) {
     if (t.filter) s += ", node filter x" + std::to_string(t.filter) + (t.filterByNoise ? " (bilateral)" : "");
     if (t.guide) s += ", guided probe directions";
     if (t.blend) s += ", pass 0 blended in";
+    if (t.extraPaths) s += ", extra cache paths where pass 0 is noisiest";
     return s + ", basis " + t.basis;
 }
 
@@ -348,6 +351,7 @@ Volume tryVolume(const Ctx& c, const TrySpec& t, std::string& note, std::vector<
         g.nodeFilterByNoise = t.filterByNoise;
         g.guideProbeDirections = t.guide;
         g.blendFirstPass = t.blend;
+        g.extraCachePaths = t.extraPaths;
         if (t.basis != "sh2") g.basis = makeBasis(t.basis);
         v = bakeShGather(c.scene, c.tracer, grid, g);
     }

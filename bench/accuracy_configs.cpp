@@ -86,6 +86,37 @@ std::vector<Config> configurations() {
     unguided.blend = false;
     v.push_back({"preview_unguided", "--quality preview with uniform probe directions and without pass 0 blended in (" + describeTry(unguided) + ")",
                  [unguided](const Ctx& c) { return tryBake(c, unguided); }, true});
+    // The preview without its extra paths for the surface cache (extra_cache_paths.h).
+    TrySpec previewNoExtra = preview;
+    previewNoExtra.extraPaths = false;
+    v.push_back({"preview_no_extra_paths", "--quality preview --no-extra-cache-paths (" + describeTry(previewNoExtra) + ")",
+                 [previewNoExtra](const Ctx& c) { return tryBake(c, previewNoExtra); }, true});
+    // The preview until issue 32's third session: ~2048 nodes, 128 rays (the rest as now but the
+    // extra cache paths).
+    TrySpec previewFewerNodes = previewNoExtra;
+    previewFewerNodes.nodes = 2048;
+    previewFewerNodes.rays = 128;
+    v.push_back({"preview_2048", "--quality preview until issue 32's third session (" + describeTry(previewFewerNodes) + ")",
+                 [previewFewerNodes](const Ctx& c) { return tryBake(c, previewFewerNodes); }, true});
+    // The preview's error taken apart (issue 32, third session), one component changed per row:
+    // the light visibility (exact at the lookup, or without the shadow edges), the noise (8 x
+    // the rays) and the interpolation (the default's ~16384 nodes at the preview's rays).
+    TrySpec previewRuntime = preview;
+    previewRuntime.direct = DirectMode::Runtime;
+    v.push_back({"preview_direct_runtime", "--quality preview --direct runtime (the lights' visibility exact at the lookup)",
+                 [previewRuntime](const Ctx& c) { return tryBake(c, previewRuntime); }, true});
+    TrySpec previewNoEdges = preview;
+    previewNoEdges.shadowEdges = false;
+    v.push_back({"preview_no_edges", "--quality preview --no-shadow-edges",
+                 [previewNoEdges](const Ctx& c) { return tryBake(c, previewNoEdges); }});
+    TrySpec previewRays = preview;
+    previewRays.rays *= 8;
+    v.push_back({"preview_8x_rays", "--quality preview with 8 x the rays (" + describeTry(previewRays) + "): its noise nearly out",
+                 [previewRays](const Ctx& c) { return tryBake(c, previewRays); }, true});
+    TrySpec previewNodes = preview;
+    previewNodes.nodes = def.nodes;
+    v.push_back({"preview_default_nodes", "--quality preview on the default's grid (" + describeTry(previewNodes) + ")",
+                 [previewNodes](const Ctx& c) { return tryBake(c, previewNodes); }, true});
     // The preview before issue 32.
     v.push_back({"preview_before", "--quality preview before issue 32: 16 nodes, 256 rays of full paths, no probe pass, "
                                    "no depth moments, SH order 2, --direct occlusion",

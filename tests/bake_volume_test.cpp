@@ -136,12 +136,13 @@ TEST(BakeVolume, PresetsResolveAsTheCommandLineDocumentsThem) {
     EXPECT_EQ(d.params.get<int>("node-filter"), 0);
     EXPECT_FALSE(d.params.get<bool>("guide-probe-directions"));
     EXPECT_FALSE(d.params.get<bool>("blend-first-pass"));
+    EXPECT_FALSE(d.params.get<bool>("extra-cache-paths"));
     // Issue 32: the preview is the default's method on fewer nodes and rays, filtered across nodes.
     r.quality = "preview";
     d = resolveBakeRequest(r);
-    EXPECT_EQ(d.params.get<uint32_t>("rays"), 128u);
+    EXPECT_EQ(d.params.get<uint32_t>("rays"), 64u);
     EXPECT_EQ(d.params.get<int>("probe-passes"), 1);
-    EXPECT_EQ(*d.nodes, 2048u);
+    EXPECT_EQ(*d.nodes, 8192u);
     EXPECT_TRUE(d.params.get<bool>("depth-moments"));
     EXPECT_EQ(d.basis, "sh:4");
     EXPECT_EQ(d.params.get<std::string>("probe-cache"), "surface");
@@ -149,9 +150,11 @@ TEST(BakeVolume, PresetsResolveAsTheCommandLineDocumentsThem) {
     EXPECT_EQ(d.pass, "gather");
     EXPECT_TRUE(d.params.get<bool>("guide-probe-directions"));  // its probe pass's directions from pass 0's map (direction_guide.h)
     EXPECT_TRUE(d.params.get<bool>("blend-first-pass"));        // and pass 0's values blended in (pass_blend.h)
+    EXPECT_TRUE(d.params.get<bool>("extra-cache-paths"));       // and the cache fed where pass 0 is noisiest
     r.tiles = 2;  // a tile's probe pass runs in a stage of its own, without pass 0's
     EXPECT_FALSE(resolveBakeRequest(r).params.get<bool>("guide-probe-directions"));
     EXPECT_FALSE(resolveBakeRequest(r).params.get<bool>("blend-first-pass"));
+    EXPECT_FALSE(resolveBakeRequest(r).params.get<bool>("extra-cache-paths"));
     r.tiles.reset();
     r.params.set("target-error", 0.05);  // the adaptive pass has no node filter
     EXPECT_EQ(resolveBakeRequest(r).params.get<int>("node-filter"), 0);

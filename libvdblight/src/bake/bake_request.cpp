@@ -20,6 +20,14 @@ namespace {
 /// estimates: sub-second bakes to iterate on a scene, measured against the accuracy benchmark's
 /// ground truth (docs/time_to_accuracy.md; until issue 32: 16 nodes on the longest axis, 256
 /// rays of full paths, no probe pass, no depth moments, SH order 2: 48.7 % RMS in the two rooms).
+/// Nodes rather than rays since issue 32's third session: the preview's error was mostly
+/// interpolation between nodes (the same bake on the default's ~16384 nodes: office 5.2 -> 2.5 %,
+/// two rooms 7.4 -> 4.3 %; with 8 x the rays instead: 4.0 and 5.3 %), so 8192 nodes at 64 rays
+/// replace 2048 at 128: twice the rays, within the sub-second budget, the best balance of
+/// nodes and rays measured over seeds (docs/time_to_accuracy.md, "Nodes rather than rays").
+/// Its probe pass's directions are guided by pass 0 (direction_guide.h), pass 0's values are
+/// blended in (pass_blend.h), and the nodes where pass 0 is noisiest trace more paths for the
+/// surface cache (extra_cache_paths.h: a room lit through a door, two rooms 7.0 -> 5.5 %).
 /// The photon pass keeps 16 nodes on the longest axis, 1 M photons and no depth moments there.
 /// `default`: about kDefaultNodes nodes in the scene box (node_budget.h: the spacing
 /// follows the scene's volume, 16..64 nodes on its longest axis), kDefaultRays rays of full
@@ -41,8 +49,8 @@ namespace {
 /// nowhere worse, docs/methods.md "Visibility-aware interpolation"). Other passes take 16
 /// nodes on the longest axis and a fixed 256 rays.
 constexpr uint64_t kDefaultNodes = 16384;
-constexpr uint64_t kPreviewNodes = 2048;
-constexpr uint32_t kPreviewRays = 128;
+constexpr uint64_t kPreviewNodes = 8192;
+constexpr uint32_t kPreviewRays = 64;
 constexpr uint32_t kDefaultRays = 1024;
 constexpr uint32_t kHighRays = 2048;
 constexpr const char* kDefaultBasis = "sh:4";
@@ -60,9 +68,10 @@ struct QualityPreset {
     bool photonGrid;     ///< the photon pass takes the preset's grid and depth moments
     bool guideProbeDirections = false;  ///< the probe pass's directions from pass 0's map (direction_guide.h)
     bool blendFirstPass = false;        ///< pass 0's values blended into the probe pass's (pass_blend.h)
+    bool extraCachePaths = false;       ///< more paths for the surface cache where pass 0 is noisiest (extra_cache_paths.h)
 };
 QualityPreset qualityPreset(const std::string& quality) {
-    if (quality == "preview") return {1, kPreviewNodes, kPreviewRays, true, 1'000'000, kDefaultBasis, 1, false, true, true};
+    if (quality == "preview") return {1, kPreviewNodes, kPreviewRays, true, 1'000'000, kDefaultBasis, 1, false, true, true, true};
     if (quality == "default") return {1, kDefaultNodes, kDefaultRays, true, 4'000'000, kDefaultBasis, 0, true};
     if (quality == "high") return {1, kDefaultNodes, kHighRays, true, 4'000'000, kDefaultBasis, 0, true};
     throw ValueError("--quality must be " + bake_detail::joinChoices(qualityNames()) + ", got '" + quality + "'");
@@ -213,6 +222,9 @@ BakeRequest resolveBakeRequest(const BakeRequest& given) {
         p.preset("guide-probe-directions", untiledGather && probePasses > 0 && preset.guideProbeDirections);
     if (!p.value("blend-first-pass"))
         p.preset("blend-first-pass", untiledGather && probePasses == 1 && preset.blendFirstPass);
+    if (!p.value("extra-cache-paths"))
+        p.preset("extra-cache-paths", untiledGather && probePasses == 1 && givenWord(r, "probe-cache") != "nodes" &&
+                                          preset.extraCachePaths);
     r.pass = selectPassName(r);
     return r;
 }
@@ -264,6 +276,7 @@ std::string describeQuality(const std::string& quality) {
     if (filter > 0) text += ", " + std::to_string(filter) + " pass of the filter across nodes";
     if (o.get<bool>("guide-probe-directions")) text += ", probe directions guided by the first pass";
     if (o.get<bool>("blend-first-pass")) text += ", the first pass's values blended in";
+    if (o.get<bool>("extra-cache-paths")) text += ", more first-pass paths for the surface cache where it is noisiest";
     const bool occlusion = r.direct.empty() && pass.takesDirectLight() && !o.get<bool>("sh-window");
     text += occlusion ? ", direct light of up to " + std::to_string(r.directLights) +
                             " lights exact with baked visibility (--direct occlusion) where the scene has lights"

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "direction_guide.h"
+#include "extra_cache_paths.h"
 #include "pass_blend.h"
 #include "project_incident.h"
 #include "pass_metadata.h"
@@ -80,6 +81,8 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     std::vector<float> guideSums(guided ? held * DirectionGuide::kCells : 0, 0.0f);
     std::vector<uint32_t> guideCounts(guideSums.size(), 0);
     const bool blend = options.blendFirstPass && options.probePasses == 1 && range.first == 0 && range.last == 1;
+    if (options.extraCachePaths && options.stage >= 0)
+        throw ValueError("extra paths for the surface probe cache need every pass in one bake (not staged)");
     std::vector<float> firstValues, firstError;
     std::unique_ptr<bake_detail::SurfaceBins> bins;
     if (options.surfaceProbeCache) {
@@ -101,7 +104,7 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
                 firstValues = level.data;
                 firstError = error;
             }
-            return bake_detail::forEachItemInParallel(
+            bake_detail::ParallelRun passRun = bake_detail::forEachItemInParallel(
                 options.only ? selected.size() : nodes, options.threads, interrupter, [&](std::size_t item, RayCount& count) {
                     const std::size_t n = options.only ? selected[item] : item;
                     const std::size_t h = level.held(n);
@@ -139,6 +142,15 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
                                            pass.keepReflected ? &reflected[h * sh::kCoeffs] : nullptr);
                     if (basis) sampler.basisValues(values, count);
                 });
+            // Pass 0's errors are known here, and the estimator has no cache yet (probe_passes.h).
+            if (pass.index == 0 && bins && options.extraCachePaths && !options.only) {
+                const bake_detail::ParallelRun extra = bake_detail::traceExtraCachePaths(
+                    estimator, grid, options.seed, bake_detail::extraCachePaths(grid, error, insideSolid), *bins,
+                    options.threads, interrupter);
+                passRun.rays += extra.rays;
+                passRun.seconds += extra.seconds;
+            }
+            return passRun;
         }, bins.get());
 
     for (std::size_t h = 0; h < insideSolid.size(); ++h)
@@ -170,6 +182,10 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     if (options.nodeFilterPasses > 0) m.count("node_filter_passes", options.nodeFilterPasses);
     if (blend)
         m.text("first_pass_blend", "pass 0's values blended into the probe pass's by pooled inverse variance (pass_blend.h)");
+    if (options.extraCachePaths && bins)
+        m.text("extra_cache_paths", std::to_string(bake_detail::kExtraCachePaths) +
+                                        " more paths for the surface cache's bins from each node whose pass-0 error is above " +
+                                        "twice the median (extra_cache_paths.h)");
     if (guided)
         m.text("probe_directions", "guided: drawn from pass 0's luminance per direction cell, pooled over the nodes within " +
                                        std::to_string(DirectionGuide::kPoolRadius) + " steps, half uniform (direction_guide.h)");

@@ -84,6 +84,10 @@ std::vector<PassOption> GatherPass::options() const {
             previewProbeFlag("blend-first-pass",
                              "blend the first pass's values into the probe pass's by their noise estimates "
                              "(one probe pass; docs/time_to_accuracy.md)"),
+            previewProbeFlag("extra-cache-paths",
+                             "trace more first-pass paths from the nodes whose first-pass noise is far above the "
+                             "median, for the surface probe cache only (less noise in a room lit through a door; "
+                             "--probe-cache surface; docs/time_to_accuracy.md)"),
             depthMomentsOption(), depthRaysOption(), shWindowOption()};
 }
 
@@ -93,6 +97,8 @@ void GatherPass::validate(const BakeRequest& request) const {
         throw ValueError("--probe-passes works with --method gather, --sampling point, --layout uniform and "
                          "--basis sh2 or sh:N only");
     if (p.get<bool>("sh-window") && !isSh2(request.basis)) throw ValueError("--sh-window applies to --basis sh2 only");
+    if (p.find<bool>("extra-cache-paths").value_or(false) && p.find<std::string>("probe-cache") != std::optional<std::string>("surface"))
+        throw ValueError("--extra-cache-paths feeds the surface probe cache: it needs --probe-cache surface");
     Pass::validate(request);
 }
 
@@ -115,7 +121,7 @@ std::string pointGatherUntileable(const BakeRequest& r) {
     if (p.has("invalidate-backface")) return "--invalidate-backface cannot be tiled (its dilation crosses tile borders)";
     if (p.get<bool>("sh-window"))
         return "--sh-window cannot be tiled yet (the window would have to follow the seams at merge)";
-    for (const char* name : {"guide-probe-directions", "blend-first-pass"})
+    for (const char* name : {"guide-probe-directions", "blend-first-pass", "extra-cache-paths"})
         if (p.find<bool>(name).value_or(false))
             return std::string("--") + name + " cannot be tiled (it needs the first pass and the probe pass in one bake)";
     // Each probe-to-probe pass reads every node of the pass before: one stage per pass.

@@ -68,6 +68,10 @@ struct GatherOptions {
     /// With one probe pass, blend pass 0's values into the probe pass's by pooled inverse
     /// variance (bake/pass_blend.h): pass 0's full paths are not thrown away. Not staged.
     bool blendFirstPass = false;
+    /// With the surface probe cache, trace more full paths from the nodes whose pass-0 error is
+    /// far above the bake's median (bake/extra_cache_paths.h), for the cache's bins only: less
+    /// noise where light comes through an opening. Not staged.
+    bool extraCachePaths = false;
     /// Bake only these nodes (one tile of a bake, volume/tiles.h); the others stay 0. Null = all.
     const NodeMask* only = nullptr;
     /// Staged probe passes (volume/tiles.h, "Staged bakes"): -1 = every pass; s in 0..probePasses =

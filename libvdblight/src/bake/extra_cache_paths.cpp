@@ -1,0 +1,66 @@
+// More paths for the surface probe cache where pass 0 is noisiest (extra_cache_paths.h).
+
+#include "bake/extra_cache_paths.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "layout/grid_neighbours.h"
+#include "node_sampler.h"
+
+namespace vdblight::bake_detail {
+
+namespace {
+bool usable(float e) { return e >= 0 && std::isfinite(e); }
+
+/// Root mean square of the usable errors of the 3 x 3 x 3 neighbourhood (0: none).
+double pooledError(const GridSpec& grid, const std::vector<float>& error, int i, int j, int k) {
+    double sum = 0;
+    int n = 0;
+    forEachNodeAround(grid, i, j, k, 1, [&](int a, int b, int c, int, int, int) {
+        const float e = error[grid.index(a, b, c)];
+        if (!usable(e)) return;
+        sum += double(e) * double(e);
+        ++n;
+    });
+    return n ? std::sqrt(sum / n) : 0.0;
+}
+}  // namespace
+
+std::vector<uint32_t> extraCachePaths(const GridSpec& grid, const std::vector<float>& firstError,
+                                      const std::vector<uint8_t>& insideSolid) {
+    const std::size_t nodes = grid.nodeCount();
+    std::vector<double> pooled(nodes, -1.0), sorted;
+    for (int k = 0; k < grid.nz; ++k)
+        for (int j = 0; j < grid.ny; ++j)
+            for (int i = 0; i < grid.nx; ++i) {
+                const std::size_t n = grid.index(i, j, k);
+                if ((!insideSolid.empty() && insideSolid[n]) || !usable(firstError[n])) continue;
+                pooled[n] = pooledError(grid, firstError, i, j, k);
+                sorted.push_back(pooled[n]);
+            }
+    std::vector<uint32_t> paths(nodes, 0);
+    if (sorted.empty()) return paths;
+    const auto middle = sorted.begin() + std::ptrdiff_t(sorted.size() / 2);
+    std::nth_element(sorted.begin(), middle, sorted.end());
+    const double threshold = kNoisyFactor * *middle;
+    for (std::size_t n = 0; n < nodes; ++n)
+        if (pooled[n] > threshold) paths[n] = kExtraCachePaths;
+    return paths;
+}
+
+ParallelRun traceExtraCachePaths(const RadianceEstimator& estimator, const GridSpec& grid, uint64_t seed,
+                                 const std::vector<uint32_t>& paths, SurfaceBins& bins, int threads,
+                                 Interrupter* interrupter) {
+    const uint64_t stream = hashCombine(seed, kExtraCachePathsStream);
+    return forEachItemInParallel(grid.nodeCount(), threads, interrupter, [&](std::size_t n, RayCount& count) {
+        if (paths[n] == 0) return;
+        detail::NodeSampler sampler(estimator, Vec3f(grid.node(n)), stream, n, paths[n]);
+        sampler.recordSurface(&bins);
+        sampler.addSamples(0, paths[n], count);
+        Rgbd coeffs[sh::kCoeffs];
+        sampler.coefficients(coeffs, count);  // (the node's values are not kept)
+    });
+}
+
+}  // namespace vdblight::bake_detail
