@@ -1,7 +1,8 @@
 // The query paths rearranged for speed (issue 33, part 4) against the plain forms they
 // replace: the depth weights of every SH lookup (query/depth_weights.h) against
 // depth::visibility applied corner by corner, as depth_moments.h writes the formula, bit for
-// bit; the sh2 and sh:4 lookups' AVX2 versions against their portable ones, bit for bit; the occlusion
+// bit; the sh:4 lookup's node records (sh4_uniform_lookup.h) against the generic lookup of the
+// volume's own arrays, the same values; the sh2 and sh:4 lookups' AVX2 versions against their portable ones, bit for bit; the occlusion
 // lookup sharing its base's cell against base + direct() (query/shared_cell.h), bit for bit
 // where both locate a point alike, shadow edges (issue 32) included; the polygon lights' float contour and its atan2 against
 // exactIrradiance and std::atan2 in double, within float rounding.
@@ -13,6 +14,7 @@
 #include <memory>
 
 #include "basis/shadow_edges.h"
+#include "query/channel_lookup.h"
 #include "query/query_direct.h"
 #include "random_volumes.h"
 #include "test_util.h"
@@ -127,6 +129,31 @@ DirectLight pointLight(const Vec3d& at, const Rgb& intensity) {
     l.position = at;
     l.value = intensity;
     return l;
+}
+
+/// The sh:4 lookup reads one record per node (coefficients side by side in colour, prepared
+/// depth values) and sums the colours in the lanes of one vector: the generic ChannelLookup,
+/// which reads the volume's arrays as stored through the basis's terms, gives the same values
+/// (each float summed in the same order), with and without depth weights, in and around the box.
+TEST(QueryFastPaths, Sh4NodeRecordsGiveTheGenericLookupsValues) {
+    const Volume v = defaultKindVolume({}, 17);
+    for (const bool depth : {true, false}) {
+        ShFourUniformLookup records(v, OutsidePolicy::Clamp);
+        ChannelLookup generic(v, OutsidePolicy::Clamp);
+        records.setDepthWeights(depth);
+        generic.setDepthWeights(depth);
+        ASSERT_EQ(records.depthWeighted(), depth);
+        Rng rng(18);
+        const Bounds b = records.bounds();
+        for (int t = 0; t < 20000; ++t) {
+            const Vec3f x = pointAround(b, rng);
+            const Vec3f n(uniformSphere(float(rng.uniform()), float(rng.uniform())));
+            const Rgb a = records.irradiance(x, n), c = generic.irradiance(x, n);
+            ASSERT_TRUE(a.x == c.x && a.y == c.y && a.z == c.z)
+                << "depth " << depth << " at " << x.x << " " << x.y << " " << x.z << ": " << a.x << " " << a.y << " " << a.z
+                << " vs " << c.x << " " << c.y << " " << c.z;
+        }
+    }
 }
 
 TEST(QueryFastPaths, WideVectorsGiveTheBitsOfThePortableSh4Lookup) {
