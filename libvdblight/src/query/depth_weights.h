@@ -113,15 +113,19 @@ inline void weightByPreparedDepth(float w[8], const float* const prepared[8], fl
 }
 
 /// weightByDepth for the exact (double) corners of x (trilinearCorners): the weights go
-/// through float, as the fast lookups' do, with the fractions of locateExact.
+/// through float, as the fast lookups' do, with the fractions of locateExact. `prepared`: depth
+/// points at prepared values (prepareDepth; weightByPreparedDepth).
 inline void weightCornersByDepth(TrilinearCorners& corners, const float* const depth[8], const GridSpec& grid, const Vec3d& x,
-                                 OutsidePolicy outside) {
+                                 OutsidePolicy outside, bool prepared = false) {
     int lo[3];
     double frac[3];
     locateExact(grid, x, outside, lo, frac);
     float w[8];
     for (int c = 0; c < 8; ++c) w[c] = float(corners.weight[c]);
-    weightByDepth(w, depth, float(frac[0]), float(frac[1]), float(frac[2]));
+    if (prepared)
+        weightByPreparedDepth(w, depth, float(frac[0]), float(frac[1]), float(frac[2]));
+    else
+        weightByDepth(w, depth, float(frac[0]), float(frac[1]), float(frac[2]));
     for (int c = 0; c < 8; ++c) corners.weight[c] = w[c];
 }
 

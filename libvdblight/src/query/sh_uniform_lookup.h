@@ -29,10 +29,13 @@ public:
     void shRadiance(const Vec3d& x, Rgb out[9]) const override;
     /// shRadiance as the sh2 basis's channels (basis.h; export --layout basis).
     void channelValues(const Vec3d& x, float* out) const override;
-    void setDepthWeights(bool on) override { depthWeights_ = on && !depth_.empty(); }
+    void setDepthWeights(bool on) override { depthWeights_ = on && hasDepth_; }
     bool depthWeighted() const override { return depthWeights_; }
 
     static bool accepts(const Volume& volume);
+    /// Floats of a record's coefficient part (27 and the zero), and of a whole record.
+    static constexpr int kRecordFloats = 28;
+    int recordFloats() const { return stride_; }
 
 private:
     void locate(const Vec3f& x, int& i, int& j, int& k, float& fx, float& fy, float& fz) const;
@@ -46,8 +49,13 @@ private:
     OutsidePolicy outside_;
     Vec3f origin_;
     float invSpacing_;
-    std::vector<float> coeffs_;  ///< per node 27 floats: channel-major [c][rgb], A_l folded in
-    std::vector<float> depth_;   ///< per node depth::kFloatsPerNode floats, or empty
+    /// One record per node, everything a lookup reads there (issue 33, part 4): the 27
+    /// coefficients channel-major [c][rgb] with A_l folded in, a zero (so that the blend runs on
+    /// whole 4-lane vectors), then, where the volume has depth moments, the node's prepared
+    /// depth values (query_detail::prepareDepth).
+    std::vector<float> records_;
+    int stride_ = kRecordFloats;
+    bool hasDepth_ = false;
     bool depthWeights_ = false;
     bool avx2_ = false;
 };
