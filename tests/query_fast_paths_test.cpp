@@ -5,7 +5,8 @@
 // volume's own arrays, the same values; the sh2 and sh:4 lookups' AVX2 versions against their portable ones, bit for bit; the occlusion
 // lookup sharing its base's cell against base + direct() (query/shared_cell.h), bit for bit
 // where both locate a point alike, shadow edges (issue 32) included; the polygon lights' float contour and its atan2 against
-// exactIrradiance and std::atan2 in double, within float rounding.
+// exactIrradiance and std::atan2 in double, within float rounding, and the atan2 of four edges
+// at once against the scalar one, bit for bit.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -314,6 +315,15 @@ TEST(QueryFastPaths, Atan2OfANonNegativeYIsTheLibrarys) {
         const double err = std::fabs(got - ref) / std::max(ref, 1e-30);
         worst = std::max(worst, err);
         ASSERT_LE(err, 3e-7) << "atan2(" << y << ", " << x << ") = " << ref << ", got " << got;
+        // The four-lane version (the polygon's edges side by side) gives the scalar's bits in
+        // every lane, whatever the other lanes hold.
+        const query_detail::Float4 ys = {y, 2 * y, y, 0.5f * y}, xs = {x, x, -x, 4 * x};
+        const query_detail::Float4 lanes = query_detail::atan2NonNegative4(ys, xs);
+        for (int k = 0; k < 4; ++k) {
+            const float one = query_detail::atan2NonNegative(ys[k], xs[k]);
+            ASSERT_EQ(std::memcmp(&lanes[k], &one, sizeof one), 0)
+                << "lane " << k << ": atan2(" << ys[k] << ", " << xs[k] << ") " << lanes[k] << " vs " << one;
+        }
     };
     for (const float y : {0.0f, 1e-30f, 1e-7f, 0.5f, 1.0f, 3e7f})
         for (const float x : {-3e7f, -1.0f, -1e-7f, 0.0f, 1e-7f, 1.0f, 3e7f})

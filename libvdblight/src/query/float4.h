@@ -11,6 +11,7 @@
 namespace vdblight::query_detail {
 
 typedef float Float4 __attribute__((vector_size(16)));
+typedef int Int4 __attribute__((vector_size(16)));
 
 /// p[0..3], from any alignment.
 inline Float4 load4(const float* p) {
@@ -18,5 +19,8 @@ inline Float4 load4(const float* p) {
     std::memcpy(&v, p, sizeof v);
     return v;
 }
+
+/// |v| in each lane, as std::fabs (the sign bit cleared).
+inline Float4 abs4(Float4 v) { return Float4(Int4(v) & 0x7fffffff); }
 
 }  // namespace vdblight::query_detail
