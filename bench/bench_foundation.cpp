@@ -250,6 +250,7 @@ int main(int argc, char** argv) {
         }
         if (only != "bake")
         {
+            std::printf("query rows: lookups per second of the timing thread's CPU time (bench_util.h)\n");
             benchQuery(quick, nullptr, false, false, 20);
             benchQuery(quick, "sh:4", false, false, 0);
             benchQuery(quick, nullptr, true, false, 0);
