@@ -6,7 +6,8 @@
 // lookup sharing its base's cell against base + direct() (query/shared_cell.h), bit for bit
 // where both locate a point alike, shadow edges (issue 32) included; the polygon lights' float contour and its atan2 against
 // exactIrradiance and std::atan2 in double, within float rounding, and the atan2 of four edges
-// at once against the scalar one, bit for bit.
+// at once against the scalar one, bit for bit; the shared cell's edge visibility against
+// shadow_edge::visibility, bit for bit.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -30,6 +31,7 @@
 #include "vdblight/volume/vdb_io.h"
 #include "../libvdblight/src/query/depth_weights.h"       // internal: query_detail::weightByDepth
 #include "../libvdblight/src/query/fast_exact_lights.h"   // internal: the float polygon term
+#include "../libvdblight/src/query/shared_cell.h"         // internal: edgeVisibility
 #include "../libvdblight/src/query/sh4_uniform_lookup.h"  // internal: the default's sh:4 lookup
 #include "../libvdblight/src/query/sh_uniform_lookup.h"   // internal: the sh2 lookup
 #include "../libvdblight/src/query/wide_vectors.h"        // internal: cpuHasAvx2
@@ -304,6 +306,26 @@ TEST(QueryFastPaths, OcclusionSharingTheBaseCellKeepsTheShadowEdges) {
     }
     EXPECT_GT(edgesChanged, 100);
     std::printf("[ info ] the shadow edges changed %d of 6000 answers\n", edgesChanged);
+}
+
+/// The shared cell's edge visibility (eight corners' ramps in vector lanes) against
+/// shadow_edge::visibility, bit for bit: random weights (some exactly 0), visibilities,
+/// distances across the range and penumbra widths from none to kNoEdge.
+TEST(QueryFastPaths, EdgeVisibilityOfEightCornersIsTheScalarOnes) {
+    Rng rng(404);
+    for (int t = 0; t < 200000; ++t) {
+        float weight[8], vis[8], distance[8], width[8];
+        for (int c = 0; c < 8; ++c) {
+            weight[c] = rng.uniform() < 0.2 ? 0.0f : float(rng.uniform());
+            vis[c] = float(rng.uniform());
+            distance[c] = float((2 * rng.uniform() - 1) * shadow_edge::kRange);
+            const double u = rng.uniform();
+            width[c] = u < 0.2 ? 0.0f : (u < 0.3 ? shadow_edge::kNoEdge : float(3 * rng.uniform()));
+        }
+        const float fast = query_detail::edgeVisibility(weight, vis, distance, width);
+        const float plain = shadow_edge::visibility(weight, vis, distance, width);
+        ASSERT_EQ(std::memcmp(&fast, &plain, sizeof fast), 0) << "t " << t << ": " << fast << " vs " << plain;
+    }
 }
 
 TEST(QueryFastPaths, Atan2OfANonNegativeYIsTheLibrarys) {

@@ -51,16 +51,6 @@ inline Rgb blendShCorners(const float* const corners[8], const float weights[8],
     return Rgb(e[0], e[1], e[2]);
 }
 
-/// Trilinear weights of the fractions fx, fy, fz (corner c = x bit 0, y bit 1, z bit 2):
-/// weights[c] = wx * wy * wz, multiplied in that order, the x-y products made once for both z.
-inline void trilinearWeights(float fx, float fy, float fz, float weights[8]) {
-    const float gx = 1 - fx, gy = 1 - fy;
-    const Float4 xy = Float4{gx, fx, gx, fx} * Float4{gy, gy, fy, fy};
-    const Float4 lower = xy * (1 - fz), upper = xy * fz;
-    std::memcpy(weights, &lower, sizeof lower);
-    std::memcpy(weights + 4, &upper, sizeof upper);
-}
-
 /// Trilinear blend of the 8 corner nodes of a cell (blendShCorners). `depth`: the corners'
 /// depth moments (depth::kFloatsPerNode floats each) to weight them by (depth_weights.h), or
 /// null for plain trilinear.
