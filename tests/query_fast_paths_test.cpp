@@ -186,6 +186,7 @@ TEST(QueryFastPaths, WideVectorsGiveTheBitsOfThePortableSh2Lookup) {
     fillDepthAsTheBake(v.levels[0], rng);
     for (const bool depth : {true, false}) {
         ShUniformLookup wide(v, OutsidePolicy::Clamp), portable(v, OutsidePolicy::Clamp);
+        wide.setWideVectors(true);
         wide.setDepthWeights(depth);
         portable.setDepthWeights(depth);
         portable.setWideVectors(false);

@@ -55,10 +55,10 @@ ShFourUniformLookup::ShFourUniformLookup(const Volume& volume, OutsidePolicy out
     }
     depthWeights_ = hasDepth_;
     // The portable build by default: vdblight_bench --only query, the AVX2 build against it
-    // alternately in the same runs (2-core AMD EPYC with AVX-512, shared), was slower: plain
-    // 1.00x, 0.92x, 0.97x, 0.94x, 0.95x; with depth weights 0.91x, 0.89x, 0.97x, 0.93x, 0.92x
-    // (54 floats per corner: six 8-lane vectors and six left over), though callgrind counts
-    // fewer instructions (a default lookup 2 038 against 2 462). setWideVectors(true) picks it.
+    // alternately in the same runs (2-core AMD EPYC with AVX-512, shared), was slower: on the
+    // 54-float layout plain 1.00x, 0.92x, 0.97x, 0.94x, 0.95x, with depth weights 0.91x, 0.89x,
+    // 0.97x, 0.93x, 0.92x; on the node records of 56 floats (seven whole 8-lane vectors) plain
+    // 0.82x, 0.79x, with depth weights 0.97x, 0.92x. setWideVectors(true) picks it.
 }
 
 template <class T>

@@ -45,7 +45,6 @@ ShUniformLookup::ShUniformLookup(const Volume& volume, OutsidePolicy outside) : 
         if (hasDepth_) query_detail::prepareDepth(level.depth.data() + n * depth::kFloatsPerNode, record + kRecordFloats);
     }
     depthWeights_ = hasDepth_;
-    setWideVectors(true);
 }
 
 VDBLIGHT_ALWAYS_INLINE void ShUniformLookup::locate(const Vec3f& x, int& i, int& j, int& k, float& fx, float& fy, float& fz) const {

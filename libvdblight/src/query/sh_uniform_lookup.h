@@ -14,14 +14,15 @@ namespace vdblight {
 class ShUniformLookup final : public VolumeLookup {
 public:
     ShUniformLookup(const Volume& volume, OutsidePolicy outside);
-    /// The AVX2 build only with depth weights: vdblight_bench --only query, AVX2 against the
-    /// portable build alternately in the same runs (2-core AMD EPYC with AVX-512, shared):
-    /// with depth weights 1.04x, 1.08x, 1.02x, 1.01x, 0.99x; the plain blend 0.97x, 0.98x,
-    /// 0.98x, 0.99x, 1.02x (its 27 floats per corner are three 8-lane vectors and three left over).
+    /// The portable build unless setWideVectors(true): vdblight_bench --only query, AVX2 against
+    /// the portable build alternately in the same runs (2-core AMD EPYC with AVX-512, shared):
+    /// with the 27 coefficients in node records padded to 28 floats (issue 33's sixth session),
+    /// with depth weights 0.96x, 0.97x (before, on the 27-float array: 1.04x, 1.08x, 1.02x,
+    /// 1.01x, 0.99x, when the AVX2 build ran with depth weights), the plain blend 1.00x, 1.00x.
     Rgb irradiance(const Vec3f& x, const Vec3f& n) const override {
-        return avx2_ && depthWeights_ ? irradianceAvx2(x, n) : irradiancePortable(x, n);
+        return avx2_ ? irradianceAvx2(x, n) : irradiancePortable(x, n);
     }
-    /// Off: the portable (SSE2) code even where the CPU has AVX2 (the same bits; for comparisons).
+    /// On: the AVX2 build where the CPU has it (the same bits; for comparisons).
     void setWideVectors(bool on);
     Bounds bounds() const override { return grid_.nodeBounds(); }
     /// Nine interpolated radiance coefficients at x (RGB each).
