@@ -112,7 +112,7 @@ VDBLIGHT_ALWAYS_INLINE Rgb ShFourUniformLookup::blendIrradianceBody(const Vec3f&
     locate(g, corner, w, cell);
 
     float y[kCoeffs];
-    sh::evalPolynomials(4, n, y);
+    sh::evalPolynomials(4, n, y, false);  // band 3 (A_3 = 0) is not read
     float bw[kLitCoeffs];  // A_l Y_j(n), rounded as ShBasis::terms rounds it
     for (int t = 0; t < kLitCoeffs; ++t) bw[t] = lobe_[t] * y[storedIndex(t)];
 
