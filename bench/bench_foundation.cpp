@@ -104,11 +104,16 @@ void benchScene(const Scene& scene, int threads, bool quick, const char* basis =
                 stats.seconds, bake / rawIntersect, bake / rawMix);
 }
 
-/// The floats per node that the lookup `kind` reads at each corner from its coefficient array
-/// (its own layout: query/sh_uniform_lookup.h, query/sh4_uniform_lookup.h).
-int coefficientFloatsRead(const std::string& kind) {
-    if (kind == "sh2-uniform") return query_detail::kShFloats;
-    if (kind == "sh4-uniform") return ShFourUniformLookup::kLitFloats;
+/// The node arrays (floats per node of each) that the lookup `kind` reads at each corner, in its
+/// own layout: sh2 its coefficients and the depth moments apart (query/sh_uniform_lookup.h);
+/// sh:4 one record per node, the depth values inside it (query/sh4_uniform_lookup.h).
+std::vector<int> nodeArraysRead(const std::string& kind, bool depth) {
+    if (kind == "sh2-uniform") {
+        if (depth) return {query_detail::kShFloats, depth::kFloatsPerNode};
+        return {query_detail::kShFloats};
+    }
+    if (kind == "sh4-uniform")
+        return {ShFourUniformLookup::kLitStride + (depth ? query_detail::kPreparedDepthFloats : 0)};
     throw ValueError("vdblight_bench: no bound for lookup kind " + kind);
 }
 
@@ -160,10 +165,9 @@ void benchQuery(bool quick, const char* basis, bool depth, bool visibility, doub
     }
     const IrradianceQuery query(volume);
 
-    // The bound reads the same bytes per corner: the lookup's coefficients, the depth moments,
+    // The bound reads the same bytes per corner: the lookup's coefficients and depth moments,
     // the lights' visibility.
-    std::vector<int> floatsPerNode = {coefficientFloatsRead(query.kind())};
-    if (depth) floatsPerNode.push_back(depth::kFloatsPerNode);
+    std::vector<int> floatsPerNode = nodeArraysRead(query.kind(), depth);
     if (visibility) floatsPerNode.push_back(int(volume.direct.lights.size()));
     int bytes = 0;
     for (const int f : floatsPerNode) bytes += 4 * f;
@@ -246,6 +250,7 @@ int main(int argc, char** argv) {
         }
         if (only != "bake")
         {
+            std::printf("query rows: lookups per second of the timing thread's CPU time (bench_util.h)\n");
             benchQuery(quick, nullptr, false, false, 20);
             benchQuery(quick, "sh:4", false, false, 0);
             benchQuery(quick, nullptr, true, false, 0);

@@ -54,8 +54,9 @@ inline void addCorners(const float* base, std::size_t sx, std::size_t sy, std::s
 }
 }  // namespace bound_detail
 
-/// Lookups per second of the gather-and-sum over `arrays` at the points of `in` (grid of at least
-/// 2 nodes per axis); best of `repeats`. The sum goes to `sink` (print it).
+/// Lookups per second (of the thread's CPU time, the best stretch of `repeats` passes, as
+/// bench::lookupRate) of the gather-and-sum over `arrays` at the points of `in` (grid of at
+/// least 2 nodes per axis). The sum goes to `sink` (print it).
 inline double gatherBoundRate(const GridSpec& grid, const std::vector<GatheredArray>& arrays, const LookupInputs& in,
                               int repeats, float& sink) {
     const Vec3f origin(grid.origin);
@@ -63,20 +64,22 @@ inline double gatherBoundRate(const GridSpec& grid, const std::vector<GatheredAr
     constexpr int kMaxFloats = 128;
     float acc[kMaxFloats] = {};
     double best = 0;
-    for (int r = 0; r < repeats; ++r) {
-        const double t0 = now();
-        for (std::size_t i = 0; i < in.points.size(); ++i) {
-            const Vec3f g = (in.points[i] - origin) * inv;
-            const std::size_t node = grid.index(bound_detail::lowerNode(g.x, grid.nx), bound_detail::lowerNode(g.y, grid.ny),
-                                                bound_detail::lowerNode(g.z, grid.nz));
-            for (const GatheredArray& a : arrays) {
-                const std::size_t f = std::size_t(a.floatsPerNode);
-                bound_detail::addCorners(a.data.data() + node * f, f, f * grid.nx, f * grid.nx * grid.ny,
-                                         std::min(a.floatsPerNode, kMaxFloats), acc);
+    for (int r = 0; r < repeats; ++r)
+        for (std::size_t begin = 0; begin < in.points.size(); begin += kTimedStretch) {  // as lookupRate
+            const std::size_t stop = std::min(in.points.size(), begin + kTimedStretch);
+            const double t0 = threadSeconds();
+            for (std::size_t i = begin; i < stop; ++i) {
+                const Vec3f g = (in.points[i] - origin) * inv;
+                const std::size_t node = grid.index(bound_detail::lowerNode(g.x, grid.nx), bound_detail::lowerNode(g.y, grid.ny),
+                                                    bound_detail::lowerNode(g.z, grid.nz));
+                for (const GatheredArray& a : arrays) {
+                    const std::size_t f = std::size_t(a.floatsPerNode);
+                    bound_detail::addCorners(a.data.data() + node * f, f, f * grid.nx, f * grid.nx * grid.ny,
+                                             std::min(a.floatsPerNode, kMaxFloats), acc);
+                }
             }
+            best = std::max(best, double(stop - begin) / (threadSeconds() - t0));
         }
-        best = std::max(best, double(in.points.size()) / (now() - t0));
-    }
     for (const float a : acc) sink += a;
     return best;
 }

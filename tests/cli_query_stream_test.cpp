@@ -261,7 +261,9 @@ TEST(CliQueryStream, StopsWithOneLineAtItsMemoryLimit) {
         fs::remove(out);
         const bool completed = query(mid, log) == 0;
         (completed ? completes : fails) = mid;
-        if (completed) EXPECT_EQ(test::readTextFile(out), expected) << "under " << mid << " B";  // the answers of no limit
+        if (completed) {
+            EXPECT_EQ(test::readTextFile(out), expected) << "under " << mid << " B";  // the answers of no limit
+        }
     }
     std::printf("the streamed query of %d^3 nodes completes with a data segment of %.1f MB\n", kNodes, completes / 1e6);
     int leafStops = 0;
@@ -277,6 +279,48 @@ TEST(CliQueryStream, StopsWithOneLineAtItsMemoryLimit) {
         leafStops += log.find("the next leaf of") != std::string::npos;
     }
     EXPECT_GT(leafStops, 0);  // stopped by the check before a leaf (OutOfMemory), not elsewhere
+
+    // Under an address-space limit (prlimit --as: it also counts the mapped file, the libraries
+    // and the threads' stacks), a one-point query. Every limit from 36 MB below the smallest
+    // that completes, in 3 MB steps, gives the answer or the one line with exit 1: never an
+    // abort (before issue 33's fix, std::terminate while the error unwound, an OpenVDB tree's
+    // destructor failing to allocate or to start a TBB worker: 185-187 MB for a 5.2 MB default
+    // bake), nor "internal error" (TBB's "pthread_create has failed": 188-195 MB there). Limits
+    // so low that the program cannot start at all (log4cplus aborts before main) are skipped.
+    // On every CPU, unlike the runs above: on one, TBB starts no worker thread whose stack could
+    // fail to fit.
+    writePoints(csv, {oneInEveryLeaf(kNodes)[0]});
+    const auto queryAs = [&](uint64_t limit, std::string& text) {
+        return test::runCommand("prlimit --as=" + std::to_string(limit) + " " + kCli + " query " + vdb +
+                                    " --points " + csv + " --raw --stream on -o " + out + " 2>&1",
+                                &text);
+    };
+    uint64_t asFails = 0, asCompletes = 1024ull << 20;
+    ASSERT_EQ(queryAs(asCompletes, log), 0) << log;
+    while (asCompletes - asFails > (1u << 20)) {
+        const uint64_t mid = (asFails + asCompletes) / 2;
+        (queryAs(mid, log) == 0 ? asCompletes : asFails) = mid;
+    }
+    int stopped = 0, notStarted = 0;
+    for (uint64_t less = 1u << 20; less <= (36u << 20); less += 3u << 20) {
+        fs::remove(out);
+        const int status = queryAs(asCompletes - less, log);
+        if (status == 0) continue;  // the limit's edge is not sharp: mappings come and go
+        if (status != 1 && test::runCommand("prlimit --as=" + std::to_string(asCompletes - less) + " " + kCli +
+                                            " --version > /dev/null 2>&1") != 0) {
+            ++notStarted;
+            continue;
+        }
+        EXPECT_EQ(status, 1) << (asCompletes - less) / 1e6 << " MB: " << log;
+        EXPECT_EQ(test::countLines(log), 1) << log;
+        EXPECT_EQ(log.rfind("vdblight: error: out of memory", 0), 0u) << log;
+        EXPECT_FALSE(fs::exists(out));
+        ++stopped;
+    }
+    std::printf("--as: a one-point query completes at %.1f MB; of the 12 limits below it, %d stopped the query (each must "
+                "with the one line), %d the program before it started\n",
+                asCompletes / 1e6, stopped, notStarted);
+    EXPECT_GT(stopped, 6);
 }
 
 // Same points, byte-identical output, streamed or read whole, for the default bake's kind.

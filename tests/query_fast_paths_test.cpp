@@ -1,10 +1,13 @@
 // The query paths rearranged for speed (issue 33, part 4) against the plain forms they
 // replace: the depth weights of every SH lookup (query/depth_weights.h) against
 // depth::visibility applied corner by corner, as depth_moments.h writes the formula, bit for
-// bit; the sh2 and sh:4 lookups' AVX2 versions against their portable ones, bit for bit; the occlusion
+// bit; the sh:4 lookup's node records (sh4_uniform_lookup.h) against the generic lookup of the
+// volume's own arrays, the same values; the sh2 and sh:4 lookups' AVX2 versions against their portable ones, bit for bit; the occlusion
 // lookup sharing its base's cell against base + direct() (query/shared_cell.h), bit for bit
 // where both locate a point alike, shadow edges (issue 32) included; the polygon lights' float contour and its atan2 against
-// exactIrradiance and std::atan2 in double, within float rounding.
+// exactIrradiance and std::atan2 in double, within float rounding, and the atan2 of four edges
+// at once against the scalar one, bit for bit; the shared cell's edge visibility against
+// shadow_edge::visibility, bit for bit.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,6 +16,7 @@
 #include <memory>
 
 #include "basis/shadow_edges.h"
+#include "query/channel_lookup.h"
 #include "query/query_direct.h"
 #include "random_volumes.h"
 #include "test_util.h"
@@ -27,6 +31,7 @@
 #include "vdblight/volume/vdb_io.h"
 #include "../libvdblight/src/query/depth_weights.h"       // internal: query_detail::weightByDepth
 #include "../libvdblight/src/query/fast_exact_lights.h"   // internal: the float polygon term
+#include "../libvdblight/src/query/shared_cell.h"         // internal: edgeVisibility
 #include "../libvdblight/src/query/sh4_uniform_lookup.h"  // internal: the default's sh:4 lookup
 #include "../libvdblight/src/query/sh_uniform_lookup.h"   // internal: the sh2 lookup
 #include "../libvdblight/src/query/wide_vectors.h"        // internal: cpuHasAvx2
@@ -129,6 +134,31 @@ DirectLight pointLight(const Vec3d& at, const Rgb& intensity) {
     return l;
 }
 
+/// The sh:4 lookup reads one record per node (coefficients side by side in colour, prepared
+/// depth values) and sums the colours in the lanes of one vector: the generic ChannelLookup,
+/// which reads the volume's arrays as stored through the basis's terms, gives the same values
+/// (each float summed in the same order), with and without depth weights, in and around the box.
+TEST(QueryFastPaths, Sh4NodeRecordsGiveTheGenericLookupsValues) {
+    const Volume v = defaultKindVolume({}, 17);
+    for (const bool depth : {true, false}) {
+        ShFourUniformLookup records(v, OutsidePolicy::Clamp);
+        ChannelLookup generic(v, OutsidePolicy::Clamp);
+        records.setDepthWeights(depth);
+        generic.setDepthWeights(depth);
+        ASSERT_EQ(records.depthWeighted(), depth);
+        Rng rng(18);
+        const Bounds b = records.bounds();
+        for (int t = 0; t < 20000; ++t) {
+            const Vec3f x = pointAround(b, rng);
+            const Vec3f n(uniformSphere(float(rng.uniform()), float(rng.uniform())));
+            const Rgb a = records.irradiance(x, n), c = generic.irradiance(x, n);
+            ASSERT_TRUE(a.x == c.x && a.y == c.y && a.z == c.z)
+                << "depth " << depth << " at " << x.x << " " << x.y << " " << x.z << ": " << a.x << " " << a.y << " " << a.z
+                << " vs " << c.x << " " << c.y << " " << c.z;
+        }
+    }
+}
+
 TEST(QueryFastPaths, WideVectorsGiveTheBitsOfThePortableSh4Lookup) {
     const Volume v = defaultKindVolume({}, 11);
     for (const bool depth : {true, false}) {
@@ -156,6 +186,7 @@ TEST(QueryFastPaths, WideVectorsGiveTheBitsOfThePortableSh2Lookup) {
     fillDepthAsTheBake(v.levels[0], rng);
     for (const bool depth : {true, false}) {
         ShUniformLookup wide(v, OutsidePolicy::Clamp), portable(v, OutsidePolicy::Clamp);
+        wide.setWideVectors(true);
         wide.setDepthWeights(depth);
         portable.setDepthWeights(depth);
         portable.setWideVectors(false);
@@ -278,6 +309,26 @@ TEST(QueryFastPaths, OcclusionSharingTheBaseCellKeepsTheShadowEdges) {
     std::printf("[ info ] the shadow edges changed %d of 6000 answers\n", edgesChanged);
 }
 
+/// The shared cell's edge visibility (eight corners' ramps in vector lanes) against
+/// shadow_edge::visibility, bit for bit: random weights (some exactly 0), visibilities,
+/// distances across the range and penumbra widths from none to kNoEdge.
+TEST(QueryFastPaths, EdgeVisibilityOfEightCornersIsTheScalarOnes) {
+    Rng rng(404);
+    for (int t = 0; t < 200000; ++t) {
+        float weight[8], vis[8], distance[8], width[8];
+        for (int c = 0; c < 8; ++c) {
+            weight[c] = rng.uniform() < 0.2 ? 0.0f : float(rng.uniform());
+            vis[c] = float(rng.uniform());
+            distance[c] = float((2 * rng.uniform() - 1) * shadow_edge::kRange);
+            const double u = rng.uniform();
+            width[c] = u < 0.2 ? 0.0f : (u < 0.3 ? shadow_edge::kNoEdge : float(3 * rng.uniform()));
+        }
+        const float fast = query_detail::edgeVisibility(weight, vis, distance, width);
+        const float plain = shadow_edge::visibility(weight, vis, distance, width);
+        ASSERT_EQ(std::memcmp(&fast, &plain, sizeof fast), 0) << "t " << t << ": " << fast << " vs " << plain;
+    }
+}
+
 TEST(QueryFastPaths, Atan2OfANonNegativeYIsTheLibrarys) {
     Rng rng(77);
     double worst = 0;
@@ -287,6 +338,15 @@ TEST(QueryFastPaths, Atan2OfANonNegativeYIsTheLibrarys) {
         const double err = std::fabs(got - ref) / std::max(ref, 1e-30);
         worst = std::max(worst, err);
         ASSERT_LE(err, 3e-7) << "atan2(" << y << ", " << x << ") = " << ref << ", got " << got;
+        // The four-lane version (the polygon's edges side by side) gives the scalar's bits in
+        // every lane, whatever the other lanes hold.
+        const query_detail::Float4 ys = {y, 2 * y, y, 0.5f * y}, xs = {x, x, -x, 4 * x};
+        const query_detail::Float4 lanes = query_detail::atan2NonNegative4(ys, xs);
+        for (int k = 0; k < 4; ++k) {
+            const float one = query_detail::atan2NonNegative(ys[k], xs[k]);
+            ASSERT_EQ(std::memcmp(&lanes[k], &one, sizeof one), 0)
+                << "lane " << k << ": atan2(" << ys[k] << ", " << xs[k] << ") " << lanes[k] << " vs " << one;
+        }
     };
     for (const float y : {0.0f, 1e-30f, 1e-7f, 0.5f, 1.0f, 3e7f})
         for (const float x : {-3e7f, -1.0f, -1e-7f, 0.0f, 1e-7f, 1.0f, 3e7f})

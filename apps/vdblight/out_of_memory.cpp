@@ -35,6 +35,20 @@ void installMemoryReserve() {
     std::set_new_handler(releaseReserveAndFail);
 }
 
+namespace {
+bool memoryLimited() {
+    rlimit as{}, data{};
+    return (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) ||
+           (getrlimit(RLIMIT_DATA, &data) == 0 && data.rlim_cur != RLIM_INFINITY);
+}
+}  // namespace
+
+bool threadStartFailedForMemory(const std::exception& e) {
+    // oneTBB's rml thread_monitor::launch reports a failed pthread_create with this prefix
+    // (std::runtime_error); seen under `prlimit --as` at 188-195 MB for a 5.2 MB default bake.
+    return std::string(e.what()).rfind("pthread_create has failed", 0) == 0 && memoryLimited();
+}
+
 std::string outOfMemoryMessage(const std::string& what) {
     std::string line = "out of memory";
     if (!what.empty()) line += " (" + what + ")";

@@ -2,6 +2,7 @@
 // line names the process's memory limit and how to raise it.
 #pragma once
 
+#include <exception>
 #include <string>
 
 namespace vdblight::app {
@@ -16,5 +17,10 @@ void installMemoryReserve();
 /// `ulimit -v` or `prlimit --as` raises it)", or the data-segment limit (RLIMIT_DATA;
 /// `ulimit -d`, `prlimit --data`), or that no limit is set and the machine's memory ran out.
 std::string outOfMemoryMessage(const std::string& what);
+
+/// True if `e` is TBB's report of a worker thread it could not start ("pthread_create has
+/// failed: ...") while the process runs under a memory limit (RLIMIT_AS or RLIMIT_DATA), where
+/// the thread's stack is what did not fit: main then reports it as out of memory.
+bool threadStartFailedForMemory(const std::exception& e);
 
 }  // namespace vdblight::app

@@ -31,7 +31,9 @@ inline double cosineLobe(int l) {
 /// bake projects every sample and the lookups weigh every term with them. sh_basis_test checks
 /// them against sh::evalGeneric (the Legendre recurrence in double). Inline, so that a caller
 /// with a constant order keeps only the bands it reads.
-inline void evalPolynomials(int order, const Vec3f& d, float* y) {
+/// `band3` false: y[9..15] are left as they are (band 3 carries no irradiance, A_3 = 0: the sh:4
+/// lookup, which reads bands 0..2 and 4 only, skips its 7 polynomials; the others keep their bits).
+inline void evalPolynomials(int order, const Vec3f& d, float* y, bool band3 = true) {
     const float x = d.x, yy = d.y, z = d.z;
     y[0] = 0.282094792f;
     if (order < 1) return;
@@ -41,10 +43,12 @@ inline void evalPolynomials(int order, const Vec3f& d, float* y) {
     y[4] = 1.092548431f * x * yy, y[5] = 1.092548431f * yy * z, y[6] = 0.315391565f * (3 * z2 - 1);
     y[7] = 1.092548431f * x * z, y[8] = 0.546274215f * (x2 - y2);
     if (order < 3) return;
-    y[9] = 0.590043590f * yy * (3 * x2 - y2), y[10] = 2.890611443f * x * yy * z;
-    y[11] = 0.457045799f * yy * (5 * z2 - 1), y[12] = 0.373176333f * z * (5 * z2 - 3);
-    y[13] = 0.457045799f * x * (5 * z2 - 1), y[14] = 1.445305721f * z * (x2 - y2);
-    y[15] = 0.590043590f * x * (x2 - 3 * y2);
+    if (band3) {
+        y[9] = 0.590043590f * yy * (3 * x2 - y2), y[10] = 2.890611443f * x * yy * z;
+        y[11] = 0.457045799f * yy * (5 * z2 - 1), y[12] = 0.373176333f * z * (5 * z2 - 3);
+        y[13] = 0.457045799f * x * (5 * z2 - 1), y[14] = 1.445305721f * z * (x2 - y2);
+        y[15] = 0.590043590f * x * (x2 - 3 * y2);
+    }
     if (order < 4) return;
     y[16] = 2.503342942f * x * yy * (x2 - y2), y[17] = 1.770130770f * yy * z * (3 * x2 - y2);
     y[18] = 0.946174696f * x * yy * (7 * z2 - 1), y[19] = 0.669046544f * yy * z * (7 * z2 - 3);

@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "float4.h"
+
 namespace vdblight::query_detail {
 
 float atan2NonNegative(float y, float x) {
@@ -23,6 +25,24 @@ float atan2NonNegative(float y, float x) {
     if (swap) a = 1.57079633f - a;
     if (x < 0) a = 3.14159265f - a;
     return a;
+}
+
+Float4 atan2NonNegative4(Float4 y, Float4 x) {
+    // atan2NonNegative's operations, lane by lane, its branches as selects (a lane computes
+    // both sides of a test and keeps the one the scalar code takes: the same bits).
+    const Float4 zero = {0, 0, 0, 0};
+    const Float4 ax = abs4(x);
+    const auto swap = y > ax;
+    const Float4 lo = swap ? ax : y, hi = swap ? y : ax;
+    const auto upper = lo > 0.41421356f * hi;
+    const Float4 num = upper ? lo - hi : lo, den = upper ? lo + hi : hi;
+    const Float4 u = den > zero ? num / den : zero;
+    const Float4 z = u * u;
+    const Float4 p = ((0.080687128f * z - 0.138829082f) * z + 0.199782744f) * z - 0.333329678f;
+    Float4 a = u + u * z * p;
+    a = upper ? a + 0.785398163f : a;
+    a = swap ? 1.57079633f - a : a;
+    return x < zero ? 3.14159265f - a : a;
 }
 
 FastExactLights::FastExactLights(const std::vector<DirectLight>& lights) : lights_(lights), float_(lights.size(), 0) {
@@ -75,15 +95,24 @@ double contour(const Points& v, const Vec3f& n) {
         m = clipped.size;
     }
     if (m < 3) return 0;
+    // The edges four at a time in the lanes of Float4 (edge i from vertex i to vertex i + 1,
+    // the first vertex repeated at the end), each lane the scalar formula's float operations;
+    // then each edge's term added in double in edge order, as one edge at a time would.
+    float ex[2 * FastExactLights::kMaxVertices + 4], ey[2 * FastExactLights::kMaxVertices + 4],
+        ez[2 * FastExactLights::kMaxVertices + 4];
+    for (std::size_t i = 0; i < m; ++i) ex[i] = c->x[i], ey[i] = c->y[i], ez[i] = c->z[i];
+    for (std::size_t i = m; i < m + 4; ++i) ex[i] = c->x[0], ey[i] = c->y[0], ez[i] = c->z[0];
     double sum = 0;
-    for (std::size_t i = 0; i < m; ++i) {
-        const std::size_t j = i + 1 == m ? 0 : i + 1;
-        const float ax = c->x[i], ay = c->y[i], az = c->z[i], bx = c->x[j], by = c->y[j], bz = c->z[j];
-        const float gx = ay * bz - az * by, gy = az * bx - ax * bz, gz = ax * by - ay * bx;
-        const float len = std::sqrt(gx * gx + gy * gy + gz * gz);
-        if (!(len > 0)) continue;  // an edge pointing at the receiver subtends no angle
-        const float theta = atan2NonNegative(len, ax * bx + ay * by + az * bz);
-        sum += double(theta * (n.x * gx + n.y * gy + n.z * gz) / len);
+    for (std::size_t i = 0; i < m; i += 4) {
+        const Float4 ax = load4(ex + i), ay = load4(ey + i), az = load4(ez + i);
+        const Float4 bx = load4(ex + i + 1), by = load4(ey + i + 1), bz = load4(ez + i + 1);
+        const Float4 gx = ay * bz - az * by, gy = az * bx - ax * bz, gz = ax * by - ay * bx;
+        const Float4 squared = gx * gx + gy * gy + gz * gz;
+        const Float4 len = {std::sqrt(squared[0]), std::sqrt(squared[1]), std::sqrt(squared[2]), std::sqrt(squared[3])};
+        const Float4 theta = atan2NonNegative4(len, ax * bx + ay * by + az * bz);
+        const Float4 term = theta * (n.x * gx + n.y * gy + n.z * gz) / len;
+        for (std::size_t k = 0; k < 4 && i + k < m; ++k)
+            if (len[k] > 0) sum += double(term[k]);  // an edge pointing at the receiver subtends no angle
     }
     return sum;
 }

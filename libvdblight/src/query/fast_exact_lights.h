@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "float4.h"
 #include "vdblight/light/direct_light.h"
 
 namespace vdblight::query_detail {
@@ -22,6 +23,9 @@ namespace vdblight::query_detail {
 /// polygon's edge angles; query_fast_paths_test checks it against std::atan2 in double). No
 /// library call: the libm float atan2 was a third of the float contour's instructions.
 float atan2NonNegative(float y, float x);
+/// atan2NonNegative in each lane of four, with the same bits, branch-free (the polygon's edges
+/// four at a time: the scalar one's data-dependent branches were mispredicted at random normals).
+Float4 atan2NonNegative4(Float4 y, Float4 x);
 
 class FastExactLights {
 public:

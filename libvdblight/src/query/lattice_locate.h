@@ -9,9 +9,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <sstream>
 #include <vector>
 
+#include "float4.h"
 #include "vdblight/core/errors.h"
 #include "vdblight/layout/layout.h"
 #include "vdblight/query/query.h"
@@ -41,6 +43,16 @@ inline void splitCell(T g, int n, int& i, T& f) {
     i = std::min(int(g), n - 2);
     if (i < 0) i = 0;
     f = g - T(i);
+}
+
+/// Trilinear weights of the fractions fx, fy, fz (corner c = x bit 0, y bit 1, z bit 2):
+/// weights[c] = wx * wy * wz, multiplied in that order, the x-y products made once for both z.
+inline void trilinearWeights(float fx, float fy, float fz, float weights[8]) {
+    const float gx = 1 - fx, gy = 1 - fy;
+    const Float4 xy = Float4{gx, fx, gx, fx} * Float4{gy, gy, fy, fy};
+    const Float4 lower = xy * (1 - fz), upper = xy * fz;
+    std::memcpy(weights, &lower, sizeof lower);
+    std::memcpy(weights + 4, &upper, sizeof upper);
 }
 
 /// A fraction f of a refined cell split into K sub-cells: the sub-cell i and the fraction in it.

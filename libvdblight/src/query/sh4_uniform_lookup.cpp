@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <string>
+#include <type_traits>
 
 #include "../basis/sh_polynomials.h"
 #include "depth_weights.h"
+#include "float4.h"
 #include "lattice_locate.h"
 #include "vdblight/basis/basis.h"
 #include "vdblight/core/errors.h"
@@ -37,24 +39,26 @@ ShFourUniformLookup::ShFourUniformLookup(const Volume& volume, OutsidePolicy out
         throw FormatError("sh4-uniform lookup: " + std::to_string(level.data.size()) + " values for " +
                           std::to_string(nodes) + " nodes of 25 RGB coefficients");
     for (int t = 0; t < kLitCoeffs; ++t) lobe_[t] = float(sh::cosineLobe(bandOfLit(t)));
-    lit_.resize(nodes * kLitFloats);
+    hasDepth_ = !level.depth.empty();
+    if (hasDepth_ && level.depth.size() != nodes * depth::kFloatsPerNode)
+        throw FormatError("sh4-uniform lookup: the depth moments do not match the grid");
+    stride_ = kLitStride + (hasDepth_ ? query_detail::kPreparedDepthFloats : 0);
+    records_.assign(nodes * std::size_t(stride_), 0.0f);
     dark_.resize(nodes * kDarkFloats);
     for (std::size_t n = 0; n < nodes; ++n) {
         const float* in = level.data.data() + n * kCoeffs * 3;
-        float* lit = lit_.data() + n * kLitFloats;
+        float* record = records_.data() + n * std::size_t(stride_);
         for (int t = 0; t < kLitCoeffs; ++t)
-            for (int c = 0; c < 3; ++c) lit[c * kLitCoeffs + t] = in[3 * storedIndex(t) + c];
+            for (int c = 0; c < 3; ++c) record[3 * t + c] = in[3 * storedIndex(t) + c];
+        if (hasDepth_) query_detail::prepareDepth(level.depth.data() + n * depth::kFloatsPerNode, record + kLitStride);
         std::copy(in + 3 * 9, in + 3 * 16, dark_.data() + n * kDarkFloats);
     }
-    depth_ = level.depth;
-    if (!depth_.empty() && depth_.size() != nodes * depth::kFloatsPerNode)
-        throw FormatError("sh4-uniform lookup: the depth moments do not match the grid");
-    depthWeights_ = !depth_.empty();
+    depthWeights_ = hasDepth_;
     // The portable build by default: vdblight_bench --only query, the AVX2 build against it
-    // alternately in the same runs (2-core AMD EPYC with AVX-512, shared), was slower: plain
-    // 1.00x, 0.92x, 0.97x, 0.94x, 0.95x; with depth weights 0.91x, 0.89x, 0.97x, 0.93x, 0.92x
-    // (54 floats per corner: six 8-lane vectors and six left over), though callgrind counts
-    // fewer instructions (a default lookup 2 038 against 2 462). setWideVectors(true) picks it.
+    // alternately in the same runs (2-core AMD EPYC with AVX-512, shared), was slower: on the
+    // 54-float layout plain 1.00x, 0.92x, 0.97x, 0.94x, 0.95x, with depth weights 0.91x, 0.89x,
+    // 0.97x, 0.93x, 0.92x; on the node records of 56 floats (seven whole 8-lane vectors) plain
+    // 0.82x, 0.79x, with depth weights 0.97x, 0.92x. setWideVectors(true) picks it.
 }
 
 template <class T>
@@ -69,12 +73,16 @@ VDBLIGHT_ALWAYS_INLINE void ShFourUniformLookup::locate(const T g[3], std::size_
                       sz = dims[2] > 1 ? std::size_t(dims[0]) * dims[1] : 0;
     const std::size_t base = grid_.index(idx[0], idx[1], idx[2]);
     for (int c = 0; c < 8; ++c) corner[c] = base + (c & 1) * sx + ((c >> 1) & 1) * sy + (c >> 2) * sz;
-    const T wx[2] = {1 - f[0], f[0]}, wy[2] = {1 - f[1], f[1]}, wz[2] = {1 - f[2], f[2]};
-    for (int c = 0; c < 8; ++c) weight[c] = float(wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2]);
+    if constexpr (std::is_same_v<T, float>) {
+        query_detail::trilinearWeights(f[0], f[1], f[2], weight);  // the same products, four at a time
+    } else {
+        const T wx[2] = {1 - f[0], f[0]}, wy[2] = {1 - f[1], f[1]}, wz[2] = {1 - f[2], f[2]};
+        for (int c = 0; c < 8; ++c) weight[c] = float(wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2]);
+    }
     if (depthWeights_) {  // visibility-aware interpolation (depth_weights.h)
         const float* depth[8];
-        for (int c = 0; c < 8; ++c) depth[c] = depth_.data() + corner[c] * depth::kFloatsPerNode;
-        query_detail::weightByDepth(weight, depth, float(f[0]), float(f[1]), float(f[2]));
+        for (int c = 0; c < 8; ++c) depth[c] = records_.data() + corner[c] * stride_ + kLitStride;
+        query_detail::weightByPreparedDepth(weight, depth, float(f[0]), float(f[1]), float(f[2]));
     }
     if (cell) {
         for (int a = 0; a < 3; ++a) {
@@ -104,18 +112,20 @@ VDBLIGHT_ALWAYS_INLINE Rgb ShFourUniformLookup::blendIrradianceBody(const Vec3f&
     locate(g, corner, w, cell);
 
     float y[kCoeffs];
-    sh::evalPolynomials(4, n, y);
+    sh::evalPolynomials(4, n, y, false);  // band 3 (A_3 = 0) is not read
     float bw[kLitCoeffs];  // A_l Y_j(n), rounded as ShBasis::terms rounds it
     for (int t = 0; t < kLitCoeffs; ++t) bw[t] = lobe_[t] * y[storedIndex(t)];
 
     // The corners blended first, each float summed over the corners in order (as ChannelLookup
-    // sums a term's channel), then one dot product per colour in term order. One pass over the
-    // 54 floats with the eight corners inside: GCC vectorises it (with the corner loop outside,
-    // it kept a scalar loop storing blend[f] after every corner: 4.5 against 12 M lookups/s).
+    // sums a term's channel), then the terms in order, one sum per colour. One pass over the
+    // record's 56 floats with the eight corners inside: GCC vectorises it (with the corner loop
+    // outside, it kept a scalar loop storing blend[f] after every corner: 4.5 against 12 M
+    // lookups/s). The three colours of a term sit side by side, so the sums over the terms run
+    // in the lanes of one vector (lane 3 picks up the next term's red, and is not read).
     const float* p[8];
-    for (int c = 0; c < 8; ++c) p[c] = lit_.data() + corner[c] * kLitFloats;
-    float blend[kLitFloats];
-    for (int f = 0; f < kLitFloats; ++f) {
+    for (int c = 0; c < 8; ++c) p[c] = records_.data() + corner[c] * stride_;
+    float blend[kLitStride];
+    for (int f = 0; f < kLitStride; ++f) {
         float s = p[0][f] * w[0];
         s += p[1][f] * w[1];
         s += p[2][f] * w[2];
@@ -126,13 +136,10 @@ VDBLIGHT_ALWAYS_INLINE Rgb ShFourUniformLookup::blendIrradianceBody(const Vec3f&
         s += p[7][f] * w[7];
         blend[f] = s;
     }
-    float r = 0, gr = 0, b = 0;
-    for (int t = 0; t < kLitCoeffs; ++t) {
-        r += blend[t] * bw[t];
-        gr += blend[kLitCoeffs + t] * bw[t];
-        b += blend[2 * kLitCoeffs + t] * bw[t];
-    }
-    return Rgb(r, gr, b);
+    query_detail::Float4 sum = {0, 0, 0, 0};
+#pragma GCC unroll 18
+    for (int t = 0; t < kLitCoeffs; ++t) sum += query_detail::load4(blend + 3 * t) * bw[t];
+    return Rgb(sum[0], sum[1], sum[2]);
 }
 
 void ShFourUniformLookup::channelValues(const Vec3d& x, float* out) const {
@@ -144,10 +151,10 @@ void ShFourUniformLookup::channelValues(const Vec3d& x, float* out) const {
     locate(g, corner, w);
     std::fill(out, out + kCoeffs * 3, 0.0f);
     for (int c = 0; c < 8; ++c) {
-        const float* lit = lit_.data() + corner[c] * kLitFloats;
+        const float* lit = records_.data() + corner[c] * stride_;
         const float* dark = dark_.data() + corner[c] * kDarkFloats;
         for (int t = 0; t < kLitCoeffs; ++t)
-            for (int col = 0; col < 3; ++col) out[3 * storedIndex(t) + col] += w[c] * lit[col * kLitCoeffs + t];
+            for (int col = 0; col < 3; ++col) out[3 * storedIndex(t) + col] += w[c] * lit[3 * t + col];
         for (int f = 0; f < kDarkFloats; ++f) out[3 * 9 + f] += w[c] * dark[f];
     }
 }

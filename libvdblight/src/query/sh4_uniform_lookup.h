@@ -1,15 +1,20 @@
 // The fast lookup of single-level SH order-4 volumes (`sh:4`, the default bake's basis), which
 // IrradianceQuery picks for them before the generic ChannelLookup (registry.cpp). It gives
 // ChannelLookup's answers, every interface method included (same locate, same weights, same
-// summation order: the same bits), from a layout made for the irradiance:
-// - the 18 coefficients that carry irradiance (bands 0, 1, 2 and 4; A_3 = 0) of a node are
-//   54 contiguous floats, colour-planar (18 red, 18 green, 18 blue), so a lookup blends the
-//   eight corners' 54 floats in one vectorisable loop, then evaluates three 18-term dot
-//   products of plain floats (no RGB triples in the inner loop);
-// - band 3 (7 RGB coefficients) sits in its own array, read only by channelValues /
-//   shRadiance (export), so the irradiance path does not pull it through the cache.
-// Memory is ChannelLookup's: 75 floats per node. Internal to the query module (tests and
-// benchmarks include it as "../libvdblight/src/query/sh4_uniform_lookup.h").
+// summation order: the same bits), from a layout made for the irradiance: one record per node
+// holding everything a lookup reads there (issue 33, part 4), so that a corner is one stretch
+// of memory instead of a piece of each of several arrays:
+// - the 18 coefficients that carry irradiance (bands 0, 1, 2 and 4; A_3 = 0), RGB each, in
+//   coefficient order (54 floats) and 2 floats of zero padding, so that a lookup blends the
+//   eight corners' 56 floats in one loop of whole 4- and 8-lane vectors, then sums the 18
+//   terms with the three colours side by side in the lanes of one vector (each colour still
+//   summed in term order);
+// - where the volume has depth moments, the node's prepared depth values (depth_weights.h:
+//   means and squared deviations, the squares made once here instead of at every lookup).
+// Band 3 (7 RGB coefficients) sits in its own array, read only by channelValues / shRadiance
+// (export), so the irradiance path does not pull it through the cache. Memory: 56 + 21 floats
+// per node, 12 more with depth moments. Internal to the query module (tests and benchmarks
+// include it as "../libvdblight/src/query/sh4_uniform_lookup.h").
 #pragma once
 
 #include <cstddef>
@@ -42,7 +47,7 @@ public:
     void channelValues(const Vec3d& x, float* out) const override;
     /// The first nine of channelValues (the volume's SH order-2 part).
     void shRadiance(const Vec3d& x, Rgb out[9]) const override;
-    void setDepthWeights(bool on) override { depthWeights_ = on && !depth_.empty(); }
+    void setDepthWeights(bool on) override { depthWeights_ = on && hasDepth_; }
     bool depthWeighted() const override { return depthWeights_; }
 
     /// Stored coefficients per colour (bands 0..4) and those that carry irradiance (A_l != 0).
@@ -50,6 +55,10 @@ public:
     static constexpr int kLitCoeffs = 18;
     static constexpr int kLitFloats = kLitCoeffs * 3;
     static constexpr int kDarkFloats = (kCoeffs - kLitCoeffs) * 3;
+    /// Floats of a node record's lit part: kLitFloats and the zero padding.
+    static constexpr int kLitStride = kLitFloats + 2;
+    /// Floats per node record (kLitStride, plus the prepared depth where the volume has it).
+    int recordFloats() const { return stride_; }
 
 private:
     /// The eight corner nodes around the lattice coordinate g (clamped into the node box) and
@@ -71,9 +80,12 @@ private:
     Vec3f origin_;
     float invSpacing_ = 1;
     float lobe_[kLitCoeffs] = {};  ///< float(A_l) of each lit coefficient, as ShBasis::terms rounds it
-    std::vector<float> lit_;       ///< per node kLitFloats: [colour][lit coefficient], as stored (no A_l)
-    std::vector<float> dark_;      ///< per node kDarkFloats: band 3, [coefficient][colour] as stored
-    std::vector<float> depth_;     ///< per node depth::kFloatsPerNode floats, or empty
+    /// Per node stride_ floats: [lit coefficient][colour] as stored (no A_l), 2 zeros, then the
+    /// prepared depth (query_detail::prepareDepth) if the volume has depth moments.
+    std::vector<float> records_;
+    int stride_ = kLitStride;
+    std::vector<float> dark_;  ///< per node kDarkFloats: band 3, [coefficient][colour] as stored
+    bool hasDepth_ = false;
     bool depthWeights_ = false;
     bool avx2_ = false;
 };

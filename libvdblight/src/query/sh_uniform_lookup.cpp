@@ -27,16 +27,24 @@ ShUniformLookup::ShUniformLookup(const Volume& volume, OutsidePolicy outside) : 
     grid_ = level.grid;
     origin_ = Vec3f(grid_.origin);
     invSpacing_ = float(1.0 / grid_.spacing);
-    // Fold the convolution constants A_l into the coefficients once, so that a lookup is
-    // a plain dot product with Y_j(n).
-    coeffs_.resize(level.data.size());
-    for (std::size_t i = 0; i < level.data.size(); ++i) {
-        const int j = int((i % kFloatsPerNode) / 3);
-        coeffs_[i] = level.data[i] * float(sh::kCosineLobe[sh::bandOf(j)]);
+    const std::size_t nodes = grid_.nodeCount();
+    if (level.data.size() != nodes * kFloatsPerNode)
+        throw FormatError("sh2-uniform lookup: " + std::to_string(level.data.size()) + " values for " +
+                          std::to_string(nodes) + " nodes of 9 RGB coefficients");
+    hasDepth_ = !level.depth.empty();
+    if (hasDepth_ && level.depth.size() != nodes * depth::kFloatsPerNode)
+        throw FormatError("sh2-uniform lookup: the depth moments do not match the grid");
+    stride_ = kRecordFloats + (hasDepth_ ? query_detail::kPreparedDepthFloats : 0);
+    records_.assign(nodes * std::size_t(stride_), 0.0f);
+    for (std::size_t n = 0; n < nodes; ++n) {
+        float* record = records_.data() + n * std::size_t(stride_);
+        // Fold the convolution constants A_l into the coefficients once, so that a lookup is
+        // a plain dot product with Y_j(n).
+        for (int i = 0; i < kFloatsPerNode; ++i)
+            record[i] = level.data[n * kFloatsPerNode + i] * float(sh::kCosineLobe[sh::bandOf(i / 3)]);
+        if (hasDepth_) query_detail::prepareDepth(level.depth.data() + n * depth::kFloatsPerNode, record + kRecordFloats);
     }
-    depth_ = level.depth;
-    depthWeights_ = !depth_.empty();
-    setWideVectors(true);
+    depthWeights_ = hasDepth_;
 }
 
 VDBLIGHT_ALWAYS_INLINE void ShUniformLookup::locate(const Vec3f& x, int& i, int& j, int& k, float& fx, float& fy, float& fz) const {
@@ -60,12 +68,12 @@ void ShUniformLookup::radianceCoefficients(const Vec3f& x, Rgb out[9]) const {
         const int ci = corner & 1, cj = (corner >> 1) & 1, ck = corner >> 2;
         weights[corner] = (ci ? fx : 1 - fx) * (cj ? fy : 1 - fy) * (ck ? fz : 1 - fz);
         nodes[corner] = grid_.index(i + ci * di, j + cj * dj, k + ck * dk);
-        if (depthWeights_) depth[corner] = depth_.data() + nodes[corner] * depth::kFloatsPerNode;
+        if (depthWeights_) depth[corner] = records_.data() + nodes[corner] * stride_ + kRecordFloats;
     }
-    if (depthWeights_) query_detail::weightByDepth(weights, depth, fx, fy, fz);
+    if (depthWeights_) query_detail::weightByPreparedDepth(weights, depth, fx, fy, fz);
     for (int corner = 0; corner < 8; ++corner) {
         const float w = weights[corner];
-        const float* p = coeffs_.data() + nodes[corner] * kFloatsPerNode;
+        const float* p = records_.data() + nodes[corner] * stride_;
         for (int c = 0; c < sh::kCoeffs; ++c) {
             const float a = float(sh::kCosineLobe[sh::bandOf(c)]);
             out[c] += Rgb(p[3 * c], p[3 * c + 1], p[3 * c + 2]) * (w / a);
@@ -79,14 +87,14 @@ void ShUniformLookup::shRadiance(const Vec3d& x, Rgb out[9]) const {
     query_detail::TrilinearCorners corners = query_detail::trilinearCorners(grid_, x, outside_);
     if (depthWeights_) {
         const float* depth[8];
-        for (int c = 0; c < 8; ++c) depth[c] = depth_.data() + corners.node[c] * depth::kFloatsPerNode;
-        query_detail::weightCornersByDepth(corners, depth, grid_, x, outside_);
+        for (int c = 0; c < 8; ++c) depth[c] = records_.data() + corners.node[c] * stride_ + kRecordFloats;
+        query_detail::weightCornersByDepth(corners, depth, grid_, x, outside_, true);
     }
     double sum[kFloatsPerNode] = {};
     for (int c = 0; c < 8; ++c) {
         const double w = corners.weight[c];
         if (w == 0.0) continue;
-        const float* p = coeffs_.data() + corners.node[c] * kFloatsPerNode;
+        const float* p = records_.data() + corners.node[c] * stride_;
         for (int f = 0; f < kFloatsPerNode; ++f) sum[f] += w * p[f];
     }
     for (int c = 0; c < sh::kCoeffs; ++c) {
@@ -108,12 +116,22 @@ VDBLIGHT_ALWAYS_INLINE Rgb ShUniformLookup::irradianceBody(const Vec3f& x, const
     float y[sh::kCoeffs];
     sh::evalUnrolled(n, y);
 
-    const std::size_t sx = grid_.nx > 1 ? kFloatsPerNode : 0;
-    const std::size_t sy = grid_.ny > 1 ? std::size_t(grid_.nx) * kFloatsPerNode : 0;
-    const std::size_t sz = grid_.nz > 1 ? std::size_t(grid_.nx) * grid_.ny * kFloatsPerNode : 0;
-    const std::size_t node = grid_.index(i, j, k);
-    return query_detail::interpolateSh(coeffs_.data() + node * kFloatsPerNode, sx, sy, sz, fx, fy, fz, y,
-                                       depthWeights_ ? depth_.data() + node * depth::kFloatsPerNode : nullptr);
+    // The corners' records (along an axis with one node both corners are that node).
+    const std::size_t stride = std::size_t(stride_);
+    const std::size_t sx = grid_.nx > 1 ? stride : 0;
+    const std::size_t sy = grid_.ny > 1 ? std::size_t(grid_.nx) * stride : 0;
+    const std::size_t sz = grid_.nz > 1 ? std::size_t(grid_.nx) * grid_.ny * stride : 0;
+    const float* base = records_.data() + grid_.index(i, j, k) * stride;
+    const float* corners[8] = {base, base + sx, base + sy, base + sx + sy,
+                               base + sz, base + sx + sz, base + sy + sz, base + sx + sy + sz};
+    float weights[8];
+    query_detail::trilinearWeights(fx, fy, fz, weights);
+    if (depthWeights_) {
+        const float* depth[8];
+        for (int c = 0; c < 8; ++c) depth[c] = corners[c] + kRecordFloats;
+        query_detail::weightByPreparedDepth(weights, depth, fx, fy, fz);
+    }
+    return query_detail::blendShCorners<kRecordFloats>(corners, weights, y);
 }
 
 Rgbd referenceLookup(const Volume& volume, const Vec3d& x, const Vec3d& n) {

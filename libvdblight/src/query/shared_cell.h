@@ -5,9 +5,12 @@
 // (Internal to the query module.)
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
+#include <cstring>
 
 #include "basis/shadow_edges.h"
+#include "float4.h"
 #include "vdblight/layout/layout.h"
 #include "vdblight/core/math.h"
 
@@ -52,9 +55,36 @@ inline void blendCell(const SharedCell& cell, std::size_t lights, NodeValues&& v
     }
 }
 
+/// shadow_edge::visibility(weight, visibility, distance, width), bit for bit: the corners' own
+/// ramps (eight divisions) and weighted terms in the lanes of two vectors, then the three sums
+/// over the corners in order c = 0..7, skipping corners of weight 0, as the scalar loop does.
+inline float edgeVisibility(const float weight[8], const float visibility[8], const float distance[8], const float width[8]) {
+    float wd[8], ww[8], wr[8];
+    for (int half = 0; half < 8; half += 4) {
+        const Float4 w = load4(weight + half), d = load4(distance + half), e = load4(width + half);
+        const Float4 floor = Float4{1, 1, 1, 1} * shadow_edge::kMinWidth;
+        const Float4 zero = {0, 0, 0, 0}, one = {1, 1, 1, 1};
+        const Float4 r = 0.5f + d / (e < floor ? floor : e);  // ramp: std::clamp(r, 0, 1) below
+        const Float4 ramp = r < zero ? zero : (one < r ? one : r);
+        const Float4 terms[3] = {w * d, w * e, w * (load4(visibility + half) - ramp)};
+        std::memcpy(wd + half, &terms[0], sizeof(Float4));
+        std::memcpy(ww + half, &terms[1], sizeof(Float4));
+        std::memcpy(wr + half, &terms[2], sizeof(Float4));
+    }
+    float d = 0.0f, w = 0.0f, residual = 0.0f;
+    for (int c = 0; c < 8; ++c) {
+        if (weight[c] == 0.0f) continue;
+        d += wd[c];
+        w += ww[c];
+        residual += wr[c];
+    }
+    return std::clamp(shadow_edge::ramp(d, w) + residual, 0.0f, 1.0f);
+}
+
 /// As blendCell, for a volume with shadow edges (shadow_edges.h): `out[l]` =
 /// shadow_edge::visibility of the corners' values and edges (`edges(c)`: kFloatsPerLight floats
-/// per light at corner c) with the cell's weights, as OcclusionLookup::visibility computes it.
+/// per light at corner c) with the cell's weights, as OcclusionLookup::visibility computes it
+/// (edgeVisibility, the same bits).
 template <class NodeValues, class NodeEdges>
 inline void blendCellWithEdges(const SharedCell& cell, std::size_t lights, NodeValues&& values, NodeEdges&& edges,
                                float* out) {
@@ -71,7 +101,7 @@ inline void blendCellWithEdges(const SharedCell& cell, std::size_t lights, NodeV
             distance[c] = e[c][l * shadow_edge::kFloatsPerLight];
             width[c] = e[c][l * shadow_edge::kFloatsPerLight + 1];
         }
-        out[l] = shadow_edge::visibility(cell.weight, vis, distance, width);
+        out[l] = edgeVisibility(cell.weight, vis, distance, width);
     }
 }
 

@@ -1,6 +1,11 @@
 // Delayed loading of a vdblight .vdb (vdb_stream.h): the grids' topology is read and checked,
 // their leaf values stay in the mapped file until a voxel of the leaf is read.
+#include <cstdlib>
+#include <memory>
 #include <new>
+#include <vector>
+
+#include <tbb/task_arena.h>
 
 #include "vdb_delayed.h"
 #include "vdb_read_parts.h"
@@ -9,7 +14,10 @@
 
 namespace vdblight::vdb_detail {
 
-DelayedVolumeFile openDelayedVolume(const std::string& path) {
+namespace {
+
+/// openDelayedVolume's work; every grid it reads is also put in `held` as soon as it is read.
+DelayedVolumeFile openAndCheck(const std::string& path, std::vector<openvdb::GridBase::Ptr>& held) {
     OpenedFile f = openVolumeFile(path, OpenFor::Delayed);
     const openvdb::MetaMap& meta = *f.meta;
     if (meta.getMetadata<openvdb::Int64Metadata>(kPrefix + "tile_count"))
@@ -35,8 +43,10 @@ DelayedVolumeFile openDelayedVolume(const std::string& path) {
     // (active voxel counts, boxes and topologies come from the leaves' masks).
     auto read = [&](const std::string& name) {
         if (!f.file->hasGrid(name)) formatError(path, "has no grid '" + name + "'");
+        if (held.size() == held.capacity()) held.reserve(2 * held.capacity() + 64);  // before the grid: no allocation after it
         try {
-            return f.file->readGrid(name);
+            held.push_back(f.file->readGrid(name));
+            return held.back();
         } catch (const std::bad_alloc&) {  // out of memory, not a corrupt file
             throw;
         } catch (const std::exception& e) {
@@ -102,6 +112,57 @@ DelayedVolumeFile openDelayedVolume(const std::string& path) {
     }
     out.file = std::move(f.file);
     return out;
+}
+
+/// Frees `grids` after an error, where a destructor that throws would end the process: each
+/// grid's tree is emptied by Grid::clear inside a try (an empty tree's destructor allocates
+/// nothing: Tree::clear then steals no nodes and runs its parallel_for on empty ranges), in an
+/// arena of one thread, which starts no TBB worker; a grid that could not be emptied is kept
+/// alive for good (its destructor would call Tree::clear again) rather than destroyed.
+void emptyEach(std::vector<openvdb::GridBase::Ptr>& grids) {
+    for (openvdb::GridBase::Ptr& grid : grids) {
+        if (!grid) continue;
+        try {
+            grid->clear();
+            grid.reset();
+        } catch (...) {
+        }
+    }
+}
+
+void freeGridsAfterError(std::vector<openvdb::GridBase::Ptr>& grids) noexcept {
+    try {
+        tbb::task_arena alone(1);
+        alone.execute([&] { emptyEach(grids); });
+    } catch (...) {  // the arena could not be made: in the caller's
+    }
+    emptyEach(grids);
+    for (openvdb::GridBase::Ptr& grid : grids)
+        if (grid) new (std::nothrow) openvdb::GridBase::Ptr(std::move(grid));  // never destroyed
+}
+
+}  // namespace
+
+DelayedVolumeFile openDelayedVolume(const std::string& path) {
+    // Out of memory while the grids are read or checked (the checks run TBB, whose allocator
+    // throws std::bad_alloc without calling the new-handler, and which throws std::runtime_error
+    // when it cannot start a worker thread), the grids read so far must not be destroyed during
+    // the unwinding: an OpenVDB tree's destructor allocates its node lists and runs a TBB
+    // parallel_for, and a destructor that throws ends the process (std::terminate under
+    // `prlimit --as` at 185-187 MB for a 5.2 MB default bake, and at 201 MB for the 40^3 volume
+    // of cli_query_stream_test). So `held` keeps every grid until the handler below has given
+    // back a reserve set aside here (so that the trees' clean-up finds memory) and freed them
+    // where nothing throws.
+    constexpr std::size_t kReserveBytes = 1u << 20;
+    std::unique_ptr<void, void (*)(void*)> reserve(std::malloc(kReserveBytes), std::free);
+    std::vector<openvdb::GridBase::Ptr> held;
+    try {
+        return openAndCheck(path, held);
+    } catch (...) {
+        reserve.reset();
+        freeGridsAfterError(held);
+        throw;
+    }
 }
 
 }  // namespace vdblight::vdb_detail

@@ -1,0 +1,26 @@
+// Four floats in the lanes of one SIMD register, through GCC's and Clang's vector extensions:
+// the lookups' sums that the auto-vectoriser scatters into shuffles and scalar adds (three
+// colours summed over the SH terms side by side) are written with it directly. Each lane is
+// its own IEEE float, operated on as the scalar code would be, so the bits are the scalar
+// sums'; on a target without SIMD the compiler lowers it to four scalar operations.
+// (Internal to the query module.)
+#pragma once
+
+#include <cstring>
+
+namespace vdblight::query_detail {
+
+typedef float Float4 __attribute__((vector_size(16)));
+typedef int Int4 __attribute__((vector_size(16)));
+
+/// p[0..3], from any alignment.
+inline Float4 load4(const float* p) {
+    Float4 v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+
+/// |v| in each lane, as std::fabs (the sign bit cleared).
+inline Float4 abs4(Float4 v) { return Float4(Int4(v) & 0x7fffffff); }
+
+}  // namespace vdblight::query_detail
