@@ -120,6 +120,14 @@ const char* const kCallOcclusionEdges =
     "    return vdblightIrradianceOcclusionEdges(x, n, lightVertices, lightVertexCount, lightNormal, lightRadiance);\n"
     "}\n";
 
+// The second edge's GLSL of docs/shadow_visibility.md (the same light uniforms).
+const char* const kCallOcclusionStrips =
+    "uniform vec3 lightVertices[VDBLIGHT_MAX_VERTS], lightNormal, lightRadiance;\n"
+    "uniform int lightVertexCount;\n"
+    "vec3 vdblightCheck(vec3 x, vec3 n) {\n"
+    "    return vdblightIrradianceOcclusionStrips(x, n, lightVertices, lightVertexCount, lightNormal, lightRadiance);\n"
+    "}\n";
+
 // The sh1-16 / sh2-32 textures, named as the doc's GLSL names its samplers.
 Bindings compactShTextures(const Manifest& m) {
     Bindings b;
@@ -220,6 +228,21 @@ const std::vector<LayoutCase>& layoutCases() {
              b.emplace_back("lightEdgeDistance0", "light_edge_distance_0_0");
              b.emplace_back("lightEdgeWidth0", "light_edge_width_0_0");
              b.emplace_back("lightEdgeRamp0", "light_edge_ramp_0_0");
+             return b;
+         },
+         2, false, setPolygonLight},
+        // The second edge (docs/shadow_visibility.md): a thin shadow, narrower than a cell.
+        {"sh2-packed + --direct occlusion + shadow edges + strips (ktx2, half)", "strips.vdb", "--format ktx2 --layout sh2-packed",
+         {kPacked, kExactLights, "vec3 vdblightIrradianceOcclusion(", "vec3 vdblightIrradianceOcclusionEdges(",
+          "vec3 vdblightIrradianceOcclusionStrips("},
+         nullptr, kCallOcclusionStrips,
+         [](const Manifest& m) {
+             Bindings b = packedSh(m);
+             b.emplace_back("lightVisibility0", "light_visibility_0_0");
+             b.emplace_back("lightEdgeDistance0", "light_edge_distance_0_0");
+             b.emplace_back("lightEdgeWidth0", "light_edge_width_0_0");
+             b.emplace_back("lightEdgeRamp0", "light_edge_ramp_0_0");
+             b.emplace_back("lightEdgeStrip0", "light_edge_strip_0");
              return b;
          },
          2, false, setPolygonLight},
