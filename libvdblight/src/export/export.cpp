@@ -181,10 +181,9 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
     // (distances are signed), before the depth textures (the manifest reads those last). The
     // engine-size layouts' shaders fetch the eight corner texels anyway, so they compute each
     // corner's ramp from its d and w: no ramp texture there (8 B per probe less in half).
-    // The second edge's strip textures go with the full-size layouts' GLSL, where some node
-    // has one (docs/shadow_visibility.md, "A second edge"); the engine-size layouts do not
-    // carry them yet (their lookup is the one-edge one).
-    const bool withRamp = !isCompactSh(o.layout), withStrips = withRamp && hasShadowStrips(volume);
+    // The second edge's strip textures where some node has one (docs/shadow_visibility.md,
+    // "A second edge"), in every layout that carries the edges.
+    const bool withRamp = !isCompactSh(o.layout), withStrips = hasShadowStrips(volume);
     std::vector<std::vector<float>> edges = edgeTextures(volume, lattice, withRamp, withStrips);
     std::vector<std::string> edgeNames;
     if (!edges.empty()) {
