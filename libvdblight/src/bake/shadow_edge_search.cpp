@@ -194,6 +194,12 @@ ShadowEdge findShadowEdge(const Scene& scene, const Tracer& tracer, const SceneL
         const double width = size * blocker / std::max(toCentre - blocker, 1e-3 * toCentre) / spacing;
         edge.width = float(std::min(width, 4.0 * shadow_edge::kRange));
     }
+    // A strip no wider than its penumbra has no edges side by side to hold: the two penumbrae
+    // overlap into one dip, which the node's visibility and the residual already carry.
+    if (edge.far > 0.0f && edge.width >= edge.far - cells) {
+        edge.far = 0.0f;
+        edge.direction = Vec3f(0, 0, 0);
+    }
     return edge;
 }
 
