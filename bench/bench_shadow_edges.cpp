@@ -58,9 +58,7 @@ void referenceEdges(const Scene& scene, const Tracer& tracer, const DirectPlan& 
             RayCount mine;
             const bake_detail::ShadowEdge e =
                 bake_detail::findShadowEdge(scene, tracer, plan.lights[l], Vec3f(level.grid.node(n)), level.grid.spacing, mine);
-            float* out = &level.lightShadowEdges[(n * lights + l) * shadow_edge::kFloatsPerLight];
-            out[0] = e.distance;
-            out[1] = e.width;
+            bake_detail::storeShadowEdge(e, &level.lightShadowEdges[(n * lights + l) * shadow_edge::kFloatsPerLight]);
             perItem[n * lights + l] = mine;
             rays += mine;
         }
@@ -110,6 +108,39 @@ void compareLookups(const Volume& fast, const Volume& reference, const DirectPla
                     kindName(plan.lights[l].light.kind), points, worst[l], over[l]);
 }
 
+/// Against the truth, for the hard lights (point, spot, directional), whose visibility at a point
+/// is its centre ray's answer: at random points of the node box, how many lookups are off by
+/// more than 0.5 (on the wrong side of an edge) and the mean |error|, for each volume given.
+void compareWithTruth(const Tracer& tracer, const DirectPlan& plan, const std::vector<std::pair<const char*, const Volume*>>& volumes) {
+    const Bounds box = volumes.front().second->levels[0].grid.nodeBounds();
+    const std::size_t lights = plan.lights.size();
+    for (std::size_t l = 0; l < lights; ++l) {
+        const DirectLight::Kind kind = plan.lights[l].light.kind;
+        if (kind == DirectLight::Kind::Polygon || kind == DirectLight::Kind::Mesh) continue;
+        std::printf("  light %zu (%s) against its centre ray at 20000 points:", l, kindName(kind));
+        for (const auto& [name, volume] : volumes) {
+            const IrradianceQuery q(*volume);
+            const auto& lookup = dynamic_cast<const LightVisibility&>(q.lookup());
+            Rng rng(23);
+            std::vector<float> v(lights);
+            int wrong = 0;
+            double sum = 0;
+            const int points = 20000;
+            for (int i = 0; i < points; ++i) {
+                const Vec3d x = box.lo + (box.hi - box.lo) * Vec3d(rng.uniform(), rng.uniform(), rng.uniform());
+                lookup.visibility(x, v.data());
+                RayCount rays;
+                const float truth = bake_detail::centreRayBlocked(tracer, plan.lights[l], Vec3f(x), rays) ? 0.0f : 1.0f;
+                const double e = std::abs(double(v[l]) - truth);
+                sum += e;
+                wrong += e > 0.5;
+            }
+            std::printf(" %s %d wrong side, mean |error| %.4f;", name, wrong, sum / points);
+        }
+        std::printf("\n");
+    }
+}
+
 /// --at X,Y,Z: the cell around a point, corner by corner (what the lookup blends), and the
 /// centre ray's answer at the point itself.
 void printCell(const Scene& scene, const Tracer& tracer, const DirectPlan& plan, const Volume& v, const Vec3d& x) {
@@ -139,8 +170,9 @@ void printCell(const Scene& scene, const Tracer& tracer, const DirectPlan& plan,
             const Vec3f towards = dl.kind == DirectLight::Kind::Directional ? -Vec3f(dl.direction) : Vec3f(dl.position) - Vec3f(p);
             const Hit h = tracer.intersect(Ray{Vec3f(p), normalize(towards)});
             const Vec3f at = Vec3f(p) + normalize(towards) * h.t;
-            std::printf("    corner (%d, %d, %d) at (%.2f, %.2f, %.2f): visibility %.3f, d %.3f, w %.3f; towards the light: %s "
+            std::printf("    corner (%d, %d, %d) at (%.2f, %.2f, %.2f): visibility %.3f, d %.3f, w %.3f, far %.3f; towards the light: %s "
                         "(%.2f, %.2f, %.2f)\n", i, j, k, p.x, p.y, p.z, level.lightVisibility[n * lights + l], e[0], e[1],
+                        e[shadow_edge::kFar],
                         h.hit() ? "hits" : "free", h.hit() ? at.x : 0.0f, h.hit() ? at.y : 0.0f, h.hit() ? at.z : 0.0f);
         }
     }
@@ -194,6 +226,13 @@ int main(int argc, char** argv) {
         Volume reference = fast;
         referenceEdges(as.scene, tracer, plan, reference.levels[0], threads);
         compareLookups(fast, reference, plan);
+        Volume trilinear = fast;
+        trilinear.levels[0].lightShadowEdges.clear();
+        Volume oneEdge = fast;  // the lookup before the second edge (bit for bit: shadow_edges.h)
+        for (std::size_t p = 0; p < oneEdge.levels[0].lightShadowEdges.size(); p += shadow_edge::kFloatsPerLight)
+            oneEdge.levels[0].lightShadowEdges[p + shadow_edge::kFar] = 0.0f;
+        compareWithTruth(tracer, plan,
+                         {{"trilinear", &trilinear}, {"one edge", &oneEdge}, {"as baked", &fast}, {"searched everywhere", &reference}});
         if (args.given("--at")) {
             Vec3d x;
             if (std::sscanf(args.text("--at").c_str(), "%lf,%lf,%lf", &x.x, &x.y, &x.z) != 3) return 1;

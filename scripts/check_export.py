@@ -432,6 +432,44 @@ def exact_irradiance(light, x, n):
     return np.array(light["radiance"]) * max(0.0, -0.5 * total)
 
 
+def strip_visibility(manifest, textures, x, light, index, component, ramp_of, filtered, weighted):
+    """docs/shadow_visibility.md, "A second edge": where a corner of weight > 0 has a strip (far > 0),
+    its own model of the strip at the point, the other corners the ramp of their own blended
+    edge, plus every corner's residual; elsewhere `filtered` (the one-edge answer)."""
+    idx, wt = weighted if weighted is not None else corner_weights(manifest, x)
+    dims = np.array(manifest["dims"], dtype=np.int64)
+    g = np.clip((x - np.array(manifest["bounds_min"])) / np.array(manifest["texel_spacing"]), 0.0,
+                (dims - 1).astype(np.float64))
+    group = light["visibility"]["texture"]
+    at = lambda t, c: t[idx[c][:, 2], idx[c][:, 1], idx[c][:, 0]]
+    strip, vtex = textures["light_edge_strip_%d" % index], textures[group]
+    dtex = textures["light_edge_distance_" + group[len("light_visibility_"):]]
+    wtex = textures["light_edge_width_" + group[len("light_visibility_"):]]
+    out = filtered.copy()
+    has = np.zeros(len(x), dtype=bool)
+    for c in range(8):
+        has |= (wt[c] != 0) & (at(strip, c)[:, 3] > 0)
+    models, residual, others, dsum, wsum = (np.zeros(len(x)) for _ in range(5))
+    for c in range(8):
+        s, dc = at(strip, c), at(dtex, c)[:, component]
+        wc, vc = at(wtex, c)[:, component], at(vtex, c)[:, component]
+        residual += wt[c] * (vc - ramp_of(dc, wc))
+        t = np.sum(s[:, :3] * (g - idx[c]), axis=1)
+        sign = np.where(dc < 0, -1.0, 1.0)
+        before = ramp_of(sign * (np.abs(dc) - t), wc)
+        beyond = ramp_of(sign * (t - s[:, 3]), wc)
+        model = np.where(sign > 0, np.maximum(before, beyond), np.minimum(before, beyond))
+        own = s[:, 3] > 0
+        models += np.where(own, wt[c] * model, 0.0)
+        others += np.where(own, 0.0, wt[c])
+        dsum += np.where(own, 0.0, wt[c] * dc)
+        wsum += np.where(own, 0.0, wt[c] * wc)
+    safe = np.maximum(others, 1e-30)
+    models += np.where(others > 0, others * ramp_of(dsum / safe, wsum / safe), 0.0)
+    out[has] = np.clip(models + residual, 0.0, 1.0)[has]
+    return out
+
+
 def direct_light(manifest, textures, x, n):
     """Occlusion exports: sum over listed lights of exact irradiance x sampled visibility; 0 otherwise."""
     direct = manifest.get("direct", {"mode": "baked"})
@@ -463,6 +501,10 @@ def direct_light(manifest, textures, x, n):
                 r = sum(wt[c] * ramp_of(dt[idx[c][:, 2], idx[c][:, 1], idx[c][:, 0], component],
                                         wdt[idx[c][:, 2], idx[c][:, 1], idx[c][:, 0], component]) for c in range(8))
             vis = np.clip(ramp_of(d, w) + vis - r, 0.0, 1.0)
+            strips = edges.get("strips")
+            light_index = direct["lights"].index(light)
+            if strips and "light_edge_strip_%d" % light_index in textures:
+                vis = strip_visibility(manifest, textures, x, light, light_index, component, ramp_of, vis, weighted)
         for i in range(len(x)):
             out[i] += vis[i] * exact_irradiance(light, x[i], n[i])
     return out

@@ -136,6 +136,13 @@ TEST(CliTiles, ErrorTargetedBakeWithTwoProbePassesMergesToTheSingleBake) {
                                2, 2);
 }
 
+TEST(CliTiles, ATileWithoutNodesMergesWithShadowEdges) {
+    // 9^3 nodes in three tiles: tile 0 gets none of them. With --direct occlusion's shadow
+    // edges it aborted (heap corruption) before the fix in direct_pass.cpp.
+    test::TempDir dir;
+    expectMergeIdentical(dir, "--resolution 9 --rays 8 --bounces 1 --no-depth-moments --direct occlusion --probe-passes 0", 3);
+}
+
 TEST(CliTiles, UniformBinsMergeToTheSingleBake) {
     test::TempDir dir;
     expectMergeIdentical(dir, "--basis bins:2 --resolution 20 --rays 8 --seed 3" + kTileable, 3);

@@ -17,6 +17,7 @@
 #include "vdblight/basis/irradiance_vectors.h"
 #include "vdblight/query/query.h"
 #include "vdblight/sampling/sampling.h"
+#include "basis/shadow_edges.h"
 #include "basis/sh.h"
 #include "volume/sh_truncate.h"
 
@@ -198,6 +199,7 @@ TEST(CompactSh, RoundTripShadowEdgesAreTheExportedHalfTexels) {
         // Distances in +-3 cells and widths in [0, 2): values half rounds.
         level.lightShadowEdges.push_back(6.0f * rng.uniform() - 3.0f);
         level.lightShadowEdges.push_back(2.0f * rng.uniform());
+        for (int part = 2; part < shadow_edge::kFloatsPerLight; ++part) level.lightShadowEdges.push_back(0.0f);  // no second edge
     }
     for (ExportLayout layout : kLayouts) {
         test::TempDir dir;
@@ -213,10 +215,11 @@ TEST(CompactSh, RoundTripShadowEdgesAreTheExportedHalfTexels) {
         const Volume trip = compactShRoundTrip(v, layout);
         int rounded = 0;
         for (std::size_t n = 0; n < nodes; ++n) {
-            const float d = trip.levels[0].lightShadowEdges[2 * n], w = trip.levels[0].lightShadowEdges[2 * n + 1];
+            const std::size_t at = n * shadow_edge::kFloatsPerLight;
+            const float d = trip.levels[0].lightShadowEdges[at], w = trip.levels[0].lightShadowEdges[at + 1];
             EXPECT_EQ(d, test::f16(distance, n * 8)) << n;  // light 0: component r
             EXPECT_EQ(w, test::f16(width, n * 8)) << n;
-            rounded += d != level.lightShadowEdges[2 * n];
+            rounded += d != level.lightShadowEdges[at];
         }
         EXPECT_GT(rounded, int(nodes) / 2) << "the stored distances should need rounding to half";
     }

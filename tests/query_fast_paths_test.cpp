@@ -249,7 +249,9 @@ TEST(QueryFastPaths, OcclusionSharingTheBaseCellGivesBasePlusDirect) {
 }
 
 /// A default-kind volume (sh:4, depth moments) 15 x 5 x 15 nodes 0.25 apart below a tilted
-/// square blocker, lit by a sun and a point light, its visibility baked with shadow edges.
+/// square blocker and a bar narrower than a cell (its shadow is a strip that one edge per node
+/// cannot hold: shadow_edges.h, kFar), lit by a sun and a point light, its visibility baked
+/// with shadow edges.
 Volume defaultKindUnderBlocker() {
     Scene s;
     Material grey;
@@ -258,6 +260,9 @@ Volume defaultKindUnderBlocker() {
     const Vec3f c[4] = {{-0.7f, 1.5f, -0.2f}, {0.3f, 1.5f, -0.8f}, {0.8f, 1.5f, 0.3f}, {-0.2f, 1.5f, 0.7f}};
     addTriangle(s, c[0], c[1], c[2], m);
     addTriangle(s, c[0], c[2], c[3], m);
+    const Vec3f bar[4] = {{-1.5f, 2.2f, -1.25f}, {1.5f, 2.2f, -1.15f}, {1.5f, 2.2f, -1.07f}, {-1.5f, 2.2f, -1.17f}};
+    addTriangle(s, bar[0], bar[1], bar[2], m);
+    addTriangle(s, bar[0], bar[2], bar[3], m);
     s.directionalLights.push_back({Vec3f(normalize(Vec3d(0.3, -1.0, 0.2))), Rgb(3, 3, 3)});
     s.pointLights.push_back({Vec3f(0.4f, 3.0f, -0.3f), Rgb(9, 8, 7)});
     Volume out = test::randomUniformVolume(makeBasis("sh:4")->desc(), 15, 5, 15, 0.25, 33);
@@ -279,6 +284,10 @@ Volume defaultKindUnderBlocker() {
 TEST(QueryFastPaths, OcclusionSharingTheBaseCellKeepsTheShadowEdges) {
     const Volume v = defaultKindUnderBlocker();
     ASSERT_FALSE(v.levels[0].lightShadowEdges.empty());
+    int strips = 0;  // nodes that see the bar's shadow as a strip: their cells take the strip's lookup
+    for (std::size_t p = 0; p < v.levels[0].lightShadowEdges.size(); p += shadow_edge::kFloatsPerLight)
+        strips += v.levels[0].lightShadowEdges[p + shadow_edge::kFar] > 0.0f;
+    EXPECT_GT(strips, 10);
     const test::TempDir dir;
     writeVolume(v, dir.file("edges.vdb"));
     const IrradianceQuery query(v);

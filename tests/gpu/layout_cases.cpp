@@ -120,6 +120,14 @@ const char* const kCallOcclusionEdges =
     "    return vdblightIrradianceOcclusionEdges(x, n, lightVertices, lightVertexCount, lightNormal, lightRadiance);\n"
     "}\n";
 
+// The second edge's GLSL of docs/shadow_visibility.md (the same light uniforms).
+const char* const kCallOcclusionStrips =
+    "uniform vec3 lightVertices[VDBLIGHT_MAX_VERTS], lightNormal, lightRadiance;\n"
+    "uniform int lightVertexCount;\n"
+    "vec3 vdblightCheck(vec3 x, vec3 n) {\n"
+    "    return vdblightIrradianceOcclusionStrips(x, n, lightVertices, lightVertexCount, lightNormal, lightRadiance);\n"
+    "}\n";
+
 // The sh1-16 / sh2-32 textures, named as the doc's GLSL names its samplers.
 Bindings compactShTextures(const Manifest& m) {
     Bindings b;
@@ -138,6 +146,7 @@ std::string engineSizeDefines(const Manifest& m) {
     if (m.root.value("/depth/exported"_json_pointer, false)) s += "#define VDBLIGHT_DEPTH_MOMENTS\n";
     if (m.root.value("/direct/mode"_json_pointer, "") == "occlusion") s += "#define VDBLIGHT_LIGHT_VISIBILITY\n";
     if (m.root.contains("/direct/shadow_edges"_json_pointer)) s += "#define VDBLIGHT_SHADOW_EDGES\n";
+    if (m.root.contains("/direct/shadow_edges/strips"_json_pointer)) s += "#define VDBLIGHT_SHADOW_STRIPS\n";
     return s;
 }
 
@@ -147,11 +156,14 @@ Bindings engineSizeWithExtras(const Manifest& m) {
     if (m.root.value("/direct/mode"_json_pointer, "") == "occlusion") b.emplace_back("lightVisibility0", "light_visibility_0_0");
     if (m.root.contains("/direct/shadow_edges"_json_pointer)) {
         // The shader computes each corner's ramp: these layouts export no ramp texture.
-        const nlohmann::json expected = {"light_edge_distance_0_0", "light_edge_width_0_0"};
+        const bool strips = m.root.contains("/direct/shadow_edges/strips"_json_pointer);
+        const nlohmann::json expected = strips ? nlohmann::json{"light_edge_distance_0_0", "light_edge_width_0_0", "light_edge_strip_0"}
+                                               : nlohmann::json{"light_edge_distance_0_0", "light_edge_width_0_0"};
         if (m.root.at("/direct/shadow_edges/textures"_json_pointer) != expected)
             throw std::runtime_error("an engine-size export's shadow_edges.textures should be " + expected.dump());
         b.emplace_back("lightEdgeDistance0", "light_edge_distance_0_0");
         b.emplace_back("lightEdgeWidth0", "light_edge_width_0_0");
+        if (strips) b.emplace_back("lightEdgeStrip0", "light_edge_strip_0");
     }
     return b;
 }
@@ -223,6 +235,21 @@ const std::vector<LayoutCase>& layoutCases() {
              return b;
          },
          2, false, setPolygonLight},
+        // The second edge (docs/shadow_visibility.md): a thin shadow, narrower than a cell.
+        {"sh2-packed + --direct occlusion + shadow edges + strips (ktx2, half)", "strips.vdb", "--format ktx2 --layout sh2-packed",
+         {kPacked, kExactLights, "vec3 vdblightIrradianceOcclusion(", "vec3 vdblightIrradianceOcclusionEdges(",
+          "float vdblightStripModel(", "vec3 vdblightIrradianceOcclusionStrips("},
+         nullptr, kCallOcclusionStrips,
+         [](const Manifest& m) {
+             Bindings b = packedSh(m);
+             b.emplace_back("lightVisibility0", "light_visibility_0_0");
+             b.emplace_back("lightEdgeDistance0", "light_edge_distance_0_0");
+             b.emplace_back("lightEdgeWidth0", "light_edge_width_0_0");
+             b.emplace_back("lightEdgeRamp0", "light_edge_ramp_0_0");
+             b.emplace_back("lightEdgeStrip0", "light_edge_strip_0");
+             return b;
+         },
+         2, false, setPolygonLight},
         {"vectors (ktx2, half)", "photons.vdb", "--format ktx2 --layout vectors", {"vec3 vdblightIrradianceVectors("}, nullptr,
          kCallVectors, [](const Manifest& m) { return inOrder(m, "iv_", "iv"); }},
         {"compact (ktx2, half)", "photons_compact.vdb", "--format ktx2 --layout compact",
@@ -252,6 +279,11 @@ const std::vector<LayoutCase>& layoutCases() {
         {"sh2-32 + depth moments + --direct occlusion + shadow edges (ktx2; the default bake's kind, 64 B per probe)", "default_kind.vdb",
          "--format ktx2 --layout sh2-32", {"vec3 vdblightIrradianceSh2x32(", kDepthWeight, kExactLights, kEngineSizeBlend},
          engineSizeDefines, kCallEngineSizeOcclusion, engineSizeWithExtras, 2, true, setPolygonLight, ExportLayout::Sh2x32,
+         kSh2x32Quantisation + kVisibilityQuantisation},
+        // The second edge in the engine-size layouts (docs/engine_visibility.md, VDBLIGHT_SHADOW_STRIPS).
+        {"sh2-32 + --direct occlusion + shadow edges + strips (ktx2; trilinear)", "strips.vdb", "--format ktx2 --layout sh2-32",
+         {"vec3 vdblightIrradianceSh2x32(", kExactLights, "float vdblightStripModel(", kEngineSizeBlend}, engineSizeDefines,
+         kCallEngineSizeOcclusion, engineSizeWithExtras, 2, false, setPolygonLight, ExportLayout::Sh2x32,
          kSh2x32Quantisation + kVisibilityQuantisation},
         {"sh1-16 + depth moments (dds)", "sh4_depth.vdb", "--format dds --layout sh1-16",
          {"vec3 vdblightIrradianceSh1x16(", kDepthWeight, kEngineSizeBlend}, engineSizeDefines, kCallEngineSize,

@@ -101,7 +101,9 @@ void bakeLightVisibility(const Scene& scene, const Tracer& tracer, const DirectP
             const std::size_t n = only ? selected[item] : item;
             for (std::size_t i = 0; i < lights; ++i) level.lightVisibility[level.held(n) * lights + i] = visibilityOf(n, i, rays);
         });
-    if (o.shadowEdges) {
+    // A tile without nodes has no edges to bake (bakeShadowEdgesOnLattice reads an empty node
+    // list as every node, which would write past the tile's empty window).
+    if (o.shadowEdges && !(only && selected.empty())) {
         // A neighbour outside a tile is computed again, with its own stream: the same value.
         const auto storedOrComputed = [&](std::size_t n, std::size_t i, RayCount& rays) {
             const bool stored = only ? bool((*only)[0][n]) : true;

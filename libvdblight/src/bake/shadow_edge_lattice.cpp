@@ -104,13 +104,11 @@ EdgeLatticeRun bakeShadowEdgesOnLattice(const Scene& scene, const Tracer& tracer
             float* out = &level.lightShadowEdges[(level.held(n) * count + l) * shadow_edge::kFloatsPerLight];
             if (lights[l].light.kind != DirectLight::Kind::Mesh &&
                 edgeSearchSkippable(grid, p.i, p.j, p.k, isSoft(lights[l]), blockedAt, visibilityOf)) {
-                out[0] = blockedAt(p.i, p.j, p.k) ? -shadow_edge::kRange : shadow_edge::kRange;
-                out[1] = 0.0f;
+                std::fill(out, out + shadow_edge::kFloatsPerLight, 0.0f);  // no direction, no far side
+                out[shadow_edge::kDistance] = blockedAt(p.i, p.j, p.k) ? -shadow_edge::kRange : shadow_edge::kRange;
                 continue;
             }
-            const ShadowEdge e = findShadowEdge(scene, tracer, lights[l], Vec3f(grid.node(n)), grid.spacing, rays);
-            out[0] = e.distance;
-            out[1] = e.width;
+            storeShadowEdge(findShadowEdge(scene, tracer, lights[l], Vec3f(grid.node(n)), grid.spacing, rays), out);
             searched[item * count + l] = 1;
         }
     });

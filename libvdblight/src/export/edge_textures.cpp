@@ -9,7 +9,15 @@
 
 namespace vdblight::exporter {
 
-std::vector<TextureDesc> edgeTextureDescs(const DirectLightSet& direct, bool withRamp) {
+bool hasShadowStrips(const Volume& volume) {
+    if (volume.levels.empty()) return false;
+    const std::vector<float>& e = volume.levels[0].lightShadowEdges;
+    for (std::size_t k = shadow_edge::kFar; k < e.size(); k += shadow_edge::kFloatsPerLight)
+        if (e[k] > 0.0f) return true;
+    return false;
+}
+
+std::vector<TextureDesc> edgeTextureDescs(const DirectLightSet& direct, bool withRamp, bool withStrips) {
     std::vector<TextureDesc> out;
     if (!direct.hasVisibility()) return out;
     const std::size_t n = direct.lights.size();
@@ -24,10 +32,18 @@ std::vector<TextureDesc> edgeTextureDescs(const DirectLightSet& direct, bool wit
             out.push_back(d);
         }
     }
+    // The second edge (shadow_edges.h, Part): one texture per light, its four floats.
+    for (std::size_t l = 0; withStrips && l < n; ++l) {
+        TextureDesc d;
+        d.name = "light_edge_strip_" + std::to_string(l);
+        const std::string of = " of light " + std::to_string(l);
+        d.components = {"edge direction x" + of, "edge direction y" + of, "edge direction z" + of, "strip far side" + of};
+        out.push_back(d);
+    }
     return out;
 }
 
-std::vector<std::vector<float>> edgeTextures(const Volume& volume, const TextureLattice& lattice, bool withRamp) {
+std::vector<std::vector<float>> edgeTextures(const Volume& volume, const TextureLattice& lattice, bool withRamp, bool withStrips) {
     if (volume.levels.size() != 1 || volume.levels[0].lightShadowEdges.empty()) return {};
     // As the depth textures: the edges belong to the nodes (distances in cells), so only a
     // lattice that is the nodes carries them.
@@ -38,7 +54,8 @@ std::vector<std::vector<float>> edgeTextures(const Volume& volume, const Texture
     for (int a = 0; a < 3; ++a)
         if (std::fabs(lattice.lo[a] - g.origin[a]) > tol) return {};
     const std::size_t lights = volume.direct.lights.size(), groups = (lights + 3) / 4;
-    std::vector<std::vector<float>> out((withRamp ? 3 : 2) * groups, std::vector<float>(g.nodeCount() * 4, 0.0f));
+    const std::size_t strips = withStrips ? lights : 0;
+    std::vector<std::vector<float>> out((withRamp ? 3 : 2) * groups + strips, std::vector<float>(g.nodeCount() * 4, 0.0f));
     for (std::size_t n = 0; n < g.nodeCount(); ++n)
         for (std::size_t l = 0; l < lights; ++l) {
             const float* e = &level.lightShadowEdges[(n * lights + l) * shadow_edge::kFloatsPerLight];
@@ -46,6 +63,7 @@ std::vector<std::vector<float>> edgeTextures(const Volume& volume, const Texture
             out[l / 4][texel] = e[0];
             out[groups + l / 4][texel] = e[1];
             if (withRamp) out[2 * groups + l / 4][texel] = shadow_edge::ramp(e[0], e[1]);
+            if (withStrips) std::copy_n(e + shadow_edge::kDirectionX, 4, &out[(withRamp ? 3 : 2) * groups + l][n * 4]);
         }
     return out;
 }

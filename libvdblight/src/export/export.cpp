@@ -181,11 +181,13 @@ ExportSummary exportTextures(const Volume& volume, const std::string& outDir, co
     // (distances are signed), before the depth textures (the manifest reads those last). The
     // engine-size layouts' shaders fetch the eight corner texels anyway, so they compute each
     // corner's ramp from its d and w: no ramp texture there (8 B per probe less in half).
-    const bool withRamp = !isCompactSh(o.layout);
-    std::vector<std::vector<float>> edges = edgeTextures(volume, lattice, withRamp);
+    // The second edge's strip textures where some node has one (docs/shadow_visibility.md,
+    // "A second edge"), in every layout that carries the edges.
+    const bool withRamp = !isCompactSh(o.layout), withStrips = hasShadowStrips(volume);
+    std::vector<std::vector<float>> edges = edgeTextures(volume, lattice, withRamp, withStrips);
     std::vector<std::string> edgeNames;
     if (!edges.empty()) {
-        for (TextureDesc& d : edgeTextureDescs(volume.direct, withRamp)) {
+        for (TextureDesc& d : edgeTextureDescs(volume.direct, withRamp, withStrips)) {
             edgeNames.push_back(d.name);
             descs.push_back(std::move(d));
         }

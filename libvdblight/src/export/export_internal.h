@@ -156,9 +156,13 @@ std::vector<std::vector<float>> sampleVisibility(const IrradianceQuery& query, c
 /// the residual; docs/shadow_visibility.md), in that order. edgeTextures is empty unless the
 /// lattice is exactly the nodes of a single-level volume with shadow edges. Without withRamp
 /// (the engine-size layouts, whose shaders fetch the corner texels and compute each corner's
-/// ramp from its d and w) the ramp textures are left out.
-std::vector<TextureDesc> edgeTextureDescs(const DirectLightSet& direct, bool withRamp);
-std::vector<std::vector<float>> edgeTextures(const Volume& volume, const TextureLattice& lattice, bool withRamp);
+/// ramp from its d and w) the ramp textures are left out. withStrips (a volume some of whose
+/// nodes have a second edge, hasShadowStrips) adds per light light_edge_strip_<i>: the edge's
+/// direction (x, y, z) and the strip's far side (w), last.
+std::vector<TextureDesc> edgeTextureDescs(const DirectLightSet& direct, bool withRamp, bool withStrips);
+std::vector<std::vector<float>> edgeTextures(const Volume& volume, const TextureLattice& lattice, bool withRamp, bool withStrips);
+/// True if some node of the volume has a second edge (shadow_edges.h, kFar > 0).
+bool hasShadowStrips(const Volume& volume);
 /// The three depth textures: per texel point (a node) and axis a, RGBA = (mean of the +a
 /// face, mean of the -a face, sigma of +a, sigma of -a), in cells. Empty if the lattice is
 /// not exactly the nodes of a single-level volume with depth moments.

@@ -229,6 +229,19 @@ Json directJson(const DirectLightSet& d, const std::vector<std::string>& visibil
                                               "the depth weights); with ramp(d, w) = clamp(0.5 + d / max(w, min_width), 0, 1): "
                                               "visibility = clamp(ramp(sum wt_c d_c, sum wt_c w_c) + sum wt_c (v_c - "
                                               "ramp(d_c, w_c)), 0, 1) (docs/engine_visibility.md)"}};
+    // The second edge (shadow_edges.h, "A second edge" in docs/shadow_visibility.md).
+    std::vector<std::string> strips;
+    for (const std::string& e : edges)
+        if (e.rfind("light_edge_strip_", 0) == 0) strips.push_back(e);
+    if (!strips.empty())
+        j["shadow_edges"]["strips"] = {
+            {"textures", strips},
+            {"components", "direction x, y, z (unit, from the node towards its nearest edge), far (cells; 0 = no strip)"},
+            {"lookup", "where a corner of weight > 0 has far > 0, fetch the 8 corners: each such corner adds its weight times "
+                       "its strip model at the point (t = dot(direction, offset from the corner in cells), s = sign(d), "
+                       "before = ramp(s (|d| - t), w), beyond = ramp(s (t - far), w): s > 0 ? max : min of the two), the "
+                       "others together their weight times ramp of their own blended d and w, plus every corner's "
+                       "weight times (v_c - ramp(d_c, w_c)); elsewhere the lookup above (docs/shadow_visibility.md)"}};
     Json lights = Json::array();
     for (std::size_t i = 0; i < d.lights.size(); ++i) {
         Json light = lightJson(d.lights[i]);

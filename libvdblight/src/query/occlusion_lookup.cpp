@@ -44,6 +44,7 @@ void OcclusionLookup::visibility(const Vec3d& x, float* out) const {
     }
     for (std::size_t i = 0; i < m; ++i) out[i] = 0.0f;
     std::size_t node[8];
+    int index[8][3];
     float w[8];
     const float* depth[8];
     for (int c = 0; c < 8; ++c) {
@@ -52,19 +53,20 @@ void OcclusionLookup::visibility(const Vec3d& x, float* out) const {
         const int i = std::min(base[0] + di, dims[0] - 1), j = std::min(base[1] + dj, dims[1] - 1),
                   k = std::min(base[2] + dk, dims[2] - 1);
         node[c] = grid_.index(i, j, k);
+        index[c][0] = i, index[c][1] = j, index[c][2] = k;
         if (depthWeights_) depth[c] = depth_.data() + node[c] * depth::kFloatsPerNode;
     }
     // The SH lookups' weights (depth_weights.h): corners the point cannot see drop out.
     if (depthWeights_) query_detail::weightByDepth(w, depth, float(f[0]), float(f[1]), float(f[2]));
     if (useEdges_) {  // shadow_edges.h: the edges' ramp plus the corners' residuals
         for (std::size_t l = 0; l < m; ++l) {
-            float v[8], d[8], width[8];
+            float v[8];
+            const float* edge[8];
             for (int c = 0; c < 8; ++c) {
                 v[c] = visibility_[node[c] * m + l];
-                d[c] = edges_[(node[c] * m + l) * shadow_edge::kFloatsPerLight];
-                width[c] = edges_[(node[c] * m + l) * shadow_edge::kFloatsPerLight + 1];
+                edge[c] = edges_.data() + (node[c] * m + l) * shadow_edge::kFloatsPerLight;
             }
-            out[l] = shadow_edge::visibility(w, v, d, width);
+            out[l] = query_detail::edgeVisibility(grid_, x, w, v, edge, index);
         }
         return;
     }
@@ -101,7 +103,7 @@ Rgb OcclusionLookup::irradianceSharingCell(const Vec3f& xf, const Vec3d& x, cons
                               const auto values = [&](int c) { return visibility_.data() + node(c) * m; };
                               if (useEdges_)  // as visibility(): the edges' ramp plus the corners' residuals
                                   query_detail::blendCellWithEdges(
-                                      cell, m, values,
+                                      cell, grid_, x, m, values,
                                       [&](int c) { return edges_.data() + node(c) * m * shadow_edge::kFloatsPerLight; }, v);
                               else
                                   query_detail::blendCell(cell, m, values, v);

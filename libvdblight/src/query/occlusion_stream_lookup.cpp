@@ -79,19 +79,21 @@ public:
         if (depthWeights_) weightByDepth(w, depth, float(f[0]), float(f[1]), float(f[2]));
         if (edges_) {  // as OcclusionLookup: the edges' ramp plus the corners' residuals
             std::vector<float> e(8 * m * shadow_edge::kFloatsPerLight);
+            int index[8][3];
             for (int c = 0; c < 8; ++c) {
                 const int i = std::min(base[0] + (c & 1), dims[0] - 1), j = std::min(base[1] + ((c >> 1) & 1), dims[1] - 1),
                           k = std::min(base[2] + ((c >> 2) & 1), dims[2] - 1);
+                index[c][0] = i, index[c][1] = j, index[c][2] = k;
                 volume_->readShadowEdges(i, j, k, e.data() + c * m * shadow_edge::kFloatsPerLight);
             }
             for (std::size_t l = 0; l < m; ++l) {
-                float vis[8], d[8], width[8];
+                float vis[8];
+                const float* edge[8];
                 for (int c = 0; c < 8; ++c) {
                     vis[c] = v[c * m + l];
-                    d[c] = e[(c * m + l) * shadow_edge::kFloatsPerLight];
-                    width[c] = e[(c * m + l) * shadow_edge::kFloatsPerLight + 1];
+                    edge[c] = e.data() + (c * m + l) * shadow_edge::kFloatsPerLight;
                 }
-                out[l] = shadow_edge::visibility(w, vis, d, width);
+                out[l] = edgeVisibility(grid_, x, w, vis, edge, index);
             }
             return;
         }
@@ -120,7 +122,7 @@ private:
                                   if (!edges_) return blendCell(cell, m, values, v);
                                   // As visibility(): the edges' ramp plus the corners' residuals.
                                   std::vector<float> edge(8 * m * shadow_edge::kFloatsPerLight);
-                                  blendCellWithEdges(cell, m, values, [&](int c) {
+                                  blendCellWithEdges(cell, grid_, x, m, values, [&](int c) {
                                       float* e = edge.data() + c * m * shadow_edge::kFloatsPerLight;
                                       volume_->readShadowEdges(cell.i(c), cell.j(c), cell.k(c), e);
                                       return e;

@@ -81,27 +81,63 @@ inline float edgeVisibility(const float weight[8], const float visibility[8], co
     return std::clamp(shadow_edge::ramp(d, w) + residual, 0.0f, 1.0f);
 }
 
+/// The offset (cells) of x from node (i, j, k) of `grid`, x clamped into the nodes' box as the
+/// visibility lookups clamp it (NaN to the first node): what shadow_edge::cornerModel reads.
+inline void offsetFromNode(const GridSpec& grid, const Vec3d& x, int i, int j, int k, float out[3]) {
+    const int node[3] = {i, j, k}, dims[3] = {grid.nx, grid.ny, grid.nz};
+    for (int a = 0; a < 3; ++a) {
+        double u = (x[a] - grid.origin[a]) / grid.spacing;
+        if (!(u > 0)) u = 0;
+        u = std::min(u, double(dims[a] - 1));
+        out[a] = float(u - node[a]);
+    }
+}
+
+/// One light's visibility from its cell's corners (shadow_edge::visibility, the same bits):
+/// `values[c]` and `edges[c]` the corner's visibility and kFloatsPerLight edge floats of light
+/// l, `nodes[c]` its (i, j, k), x the point. Where no corner of weight > 0 has a far side (most
+/// cells) the corners' ramps run in vector lanes (edgeVisibility above); the offsets are
+/// computed only where one has.
+inline float edgeVisibility(const GridSpec& grid, const Vec3d& x, const float weight[8], const float values[8],
+                            const float* const edges[8], const int nodes[8][3]) {
+    bool strip = false;
+    for (int c = 0; c < 8; ++c) strip = strip || (weight[c] != 0.0f && edges[c][shadow_edge::kFar] > 0.0f);
+    if (!strip) {
+        float distance[8], width[8];
+        for (int c = 0; c < 8; ++c) {
+            distance[c] = edges[c][shadow_edge::kDistance];
+            width[c] = edges[c][shadow_edge::kWidth];
+        }
+        return edgeVisibility(weight, values, distance, width);
+    }
+    float offset[8][3] = {};
+    for (int d = 0; d < 8; ++d) offsetFromNode(grid, x, nodes[d][0], nodes[d][1], nodes[d][2], offset[d]);
+    return shadow_edge::visibility(weight, values, edges, offset);
+}
+
 /// As blendCell, for a volume with shadow edges (shadow_edges.h): `out[l]` =
 /// shadow_edge::visibility of the corners' values and edges (`edges(c)`: kFloatsPerLight floats
-/// per light at corner c) with the cell's weights, as OcclusionLookup::visibility computes it
+/// per light at corner c) with the cell's weights at x, as OcclusionLookup::visibility computes it
 /// (edgeVisibility, the same bits).
 template <class NodeValues, class NodeEdges>
-inline void blendCellWithEdges(const SharedCell& cell, std::size_t lights, NodeValues&& values, NodeEdges&& edges,
-                               float* out) {
+inline void blendCellWithEdges(const SharedCell& cell, const GridSpec& grid, const Vec3d& x, std::size_t lights,
+                               NodeValues&& values, NodeEdges&& edges, float* out) {
     const float* v[8];
     const float* e[8];
+    int nodes[8][3];
     for (int c = 0; c < 8; ++c) {
         v[c] = values(c);
         e[c] = edges(c);
+        nodes[c][0] = cell.i(c), nodes[c][1] = cell.j(c), nodes[c][2] = cell.k(c);
     }
     for (std::size_t l = 0; l < lights; ++l) {
-        float vis[8], distance[8], width[8];
+        float vis[8];
+        const float* edge[8];
         for (int c = 0; c < 8; ++c) {
             vis[c] = v[c][l];
-            distance[c] = e[c][l * shadow_edge::kFloatsPerLight];
-            width[c] = e[c][l * shadow_edge::kFloatsPerLight + 1];
+            edge[c] = e[c] + l * shadow_edge::kFloatsPerLight;
         }
-        out[l] = edgeVisibility(cell.weight, vis, distance, width);
+        out[l] = edgeVisibility(grid, x, cell.weight, vis, edge, nodes);
     }
 }
 

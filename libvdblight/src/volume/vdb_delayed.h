@@ -31,7 +31,8 @@ struct DelayedVolumeFile {
     std::vector<DelayedLevel> levels;
     std::vector<openvdb::GridBase::Ptr> visibility;  ///< FloatGrid per listed light (bake --direct occlusion), or empty
     /// FloatGrids of the shadow edges (shadow_edges.h): every light's distance, then every
-    /// light's width; or empty.
+    /// light's width, then the other parts in shadow_edge::Part order (files from before the
+    /// second edge have the first two only); or empty.
     std::vector<openvdb::GridBase::Ptr> edges;
 };
 

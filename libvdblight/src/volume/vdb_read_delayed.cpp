@@ -91,12 +91,13 @@ DelayedVolumeFile openAndCheck(const std::string& path, std::vector<openvdb::Gri
     // Their shadow edges (shadow_edges.h), when the file has them: distance and width per light.
     if (v.direct.hasVisibility()) {
         const GridSpec& g = v.levels[0].grid;
-        const bool edges = f.file->hasGrid(shadow_edge::distanceGridName(0));
-        for (std::size_t k = 0; k < v.direct.lights.size() * (edges ? 3 : 1); ++k) {
+        // Files from before the second edge hold distance and width only.
+        const std::size_t edgeParts = !f.file->hasGrid(shadow_edge::distanceGridName(0))           ? 0
+                                      : f.file->hasGrid(shadow_edge::partGridName(shadow_edge::kFar, 0)) ? shadow_edge::kFloatsPerLight
+                                                                                                        : 2;
+        for (std::size_t k = 0; k < v.direct.lights.size() * (1 + edgeParts); ++k) {
             const std::size_t i = k % v.direct.lights.size(), part = k / v.direct.lights.size();
-            const std::string name = part == 0   ? visibilityGridName(i)
-                                     : part == 1 ? shadow_edge::distanceGridName(i)
-                                                 : shadow_edge::widthGridName(i);
+            const std::string name = part == 0 ? visibilityGridName(i) : shadow_edge::partGridName(int(part) - 1, i);
             const openvdb::GridBase::Ptr base = read(name);
             auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
             if (!grid) formatError(path, "grid '" + name + "' has type " + base->valueType() + ", expected float");

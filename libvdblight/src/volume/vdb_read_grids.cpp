@@ -260,7 +260,9 @@ void readDirect(OpenedFile& f, Volume& volume, const std::string& path) {
     level.lightShadowEdges.assign(level.grid.nodeCount() * lights * parts, 0.0f);
     for (std::size_t i = 0; i < lights; ++i)
         for (int part = 0; part < parts; ++part) {
-            const std::string name = part == 0 ? shadow_edge::distanceGridName(i) : shadow_edge::widthGridName(i);
+            const std::string name = shadow_edge::partGridName(part, i);
+            // Files from before the second edge hold distance and width only: no direction, no far side.
+            if (part >= shadow_edge::kDirectionX && !f.file->hasGrid(shadow_edge::partGridName(shadow_edge::kFar, 0))) continue;
             if (!f.file->hasGrid(name)) formatError(path, "has shadow edges without grid '" + name + "'");
             const std::vector<float> v = readScalarGrid(f, name, level.grid, path);
             for (std::size_t n = 0; n < v.size(); ++n) level.lightShadowEdges[(n * lights + i) * parts + part] = v[n];

@@ -156,7 +156,7 @@ TileFile readTileFile(const std::string& path) {
         if (t.edges) level0.lightShadowEdges.assign(level0.activeNodes.size() * lights * parts, 0.0f);
         for (std::size_t i = 0; i < lights && t.edges; ++i)
             for (int part = 0; part < parts; ++part) {
-                const std::string name = part == 0 ? shadow_edge::distanceGridName(i) : shadow_edge::widthGridName(i);
+                const std::string name = shadow_edge::partGridName(part, i);
                 const std::vector<float> values = readSparseScalar(f, name, level0, path);
                 for (std::size_t n = 0; n < values.size(); ++n) level0.lightShadowEdges[(n * lights + i) * parts + part] = values[n];
             }

@@ -170,10 +170,10 @@ void StreamedVolume::readShadowEdges(int i, int j, int k, float* out) const {
     if (impl_->edges.empty()) throw FormatError("this streamed volume stores no shadow edges");
     const Coord c(i, j, k);
     const std::size_t lights = impl_->visibility.size();
-    for (std::size_t l = 0; l < lights; ++l) {
-        out[l * shadow_edge::kFloatsPerLight] = valueAt(*impl_->edges[l], c, path_);
-        out[l * shadow_edge::kFloatsPerLight + 1] = valueAt(*impl_->edges[lights + l], c, path_);
-    }
+    const std::size_t parts = impl_->edges.size() / lights;  // 2 in files from before the second edge
+    for (std::size_t l = 0; l < lights; ++l)
+        for (std::size_t part = 0; part < std::size_t(shadow_edge::kFloatsPerLight); ++part)
+            out[l * shadow_edge::kFloatsPerLight + part] = part < parts ? valueAt(*impl_->edges[part * lights + l], c, path_) : 0.0f;
 }
 
 namespace {

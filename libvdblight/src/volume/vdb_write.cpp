@@ -276,14 +276,14 @@ openvdb::GridCPtrVec buildGrids(const Volume& volume, const WriteOptions& option
             grid->insertMeta(kPrefix + "light", openvdb::Int64Metadata(int64_t(i)));
             grids.push_back(grid);
         }
-        // Their shadow edges, when baked: two grids per light (shadow_edges.h, docs/format.md).
+        // Their shadow edges, when baked: kFloatsPerLight grids per light (shadow_edges.h, docs/format.md).
         for (std::size_t i = 0; i < lights && !level.lightShadowEdges.empty(); ++i)
             for (int part = 0; part < shadow_edge::kFloatsPerLight; ++part) {
                 const std::size_t stride = lights * shadow_edge::kFloatsPerLight, at = i * shadow_edge::kFloatsPerLight + part;
                 openvdb::FloatGrid::Ptr grid =
                     sparse ? buildSparseScalarGrid(level.grid, level.activeNodes, level.lightShadowEdges.data(), stride, at)
                            : buildScalarGrid(level, origins, level.lightShadowEdges.data(), stride, at);
-                grid->setName(gridNameFor(part == 0 ? shadow_edge::distanceGridName(i) : shadow_edge::widthGridName(i), int(l)));
+                grid->setName(gridNameFor(shadow_edge::partGridName(part, i), int(l)));
                 grid->setTransform(levelTransform(level.grid));
                 grid->setGridClass(openvdb::GRID_UNKNOWN);
                 grid->setSaveFloatAsHalf(options.halfFloat);

@@ -85,9 +85,15 @@ void validateDirect(const Volume& v) {
         if (edges.size() != v.levels[0].lightVisibility.size() * shadow_edge::kFloatsPerLight)
             throw FormatError("volume level 0 has " + std::to_string(edges.size()) + " shadow edge values, expected " +
                               std::to_string(v.levels[0].lightVisibility.size() * shadow_edge::kFloatsPerLight));
-        for (std::size_t k = 0; k < edges.size(); k += shadow_edge::kFloatsPerLight)
-            if (!(std::fabs(edges[k]) <= shadow_edge::kRange && edges[k + 1] >= 0.0f && edges[k + 1] <= shadow_edge::kNoEdge))
+        for (std::size_t k = 0; k < edges.size(); k += shadow_edge::kFloatsPerLight) {
+            const float* e = &edges[k];
+            const float direction = std::fabs(e[shadow_edge::kDirectionX]) + std::fabs(e[shadow_edge::kDirectionY]) +
+                                    std::fabs(e[shadow_edge::kDirectionZ]);
+            if (!(std::fabs(e[shadow_edge::kDistance]) <= shadow_edge::kRange && e[shadow_edge::kWidth] >= 0.0f &&
+                  e[shadow_edge::kWidth] <= shadow_edge::kNoEdge && direction <= 2.0f &&
+                  e[shadow_edge::kFar] >= 0.0f && e[shadow_edge::kFar] <= shadow_edge::kRange + shadow_edge::kMaxStrip))
                 throw FormatError("volume level 0 has a shadow edge outside its range (shadow_edges.h)");
+        }
     }
 }
 
