@@ -5,8 +5,10 @@
 # Usage: bench/time_to_accuracy.sh [BUILD_DIR] [OUT.csv]   (defaults: build, docs/time_to_accuracy.csv)
 # The curves (every row --direct occlusion, as the presets):
 #   preview_before   the preview until issue 32: 16 nodes on the longest axis, full paths, SH 2
-#   preview          the preview since issue 32: ~2048 nodes, + the surface-cache probe pass, depth
-#                    moments, SH order 4, one pass of the node filter (at 128 rays: --quality preview)
+#   preview_2048     the preview of issue 32's first session: ~2048 nodes, + the surface-cache probe
+#                    pass, depth moments, SH order 4, one pass of the node filter (at 128 rays)
+#   preview          the preview since issue 32's third session: ~8192 nodes, as preview_2048 + guided
+#                    probe directions, pass 0 blended in, extra cache paths (at 64 rays: --quality preview)
 #   default          the default's method: ~16384 nodes, + the probe pass, depth moments, SH order 4
 #                    (1024 rays: --quality default; 2048: --quality high)
 #   default_filtered the same with one pass of the node filter
@@ -16,6 +18,7 @@ out="${2:-$(dirname "$0")/../docs/time_to_accuracy.csv}"
 specs=()
 for r in 64 128 256 512 1024; do specs+=("res=16,passes=0,rays=$r"); done
 for r in 32 64 128 256 512; do specs+=("nodes=2048,passes=1,depth=1,basis=sh:4,cache=surface,filter=1,bilateral=1,rays=$r"); done
+for r in 32 64 128 256; do specs+=("nodes=8192,passes=1,depth=1,basis=sh:4,cache=surface,filter=1,bilateral=1,guide=1,blend=1,extra=1,rays=$r"); done
 for r in 128 256 512 1024; do specs+=("nodes=16384,passes=1,depth=1,basis=sh:4,cache=surface,rays=$r"); done
 for r in 256 1024; do specs+=("nodes=16384,passes=1,depth=1,basis=sh:4,cache=surface,filter=1,bilateral=1,rays=$r"); done
 joined=$(IFS=';'; echo "${specs[*]}")
