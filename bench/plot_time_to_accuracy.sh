@@ -14,7 +14,7 @@ trap 'rm -rf "$tmp"' EXIT
 # curve name, then the config pattern its rows match (awk regex on the CSV's config column).
 curves=(
   "preview before issue 32 (16 nodes/axis, full paths, SH 2)|^try:res=16/passes=0/rays="
-  "preview, issue 32's first session (~2048 nodes, probe pass, depth, SH 4, node filter)|^try:nodes=2048/.*filter=1/bilateral=1/rays="
+  "preview, issue 32 session 1 (~2048 nodes, probe pass, depth, SH 4, node filter)|^try:nodes=2048/.*filter=1/bilateral=1/rays="
   "preview now (~8192 nodes, + guided probe directions, pass 0 blended, extra cache paths)|^try:nodes=8192/.*extra=1/rays="
   "the default method (~16384 nodes, probe pass, depth, SH 4)|^try:nodes=16384/passes=1/depth=1/basis=sh:4/cache=surface/rays="
   "the default method + node filter|^try:nodes=16384/.*filter=1/bilateral=1/rays="
@@ -22,7 +22,7 @@ curves=(
 # The presets: --quality preview before and after, default, as single marked points.
 presets=(
   "--quality preview before|^try:res=16/passes=0/rays=256$"
-  "--quality preview, issue 32's first session|^try:nodes=2048/.*filter=1/bilateral=1/rays=128$"
+  "--quality preview, issue 32 session 1|^try:nodes=2048/.*filter=1/bilateral=1/rays=128$"
   "--quality preview|^try:nodes=8192/.*extra=1/rays=64$"
   "--quality default|^try:nodes=16384/passes=1/depth=1/basis=sh:4/cache=surface/rays=1024$"
 )
