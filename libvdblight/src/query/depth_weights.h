@@ -17,6 +17,34 @@ namespace vdblight::query_detail {
 /// finest level's depth for that reason.
 inline bool depthWeightsApplyAt(std::size_t level, std::size_t levels) { return level + 1 == levels; }
 
+/// The 24 axis tests of weightByDepth (lane 8 a + c: axis a of corner c, at distance dist from
+/// the corner, against the face's mean mu and s2 = sigma^2 + kDepthMinSigma^2), then the
+/// corners' visibility times w, renormalised: the part that weightByDepth and
+/// weightByPreparedDepth share once their lanes are gathered.
+inline void weightByDepthLanes(float w[8], const float dist[24], const float mu[24], const float s2[24]) {
+    // A passing axis (e <= 0) computes its bound at e = 0: s2 / s2, exactly 1 (s2 >= kDepthMinSigma^2
+    // > 0). max(e, 0) is written as (e + |e|) / 2, exact for |e| <= 2, because GCC keeps a float
+    // compare (which may trap) as a branch and would leave the loop scalar.
+    float pass[24];
+    for (int i = 0; i < 24; ++i) {
+        const float e = dist[i] - mu[i] - depth::kDepthBias;
+        const float behind = 0.5f * (e + std::fabs(e));
+        pass[i] = s2[i] / (s2[i] + behind * behind);
+    }
+    float v[8];
+    for (int c = 0; c < 8; ++c) {
+        const float p = pass[c] * pass[8 + c] * pass[16 + c];
+        v[c] = p * p * p;
+    }
+    float sum = 0.0f;
+    for (int c = 0; c < 8; ++c) {
+        w[c] *= v[c] + depth::kDepthFloor;
+        sum += w[c];
+    }
+    const float inv = 1.0f / sum;
+    for (int c = 0; c < 8; ++c) w[c] *= inv;
+}
+
 /// Multiplies the eight trilinear weights w[c] (corner c = x bit 0, y bit 1, z bit 2 of the
 /// cell, fractions fx, fy, fz in [0, 1] of the query point in it) by each corner's visibility
 /// plus depth::kDepthFloor and renormalises them to sum 1. depth[c]: the corner's depth values.
@@ -39,28 +67,9 @@ inline void weightByDepth(float w[8], const float* const depth[8], float fx, flo
             mu[8 * a + c] = depth[c][(negative ? depth::kMeanNegative : depth::kMeanPositive) * 3 + a];
             sigma[8 * a + c] = depth[c][(negative ? depth::kSigmaNegative : depth::kSigmaPositive) * 3 + a];
         }
-    // A passing axis (e <= 0) computes its bound at e = 0: s2 / s2, exactly 1 (s2 >= kDepthMinSigma^2
-    // > 0). max(e, 0) is written as (e + |e|) / 2, exact for |e| <= 2, because GCC keeps a float
-    // compare (which may trap) as a branch and would leave the loop scalar.
-    float pass[24];
-    for (int i = 0; i < 24; ++i) {
-        const float e = dist[i] - mu[i] - depth::kDepthBias;
-        const float behind = 0.5f * (e + std::fabs(e));
-        const float s2 = sigma[i] * sigma[i] + depth::kDepthMinSigma * depth::kDepthMinSigma;
-        pass[i] = s2 / (s2 + behind * behind);
-    }
-    float v[8];
-    for (int c = 0; c < 8; ++c) {
-        const float p = pass[c] * pass[8 + c] * pass[16 + c];
-        v[c] = p * p * p;
-    }
-    float sum = 0.0f;
-    for (int c = 0; c < 8; ++c) {
-        w[c] *= v[c] + depth::kDepthFloor;
-        sum += w[c];
-    }
-    const float inv = 1.0f / sum;
-    for (int c = 0; c < 8; ++c) w[c] *= inv;
+    float s2[24];
+    for (int i = 0; i < 24; ++i) s2[i] = sigma[i] * sigma[i] + depth::kDepthMinSigma * depth::kDepthMinSigma;
+    weightByDepthLanes(w, dist, mu, s2);
 }
 
 /// A node's depth values as weightByPreparedDepth reads them, made once when a lookup is built:
@@ -92,24 +101,7 @@ inline void weightByPreparedDepth(float w[8], const float* const prepared[8], fl
         mu[i] = prepared[c][(negative ? 3 : 0) + a];
         s2[i] = prepared[c][(negative ? 9 : 6) + a];
     }
-    float pass[24];
-    for (int i = 0; i < 24; ++i) {
-        const float e = dist[i] - mu[i] - depth::kDepthBias;
-        const float behind = 0.5f * (e + std::fabs(e));
-        pass[i] = s2[i] / (s2[i] + behind * behind);
-    }
-    float v[8];
-    for (int c = 0; c < 8; ++c) {
-        const float p = pass[c] * pass[8 + c] * pass[16 + c];
-        v[c] = p * p * p;
-    }
-    float sum = 0.0f;
-    for (int c = 0; c < 8; ++c) {
-        w[c] *= v[c] + depth::kDepthFloor;
-        sum += w[c];
-    }
-    const float inv = 1.0f / sum;
-    for (int c = 0; c < 8; ++c) w[c] *= inv;
+    weightByDepthLanes(w, dist, mu, s2);
 }
 
 /// weightByDepth for the exact (double) corners of x (trilinearCorners): the weights go
