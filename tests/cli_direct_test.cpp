@@ -56,7 +56,7 @@ TEST(CliDirect, ModesBakeQuerySliceExportAndOpenInOtherReaders) {
     const std::string at = " --at 0.278,0.45,0.28 --normal 0,1,0";
     const Rgbd baked = test::firstIrradianceRgb(runCli("query " + dir.file("baked.vdb") + at).output);
     const Rgbd occl = test::firstIrradianceRgb(runCli("query " + dir.file("occlusion.vdb") + at).output);
-    const auto rt = runCli("query " + dir.file("runtime.vdb") + at + " --scene " + defaultScenePath());
+    const auto rt = runCli("query " + dir.file("runtime.vdb") + at + " --scene " + std::string(VDBLIGHT_SOURCE_DIR) + "/data/cornell_box.obj");  // the shell-safe path (tests/CMakeLists.txt)
     ASSERT_EQ(rt.status, 0) << rt.output;
     const Rgbd runtime = test::firstIrradianceRgb(rt.output);
     const Rgbd indirect = test::firstIrradianceRgb(runCli("query " + dir.file("runtime.vdb") + at + " --indirect-only").output);

@@ -165,7 +165,7 @@ TEST(VolumeQuery, RuntimeDirectLightIsAddedWithTheScenesShadowRays) {
     o.scenePath = defaultScenePath();
     o.shadowRays = 16;
     const Query withScene(vol, o);
-    expectSameAnswers(withScene, cliRows(dir, vol, " --scene " + defaultScenePath() + " --shadow-rays 16"), "--scene",
+    expectSameAnswers(withScene, cliRows(dir, vol, " --scene " + std::string(VDBLIGHT_SOURCE_DIR) + "/data/cornell_box.obj --shadow-rays 16"), "--scene",
                       [&](std::size_t i, const Vec3d& x, const Vec3f& n) {
                           RayCount rays;
                           const Vec3d inBox = vmin(vmax(x, lookup.bounds().lo), lookup.bounds().hi);
