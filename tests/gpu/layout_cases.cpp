@@ -26,6 +26,17 @@ Bindings packedSh(const Manifest& m) {
     return b;
 }
 
+// packedSh, plus light 0's visibility and shadow-edge textures (the doc's
+// vdblightIrradianceOcclusionEdges).
+Bindings packedShWithEdges(const Manifest& m) {
+    Bindings b = packedSh(m);
+    b.emplace_back("lightVisibility0", "light_visibility_0_0");
+    b.emplace_back("lightEdgeDistance0", "light_edge_distance_0_0");
+    b.emplace_back("lightEdgeWidth0", "light_edge_width_0_0");
+    b.emplace_back("lightEdgeRamp0", "light_edge_ramp_0_0");
+    return b;
+}
+
 // depth_x -> depthX, ... (the doc's visibility-aware GLSL).
 Bindings withDepth(Bindings b) {
     for (const char* axis : {"x", "y", "z"})
@@ -226,14 +237,7 @@ const std::vector<LayoutCase>& layoutCases() {
          2, false, setPolygonLight},
         {"sh2-packed + --direct occlusion + shadow edges (ktx2, half)", "occlusion_edges.vdb", "--format ktx2 --layout sh2-packed",
          {kPacked, kExactLights, "vec3 vdblightIrradianceOcclusion(", "vec3 vdblightIrradianceOcclusionEdges("}, nullptr, kCallOcclusionEdges,
-         [](const Manifest& m) {
-             Bindings b = packedSh(m);
-             b.emplace_back("lightVisibility0", "light_visibility_0_0");
-             b.emplace_back("lightEdgeDistance0", "light_edge_distance_0_0");
-             b.emplace_back("lightEdgeWidth0", "light_edge_width_0_0");
-             b.emplace_back("lightEdgeRamp0", "light_edge_ramp_0_0");
-             return b;
-         },
+         packedShWithEdges,
          2, false, setPolygonLight},
         // The second edge (docs/shadow_visibility.md): a thin shadow, narrower than a cell.
         {"sh2-packed + --direct occlusion + shadow edges + strips (ktx2, half)", "strips.vdb", "--format ktx2 --layout sh2-packed",
@@ -241,11 +245,7 @@ const std::vector<LayoutCase>& layoutCases() {
           "float vdblightStripModel(", "vec3 vdblightIrradianceOcclusionStrips("},
          nullptr, kCallOcclusionStrips,
          [](const Manifest& m) {
-             Bindings b = packedSh(m);
-             b.emplace_back("lightVisibility0", "light_visibility_0_0");
-             b.emplace_back("lightEdgeDistance0", "light_edge_distance_0_0");
-             b.emplace_back("lightEdgeWidth0", "light_edge_width_0_0");
-             b.emplace_back("lightEdgeRamp0", "light_edge_ramp_0_0");
+             Bindings b = packedShWithEdges(m);
              b.emplace_back("lightEdgeStrip0", "light_edge_strip_0");
              return b;
          },
