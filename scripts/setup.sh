@@ -2,8 +2,10 @@
 # Installs the Debian 12 packages vdblight needs (only those missing) and builds it
 # (CMake, Release) into build/. Safe to run again: it does only what is left to do.
 #
-#   scripts/setup.sh            # install + configure + build
+#   scripts/setup.sh            # install + configure + build (every target)
 #   BUILD_DIR=out scripts/setup.sh
+#   VDBLIGHT_BUILD_TARGETS="vdblight_cli" scripts/setup.sh   # build only these targets
+# (quickstart.sh builds only the CLI it runs; test.sh --full only what its Release stage runs.)
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -64,5 +66,7 @@ fi
 if [ ! -f "$BUILD_DIR/CMakeCache.txt" ]; then
   cmake -S "$ROOT" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release >/dev/null
 fi
-cmake --build "$BUILD_DIR" -j "$JOBS"
+# Word splitting of the target list is wanted: one argument per target.
+# shellcheck disable=SC2086
+cmake --build "$BUILD_DIR" -j "$JOBS" ${VDBLIGHT_BUILD_TARGETS:+--target $VDBLIGHT_BUILD_TARGETS}
 echo "setup: built $BUILD_DIR/bin/vdblight"
