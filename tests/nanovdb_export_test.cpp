@@ -2,7 +2,8 @@
 // shaders/vdblight_nanovdb.h, compiled as C (nanovdb_lookup_c.c):
 // - the lookup equals IrradianceQuery to 1e-5 relative at 10 000 random points and normals,
 //   for uniform and multi-level volumes, with and without depth moments;
-// - the light visibility it interpolates equals the occlusion lookup's;
+// - the light visibility it interpolates equals the occlusion lookup's, with the shadow edges
+//   and strips of a bake (docs/shadow_visibility.md) as without;
 // - the file holds every channel (in the blind data of one vdblight_nodes grid per level, whose
 //   values index it), the numbers and the metadata text;
 // - nanovdb_validate and nanovdb_print (libnanovdb-tools) accept the files;
@@ -18,12 +19,16 @@
 #include "nanovdb_lookup_c.h"
 #include "random_volumes.h"
 #include "test_util.h"
+#include "basis/shadow_edges.h"
+#include "vdblight/bake/each_pass.h"
 #include "vdblight/basis/basis.h"
 #include "query/channel_lookup.h"
 #include "vdblight/core/errors.h"
 #include "vdblight/export/engines.h"
 #include "vdblight/query/query.h"
 #include "query/query_direct.h"
+#include "vdblight/scene/scene.h"
+#include "vdblight/trace/trace.h"
 #include "vdblight/volume/vdb_io.h"
 
 namespace vdblight {
@@ -189,6 +194,138 @@ TEST(NanoVdbLookup, AddsTheListedLightsTimesTheirVisibility) {
     EXPECT_LE(worst, 2e-5);
 }
 
+/// The worst |difference| between the C lookup's visibility of each listed light and the
+/// occlusion lookup's at `count` random points (query locates them in double, the shader in float).
+double worstVisibilityDifference(const Volume& v, const uint32_t* buf, int count) {
+    Volume baked = v;  // the SH part alone
+    baked.direct = {};
+    baked.levels[0].lightVisibility.clear();
+    baked.levels[0].lightShadowEdges.clear();
+    const OcclusionLookup occlusion(std::make_unique<ChannelLookup>(baked, OutsidePolicy::Clamp), v);
+    const std::size_t lights = v.direct.lights.size();
+    std::vector<float> expected(lights);
+    double worst = 0;
+    for (const Probe& p : randomProbes(IrradianceQuery(v).bounds(), count, 3)) {
+        occlusion.visibility(Vec3d(p.x), expected.data());
+        const float x[3] = {p.x.x, p.x.y, p.x.z};
+        for (std::size_t i = 0; i < lights; ++i)
+            worst = std::max(worst, double(std::fabs(vdblightNanoLightVisibility(buf, x, int(i)) - expected[i])));
+    }
+    return worst;
+}
+
+/// A default-kind volume (uniform sh:4, depth moments) whose visibility and shadow edges are
+/// baked as `bake --direct occlusion` bakes them: under a square blocker lit by a downward
+/// polygon light (penumbrae: edge widths > 0) and by the sun and a point light (hard edges),
+/// with a thin bar whose shadow is narrower than a cell (strips: far sides > 0).
+Volume bakedEdgesVolume() {
+    Scene s;
+    Material grey;
+    grey.albedo = {0.5f, 0.5f, 0.5f};
+    const uint32_t m = addMaterial(s, grey);
+    const Vec3f roof[4] = {{-0.6f, 1.4f, -0.3f}, {0.2f, 1.4f, -0.7f}, {0.7f, 1.4f, 0.2f}, {-0.1f, 1.4f, 0.6f}};
+    addTriangle(s, roof[0], roof[1], roof[2], m);
+    addTriangle(s, roof[0], roof[2], roof[3], m);
+    const Vec3f bar[4] = {{-1.6f, 2.1f, -1.2f}, {1.6f, 2.1f, -1.1f}, {1.6f, 2.1f, -1.03f}, {-1.6f, 2.1f, -1.13f}};
+    addTriangle(s, bar[0], bar[1], bar[2], m);
+    addTriangle(s, bar[0], bar[2], bar[3], m);
+    Material lamp;
+    lamp.emission = {6.0f, 6.0f, 5.0f};
+    const uint32_t e = addMaterial(s, lamp);
+    const Vec3f quad[4] = {{-0.2f, 2.8f, -0.2f}, {0.2f, 2.8f, -0.2f}, {0.2f, 2.8f, 0.2f}, {-0.2f, 2.8f, 0.2f}};
+    addTriangle(s, quad[0], quad[1], quad[2], e);  // counter-clockwise seen from below: it faces down
+    addTriangle(s, quad[0], quad[2], quad[3], e);
+    s.directionalLights.push_back({Vec3f(normalize(Vec3d(0.3, -1.0, 0.2))), Rgb(3, 3, 3)});
+    s.pointLights.push_back({Vec3f(0.4f, 3.0f, -0.3f), Rgb(9, 8, 7)});
+    Volume v = test::randomUniformVolume(shBasis(4), 12, 5, 12, 0.3, 33);
+    v.levels[0].grid.origin = Vec3d(-1.65, 0.0, -1.65);
+    test::randomDepth(v, 6);
+    const Tracer tracer(s);
+    DirectOptions o;
+    o.mode = DirectMode::Occlusion;
+    o.shadowEdges = true;
+    bakeLightVisibility(s, tracer, planDirectLight(s, tracer, v.levels[0].grid, o), o, v);
+    return v;
+}
+
+/// With the shadow edges of a bake (nearest edges and strips) the lookup's visibility is
+/// query's edge model (shadow_edges.h), not the trilinear blend of the visibility: the same
+/// tolerances as without edges.
+TEST(NanoVdbLookup, KeepsTheShadowEdgesAndStripsOfABake) {
+    const Volume v = bakedEdgesVolume();
+    const std::vector<float>& edges = v.levels[0].lightShadowEdges;
+    ASSERT_EQ(v.direct.lights.size(), 3u);
+    ASSERT_EQ(edges.size(), v.levels[0].grid.nodeCount() * 3 * shadow_edge::kFloatsPerLight);
+    int strips = 0, penumbrae = 0, hard = 0;
+    for (std::size_t p = 0; p < edges.size(); p += shadow_edge::kFloatsPerLight) {
+        const bool inRange = std::fabs(edges[p + shadow_edge::kDistance]) < shadow_edge::kRange;
+        strips += edges[p + shadow_edge::kFar] > 0.0f;
+        penumbrae += inRange && edges[p + shadow_edge::kWidth] > 0.0f && edges[p + shadow_edge::kWidth] < shadow_edge::kNoEdge;
+        hard += inRange && edges[p + shadow_edge::kWidth] == 0.0f;
+    }
+    std::printf("[ baked edges ] %zu nodes x 3 lights: %d with a strip, %d edges with a penumbra, %d hard edges\n",
+                v.levels[0].grid.nodeCount(), strips, penumbrae, hard);
+    ASSERT_GT(strips, 0) << "the fixture must have strips";
+    ASSERT_GT(penumbrae, 0);
+    ASSERT_GT(hard, 0);
+
+    TempDir dir;
+    exportNanoVdb(v, dir.file("e.nvdb"));
+    const std::vector<uint64_t> words = loadGrids(dir.file("e.nvdb"));
+    const uint32_t* buf = reinterpret_cast<const uint32_t*>(words.data());
+    {  // the arrays after the 3 visibility arrays: 3 x (distances, widths), then 3 strips of 4 floats
+        const auto handles = nanovdb::io::readGrids<nanovdb::HostBuffer, std::vector>(dir.file("e.nvdb"));
+        const std::size_t nodes = v.levels[0].grid.nodeCount();
+        const nanovdb::GridBlindMetaData& blind = handles[1].template grid<uint32_t>()->blindMetaData(0);
+        ASSERT_EQ(blind.mElementCount, nodes * ((25 + 4) * 3 + 3 + 3 * 2 + 3 * 4));
+        const float* channels = blind.template getBlindData<float>();
+        const std::size_t node = v.levels[0].grid.index(5, 2, 7), edgesAt = nodes * (29 * 3 + 3);
+        const float* edge = edges.data() + (node * 3 + 2) * shadow_edge::kFloatsPerLight;  // light 2's
+        EXPECT_EQ(channels[edgesAt + 4 * nodes + node], edge[shadow_edge::kDistance]);
+        EXPECT_EQ(channels[edgesAt + 5 * nodes + node], edge[shadow_edge::kWidth]);
+        EXPECT_EQ(channels[edgesAt + 6 * nodes + (2 * nodes + node) * 4 + 1], edge[shadow_edge::kDirectionY]);
+        EXPECT_EQ(channels[edgesAt + 6 * nodes + (2 * nodes + node) * 4 + 3], edge[shadow_edge::kFar]);
+        const auto* meta = handles[0].template grid<float>();
+        EXPECT_EQ(meta->tree().getValue(nanovdb::Coord(nanovdb_meta::kShadowEdges, 0, 0)), 2.0f);
+        const std::string text = meta->blindMetaData(0).template getBlindData<char>();
+        EXPECT_NE(text.find("\nshadow_edges=2\nlight_arrays=light_visibility_0,light_visibility_1,light_visibility_2,"
+                            "light_edge_distance_0,light_edge_width_0,light_edge_distance_1,light_edge_width_1,"
+                            "light_edge_distance_2,light_edge_width_2,light_edge_strip_0,light_edge_strip_1,light_edge_strip_2\n"),
+                  std::string::npos)
+            << text;
+    }
+    Volume oneEdge = v;  // without the strips, and without any edge: other answers
+    for (std::size_t p = 0; p < edges.size(); p += shadow_edge::kFloatsPerLight) oneEdge.levels[0].lightShadowEdges[p + shadow_edge::kFar] = 0.0f;
+    Volume noEdges = v;
+    noEdges.levels[0].lightShadowEdges.clear();
+    const double worst = worstVisibilityDifference(v, buf, 10000);
+    exportNanoVdb(oneEdge, dir.file("one.nvdb"));
+    const std::vector<uint64_t> oneWords = loadGrids(dir.file("one.nvdb"));
+    const double worstOne = worstVisibilityDifference(oneEdge, reinterpret_cast<const uint32_t*>(oneWords.data()), 10000);
+    const auto oneHandles = nanovdb::io::readGrids<nanovdb::HostBuffer, std::vector>(dir.file("one.nvdb"));
+    EXPECT_EQ(oneHandles[0].template grid<float>()->tree().getValue(nanovdb::Coord(nanovdb_meta::kShadowEdges, 0, 0)), 1.0f);
+    EXPECT_EQ(oneHandles[1].template grid<uint32_t>()->blindMetaData(0).mElementCount,
+              v.levels[0].grid.nodeCount() * ((25 + 4) * 3 + 3 + 3 * 2))
+        << "without strips the file has no strip arrays";
+    const double stripsMatter = worstVisibilityDifference(oneEdge, buf, 10000), edgesMatter = worstVisibilityDifference(noEdges, buf, 10000);
+    std::printf("[ baked edges ] visibility: worst |difference| %.3g with strips, %.3g with one edge; the strips change it "
+                "by up to %.3g, the edges by %.3g\n", worst, worstOne, stripsMatter, edgesMatter);
+    // As without edges, query's weights in double against the shader's in float, the rounding
+    // amplified by the depth weights' Chebyshev bound (AddsTheListedLightsTimesTheirVisibility:
+    // 5e-6) and now also by the edge's ramp, whose slope is up to 16 per cell (a hard edge:
+    // shadow_edge::kMinWidth) on a blended distance of up to 3 cells. Measured 9.1e-5 here;
+    // with every width raised to 1 cell 1.3e-5, without the depth moments 1.5e-5.
+    EXPECT_LE(worst, 2e-4);
+    EXPECT_LE(worstOne, 2e-4);
+    EXPECT_GT(stripsMatter, 0.1) << "the fixture's strips must change the answer somewhere";
+    EXPECT_GT(edgesMatter, 0.1);
+    // Irradiance: query's shared cell has the shader's float weights (the SH part is bit for bit),
+    // so what is left is the lights' float formulas (AddsTheListedLightsTimesTheirVisibility),
+    // as without the edges.
+    expectLookupEqualsQuery(noEdges, "the same volume without its shadow edges", 5e-4);
+    expectLookupEqualsQuery(v, "baked sh:4 volume with depth moments, 3 listed lights, shadow edges and strips", 5e-4);
+}
+
 /// vdblight_meta and one vdblight_nodes grid (the node's index in its channel arrays, which ride
 /// in its blind data, channel-major); the numbers and text of vdblight_meta.
 TEST(NanoVdbExport, WritesEveryChannelAndTheMetadata) {
@@ -263,12 +400,14 @@ TEST(NanoVdbExport, LevelsHaveTheirGridsAndRefinedMasks) {
     EXPECT_EQ(handles[3].template grid<uint32_t>()->blindMetaData(0).mElementCount, v.levels[1].activeNodes.size() * 13 * 3);
 }
 
-/// nanovdb_validate and nanovdb_print (libnanovdb-tools) accept a uniform and a multi-level export.
+/// nanovdb_validate and nanovdb_print (libnanovdb-tools) accept a uniform, a multi-level export
+/// and one with shadow edges and strips.
 TEST(NanoVdbExport, NanoVdbToolsAcceptTheFiles) {
     TempDir dir;
     exportNanoVdb(occlusionVolume(), dir.file("u.nvdb"));
     exportNanoVdb(levelsSh(LayoutKind::Adaptive, 3, shBasis(4), true), dir.file("l.nvdb"));
-    for (const char* name : {"u.nvdb", "l.nvdb"}) {
+    exportNanoVdb(bakedEdgesVolume(), dir.file("e.nvdb"));
+    for (const char* name : {"u.nvdb", "l.nvdb", "e.nvdb"}) {
         const std::string file = dir.file(name);
         const std::string out = dir.file("out.txt");
         EXPECT_EQ(std::system(("nanovdb_validate -v " + file + " > " + out + " 2>&1").c_str()), 0) << readTextFile(out);
