@@ -14,21 +14,19 @@
 
 #include <nanovdb/util/IO.h>
 
+#include "baked_edges_volume.h"
 #include "cli_util.h"
 #include "expect_throw.h"
 #include "nanovdb_lookup_c.h"
 #include "random_volumes.h"
 #include "test_util.h"
 #include "basis/shadow_edges.h"
-#include "vdblight/bake/each_pass.h"
 #include "vdblight/basis/basis.h"
 #include "query/channel_lookup.h"
 #include "vdblight/core/errors.h"
 #include "vdblight/export/engines.h"
 #include "vdblight/query/query.h"
 #include "query/query_direct.h"
-#include "vdblight/scene/scene.h"
-#include "vdblight/trace/trace.h"
 #include "vdblight/volume/vdb_io.h"
 
 namespace vdblight {
@@ -214,45 +212,11 @@ double worstVisibilityDifference(const Volume& v, const uint32_t* buf, int count
     return worst;
 }
 
-/// A default-kind volume (uniform sh:4, depth moments) whose visibility and shadow edges are
-/// baked as `bake --direct occlusion` bakes them: under a square blocker lit by a downward
-/// polygon light (penumbrae: edge widths > 0) and by the sun and a point light (hard edges),
-/// with a thin bar whose shadow is narrower than a cell (strips: far sides > 0).
-Volume bakedEdgesVolume() {
-    Scene s;
-    Material grey;
-    grey.albedo = {0.5f, 0.5f, 0.5f};
-    const uint32_t m = addMaterial(s, grey);
-    const Vec3f roof[4] = {{-0.6f, 1.4f, -0.3f}, {0.2f, 1.4f, -0.7f}, {0.7f, 1.4f, 0.2f}, {-0.1f, 1.4f, 0.6f}};
-    addTriangle(s, roof[0], roof[1], roof[2], m);
-    addTriangle(s, roof[0], roof[2], roof[3], m);
-    const Vec3f bar[4] = {{-1.6f, 2.1f, -1.2f}, {1.6f, 2.1f, -1.1f}, {1.6f, 2.1f, -1.03f}, {-1.6f, 2.1f, -1.13f}};
-    addTriangle(s, bar[0], bar[1], bar[2], m);
-    addTriangle(s, bar[0], bar[2], bar[3], m);
-    Material lamp;
-    lamp.emission = {6.0f, 6.0f, 5.0f};
-    const uint32_t e = addMaterial(s, lamp);
-    const Vec3f quad[4] = {{-0.2f, 2.8f, -0.2f}, {0.2f, 2.8f, -0.2f}, {0.2f, 2.8f, 0.2f}, {-0.2f, 2.8f, 0.2f}};
-    addTriangle(s, quad[0], quad[1], quad[2], e);  // counter-clockwise seen from below: it faces down
-    addTriangle(s, quad[0], quad[2], quad[3], e);
-    s.directionalLights.push_back({Vec3f(normalize(Vec3d(0.3, -1.0, 0.2))), Rgb(3, 3, 3)});
-    s.pointLights.push_back({Vec3f(0.4f, 3.0f, -0.3f), Rgb(9, 8, 7)});
-    Volume v = test::randomUniformVolume(shBasis(4), 12, 5, 12, 0.3, 33);
-    v.levels[0].grid.origin = Vec3d(-1.65, 0.0, -1.65);
-    test::randomDepth(v, 6);
-    const Tracer tracer(s);
-    DirectOptions o;
-    o.mode = DirectMode::Occlusion;
-    o.shadowEdges = true;
-    bakeLightVisibility(s, tracer, planDirectLight(s, tracer, v.levels[0].grid, o), o, v);
-    return v;
-}
-
 /// With the shadow edges of a bake (nearest edges and strips) the lookup's visibility is
 /// query's edge model (shadow_edges.h), not the trilinear blend of the visibility: the same
 /// tolerances as without edges.
 TEST(NanoVdbLookup, KeepsTheShadowEdgesAndStripsOfABake) {
-    const Volume v = bakedEdgesVolume();
+    const Volume v = test::bakedEdgesVolume();
     const std::vector<float>& edges = v.levels[0].lightShadowEdges;
     ASSERT_EQ(v.direct.lights.size(), 3u);
     ASSERT_EQ(edges.size(), v.levels[0].grid.nodeCount() * 3 * shadow_edge::kFloatsPerLight);
@@ -406,7 +370,7 @@ TEST(NanoVdbExport, NanoVdbToolsAcceptTheFiles) {
     TempDir dir;
     exportNanoVdb(occlusionVolume(), dir.file("u.nvdb"));
     exportNanoVdb(levelsSh(LayoutKind::Adaptive, 3, shBasis(4), true), dir.file("l.nvdb"));
-    exportNanoVdb(bakedEdgesVolume(), dir.file("e.nvdb"));
+    exportNanoVdb(test::bakedEdgesVolume(), dir.file("e.nvdb"));
     for (const char* name : {"u.nvdb", "l.nvdb", "e.nvdb"}) {
         const std::string file = dir.file(name);
         const std::string out = dir.file("out.txt");
