@@ -21,5 +21,4 @@ write_basic_package_version_file(${PROJECT_BINARY_DIR}/vdblightConfigVersion.cma
 install(FILES ${PROJECT_BINARY_DIR}/vdblightConfig.cmake ${PROJECT_BINARY_DIR}/vdblightConfigVersion.cmake
         DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/vdblight)
 # The PNanoVDB lookup of `export --format nanovdb` files, for shaders (C, GLSL, HLSL; docs/engines.md).
-install(FILES ${PROJECT_SOURCE_DIR}/shaders/vdblight_nanovdb.h ${PROJECT_SOURCE_DIR}/shaders/vdblight_nanovdb_lights.h
-              ${PROJECT_SOURCE_DIR}/shaders/vdblight_nanovdb_edges.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/vdblight/shaders)
+install(FILES ${PROJECT_SOURCE_DIR}/shaders/vdblight_nanovdb.h ${PROJECT_SOURCE_DIR}/shaders/vdblight_nanovdb_lights.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/vdblight/shaders)

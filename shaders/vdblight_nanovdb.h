@@ -21,7 +21,8 @@
 //   pi, 2 pi / 3, pi / 4, 0, -pi / 24).
 // - `--direct occlusion` volumes: plus, for each listed light, its exact unshadowed irradiance
 //   (point, spot, directional, polygon and mesh lights; docs/engines.md, "Direct light") times
-//   its visibility interpolated with the same weights.
+//   its visibility interpolated with the same weights, or, where the file has shadow edges,
+//   the edge model of query with those weights (vdblight_nanovdb_lights.h).
 // Culled volumes (`--cull-solids`) and other bases are not looked up (vdblight_nano_open sets
 // `supported` to false). Everything is float: volumes far from the origin lose precision here
 // where `query` works in double.
@@ -334,8 +335,7 @@ VDBLIGHT_NANO_FN float vdblight_nano_sh_y(pnanovdb_int32_t j, pnanovdb_vec3_t n,
     return 0.625835735f * (x2 * x2 - 6.0f * x2 * y2 + y2 * y2);
 }
 
-#include "vdblight_nanovdb_edges.h"   // vdblight_nano_edge_visibility
-#include "vdblight_nanovdb_lights.h"  // vdblight_nano_light_irradiance
+#include "vdblight_nanovdb_lights.h"  // vdblight_nano_light_irradiance, vdblight_nano_edge_visibility
 
 // Irradiance (W/m^2 per colour) at world point x for unit normal n; (0, 0, 0) for a volume
 // this lookup does not read (v.supported false).
