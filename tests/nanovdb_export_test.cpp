@@ -284,8 +284,11 @@ TEST(NanoVdbLookup, KeepsTheShadowEdgesAndStripsOfABake) {
     EXPECT_GT(stripsMatter, 0.1) << "the fixture's strips must change the answer somewhere";
     EXPECT_GT(edgesMatter, 0.1);
     // Irradiance: query's shared cell has the shader's float weights (the SH part is bit for bit),
-    // so what is left is the lights' float formulas (AddsTheListedLightsTimesTheirVisibility),
-    // as without the edges.
+    // so what is left is the lights' float formulas (AddsTheListedLightsTimesTheirVisibility:
+    // 9.7e-6 here without the edges) and, in a strip's cells, the corner offsets, which query
+    // measures in double from the double transform and the shader in float from the grid's float
+    // map (origin -1.65 and spacing 0.3 are not floats), times the ramp's slope of up to 16 per
+    // cell: measured 3.8e-5; 5.9e-6 with the fixture moved to origin -1.5, spacing 0.25 (floats).
     expectLookupEqualsQuery(noEdges, "the same volume without its shadow edges", 5e-4);
     expectLookupEqualsQuery(v, "baked sh:4 volume with depth moments, 3 listed lights, shadow edges and strips", 5e-4);
 }
