@@ -21,7 +21,8 @@
 //   pi, 2 pi / 3, pi / 4, 0, -pi / 24).
 // - `--direct occlusion` volumes: plus, for each listed light, its exact unshadowed irradiance
 //   (point, spot, directional, polygon and mesh lights; docs/engines.md, "Direct light") times
-//   its visibility interpolated with the same weights.
+//   its visibility interpolated with the same weights, or, where the file has shadow edges,
+//   the edge model of query with those weights (vdblight_nanovdb_lights.h).
 // Culled volumes (`--cull-solids`) and other bases are not looked up (vdblight_nano_open sets
 // `supported` to false). Everything is float: volumes far from the origin lose precision here
 // where `query` works in double.
@@ -62,6 +63,7 @@
 #define VDBLIGHT_NANO_META_VALIDITY 9
 #define VDBLIGHT_NANO_META_DIMS 10
 #define VDBLIGHT_NANO_META_SH_KIND 13
+#define VDBLIGHT_NANO_META_SHADOW_EDGES 14
 #define VDBLIGHT_NANO_META_DIRECT_MODE 6
 #define VDBLIGHT_NANO_META_LIGHTS 16   // light i's record of 20 numbers at 16 + 20 i
 #define VDBLIGHT_NANO_LIGHT_FLOATS 20
@@ -79,6 +81,9 @@ struct vdblight_nano_volume_t {
     pnanovdb_grid_handle_t meta;                               // vdblight_meta (lights)
     pnanovdb_address_t visibility0;                            // level 0's visibility of light 0, node 0 (occlusion)
     pnanovdb_uint32_t visibility_stride;                       // bytes from a light's array to the next (4 x nodes)
+    pnanovdb_int32_t shadow_edges;                             // 0 none, 1 nearest edges, 2 and strips
+    pnanovdb_address_t edges0;                                 // light 0's edge distances, node 0 (then its widths)
+    pnanovdb_address_t strips0;                                // light 0's strips (direction xyz, far), node 0
 };
 PNANOVDB_STRUCT_TYPEDEF(vdblight_nano_volume_t)
 
@@ -136,6 +141,10 @@ VDBLIGHT_NANO_FN vdblight_nano_volume_t vdblight_nano_open(pnanovdb_buf_t buf) {
     g = vdblight_nano_next(buf, g, 1u);
     v.visibility0 = g.address;
     v.visibility_stride = 0u;
+    v.shadow_edges = pnanovdb_float_to_int32(vdblight_nano_meta(buf, v.meta, VDBLIGHT_NANO_META_SHADOW_EDGES));
+    if (v.visibility <= 0) v.shadow_edges = 0;
+    v.edges0 = g.address;
+    v.strips0 = g.address;
     for (pnanovdb_int32_t l = 0; l < VDBLIGHT_NANO_MAX_LEVELS; ++l) {
         v.first[l] = g;
         v.channels0[l] = g.address;
@@ -151,6 +160,10 @@ VDBLIGHT_NANO_FN vdblight_nano_volume_t vdblight_nano_open(pnanovdb_buf_t buf) {
             pnanovdb_uint32_t arrays = pnanovdb_int32_as_uint32(v.channels + (v.depth != 0 ? 4 : 0));
             v.visibility0 = pnanovdb_address_offset_product(v.channels0[0], v.stride[0], arrays);
             v.visibility_stride = 4u * nodes;
+            // After the visibility: per light N distances and N widths, then per light N strips.
+            pnanovdb_uint32_t lights = pnanovdb_int32_as_uint32(v.visibility);
+            v.edges0 = pnanovdb_address_offset_product(v.visibility0, v.visibility_stride, lights);
+            v.strips0 = pnanovdb_address_offset_product(v.edges0, v.visibility_stride, 2u * lights);
         }
         g = vdblight_nano_next(buf, g, 1u);
         v.refined[l] = g;
@@ -322,7 +335,7 @@ VDBLIGHT_NANO_FN float vdblight_nano_sh_y(pnanovdb_int32_t j, pnanovdb_vec3_t n,
     return 0.625835735f * (x2 * x2 - 6.0f * x2 * y2 + y2 * y2);
 }
 
-#include "vdblight_nanovdb_lights.h"  // vdblight_nano_light_irradiance
+#include "vdblight_nanovdb_lights.h"  // vdblight_nano_light_irradiance, vdblight_nano_edge_visibility
 
 // Irradiance (W/m^2 per colour) at world point x for unit normal n; (0, 0, 0) for a volume
 // this lookup does not read (v.supported false).
@@ -369,8 +382,11 @@ VDBLIGHT_NANO_FN pnanovdb_vec3_t vdblight_nano_irradiance(pnanovdb_buf_t buf, PN
         corner[c] = pnanovdb_address_offset_product(PNANOVDB_DEREF(v).visibility0, 4u, node[c]);
     for (pnanovdb_int32_t i = 0; i < PNANOVDB_DEREF(v).visibility; ++i) {
         float vis = 0.0f;
-        for (pnanovdb_int32_t c = 0; c < 8; ++c)
-            vis += cell.w[c] * pnanovdb_read_float(buf, pnanovdb_address_offset_product(corner[c], PNANOVDB_DEREF(v).visibility_stride, pnanovdb_int32_as_uint32(i)));
+        if (PNANOVDB_DEREF(v).shadow_edges > 0)
+            vis = vdblight_nano_edge_visibility(buf, v, PNANOVDB_REF(cell), node, x, i);
+        else
+            for (pnanovdb_int32_t c = 0; c < 8; ++c)
+                vis += cell.w[c] * pnanovdb_read_float(buf, pnanovdb_address_offset_product(corner[c], PNANOVDB_DEREF(v).visibility_stride, pnanovdb_int32_as_uint32(i)));
         if (vis > 0.0f) e = pnanovdb_vec3_add(e, vdblight_nano_scale(vdblight_nano_light_irradiance(buf, v, i, x, n), vis));
     }
     return e;
@@ -386,11 +402,12 @@ VDBLIGHT_NANO_FN float vdblight_nano_light_visibility(pnanovdb_buf_t buf, PNANOV
     pnanovdb_readaccessor_init(PNANOVDB_REF(acc), pnanovdb_tree_get_root(buf, pnanovdb_grid_get_tree(buf, PNANOVDB_DEREF(v).first[0])));
     pnanovdb_address_t light = pnanovdb_address_offset_product(PNANOVDB_DEREF(v).visibility0, PNANOVDB_DEREF(v).visibility_stride,
                                                                pnanovdb_int32_as_uint32(i));
+    pnanovdb_uint32_t node[8];
+    for (pnanovdb_int32_t c = 0; c < 8; ++c)
+        node[c] = vdblight_nano_node_index(buf, PNANOVDB_REF(acc), vdblight_nano_corner(PNANOVDB_REF(cell), c));
+    if (PNANOVDB_DEREF(v).shadow_edges > 0) return vdblight_nano_edge_visibility(buf, v, PNANOVDB_REF(cell), node, x, i);
     float s = 0.0f;
-    for (pnanovdb_int32_t c = 0; c < 8; ++c) {
-        pnanovdb_uint32_t node = vdblight_nano_node_index(buf, PNANOVDB_REF(acc), vdblight_nano_corner(PNANOVDB_REF(cell), c));
-        s += pnanovdb_read_float(buf, pnanovdb_address_offset_product(light, 4u, node)) * cell.w[c];
-    }
+    for (pnanovdb_int32_t c = 0; c < 8; ++c) s += pnanovdb_read_float(buf, pnanovdb_address_offset_product(light, 4u, node[c])) * cell.w[c];
     return s;
 }
 

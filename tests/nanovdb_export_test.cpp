@@ -2,7 +2,8 @@
 // shaders/vdblight_nanovdb.h, compiled as C (nanovdb_lookup_c.c):
 // - the lookup equals IrradianceQuery to 1e-5 relative at 10 000 random points and normals,
 //   for uniform and multi-level volumes, with and without depth moments;
-// - the light visibility it interpolates equals the occlusion lookup's;
+// - the light visibility it interpolates equals the occlusion lookup's, with the shadow edges
+//   and strips of a bake (docs/shadow_visibility.md) as without;
 // - the file holds every channel (in the blind data of one vdblight_nodes grid per level, whose
 //   values index it), the numbers and the metadata text;
 // - nanovdb_validate and nanovdb_print (libnanovdb-tools) accept the files;
@@ -13,11 +14,13 @@
 
 #include <nanovdb/util/IO.h>
 
+#include "baked_edges_volume.h"
 #include "cli_util.h"
 #include "expect_throw.h"
 #include "nanovdb_lookup_c.h"
 #include "random_volumes.h"
 #include "test_util.h"
+#include "basis/shadow_edges.h"
 #include "vdblight/basis/basis.h"
 #include "query/channel_lookup.h"
 #include "vdblight/core/errors.h"
@@ -189,6 +192,107 @@ TEST(NanoVdbLookup, AddsTheListedLightsTimesTheirVisibility) {
     EXPECT_LE(worst, 2e-5);
 }
 
+/// The worst |difference| between the C lookup's visibility of each listed light and the
+/// occlusion lookup's at `count` random points (query locates them in double, the shader in float).
+double worstVisibilityDifference(const Volume& v, const uint32_t* buf, int count) {
+    Volume baked = v;  // the SH part alone
+    baked.direct = {};
+    baked.levels[0].lightVisibility.clear();
+    baked.levels[0].lightShadowEdges.clear();
+    const OcclusionLookup occlusion(std::make_unique<ChannelLookup>(baked, OutsidePolicy::Clamp), v);
+    const std::size_t lights = v.direct.lights.size();
+    std::vector<float> expected(lights);
+    double worst = 0;
+    for (const Probe& p : randomProbes(IrradianceQuery(v).bounds(), count, 3)) {
+        occlusion.visibility(Vec3d(p.x), expected.data());
+        const float x[3] = {p.x.x, p.x.y, p.x.z};
+        for (std::size_t i = 0; i < lights; ++i)
+            worst = std::max(worst, double(std::fabs(vdblightNanoLightVisibility(buf, x, int(i)) - expected[i])));
+    }
+    return worst;
+}
+
+/// With the shadow edges of a bake (nearest edges and strips) the lookup's visibility is
+/// query's edge model (shadow_edges.h), not the trilinear blend of the visibility: the same
+/// tolerances as without edges.
+TEST(NanoVdbLookup, KeepsTheShadowEdgesAndStripsOfABake) {
+    const Volume v = test::bakedEdgesVolume();
+    const std::vector<float>& edges = v.levels[0].lightShadowEdges;
+    ASSERT_EQ(v.direct.lights.size(), 3u);
+    ASSERT_EQ(edges.size(), v.levels[0].grid.nodeCount() * 3 * shadow_edge::kFloatsPerLight);
+    int strips = 0, penumbrae = 0, hard = 0;
+    for (std::size_t p = 0; p < edges.size(); p += shadow_edge::kFloatsPerLight) {
+        const bool inRange = std::fabs(edges[p + shadow_edge::kDistance]) < shadow_edge::kRange;
+        strips += edges[p + shadow_edge::kFar] > 0.0f;
+        penumbrae += inRange && edges[p + shadow_edge::kWidth] > 0.0f && edges[p + shadow_edge::kWidth] < shadow_edge::kNoEdge;
+        hard += inRange && edges[p + shadow_edge::kWidth] == 0.0f;
+    }
+    std::printf("[ baked edges ] %zu nodes x 3 lights: %d with a strip, %d edges with a penumbra, %d hard edges\n",
+                v.levels[0].grid.nodeCount(), strips, penumbrae, hard);
+    ASSERT_GT(strips, 0) << "the fixture must have strips";
+    ASSERT_GT(penumbrae, 0);
+    ASSERT_GT(hard, 0);
+
+    TempDir dir;
+    exportNanoVdb(v, dir.file("e.nvdb"));
+    const std::vector<uint64_t> words = loadGrids(dir.file("e.nvdb"));
+    const uint32_t* buf = reinterpret_cast<const uint32_t*>(words.data());
+    {  // the arrays after the 3 visibility arrays: 3 x (distances, widths), then 3 strips of 4 floats
+        const auto handles = nanovdb::io::readGrids<nanovdb::HostBuffer, std::vector>(dir.file("e.nvdb"));
+        const std::size_t nodes = v.levels[0].grid.nodeCount();
+        const nanovdb::GridBlindMetaData& blind = handles[1].template grid<uint32_t>()->blindMetaData(0);
+        ASSERT_EQ(blind.mElementCount, nodes * ((25 + 4) * 3 + 3 + 3 * 2 + 3 * 4));
+        const float* channels = blind.template getBlindData<float>();
+        const std::size_t node = v.levels[0].grid.index(5, 2, 7), edgesAt = nodes * (29 * 3 + 3);
+        const float* edge = edges.data() + (node * 3 + 2) * shadow_edge::kFloatsPerLight;  // light 2's
+        EXPECT_EQ(channels[edgesAt + 4 * nodes + node], edge[shadow_edge::kDistance]);
+        EXPECT_EQ(channels[edgesAt + 5 * nodes + node], edge[shadow_edge::kWidth]);
+        EXPECT_EQ(channels[edgesAt + 6 * nodes + (2 * nodes + node) * 4 + 1], edge[shadow_edge::kDirectionY]);
+        EXPECT_EQ(channels[edgesAt + 6 * nodes + (2 * nodes + node) * 4 + 3], edge[shadow_edge::kFar]);
+        const auto* meta = handles[0].template grid<float>();
+        EXPECT_EQ(meta->tree().getValue(nanovdb::Coord(nanovdb_meta::kShadowEdges, 0, 0)), 2.0f);
+        const std::string text = meta->blindMetaData(0).template getBlindData<char>();
+        EXPECT_NE(text.find("\nshadow_edges=2\nlight_arrays=light_visibility_0,light_visibility_1,light_visibility_2,"
+                            "light_edge_distance_0,light_edge_width_0,light_edge_distance_1,light_edge_width_1,"
+                            "light_edge_distance_2,light_edge_width_2,light_edge_strip_0,light_edge_strip_1,light_edge_strip_2\n"),
+                  std::string::npos)
+            << text;
+    }
+    Volume oneEdge = v;  // without the strips, and without any edge: other answers
+    for (std::size_t p = 0; p < edges.size(); p += shadow_edge::kFloatsPerLight) oneEdge.levels[0].lightShadowEdges[p + shadow_edge::kFar] = 0.0f;
+    Volume noEdges = v;
+    noEdges.levels[0].lightShadowEdges.clear();
+    const double worst = worstVisibilityDifference(v, buf, 10000);
+    exportNanoVdb(oneEdge, dir.file("one.nvdb"));
+    const std::vector<uint64_t> oneWords = loadGrids(dir.file("one.nvdb"));
+    const double worstOne = worstVisibilityDifference(oneEdge, reinterpret_cast<const uint32_t*>(oneWords.data()), 10000);
+    const auto oneHandles = nanovdb::io::readGrids<nanovdb::HostBuffer, std::vector>(dir.file("one.nvdb"));
+    EXPECT_EQ(oneHandles[0].template grid<float>()->tree().getValue(nanovdb::Coord(nanovdb_meta::kShadowEdges, 0, 0)), 1.0f);
+    EXPECT_EQ(oneHandles[1].template grid<uint32_t>()->blindMetaData(0).mElementCount,
+              v.levels[0].grid.nodeCount() * ((25 + 4) * 3 + 3 + 3 * 2))
+        << "without strips the file has no strip arrays";
+    const double stripsMatter = worstVisibilityDifference(oneEdge, buf, 10000), edgesMatter = worstVisibilityDifference(noEdges, buf, 10000);
+    std::printf("[ baked edges ] visibility: worst |difference| %.3g with strips, %.3g with one edge; the strips change it "
+                "by up to %.3g, the edges by %.3g\n", worst, worstOne, stripsMatter, edgesMatter);
+    // As without edges, query's weights in double against the shader's in float, the rounding
+    // amplified by the depth weights' Chebyshev bound (AddsTheListedLightsTimesTheirVisibility:
+    // 5e-6) and now also by the edge's ramp, whose slope is up to 16 per cell (a hard edge:
+    // shadow_edge::kMinWidth) on a blended distance of up to 3 cells. Measured 9.1e-5 here;
+    // with every width raised to 1 cell 1.3e-5, without the depth moments 1.5e-5.
+    EXPECT_LE(worst, 2e-4);
+    EXPECT_LE(worstOne, 2e-4);
+    EXPECT_GT(stripsMatter, 0.1) << "the fixture's strips must change the answer somewhere";
+    EXPECT_GT(edgesMatter, 0.1);
+    // Irradiance: query's shared cell has the shader's float weights (the SH part is bit for bit),
+    // so what is left is the lights' float formulas (AddsTheListedLightsTimesTheirVisibility:
+    // 9.7e-6 here without the edges) and, in a strip's cells, the corner offsets, which query
+    // measures in double from the double transform and the shader in float from the grid's float
+    // map (origin -1.65 and spacing 0.3 are not floats), times the ramp's slope of up to 16 per
+    // cell: measured 3.8e-5; 5.9e-6 with the fixture moved to origin -1.5, spacing 0.25 (floats).
+    expectLookupEqualsQuery(noEdges, "the same volume without its shadow edges", 5e-4);
+    expectLookupEqualsQuery(v, "baked sh:4 volume with depth moments, 3 listed lights, shadow edges and strips", 5e-4);
+}
+
 /// vdblight_meta and one vdblight_nodes grid (the node's index in its channel arrays, which ride
 /// in its blind data, channel-major); the numbers and text of vdblight_meta.
 TEST(NanoVdbExport, WritesEveryChannelAndTheMetadata) {
@@ -263,12 +367,14 @@ TEST(NanoVdbExport, LevelsHaveTheirGridsAndRefinedMasks) {
     EXPECT_EQ(handles[3].template grid<uint32_t>()->blindMetaData(0).mElementCount, v.levels[1].activeNodes.size() * 13 * 3);
 }
 
-/// nanovdb_validate and nanovdb_print (libnanovdb-tools) accept a uniform and a multi-level export.
+/// nanovdb_validate and nanovdb_print (libnanovdb-tools) accept a uniform, a multi-level export
+/// and one with shadow edges and strips.
 TEST(NanoVdbExport, NanoVdbToolsAcceptTheFiles) {
     TempDir dir;
     exportNanoVdb(occlusionVolume(), dir.file("u.nvdb"));
     exportNanoVdb(levelsSh(LayoutKind::Adaptive, 3, shBasis(4), true), dir.file("l.nvdb"));
-    for (const char* name : {"u.nvdb", "l.nvdb"}) {
+    exportNanoVdb(test::bakedEdgesVolume(), dir.file("e.nvdb"));
+    for (const char* name : {"u.nvdb", "l.nvdb", "e.nvdb"}) {
         const std::string file = dir.file(name);
         const std::string out = dir.file("out.txt");
         EXPECT_EQ(std::system(("nanovdb_validate -v " + file + " > " + out + " 2>&1").c_str()), 0) << readTextFile(out);

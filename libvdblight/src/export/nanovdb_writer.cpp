@@ -12,7 +12,9 @@
 #include <nanovdb/util/GridBuilder.h>
 #include <nanovdb/util/IO.h>
 
+#include "basis/shadow_edges.h"
 #include "core/grid_index.h"
+#include "export_internal.h"
 #include "vdblight/core/atomic_file.h"
 #include "vdblight/basis/depth_moments.h"
 #include "vdblight/core/errors.h"
@@ -84,6 +86,29 @@ void setBlindData(nanovdb::NanoGrid<Value>* grid, const char* name, nanovdb::Gri
     std::memcpy(out, data, bytes);
 }
 
+/// What the file holds of the shadow edges (nanovdb_meta::kShadowEdges): 0 none, 1 each node's
+/// nearest edge, 2 also the strips' second edge (some node of the volume has one).
+int shadowEdgeKind(const Volume& v) {
+    if (!v.direct.hasVisibility() || v.levels[0].lightShadowEdges.empty()) return 0;
+    return exporter::hasShadowStrips(v) ? 2 : 1;
+}
+
+/// The names of level 0's per-light arrays, in file order (the `.vdb`'s grid names and, for the
+/// strips, the texture export's: docs/shadow_visibility.md).
+std::vector<std::string> lightArrayNames(const Volume& v) {
+    std::vector<std::string> names;
+    if (!v.direct.hasVisibility()) return names;
+    const std::size_t m = v.direct.lights.size();
+    const int edges = shadowEdgeKind(v);
+    for (std::size_t i = 0; i < m; ++i) names.push_back("light_visibility_" + std::to_string(i));
+    for (std::size_t i = 0; edges > 0 && i < m; ++i) {
+        names.push_back(shadow_edge::distanceGridName(i));
+        names.push_back(shadow_edge::widthGridName(i));
+    }
+    for (std::size_t i = 0; edges > 1 && i < m; ++i) names.push_back("light_edge_strip_" + std::to_string(i));
+    return names;
+}
+
 /// The SH order of sh2 and of sh:1 .. sh:9, -1 for other bases.
 int shOrder(const BasisDesc& basis) {
     const int order = basis.shOrder();
@@ -98,7 +123,11 @@ std::string metadataText(const Volume& v) {
     s << "format=vdblight-nanovdb " << nanovdb_meta::kVersionValue << "\nbasis=" << v.basis.kind << "\nchannels=";
     for (int c = 0; c < v.basis.channelCount(); ++c) s << (c ? "," : "") << v.basis.channelNames[std::size_t(c)];
     s << "\nlevels=" << v.levels.size() << "\nrefine=" << v.refineFactor() << "\ndepth_moments=" << (v.hasDepth() ? 1 : 0)
-      << "\ndirect=" << directModeName(v.direct.mode) << "\ndirect_lights=" << v.direct.lights.size() << "\n";
+      << "\ndirect=" << directModeName(v.direct.mode) << "\ndirect_lights=" << v.direct.lights.size()
+      << "\nshadow_edges=" << shadowEdgeKind(v) << "\nlight_arrays=";
+    const std::vector<std::string> arrays = lightArrayNames(v);
+    for (std::size_t i = 0; i < arrays.size(); ++i) s << (i ? "," : "") << arrays[i];
+    s << "\n";
     for (std::size_t i = 0; i < v.direct.lights.size(); ++i)
         s << "direct_light_" << i << "=" << formatDirectLight(v.direct.lights[i]) << "\n";
     for (const auto& [key, value] : v.meta) {
@@ -149,6 +178,7 @@ Handle metaGrid(const Volume& v, const std::string& text) {
     field[nanovdb_meta::kDimsY] = float(v.levels[0].grid.ny);
     field[nanovdb_meta::kDimsZ] = float(v.levels[0].grid.nz);
     field[nanovdb_meta::kShKind] = v.basis.isSh2() ? 1.0f : 0.0f;
+    field[nanovdb_meta::kShadowEdges] = float(shadowEdgeKind(v));
     appendLights(v.direct.lights, field);
 
     const uint64_t padded = alignedBlindSize(text.size() + 1);
@@ -161,10 +191,33 @@ Handle metaGrid(const Volume& v, const std::string& text) {
     return handle;
 }
 
+/// Level 0's shadow-edge arrays of an occlusion volume (levelChannels), appended to `out`.
+void appendShadowEdges(const Volume& v, std::vector<float>& out) {
+    const int kind = shadowEdgeKind(v);
+    if (kind == 0) return;
+    const VolumeLevel& level = v.levels[0];
+    const std::size_t n = level.storedNodes(), m = v.direct.lights.size();
+    const auto edge = [&](std::size_t node, std::size_t light) {
+        return level.lightShadowEdges.data() + (level.held(node) * m + light) * shadow_edge::kFloatsPerLight;
+    };
+    for (std::size_t light = 0; light < m; ++light)
+        for (int part : {shadow_edge::kDistance, shadow_edge::kWidth})
+            for (std::size_t i = 0; i < n; ++i) out.push_back(edge(i, light)[part]);
+    if (kind < 2) return;
+    for (std::size_t light = 0; light < m; ++light)
+        for (std::size_t i = 0; i < n; ++i) {
+            const float* e = edge(i, light);
+            out.insert(out.end(), {e[shadow_edge::kDirectionX], e[shadow_edge::kDirectionY], e[shadow_edge::kDirectionZ],
+                                   e[shadow_edge::kFar]});
+        }
+}
+
 /// The channel arrays of a level, channel-major so that a shader steps from one channel to the
 /// next by one stride (N nodes x 12 bytes): the basis channels and then the four depth
 /// channels, N RGB / xyz triples each, in stored node order; then (level 0 of an occlusion
-/// volume) N visibility values per listed light.
+/// volume) N visibility values per listed light, and with shadow edges (shadow_edges.h) per
+/// light N distances and N widths, then, where some node has a strip, per light N (direction
+/// x, y, z, far) quadruples: lightArrayNames' order.
 std::vector<float> levelChannels(const Volume& v, std::size_t l) {
     const VolumeLevel& level = v.levels[l];
     const std::size_t n = level.storedNodes();
@@ -186,6 +239,7 @@ std::vector<float> levelChannels(const Volume& v, std::size_t l) {
         const std::size_t m = v.direct.lights.size();
         for (std::size_t light = 0; light < m; ++light)
             for (std::size_t i = 0; i < n; ++i) out.push_back(level.lightVisibility[level.held(i) * m + light]);
+        appendShadowEdges(v, out);
     }
     return out;
 }

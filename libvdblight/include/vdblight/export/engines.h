@@ -171,7 +171,9 @@ enum Field : int {
     kDimsY = 11,
     kDimsZ = 12,
     kShKind = 13,        ///< 0: sh:N; 1: sh2 (its lookup folds A_l into the coefficients first: other bits)
-    kFieldCount = 16,    ///< 14, 15 reserved (0)
+    kShadowEdges = 14,   ///< 0 none; 1 per light an edge distance and width array after the visibility
+                         ///< arrays; 2 also per light a strip array (direction xyz, far) after those
+    kFieldCount = 16,    ///< 15 reserved (0)
 };
 /// The listed lights as numbers, for a shader: light i's record of kLightFloats values starts at
 /// voxel kFieldCount + kLightFloats i: kind (0 point, 1 spot, 2 directional, 3 polygon, 4 mesh),
