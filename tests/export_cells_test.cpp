@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iterator>
 
+#include "bar_scene.h"
 #include "cli_util.h"
 #include "manifest_util.h"
 #include "random_volumes.h"
@@ -269,6 +270,55 @@ TEST(ExportCells, AdaptiveDepthTexturesOnTheFinestLattice) {
     std::size_t cells = 0;
     for (const auto& e : fs::directory_iterator(dir.file("memory"))) cells += e.is_directory();
     expectSameFiles(dir.file("memory"), dir.file("streamed"), cells * (textures.size() + 1) + 1u);
+}
+
+// The default bake (--direct occlusion, depth moments) of a light whose shadow is a strip
+// narrower than a cell (bar_scene.h): every cell holds the whole export's shadow-edge and strip
+// textures over its region, texel for texel, lists them in the same textures and "direct"
+// entries of its manifest, in each layout --cells takes, half or float, and streamed too.
+TEST(ExportCells, ShadowEdgesAndStripsInEveryCell) {
+    test::TempDir dir;
+    const std::string vdb = dir.file("v.vdb");
+    ASSERT_EQ(test::runCli("bake -q -o " + vdb + " --bounds -0.5,0,-0.5,0.5,0.4,0.5 --resolution 9 --rays 16 --bounces 1 "
+                           "--depth-moments --direct occlusion " + test::barScene(dir)).status, 0);
+    const Volume read = readVolume(vdb);
+    const std::vector<std::string> edges = {"light_edge_distance_0_0", "light_edge_width_0_0", "light_edge_ramp_0_0",
+                                            "light_edge_strip_0"};
+    for (const auto& [layout, half] : {std::pair{ExportLayout::Sh2Packed, true}, std::pair{ExportLayout::Sh2, false},
+                                       std::pair{ExportLayout::Sh1, true}, std::pair{ExportLayout::Basis, true}}) {
+        SCOPED_TRACE(layoutName(layout) + std::string(half ? " half" : " float"));
+        ExportOptions o;
+        o.layout = layout;
+        o.halfFloat = half;
+        exportTextures(read, dir.file("whole"), o);
+        const nlohmann::json whole = test::readManifest(dir.file("whole"));
+        // The bake made a strip, so the whole export has the four edge textures of its light.
+        ASSERT_EQ(whole["direct"]["shadow_edges"]["strips"]["textures"], nlohmann::json({"light_edge_strip_0"})) << whole;
+        ASSERT_EQ(whole["direct"]["shadow_edges"]["textures"], nlohmann::json(edges)) << whole;
+        std::vector<Texture> textures;
+        for (const std::string& name : edges) textures.emplace_back(name, half ? 8 : 16);
+        exportCells(IrradianceQuery(read), read, dir.file("memory"), o, 4);
+        expectCellsMatchWhole(dir.file("whole"), dir.file("memory"), textures, 4);
+        std::size_t cells = 0;
+        for (const auto& e : fs::directory_iterator(dir.file("memory"))) {
+            if (!e.is_directory()) continue;
+            const nlohmann::json manifest = test::readManifest(e.path().string());
+            EXPECT_EQ(manifest["textures"], whole["textures"]) << e.path();  // names, order, formats
+            EXPECT_EQ(manifest["direct"], whole["direct"]) << e.path();
+            ++cells;
+        }
+        int perAxis[3];
+        EXPECT_EQ(cells, readIndex(dir.file("memory"), perAxis).size());
+        EXPECT_GT(cells, 1u);
+        // Streamed, with the leaves dropped after every cell: the same files (one layout: the
+        // edges do not depend on it, and each file written costs an fsync).
+        if (layout == ExportLayout::Sh2Packed) {
+            auto streamed = std::make_shared<StreamedVolume>(vdb);
+            exportCells(makeStreamingQuery(streamed, OutsidePolicy::Clamp), *streamed, dir.file("streamed"), o, 4, 1);
+            expectSameFiles(dir.file("memory"), dir.file("streamed"), cells * (whole["textures"].size() + 1) + 1u);
+        }
+        for (const char* d : {"whole", "memory", "streamed"}) fs::remove_all(dir.file(d));
+    }
 }
 
 TEST(ExportCells, RefusesWhatCellsDoNotCarryAndLeavesNothing) {

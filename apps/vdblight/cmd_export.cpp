@@ -142,7 +142,8 @@ void addExportCommand(CLI::App& app) {
     cmd->add_option("--cells", c->cells,
                     "Cut the textures into streaming cells of K lattice steps per edge: OUTDIR/cell_<a>_<b>_<c>/ with "
                     "textures + manifest.json each and OUTDIR/cells.json as index; neighbours share a texel plane "
-                    "(SH layouts and basis, with the light visibility and depth textures; large volumes are streamed, not read whole)")
+                    "(SH layouts and basis, with the light visibility, shadow-edge and depth textures; large volumes are "
+                    "streamed, not read whole)")
         ->check(CLI::Range(1, 1 << 20));
     cmd->add_option("--preset", c->preset,
                     "Everything one engine needs (format, layout, axes, units, file split; docs/engines.md): unity, "

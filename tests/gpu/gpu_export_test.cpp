@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 
+#include "bar_scene.h"
 #include "cli_util.h"
 #include "gpu/doc_blocks.h"
 #include "gpu/export_loader.h"
@@ -84,19 +85,6 @@ const std::map<std::string, std::string>& bakeOptions() {
     return options;
 }
 
-// A small square lamp 1.6 m up, facing down, over a bar 4 cm wide 0.9 m up: below it, on the
-// 0.125 m lattice of "strips.vdb", the bar's shadow is a strip about half a cell wide, whose two
-// edges the nodes on either side hold as a second edge (docs/shadow_visibility.md). Written
-// into `dir`; returns the OBJ's path.
-std::string barScene(const test::TempDir& dir) {
-    std::ofstream(dir.file("bar.mtl")) << "newmtl grey\nKd 0.5 0.5 0.5\nnewmtl lamp\nKd 0 0 0\nKe 2000 2000 2000\n";
-    std::ofstream(dir.file("bar.obj")) << "mtllib bar.mtl\n"
-                                          "v -0.01 1.6 -0.01\nv 0.01 1.6 -0.01\nv 0.01 1.6 0.01\nv -0.01 1.6 0.01\n"
-                                          "v -0.6 0.9 0.0\nv 0.6 0.9 0.0\nv 0.6 0.9 0.04\nv -0.6 0.9 0.04\n"
-                                          "usemtl lamp\nf 1 2 3\nf 1 3 4\nusemtl grey\nf 5 6 7\nf 5 7 8\n";
-    return dir.file("bar.obj");
-}
-
 class GpuExport : public ::testing::TestWithParam<std::size_t> {
 protected:
     static void TearDownTestSuite() { dir_.reset(); }
@@ -106,7 +94,7 @@ protected:
         const std::string path = dir_->file(name);
         if (!std::filesystem::exists(path)) {
             std::string log;
-            const std::string scene = name == "strips.vdb" ? " " + barScene(*dir_) : "";
+            const std::string scene = name == "strips.vdb" ? " " + test::barScene(*dir_) : "";
             if (test::runCommand(test::cliPath() + " bake -q -o " + path + " " + bakeOptions().at(name) + scene, &log) != 0)
                 throw std::runtime_error("bake of " + name + " failed: " + log);
         }

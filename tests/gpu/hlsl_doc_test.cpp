@@ -1,7 +1,7 @@
-// Every HLSL block of the engine pages (docs/engine*.md), read when the test runs, compiles with glslangValidator's
-// HLSL front end (issue 33: no HLSL driver runs here, so this is what can be checked). Each
-// block is wrapped in a tiny compute entry point that calls every `float3 F(float3, float3)`
-// function the block defines and writes the result, so nothing is compiled away unchecked.
+// Every HLSL block of the engine pages (docs/engine*.md) and of docs/shadow_visibility.md, read when the test runs,
+// compiles with glslangValidator's HLSL front end (issue 33: no HLSL driver runs here, so this is what can be
+// checked). Each block is wrapped in a tiny compute entry point that calls every `float3 F(float3, float3)` and
+// `float F(float3)` function the block defines and writes the result, so nothing is compiled away unchecked.
 // A block that #includes headers (the NanoVDB lookup: PNanoVDB.h and shaders/) is a whole
 // shader with its own `main`: a C preprocessor expands it first, because glslang's own
 // rejects a 64-bit literal that PNanoVDB.h defines (and never uses); DXC's, clang's, takes it.
@@ -17,23 +17,26 @@ using namespace vdblight;
 
 namespace {
 
-// The functions of a block that an engine calls: float3 Name(float3 a, float3 b).
+// The functions of a block that an engine calls, each with the arguments and the float4 it is
+// written as: float3 Name(float3 x, float3 n) (irradiance) and float Name(float3 x) (a light's
+// visibility, docs/shadow_visibility.md).
 std::vector<std::string> entryFunctions(const std::string& block) {
-    static const std::regex signature(R"(\nfloat3 (\w+)\(float3 \w+, float3 \w+\))");
-    std::vector<std::string> names;
-    for (auto it = std::sregex_iterator(block.begin(), block.end(), signature); it != std::sregex_iterator(); ++it)
-        names.push_back((*it)[1]);
-    return names;
+    static const std::regex irradiance(R"(\nfloat3 (\w+)\(float3 \w+, float3 \w+\))"), visibility(R"(\nfloat (\w+)\(float3 \w+\))");
+    std::vector<std::string> calls;
+    for (auto it = std::sregex_iterator(block.begin(), block.end(), irradiance); it != std::sregex_iterator(); ++it)
+        calls.push_back("float4(" + (*it)[1].str() + "(x, n), 0)");
+    for (auto it = std::sregex_iterator(block.begin(), block.end(), visibility); it != std::sregex_iterator(); ++it)
+        calls.push_back("float4(" + (*it)[1].str() + "(x), 0, 0, 0)");
+    return calls;
 }
 
-// `block` wrapped in a compute shader `main` that calls `functions`.
-std::string wrapped(const std::string& block, const std::vector<std::string>& functions) {
+// `block` wrapped in a compute shader `main` that writes `calls`.
+std::string wrapped(const std::string& block, const std::vector<std::string>& calls) {
     std::string s = block + "\nRWStructuredBuffer<float4> vdblightOut;\n[numthreads(64, 1, 1)]\n"
                             "void main(uint3 id : SV_DispatchThreadID)\n{\n"
                             "    float3 x = float3(id) * 0.01, n = normalize(float3(0.3, -0.5, 0.8));\n";
-    for (std::size_t k = 0; k < functions.size(); ++k)
-        s += "    vdblightOut[id.x * " + std::to_string(functions.size()) + " + " + std::to_string(k) + "] = float4(" +
-             functions[k] + "(x, n), 0);\n";
+    for (std::size_t k = 0; k < calls.size(); ++k)
+        s += "    vdblightOut[id.x * " + std::to_string(calls.size()) + " + " + std::to_string(k) + "] = " + calls[k] + ";\n";
     return s + "}\n";
 }
 
@@ -58,8 +61,13 @@ TEST(HlslDoc, EveryBlockCompilesWithGlslangsHlslFrontEnd) {
     const std::string validator = VDBLIGHT_GLSLANG;
     ASSERT_FALSE(validator.empty() || validator.find("NOTFOUND") != std::string::npos)
         << "glslangValidator not found: scripts/setup.sh installs glslang-tools";
-    const std::vector<std::string> blocks = gpu::fencedBlocks(gpu::readEngineDocs(), "hlsl");
+    const std::vector<std::string> blocks =
+        gpu::fencedBlocks(gpu::readEngineDocs() + gpu::readDoc("shadow_visibility.md"), "hlsl");
     ASSERT_GE(blocks.size(), 3u) << "docs/engine*.md: the sh2-packed, sh:N and visibility-aware HLSL";
+    // The shadow edges' second edge (issue 32: "the exports carry it, with a shader"): the twin
+    // of the strips GLSL, compiled below like every block.
+    EXPECT_NO_THROW(gpu::blockDeclaring(blocks, "float VdblightStripVisibility(float3 uvw, float filtered)"))
+        << "docs/shadow_visibility.md: the HLSL of the strips lookup";
     test::TempDir dir;
     int compiled = 0;
     int whole = 0;
@@ -71,7 +79,8 @@ TEST(HlslDoc, EveryBlockCompilesWithGlslangsHlslFrontEnd) {
             continue;
         }
         const std::vector<std::string> functions = entryFunctions(blocks[b]);
-        ASSERT_FALSE(functions.empty()) << "HLSL block " << b << " defines no float3 F(float3, float3):\n" << blocks[b];
+        ASSERT_FALSE(functions.empty()) << "HLSL block " << b << " defines no float3 F(float3, float3) or float F(float3):\n"
+                                        << blocks[b];
         const std::string file = dir.file("block" + std::to_string(b) + ".hlsl");
         std::ofstream(file) << wrapped(blocks[b], functions);
         // The sh:N block is compiled for every order it documents; the others as written.
@@ -92,5 +101,5 @@ TEST(HlslDoc, EveryBlockCompilesWithGlslangsHlslFrontEnd) {
         }
     }
     EXPECT_GE(whole, 1) << "docs/engines.md: the NanoVDB lookup's HLSL (a block that #includes PNanoVDB.h)";
-    std::printf("%zu HLSL blocks of the engine pages (%d whole shaders), %d compilations\n", blocks.size(), whole, compiled);
+    std::printf("%zu HLSL blocks of the engine pages and shadow_visibility.md (%d whole shaders), %d compilations\n", blocks.size(), whole, compiled);
 }

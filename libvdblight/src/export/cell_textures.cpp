@@ -7,6 +7,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "basis/shadow_edges.h"
 #include "vdblight/basis/depth_moments.h"
 
 namespace vdblight::exporter {
@@ -96,6 +97,22 @@ std::vector<std::vector<float>> cellDepthTextures(const FinestNodeDepth& depth, 
                         texel[2] = d[depth::kSigmaPositive * 3 + a];
                         texel[3] = d[depth::kSigmaNegative * 3 + a];
                     }
+                }
+    });
+    return out;
+}
+
+std::vector<std::vector<float>> cellEdgeTextures(const NodeShadowEdges& edges, const CellRange& cell, std::size_t lights,
+                                                 bool withRamp, bool withStrips) {
+    const std::size_t textures = (withRamp ? 3 : 2) * ((lights + 3) / 4) + (withStrips ? lights : 0);
+    std::vector<std::vector<float>> out(textures, std::vector<float>(cell.texels() * 4, 0.0f));
+    tbb::parallel_for(tbb::blocked_range<int>(0, cell.dims[2]), [&](const tbb::blocked_range<int>& r) {
+        std::vector<float> e(lights * shadow_edge::kFloatsPerLight);
+        for (int k = r.begin(); k < r.end(); ++k)
+            for (int j = 0; j < cell.dims[1]; ++j)
+                for (int i = 0; i < cell.dims[0]; ++i) {
+                    edges(cell.first[0] + i, cell.first[1] + j, cell.first[2] + k, e.data());
+                    packEdgeTexel(e.data(), lights, withRamp, withStrips, (std::size_t(k) * cell.dims[1] + j) * cell.dims[0] + i, out);
                 }
     });
     return out;

@@ -41,4 +41,13 @@ bool depthOnFinestNodes(const GridSpec& finest, const TextureLattice& lattice);
 /// no node), for a lattice on which depthOnFinestNodes holds.
 std::vector<std::vector<float>> cellDepthTextures(const FinestNodeDepth& depth, const CellRange& cell);
 
+/// Level 0's shadow edges at node (i, j, k) into out (shadow_edge::kFloatsPerLight floats per
+/// listed light, in VolumeLevel::lightShadowEdges's order).
+using NodeShadowEdges = std::function<void(int i, int j, int k, float* out)>;
+
+/// The shadow-edge textures (edgeTextures's texels, in edgeTextureDescs's order, through
+/// packEdgeTexel), for a single-level volume's lattice on which depthOnFinestNodes holds.
+std::vector<std::vector<float>> cellEdgeTextures(const NodeShadowEdges& edges, const CellRange& cell, std::size_t lights,
+                                                 bool withRamp, bool withStrips);
+
 }  // namespace vdblight::exporter

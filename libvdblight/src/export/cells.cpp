@@ -14,6 +14,7 @@
 #include "cell_textures.h"
 #include "export_internal.h"
 #include "staged_files.h"
+#include "basis/shadow_edges.h"
 #include "vdblight/basis/depth_moments.h"
 #include "vdblight/core/errors.h"
 
@@ -44,11 +45,14 @@ uint64_t writeTexture(TextureFormat format, const std::string& path, const Textu
 
 namespace {
 
-// The volume's part of a cell export: its header (basis, levels' grids, direct-light mode)
-// and, for the depth textures, the finest level's depth moments (null without them).
+// The volume's part of a cell export: its header (basis, levels' grids, direct-light mode),
+// for the depth textures the finest level's depth moments (null without them), and for the
+// edge textures level 0's shadow edges (null without them) and whether some node has a strip.
 struct CellSource {
     const Volume* header = nullptr;
     FinestNodeDepth depth;
+    NodeShadowEdges edges;
+    bool strips = false;  ///< hasShadowStrips of the whole volume: every cell lists the same textures
     std::function<void()> afterCell;  ///< called once a cell's files are staged (a streamed volume's leaves)
 };
 
@@ -88,10 +92,20 @@ CellsSummary exportCellsFrom(const IrradianceQuery& query, const CellSource& sou
     // the depth textures where the lattice is the finest level's nodes (else manifest -1).
     const std::vector<TextureDesc> visibilityDescs = visibilityTextures(header.direct);
     descs.insert(descs.end(), visibilityDescs.begin(), visibilityDescs.end());
+    // The shadow edges and strips where the whole export writes them (edgeTextures: a single
+    // level whose nodes are the lattice), before the depth textures. Every layout --cells
+    // takes has its ramp textures (only the engine-size layouts drop them, and cells refuse those).
+    const bool edges = source.edges && header.levels.size() == 1 && depthOnFinestNodes(header.levels[0].grid, whole);
+    const bool withRamp = !isCompactSh(o.layout);
+    const std::vector<TextureDesc> edgeDescs = edges ? edgeTextureDescs(header.direct, withRamp, source.strips)
+                                                     : std::vector<TextureDesc>();
+    std::vector<std::string> edgeNames;
+    for (const TextureDesc& d : edgeDescs) edgeNames.push_back(d.name);
+    descs.insert(descs.end(), edgeDescs.begin(), edgeDescs.end());
     const bool depth = source.depth && depthOnFinestNodes(header.levels.back().grid, whole);
     if (depth)
         for (TextureDesc& d : depthTextureDescs()) descs.push_back(std::move(d));
-    std::vector<TexelFormat> formats(layoutCount + visibilityDescs.size(), lightingTexelFormat(o.halfFloat));
+    std::vector<TexelFormat> formats(layoutCount + visibilityDescs.size() + edgeDescs.size(), lightingTexelFormat(o.halfFloat));
     formats.resize(descs.size(), depthTexelFormat(o.format, o.halfFloat));
 
     StagedFiles staging;
@@ -136,6 +150,9 @@ CellsSummary exportCellsFrom(const IrradianceQuery& query, const CellSource& sou
                 if (!visibilityDescs.empty())
                     for (auto& t : cellVisibilityTextures(*visibility, whole, range, header.direct.lights.size()))
                         textures.push_back(std::move(t));
+                if (edges)
+                    for (auto& t : cellEdgeTextures(source.edges, range, header.direct.lights.size(), withRamp, source.strips))
+                        textures.push_back(std::move(t));
                 if (depth)
                     for (auto& t : cellDepthTextures(source.depth, range)) textures.push_back(std::move(t));
                 ManifestInput manifest;
@@ -149,6 +166,7 @@ CellsSummary exportCellsFrom(const IrradianceQuery& query, const CellSource& sou
                 for (std::size_t t = layoutCount; t < layoutCount + visibilityDescs.size(); ++t)
                     manifest.visibilityTextures.push_back(descs[t].name);
                 manifest.depth = depth ? 1 : source.depth ? -1 : 0;
+                manifest.edgeTextures = edgeNames;
                 for (std::size_t t = 0; t < descs.size(); ++t) {
                     for (float v : textures[t])
                         if (o.halfFloat && !(std::abs(v) <= 65504.0f))
@@ -198,6 +216,14 @@ CellsSummary exportCells(const IrradianceQuery& query, const Volume& volume, con
             return true;
         };
     }
+    if (volume.levels.size() == 1 && !volume.levels[0].lightShadowEdges.empty()) {
+        const VolumeLevel& level = volume.levels[0];
+        const std::size_t floats = volume.direct.lights.size() * shadow_edge::kFloatsPerLight;
+        source.edges = [&level, floats](int i, int j, int k, float* out) {
+            std::copy_n(&level.lightShadowEdges[level.held(level.grid.index(i, j, k)) * floats], floats, out);
+        };
+        source.strips = hasShadowStrips(volume);
+    }
     return exportCellsFrom(query, source, outDir, options, cellSize);
 }
 
@@ -217,6 +243,11 @@ CellsSummary exportCells(const IrradianceQuery& query, StreamedVolume& volume, c
             volume.readDepth(finest, i, j, k, out);
             return true;
         };
+    }
+    if (volume.hasShadowEdges() && volume.header().levels.size() == 1) {
+        source.edges = [&volume](int i, int j, int k, float* out) { volume.readShadowEdges(i, j, k, out); };
+        source.strips = volume.hasShadowStrips();
+        source.afterCell();  // the far sides' leaves that scan read
     }
     return exportCellsFrom(query, source, outDir, options, cellSize);
 }

@@ -57,15 +57,21 @@ std::vector<std::vector<float>> edgeTextures(const Volume& volume, const Texture
     const std::size_t strips = withStrips ? lights : 0;
     std::vector<std::vector<float>> out((withRamp ? 3 : 2) * groups + strips, std::vector<float>(g.nodeCount() * 4, 0.0f));
     for (std::size_t n = 0; n < g.nodeCount(); ++n)
-        for (std::size_t l = 0; l < lights; ++l) {
-            const float* e = &level.lightShadowEdges[(n * lights + l) * shadow_edge::kFloatsPerLight];
-            const std::size_t texel = n * 4 + l % 4;
-            out[l / 4][texel] = e[0];
-            out[groups + l / 4][texel] = e[1];
-            if (withRamp) out[2 * groups + l / 4][texel] = shadow_edge::ramp(e[0], e[1]);
-            if (withStrips) std::copy_n(e + shadow_edge::kDirectionX, 4, &out[(withRamp ? 3 : 2) * groups + l][n * 4]);
-        }
+        packEdgeTexel(&level.lightShadowEdges[n * lights * shadow_edge::kFloatsPerLight], lights, withRamp, withStrips, n, out);
     return out;
+}
+
+void packEdgeTexel(const float* nodeEdges, std::size_t lights, bool withRamp, bool withStrips, std::size_t texel,
+                   std::vector<std::vector<float>>& out) {
+    const std::size_t groups = (lights + 3) / 4;
+    for (std::size_t l = 0; l < lights; ++l) {
+        const float* e = nodeEdges + l * shadow_edge::kFloatsPerLight;
+        const std::size_t at = texel * 4 + l % 4;
+        out[l / 4][at] = e[shadow_edge::kDistance];
+        out[groups + l / 4][at] = e[shadow_edge::kWidth];
+        if (withRamp) out[2 * groups + l / 4][at] = shadow_edge::ramp(e[shadow_edge::kDistance], e[shadow_edge::kWidth]);
+        if (withStrips) std::copy_n(e + shadow_edge::kDirectionX, 4, &out[(withRamp ? 3 : 2) * groups + l][texel * 4]);
+    }
 }
 
 }  // namespace vdblight::exporter

@@ -163,6 +163,12 @@ std::vector<TextureDesc> edgeTextureDescs(const DirectLightSet& direct, bool wit
 std::vector<std::vector<float>> edgeTextures(const Volume& volume, const TextureLattice& lattice, bool withRamp, bool withStrips);
 /// True if some node of the volume has a second edge (shadow_edges.h, kFar > 0).
 bool hasShadowStrips(const Volume& volume);
+/// Writes one node's texel of every edge texture (edgeTextures's order) at RGBA texel `texel`
+/// of `out`: `nodeEdges` the node's shadow_edge::kFloatsPerLight floats per light
+/// (VolumeLevel::lightShadowEdges's order). The whole export and the cells (cell_textures.h)
+/// share it, so that their texels are the same.
+void packEdgeTexel(const float* nodeEdges, std::size_t lights, bool withRamp, bool withStrips, std::size_t texel,
+                   std::vector<std::vector<float>>& out);
 /// The three depth textures: per texel point (a node) and axis a, RGBA = (mean of the +a
 /// face, mean of the -a face, sigma of +a, sigma of -a), in cells. Empty if the lattice is
 /// not exactly the nodes of a single-level volume with depth moments.

@@ -176,6 +176,25 @@ void StreamedVolume::readShadowEdges(int i, int j, int k, float* out) const {
             out[l * shadow_edge::kFloatsPerLight + part] = part < parts ? valueAt(*impl_->edges[part * lights + l], c, path_) : 0.0f;
 }
 
+bool StreamedVolume::hasShadowStrips() const {
+    const std::size_t lights = impl_->visibility.size();
+    if (lights == 0 || impl_->edges.size() / lights <= std::size_t(shadow_edge::kFar)) return false;  // files before the second edge
+    for (std::size_t l = 0; l < lights; ++l) {
+        const openvdb::FloatTree& far = *impl_->edges[std::size_t(shadow_edge::kFar) * lights + l];
+        for (auto leaf = far.cbeginLeaf(); leaf; ++leaf) {
+            if (leaf->buffer().isOutOfCore()) requireLeafHeadroom(path_);
+            for (auto v = leaf->cbeginValueOn(); v; ++v)
+                if (*v > 0.0f) return true;
+        }
+        // Active tiles above the leaves (a region of equal values the writer pruned).
+        auto tile = far.cbeginValueOn();
+        tile.setMaxDepth(tile.getLeafDepth() - 1);
+        for (; tile; ++tile)
+            if (*tile > 0.0f) return true;
+    }
+    return false;
+}
+
 namespace {
 template <class Tree>
 uint64_t countLeaves(const std::vector<const Tree*>& trees, bool onlyLoaded) {

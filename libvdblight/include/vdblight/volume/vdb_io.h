@@ -140,6 +140,10 @@ public:
     /// level-0 node (i, j, k), the values readVolume puts in lightShadowEdges.
     bool hasShadowEdges() const;
     void readShadowEdges(int i, int j, int k, float* out) const;
+    /// True if some node stores a second edge (a strip's far side, shadow_edges.h kFar > 0), as
+    /// export's edge textures need to know before the first cell. Reads the far sides' leaves
+    /// (one float per node and light) up to the first such node.
+    bool hasShadowStrips() const;
     /// Leaf buffers (over every grid opened) read from the file so far, and in all.
     uint64_t loadedLeaves() const;
     uint64_t totalLeaves() const;
