@@ -7,22 +7,32 @@
 // and, once, the query throughput per thread (random points and normals), for SH order 2 and
 // the default's SH order 4, each without and with depth moments, and the default volume (SH
 // order 4, depth moments, per-light visibility); beside each, the memory-bandwidth bound of the
-// same access pattern (lookup_bound.h), measured in the same run.
+// same access pattern (lookup_bound.h), measured in the same run; and beside each, the lookup
+// an engine runs on the same volume exported to NanoVDB (shaders/vdblight_nanovdb.h compiled as
+// C, tests/nanovdb_lookup_c.c) on the same inputs, with its worst difference to query.
 // `--quick` shrinks every workload for a CI smoke run; the figures are then noisy.
 // `--only query` runs the query rows alone (`--only bake`: the scenes alone).
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <unistd.h>
+
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
 #include <memory>
 #include <string>
+
+#include <nanovdb/util/IO.h>
 
 #include "vdblight/bake/each_pass.h"
 #include "vdblight/basis/basis.h"
 #include "query/channel_lookup.h"
 #include "vdblight/basis/depth_moments.h"
 #include "vdblight/core/errors.h"
+#include "vdblight/export/engines.h"
 #include "vdblight/query/query.h"
 #include "vdblight/scene/scene.h"
 #include "vdblight/trace/trace.h"
@@ -35,6 +45,7 @@
 #include "bench_scenes.h"
 #include "bench_util.h"
 #include "lookup_bound.h"
+#include "nanovdb_lookup_c.h"
 
 #include "support/scene_generators.h"
 
@@ -143,6 +154,72 @@ std::unique_ptr<VolumeLookup> previousOcclusionLookup(const Volume& volume, cons
     return occlusion;
 }
 
+/// The PNanoVDB lookup compiled as C (vdblightNanoIrradiance) on `volume` exported by
+/// exportNanoVdb, with a lookup's irradiance(x, n), so that bench::lookupRate times it as it
+/// times query. The export goes through a temporary file (removed at once) and is held as a
+/// renderer uploads it: the grid buffers back to back, in 64-bit words (PNanoVDB reads 64-bit
+/// values at 8-byte aligned offsets). Each call opens the volume (vdblight_nano_open reads the
+/// metadata grid), as the C entry point does.
+class NanoLookup {
+public:
+    explicit NanoLookup(const Volume& volume) {
+        const std::filesystem::path file =
+            std::filesystem::temp_directory_path() / ("vdblight_bench_" + std::to_string(::getpid()) + ".nvdb");
+        struct Remove {
+            const std::filesystem::path& path;
+            ~Remove() {
+                std::error_code ignored;
+                std::filesystem::remove(path, ignored);
+            }
+        } remove{file};
+        fileBytes_ = exportNanoVdb(volume, file.string()).bytes;
+        const auto handles = nanovdb::io::readGrids<nanovdb::HostBuffer, std::vector>(file.string());
+        std::size_t bytes = 0;
+        for (const auto& h : handles) bytes += h.size();
+        words_.resize((bytes + 7) / 8);
+        std::size_t at = 0;
+        for (const auto& h : handles) {
+            std::memcpy(reinterpret_cast<char*>(words_.data()) + at, h.data(), h.size());
+            at += h.size();
+        }
+        float e[3];
+        const float x[3] = {0, 0, 0}, n[3] = {0, 0, 1};
+        if (!vdblightNanoIrradiance(buffer(), x, n, e)) throw ValueError("vdblight_bench: the NanoVDB lookup does not read this volume");
+    }
+    Rgb irradiance(const Vec3f& x, const Vec3f& n) const {
+        const float xs[3] = {x.x, x.y, x.z}, ns[3] = {n.x, n.y, n.z};
+        float e[3];
+        vdblightNanoIrradiance(buffer(), xs, ns, e);
+        return Rgb{e[0], e[1], e[2]};
+    }
+    uint64_t fileBytes() const { return fileBytes_; }
+
+private:
+    const uint32_t* buffer() const { return reinterpret_cast<const uint32_t*>(words_.data()); }
+    std::vector<uint64_t> words_;
+    uint64_t fileBytes_ = 0;
+};
+
+/// The worst relative difference of `b` to `a` over the inputs, per colour, relative to
+/// max(|a|, 1 % of a's RMS) as nanovdb_export_test measures it (irradiance passes through 0).
+template <class A, class B>
+double worstRelativeDifference(const A& a, const B& b, const bench::LookupInputs& in) {
+    std::vector<Rgb> expected(in.points.size());
+    double squares = 0;
+    for (std::size_t i = 0; i < in.points.size(); ++i) {
+        expected[i] = a.irradiance(in.points[i], in.normals[i]);
+        for (int c = 0; c < 3; ++c) squares += double(expected[i][c]) * expected[i][c];
+    }
+    const double floor = 0.01 * std::sqrt(squares / (3.0 * double(in.points.size())));
+    double worst = 0;
+    for (std::size_t i = 0; i < in.points.size(); ++i) {
+        const Rgb e = b.irradiance(in.points[i], in.normals[i]);
+        for (int c = 0; c < 3; ++c)
+            worst = std::max(worst, std::fabs(double(e[c]) - expected[i][c]) / std::max(std::fabs(double(expected[i][c])), floor));
+    }
+    return worst;
+}
+
 /// `basis` as in benchScene; `depth`: the volume carries depth moments (GatherOptions::
 /// depthMoments), which the lookup then weights its corners by, as the default bake's;
 /// `visibility`: also `--direct occlusion`'s per-light visibility (the default bake's: the
@@ -176,12 +253,14 @@ void benchQuery(bool quick, const char* basis, bool depth, bool visibility, doub
     // Pre-generate inputs so that only lookups are timed; lookup and bound runs alternate and
     // the best of each is kept, so that a transient load on the machine hits both alike.
     const bench::LookupInputs in = bench::randomLookups(grid.nodeBounds(), quick ? 200'000 : 2'000'000);
-    Rgb sink{0, 0, 0};
+    const NanoLookup nano(volume);
+    Rgb sink{0, 0, 0}, nanoSink{0, 0, 0};
     float boundSink = 0;
-    double best = 0, bound = 0;
+    double best = 0, bound = 0, nanoBest = 0;
     for (int r = 0; r < (quick ? 1 : 5); ++r) {
         best = std::max(best, bench::lookupRate(query, in, 1, sink));
         bound = std::max(bound, bench::gatherBoundRate(grid, arrays, in, 1, boundSink));
+        nanoBest = std::max(nanoBest, bench::lookupRate(nano, in, 1, nanoSink));
     }
     char goal[32] = "";
     if (target > 0) std::snprintf(goal, sizeof goal, " (target >= %g)", target);
@@ -190,6 +269,12 @@ void benchQuery(bool quick, const char* basis, bool depth, bool visibility, doub
                 "(gather and sum of the same %d B per corner) | lookup/bound %.2f  [checksum %.9g, %g]\n",
                 name.c_str(), query.kind(), visibility ? " + occlusion" : "", best / 1e6, goal, bound / 1e6, bytes,
                 best / bound, double(sink.x), double(boundSink));
+    // nanovdb_export_test's limits: 1e-5 for the SH part, 5e-4 with listed lights (float lights).
+    const double worst = worstRelativeDifference(query, nano, in), limit = visibility ? 5e-4 : 1e-5;
+    std::printf("query %-16s (NanoVDB: the PNanoVDB lookup as C, %.1f MB .nvdb): %.2f M lookups/s per thread | nano/query %.2f | "
+                "worst relative difference to query %.2g over %zu points (tests: <= %g)%s  [checksum %.9g]\n",
+                name.c_str(), double(nano.fileBytes()) / 1e6, nanoBest / 1e6, nanoBest / best, worst, in.points.size(), limit,
+                worst > limit ? " ABOVE THE TESTS' LIMIT" : "", double(nanoSink.x));
     // On the same volume and inputs, timed alternately so that one run gives the ratios: the
     // portable and the AVX2 builds of the blend (the same checksum: the same sums; the lookup
     // picks one of them, sh_uniform_lookup.h, sh4_uniform_lookup.cpp), and for the default

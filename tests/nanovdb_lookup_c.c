@@ -1,4 +1,5 @@
-/* shaders/vdblight_nanovdb.h compiled as C with PNANOVDB_C, for nanovdb_export_test. */
+/* shaders/vdblight_nanovdb.h compiled as C with PNANOVDB_C, for nanovdb_export_test
+   and vdblight_bench (library vdblight_nanovdb_lookup_c, the top CMakeLists.txt). */
 #define PNANOVDB_C
 #include <nanovdb/PNanoVDB.h>
 
