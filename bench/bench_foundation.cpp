@@ -253,14 +253,18 @@ void benchQuery(bool quick, const char* basis, bool depth, bool visibility, doub
     // Pre-generate inputs so that only lookups are timed; lookup and bound runs alternate and
     // the best of each is kept, so that a transient load on the machine hits both alike.
     const bench::LookupInputs in = bench::randomLookups(grid.nodeBounds(), quick ? 200'000 : 2'000'000);
+    // The NanoVDB lookup is 4-10x slower: in the smoke run it takes the first 20 000 inputs alone.
     const NanoLookup nano(volume);
+    const bench::LookupInputs nanoIn =
+        quick ? bench::LookupInputs{{in.points.begin(), in.points.begin() + 20'000}, {in.normals.begin(), in.normals.begin() + 20'000}}
+              : in;
     Rgb sink{0, 0, 0}, nanoSink{0, 0, 0};
     float boundSink = 0;
     double best = 0, bound = 0, nanoBest = 0;
     for (int r = 0; r < (quick ? 1 : 5); ++r) {
         best = std::max(best, bench::lookupRate(query, in, 1, sink));
         bound = std::max(bound, bench::gatherBoundRate(grid, arrays, in, 1, boundSink));
-        nanoBest = std::max(nanoBest, bench::lookupRate(nano, in, 1, nanoSink));
+        nanoBest = std::max(nanoBest, bench::lookupRate(nano, nanoIn, 1, nanoSink));
     }
     char goal[32] = "";
     if (target > 0) std::snprintf(goal, sizeof goal, " (target >= %g)", target);
@@ -270,10 +274,10 @@ void benchQuery(bool quick, const char* basis, bool depth, bool visibility, doub
                 name.c_str(), query.kind(), visibility ? " + occlusion" : "", best / 1e6, goal, bound / 1e6, bytes,
                 best / bound, double(sink.x), double(boundSink));
     // nanovdb_export_test's limits: 1e-5 for the SH part, 5e-4 with listed lights (float lights).
-    const double worst = worstRelativeDifference(query, nano, in), limit = visibility ? 5e-4 : 1e-5;
+    const double worst = worstRelativeDifference(query, nano, nanoIn), limit = visibility ? 5e-4 : 1e-5;
     std::printf("query %-16s (NanoVDB: the PNanoVDB lookup as C, %.1f MB .nvdb): %.2f M lookups/s per thread | nano/query %.2f | "
                 "worst relative difference to query %.2g over %zu points (tests: <= %g)%s  [checksum %.9g]\n",
-                name.c_str(), double(nano.fileBytes()) / 1e6, nanoBest / 1e6, nanoBest / best, worst, in.points.size(), limit,
+                name.c_str(), double(nano.fileBytes()) / 1e6, nanoBest / 1e6, nanoBest / best, worst, nanoIn.points.size(), limit,
                 worst > limit ? " ABOVE THE TESTS' LIMIT" : "", double(nanoSink.x));
     // On the same volume and inputs, timed alternately so that one run gives the ratios: the
     // portable and the AVX2 builds of the blend (the same checksum: the same sums; the lookup
