@@ -25,8 +25,6 @@
 #include <memory>
 #include <string>
 
-#include <nanovdb/util/IO.h>
-
 #include "vdblight/bake/each_pass.h"
 #include "vdblight/basis/basis.h"
 #include "query/channel_lookup.h"
@@ -45,6 +43,7 @@
 #include "bench_scenes.h"
 #include "bench_util.h"
 #include "lookup_bound.h"
+#include "nanovdb_grid_words.h"
 #include "nanovdb_lookup_c.h"
 
 #include "support/scene_generators.h"
@@ -173,15 +172,7 @@ public:
             }
         } remove{file};
         fileBytes_ = exportNanoVdb(volume, file.string()).bytes;
-        const auto handles = nanovdb::io::readGrids<nanovdb::HostBuffer, std::vector>(file.string());
-        std::size_t bytes = 0;
-        for (const auto& h : handles) bytes += h.size();
-        words_.resize((bytes + 7) / 8);
-        std::size_t at = 0;
-        for (const auto& h : handles) {
-            std::memcpy(reinterpret_cast<char*>(words_.data()) + at, h.data(), h.size());
-            at += h.size();
-        }
+        words_ = test::nanoGridWords(file.string());
         float e[3];
         const float x[3] = {0, 0, 0}, n[3] = {0, 0, 1};
         if (!vdblightNanoIrradiance(buffer(), x, n, e)) throw ValueError("vdblight_bench: the NanoVDB lookup does not read this volume");

@@ -28,25 +28,18 @@
 #include "vdblight/query/query.h"
 #include "query/query_direct.h"
 #include "vdblight/volume/vdb_io.h"
+#include "nanovdb_grid_words.h"
 
 namespace vdblight {
 namespace {
 using test::readTextFile;
 using test::TempDir;
 
-/// The file's grid buffers back to back (vdblight_meta first), as a renderer uploads them; in
-/// 64-bit words because PNanoVDB reads 64-bit values at 8-byte aligned offsets.
+/// The file's grid buffers back to back (nanovdb_grid_words.h), each grid ending aligned.
 std::vector<uint64_t> loadGrids(const std::string& file) {
-    const auto handles = nanovdb::io::readGrids<nanovdb::HostBuffer, std::vector>(file);
-    std::size_t bytes = 0;
-    for (const auto& h : handles) bytes += h.size();
-    std::vector<uint64_t> words((bytes + 7) / 8);
-    std::size_t at = 0;
-    for (const auto& h : handles) {
-        EXPECT_EQ(h.size() % 32, 0u) << "a grid that does not end aligned shifts the next one";
-        std::memcpy(reinterpret_cast<char*>(words.data()) + at, h.data(), h.size());
-        at += h.size();
-    }
+    std::vector<std::size_t> gridBytes;
+    std::vector<uint64_t> words = test::nanoGridWords(file, &gridBytes);
+    for (const std::size_t bytes : gridBytes) EXPECT_EQ(bytes % 32, 0u) << "a grid that does not end aligned shifts the next one";
     return words;
 }
 
