@@ -46,7 +46,9 @@ TEST(CliDirect, ModesBakeQuerySliceExportAndOpenInOtherReaders) {
         if (mode == "occlusion") {
             EXPECT_EQ(manifest["direct"]["lights"][0]["visibility"]["texture"], "light_visibility_0_0") << manifest;
         }
-        if (std::getenv("VDBLIGHT_SKIP_BLENDER")) continue;
+        // Blender opens the occlusion file, which holds every grid the other two modes write
+        // and its lights' visibility too (three Blender runs were 10 s of CI's ASan suite).
+        if (mode != "occlusion" || std::getenv("VDBLIGHT_SKIP_BLENDER")) continue;
         EXPECT_EQ(test::runCommand("blender -b --factory-startup --python " + kSource + "/scripts/check_blender.py -- " + vol, &out),
                   0)
             << out;

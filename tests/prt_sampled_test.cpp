@@ -139,7 +139,7 @@ TEST(PrtSampled, BakeAgreesWithTheDensePairMatrix) {
             lit.sky = Sky{};
             const Tracer lt(lit);
             GatherOptions g;
-            g.raysPerNode = 16384;
+            g.raysPerNode = 4096;  // each error below moves by < 0.003 from 4096 to 16384 rays (4x the time)
             g.transport.maxBounces = 4;
             const Volume all = bakeShGather(lit, lt, dense.volumeGrid, g);
             g.transport.maxBounces = 0;
@@ -159,7 +159,7 @@ TEST(PrtSampled, BakeAgreesWithTheDensePairMatrix) {
         EXPECT_LT(samples, 0.15);  // the dense disks' near-field error against ray-found senders
         EXPECT_LT(nodes, 0.3);
     }
-    // Measured: dense 0.305, sampled 0.283 (the 10-vector basis dominates both).
+    // Measured: dense 0.305, sampled 0.279 (the 10-vector basis dominates both).
     EXPECT_LT(sampledError, 1.1 * denseError);
 }
 

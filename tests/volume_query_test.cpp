@@ -182,7 +182,7 @@ TEST(VolumeQuery, RuntimeDirectLightIsAddedWithTheScenesShadowRays) {
 TEST(VolumeQuery, MomentVolumeIsLookedUpAlongTheMirroredView) {
     test::TempDir dir;
     const std::string vol = dir.file("moment.vdb");
-    const test::CliRun bake = runCli("bake -q -o " + vol + " --resolution 3 --rays 16 --bounces 1 --basis moment:4");
+    const test::CliRun bake = runCli("bake -q -o " + vol + " --resolution 3 --rays 16 --bounces 1 --basis moment:4:4");
     ASSERT_EQ(bake.status, 0) << bake.output;
     const IrradianceQuery lookup(readVolume(vol));
 
