@@ -174,6 +174,28 @@ VDBLIGHT_NANO_FN float vdblight_nano_axis_offset(float u, float c, float near, p
     return u == c ? near : c - pnanovdb_int32_to_float(i);
 }
 
+// The offset (cells) of coordinate x from node i along `axis`, from level 0's exact frame at
+// meta index `frame` (vdblight/export/engines.h, nanovdb_meta::kFrame): x - origin as the
+// unevaluated sum hi + lo of two floats (Knuth's two-sum), minus i times the spacing in three
+// parts of which the first two give exact products, so that what is left is rounded to the
+// offset's own magnitude (a cell or two) rather than to x's, before it is scaled by 1 / spacing.
+// query measures the offset in double (shared_cell.h, offsetFromNode); the grid's float map
+// (origin + i spacing rounded, then subtracted) was off by up to about 1e-6 cell, which the
+// edges' ramp (up to 16 per cell) turned into up to 4e-5 of the irradiance.
+VDBLIGHT_NANO_FN float vdblight_nano_frame_offset(pnanovdb_buf_t buf, pnanovdb_grid_handle_t meta, pnanovdb_int32_t frame,
+                                                  pnanovdb_int32_t axis, float x, pnanovdb_int32_t i) {
+    float origin_hi = vdblight_nano_meta(buf, meta, frame + axis), origin_lo = vdblight_nano_meta(buf, meta, frame + 3 + axis);
+    float s1 = vdblight_nano_meta(buf, meta, frame + 6), s2 = vdblight_nano_meta(buf, meta, frame + 7);
+    float s3 = vdblight_nano_meta(buf, meta, frame + 8), inv = vdblight_nano_meta(buf, meta, frame + 9);
+    float fi = pnanovdb_int32_to_float(i);
+    VDBLIGHT_NANO_PRECISE float hi = x - origin_hi;
+    VDBLIGHT_NANO_PRECISE float back = hi - x;
+    VDBLIGHT_NANO_PRECISE float lo = (x - (hi - back)) + (-origin_hi - back);
+    VDBLIGHT_NANO_PRECISE float r = (hi - fi * s1) - fi * s2;
+    VDBLIGHT_NANO_PRECISE float rest = (lo - origin_lo) - fi * s3;
+    return (r + rest) * inv;
+}
+
 // The offsets (cells) of world point x from level-0 node ijk, x clamped into the nodes' box as
 // query clamps it for the edges.
 VDBLIGHT_NANO_FN pnanovdb_vec3_t vdblight_nano_node_offset(pnanovdb_buf_t buf, PNANOVDB_IN(vdblight_nano_volume_t) v,
@@ -195,6 +217,12 @@ VDBLIGHT_NANO_FN pnanovdb_vec3_t vdblight_nano_node_offset(pnanovdb_buf_t buf, P
     node.z = pnanovdb_int32_to_float(ijk.z);
     pnanovdb_vec3_t d = pnanovdb_vec3_sub(x, pnanovdb_grid_index_to_worldf(buf, g, PNANOVDB_REF(node)));
     pnanovdb_vec3_t near = pnanovdb_grid_world_to_index_dirf(buf, g, PNANOVDB_REF(d));
+    pnanovdb_int32_t frame = PNANOVDB_DEREF(v).frame;
+    if (frame > 0) {  // files with the exact frame (older ones: the grid's float map above)
+        near.x = vdblight_nano_frame_offset(buf, PNANOVDB_DEREF(v).meta, frame, 0, x.x, ijk.x);
+        near.y = vdblight_nano_frame_offset(buf, PNANOVDB_DEREF(v).meta, frame, 1, x.y, ijk.y);
+        near.z = vdblight_nano_frame_offset(buf, PNANOVDB_DEREF(v).meta, frame, 2, x.z, ijk.z);
+    }
     pnanovdb_vec3_t o;
     o.x = vdblight_nano_axis_offset(u.x, c.x, near.x, ijk.x);
     o.y = vdblight_nano_axis_offset(u.y, c.y, near.y, ijk.y);
