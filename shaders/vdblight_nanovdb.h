@@ -45,17 +45,14 @@
 #define VDBLIGHT_NANO_PRECISE
 #define VDBLIGHT_NANO_FN static
 #define VDBLIGHT_NANO_SQRT(v) sqrtf(v)
-#define VDBLIGHT_NANO_ATAN2(y, x) atan2f(y, x)
 #elif defined(PNANOVDB_HLSL)
 #define VDBLIGHT_NANO_PRECISE precise
 #define VDBLIGHT_NANO_FN
 #define VDBLIGHT_NANO_SQRT(v) sqrt(v)
-#define VDBLIGHT_NANO_ATAN2(y, x) atan2(y, x)
 #else
 #define VDBLIGHT_NANO_PRECISE precise
 #define VDBLIGHT_NANO_FN
 #define VDBLIGHT_NANO_SQRT(v) sqrt(v)
-#define VDBLIGHT_NANO_ATAN2(y, x) atan(y, x)
 #endif
 
 // The numbers in voxels (i, 0, 0) of `vdblight_meta` (vdblight/export_nanovdb.h).

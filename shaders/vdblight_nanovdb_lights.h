@@ -7,6 +7,12 @@
 #ifndef VDBLIGHT_NANOVDB_LIGHTS_H
 #define VDBLIGHT_NANOVDB_LIGHTS_H
 
+#if defined(PNANOVDB_C)
+#define VDBLIGHT_NANO_ABS(v) fabsf(v)
+#else
+#define VDBLIGHT_NANO_ABS(v) abs(v)
+#endif
+
 VDBLIGHT_NANO_FN float vdblight_nano_dot(pnanovdb_vec3_t a, pnanovdb_vec3_t b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 VDBLIGHT_NANO_FN pnanovdb_vec3_t vdblight_nano_cross(pnanovdb_vec3_t a, pnanovdb_vec3_t b) {
     pnanovdb_vec3_t c;
@@ -26,12 +32,33 @@ VDBLIGHT_NANO_FN pnanovdb_vec3_t vdblight_nano_meta3(pnanovdb_buf_t buf, pnanovd
     return r;
 }
 
+// atan2(y, x) for y >= 0 (an edge's angle, 0..pi) from + - * / alone, as query's float path
+// computes it (query/fast_exact_lights.cpp, atan2NonNegative: within 2e-7 relative): a GPU's
+// atan is not (llvmpipe's cost the polygon light ~1e-4 of the irradiance). atan of
+// t = min / max of (y, |x|); above tan(pi/8) of (t - 1) / (t + 1) plus pi/4, so that the
+// polynomial u + u^3 P(u^2) only sees |u| <= tan(pi/8).
+VDBLIGHT_NANO_FN float vdblight_nano_atan2_nonnegative(float y, float x) {
+    float ax = VDBLIGHT_NANO_ABS(x);
+    pnanovdb_bool_t swap = y > ax;
+    float lo = swap ? ax : y, hi = swap ? y : ax;
+    pnanovdb_bool_t upper = lo > 0.41421356f * hi;
+    float num = upper ? lo - hi : lo, den = upper ? lo + hi : hi;
+    float u = den > 0.0f ? num / den : 0.0f;
+    float z = u * u;
+    float p = ((0.080687128f * z - 0.138829082f) * z + 0.199782744f) * z - 0.333329678f;
+    float a = u + u * z * p;
+    if (upper) a += 0.785398163f;
+    if (swap) a = 1.57079633f - a;
+    if (x < 0.0f) a = 3.14159265f - a;
+    return a;
+}
+
 // Lambert's term theta (n . gamma) of the edge a -> b (relative to the receiver).
 VDBLIGHT_NANO_FN float vdblight_nano_edge(pnanovdb_vec3_t a, pnanovdb_vec3_t b, pnanovdb_vec3_t n) {
     pnanovdb_vec3_t c = vdblight_nano_cross(a, b);
     float len = VDBLIGHT_NANO_SQRT(vdblight_nano_dot(c, c));
     if (!(len > 0.0f)) return 0.0f;  // an edge pointing at the receiver subtends no angle
-    return VDBLIGHT_NANO_ATAN2(len, vdblight_nano_dot(a, b)) * vdblight_nano_dot(n, c) / len;
+    return vdblight_nano_atan2_nonnegative(len, vdblight_nano_dot(a, b)) * vdblight_nano_dot(n, c) / len;
 }
 
 // Lambert's contour sum of the loop of `count` vertices from meta index `at`, relative to x,
@@ -140,12 +167,6 @@ VDBLIGHT_NANO_FN pnanovdb_vec3_t vdblight_nano_light_irradiance(pnanovdb_buf_t b
 //   clamp(ramp(sum wt_c d_c, sum wt_c w_c) + sum wt_c (v_c - ramp(d_c, w_c)), 0, 1);
 // in the others each strip corner adds its own model of the strip at the point and the rest
 // the ramp of their own blended edge (vdblight_nano_strip_visibility).
-
-#if defined(PNANOVDB_C)
-#define VDBLIGHT_NANO_ABS(v) fabsf(v)
-#else
-#define VDBLIGHT_NANO_ABS(v) abs(v)
-#endif
 
 // shadow_edge::kMinWidth: a hard edge to within 1/16 of a cell.
 #define VDBLIGHT_NANO_MIN_EDGE_WIDTH 0.0625f
