@@ -2,8 +2,9 @@
 // shaders/vdblight_nanovdb.h, compiled as C (nanovdb_lookup_c.c):
 // - the lookup equals IrradianceQuery to 1e-5 relative at 10 000 random points and normals,
 //   for uniform and multi-level volumes, with and without depth moments;
-// - the light visibility it interpolates equals the occlusion lookup's, with the shadow edges
-//   and strips of a bake (docs/shadow_visibility.md) as without;
+// - the light visibility it interpolates equals the visibility query's irradiance multiplies
+//   the lights by, with the shadow edges and strips of a bake (docs/shadow_visibility.md) as
+//   without; the occlusion lookup's own, located in double, is within float location's reach;
 // - the file holds every channel (in the blind data of one vdblight_nodes grid per level, whose
 //   values index it), the numbers and the metadata text;
 // - nanovdb_validate and nanovdb_print (libnanovdb-tools) accept the files;
@@ -161,6 +162,65 @@ Volume occlusionVolume() {
     return v;
 }
 
+/// The visibility query multiplies each listed light of v by at x (the cell its irradiance
+/// blends, located in float), read through IrradianceQuery itself: with the coefficients zero
+/// and the lights replaced by suns of unit irradiance in one colour each, three at a time, the
+/// irradiance facing them is exactly their visibility (1 times it, plus zeros).
+std::vector<float> queriedVisibility(const Volume& v, const std::vector<Vec3f>& points) {
+    const std::size_t lights = v.direct.lights.size();
+    std::vector<float> out(points.size() * lights);
+    DirectLight sun;
+    sun.kind = DirectLight::Kind::Directional;
+    sun.direction = normalize(Vec3d(0.3, -1.0, 0.2));
+    const Vec3f facing(-sun.direction);
+    for (std::size_t first = 0; first < lights; first += 3) {
+        Volume probe = v;
+        std::fill(probe.levels[0].data.begin(), probe.levels[0].data.end(), 0.0f);
+        for (std::size_t i = 0; i < lights; ++i) {
+            probe.direct.lights[i] = sun;
+            probe.direct.lights[i].value = Rgb(0, 0, 0);
+            if (i >= first && i < first + 3) probe.direct.lights[i].value[int(i - first)] = 1.0f;
+        }
+        const IrradianceQuery query(probe);
+        for (std::size_t p = 0; p < points.size(); ++p) {
+            const Rgb e = query.irradiance(points[p], facing);
+            for (std::size_t i = first; i < std::min(lights, first + 3); ++i) out[p * lights + i] = e[int(i - first)];
+        }
+    }
+    return out;
+}
+
+/// The C lookup's visibility of each listed light against query's at `count` random points:
+/// the worst |difference| from the visibility query's irradiance uses (`fromQuery`), and from
+/// OcclusionLookup::visibility (`fromDoubleLocation`: its own reference, which locates the
+/// point in double where query's irradiance and the shader locate it in float).
+struct VisibilityDifference {
+    double fromQuery = 0, fromDoubleLocation = 0;
+};
+VisibilityDifference worstVisibilityDifference(const Volume& v, const uint32_t* buf, int count) {
+    Volume baked = v;  // the SH part alone
+    baked.direct = {};
+    baked.levels[0].lightVisibility.clear();
+    baked.levels[0].lightShadowEdges.clear();
+    const OcclusionLookup occlusion(std::make_unique<ChannelLookup>(baked, OutsidePolicy::Clamp), v);
+    const std::size_t lights = v.direct.lights.size();
+    std::vector<Vec3f> points;
+    for (const Probe& p : randomProbes(IrradianceQuery(v).bounds(), count, 3)) points.push_back(p.x);
+    const std::vector<float> queried = queriedVisibility(v, points);
+    std::vector<float> expected(lights);
+    VisibilityDifference worst;
+    for (std::size_t p = 0; p < points.size(); ++p) {
+        occlusion.visibility(Vec3d(points[p]), expected.data());
+        const float x[3] = {points[p].x, points[p].y, points[p].z};
+        for (std::size_t i = 0; i < lights; ++i) {
+            const float mine = vdblightNanoLightVisibility(buf, x, int(i));
+            worst.fromDoubleLocation = std::max(worst.fromDoubleLocation, double(std::fabs(mine - expected[i])));
+            worst.fromQuery = std::max(worst.fromQuery, double(std::fabs(mine - queried[p * lights + i])));
+        }
+    }
+    return worst;
+}
+
 TEST(NanoVdbLookup, AddsTheListedLightsTimesTheirVisibility) {
     const Volume v = occlusionVolume();
     Volume baked = v;  // the SH part alone
@@ -180,37 +240,14 @@ TEST(NanoVdbLookup, AddsTheListedLightsTimesTheirVisibility) {
     exportNanoVdb(v, dir.file("o.nvdb"));
     const std::vector<uint64_t> words = loadGrids(dir.file("o.nvdb"));
     const uint32_t* buf = reinterpret_cast<const uint32_t*>(words.data());
-    const OcclusionLookup occlusion(std::make_unique<ChannelLookup>(baked, OutsidePolicy::Clamp), v);
-    double worst = 0;
-    for (const Probe& p : randomProbes(IrradianceQuery(v).bounds(), 2000, 3)) {
-        float expected[5];
-        occlusion.visibility(Vec3d(p.x), expected);
-        const float x[3] = {p.x.x, p.x.y, p.x.z};
-        for (int i = 0; i < 5; ++i) worst = std::max(worst, double(std::fabs(vdblightNanoLightVisibility(buf, x, i) - expected[i])));
-    }
-    // query locates the visibility in double, the shader in float; the depth weights' steep
-    // Chebyshev bound (sigma 0.02 cells) amplifies that rounding (measured 5.0e-6).
-    EXPECT_LE(worst, 2e-5);
-}
-
-/// The worst |difference| between the C lookup's visibility of each listed light and the
-/// occlusion lookup's at `count` random points (query locates them in double, the shader in float).
-double worstVisibilityDifference(const Volume& v, const uint32_t* buf, int count) {
-    Volume baked = v;  // the SH part alone
-    baked.direct = {};
-    baked.levels[0].lightVisibility.clear();
-    baked.levels[0].lightShadowEdges.clear();
-    const OcclusionLookup occlusion(std::make_unique<ChannelLookup>(baked, OutsidePolicy::Clamp), v);
-    const std::size_t lights = v.direct.lights.size();
-    std::vector<float> expected(lights);
-    double worst = 0;
-    for (const Probe& p : randomProbes(IrradianceQuery(v).bounds(), count, 3)) {
-        occlusion.visibility(Vec3d(p.x), expected.data());
-        const float x[3] = {p.x.x, p.x.y, p.x.z};
-        for (std::size_t i = 0; i < lights; ++i)
-            worst = std::max(worst, double(std::fabs(vdblightNanoLightVisibility(buf, x, int(i)) - expected[i])));
-    }
-    return worst;
+    const VisibilityDifference worst = worstVisibilityDifference(v, buf, 2000);
+    std::printf("[ 5 listed lights ] visibility: worst |difference| from query's %.3g, from the visibility located in "
+                "double %.3g\n", worst.fromQuery, worst.fromDoubleLocation);
+    // The visibility query's irradiance uses: the same float cell and weights (measured 0).
+    EXPECT_LE(worst.fromQuery, 1e-6);
+    // OcclusionLookup::visibility locates the point in double, the shader in float; the depth
+    // weights' steep Chebyshev bound (sigma 0.02 cells) amplifies that rounding (measured 5.0e-6).
+    EXPECT_LE(worst.fromDoubleLocation, 2e-5);
 }
 
 /// With the shadow edges of a bake (nearest edges and strips) the lookup's visibility is
@@ -263,25 +300,34 @@ TEST(NanoVdbLookup, KeepsTheShadowEdgesAndStripsOfABake) {
     for (std::size_t p = 0; p < edges.size(); p += shadow_edge::kFloatsPerLight) oneEdge.levels[0].lightShadowEdges[p + shadow_edge::kFar] = 0.0f;
     Volume noEdges = v;
     noEdges.levels[0].lightShadowEdges.clear();
-    const double worst = worstVisibilityDifference(v, buf, 10000);
+    const VisibilityDifference worst = worstVisibilityDifference(v, buf, 10000);
     exportNanoVdb(oneEdge, dir.file("one.nvdb"));
     const std::vector<uint64_t> oneWords = loadGrids(dir.file("one.nvdb"));
-    const double worstOne = worstVisibilityDifference(oneEdge, reinterpret_cast<const uint32_t*>(oneWords.data()), 10000);
+    const VisibilityDifference worstOne = worstVisibilityDifference(oneEdge, reinterpret_cast<const uint32_t*>(oneWords.data()), 10000);
     const auto oneHandles = nanovdb::io::readGrids<nanovdb::HostBuffer, std::vector>(dir.file("one.nvdb"));
     EXPECT_EQ(oneHandles[0].template grid<float>()->tree().getValue(nanovdb::Coord(nanovdb_meta::kShadowEdges, 0, 0)), 1.0f);
     EXPECT_EQ(oneHandles[1].template grid<uint32_t>()->blindMetaData(0).mElementCount,
               v.levels[0].grid.nodeCount() * ((25 + 4) * 3 + 3 + 3 * 2))
         << "without strips the file has no strip arrays";
-    const double stripsMatter = worstVisibilityDifference(oneEdge, buf, 10000), edgesMatter = worstVisibilityDifference(noEdges, buf, 10000);
-    std::printf("[ baked edges ] visibility: worst |difference| %.3g with strips, %.3g with one edge; the strips change it "
-                "by up to %.3g, the edges by %.3g\n", worst, worstOne, stripsMatter, edgesMatter);
-    // As without edges, query's weights in double against the shader's in float, the rounding
-    // amplified by the depth weights' Chebyshev bound (AddsTheListedLightsTimesTheirVisibility:
-    // 5e-6) and now also by the edge's ramp, whose slope is up to 16 per cell (a hard edge:
+    const double stripsMatter = worstVisibilityDifference(oneEdge, buf, 10000).fromQuery,
+                 edgesMatter = worstVisibilityDifference(noEdges, buf, 10000).fromQuery;
+    std::printf("[ baked edges ] visibility: worst |difference| from query's %.3g with strips, %.3g with one edge (from "
+                "the visibility located in double: %.3g, %.3g); the strips change it by up to %.3g, the edges by %.3g\n",
+                worst.fromQuery, worstOne.fromQuery, worst.fromDoubleLocation, worstOne.fromDoubleLocation, stripsMatter,
+                edgesMatter);
+    // The visibility query's irradiance uses: the same float cell and weights, so bit for bit
+    // outside strip cells (measured 0 with one edge); in a strip's cells the corner offsets
+    // from the exact frame, rounded to ~1e-7 cell where query's are in double, times the
+    // ramp's slope of up to 16 per cell: measured 7.8e-7. Tolerance: twice that, rounded up.
+    EXPECT_LE(worst.fromQuery, 2e-6);
+    EXPECT_LE(worstOne.fromQuery, 2e-6);
+    // OcclusionLookup::visibility locates x in double, query's irradiance and the shader in
+    // float: (x - origin) / spacing rounded to ~1e-6 cell, amplified by the depth weights'
+    // Chebyshev bound and by the edge's ramp, whose slope is up to 16 per cell (a hard edge:
     // shadow_edge::kMinWidth) on a blended distance of up to 3 cells. Measured 9.1e-5 here;
     // with every width raised to 1 cell 1.3e-5, without the depth moments 1.5e-5.
-    EXPECT_LE(worst, 2e-4);
-    EXPECT_LE(worstOne, 2e-4);
+    EXPECT_LE(worst.fromDoubleLocation, 2e-4);
+    EXPECT_LE(worstOne.fromDoubleLocation, 2e-4);
     EXPECT_GT(stripsMatter, 0.1) << "the fixture's strips must change the answer somewhere";
     EXPECT_GT(edgesMatter, 0.1);
     // Irradiance: query's shared cell has the shader's float weights (the SH part is bit for bit),
