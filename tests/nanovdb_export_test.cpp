@@ -401,6 +401,21 @@ TEST(NanoVdbExport, WritesEveryChannelAndTheMetadata) {
     EXPECT_EQ(value(spot + 12), float(std::cos(0.7)));
     EXPECT_EQ(value(nanovdb_meta::kDimsX), 7.0f);
     EXPECT_EQ(value(nanovdb_meta::kDimsZ), 6.0f);
+    // Level 0's exact frame: the origin as two floats, the spacing as s1 + s2 + s3 with s1 and
+    // s2 of at most 12 significant bits (a node index below 4096 times either is exact in float).
+    const int frame = int(value(nanovdb_meta::kFrame));
+    ASSERT_GE(frame, nanovdb_meta::kFieldCount + 5 * nanovdb_meta::kLightFloats);
+    const GridSpec& lattice = v.levels[0].grid;
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(double(value(frame + a)) + value(frame + 3 + a), lattice.origin[a], 1e-14);
+    const auto significantBits = [](float f) {
+        int exponent, n = 0;
+        for (double m = std::fabs(std::frexp(double(f), &exponent)); m != 0; m = m * 2 - std::floor(m * 2)) ++n;
+        return n;
+    };
+    EXPECT_LE(significantBits(value(frame + 6)), 12);
+    EXPECT_LE(significantBits(value(frame + 7)), 12);
+    EXPECT_NEAR(double(value(frame + 6)) + value(frame + 7) + value(frame + 8), lattice.spacing, 1e-15);
+    EXPECT_EQ(value(frame + 9), float(1.0 / lattice.spacing));
     ASSERT_EQ(meta->blindDataCount(), 1u);
     const std::string text = meta->blindMetaData(0).template getBlindData<char>();
     EXPECT_NE(text.find("basis=sh:4\n"), std::string::npos) << text;
