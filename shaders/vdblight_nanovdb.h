@@ -38,19 +38,21 @@
 #define VDBLIGHT_NANO_MAX_LEVELS 8
 #endif
 
+// `precise` keeps a GLSL or HLSL compiler from reassociating or fusing the operations of an
+// error-free sum (vdblight_nanovdb_lights.h, vdblight_nano_frame_offset); C does neither.
 #if defined(PNANOVDB_C)
 #include <math.h>
+#define VDBLIGHT_NANO_PRECISE
 #define VDBLIGHT_NANO_FN static
 #define VDBLIGHT_NANO_SQRT(v) sqrtf(v)
-#define VDBLIGHT_NANO_ATAN2(y, x) atan2f(y, x)
 #elif defined(PNANOVDB_HLSL)
+#define VDBLIGHT_NANO_PRECISE precise
 #define VDBLIGHT_NANO_FN
 #define VDBLIGHT_NANO_SQRT(v) sqrt(v)
-#define VDBLIGHT_NANO_ATAN2(y, x) atan2(y, x)
 #else
+#define VDBLIGHT_NANO_PRECISE precise
 #define VDBLIGHT_NANO_FN
 #define VDBLIGHT_NANO_SQRT(v) sqrt(v)
-#define VDBLIGHT_NANO_ATAN2(y, x) atan(y, x)
 #endif
 
 // The numbers in voxels (i, 0, 0) of `vdblight_meta` (vdblight/export_nanovdb.h).
@@ -64,6 +66,7 @@
 #define VDBLIGHT_NANO_META_DIMS 10
 #define VDBLIGHT_NANO_META_SH_KIND 13
 #define VDBLIGHT_NANO_META_SHADOW_EDGES 14
+#define VDBLIGHT_NANO_META_FRAME 15    // where level 0's exact frame starts (0: a file without it)
 #define VDBLIGHT_NANO_META_DIRECT_MODE 6
 #define VDBLIGHT_NANO_META_LIGHTS 16   // light i's record of 20 numbers at 16 + 20 i
 #define VDBLIGHT_NANO_LIGHT_FLOATS 20
@@ -84,6 +87,7 @@ struct vdblight_nano_volume_t {
     pnanovdb_int32_t shadow_edges;                             // 0 none, 1 nearest edges, 2 and strips
     pnanovdb_address_t edges0;                                 // light 0's edge distances, node 0 (then its widths)
     pnanovdb_address_t strips0;                                // light 0's strips (direction xyz, far), node 0
+    pnanovdb_int32_t frame;                                    // meta index of level 0's exact frame, 0 if none
 };
 PNANOVDB_STRUCT_TYPEDEF(vdblight_nano_volume_t)
 
@@ -143,6 +147,7 @@ VDBLIGHT_NANO_FN vdblight_nano_volume_t vdblight_nano_open(pnanovdb_buf_t buf) {
     v.visibility_stride = 0u;
     v.shadow_edges = pnanovdb_float_to_int32(vdblight_nano_meta(buf, v.meta, VDBLIGHT_NANO_META_SHADOW_EDGES));
     if (v.visibility <= 0) v.shadow_edges = 0;
+    v.frame = pnanovdb_float_to_int32(vdblight_nano_meta(buf, v.meta, VDBLIGHT_NANO_META_FRAME));
     v.edges0 = g.address;
     v.strips0 = g.address;
     for (pnanovdb_int32_t l = 0; l < VDBLIGHT_NANO_MAX_LEVELS; ++l) {

@@ -7,6 +7,12 @@
 #ifndef VDBLIGHT_NANOVDB_LIGHTS_H
 #define VDBLIGHT_NANOVDB_LIGHTS_H
 
+#if defined(PNANOVDB_C)
+#define VDBLIGHT_NANO_ABS(v) fabsf(v)
+#else
+#define VDBLIGHT_NANO_ABS(v) abs(v)
+#endif
+
 VDBLIGHT_NANO_FN float vdblight_nano_dot(pnanovdb_vec3_t a, pnanovdb_vec3_t b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 VDBLIGHT_NANO_FN pnanovdb_vec3_t vdblight_nano_cross(pnanovdb_vec3_t a, pnanovdb_vec3_t b) {
     pnanovdb_vec3_t c;
@@ -26,12 +32,33 @@ VDBLIGHT_NANO_FN pnanovdb_vec3_t vdblight_nano_meta3(pnanovdb_buf_t buf, pnanovd
     return r;
 }
 
+// atan2(y, x) for y >= 0 (an edge's angle, 0..pi) from + - * / alone, as query's float path
+// computes it (query/fast_exact_lights.cpp, atan2NonNegative: within 2e-7 relative): a GPU's
+// atan is not (llvmpipe's cost the polygon light ~1e-4 of the irradiance). atan of
+// t = min / max of (y, |x|); above tan(pi/8) of (t - 1) / (t + 1) plus pi/4, so that the
+// polynomial u + u^3 P(u^2) only sees |u| <= tan(pi/8).
+VDBLIGHT_NANO_FN float vdblight_nano_atan2_nonnegative(float y, float x) {
+    float ax = VDBLIGHT_NANO_ABS(x);
+    pnanovdb_bool_t swap = y > ax;
+    float lo = swap ? ax : y, hi = swap ? y : ax;
+    pnanovdb_bool_t upper = lo > 0.41421356f * hi;
+    float num = upper ? lo - hi : lo, den = upper ? lo + hi : hi;
+    float u = den > 0.0f ? num / den : 0.0f;
+    float z = u * u;
+    float p = ((0.080687128f * z - 0.138829082f) * z + 0.199782744f) * z - 0.333329678f;
+    float a = u + u * z * p;
+    if (upper) a += 0.785398163f;
+    if (swap) a = 1.57079633f - a;
+    if (x < 0.0f) a = 3.14159265f - a;
+    return a;
+}
+
 // Lambert's term theta (n . gamma) of the edge a -> b (relative to the receiver).
 VDBLIGHT_NANO_FN float vdblight_nano_edge(pnanovdb_vec3_t a, pnanovdb_vec3_t b, pnanovdb_vec3_t n) {
     pnanovdb_vec3_t c = vdblight_nano_cross(a, b);
     float len = VDBLIGHT_NANO_SQRT(vdblight_nano_dot(c, c));
     if (!(len > 0.0f)) return 0.0f;  // an edge pointing at the receiver subtends no angle
-    return VDBLIGHT_NANO_ATAN2(len, vdblight_nano_dot(a, b)) * vdblight_nano_dot(n, c) / len;
+    return vdblight_nano_atan2_nonnegative(len, vdblight_nano_dot(a, b)) * vdblight_nano_dot(n, c) / len;
 }
 
 // Lambert's contour sum of the loop of `count` vertices from meta index `at`, relative to x,
@@ -141,12 +168,6 @@ VDBLIGHT_NANO_FN pnanovdb_vec3_t vdblight_nano_light_irradiance(pnanovdb_buf_t b
 // in the others each strip corner adds its own model of the strip at the point and the rest
 // the ramp of their own blended edge (vdblight_nano_strip_visibility).
 
-#if defined(PNANOVDB_C)
-#define VDBLIGHT_NANO_ABS(v) fabsf(v)
-#else
-#define VDBLIGHT_NANO_ABS(v) abs(v)
-#endif
-
 // shadow_edge::kMinWidth: a hard edge to within 1/16 of a cell.
 #define VDBLIGHT_NANO_MIN_EDGE_WIDTH 0.0625f
 
@@ -174,6 +195,28 @@ VDBLIGHT_NANO_FN float vdblight_nano_axis_offset(float u, float c, float near, p
     return u == c ? near : c - pnanovdb_int32_to_float(i);
 }
 
+// The offset (cells) of coordinate x from node i along `axis`, from level 0's exact frame at
+// meta index `frame` (vdblight/export/engines.h, nanovdb_meta::kFrame): x - origin as the
+// unevaluated sum hi + lo of two floats (Knuth's two-sum), minus i times the spacing in three
+// parts of which the first two give exact products, so that what is left is rounded to the
+// offset's own magnitude (a cell or two) rather than to x's, before it is scaled by 1 / spacing.
+// query measures the offset in double (shared_cell.h, offsetFromNode); the grid's float map
+// (origin + i spacing rounded, then subtracted) was off by up to about 1e-6 cell, which the
+// edges' ramp (up to 16 per cell) turned into up to 4e-5 of the irradiance.
+VDBLIGHT_NANO_FN float vdblight_nano_frame_offset(pnanovdb_buf_t buf, pnanovdb_grid_handle_t meta, pnanovdb_int32_t frame,
+                                                  pnanovdb_int32_t axis, float x, pnanovdb_int32_t i) {
+    float origin_hi = vdblight_nano_meta(buf, meta, frame + axis), origin_lo = vdblight_nano_meta(buf, meta, frame + 3 + axis);
+    float s1 = vdblight_nano_meta(buf, meta, frame + 6), s2 = vdblight_nano_meta(buf, meta, frame + 7);
+    float s3 = vdblight_nano_meta(buf, meta, frame + 8), inv = vdblight_nano_meta(buf, meta, frame + 9);
+    float fi = pnanovdb_int32_to_float(i);
+    VDBLIGHT_NANO_PRECISE float hi = x - origin_hi;
+    VDBLIGHT_NANO_PRECISE float back = hi - x;
+    VDBLIGHT_NANO_PRECISE float lo = (x - (hi - back)) + (-origin_hi - back);
+    VDBLIGHT_NANO_PRECISE float r = (hi - fi * s1) - fi * s2;
+    VDBLIGHT_NANO_PRECISE float rest = (lo - origin_lo) - fi * s3;
+    return (r + rest) * inv;
+}
+
 // The offsets (cells) of world point x from level-0 node ijk, x clamped into the nodes' box as
 // query clamps it for the edges.
 VDBLIGHT_NANO_FN pnanovdb_vec3_t vdblight_nano_node_offset(pnanovdb_buf_t buf, PNANOVDB_IN(vdblight_nano_volume_t) v,
@@ -195,6 +238,12 @@ VDBLIGHT_NANO_FN pnanovdb_vec3_t vdblight_nano_node_offset(pnanovdb_buf_t buf, P
     node.z = pnanovdb_int32_to_float(ijk.z);
     pnanovdb_vec3_t d = pnanovdb_vec3_sub(x, pnanovdb_grid_index_to_worldf(buf, g, PNANOVDB_REF(node)));
     pnanovdb_vec3_t near = pnanovdb_grid_world_to_index_dirf(buf, g, PNANOVDB_REF(d));
+    pnanovdb_int32_t frame = PNANOVDB_DEREF(v).frame;
+    if (frame > 0) {  // files with the exact frame (older ones: the grid's float map above)
+        near.x = vdblight_nano_frame_offset(buf, PNANOVDB_DEREF(v).meta, frame, 0, x.x, ijk.x);
+        near.y = vdblight_nano_frame_offset(buf, PNANOVDB_DEREF(v).meta, frame, 1, x.y, ijk.y);
+        near.z = vdblight_nano_frame_offset(buf, PNANOVDB_DEREF(v).meta, frame, 2, x.z, ijk.z);
+    }
     pnanovdb_vec3_t o;
     o.x = vdblight_nano_axis_offset(u.x, c.x, near.x, ijk.x);
     o.y = vdblight_nano_axis_offset(u.y, c.y, near.y, ijk.y);

@@ -2,14 +2,16 @@
 // shaders/vdblight_nanovdb.h, compiled as C (nanovdb_lookup_c.c):
 // - the lookup equals IrradianceQuery to 1e-5 relative at 10 000 random points and normals,
 //   for uniform and multi-level volumes, with and without depth moments;
-// - the light visibility it interpolates equals the occlusion lookup's, with the shadow edges
-//   and strips of a bake (docs/shadow_visibility.md) as without;
+// - the light visibility it interpolates equals the visibility query's irradiance multiplies
+//   the lights by, with the shadow edges and strips of a bake (docs/shadow_visibility.md) as
+//   without; the occlusion lookup's own, located in double, is within float location's reach;
 // - the file holds every channel (in the blind data of one vdblight_nodes grid per level, whose
 //   values index it), the numbers and the metadata text;
 // - nanovdb_validate and nanovdb_print (libnanovdb-tools) accept the files;
 // - an empty volume is refused in one line, leaving no file.
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <gtest/gtest.h>
 
 #include <nanovdb/util/IO.h>
@@ -63,11 +65,14 @@ std::vector<Probe> randomProbes(const Bounds& box, int count, uint64_t seed) {
 /// The C lookup against IrradianceQuery at 10 000 probes: every colour within 1e-5 of the
 /// query's value relative to max(|E|, 1 % of the RMS irradiance) (E of random coefficients
 /// passes through 0; the floor keeps those points from dividing by nothing).
-void expectLookupEqualsQuery(const Volume& volume, const std::string& what, double tolerance = 1e-5) {
+/// `edit` may change the file's words first (e.g. to make it look like an older file).
+void expectLookupEqualsQuery(const Volume& volume, const std::string& what, double tolerance = 1e-5,
+                             const std::function<void(const std::string&, std::vector<uint64_t>&)>& edit = {}) {
     TempDir dir;
     const std::string file = dir.file("v.nvdb");
     exportNanoVdb(volume, file);
-    const std::vector<uint64_t> words = loadGrids(file);
+    std::vector<uint64_t> words = loadGrids(file);
+    if (edit) edit(file, words);
     const uint32_t* buf = reinterpret_cast<const uint32_t*>(words.data());
     const IrradianceQuery query(volume);
     const std::vector<Probe> probes = randomProbes(query.bounds(), 10000, 7);
@@ -157,52 +162,92 @@ Volume occlusionVolume() {
     return v;
 }
 
-TEST(NanoVdbLookup, AddsTheListedLightsTimesTheirVisibility) {
-    const Volume v = occlusionVolume();
-    Volume baked = v;  // the SH part alone
-    baked.direct = {};
-    baked.levels[0].lightVisibility.clear();
-    expectLookupEqualsQuery(baked, "uniform sh:4 with depth moments: the SH part of an occlusion volume");
-    // The lights' formulas run in float in the shader, in double in query (exact_irradiance.cpp):
-    // a polygon or a mesh face clipped to a sliver of the hemisphere loses digits to
-    // cancellation (measured, one light at a time over the SH part scaled by 1e-3: polygon
-    // 1.5e-4, mesh 1.8e-4, spot 3.8e-5, point 1.2e-5, directional 6.0e-6).
-    expectLookupEqualsQuery(v, "uniform sh:4 with depth moments and 5 listed lights (--direct occlusion)", 5e-4);
-    TempDir dir;
-    exportNanoVdb(v, dir.file("o.nvdb"));
-    const std::vector<uint64_t> words = loadGrids(dir.file("o.nvdb"));
-    const uint32_t* buf = reinterpret_cast<const uint32_t*>(words.data());
-    const OcclusionLookup occlusion(std::make_unique<ChannelLookup>(baked, OutsidePolicy::Clamp), v);
-    double worst = 0;
-    for (const Probe& p : randomProbes(IrradianceQuery(v).bounds(), 2000, 3)) {
-        float expected[5];
-        occlusion.visibility(Vec3d(p.x), expected);
-        const float x[3] = {p.x.x, p.x.y, p.x.z};
-        for (int i = 0; i < 5; ++i) worst = std::max(worst, double(std::fabs(vdblightNanoLightVisibility(buf, x, i) - expected[i])));
+/// The visibility query multiplies each listed light of v by at x (the cell its irradiance
+/// blends, located in float), read through IrradianceQuery itself: with the coefficients zero
+/// and the lights replaced by suns of unit irradiance in one colour each, three at a time, the
+/// irradiance facing them is exactly their visibility (1 times it, plus zeros).
+std::vector<float> queriedVisibility(const Volume& v, const std::vector<Vec3f>& points) {
+    const std::size_t lights = v.direct.lights.size();
+    std::vector<float> out(points.size() * lights);
+    DirectLight sun;
+    sun.kind = DirectLight::Kind::Directional;
+    sun.direction = normalize(Vec3d(0.3, -1.0, 0.2));
+    const Vec3f facing(-sun.direction);
+    for (std::size_t first = 0; first < lights; first += 3) {
+        Volume probe = v;
+        std::fill(probe.levels[0].data.begin(), probe.levels[0].data.end(), 0.0f);
+        for (std::size_t i = 0; i < lights; ++i) {
+            probe.direct.lights[i] = sun;
+            probe.direct.lights[i].value = Rgb(0, 0, 0);
+            if (i >= first && i < first + 3) probe.direct.lights[i].value[int(i - first)] = 1.0f;
+        }
+        const IrradianceQuery query(probe);
+        for (std::size_t p = 0; p < points.size(); ++p) {
+            const Rgb e = query.irradiance(points[p], facing);
+            for (std::size_t i = first; i < std::min(lights, first + 3); ++i) out[p * lights + i] = e[int(i - first)];
+        }
     }
-    // query locates the visibility in double, the shader in float; the depth weights' steep
-    // Chebyshev bound (sigma 0.02 cells) amplifies that rounding (measured 5.0e-6).
-    EXPECT_LE(worst, 2e-5);
+    return out;
 }
 
-/// The worst |difference| between the C lookup's visibility of each listed light and the
-/// occlusion lookup's at `count` random points (query locates them in double, the shader in float).
-double worstVisibilityDifference(const Volume& v, const uint32_t* buf, int count) {
+/// The C lookup's visibility of each listed light against query's at `count` random points:
+/// the worst |difference| from the visibility query's irradiance uses (`fromQuery`), and from
+/// OcclusionLookup::visibility (`fromDoubleLocation`: its own reference, which locates the
+/// point in double where query's irradiance and the shader locate it in float).
+struct VisibilityDifference {
+    double fromQuery = 0, fromDoubleLocation = 0;
+};
+VisibilityDifference worstVisibilityDifference(const Volume& v, const uint32_t* buf, int count) {
     Volume baked = v;  // the SH part alone
     baked.direct = {};
     baked.levels[0].lightVisibility.clear();
     baked.levels[0].lightShadowEdges.clear();
     const OcclusionLookup occlusion(std::make_unique<ChannelLookup>(baked, OutsidePolicy::Clamp), v);
     const std::size_t lights = v.direct.lights.size();
+    std::vector<Vec3f> points;
+    for (const Probe& p : randomProbes(IrradianceQuery(v).bounds(), count, 3)) points.push_back(p.x);
+    const std::vector<float> queried = queriedVisibility(v, points);
     std::vector<float> expected(lights);
-    double worst = 0;
-    for (const Probe& p : randomProbes(IrradianceQuery(v).bounds(), count, 3)) {
-        occlusion.visibility(Vec3d(p.x), expected.data());
-        const float x[3] = {p.x.x, p.x.y, p.x.z};
-        for (std::size_t i = 0; i < lights; ++i)
-            worst = std::max(worst, double(std::fabs(vdblightNanoLightVisibility(buf, x, int(i)) - expected[i])));
+    VisibilityDifference worst;
+    for (std::size_t p = 0; p < points.size(); ++p) {
+        occlusion.visibility(Vec3d(points[p]), expected.data());
+        const float x[3] = {points[p].x, points[p].y, points[p].z};
+        for (std::size_t i = 0; i < lights; ++i) {
+            const float mine = vdblightNanoLightVisibility(buf, x, int(i));
+            worst.fromDoubleLocation = std::max(worst.fromDoubleLocation, double(std::fabs(mine - expected[i])));
+            worst.fromQuery = std::max(worst.fromQuery, double(std::fabs(mine - queried[p * lights + i])));
+        }
     }
     return worst;
+}
+
+TEST(NanoVdbLookup, AddsTheListedLightsTimesTheirVisibility) {
+    const Volume v = occlusionVolume();
+    Volume baked = v;  // the SH part alone
+    baked.direct = {};
+    baked.levels[0].lightVisibility.clear();
+    expectLookupEqualsQuery(baked, "uniform sh:4 with depth moments: the SH part of an occlusion volume");
+    // The lights' formulas run in float in the shader; in query in double (exact_irradiance.cpp),
+    // but the polygon's in float too (fast_exact_lights.cpp). Where a polygon is clipped to a
+    // sliver of the hemisphere, its edges' terms (~0.2 each) cancel to ~1e-3, so float rounding
+    // leaves ~1e-4 of the light's irradiance, on both sides: measured at these points, each
+    // light alone (the others' visibility 0), against this volume's irradiance: the polygon
+    // 9.9e-5 from query, query's own float path 1.04e-4 and the shader 1.01e-4 from the double
+    // formula times the visibility; point 9.5e-6, mesh 6.7e-6, spot 3.0e-6, directional 2.4e-6
+    // from query. All five: 1.0e-4. Tolerance: twice that.
+    expectLookupEqualsQuery(v, "uniform sh:4 with depth moments and 5 listed lights (--direct occlusion)", 2e-4);
+    TempDir dir;
+    exportNanoVdb(v, dir.file("o.nvdb"));
+    const std::vector<uint64_t> words = loadGrids(dir.file("o.nvdb"));
+    const uint32_t* buf = reinterpret_cast<const uint32_t*>(words.data());
+    const VisibilityDifference worst = worstVisibilityDifference(v, buf, 2000);
+    std::printf("[ 5 listed lights ] visibility: worst |difference| from query's %.3g, from the visibility located in "
+                "double %.3g\n", worst.fromQuery, worst.fromDoubleLocation);
+    // The visibility query's irradiance uses: the same float cell and weights (measured 0).
+    EXPECT_LE(worst.fromQuery, 1e-6);
+    // OcclusionLookup::visibility locates the point in double, the shader in float; the depth
+    // weights' steep Chebyshev bound (sigma 0.02 cells) amplifies that rounding (measured 5.0e-6).
+    EXPECT_LE(worst.fromDoubleLocation, 2e-5);
 }
 
 /// With the shadow edges of a bake (nearest edges and strips) the lookup's visibility is
@@ -255,35 +300,59 @@ TEST(NanoVdbLookup, KeepsTheShadowEdgesAndStripsOfABake) {
     for (std::size_t p = 0; p < edges.size(); p += shadow_edge::kFloatsPerLight) oneEdge.levels[0].lightShadowEdges[p + shadow_edge::kFar] = 0.0f;
     Volume noEdges = v;
     noEdges.levels[0].lightShadowEdges.clear();
-    const double worst = worstVisibilityDifference(v, buf, 10000);
+    const VisibilityDifference worst = worstVisibilityDifference(v, buf, 10000);
     exportNanoVdb(oneEdge, dir.file("one.nvdb"));
     const std::vector<uint64_t> oneWords = loadGrids(dir.file("one.nvdb"));
-    const double worstOne = worstVisibilityDifference(oneEdge, reinterpret_cast<const uint32_t*>(oneWords.data()), 10000);
+    const VisibilityDifference worstOne = worstVisibilityDifference(oneEdge, reinterpret_cast<const uint32_t*>(oneWords.data()), 10000);
     const auto oneHandles = nanovdb::io::readGrids<nanovdb::HostBuffer, std::vector>(dir.file("one.nvdb"));
     EXPECT_EQ(oneHandles[0].template grid<float>()->tree().getValue(nanovdb::Coord(nanovdb_meta::kShadowEdges, 0, 0)), 1.0f);
     EXPECT_EQ(oneHandles[1].template grid<uint32_t>()->blindMetaData(0).mElementCount,
               v.levels[0].grid.nodeCount() * ((25 + 4) * 3 + 3 + 3 * 2))
         << "without strips the file has no strip arrays";
-    const double stripsMatter = worstVisibilityDifference(oneEdge, buf, 10000), edgesMatter = worstVisibilityDifference(noEdges, buf, 10000);
-    std::printf("[ baked edges ] visibility: worst |difference| %.3g with strips, %.3g with one edge; the strips change it "
-                "by up to %.3g, the edges by %.3g\n", worst, worstOne, stripsMatter, edgesMatter);
-    // As without edges, query's weights in double against the shader's in float, the rounding
-    // amplified by the depth weights' Chebyshev bound (AddsTheListedLightsTimesTheirVisibility:
-    // 5e-6) and now also by the edge's ramp, whose slope is up to 16 per cell (a hard edge:
+    const double stripsMatter = worstVisibilityDifference(oneEdge, buf, 10000).fromQuery,
+                 edgesMatter = worstVisibilityDifference(noEdges, buf, 10000).fromQuery;
+    std::printf("[ baked edges ] visibility: worst |difference| from query's %.3g with strips, %.3g with one edge (from "
+                "the visibility located in double: %.3g, %.3g); the strips change it by up to %.3g, the edges by %.3g\n",
+                worst.fromQuery, worstOne.fromQuery, worst.fromDoubleLocation, worstOne.fromDoubleLocation, stripsMatter,
+                edgesMatter);
+    // The visibility query's irradiance uses: the same float cell and weights, so bit for bit
+    // outside strip cells (measured 0 with one edge); in a strip's cells the corner offsets
+    // from the exact frame, rounded to ~1e-7 cell where query's are in double, times the
+    // ramp's slope of up to 16 per cell: measured 7.8e-7. Tolerance: twice that, rounded up.
+    EXPECT_LE(worst.fromQuery, 2e-6);
+    EXPECT_LE(worstOne.fromQuery, 2e-6);
+    // OcclusionLookup::visibility locates x in double, query's irradiance and the shader in
+    // float: (x - origin) / spacing rounded to ~1e-6 cell, amplified by the depth weights'
+    // Chebyshev bound and by the edge's ramp, whose slope is up to 16 per cell (a hard edge:
     // shadow_edge::kMinWidth) on a blended distance of up to 3 cells. Measured 9.1e-5 here;
     // with every width raised to 1 cell 1.3e-5, without the depth moments 1.5e-5.
-    EXPECT_LE(worst, 2e-4);
-    EXPECT_LE(worstOne, 2e-4);
+    EXPECT_LE(worst.fromDoubleLocation, 2e-4);
+    EXPECT_LE(worstOne.fromDoubleLocation, 2e-4);
     EXPECT_GT(stripsMatter, 0.1) << "the fixture's strips must change the answer somewhere";
     EXPECT_GT(edgesMatter, 0.1);
     // Irradiance: query's shared cell has the shader's float weights (the SH part is bit for bit),
-    // so what is left is the lights' float formulas (AddsTheListedLightsTimesTheirVisibility:
-    // 9.7e-6 here without the edges) and, in a strip's cells, the corner offsets, which query
-    // measures in double from the double transform and the shader in float from the grid's float
-    // map (origin -1.65 and spacing 0.3 are not floats), times the ramp's slope of up to 16 per
-    // cell: measured 3.8e-5; 5.9e-6 with the fixture moved to origin -1.5, spacing 0.25 (floats).
-    expectLookupEqualsQuery(noEdges, "the same volume without its shadow edges", 5e-4);
-    expectLookupEqualsQuery(v, "baked sh:4 volume with depth moments, 3 listed lights, shadow edges and strips", 5e-4);
+    // so what is left is the lights' float formulas: measured 9.7e-6 here without the edges (the
+    // point light's, at normals that graze it: its n . w rounded to 1e-7 against an irradiance
+    // down to the 1 % floor). In a strip's cells the corner offsets, which query measures in
+    // double, come from the file's exact frame (nanovdb_meta::kFrame): measured 8.0e-6, where
+    // the grid's float map (origin -1.65 and spacing 0.3 are not floats) gave 3.8e-5, its
+    // rounding times the ramp's slope of up to 16 per cell. Tolerance: twice the measured.
+    expectLookupEqualsQuery(noEdges, "the same volume without its shadow edges", 2e-5);
+    expectLookupEqualsQuery(v, "baked sh:4 volume with depth moments, 3 listed lights, shadow edges and strips", 2e-5);
+    // A file written before the frame (kFrame 0) still reads, through the grid's float map.
+    // (The value's byte offset is found in the file's own, aligned grid: NanoVDB's types are
+    // 32-byte aligned, the words only 16.)
+    const auto withoutFrame = [](const std::string& file, std::vector<uint64_t>& words) {
+        const auto handles = nanovdb::io::readGrids<nanovdb::HostBuffer, std::vector>(file);
+        const nanovdb::Coord at(nanovdb_meta::kFrame, 0, 0);
+        const auto* leaf = handles[0].template grid<float>()->tree().root().probeLeaf(at);
+        ASSERT_NE(leaf, nullptr);
+        const float* value = &leaf->data()->mValues[nanovdb::NanoLeaf<float>::CoordToOffset(at)];
+        const float zero = 0.0f;  // vdblight_meta is the first grid: the same offset in the words
+        const std::ptrdiff_t offset = reinterpret_cast<const char*>(value) - reinterpret_cast<const char*>(handles[0].data());
+        std::memcpy(reinterpret_cast<char*>(words.data()) + offset, &zero, sizeof zero);
+    };
+    expectLookupEqualsQuery(v, "the same, its file without the exact frame (older files)", 1e-4, withoutFrame);
 }
 
 /// vdblight_meta and one vdblight_nodes grid (the node's index in its channel arrays, which ride
@@ -337,6 +406,21 @@ TEST(NanoVdbExport, WritesEveryChannelAndTheMetadata) {
     EXPECT_EQ(value(spot + 12), float(std::cos(0.7)));
     EXPECT_EQ(value(nanovdb_meta::kDimsX), 7.0f);
     EXPECT_EQ(value(nanovdb_meta::kDimsZ), 6.0f);
+    // Level 0's exact frame: the origin as two floats, the spacing as s1 + s2 + s3 with s1 and
+    // s2 of at most 12 significant bits (a node index below 4096 times either is exact in float).
+    const int frame = int(value(nanovdb_meta::kFrame));
+    ASSERT_GE(frame, nanovdb_meta::kFieldCount + 5 * nanovdb_meta::kLightFloats);
+    const GridSpec& lattice = v.levels[0].grid;
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(double(value(frame + a)) + value(frame + 3 + a), lattice.origin[a], 1e-14);
+    const auto significantBits = [](float f) {
+        int exponent, n = 0;
+        for (double m = std::fabs(std::frexp(double(f), &exponent)); m != 0; m = m * 2 - std::floor(m * 2)) ++n;
+        return n;
+    };
+    EXPECT_LE(significantBits(value(frame + 6)), 12);
+    EXPECT_LE(significantBits(value(frame + 7)), 12);
+    EXPECT_NEAR(double(value(frame + 6)) + value(frame + 7) + value(frame + 8), lattice.spacing, 1e-15);
+    EXPECT_EQ(value(frame + 9), float(1.0 / lattice.spacing));
     ASSERT_EQ(meta->blindDataCount(), 1u);
     const std::string text = meta->blindMetaData(0).template getBlindData<char>();
     EXPECT_NE(text.find("basis=sh:4\n"), std::string::npos) << text;

@@ -160,6 +160,24 @@ void appendLights(const std::vector<DirectLight>& lights, std::vector<float>& ou
     }
 }
 
+/// The leading `bits` significant bits of v (round to nearest), 0 for 0.
+double leadingBits(double v, int bits) {
+    if (v == 0) return 0;
+    int exponent;
+    std::frexp(v, &exponent);  // v = m 2^exponent, 0.5 <= |m| < 1
+    return std::ldexp(std::round(std::ldexp(v, bits - exponent)), exponent - bits);
+}
+
+/// Level 0's exact frame (nanovdb_meta::kFrame), appended to `out`: what lets a float lookup
+/// measure a point's offset from a node as (x - origin) - i * spacing to within float rounding
+/// of the offset itself, not of x's index coordinate (shaders/vdblight_nanovdb_lights.h).
+void appendFrame(const GridSpec& grid, std::vector<float>& out) {
+    const double s1 = leadingBits(grid.spacing, 12), s2 = leadingBits(grid.spacing - s1, 12);
+    for (int a = 0; a < 3; ++a) out.push_back(float(grid.origin[a]));
+    for (int a = 0; a < 3; ++a) out.push_back(float(grid.origin[a] - double(float(grid.origin[a]))));
+    out.insert(out.end(), {float(s1), float(s2), float(grid.spacing - s1 - s2), float(1.0 / grid.spacing)});
+}
+
 /// The grid `vdblight_meta`: the numbers of nanovdb_meta in voxels (i, 0, 0), identity
 /// transform, and `text` (NUL-terminated) as its one blind data block.
 Handle metaGrid(const Volume& v, const std::string& text) {
@@ -180,6 +198,8 @@ Handle metaGrid(const Volume& v, const std::string& text) {
     field[nanovdb_meta::kShKind] = v.basis.isSh2() ? 1.0f : 0.0f;
     field[nanovdb_meta::kShadowEdges] = float(shadowEdgeKind(v));
     appendLights(v.direct.lights, field);
+    field[nanovdb_meta::kFrame] = float(field.size());
+    appendFrame(v.levels[0].grid, field);
 
     const uint64_t padded = alignedBlindSize(text.size() + 1);
     nanovdb::GridBuilder<float> builder(0.0f, nanovdb::GridClass::Unknown, padded);

@@ -173,8 +173,13 @@ enum Field : int {
     kShKind = 13,        ///< 0: sh:N; 1: sh2 (its lookup folds A_l into the coefficients first: other bits)
     kShadowEdges = 14,   ///< 0 none; 1 per light an edge distance and width array after the visibility
                          ///< arrays; 2 also per light a strip array (direction xyz, far) after those
-    kFieldCount = 16,    ///< 15 reserved (0)
+    kFrame = 15,         ///< the voxel where level 0's exact frame starts (kFrameFloats numbers), 0 in
+                         ///< files written before it: origin x y z rounded to float, origin minus
+                         ///< that (x y z), spacing as s1 + s2 + s3 (s1, s2 of at most 12 significant
+                         ///< bits, so that node index times either is exact in float), 1 / spacing
+    kFieldCount = 16,
 };
+constexpr int kFrameFloats = 10;
 /// The listed lights as numbers, for a shader: light i's record of kLightFloats values starts at
 /// voxel kFieldCount + kLightFloats i: kind (0 point, 1 spot, 2 directional, 3 polygon, 4 mesh),
 /// two-sided (0/1), value (3), position (3), direction (3), cos inner, cos outer, normal (3),
