@@ -27,7 +27,10 @@ float atan2NonNegative(float y, float x) {
     return a;
 }
 
-Float4 atan2NonNegative4(Float4 y, Float4 x) {
+namespace {
+/// atan2NonNegative4's body, inlined into the contour (a call per four edges cost as much as
+/// its arithmetic).
+inline __attribute__((always_inline)) Float4 atan2Lanes(Float4 y, Float4 x) {
     // atan2NonNegative's operations, lane by lane, its branches as selects (a lane computes
     // both sides of a test and keeps the one the scalar code takes: the same bits).
     const Float4 zero = {0, 0, 0, 0};
@@ -44,6 +47,9 @@ Float4 atan2NonNegative4(Float4 y, Float4 x) {
     a = swap ? 1.57079633f - a : a;
     return x < zero ? 3.14159265f - a : a;
 }
+}  // namespace
+
+Float4 atan2NonNegative4(Float4 y, Float4 x) { return atan2Lanes(y, x); }
 
 FastExactLights::FastExactLights(const std::vector<DirectLight>& lights) : lights_(lights), float_(lights.size(), 0) {
     for (std::size_t i = 0; i < lights_.size(); ++i) {
@@ -108,11 +114,19 @@ double contour(const Points& v, const Vec3f& n) {
         const Float4 bx = load4(ex + i + 1), by = load4(ey + i + 1), bz = load4(ez + i + 1);
         const Float4 gx = ay * bz - az * by, gy = az * bx - ax * bz, gz = ax * by - ay * bx;
         const Float4 squared = gx * gx + gy * gy + gz * gz;
-        const Float4 len = {std::sqrt(squared[0]), std::sqrt(squared[1]), std::sqrt(squared[2]), std::sqrt(squared[3])};
-        const Float4 theta = atan2NonNegative4(len, ax * bx + ay * by + az * bz);
-        const Float4 term = theta * (n.x * gx + n.y * gy + n.z * gz) / len;
-        for (std::size_t k = 0; k < 4 && i + k < m; ++k)
-            if (len[k] > 0) sum += double(term[k]);  // an edge pointing at the receiver subtends no angle
+        const Float4 len = sqrt4(squared);
+        const Float4 theta = atan2Lanes(len, ax * bx + ay * by + az * bz);
+        const Float4 zero = {0, 0, 0, 0};
+        // An edge pointing at the receiver (len 0) subtends no angle: its term is +0, which
+        // leaves the sum as skipping it would (but for the sign of a zero sum, which the
+        // caller's e > 0 test does not see); so is a lane past the last edge.
+        Float4 term = theta * (n.x * gx + n.y * gy + n.z * gz) / len;
+        term = len > zero ? term : zero;
+        if (i + 4 > m) term = Float4{0, 1, 2, 3} + float(i) < float(m) ? term : zero;
+        sum += double(term[0]);
+        sum += double(term[1]);
+        sum += double(term[2]);
+        sum += double(term[3]);
     }
     return sum;
 }
