@@ -6,6 +6,7 @@
 #include "basis/shadow_edges.h"
 #include "direct_sum.h"
 #include "fast_exact_lights.h"
+#include "prefetch_cell.h"
 #include "shared_cell.h"
 
 #include <algorithm>
@@ -22,6 +23,8 @@ OcclusionLookup::OcclusionLookup(std::unique_ptr<VolumeLookup> base, const Volum
         throw FormatError("occlusion lookup: the shadow edges do not match the visibility channels");
     if (!depth_.empty() && depth_.size() != grid_.nodeCount() * depth::kFloatsPerNode)
         throw FormatError("occlusion lookup: the depth moments do not match the grid");
+    origin_ = Vec3f(grid_.origin);
+    invSpacing_ = float(1.0 / grid_.spacing);
     depthWeights_ = !depth_.empty();
     useEdges_ = !edges_.empty();
     // A lookup anchored far from the origin (shifted_lookup.cpp) offers no cell: it is read as before.
@@ -89,25 +92,36 @@ void OcclusionLookup::updateSharing() {
 }
 
 Rgb OcclusionLookup::irradianceSharingCell(const Vec3f& xf, const Vec3d& x, const Vec3f& n) const {
+    const std::size_t m = lights_.size();
+    // Every corner line the lookup reads is asked for first (prefetch_cell.h), then the lights'
+    // exact irradiance, which reads none of them, runs while they arrive: on a 32^3 default
+    // volume at random points this hid most of the memory time (docs/architecture.md).
+    sharing_->prefetchCell(xf);
+    const Vec3f gv = (xf - origin_) * invSpacing_;
+    const float g[3] = {gv.x, gv.y, gv.z};
+    const query_detail::CellNodes near = query_detail::cellNodes(grid_, g);
+    query_detail::prefetchCell(near, visibility_.data(), m);
+    if (useEdges_) query_detail::prefetchCell(near, edges_.data(), m * shadow_edge::kFloatsPerLight);
+    query_detail::LightScratch scratch(m);
+    const query_detail::FastExactLights& exact = *fastLights_;
+    const bool lit = query_detail::exactLights(
+        m, x, n, [&](std::size_t i, const Vec3d& at, const Vec3d& nd) { return exact.irradiance(i, at, nd); }, scratch.e);
+
     query_detail::SharedCell cell;
     const Rgb indirect = sharing_->irradianceSharingCell(xf, n, cell);
-    const std::size_t m = lights_.size();
-    const query_detail::FastExactLights& exact = *fastLights_;
-    return indirect + query_detail::directLight(
-                          m, x, n, [&](std::size_t i, const Vec3d& at, const Vec3d& nd) { return exact.irradiance(i, at, nd); },
-                          [&](float* v) {
-                              const std::size_t sx = cell.step[0], sy = cell.step[1] * std::size_t(grid_.nx),
-                                                sz = cell.step[2] * std::size_t(grid_.nx) * grid_.ny;
-                              const std::size_t node0 = cell.node(grid_, 0);
-                              const auto node = [&](int c) { return node0 + (c & 1) * sx + ((c >> 1) & 1) * sy + (c >> 2) * sz; };
-                              const auto values = [&](int c) { return visibility_.data() + node(c) * m; };
-                              if (useEdges_)  // as visibility(): the edges' ramp plus the corners' residuals
-                                  query_detail::blendCellWithEdges(
-                                      cell, grid_, x, m, values,
-                                      [&](int c) { return edges_.data() + node(c) * m * shadow_edge::kFloatsPerLight; }, v);
-                              else
-                                  query_detail::blendCell(cell, m, values, v);
-                          });
+    if (!lit) return indirect + Rgb(0, 0, 0);
+    const std::size_t sx = cell.step[0], sy = cell.step[1] * std::size_t(grid_.nx),
+                      sz = cell.step[2] * std::size_t(grid_.nx) * grid_.ny;
+    const std::size_t node0 = cell.node(grid_, 0);
+    const auto node = [&](int c) { return node0 + (c & 1) * sx + ((c >> 1) & 1) * sy + (c >> 2) * sz; };
+    const auto values = [&](int c) { return visibility_.data() + node(c) * m; };
+    if (useEdges_)  // as visibility(): the edges' ramp plus the corners' residuals
+        query_detail::blendCellWithEdges(
+            cell, grid_, x, m, values, [&](int c) { return edges_.data() + node(c) * m * shadow_edge::kFloatsPerLight; },
+            scratch.v);
+    else
+        query_detail::blendCell(cell, m, values, scratch.v);
+    return indirect + query_detail::visibleSum(m, scratch.e, scratch.v);
 }
 
 Rgb OcclusionLookup::irradiance(const Vec3f& x, const Vec3f& n) const {

@@ -38,8 +38,10 @@ public:
     Rgb irradianceSharingCell(const Vec3f& x, const Vec3f& n, query_detail::SharedCell& cell) const override {
         return blend(x, n, &cell);
     }
-    /// On: the AVX2 build where the CPU has it (the same bits; off by default, it measured
-    /// slower: sh4_uniform_lookup.cpp).
+    /// Prefetches the records of x's cell (prefetch_cell.h).
+    void prefetchCell(const Vec3f& x) const override;
+    /// On: the AVX2 build where the CPU has it (the same bits; the default, it measured
+    /// faster: sh4_uniform_lookup.cpp); off: the portable (SSE2) build.
     void setWideVectors(bool on);
     Bounds bounds() const override { return grid_.nodeBounds(); }
     /// The 25 stored RGB coefficients interpolated at x (ChannelLookup::channelValues: located
@@ -70,6 +72,8 @@ private:
     /// blendIrradiance compiled for AVX2 (no FMA, so the same operations in the same order: the
     /// same bits), picked at run time where the CPU has it (query/wide_vectors.h).
     Rgb blendIrradianceAvx2(const Vec3f& x, const Vec3f& n, query_detail::SharedCell* cell) const;
+    /// The body of both, its blend over the corners in vectors of type V (4 or 8 floats).
+    template <class V>
     Rgb blendIrradianceBody(const Vec3f& x, const Vec3f& n, query_detail::SharedCell* cell) const;
     Rgb blend(const Vec3f& x, const Vec3f& n, query_detail::SharedCell* cell) const {
         return avx2_ ? blendIrradianceAvx2(x, n, cell) : blendIrradiance(x, n, cell);
