@@ -89,8 +89,6 @@ private:
     bool shareWanted_ = true;
     std::vector<DirectLight> lights_;
     GridSpec grid_;
-    Vec3f origin_;           ///< grid_'s origin and 1 / spacing in float, to prefetch x's cell
-    float invSpacing_ = 1;
     std::vector<float> visibility_;  ///< node-major, lights_.size() per node
     std::vector<float> edges_;       ///< shadow edges, node-major, kFloatsPerLight per light, or empty
     std::vector<float> depth_;       ///< level 0's depth moments (depth::kFloatsPerNode per node), or empty

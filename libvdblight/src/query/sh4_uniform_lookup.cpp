@@ -9,7 +9,6 @@
 #include "depth_weights.h"
 #include "float4.h"
 #include "lattice_locate.h"
-#include "prefetch_cell.h"
 #include "vdblight/basis/basis.h"
 #include "vdblight/core/errors.h"
 #include "wide_vectors.h"
@@ -137,12 +136,6 @@ VDBLIGHT_ALWAYS_INLINE void ShFourUniformLookup::locate(const T g[3], std::size_
         }
         for (int c = 0; c < 8; ++c) cell->weight[c] = weight[c];
     }
-}
-
-void ShFourUniformLookup::prefetchCell(const Vec3f& x) const {
-    const Vec3f gv = (x - origin_) * invSpacing_;
-    const float g[3] = {gv.x, gv.y, gv.z};
-    query_detail::prefetchCell(query_detail::cellNodes(grid_, g), records_.data(), std::size_t(stride_));
 }
 
 void ShFourUniformLookup::setWideVectors(bool on) { avx2_ = on && query_detail::cpuHasAvx2(); }

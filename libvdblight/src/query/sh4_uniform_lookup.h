@@ -38,8 +38,6 @@ public:
     Rgb irradianceSharingCell(const Vec3f& x, const Vec3f& n, query_detail::SharedCell& cell) const override {
         return blend(x, n, &cell);
     }
-    /// Prefetches the records of x's cell (prefetch_cell.h).
-    void prefetchCell(const Vec3f& x) const override;
     /// On: the AVX2 build where the CPU has it (the same bits; the default, it measured
     /// faster: sh4_uniform_lookup.cpp); off: the portable (SSE2) build.
     void setWideVectors(bool on);

@@ -38,9 +38,6 @@ public:
     virtual Rgb irradianceSharingCell(const Vec3f& x, const Vec3f& n, SharedCell& cell) const = 0;
     /// False where the lookup cannot offer its cell (e.g. a streamed volume of several levels).
     virtual bool sharesCell() const { return true; }
-    /// Asks the memory system for the node data that irradianceSharingCell(x, ...) will read
-    /// (prefetch_cell.h), so that the caller's own work overlaps the loads. None by default.
-    virtual void prefetchCell(const Vec3f& x) const { (void)x; }
 };
 
 /// `out[l]` = the lights' values (`lights` floats per node at corner c, `values(c)`) blended
