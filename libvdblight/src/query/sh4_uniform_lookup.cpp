@@ -1,6 +1,7 @@
 #include "sh4_uniform_lookup.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <string>
 #include <type_traits>
@@ -42,8 +43,8 @@ VDBLIGHT_ALWAYS_INLINE Rgb blendTerms(const float* const p[8], const float w[8],
     constexpr int kLanes = int(sizeof(V) / sizeof(float));
     constexpr int kStride = ShFourUniformLookup::kLitStride, kLit = 3 * ShFourUniformLookup::kLitCoeffs;
     static_assert(kStride % kLanes == 0, "whole vectors per record");
-    // Records start 16-byte aligned (records_ comes from operator new, every stride is a
-    // multiple of 4 floats), so the SSE build folds the loads into its products.
+    // Records start 16-byte aligned (record(), every stride a multiple of 4 floats), so the SSE
+    // build folds the loads into its products.
     const auto lanes = [](V& v, const float* q) { std::memcpy(&v, __builtin_assume_aligned(q, 16), sizeof v); };
     float products[kStride];
 #pragma GCC unroll 14
@@ -89,11 +90,14 @@ ShFourUniformLookup::ShFourUniformLookup(const Volume& volume, OutsidePolicy out
     if (hasDepth_ && level.depth.size() != nodes * depth::kFloatsPerNode)
         throw FormatError("sh4-uniform lookup: the depth moments do not match the grid");
     stride_ = kLitStride + (hasDepth_ ? query_detail::kPreparedDepthFloats : 0);
-    records_.assign(nodes * std::size_t(stride_), 0.0f);
+    // Four floats more, and the first record where the storage is 16-byte aligned (record()):
+    // operator new promises that alignment on x86-64, but not every allocator keeps it.
+    records_.assign(nodes * std::size_t(stride_) + 4, 0.0f);
+    recordOffset_ = (16 - reinterpret_cast<std::uintptr_t>(records_.data()) % 16) % 16 / sizeof(float);
     dark_.resize(nodes * kDarkFloats);
     for (std::size_t n = 0; n < nodes; ++n) {
         const float* in = level.data.data() + n * kCoeffs * 3;
-        float* record = records_.data() + n * std::size_t(stride_);
+        float* record = records_.data() + recordOffset_ + n * std::size_t(stride_);
         for (int t = 0; t < kLitCoeffs; ++t)
             for (int c = 0; c < 3; ++c) record[3 * t + c] = in[3 * storedIndex(t) + c];
         if (hasDepth_) query_detail::prepareDepth(level.depth.data() + n * depth::kFloatsPerNode, record + kLitStride);
@@ -126,7 +130,7 @@ VDBLIGHT_ALWAYS_INLINE void ShFourUniformLookup::locate(const T g[3], std::size_
     }
     if (depthWeights_) {  // visibility-aware interpolation (depth_weights.h)
         const float* depth[8];
-        for (int c = 0; c < 8; ++c) depth[c] = query_detail::inScalarRegister(records_.data() + corner[c] * stride_ + kLitStride);
+        for (int c = 0; c < 8; ++c) depth[c] = query_detail::inScalarRegister(record(corner[c]) + kLitStride);
         query_detail::weightByPreparedDepth(weight, depth, float(f[0]), float(f[1]), float(f[2]));
     }
     if (cell) {
@@ -155,7 +159,7 @@ VDBLIGHT_ALWAYS_INLINE Rgb ShFourUniformLookup::blendIrradianceBody(const Vec3f&
     for (int t = 0; t < kLitCoeffs; ++t) bw[t] = lobe_[t] * y[storedIndex(t)];
 
     const float* p[8];
-    for (int c = 0; c < 8; ++c) p[c] = query_detail::inScalarRegister(records_.data() + corner[c] * stride_);
+    for (int c = 0; c < 8; ++c) p[c] = query_detail::inScalarRegister(record(corner[c]));
     return blendTerms<V>(p, w, bw);
 }
 
@@ -176,7 +180,7 @@ void ShFourUniformLookup::channelValues(const Vec3d& x, float* out) const {
     locate(g, corner, w);
     std::fill(out, out + kCoeffs * 3, 0.0f);
     for (int c = 0; c < 8; ++c) {
-        const float* lit = records_.data() + corner[c] * stride_;
+        const float* lit = record(corner[c]);
         const float* dark = dark_.data() + corner[c] * kDarkFloats;
         for (int t = 0; t < kLitCoeffs; ++t)
             for (int col = 0; col < 3; ++col) out[3 * storedIndex(t) + col] += w[c] * lit[3 * t + col];

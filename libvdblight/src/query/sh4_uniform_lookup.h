@@ -32,6 +32,9 @@ public:
     static bool accepts(const Volume& volume);
     /// FormatError if the volume is not one that accepts() takes or its arrays do not match its grid.
     ShFourUniformLookup(const Volume& volume, OutsidePolicy outside);
+    /// Not copied: the records' first one sits at an offset chosen for this object's storage.
+    ShFourUniformLookup(const ShFourUniformLookup&) = delete;
+    ShFourUniformLookup& operator=(const ShFourUniformLookup&) = delete;
 
     Rgb irradiance(const Vec3f& x, const Vec3f& n) const override { return blend(x, n, nullptr); }
     /// irradiance, and the cell it blended (the default volume's visibility reuses it).
@@ -85,6 +88,8 @@ private:
     /// Per node stride_ floats: [lit coefficient][colour] as stored (no A_l), 2 zeros, then the
     /// prepared depth (query_detail::prepareDepth) if the volume has depth moments.
     std::vector<float> records_;
+    std::size_t recordOffset_ = 0;  ///< floats before the first record, which starts 16-byte aligned
+    const float* record(std::size_t node) const { return records_.data() + recordOffset_ + node * std::size_t(stride_); }
     int stride_ = kLitStride;
     std::vector<float> dark_;  ///< per node kDarkFloats: band 3, [coefficient][colour] as stored
     bool hasDepth_ = false;
