@@ -35,7 +35,7 @@ typedef float Float8 __attribute__((vector_size(32)));
 ///  - each colour's products summed over the terms in order, from 0.
 /// The blend and the products stay in registers until one store: through a float array of
 /// blended values, the AVX2 build's loads of each term's three colours straddled its 32-byte
-/// stores and waited for them (its lookup measured 1.4x slower than the SSE one); and GCC, left
+/// stores and waited for them (its lookup took 1.4x the SSE one's time, points in cache); and GCC, left
 /// to vectorise the corner loop, kept the loads apart from the products (three SSE
 /// instructions per four floats and corner).
 template <class V>
@@ -104,8 +104,9 @@ ShFourUniformLookup::ShFourUniformLookup(const Volume& volume, OutsidePolicy out
         std::copy(in + 3 * 9, in + 3 * 16, dark_.data() + n * kDarkFloats);
     }
     depthWeights_ = hasDepth_;
-    // The AVX2 build where the CPU has it (the same bits): vdblight_bench --only query, on a
-    // 2-core AMD EPYC shared, in one run (docs/architecture.md, "Query speed").
+    // The AVX2 build where the CPU has it (the same bits): vdblight_bench --only query's "blend's
+    // builds" rows, two runs under the lock on a shared 2-core AMD EPYC, AVX2 against portable:
+    // plain 1.09x, 1.16x, with depth weights 1.23x, 1.20x.
     avx2_ = query_detail::cpuHasAvx2();
 }
 

@@ -6,9 +6,8 @@
 // of memory instead of a piece of each of several arrays:
 // - the 18 coefficients that carry irradiance (bands 0, 1, 2 and 4; A_3 = 0), RGB each, in
 //   coefficient order (54 floats) and 2 floats of zero padding, so that a lookup blends the
-//   eight corners' 56 floats in one loop of whole 4- and 8-lane vectors, then sums the 18
-//   terms with the three colours side by side in the lanes of one vector (each colour still
-//   summed in term order);
+//   eight corners' 56 floats and multiplies them by their terms' weights in whole 4- or 8-lane
+//   vectors, then sums each colour's 18 products in term order;
 // - where the volume has depth moments, the node's prepared depth values (depth_weights.h:
 //   means and squared deviations, the squares made once here instead of at every lookup).
 // Band 3 (7 RGB coefficients) sits in its own array, read only by channelValues / shRadiance
