@@ -7,7 +7,8 @@
 // and, once, the query throughput per thread (random points and normals), for SH order 2 and
 // the default's SH order 4, each without and with depth moments, and the default volume (SH
 // order 4, depth moments, per-light visibility); beside each, the memory-bandwidth bound of the
-// same access pattern (lookup_bound.h), measured in the same run; and beside each, the lookup
+// same access pattern (lookup_bound.h), measured in the same run (for the default volume also
+// at points whose nodes stay in the cache: its arithmetic alone); and beside each, the lookup
 // an engine runs on the same volume exported to NanoVDB (shaders/vdblight_nanovdb.h compiled as
 // C, tests/nanovdb_lookup_c.c) on the same inputs, with its worst difference to query.
 // `--quick` shrinks every workload for a CI smoke run; the figures are then noisy.
@@ -288,6 +289,22 @@ void benchQuery(bool quick, const char* basis, bool depth, bool visibility, doub
                         name.c_str(), p / 1e6, w / 1e6, w / p, double(portableSink.x), double(wideSink.x));
         }
     } else if (std::unique_ptr<VolumeLookup> before = previousOcclusionLookup(volume, query.kind())) {
+        // What the arithmetic alone costs: the same lookups at points of the 3 x 3 x 3 cells at
+        // the grid's first corner, whose nodes stay in the cache (and the bound there), so that
+        // one run shows how much of the row's time is memory.
+        Bounds corner = grid.nodeBounds();
+        corner.hi = corner.lo + Vec3d(3, 3, 3) * grid.spacing;
+        const bench::LookupInputs cached = bench::randomLookups(corner, quick ? 200'000 : 2'000'000);
+        Rgb cachedSink{0, 0, 0};
+        double cachedRate = 0, cachedBound = 0;
+        for (int r = 0; r < (quick ? 1 : 5); ++r) {
+            cachedRate = std::max(cachedRate, bench::lookupRate(query, cached, 1, cachedSink));
+            cachedBound = std::max(cachedBound, bench::gatherBoundRate(grid, arrays, cached, 1, boundSink));
+        }
+        std::printf("query %-16s (points in 3^3 cells, their nodes in cache: the arithmetic): %.2f M lookups/s (%.0f ns) | "
+                    "bound %.1f M/s | at random points %.0f ns: %.0f ns more  [checksum %.9g]\n",
+                    name.c_str(), cachedRate / 1e6, 1e9 / cachedRate, cachedBound / 1e6, 1e9 / best, 1e9 / best - 1e9 / cachedRate,
+                    double(cachedSink.x));
         Rgb beforeSink{0, 0, 0}, again{0, 0, 0};
         double rate = 0, now = 0;
         for (int r = 0; r < (quick ? 1 : 5); ++r) {

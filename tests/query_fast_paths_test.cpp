@@ -6,7 +6,8 @@
 // lookup sharing its base's cell against base + direct() (query/shared_cell.h), bit for bit
 // where both locate a point alike, shadow edges (issue 32) included; the polygon lights' float contour and its atan2 against
 // exactIrradiance and std::atan2 in double, within float rounding, and the atan2 of four edges
-// at once against the scalar one, bit for bit; the shared cell's edge visibility against
+// at once against the scalar one, bit for bit; the quad lights' own path against the general
+// contour, bit for bit; the shared cell's edge visibility against
 // shadow_edge::visibility, bit for bit.
 #include <gtest/gtest.h>
 
@@ -428,6 +429,40 @@ TEST(QueryFastPaths, FloatPolygonContourIsTheDoubleOnesWithinFloatRounding) {
     EXPECT_GT(clipped, 10000);  // the hemisphere clipping ran
     std::printf("[ info ] largest error %.3g of L pi / 2 (%.3g for receivers within 1 %% of r of the light's plane)\n", worst,
                 edgeOn);
+}
+
+
+/// A quad light (one loop of four vertices) takes its own path (fast_exact_lights.cpp:
+/// quadContour, the edges in registers); the same quad with its last vertex repeated takes the
+/// general one, whose extra edge has length 0 and adds +0: the two give the same bits, at
+/// receivers that see the quad whole, clipped by their plane, or not at all.
+TEST(QueryFastPaths, QuadLightsPathGivesTheGeneralContoursBits) {
+    std::vector<DirectLight> lights = {squareLight({0.0, 2.0, 0.0}, {0.3, -1, 0.2}, 0.6, Rgb(30, 20, 10))};
+    lights[0].twoSided = true;  // receivers on both sides
+    DirectLight repeated = lights[0];
+    repeated.loops[0].push_back(repeated.loops[0].back());
+    lights.push_back(repeated);
+    const query_detail::FastExactLights fast(lights);
+    ASSERT_TRUE(fast.floatPath(0) && fast.floatPath(1));
+    Rng rng(77);
+    int whole = 0, clipped = 0, unlit = 0;
+    for (int t = 0; t < 100000; ++t) {
+        const double r = std::pow(10.0, 2.5 * rng.uniform() - 2);  // 0.01 .. 3 from the light
+        const Vec3d x = Vec3d(0, 2, 0) + Vec3d(uniformSphere(float(rng.uniform()), float(rng.uniform()))) * r;
+        const Vec3d n(uniformSphere(float(rng.uniform()), float(rng.uniform())));
+        const Rgb quad = fast.irradiance(0, x, n), general = fast.irradiance(1, x, n);
+        ASSERT_TRUE(sameBits(quad, general)) << "at " << x.x << " " << x.y << " " << x.z << " n " << n.x << " " << n.y << " " << n.z
+                                             << ": " << quad.x << " vs " << general.x;
+        int above = 0;
+        for (const Vec3d& p : lights[0].loops[0]) above += dot(n, p - x) >= 0;
+        whole += above == 4 && quad.x > 0;
+        clipped += above > 0 && above < 4 && quad.x > 0;
+        unlit += quad.x == 0;
+    }
+    EXPECT_GT(whole, 10000);
+    EXPECT_GT(clipped, 10000);
+    EXPECT_GT(unlit, 10000);
+    std::printf("[ info ] %d receivers saw the quad whole, %d clipped, %d not at all\n", whole, clipped, unlit);
 }
 
 }  // namespace

@@ -1,9 +1,11 @@
 // FastExactLights (fast_exact_lights.h): exactIrradiance's polygon term in float.
 #include "fast_exact_lights.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "float4.h"
+#include "wide_vectors.h"
 
 namespace vdblight::query_detail {
 
@@ -27,7 +29,10 @@ float atan2NonNegative(float y, float x) {
     return a;
 }
 
-Float4 atan2NonNegative4(Float4 y, Float4 x) {
+namespace {
+/// atan2NonNegative4's body, inlined into the contour (a call per four edges cost as much as
+/// its arithmetic).
+inline __attribute__((always_inline)) Float4 atan2Lanes(Float4 y, Float4 x) {
     // atan2NonNegative's operations, lane by lane, its branches as selects (a lane computes
     // both sides of a test and keeps the one the scalar code takes: the same bits).
     const Float4 zero = {0, 0, 0, 0};
@@ -44,13 +49,18 @@ Float4 atan2NonNegative4(Float4 y, Float4 x) {
     a = swap ? 1.57079633f - a : a;
     return x < zero ? 3.14159265f - a : a;
 }
+}  // namespace
 
-FastExactLights::FastExactLights(const std::vector<DirectLight>& lights) : lights_(lights), float_(lights.size(), 0) {
+Float4 atan2NonNegative4(Float4 y, Float4 x) { return atan2Lanes(y, x); }
+
+FastExactLights::FastExactLights(const std::vector<DirectLight>& lights)
+    : lights_(lights), float_(lights.size(), 0), quad_(lights.size(), 0) {
     for (std::size_t i = 0; i < lights_.size(); ++i) {
         const DirectLight& l = lights_[i];
         bool small = l.kind == DirectLight::Kind::Polygon && !l.loops.empty() && !l.loops[0].empty();
         for (const auto& loop : l.loops) small = small && loop.size() <= kMaxVertices;
         float_[i] = small;
+        quad_[i] = small && l.loops.size() == 1 && l.loops[0].size() == 4;
     }
 }
 
@@ -67,6 +77,29 @@ struct Points {
         ++size;
     }
 };
+
+/// `sum` plus the terms theta_i dot(n, gamma_i) of the edges from a_k to b_k in the first
+/// `edges` lanes (each lane the scalar formula's float operations, its term added in double in
+/// lane order, as one edge at a time would).
+VDBLIGHT_ALWAYS_INLINE double addEdgeTerms(Float4 ax, Float4 ay, Float4 az, Float4 bx, Float4 by, Float4 bz, const Vec3f& n,
+                                           std::size_t edges, double sum) {
+    const Float4 gx = ay * bz - az * by, gy = az * bx - ax * bz, gz = ax * by - ay * bx;
+    const Float4 squared = gx * gx + gy * gy + gz * gz;
+    const Float4 len = sqrt4(squared);
+    const Float4 theta = atan2Lanes(len, ax * bx + ay * by + az * bz);
+    const Float4 zero = {0, 0, 0, 0};
+    // An edge pointing at the receiver (len 0) subtends no angle: its term is +0, which
+    // leaves the sum as skipping it would (but for the sign of a zero sum, which the
+    // caller's e > 0 test does not see); so is a lane past the last edge.
+    Float4 term = theta * (n.x * gx + n.y * gy + n.z * gz) / len;
+    term = len > zero ? term : zero;
+    if (edges < 4) term = Float4{0, 1, 2, 3} < float(edges) ? term : zero;
+    sum += double(term[0]);
+    sum += double(term[1]);
+    sum += double(term[2]);
+    sum += double(term[3]);
+    return sum;
+}
 
 /// Lambert's contour term of one loop (vertices relative to the receiver) clipped to the
 /// hemisphere dot(n, v) >= 0: sum_i theta_i dot(n, gamma_i), as exact_irradiance.cpp's
@@ -96,25 +129,34 @@ double contour(const Points& v, const Vec3f& n) {
     }
     if (m < 3) return 0;
     // The edges four at a time in the lanes of Float4 (edge i from vertex i to vertex i + 1,
-    // the first vertex repeated at the end), each lane the scalar formula's float operations;
-    // then each edge's term added in double in edge order, as one edge at a time would.
+    // the first vertex repeated at the end).
     float ex[2 * FastExactLights::kMaxVertices + 4], ey[2 * FastExactLights::kMaxVertices + 4],
         ez[2 * FastExactLights::kMaxVertices + 4];
     for (std::size_t i = 0; i < m; ++i) ex[i] = c->x[i], ey[i] = c->y[i], ez[i] = c->z[i];
     for (std::size_t i = m; i < m + 4; ++i) ex[i] = c->x[0], ey[i] = c->y[0], ez[i] = c->z[0];
     double sum = 0;
-    for (std::size_t i = 0; i < m; i += 4) {
-        const Float4 ax = load4(ex + i), ay = load4(ey + i), az = load4(ez + i);
-        const Float4 bx = load4(ex + i + 1), by = load4(ey + i + 1), bz = load4(ez + i + 1);
-        const Float4 gx = ay * bz - az * by, gy = az * bx - ax * bz, gz = ax * by - ay * bx;
-        const Float4 squared = gx * gx + gy * gy + gz * gz;
-        const Float4 len = {std::sqrt(squared[0]), std::sqrt(squared[1]), std::sqrt(squared[2]), std::sqrt(squared[3])};
-        const Float4 theta = atan2NonNegative4(len, ax * bx + ay * by + az * bz);
-        const Float4 term = theta * (n.x * gx + n.y * gy + n.z * gz) / len;
-        for (std::size_t k = 0; k < 4 && i + k < m; ++k)
-            if (len[k] > 0) sum += double(term[k]);  // an edge pointing at the receiver subtends no angle
-    }
+    for (std::size_t i = 0; i < m; i += 4)
+        sum = addEdgeTerms(load4(ex + i), load4(ey + i), load4(ez + i), load4(ex + i + 1), load4(ey + i + 1), load4(ez + i + 1), n,
+                           std::min<std::size_t>(4, m - i), sum);
     return sum;
+}
+
+/// contour() of a loop of four vertices (relative to the receiver, in the lanes of rx, ry, rz),
+/// the same bits: where all four are above the receiver's plane (nothing to clip) its edges are
+/// the lanes against their next lane, without going through memory (the general path stores
+/// the vertices one float at a time and reads them back as vectors, which waits for the
+/// stores); where all are below, 0 (what clipping leaves); else the general path.
+VDBLIGHT_ALWAYS_INLINE double quadContour(Float4 rx, Float4 ry, Float4 rz, const Vec3f& n) {
+    const Float4 d = n.x * rx + n.y * ry + n.z * rz;  // contour()'s d[i], the same operations
+    const bool above[4] = {d[0] >= 0, d[1] >= 0, d[2] >= 0, d[3] >= 0};
+    if (above[0] && above[1] && above[2] && above[3]) {
+        const Float4 nx = {rx[1], rx[2], rx[3], rx[0]}, ny = {ry[1], ry[2], ry[3], ry[0]}, nz = {rz[1], rz[2], rz[3], rz[0]};
+        return addEdgeTerms(rx, ry, rz, nx, ny, nz, n, 4, 0.0);
+    }
+    if (!above[0] && !above[1] && !above[2] && !above[3]) return 0.0;
+    Points v;
+    for (int k = 0; k < 4; ++k) v.push(rx[k], ry[k], rz[k]);
+    return contour(v, n);
 }
 
 }  // namespace
@@ -128,6 +170,15 @@ Rgb FastExactLights::irradiance(std::size_t i, const Vec3d& x, const Vec3d& n) c
     if (side == 0) return Rgb(0, 0, 0);
     const Vec3f nf(n);
     double sum = 0;
+    if (quad_[i]) {  // one loop of four vertices: the quads' path, the same bits
+        const auto& q = l.loops[0];
+        const Float4 rx = {float(q[0].x - x.x), float(q[1].x - x.x), float(q[2].x - x.x), float(q[3].x - x.x)},
+                     ry = {float(q[0].y - x.y), float(q[1].y - x.y), float(q[2].y - x.y), float(q[3].y - x.y)},
+                     rz = {float(q[0].z - x.z), float(q[1].z - x.z), float(q[2].z - x.z), float(q[3].z - x.z)};
+        sum += side * quadContour(rx, ry, rz, nf);
+        const double e = -0.5 * sum;
+        return e > 0 ? Rgb(Rgbd(l.value) * e) : Rgb(0, 0, 0);
+    }
     for (const auto& loop : l.loops) {
         Points rel;
         for (const Vec3d& p : loop) rel.push(float(p.x - x.x), float(p.y - x.y), float(p.z - x.z));

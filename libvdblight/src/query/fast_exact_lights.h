@@ -42,6 +42,7 @@ public:
 private:
     std::vector<DirectLight> lights_;
     std::vector<char> float_;
+    std::vector<char> quad_;  ///< float path, one loop of four vertices (fast_exact_lights.cpp: quadContour)
 };
 
 }  // namespace vdblight::query_detail

@@ -6,7 +6,12 @@
 // (Internal to the query module.)
 #pragma once
 
+#include <cmath>
 #include <cstring>
+
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
 
 namespace vdblight::query_detail {
 
@@ -22,5 +27,15 @@ inline Float4 load4(const float* p) {
 
 /// |v| in each lane, as std::fabs (the sign bit cleared).
 inline Float4 abs4(Float4 v) { return Float4(Int4(v) & 0x7fffffff); }
+
+/// The square root of each lane, correctly rounded as std::sqrt (one instruction where the
+/// target has SSE: the polygon lights' four edge lengths were four scalar roots).
+inline Float4 sqrt4(Float4 v) {
+#if defined(__SSE__)
+    return Float4(_mm_sqrt_ps(__m128(v)));
+#else
+    return Float4{std::sqrt(v[0]), std::sqrt(v[1]), std::sqrt(v[2]), std::sqrt(v[3])};
+#endif
+}
 
 }  // namespace vdblight::query_detail

@@ -89,25 +89,32 @@ void OcclusionLookup::updateSharing() {
 }
 
 Rgb OcclusionLookup::irradianceSharingCell(const Vec3f& xf, const Vec3d& x, const Vec3f& n) const {
+    const std::size_t m = lights_.size();
+    // The lights' exact irradiance first, then the blend: their arithmetic reads nothing of the
+    // volume, so it runs while the corners' loads of the blend that follows are in flight
+    // (the default row's volume of vdblight_bench at its random points, the other order against
+    // this one alternately in the same runs: 0.91x, 0.94x). Prefetching the corners' cache lines
+    // first measured no faster (the lookup without it: 1.04x, 1.01x) and was left out.
+    query_detail::LightScratch scratch(m);
+    const query_detail::FastExactLights& exact = *fastLights_;
+    const bool lit = query_detail::exactLights(
+        m, x, n, [&](std::size_t i, const Vec3d& at, const Vec3d& nd) { return exact.irradiance(i, at, nd); }, scratch.e);
+
     query_detail::SharedCell cell;
     const Rgb indirect = sharing_->irradianceSharingCell(xf, n, cell);
-    const std::size_t m = lights_.size();
-    const query_detail::FastExactLights& exact = *fastLights_;
-    return indirect + query_detail::directLight(
-                          m, x, n, [&](std::size_t i, const Vec3d& at, const Vec3d& nd) { return exact.irradiance(i, at, nd); },
-                          [&](float* v) {
-                              const std::size_t sx = cell.step[0], sy = cell.step[1] * std::size_t(grid_.nx),
-                                                sz = cell.step[2] * std::size_t(grid_.nx) * grid_.ny;
-                              const std::size_t node0 = cell.node(grid_, 0);
-                              const auto node = [&](int c) { return node0 + (c & 1) * sx + ((c >> 1) & 1) * sy + (c >> 2) * sz; };
-                              const auto values = [&](int c) { return visibility_.data() + node(c) * m; };
-                              if (useEdges_)  // as visibility(): the edges' ramp plus the corners' residuals
-                                  query_detail::blendCellWithEdges(
-                                      cell, grid_, x, m, values,
-                                      [&](int c) { return edges_.data() + node(c) * m * shadow_edge::kFloatsPerLight; }, v);
-                              else
-                                  query_detail::blendCell(cell, m, values, v);
-                          });
+    if (!lit) return indirect + Rgb(0, 0, 0);  // + 0, as the sum of no lights (the same bits as before)
+    const std::size_t sx = cell.step[0], sy = cell.step[1] * std::size_t(grid_.nx),
+                      sz = cell.step[2] * std::size_t(grid_.nx) * grid_.ny;
+    const std::size_t node0 = cell.node(grid_, 0);
+    const auto node = [&](int c) { return node0 + (c & 1) * sx + ((c >> 1) & 1) * sy + (c >> 2) * sz; };
+    const auto values = [&](int c) { return visibility_.data() + node(c) * m; };
+    if (useEdges_)  // as visibility(): the edges' ramp plus the corners' residuals
+        query_detail::blendCellWithEdges(
+            cell, grid_, x, m, values, [&](int c) { return edges_.data() + node(c) * m * shadow_edge::kFloatsPerLight; },
+            scratch.v);
+    else
+        query_detail::blendCell(cell, m, values, scratch.v);
+    return indirect + query_detail::visibleSum(m, scratch.e, scratch.v);
 }
 
 Rgb OcclusionLookup::irradiance(const Vec3f& x, const Vec3f& n) const {

@@ -1,6 +1,8 @@
 #include "sh4_uniform_lookup.h"
 
 #include <algorithm>
+#include <cstdint>
+#include <cstring>
 #include <string>
 #include <type_traits>
 
@@ -21,6 +23,51 @@ using query_detail::splitCell;
 constexpr int storedIndex(int t) { return t < 9 ? t : t + 7; }
 /// The band l of lit coefficient t.
 constexpr int bandOfLit(int t) { return t == 0 ? 0 : (t < 4 ? 1 : (t < 9 ? 2 : 4)); }
+
+typedef float Float8 __attribute__((vector_size(32)));
+
+/// The irradiance of the corners' records p[c] blended with weights w[c], for the terms'
+/// weights bw[t] (A_l Y(n) of lit coefficient t), V's width of floats at a time (4 or 8: the
+/// same operations on the same lanes, so both give the same bits), in ChannelLookup's order
+/// (the same bits as it, and as the streamed lookups):
+///  - each float f of the record summed over the corners in order c = 0..7, then times bw of
+///    its term (the lanes of bw repeated per colour);
+///  - each colour's products summed over the terms in order, from 0.
+/// The blend and the products stay in registers until one store: through a float array of
+/// blended values, the AVX2 build's loads of each term's three colours straddled its 32-byte
+/// stores and waited for them (its lookup took 1.4x the SSE one's time, points in cache); and GCC, left
+/// to vectorise the corner loop, kept the loads apart from the products (three SSE
+/// instructions per four floats and corner).
+template <class V>
+VDBLIGHT_ALWAYS_INLINE Rgb blendTerms(const float* const p[8], const float w[8], const float bw[ShFourUniformLookup::kLitCoeffs]) {
+    constexpr int kLanes = int(sizeof(V) / sizeof(float));
+    constexpr int kStride = ShFourUniformLookup::kLitStride, kLit = 3 * ShFourUniformLookup::kLitCoeffs;
+    static_assert(kStride % kLanes == 0, "whole vectors per record");
+    // Records start 16-byte aligned (record(), every stride a multiple of 4 floats), so the SSE
+    // build folds the loads into its products.
+    const auto lanes = [](V& v, const float* q) { std::memcpy(&v, __builtin_assume_aligned(q, 16), sizeof v); };
+    float products[kStride];
+#pragma GCC unroll 14
+    for (int f = 0; f < kStride; f += kLanes) {
+        V s, t;
+        lanes(s, p[0] + f);
+        s *= w[0];
+#pragma GCC unroll 7
+        for (int c = 1; c < 8; ++c) {
+            lanes(t, p[c] + f);
+            s += t * w[c];
+        }
+        V termWeight;
+        for (int l = 0; l < kLanes; ++l) termWeight[l] = f + l < kLit ? bw[(f + l) / 3] : 0.0f;
+        s *= termWeight;
+        std::memcpy(products + f, &s, sizeof s);
+    }
+    float sum[3] = {0.0f, 0.0f, 0.0f};
+#pragma GCC unroll 18
+    for (int t = 0; t < ShFourUniformLookup::kLitCoeffs; ++t)
+        for (int c = 0; c < 3; ++c) sum[c] += products[3 * t + c];
+    return Rgb(sum[0], sum[1], sum[2]);
+}
 }  // namespace
 
 bool ShFourUniformLookup::accepts(const Volume& volume) {
@@ -43,22 +90,24 @@ ShFourUniformLookup::ShFourUniformLookup(const Volume& volume, OutsidePolicy out
     if (hasDepth_ && level.depth.size() != nodes * depth::kFloatsPerNode)
         throw FormatError("sh4-uniform lookup: the depth moments do not match the grid");
     stride_ = kLitStride + (hasDepth_ ? query_detail::kPreparedDepthFloats : 0);
-    records_.assign(nodes * std::size_t(stride_), 0.0f);
+    // Four floats more, and the first record where the storage is 16-byte aligned (record()):
+    // operator new promises that alignment on x86-64, but not every allocator keeps it.
+    records_.assign(nodes * std::size_t(stride_) + 4, 0.0f);
+    recordOffset_ = (16 - reinterpret_cast<std::uintptr_t>(records_.data()) % 16) % 16 / sizeof(float);
     dark_.resize(nodes * kDarkFloats);
     for (std::size_t n = 0; n < nodes; ++n) {
         const float* in = level.data.data() + n * kCoeffs * 3;
-        float* record = records_.data() + n * std::size_t(stride_);
+        float* record = records_.data() + recordOffset_ + n * std::size_t(stride_);
         for (int t = 0; t < kLitCoeffs; ++t)
             for (int c = 0; c < 3; ++c) record[3 * t + c] = in[3 * storedIndex(t) + c];
         if (hasDepth_) query_detail::prepareDepth(level.depth.data() + n * depth::kFloatsPerNode, record + kLitStride);
         std::copy(in + 3 * 9, in + 3 * 16, dark_.data() + n * kDarkFloats);
     }
     depthWeights_ = hasDepth_;
-    // The portable build by default: vdblight_bench --only query, the AVX2 build against it
-    // alternately in the same runs (2-core AMD EPYC with AVX-512, shared), was slower: on the
-    // 54-float layout plain 1.00x, 0.92x, 0.97x, 0.94x, 0.95x, with depth weights 0.91x, 0.89x,
-    // 0.97x, 0.93x, 0.92x; on the node records of 56 floats (seven whole 8-lane vectors) plain
-    // 0.82x, 0.79x, with depth weights 0.97x, 0.92x. setWideVectors(true) picks it.
+    // The AVX2 build where the CPU has it (the same bits): vdblight_bench --only query's "blend's
+    // builds" rows, two runs under the lock on a shared 2-core AMD EPYC, AVX2 against portable:
+    // plain 1.09x, 1.16x, with depth weights 1.23x, 1.20x.
+    avx2_ = query_detail::cpuHasAvx2();
 }
 
 template <class T>
@@ -72,7 +121,8 @@ VDBLIGHT_ALWAYS_INLINE void ShFourUniformLookup::locate(const T g[3], std::size_
     const std::size_t sx = dims[0] > 1, sy = dims[1] > 1 ? std::size_t(dims[0]) : 0,
                       sz = dims[2] > 1 ? std::size_t(dims[0]) * dims[1] : 0;
     const std::size_t base = grid_.index(idx[0], idx[1], idx[2]);
-    for (int c = 0; c < 8; ++c) corner[c] = base + (c & 1) * sx + ((c >> 1) & 1) * sy + (c >> 2) * sz;
+    for (int c = 0; c < 8; ++c)
+        corner[c] = query_detail::inScalarRegister(base + (c & 1) * sx + ((c >> 1) & 1) * sy + (c >> 2) * sz);
     if constexpr (std::is_same_v<T, float>) {
         query_detail::trilinearWeights(f[0], f[1], f[2], weight);  // the same products, four at a time
     } else {
@@ -81,7 +131,7 @@ VDBLIGHT_ALWAYS_INLINE void ShFourUniformLookup::locate(const T g[3], std::size_
     }
     if (depthWeights_) {  // visibility-aware interpolation (depth_weights.h)
         const float* depth[8];
-        for (int c = 0; c < 8; ++c) depth[c] = records_.data() + corner[c] * stride_ + kLitStride;
+        for (int c = 0; c < 8; ++c) depth[c] = query_detail::inScalarRegister(record(corner[c]) + kLitStride);
         query_detail::weightByPreparedDepth(weight, depth, float(f[0]), float(f[1]), float(f[2]));
     }
     if (cell) {
@@ -95,14 +145,7 @@ VDBLIGHT_ALWAYS_INLINE void ShFourUniformLookup::locate(const T g[3], std::size_
 
 void ShFourUniformLookup::setWideVectors(bool on) { avx2_ = on && query_detail::cpuHasAvx2(); }
 
-VDBLIGHT_AVX2 Rgb ShFourUniformLookup::blendIrradianceAvx2(const Vec3f& x, const Vec3f& n, query_detail::SharedCell* cell) const {
-    return blendIrradianceBody(x, n, cell);
-}
-
-Rgb ShFourUniformLookup::blendIrradiance(const Vec3f& x, const Vec3f& n, query_detail::SharedCell* cell) const {
-    return blendIrradianceBody(x, n, cell);
-}
-
+template <class V>
 VDBLIGHT_ALWAYS_INLINE Rgb ShFourUniformLookup::blendIrradianceBody(const Vec3f& x, const Vec3f& n, query_detail::SharedCell* cell) const {
     const Vec3f gv = (x - origin_) * invSpacing_;
     query_detail::checkInside(gv, grid_, x, outside_);
@@ -116,30 +159,17 @@ VDBLIGHT_ALWAYS_INLINE Rgb ShFourUniformLookup::blendIrradianceBody(const Vec3f&
     float bw[kLitCoeffs];  // A_l Y_j(n), rounded as ShBasis::terms rounds it
     for (int t = 0; t < kLitCoeffs; ++t) bw[t] = lobe_[t] * y[storedIndex(t)];
 
-    // The corners blended first, each float summed over the corners in order (as ChannelLookup
-    // sums a term's channel), then the terms in order, one sum per colour. One pass over the
-    // record's 56 floats with the eight corners inside: GCC vectorises it (with the corner loop
-    // outside, it kept a scalar loop storing blend[f] after every corner: 4.5 against 12 M
-    // lookups/s). The three colours of a term sit side by side, so the sums over the terms run
-    // in the lanes of one vector (lane 3 picks up the next term's red, and is not read).
     const float* p[8];
-    for (int c = 0; c < 8; ++c) p[c] = records_.data() + corner[c] * stride_;
-    float blend[kLitStride];
-    for (int f = 0; f < kLitStride; ++f) {
-        float s = p[0][f] * w[0];
-        s += p[1][f] * w[1];
-        s += p[2][f] * w[2];
-        s += p[3][f] * w[3];
-        s += p[4][f] * w[4];
-        s += p[5][f] * w[5];
-        s += p[6][f] * w[6];
-        s += p[7][f] * w[7];
-        blend[f] = s;
-    }
-    query_detail::Float4 sum = {0, 0, 0, 0};
-#pragma GCC unroll 18
-    for (int t = 0; t < kLitCoeffs; ++t) sum += query_detail::load4(blend + 3 * t) * bw[t];
-    return Rgb(sum[0], sum[1], sum[2]);
+    for (int c = 0; c < 8; ++c) p[c] = query_detail::inScalarRegister(record(corner[c]));
+    return blendTerms<V>(p, w, bw);
+}
+
+VDBLIGHT_AVX2 Rgb ShFourUniformLookup::blendIrradianceAvx2(const Vec3f& x, const Vec3f& n, query_detail::SharedCell* cell) const {
+    return blendIrradianceBody<Float8>(x, n, cell);
+}
+
+Rgb ShFourUniformLookup::blendIrradiance(const Vec3f& x, const Vec3f& n, query_detail::SharedCell* cell) const {
+    return blendIrradianceBody<query_detail::Float4>(x, n, cell);
 }
 
 void ShFourUniformLookup::channelValues(const Vec3d& x, float* out) const {
@@ -151,7 +181,7 @@ void ShFourUniformLookup::channelValues(const Vec3d& x, float* out) const {
     locate(g, corner, w);
     std::fill(out, out + kCoeffs * 3, 0.0f);
     for (int c = 0; c < 8; ++c) {
-        const float* lit = records_.data() + corner[c] * stride_;
+        const float* lit = record(corner[c]);
         const float* dark = dark_.data() + corner[c] * kDarkFloats;
         for (int t = 0; t < kLitCoeffs; ++t)
             for (int col = 0; col < 3; ++col) out[3 * storedIndex(t) + col] += w[c] * lit[3 * t + col];

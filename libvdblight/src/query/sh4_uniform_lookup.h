@@ -6,9 +6,8 @@
 // of memory instead of a piece of each of several arrays:
 // - the 18 coefficients that carry irradiance (bands 0, 1, 2 and 4; A_3 = 0), RGB each, in
 //   coefficient order (54 floats) and 2 floats of zero padding, so that a lookup blends the
-//   eight corners' 56 floats in one loop of whole 4- and 8-lane vectors, then sums the 18
-//   terms with the three colours side by side in the lanes of one vector (each colour still
-//   summed in term order);
+//   eight corners' 56 floats and multiplies them by their terms' weights in whole 4- or 8-lane
+//   vectors, then sums each colour's 18 products in term order;
 // - where the volume has depth moments, the node's prepared depth values (depth_weights.h:
 //   means and squared deviations, the squares made once here instead of at every lookup).
 // Band 3 (7 RGB coefficients) sits in its own array, read only by channelValues / shRadiance
@@ -32,14 +31,17 @@ public:
     static bool accepts(const Volume& volume);
     /// FormatError if the volume is not one that accepts() takes or its arrays do not match its grid.
     ShFourUniformLookup(const Volume& volume, OutsidePolicy outside);
+    /// Not copied: the records' first one sits at an offset chosen for this object's storage.
+    ShFourUniformLookup(const ShFourUniformLookup&) = delete;
+    ShFourUniformLookup& operator=(const ShFourUniformLookup&) = delete;
 
     Rgb irradiance(const Vec3f& x, const Vec3f& n) const override { return blend(x, n, nullptr); }
     /// irradiance, and the cell it blended (the default volume's visibility reuses it).
     Rgb irradianceSharingCell(const Vec3f& x, const Vec3f& n, query_detail::SharedCell& cell) const override {
         return blend(x, n, &cell);
     }
-    /// On: the AVX2 build where the CPU has it (the same bits; off by default, it measured
-    /// slower: sh4_uniform_lookup.cpp).
+    /// On: the AVX2 build where the CPU has it (the same bits; the default, it measured
+    /// faster: sh4_uniform_lookup.cpp); off: the portable (SSE2) build.
     void setWideVectors(bool on);
     Bounds bounds() const override { return grid_.nodeBounds(); }
     /// The 25 stored RGB coefficients interpolated at x (ChannelLookup::channelValues: located
@@ -70,6 +72,8 @@ private:
     /// blendIrradiance compiled for AVX2 (no FMA, so the same operations in the same order: the
     /// same bits), picked at run time where the CPU has it (query/wide_vectors.h).
     Rgb blendIrradianceAvx2(const Vec3f& x, const Vec3f& n, query_detail::SharedCell* cell) const;
+    /// The body of both, its blend over the corners in vectors of type V (4 or 8 floats).
+    template <class V>
     Rgb blendIrradianceBody(const Vec3f& x, const Vec3f& n, query_detail::SharedCell* cell) const;
     Rgb blend(const Vec3f& x, const Vec3f& n, query_detail::SharedCell* cell) const {
         return avx2_ ? blendIrradianceAvx2(x, n, cell) : blendIrradiance(x, n, cell);
@@ -83,6 +87,8 @@ private:
     /// Per node stride_ floats: [lit coefficient][colour] as stored (no A_l), 2 zeros, then the
     /// prepared depth (query_detail::prepareDepth) if the volume has depth moments.
     std::vector<float> records_;
+    std::size_t recordOffset_ = 0;  ///< floats before the first record, which starts 16-byte aligned
+    const float* record(std::size_t node) const { return records_.data() + recordOffset_ + node * std::size_t(stride_); }
     int stride_ = kLitStride;
     std::vector<float> dark_;  ///< per node kDarkFloats: band 3, [coefficient][colour] as stored
     bool hasDepth_ = false;

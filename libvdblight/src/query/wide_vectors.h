@@ -19,6 +19,15 @@
 
 namespace vdblight::query_detail {
 
+/// v, kept in a general-purpose register: the eight corners' node indices and record addresses
+/// are pinned with it, because the AVX2 build otherwise vectorised that index arithmetic
+/// (64-bit products in vector lanes) and then extracted every lane before its load.
+template <class T>
+VDBLIGHT_ALWAYS_INLINE T inScalarRegister(T v) {
+    asm("" : "+r"(v));
+    return v;
+}
+
 /// True if the lookups may run their AVX2 versions (the CPU has AVX2, and they were compiled).
 inline bool cpuHasAvx2() {
 #if VDBLIGHT_WIDE_VECTORS
