@@ -69,6 +69,7 @@ struct QualityPreset {
     bool guideProbeDirections = false;  ///< the probe pass's directions from pass 0's map (direction_guide.h)
     bool blendFirstPass = false;        ///< pass 0's values blended into the probe pass's (pass_blend.h)
     bool extraCachePaths = false;       ///< more paths for the surface cache where pass 0 is noisiest (extra_cache_paths.h)
+    bool firstPassByError = false;      ///< pass 0's rays per node by its own error (first_pass_by_error.h)
 };
 QualityPreset qualityPreset(const std::string& quality) {
     if (quality == "preview") return {1, kPreviewNodes, kPreviewRays, true, 1'000'000, kDefaultBasis, 1, false, true, true, true};
@@ -225,6 +226,8 @@ BakeRequest resolveBakeRequest(const BakeRequest& given) {
     if (!p.value("extra-cache-paths"))
         p.preset("extra-cache-paths", untiledGather && probePasses == 1 && givenWord(r, "probe-cache") != "nodes" &&
                                           preset.extraCachePaths);
+    if (!p.value("first-pass-by-error"))
+        p.preset("first-pass-by-error", untiledGather && probePasses == 1 && preset.firstPassByError);
     r.pass = selectPassName(r);
     return r;
 }
@@ -277,6 +280,7 @@ std::string describeQuality(const std::string& quality) {
     if (o.get<bool>("guide-probe-directions")) text += ", probe directions guided by the first pass";
     if (o.get<bool>("blend-first-pass")) text += ", the first pass's values blended in";
     if (o.get<bool>("extra-cache-paths")) text += ", more first-pass paths for the surface cache where it is noisiest";
+    if (o.get<bool>("first-pass-by-error")) text += ", the first pass's rays per node by its own noise";
     const bool occlusion = r.direct.empty() && pass.takesDirectLight() && !o.get<bool>("sh-window");
     text += occlusion ? ", direct light of up to " + std::to_string(r.directLights) +
                             " lights exact with baked visibility (--direct occlusion) where the scene has lights"
