@@ -105,6 +105,7 @@ Baked directGather(const Ctx& c, int resolution, uint32_t rays, DirectMode mode,
 ///   direct=baked|runtime|occlusion (occlusion); cache=nodes|surface: the probe pass's cache
 ///   filter=N   passes of the filter across nodes (--filter-passes; node_filter.h)
 ///   guide=1, blend=1, extra=1: the preview's --guide-probe-directions, --blend-first-pass, --extra-cache-paths
+///   byerror=1: the preview's --first-pass-by-error
 /// Every bake of the command is reproduced (bake_direct.h plan, gather, visibility, depth).
 struct TrySpec {
     int res = 16;
@@ -122,6 +123,7 @@ struct TrySpec {
     bool blend = false;         ///< `blend=1`: GatherOptions::blendFirstPass
     bool guide = false;         ///< `guide=1`: guided probe directions (GatherOptions::guideProbeDirections)
     bool extraPaths = false;    ///< `extra=1`: GatherOptions::extraCachePaths
+    bool byError = false;       ///< `byerror=1`: GatherOptions::firstPassByError
 };
 
 TrySpec parseTry(const std::string& spec);

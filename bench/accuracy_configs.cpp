@@ -91,11 +91,17 @@ std::vector<Config> configurations() {
     previewNoExtra.extraPaths = false;
     v.push_back({"preview_no_extra_paths", "--quality preview --no-extra-cache-paths (" + describeTry(previewNoExtra) + ")",
                  [previewNoExtra](const Ctx& c) { return tryBake(c, previewNoExtra); }, true});
+    // The preview with pass 0's rays the same at every node (first_pass_by_error.h).
+    TrySpec previewEvenFirstPass = preview;
+    previewEvenFirstPass.byError = false;
+    v.push_back({"preview_even_first_pass", "--quality preview --no-first-pass-by-error (" + describeTry(previewEvenFirstPass) + ")",
+                 [previewEvenFirstPass](const Ctx& c) { return tryBake(c, previewEvenFirstPass); }, true});
     // The preview until issue 32's third session: ~2048 nodes, 128 rays (the rest as now but the
     // extra cache paths).
     TrySpec previewFewerNodes = previewNoExtra;
     previewFewerNodes.nodes = 2048;
     previewFewerNodes.rays = 128;
+    previewFewerNodes.byError = false;
     v.push_back({"preview_2048", "--quality preview until issue 32's third session (" + describeTry(previewFewerNodes) + ")",
                  [previewFewerNodes](const Ctx& c) { return tryBake(c, previewFewerNodes); }, true});
     // The preview's error taken apart (issue 32, third session), one component changed per row:

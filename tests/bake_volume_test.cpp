@@ -137,6 +137,7 @@ TEST(BakeVolume, PresetsResolveAsTheCommandLineDocumentsThem) {
     EXPECT_FALSE(d.params.get<bool>("guide-probe-directions"));
     EXPECT_FALSE(d.params.get<bool>("blend-first-pass"));
     EXPECT_FALSE(d.params.get<bool>("extra-cache-paths"));
+    EXPECT_FALSE(d.params.get<bool>("first-pass-by-error"));
     // Issue 32: the preview is the default's method on fewer nodes and rays, filtered across nodes.
     r.quality = "preview";
     d = resolveBakeRequest(r);
@@ -151,10 +152,12 @@ TEST(BakeVolume, PresetsResolveAsTheCommandLineDocumentsThem) {
     EXPECT_TRUE(d.params.get<bool>("guide-probe-directions"));  // its probe pass's directions from pass 0's map (direction_guide.h)
     EXPECT_TRUE(d.params.get<bool>("blend-first-pass"));        // and pass 0's values blended in (pass_blend.h)
     EXPECT_TRUE(d.params.get<bool>("extra-cache-paths"));       // and the cache fed where pass 0 is noisiest
+    EXPECT_TRUE(d.params.get<bool>("first-pass-by-error"));     // and pass 0's rays by its error (first_pass_by_error.h)
     r.tiles = 2;  // a tile's probe pass runs in a stage of its own, without pass 0's
     EXPECT_FALSE(resolveBakeRequest(r).params.get<bool>("guide-probe-directions"));
     EXPECT_FALSE(resolveBakeRequest(r).params.get<bool>("blend-first-pass"));
     EXPECT_FALSE(resolveBakeRequest(r).params.get<bool>("extra-cache-paths"));
+    EXPECT_FALSE(resolveBakeRequest(r).params.get<bool>("first-pass-by-error"));
     r.tiles.reset();
     r.params.set("target-error", 0.05);  // the adaptive pass has no node filter
     EXPECT_EQ(resolveBakeRequest(r).params.get<int>("node-filter"), 0);

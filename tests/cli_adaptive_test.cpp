@@ -83,6 +83,7 @@ TEST(CliQuality, PresetsAndNoiseSummary) {
     EXPECT_NE(text.find("estimated_error_p95"), std::string::npos) << text;
     EXPECT_NE(text.find("node_filter_passes = 1"), std::string::npos) << text;
     EXPECT_NE(text.find("extra_cache_paths = 256 more paths"), std::string::npos) << text;
+    EXPECT_NE(text.find("first_pass_rays = 16 rays at every node"), std::string::npos) << text;
     // The default has no node filter.
     ASSERT_EQ(0, test::runCommand(kCli + " bake --resolution 2 --rays 8 -q -o " + out, &text)) << text;
     ASSERT_EQ(0, test::runCommand(kCli + " info " + out, &text)) << text;

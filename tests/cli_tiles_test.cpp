@@ -247,7 +247,7 @@ TEST(CliTiles, PassesThatCannotBeTiledSaySo) {
     test::expectRefusal("bake --tiles 2 --resolution 4 -o " + out, "--tiles and --tile go together", out, "no --tile");
     test::expectRefusal("bake --quality preview" + uniformTile, "tiled in stages", out, "the preview's probe pass");
     // What the preview adds to its probe pass needs pass 0 in the same bake: each refused by name.
-    for (const std::string flag : {"guide-probe-directions", "blend-first-pass", "extra-cache-paths"})
+    for (const std::string flag : {"guide-probe-directions", "blend-first-pass", "extra-cache-paths", "first-pass-by-error"})
         test::expectRefusal("bake --stage 0 --quality preview --" + flag + uniformTile, "--" + flag + " cannot be tiled", out, flag);
     test::expectRefusal("bake --tiles 2 --tile 2 --resolution 4 -o " + out, "--tile must be between 0 and 1", out, "range");
     test::expectRefusal("bake --tiles 9 --tile 0 --layout bilevel --refine 2 --resolution 4 -o " + out + kTileable, "bricks of 8^3 nodes", out, "too many");

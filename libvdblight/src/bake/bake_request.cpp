@@ -27,7 +27,9 @@ namespace {
 /// nodes and rays measured over seeds (docs/time_to_accuracy.md, "Nodes rather than rays").
 /// Its probe pass's directions are guided by pass 0 (direction_guide.h), pass 0's values are
 /// blended in (pass_blend.h), and the nodes where pass 0 is noisiest trace more paths for the
-/// surface cache (extra_cache_paths.h: a room lit through a door, two rooms 7.0 -> 5.5 %).
+/// surface cache (extra_cache_paths.h: a room lit through a door, two rooms 7.0 -> 5.5 %),
+/// and pass 0 spends a quarter of its rays everywhere, the rest by its own error
+/// (first_pass_by_error.h; two rooms 5.5 -> 4.8 % over seeds 1, 3, 5, the others equal).
 /// The photon pass keeps 16 nodes on the longest axis, 1 M photons and no depth moments there.
 /// `default`: about kDefaultNodes nodes in the scene box (node_budget.h: the spacing
 /// follows the scene's volume, 16..64 nodes on its longest axis), kDefaultRays rays of full
@@ -69,9 +71,10 @@ struct QualityPreset {
     bool guideProbeDirections = false;  ///< the probe pass's directions from pass 0's map (direction_guide.h)
     bool blendFirstPass = false;        ///< pass 0's values blended into the probe pass's (pass_blend.h)
     bool extraCachePaths = false;       ///< more paths for the surface cache where pass 0 is noisiest (extra_cache_paths.h)
+    bool firstPassByError = false;      ///< pass 0's rays per node by its own error (first_pass_by_error.h)
 };
 QualityPreset qualityPreset(const std::string& quality) {
-    if (quality == "preview") return {1, kPreviewNodes, kPreviewRays, true, 1'000'000, kDefaultBasis, 1, false, true, true, true};
+    if (quality == "preview") return {1, kPreviewNodes, kPreviewRays, true, 1'000'000, kDefaultBasis, 1, false, true, true, true, true};
     if (quality == "default") return {1, kDefaultNodes, kDefaultRays, true, 4'000'000, kDefaultBasis, 0, true};
     if (quality == "high") return {1, kDefaultNodes, kHighRays, true, 4'000'000, kDefaultBasis, 0, true};
     throw ValueError("--quality must be " + bake_detail::joinChoices(qualityNames()) + ", got '" + quality + "'");
@@ -225,6 +228,8 @@ BakeRequest resolveBakeRequest(const BakeRequest& given) {
     if (!p.value("extra-cache-paths"))
         p.preset("extra-cache-paths", untiledGather && probePasses == 1 && givenWord(r, "probe-cache") != "nodes" &&
                                           preset.extraCachePaths);
+    if (!p.value("first-pass-by-error"))
+        p.preset("first-pass-by-error", untiledGather && probePasses == 1 && preset.firstPassByError);
     r.pass = selectPassName(r);
     return r;
 }
@@ -277,6 +282,7 @@ std::string describeQuality(const std::string& quality) {
     if (o.get<bool>("guide-probe-directions")) text += ", probe directions guided by the first pass";
     if (o.get<bool>("blend-first-pass")) text += ", the first pass's values blended in";
     if (o.get<bool>("extra-cache-paths")) text += ", more first-pass paths for the surface cache where it is noisiest";
+    if (o.get<bool>("first-pass-by-error")) text += ", the first pass's rays per node by its own noise";
     const bool occlusion = r.direct.empty() && pass.takesDirectLight() && !o.get<bool>("sh-window");
     text += occlusion ? ", direct light of up to " + std::to_string(r.directLights) +
                             " lights exact with baked visibility (--direct occlusion) where the scene has lights"

@@ -8,6 +8,7 @@
 
 #include "direction_guide.h"
 #include "extra_cache_paths.h"
+#include "first_pass_by_error.h"
 #include "pass_blend.h"
 #include "project_incident.h"
 #include "pass_metadata.h"
@@ -81,6 +82,8 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     std::vector<float> guideSums(guided ? held * DirectionGuide::kCells : 0, 0.0f);
     std::vector<uint32_t> guideCounts(guideSums.size(), 0);
     const bool blend = options.blendFirstPass && options.probePasses == 1 && range.first == 0 && range.last == 1;
+    if (options.firstPassByError && (options.stage >= 0 || options.only))
+        throw ValueError("pass 0's rays by its error need every node's first pass in one bake (not tiled or staged)");
     if (options.extraCachePaths && options.stage >= 0)
         throw ValueError("extra paths for the surface probe cache need every pass in one bake (not staged)");
     std::vector<float> firstValues, firstError;
@@ -104,25 +107,69 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
                 firstValues = level.data;
                 firstError = error;
             }
-            bake_detail::ParallelRun passRun = bake_detail::forEachItemInParallel(
+            // projectIncidentRadiance's sampling, keeping the sampler for its error estimate.
+            const auto startNode = [&](detail::NodeSampler& sampler, depth::Accumulator& depthAcc, std::size_t h) {
+                sampler.projectAlsoInto(basis);
+                // Depth moments come from the first pass's own first hits (no extra rays).
+                if (options.depthMoments && pass.index == 0) sampler.recordDepth(&depthAcc, grid.spacing);
+                if (bins && pass.index == 0) sampler.recordSurface(bins.get());
+                if (guided && pass.index == 0)
+                    sampler.recordGuide(&guideSums[h * DirectionGuide::kCells], &guideCounts[h * DirectionGuide::kCells]);
+            };
+            const auto finishNode = [&](detail::NodeSampler& sampler, const depth::Accumulator& depthAcc, std::size_t h,
+                                        bool classify, uint32_t backFaces, RayCount& count) {
+                Rgbd coeffs[sh::kCoeffs];
+                sampler.coefficients(coeffs, count);
+                if (options.depthMoments && pass.index == 0) depthAcc.finish(level.depth.data() + h * depth::kFloatsPerNode);
+                if (classify) insideSolid[h] = insideSolidByBackFaces(backFaces, sampler.samples());
+                error[h] = float(std::min(sampler.relativeStandardError(count), 1e30));
+                float* values = level.data.data() + h * floats;
+                bake_detail::storeNode(sampler, coeffs, basis ? nullptr : values,
+                                       pass.keepReflected ? &reflected[h * sh::kCoeffs] : nullptr);
+                if (basis) sampler.basisValues(values, count);
+            };
+            bake_detail::ParallelRun passRun;
+            if (pass.index == 0 && options.firstPassByError) {
+                // Two rounds (first_pass_by_error.h): the samplers wait between them.
+                struct Pending {
+                    std::unique_ptr<detail::NodeSampler> sampler;
+                    depth::Accumulator depth;
+                    uint32_t backFaces = 0;
+                };
+                std::vector<Pending> pending(nodes);
+                const uint32_t pilot = bake_detail::pilotRays(options.raysPerNode);
+                const bool classify = options.depthMoments;
+                passRun = bake_detail::forEachItemInParallel(nodes, options.threads, interrupter, [&](std::size_t n, RayCount& count) {
+                    Pending& p = pending[n];
+                    p.sampler = std::make_unique<detail::NodeSampler>(estimator, Vec3f(grid.node(n)), pass.seed, n, options.raysPerNode);
+                    startNode(*p.sampler, p.depth, n);
+                    p.sampler->addSamples(0, pilot, count, classify ? &tracer : nullptr, classify ? &p.backFaces : nullptr);
+                    error[n] = float(std::min(p.sampler->relativeStandardError(count), 1e30));
+                    if (classify) insideSolid[n] = insideSolidByBackFaces(p.backFaces, pilot);
+                });
+                const std::vector<uint32_t> rays =
+                    bake_detail::firstPassRaysByError(grid, error, insideSolid, pilot, options.raysPerNode);
+                const bake_detail::ParallelRun second = bake_detail::forEachItemInParallel(
+                    nodes, options.threads, interrupter, [&](std::size_t n, RayCount& count) {
+                        Pending& p = pending[n];
+                        p.sampler->addSamples(pilot, rays[n], count, classify ? &tracer : nullptr, classify ? &p.backFaces : nullptr);
+                        finishNode(*p.sampler, p.depth, n, classify, p.backFaces, count);
+                        p.sampler.reset();
+                    });
+                passRun.rays += second.rays;
+                passRun.seconds += second.seconds;
+            } else {
+                passRun = bake_detail::forEachItemInParallel(
                 options.only ? selected.size() : nodes, options.threads, interrupter, [&](std::size_t item, RayCount& count) {
                     const std::size_t n = options.only ? selected[item] : item;
                     const std::size_t h = level.held(n);
-                    Rgbd coeffs[sh::kCoeffs];
-                    // projectIncidentRadiance's sampling, keeping the sampler for its error estimate.
                     detail::NodeSampler sampler(estimator, Vec3f(grid.node(n)), pass.seed, n, options.raysPerNode);
-                    sampler.projectAlsoInto(basis);
-                    // Depth moments come from the first pass's own first hits (no extra rays).
                     depth::Accumulator depthAcc;
-                    const bool recordDepth = options.depthMoments && pass.index == 0;
-                    if (recordDepth) sampler.recordDepth(&depthAcc, grid.spacing);
-                    if (bins && pass.index == 0) sampler.recordSurface(bins.get());
+                    startNode(sampler, depthAcc, h);
                     const bool guidedPass = guided && pass.index > 0;
                     float density[DirectionGuide::kCells];
                     std::optional<DirectionGuide> guide;
-                    if (guided && pass.index == 0) {
-                        sampler.recordGuide(&guideSums[h * DirectionGuide::kCells], &guideCounts[h * DirectionGuide::kCells]);
-                    } else if (guidedPass) {
+                    if (guidedPass) {
                         DirectionGuide::build(&guideSums[h * DirectionGuide::kCells], &guideCounts[h * DirectionGuide::kCells],
                                               DirectionGuide::kUniformShare, density);
                         guide.emplace(density);
@@ -133,15 +180,9 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
                     const bool classify = options.depthMoments && !guidedPass;
                     sampler.addSamples(0, options.raysPerNode, count, classify ? &tracer : nullptr,
                                        classify ? &backFaces : nullptr);
-                    sampler.coefficients(coeffs, count);
-                    if (recordDepth) depthAcc.finish(level.depth.data() + h * depth::kFloatsPerNode);
-                    if (classify) insideSolid[h] = insideSolidByBackFaces(backFaces, options.raysPerNode);
-                    error[h] = float(std::min(sampler.relativeStandardError(count), 1e30));
-                    float* values = level.data.data() + h * floats;
-                    bake_detail::storeNode(sampler, coeffs, basis ? nullptr : values,
-                                           pass.keepReflected ? &reflected[h * sh::kCoeffs] : nullptr);
-                    if (basis) sampler.basisValues(values, count);
+                    finishNode(sampler, depthAcc, h, classify, backFaces, count);
                 });
+            }
             // Pass 0's errors are known here, and the estimator has no cache yet (probe_passes.h).
             if (pass.index == 0 && bins && options.extraCachePaths && !options.only) {
                 const bake_detail::ParallelRun extra = bake_detail::traceExtraCachePaths(
@@ -186,6 +227,10 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
         m.text("extra_cache_paths", std::to_string(bake_detail::kExtraCachePaths) +
                                         " more paths for the surface cache's bins from each node whose pass-0 error is above " +
                                         "twice the median (extra_cache_paths.h)");
+    if (options.firstPassByError)
+        m.text("first_pass_rays", std::to_string(bake_detail::pilotRays(options.raysPerNode)) +
+                                      " rays at every node, then the rest of rays_per_node x nodes by the pooled error "
+                                      "of those (first_pass_by_error.h)");
     if (guided)
         m.text("probe_directions", "guided: drawn from pass 0's luminance per direction cell, pooled over the nodes within " +
                                        std::to_string(DirectionGuide::kPoolRadius) + " steps, half uniform (direction_guide.h)");

@@ -70,11 +70,13 @@ public:
     void guideDirections(const bake_detail::DirectionGuide* guide) { guide_ = guide; }
 
     /// Also accumulate every sample into `basis` (basis.h; kept for the node's lifetime), whose
-    /// values basisValues() returns. Call before the first addSamples.
+    /// values basisValues() returns. Call before the first addSamples. The exact punctual
+    /// lights' sums are allocated only by a light that reaches the node (exactEbar): a sampler
+    /// kept between two rounds (first_pass_by_error.h) holds a fifth less memory.
     void projectAlsoInto(const Basis* basis) {
         basis_ = basis;
         if (!basis) return;
-        for (std::vector<Rgbd>* acc : {&basisDir_, &basisLight_, &basisExact_}) acc->assign(basis->accumulatorSize(), Rgbd(0, 0, 0));
+        for (std::vector<Rgbd>* acc : {&basisDir_, &basisLight_}) acc->assign(basis->accumulatorSize(), Rgbd(0, 0, 0));
     }
 
     /// Adds samples [first, last) (sample numbers of the node's stratified sequence; rounds
@@ -271,7 +273,10 @@ public:
                 if (estimator_.skipsAtReceiver(s)) continue;
                 sh::evalUnrolled(s.direction, y);
                 for (int j = 0; j < sh::kCoeffs; ++j) exact_[j] += Rgbd(s.weight) * double(y[j]);
-                if (basis_) basis_->accumulate(s.direction, Rgbd(s.weight), 1.0, basisExact_.data());
+                if (basis_) {
+                    if (basisExact_.empty()) basisExact_.assign(basis_->accumulatorSize(), Rgbd(0, 0, 0));
+                    basis_->accumulate(s.direction, Rgbd(s.weight), 1.0, basisExact_.data());
+                }
                 exactEbar_ += 0.25 * double(luminance(s.weight));
             }
             exactDone_ = true;
@@ -295,8 +300,9 @@ public:
         const double dirScale = directionScale(), lightScale = lightSampleScale();
         thread_local std::vector<Rgbd> sum;
         sum.resize(basisDir_.size());
+        const bool exact = !basisExact_.empty();  // else no punctual light: the same zeros as before
         for (std::size_t j = 0; j < sum.size(); ++j)
-            sum[j] = basisDir_[j] * dirScale + basisLight_[j] * lightScale + basisExact_[j];
+            sum[j] = basisDir_[j] * dirScale + basisLight_[j] * lightScale + (exact ? basisExact_[j] : Rgbd(0, 0, 0));
         basis_->finish(sum.data(), out);
     }
 
@@ -413,7 +419,7 @@ private:
     const bake_detail::DirectionGuide* guide_ = nullptr;  ///< guideDirections's, or null (uniform)
     float* guideSums_ = nullptr;       ///< recordGuide's, or null
     uint32_t* guideCounts_ = nullptr;
-    std::vector<Rgbd> basisDir_, basisLight_, basisExact_;  ///< its sums, weighted as acc_, lightAcc_, exact_
+    std::vector<Rgbd> basisDir_, basisLight_, basisExact_;  ///< its sums, weighted as acc_, lightAcc_, exact_ (empty: 0)
 };
 
 }  // namespace vdblight::detail

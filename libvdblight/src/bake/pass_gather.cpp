@@ -88,6 +88,9 @@ std::vector<PassOption> GatherPass::options() const {
                              "trace more first-pass paths from the nodes whose first-pass noise is far above the "
                              "median, for the surface probe cache only (less noise in a room lit through a door; "
                              "--probe-cache surface; docs/time_to_accuracy.md)"),
+            previewProbeFlag("first-pass-by-error",
+                             "trace the first pass in two rounds at the same total rays: a quarter at every node, "
+                             "then the rest by the nodes' noise estimates (docs/time_to_accuracy.md)"),
             depthMomentsOption(), depthRaysOption(), shWindowOption()};
 }
 
@@ -121,7 +124,7 @@ std::string pointGatherUntileable(const BakeRequest& r) {
     if (p.has("invalidate-backface")) return "--invalidate-backface cannot be tiled (its dilation crosses tile borders)";
     if (p.get<bool>("sh-window"))
         return "--sh-window cannot be tiled yet (the window would have to follow the seams at merge)";
-    for (const char* name : {"guide-probe-directions", "blend-first-pass", "extra-cache-paths"})
+    for (const char* name : {"guide-probe-directions", "blend-first-pass", "extra-cache-paths", "first-pass-by-error"})
         if (p.find<bool>(name).value_or(false))
             return std::string("--") + name + " cannot be tiled (it needs the first pass and the probe pass in one bake)";
     // Each probe-to-probe pass reads every node of the pass before: one stage per pass.

@@ -72,6 +72,10 @@ struct GatherOptions {
     /// far above the bake's median (bake/extra_cache_paths.h), for the cache's bins only: less
     /// noise where light comes through an opening. Not staged.
     bool extraCachePaths = false;
+    /// Pass 0 in two rounds at the same total rays: a quarter of raysPerNode at every node, then
+    /// the rest shared by the nodes' pooled error (bake/first_pass_by_error.h): more rays where
+    /// light comes through an opening. Not tiled or staged.
+    bool firstPassByError = false;
     /// Bake only these nodes (one tile of a bake, volume/tiles.h); the others stay 0. Null = all.
     const NodeMask* only = nullptr;
     /// Staged probe passes (volume/tiles.h, "Staged bakes"): -1 = every pass; s in 0..probePasses =
