@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bake/direction_guide.h"
+#include "error_split_fixtures.h"
 #include "vdblight/bake/each_pass.h"
 #include "vdblight/core/errors.h"
 #include "vdblight/sampling/sampling.h"
@@ -103,14 +104,7 @@ double meanBehindTheWall(const Volume& v) {
 struct ThinWallBake {
     LeakScene room = makeThinWallScene();
     Tracer tracer{room.scene};
-    GridSpec grid() const {
-        GridSpec g;
-        g.origin = Vec3d(0.25, 0.25, 0.25);
-        g.spacing = 0.25;
-        g.nx = 15;
-        g.ny = g.nz = 7;
-        return g;
-    }
+    GridSpec grid() const { return test::thinWallNodes(); }
     GatherOptions options(bool guided, uint64_t seed, uint32_t rays, int threads = 2) const {
         GatherOptions o;
         o.raysPerNode = rays;

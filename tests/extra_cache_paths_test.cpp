@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "bake/extra_cache_paths.h"
+#include "error_split_fixtures.h"
 
 namespace vdblight {
 namespace {
@@ -12,29 +13,15 @@ namespace {
 using bake_detail::extraCachePaths;
 using bake_detail::kExtraCachePaths;
 
-constexpr int kN = 8;
+constexpr int kN = test::kTwoRoomsN;
+using test::twoRoomsErrors;
 
-GridSpec grid() {
-    GridSpec g;
-    g.nx = g.ny = g.nz = kN;
-    return g;
-}
-
-/// Pass 0's relative errors: `dark` in the quarter x >= 6 (a room lit through a door), 0.05 in
-/// the rest.
-std::vector<float> twoRooms(float dark) {
-    std::vector<float> e(std::size_t(kN * kN * kN), 0.05f);
-    const GridSpec g = grid();
-    for (int k = 0; k < kN; ++k)
-        for (int j = 0; j < kN; ++j)
-            for (int i = 6; i < kN; ++i) e[g.index(i, j, k)] = dark;
-    return e;
-}
+GridSpec grid() { return test::twoRoomsGrid(); }
 
 TEST(ExtraCachePaths, GoToTheNodesWhosePooledErrorIsFarAboveTheMedian) {
     const GridSpec g = grid();
     // The dark quarter at 8 x the rest's error: the median is the rest's, 0.05.
-    const std::vector<uint32_t> paths = extraCachePaths(g, twoRooms(0.4f), {});
+    const std::vector<uint32_t> paths = extraCachePaths(g, twoRoomsErrors(0.4f), {});
     for (int k = 0; k < kN; ++k)
         for (int j = 0; j < kN; ++j) {
             // Lit nodes whose 3 x 3 x 3 neighbourhood is all lit: none.
@@ -49,12 +36,12 @@ TEST(ExtraCachePaths, NoneWhereTheErrorIsEven) {
     // Less than twice the rest's error is not "far above" the median (kNoisyFactor 2), and a
     // uniform error chooses nothing: a scene without a dark room traces no extra paths.
     for (const float dark : {0.05f, 0.09f})
-        for (const uint32_t p : extraCachePaths(grid(), twoRooms(dark), {})) EXPECT_EQ(p, 0u) << dark;
+        for (const uint32_t p : extraCachePaths(grid(), twoRoomsErrors(dark), {})) EXPECT_EQ(p, 0u) << dark;
 }
 
 TEST(ExtraCachePaths, NoneInsideSolidsOrWithoutAnEstimate) {
     const GridSpec g = grid();
-    std::vector<float> e = twoRooms(0.4f);
+    std::vector<float> e = twoRoomsErrors(0.4f);
     std::vector<uint8_t> inside(e.size(), 0);
     const std::size_t solid = g.index(6, 3, 3), unknown = g.index(7, 3, 3);
     inside[solid] = 1;

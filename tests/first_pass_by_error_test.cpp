@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "bake/first_pass_by_error.h"
+#include "error_split_fixtures.h"
 #include "vdblight/bake/each_pass.h"
 #include "vdblight/core/errors.h"
 #include "vdblight/trace/trace.h"
@@ -24,34 +25,21 @@ namespace {
 using bake_detail::firstPassRaysByError;
 using bake_detail::kMostRaysFactor;
 
-constexpr int kN = 8;
+constexpr int kN = test::kTwoRoomsN;
 constexpr uint32_t kPilot = 16, kRays = 64;
+using test::twoRoomsErrors;
 
-GridSpec grid() {
-    GridSpec g;
-    g.nx = g.ny = g.nz = kN;
-    return g;
-}
-
-/// First-round relative errors: `dark` in the quarter x >= 6, 0.05 in the rest.
-std::vector<float> twoRooms(float dark) {
-    std::vector<float> e(std::size_t(kN * kN * kN), 0.05f);
-    const GridSpec g = grid();
-    for (int k = 0; k < kN; ++k)
-        for (int j = 0; j < kN; ++j)
-            for (int i = 6; i < kN; ++i) e[g.index(i, j, k)] = dark;
-    return e;
-}
+GridSpec grid() { return test::twoRoomsGrid(); }
 
 uint64_t total(const std::vector<uint32_t>& rays) { return std::accumulate(rays.begin(), rays.end(), uint64_t(0)); }
 
 TEST(FirstPassRaysByError, EvenErrorsGiveEveryNodeTheFixedBudget) {
-    for (const uint32_t r : firstPassRaysByError(grid(), twoRooms(0.05f), {}, kPilot, kRays)) EXPECT_EQ(r, kRays);
+    for (const uint32_t r : firstPassRaysByError(grid(), twoRoomsErrors(0.05f), {}, kPilot, kRays)) EXPECT_EQ(r, kRays);
 }
 
 TEST(FirstPassRaysByError, TheNoisyRoomTakesMoreAtTheSameTotal) {
     const GridSpec g = grid();
-    const std::vector<uint32_t> rays = firstPassRaysByError(g, twoRooms(0.4f), {}, kPilot, kRays);
+    const std::vector<uint32_t> rays = firstPassRaysByError(g, twoRoomsErrors(0.4f), {}, kPilot, kRays);
     // The budget, within rounding (half a ray per node).
     EXPECT_NEAR(double(total(rays)), double(kRays) * rays.size(), 0.5 * rays.size());
     // Beyond the first round, by the pooled error to the power 1/2: 0.4 against 0.05 is 8 x
@@ -64,7 +52,7 @@ TEST(FirstPassRaysByError, TheNoisyRoomTakesMoreAtTheSameTotal) {
 
 TEST(FirstPassRaysByError, TheFirstRoundOnlyInsideSolidsOrWithoutAnEstimate) {
     const GridSpec g = grid();
-    std::vector<float> e = twoRooms(0.4f);
+    std::vector<float> e = twoRoomsErrors(0.4f);
     std::vector<uint8_t> inside(e.size(), 0);
     const std::size_t solid = g.index(6, 3, 3), unknown = g.index(7, 3, 3), black = g.index(7, 4, 4);
     inside[solid] = 1;
@@ -90,14 +78,7 @@ TEST(FirstPassRaysByError, NoNodeTakesMoreThanTheCap) {
 struct ThinWallBake {
     LeakScene room = makeThinWallScene();
     Tracer tracer{room.scene};
-    GridSpec grid() const {
-        GridSpec g;
-        g.origin = Vec3d(0.25, 0.25, 0.25);
-        g.spacing = 0.25;
-        g.nx = 15;
-        g.ny = g.nz = 7;
-        return g;
-    }
+    GridSpec grid() const { return test::thinWallNodes(); }
     GatherOptions options(bool byError, uint64_t seed, int threads = 2) const {
         GatherOptions o;
         o.raysPerNode = 64;

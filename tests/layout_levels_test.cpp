@@ -256,6 +256,41 @@ TEST(Levels, RefusesBadParametersBeforeAllocating) {
     }
 }
 
+TEST(Levels, ANextLevelOverTheLimitIsRefusedWhileItsCellsAreFound) {
+    // A refine distance larger than the scene refines every cell, next to every triangle: the
+    // third level's cells are refused as soon as their count is over the limit, not after all of
+    // them are classified (minutes at --refine 8 on 24^3 nodes), and the decision is the
+    // estimate's own, to the node.
+    const Soup s = testSoup();
+    LevelsPlacement p;
+    p.kind = LayoutKind::Adaptive;
+    p.levels = 3;
+    p.refine = 4;
+    p.refineDistance = 100.0;
+    const LevelLayout all = placeLevels(unitGrid(5), s.positions, s.indices, p, 1);
+    ASSERT_EQ(all.levels.size(), 3u);
+    const double perCell = 125.0;  // (4 + 1)^3
+    const double estimate = double(all.levels[0].storedNodes() + all.levels[1].storedNodes()) +
+                            double(all.levels[1].refinedCells.size()) * perCell;
+    EXPECT_EQ(all.levels[1].refinedCells.size(), 16u * 16u * 16u);
+    p.maxNodes = uint64_t(estimate);
+    EXPECT_EQ(placeLevels(unitGrid(5), s.positions, s.indices, p, 1).levels.size(), 3u);
+    p.maxNodes = uint64_t(estimate) - 1;
+    EXPECT_THROW(placeLevels(unitGrid(5), s.positions, s.indices, p, 1), ValueError);
+    p.maxNodes = 100000;  // level 1 (8 125 at most) fits; level 2 is refused after ~760 cells
+    try {
+        placeLevels(unitGrid(5), s.positions, s.indices, p, 1);
+        FAIL() << "expected ValueError";
+    } catch (const ValueError& e) {
+        const std::string what = e.what();
+        const std::size_t at = what.find("would have more than ");
+        ASSERT_NE(at, std::string::npos) << what;
+        const double counted = std::stod(what.substr(at + 21));
+        EXPECT_GT(counted, 100000.0) << what;
+        EXPECT_LE(counted - perCell, 100000.0) << what;  // the first count over the limit
+    }
+}
+
 TEST(Seams, LookupIsContinuousAcrossLevelBoundaries) {
     const LevelLayout layout = placeTestSoup(6, LayoutKind::Adaptive, 3, 3);
     Volume v = layoutVolume(layout, 11);

@@ -12,19 +12,6 @@ namespace vdblight::bake_detail {
 
 namespace {
 bool usable(float e) { return e >= 0 && std::isfinite(e); }
-
-/// Root mean square of the usable errors of the 3 x 3 x 3 neighbourhood (0: none).
-double pooledError(const GridSpec& grid, const std::vector<float>& error, int i, int j, int k) {
-    double sum = 0;
-    int n = 0;
-    forEachNodeAround(grid, i, j, k, 1, [&](int a, int b, int c, int, int, int) {
-        const float e = error[grid.index(a, b, c)];
-        if (!usable(e)) return;
-        sum += double(e) * double(e);
-        ++n;
-    });
-    return n ? std::sqrt(sum / n) : 0.0;
-}
 }  // namespace
 
 std::vector<uint32_t> extraCachePaths(const GridSpec& grid, const std::vector<float>& firstError,
@@ -36,7 +23,7 @@ std::vector<uint32_t> extraCachePaths(const GridSpec& grid, const std::vector<fl
             for (int i = 0; i < grid.nx; ++i) {
                 const std::size_t n = grid.index(i, j, k);
                 if ((!insideSolid.empty() && insideSolid[n]) || !usable(firstError[n])) continue;
-                pooled[n] = pooledError(grid, firstError, i, j, k);
+                pooled[n] = std::sqrt(meanSquareAround(grid, firstError, i, j, k, 1, usable, 0.0));
                 sorted.push_back(pooled[n]);
             }
     std::vector<uint32_t> paths(nodes, 0);

@@ -29,15 +29,7 @@ std::vector<uint32_t> firstPassRaysByError(const GridSpec& grid, const std::vect
             for (int i = 0; i < grid.nx; ++i) {
                 const std::size_t n = grid.index(i, j, k);
                 if ((!insideSolid.empty() && insideSolid[n]) || !usable(pilotError[n])) continue;
-                double sum = 0;
-                int count = 0;
-                forEachNodeAround(grid, i, j, k, 1, [&](int a, int b, int c, int, int, int) {
-                    const float e = pilotError[grid.index(a, b, c)];
-                    if (!usable(e)) return;
-                    sum += double(e) * double(e);
-                    ++count;
-                });
-                weight[n] = std::pow(std::sqrt(sum / count), kErrorPower);
+                weight[n] = std::pow(std::sqrt(meanSquareAround(grid, pilotError, i, j, k, 1, usable, 0.0)), kErrorPower);
                 total += weight[n];
             }
     if (!(total > 0)) return rays;

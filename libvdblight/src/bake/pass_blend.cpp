@@ -11,15 +11,7 @@ namespace vdblight::bake_detail {
 namespace {
 /// Mean of error^2 over the valid nodes of the 3 x 3 x 3 neighbourhood (infinity: none).
 double pooledVariance(const GridSpec& grid, const std::vector<float>& error, int i, int j, int k) {
-    double sum = 0;
-    int n = 0;
-    forEachNodeAround(grid, i, j, k, 1, [&](int a, int b, int c, int, int, int) {
-        const double e = error[grid.index(a, b, c)];
-        if (!(e >= 0) || !std::isfinite(e)) return;
-        sum += e * e;
-        ++n;
-    });
-    return n ? sum / n : INFINITY;
+    return meanSquareAround(grid, error, i, j, k, 1, [](float e) { return e >= 0 && std::isfinite(e); }, INFINITY);
 }
 }  // namespace
 

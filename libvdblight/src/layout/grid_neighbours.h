@@ -2,6 +2,8 @@
 // neighbourhood (dilation, the node filter, the probe-direction guide's pooling, the pass blend).
 #pragma once
 
+#include <vector>
+
 #include "vdblight/layout/layout.h"
 
 namespace vdblight {
@@ -24,6 +26,23 @@ void forEachNodeAround(const GridSpec& grid, int i, int j, int k, int radius, Vi
             }
         }
     }
+}
+
+/// Mean of values[grid.index(a, b, c)]^2 over the nodes forEachNodeAround visits that
+/// `keep(value)` accepts, summed in double in its order; `ifNone` where it accepts none. The
+/// bake's error-driven choices pool a node's noisy error estimate with its neighbours' this way.
+template <typename Keep>
+double meanSquareAround(const GridSpec& grid, const std::vector<float>& values, int i, int j, int k, int radius,
+                        Keep&& keep, double ifNone) {
+    double sum = 0;
+    int count = 0;
+    forEachNodeAround(grid, i, j, k, radius, [&](int a, int b, int c, int, int, int) {
+        const float v = values[grid.index(a, b, c)];
+        if (!keep(v)) return;
+        sum += double(v) * double(v);
+        ++count;
+    });
+    return count ? sum / count : ifNone;
 }
 
 }  // namespace vdblight

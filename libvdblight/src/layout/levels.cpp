@@ -1,6 +1,7 @@
 // Placing bilevel / n-level layouts: which cells contain geometry, which nodes exist.
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 #include <utility>
 
@@ -74,10 +75,25 @@ CellTriangles level0Geometry(const GridSpec& g, const std::vector<Triangle>& tri
     return pairs;
 }
 
-/// The geometry of the children (in `fine`) of every cell listed in `coarse`.
-CellTriangles childGeometry(const GridSpec& coarseGrid, const GridSpec& fine, int K, const CellTriangles& coarse,
-                            const std::vector<Triangle>& tris, double margin, double grow) {
-    CellTriangles pairs;
+/// The node estimate of placeLevels: each refined cell brings at most (K + 1)^3 nodes.
+struct NodeEstimate {
+    double placed = 0;                 ///< the nodes of the levels placed so far
+    double perCell = 0;                ///< (K + 1)^3
+    double limit = INFINITY;           ///< LevelsPlacement::maxNodes
+    double withCells(double cells) const { return placed + cells * perCell; }
+    bool over(double cells) const { return withCells(cells) > limit; }
+};
+
+/// The geometry of the children (in `fine`) of every cell listed in `coarse`. Returns 0, or,
+/// as soon as so many children have geometry that refining them is over `estimate`, their
+/// count: with a large LevelsPlacement::refineDistance nearly every child has geometry, next to
+/// every triangle of its parent, and classifying them all would take minutes before the next
+/// level's estimate refused it.
+double childGeometry(const GridSpec& coarseGrid, const GridSpec& fine, int K, const CellTriangles& coarse,
+                     const std::vector<Triangle>& tris, double margin, double grow, const NodeEstimate& estimate,
+                     CellTriangles& pairs) {
+    pairs.clear();
+    double cells = 0;  // children with geometry (a parent's children are no other parent's)
     for (std::size_t begin = 0; begin < coarse.size();) {
         std::size_t end = begin;
         while (end < coarse.size() && coarse[end].first == coarse[begin].first) ++end;
@@ -87,16 +103,18 @@ CellTriangles childGeometry(const GridSpec& coarseGrid, const GridSpec& fine, in
                 for (int u = 0; u < K; ++u) {
                     const CellIndex c{p.i * K + u, p.j * K + v, p.k * K + w};
                     const Bounds box = cellTestBox(fine, c, margin, grow);
+                    const std::size_t before = pairs.size();
                     for (std::size_t n = begin; n < end; ++n) {
                         const Triangle& tri = tris[coarse[n].second];
                         if (triangleOverlapsBox(tri.a, tri.b, tri.c, box))
                             pairs.emplace_back(fine.index(c.i, c.j, c.k), coarse[n].second);
                     }
+                    if (pairs.size() > before && estimate.over(++cells)) return cells;
                 }
         begin = end;
     }
     sortPairs(pairs);
-    return pairs;
+    return 0;
 }
 
 /// Corners of the children of every refined cell: the active nodes of the finer level.
@@ -115,10 +133,11 @@ std::vector<uint64_t> childNodes(const GridSpec& coarseGrid, const GridSpec& fin
     return nodes;
 }
 
-std::string tooLarge(double nodes, std::size_t bytesPerNode, uint64_t limit, const char* what) {
+std::string tooLarge(double nodes, std::size_t bytesPerNode, uint64_t limit, const char* what,
+                     const char* bound = "up to") {
     std::ostringstream s;
-    s.precision(4);
-    s << what << " would have up to " << nodes << " nodes (about " << nodes * double(bytesPerNode) / (1024.0 * 1024.0)
+    s << what << " would have " << bound << " " << std::fixed << std::setprecision(0) << nodes << " nodes (about "
+      << std::defaultfloat << std::setprecision(4) << nodes * double(bytesPerNode) / (1024.0 * 1024.0)
       << " MiB); the limit is " << limit << " nodes (use fewer levels, a smaller --refine or a coarser first level)";
     return s.str();
 }
@@ -207,9 +226,11 @@ LevelLayout placeLevels(const GridSpec& level0, const std::vector<Vec3f>& positi
             out.hasFinestGeometry = true;  // the last level placed has no geometry
             break;
         }
-        // Estimate before allocating: each refined cell brings at most (K + 1)^3 nodes.
-        const double estimate = total + double(coarse.refinedCells.size()) * std::pow(K + 1.0, 3.0);
-        if (estimate > double(p.maxNodes)) throw ValueError(tooLarge(estimate, bytesPerNode, p.maxNodes, "the layout"));
+        // Estimate before allocating.
+        const NodeEstimate next{total, std::pow(K + 1.0, 3.0), double(p.maxNodes)};
+        const double estimate = next.withCells(double(coarse.refinedCells.size()));
+        if (next.over(double(coarse.refinedCells.size())))
+            throw ValueError(tooLarge(estimate, bytesPerNode, p.maxNodes, "the layout"));
         LevelTopology fine;
         fine.grid.origin = level0.origin;
         fine.grid.spacing = coarse.grid.spacing / K;
@@ -219,7 +240,15 @@ LevelLayout placeLevels(const GridSpec& level0, const std::vector<Vec3f>& positi
         fine.activeNodes = childNodes(coarse.grid, fine.grid, K, coarse.refinedCells);
         total += double(fine.activeNodes.size());
         const bool finest = l + 1 == levelCount;
-        if (!finest || p.keepFinestGeometry) geometry = childGeometry(coarse.grid, fine.grid, K, geometry, tris, margin, grow);
+        if (!finest || p.keepFinestGeometry) {
+            // The next level's estimate is checked while its cells are found (the finest
+            // level's geometry is only kept, never refined: no limit).
+            const NodeEstimate after{total, next.perCell, finest ? INFINITY : double(p.maxNodes)};
+            CellTriangles found;
+            if (const double cells = childGeometry(coarse.grid, fine.grid, K, geometry, tris, margin, grow, after, found))
+                throw ValueError(tooLarge(after.withCells(cells), bytesPerNode, p.maxNodes, "the layout", "more than"));
+            geometry = std::move(found);
+        }
         out.levels.push_back(std::move(fine));
         if (finest && p.keepFinestGeometry) out.finestGeometryCells = cellsOf(geometry), out.hasFinestGeometry = true;
     }
