@@ -25,11 +25,10 @@ if ((FULL)); then
   # --full's Release stage runs the benchmarks and only the tests the ASan suite leaves out, so
   # its build is only their programs: the CLI, the benchmarks and the test executables listed
   # in scripts/sanitize_exclusions.sh (the other ~100 test programs are built under ASan only).
-  # Exported: the quick-start test runs setup.sh on this tree again and builds the same.
   source "$ROOT/scripts/sanitize_exclusions.sh"
-  export VDBLIGHT_BUILD_TARGETS="vdblight_cli ${BENCHES[*]} $SANITIZE_SKIP_TARGETS"
+  VDBLIGHT_BUILD_TARGETS="vdblight_cli ${BENCHES[*]} $SANITIZE_SKIP_TARGETS"
 fi
-"$ROOT/scripts/setup.sh"
+VDBLIGHT_BUILD_TARGETS="${VDBLIGHT_BUILD_TARGETS:-}" "$ROOT/scripts/setup.sh"
 stage_done setup+build
 # Quick smoke runs of every benchmark (the figures are noisy; full runs: drop --quick).
 for bench in "${BENCHES[@]}"; do
