@@ -52,22 +52,23 @@ std::string baseType(const std::string& stored) {
 
 /// Moves `is` from the grid's start to its tree topology (io::Archive::readGrid's order: the
 /// compression flags, the metadata, then the transform, which files older than 216 write after
-/// the tree). False if the transform cannot be read: OpenVDB's own read stops there too.
+/// the tree). False if the metadata or transform cannot be read: OpenVDB's own read stops
+/// there too.
 bool seekTopology(std::istream& is, const GridExtent& grid) {
     const uint32_t version = openvdb::io::getFormatVersion(is);
     is.seekg(grid.gridPos, std::ios_base::beg);
     if (version >= openvdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION) is.ignore(sizeof(uint32_t));
-    openvdb::MetaMap().readMeta(is);  // its lengths are checked (vdb_open.cpp, checkMetaMap)
-    if (version < openvdb::OPENVDB_FILE_VERSION_GRID_INSTANCING) return bool(is);
-    // The transform starts with its map's type name, whose length OpenVDB allocates unchecked.
-    uint32_t nameBytes = 0;
-    const std::streampos at = is.tellg();
-    is.read(reinterpret_cast<char*>(&nameBytes), sizeof nameBytes);
-    if (!is || int64_t(nameBytes) > grid.endPos - int64_t(is.tellg())) return false;
-    is.seekg(at);
     try {
+        openvdb::MetaMap().readMeta(is);  // its lengths are checked (vdb_open.cpp, checkMetaMap)
+        if (version < openvdb::OPENVDB_FILE_VERSION_GRID_INSTANCING) return bool(is);
+        // The transform starts with its map's type name, whose length OpenVDB allocates unchecked.
+        uint32_t nameBytes = 0;
+        const std::streampos at = is.tellg();
+        is.read(reinterpret_cast<char*>(&nameBytes), sizeof nameBytes);
+        if (!is || int64_t(nameBytes) > grid.endPos - int64_t(is.tellg())) return false;
+        is.seekg(at);
         openvdb::math::Transform().read(is);
-    } catch (const openvdb::Exception&) {  // a map type OpenVDB does not know
+    } catch (const openvdb::Exception&) {  // e.g. a map type OpenVDB does not know
         return false;
     }
     return bool(is);
