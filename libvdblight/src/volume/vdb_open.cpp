@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "vdb_read_parts.h"
+#include "vdb_topology_guard.h"
 
 namespace vdblight {
 namespace vdb_detail {
@@ -42,9 +43,12 @@ namespace {
 /// Reads the grid table of a .vdb the way io::File::open does, but with every read checked,
 /// to find where the last grid's data ends. OpenVDB itself reads a file that lacks its last
 /// bytes without complaint (leaving garbage in the last leaves), so the reader compares this
-/// end with the file size.
+/// end with the file size. It also checks each grid's metadata lengths and tree topology counts
+/// (vdb_topology_guard.h), which OpenVDB trusts.
 class GridTableScanner : public openvdb::io::Archive {
 public:
+    explicit GridTableScanner(std::string path) : path_(std::move(path)) {}
+
     /// Byte offset just past the last grid (0 if the file has no grid offsets).
     int64_t dataEnd(std::istream& is, int64_t fileBytes) {
         readHeader(is);
@@ -66,19 +70,24 @@ public:
         if (!is || count < 0) throw std::runtime_error("cannot read the grid count");
         int64_t end = 0;
         for (int32_t n = 0; n < count; ++n) {
-            skipString(is);  // unique name
-            skipString(is);  // type
-            if (openvdb::io::getFormatVersion(is) >= openvdb::OPENVDB_FILE_VERSION_GRID_INSTANCING) skipString(is);
+            GridExtent grid;
+            grid.name = readString(is);  // unique name
+            grid.type = readString(is);
+            if (openvdb::io::getFormatVersion(is) >= openvdb::OPENVDB_FILE_VERSION_GRID_INSTANCING)
+                grid.instance = !readString(is).empty();  // the instance parent's name
             int64_t offsets[3] = {0, 0, 0};  // grid, blocks, end
             is.read(reinterpret_cast<char*>(offsets), sizeof offsets);
             if (!is) throw std::runtime_error("grid table ends early");
             if (offsets[0] < 0 || offsets[0] > fileBytes || offsets[2] < offsets[0])
                 throw std::runtime_error("grid table is corrupt");
             end = std::max(end, offsets[2]);
+            grid.gridPos = offsets[0];
+            grid.endPos = std::min(offsets[2], fileBytes);
             const std::streampos next = is.tellg();
             is.seekg(offsets[0], std::ios_base::beg);  // the grid: compression flags, then its metadata
             if (openvdb::io::getFormatVersion(is) >= openvdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION) is.ignore(4);
             checkMetaMap(is, fileBytes);
+            checkTreeTopology(is, grid, path_);
             is.seekg(next);
             is.seekg(offsets[2], std::ios_base::beg);
         }
@@ -131,12 +140,16 @@ private:
         return 0;
     }
 
-    static void skipString(std::istream& is) {
+    static std::string readString(std::istream& is) {
         uint32_t size = 0;
         is.read(reinterpret_cast<char*>(&size), sizeof size);
         if (!is || size > (1u << 20)) throw std::runtime_error("grid table ends early or is corrupt");
-        is.ignore(size);
+        std::string s(size, '\0');
+        is.read(s.data(), std::streamsize(size));
+        return s;
     }
+
+    std::string path_;  ///< for the topology guard's message
 };
 
 void checkNotTruncated(const std::string& path) {
@@ -144,8 +157,10 @@ void checkNotTruncated(const std::string& path) {
     const auto bytes = int64_t(fs::file_size(path));
     int64_t end = 0;
     try {
-        end = GridTableScanner().dataEnd(is, bytes);
+        end = GridTableScanner(path).dataEnd(is, bytes);
     } catch (const std::bad_alloc&) {  // out of memory, not a corrupt file
+        throw;
+    } catch (const FormatError&) {  // the topology guard's, which names the file and the grid
         throw;
     } catch (const std::exception& e) {
         formatError(path, std::string("is not a readable .vdb file (truncated or corrupt?): ") + e.what());

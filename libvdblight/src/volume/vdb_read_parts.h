@@ -2,7 +2,7 @@
 // the structural checks of its grids. Internal to the volume module.
 //
 // The readers are split by what they read: vdb_open.cpp opens a file and checks its header,
-// size and content hash; vdb_read_grids.cpp checks and copies one level's grids;
+// size, grids' metadata lengths and tree topology counts (vdb_topology_guard.h) and content hash; vdb_read_grids.cpp checks and copies one level's grids;
 // vdb_read.cpp reads complete volumes and lists a file's grids (`vdblight info`);
 // vdb_read_delayed.cpp maps a volume for delayed loading (vdb_stream.h); vdb_read_tiles.cpp
 // reads the tiles of a split bake (tiles.h); vdb_surface_bins.cpp a probe stage's surface bins.
