@@ -5,34 +5,16 @@
 
 #include <cstdint>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <string>
 
 #include "test_util.h"
+#include "tiny_volume.h"
 #include "vdblight/core/errors.h"
 #include "vdblight/volume/vdb_io.h"
 #include "vdblight/volume/volume.h"
 
 namespace vdblight {
 namespace {
-
-Volume smallVolume() {
-    Volume v;
-    v.basis = BasisDesc::sh2();
-    VolumeLevel level;
-    level.grid.origin = Vec3d(0, 0, 0);
-    level.grid.spacing = 0.5;
-    level.grid.nx = level.grid.ny = level.grid.nz = 2;
-    level.data.assign(level.grid.nodeCount() * std::size_t(v.basis.channelCount()) * 3, 0.25f);
-    v.levels.push_back(std::move(level));
-    return v;
-}
-
-std::string readBytes(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
 
 /// Sets the value length of the metadata entry named `key` (the `occurrence`-th time the name
 /// appears) to `length`: the entry is [u32 len]name [u32 len]type [u32 len]value.
@@ -68,8 +50,8 @@ void expectRefused(const test::TempDir& dir, const std::string& bytes) {
 TEST(VdbReadHostile, MetadataLengthsBeyondTheFileAreRefusedBeforeAllocation) {
     test::TempDir dir;
     const std::string good = dir.file("good.vdb");
-    writeVolume(smallVolume(), good);
-    const std::string bytes = readBytes(good);
+    writeVolume(test::tinySh2Volume(), good);
+    const std::string bytes = test::readTextFile(good);
     ASSERT_NO_THROW(readVolume(good));
     // The lengths themselves were the only problem: one byte past the end is refused,
     // the real length is accepted.
@@ -91,8 +73,8 @@ TEST(VdbReadHostile, FilesWithoutGridOffsetsAreRefusedBeforeOpenVdbParsesThem) {
     // header (after magic, file version and library version) is the grid-offsets flag.
     test::TempDir dir;
     const std::string good = dir.file("good.vdb");
-    writeVolume(smallVolume(), good);
-    std::string bytes = readBytes(good);
+    writeVolume(test::tinySh2Volume(), good);
+    std::string bytes = test::readTextFile(good);
     ASSERT_EQ(bytes[20], 1);
     EXPECT_NO_THROW(readVolume(good));
     bytes[20] = 0;

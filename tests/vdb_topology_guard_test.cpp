@@ -14,21 +14,16 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <string>
 
 #include "test_util.h"
+#include "tiny_volume.h"
 #include "vdblight/core/errors.h"
 #include "vdblight/volume/vdb_io.h"
 #include "vdblight/volume/volume.h"
 
 namespace vdblight {
 namespace {
-
-std::string readBytes(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
 
 /// Finds a grid's tree topology with OpenVDB's own readers, in io::Archive::readGrid's order
 /// (descriptor; at the grid: compression flags, metadata, transform; then the topology), so
@@ -76,18 +71,6 @@ std::string withRootCounts(std::string bytes, std::streamoff topology, std::size
     return bytes;
 }
 
-Volume smallVolume() {
-    Volume v;
-    v.basis = BasisDesc::sh2();
-    VolumeLevel level;
-    level.grid.origin = Vec3d(0, 0, 0);
-    level.grid.spacing = 0.5;
-    level.grid.nx = level.grid.ny = level.grid.nz = 2;
-    level.data.assign(level.grid.nodeCount() * std::size_t(v.basis.channelCount()) * 3, 0.25f);
-    v.levels.push_back(std::move(level));
-    return v;
-}
-
 /// Every way in: readVolume (`vdblight info`, `export`), delayed loading (`query` of a large
 /// file) and the grid listing must refuse `path` naming the grid and the count.
 void expectRefused(const std::string& path, const std::string& expected) {
@@ -110,8 +93,8 @@ void expectRefused(const std::string& path, const std::string& expected) {
 TEST(VdbTopologyGuard, ImpossibleRootCountsInAVdblightFileAreRefusedBeforeOpenVdbReadsThem) {
     test::TempDir dir;
     const std::string good = dir.file("good.vdb");
-    writeVolume(smallVolume(), good);
-    const std::string bytes = readBytes(good);
+    writeVolume(test::tinySh2Volume(), good);
+    const std::string bytes = test::readTextFile(good);
     const std::streamoff topology = TopologyLocator().find(good, "sh_l0m0");
     ASSERT_NO_THROW(readVolume(good));
     const std::string path = dir.file("crafted.vdb");
@@ -178,7 +161,7 @@ TEST(VdbTopologyGuard, OpenVdbFilesOfEveryKindPass) {
             EXPECT_EQ(info.grids.size(), 7u);
             // The crafted count in the same file is refused (the locator finds this layout too).
             const std::string crafted = dir.file("crafted.vdb");
-            test::writeTextFile(crafted, withRootCounts(readBytes(path), TopologyLocator().find(path, "floats"),
+            test::writeTextFile(crafted, withRootCounts(test::readTextFile(path), TopologyLocator().find(path, "floats"),
                                                         sizeof(float), 0xffffffffu, 2));
             try {
                 inspectVolumeFile(crafted);
