@@ -1,5 +1,6 @@
 // libFuzzer harness: .vdb reading. The input is written to a .vdb file and given to what
-// `vdblight info` and `query` do: inspectVolumeFile (the grid listing), readVolume (every
+// `vdblight info` and `query` do: isPrtFile (info's first question, through the PRT reader's
+// open), inspectVolumeFile (the grid listing), readVolume (every
 // structural check of docs/format.md) and, for a volume that passes, IrradianceQuery at a few
 // points and normals (so that the reader's checks are enough for the lookups). Rejection must
 // be a typed vdblight error; any other exception, crash, leak or sanitizer report is a finding.
@@ -11,6 +12,7 @@
 #include "fuzz_util.h"
 #include "../../libvdblight/src/volume/content_hash.h"  // internal: stampContentUuid
 #include "vdblight/core/errors.h"
+#include "vdblight/prt/prt.h"
 #include "vdblight/query/query.h"
 #include "vdblight/volume/vdb_io.h"
 
@@ -27,6 +29,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
     try {
         vdb_detail::stampContentUuid(path);
     } catch (const std::exception&) {  // no OpenVDB header: the reader refuses it below
+    }
+    try {
+        (void)isPrtFile(path);
+    } catch (const Error&) {
     }
     try {
         (void)inspectVolumeFile(path);

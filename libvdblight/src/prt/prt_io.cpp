@@ -8,6 +8,7 @@
 
 #include "prt_io_sections.h"
 #include "vdblight/core/atomic_file.h"
+#include "volume/vdb_read_parts.h"
 
 namespace vdblight {
 namespace {
@@ -30,6 +31,8 @@ Opened openPrt(const std::string& path, bool requirePrt) {
     initOpenVdb();
     std::error_code ec;
     if (!fs::is_regular_file(path, ec)) throw IoError("cannot read '" + path + "': no such file");
+    // The volume reader's checks first: OpenVDB trusts the lengths in the file.
+    vdb_detail::checkNotTruncated(path);
     Opened o;
     o.file = std::make_unique<openvdb::io::File>(path);
     try {

@@ -152,6 +152,8 @@ private:
     std::string path_;  ///< for the topology guard's message
 };
 
+}  // namespace
+
 void checkNotTruncated(const std::string& path) {
     std::ifstream is(path, std::ios::binary);
     const auto bytes = int64_t(fs::file_size(path));
@@ -170,6 +172,8 @@ void checkNotTruncated(const std::string& path) {
                               std::to_string(bytes) + " bytes");
     }
 }
+
+namespace {
 
 /// Refuses a file whose header holds a content-derived UUID that its content does not give:
 /// it changed after it was written (a bad copy, a disk error, an edit). The check comes before

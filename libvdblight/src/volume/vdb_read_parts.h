@@ -49,6 +49,13 @@ T requireMeta(const openvdb::MetaMap& meta, const std::string& key, const std::s
     return m->value();
 }
 
+/// FormatError naming `path` unless OpenVDB can parse its structure without trusting a length
+/// it cannot check: the grid table, every metadata length and every tree's root counts fit in
+/// the file, and the grids end within it. OpenVDB allocates what those lengths say (a file cut
+/// inside a grid's metadata made io::File::open allocate 19 GB), so every reader of a .vdb,
+/// the PRT reader included, calls this before OpenVDB opens the file.
+void checkNotTruncated(const std::string& path);
+
 /// How much of a file a reader will let OpenVDB parse.
 enum class OpenFor {
     Data,      ///< every grid's node data: the content hash is checked first (checkNotDamaged)
