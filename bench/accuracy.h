@@ -106,6 +106,8 @@ Baked directGather(const Ctx& c, int resolution, uint32_t rays, DirectMode mode,
 ///   filter=N   passes of the filter across nodes (--filter-passes; node_filter.h)
 ///   guide=1, blend=1, extra=1: the preview's --guide-probe-directions, --blend-first-pass, --extra-cache-paths
 ///   byerror=1: the preview's --first-pass-by-error
+///   preset=default|preview|high: start from that --quality's spec (presetTry), the other keys
+///   change it, e.g. `preset=default,byerror=1`
 /// Every bake of the command is reproduced (bake_direct.h plan, gather, visibility, depth).
 struct TrySpec {
     int res = 16;
