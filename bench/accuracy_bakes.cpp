@@ -6,6 +6,8 @@
 
 #include <cstring>
 #include <memory>
+#include <utility>
+#include <vector>
 
 #include <unistd.h>
 
@@ -231,23 +233,22 @@ Baked directGather(const Ctx& c, int resolution, uint32_t rays, DirectMode mode,
 }
 
 TrySpec parseTry(const std::string& spec) {
-    TrySpec t;
-    // preset=NAME starts from that quality's spec wherever it is written, so that the other
-    // keys change it: `preset=default,byerror=1` is one lever measured on the default.
-    for (std::size_t at = 0; (at = spec.find("preset=", at)) != std::string::npos; at += 7) {
-        if (at != 0 && spec[at - 1] != ',') continue;
-        const std::size_t end = spec.find(',', at);
-        t = presetTry(spec.substr(at + 7, end == std::string::npos ? std::string::npos : end - at - 7));
-    }
-    std::size_t pos = 0;
-    while (pos < spec.size()) {
+    std::vector<std::pair<std::string, std::string>> keys;
+    for (std::size_t pos = 0; pos < spec.size();) {
         std::size_t end = spec.find(',', pos);
         if (end == std::string::npos) end = spec.size();
         const std::string kv = spec.substr(pos, end - pos);
         pos = end + 1;
         const std::size_t eq = kv.find('=');
         if (eq == std::string::npos) throw ValueError("--try: expected key=value, got '" + kv + "'");
-        const std::string k = kv.substr(0, eq), v = kv.substr(eq + 1);
+        keys.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
+    }
+    TrySpec t;
+    // preset=NAME starts from that quality's spec wherever it is written, so that the other
+    // keys change it: `preset=default,byerror=1` is one lever measured on the default.
+    for (const auto& [k, v] : keys)
+        if (k == "preset") t = presetTry(v);
+    for (const auto& [k, v] : keys) {
         if (k == "preset") continue;  // applied first, above
         else if (k == "res") t.res = std::stoi(v);
         else if (k == "nodes") t.nodes = std::stoull(v);

@@ -1,7 +1,7 @@
 // A .vdb cut short at any byte is refused by every reader with the message of vdblight's own
 // structure check (vdb_read_parts.h, checkNotTruncated), before OpenVDB parses the file.
 //
-// Why every byte: OpenVDB's io::File::open allocates the lengths it reads. A file cut inside a
+// Why so many cuts: OpenVDB's io::File::open allocates the lengths it reads. A file cut inside a
 // grid's metadata made `vdblight info` (which first asks the PRT reader whether the file is a
 // PRT file) allocate 19 GB in Release; under ASan the process was killed (CI, session 20).
 // Where a cut lands decides whether a length is garbage, so one cut proves little: the test cuts

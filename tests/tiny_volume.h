@@ -1,5 +1,6 @@
 // The smallest valid volume (2 x 2 x 2 nodes of SH order 2, every value 0.25) for the tests that
-// write a .vdb and then damage its bytes (vdb_read_hostile_test, vdb_topology_guard_test).
+// write a .vdb and then damage or cut its bytes (vdb_read_hostile_test, vdb_topology_guard_test,
+// cut_file_test).
 #pragma once
 
 #include <cstddef>
