@@ -80,7 +80,7 @@ std::vector<Config> configurations() {
     v.push_back({"preview", "vdblight bake --quality preview (" + describeTry(preview) + ", --direct occlusion)",
                  [preview](const Ctx& c) { return tryBake(c, preview); }, true});
     // The same without the guided probe directions (direction_guide.h) and pass 0's blend
-    // (pass_blend.h): the preview until issue 32's second session.
+    // (volume/first_pass_blend.h): the preview until issue 32's second session.
     TrySpec unguided = preview;
     unguided.guide = false;
     unguided.blend = false;

@@ -134,10 +134,17 @@ TEST(BakeVolume, PresetsResolveAsTheCommandLineDocumentsThem) {
     EXPECT_EQ(d.basis, "sh:4");
     EXPECT_EQ(d.pass, "gather");
     EXPECT_EQ(d.params.get<int>("node-filter"), 0);
-    EXPECT_FALSE(d.params.get<bool>("guide-probe-directions"));
-    EXPECT_FALSE(d.params.get<bool>("blend-first-pass"));
-    EXPECT_FALSE(d.params.get<bool>("extra-cache-paths"));
-    EXPECT_FALSE(d.params.get<bool>("first-pass-by-error"));
+    // Issue 32, session 22: the preview's guide and blend, which pay on the default's budget and
+    // tile (stage_carry.h), in a tiled bake too; not its other two levers.
+    for (const bool tiled : {false, true}) {
+        if (tiled) r.tiles = 2;
+        d = resolveBakeRequest(r);
+        EXPECT_TRUE(d.params.get<bool>("guide-probe-directions")) << tiled;
+        EXPECT_TRUE(d.params.get<bool>("blend-first-pass")) << tiled;
+        EXPECT_FALSE(d.params.get<bool>("extra-cache-paths")) << tiled;
+        EXPECT_FALSE(d.params.get<bool>("first-pass-by-error")) << tiled;
+    }
+    r.tiles.reset();
     // Issue 32: the preview is the default's method on fewer nodes and rays, filtered across nodes.
     r.quality = "preview";
     d = resolveBakeRequest(r);
@@ -150,12 +157,12 @@ TEST(BakeVolume, PresetsResolveAsTheCommandLineDocumentsThem) {
     EXPECT_EQ(d.params.get<int>("node-filter"), 1);
     EXPECT_EQ(d.pass, "gather");
     EXPECT_TRUE(d.params.get<bool>("guide-probe-directions"));  // its probe pass's directions from pass 0's map (direction_guide.h)
-    EXPECT_TRUE(d.params.get<bool>("blend-first-pass"));        // and pass 0's values blended in (pass_blend.h)
+    EXPECT_TRUE(d.params.get<bool>("blend-first-pass"));        // and pass 0's values blended in (volume/first_pass_blend.h)
     EXPECT_TRUE(d.params.get<bool>("extra-cache-paths"));       // and the cache fed where pass 0 is noisiest
     EXPECT_TRUE(d.params.get<bool>("first-pass-by-error"));     // and pass 0's rays by its error (first_pass_by_error.h)
-    r.tiles = 2;  // a tile's probe pass runs in a stage of its own, without pass 0's
-    EXPECT_FALSE(resolveBakeRequest(r).params.get<bool>("guide-probe-directions"));
-    EXPECT_FALSE(resolveBakeRequest(r).params.get<bool>("blend-first-pass"));
+    r.tiles = 2;  // a tile's stage 1 reads pass 0's map and values from stage 0, not every node's errors
+    EXPECT_TRUE(resolveBakeRequest(r).params.get<bool>("guide-probe-directions"));
+    EXPECT_TRUE(resolveBakeRequest(r).params.get<bool>("blend-first-pass"));
     EXPECT_FALSE(resolveBakeRequest(r).params.get<bool>("extra-cache-paths"));
     EXPECT_FALSE(resolveBakeRequest(r).params.get<bool>("first-pass-by-error"));
     r.tiles.reset();

@@ -115,6 +115,9 @@ TEST(CliTiles, DefaultBakeTiledInStagesMergesToTheSingleBake) {
     const test::CliRun info = runCli("info " + dir.file("stage1.vdb"));
     EXPECT_NE(info.output.find("light_visibility_0"), std::string::npos) << info.output;
     EXPECT_NE(info.output.find("estimated_error_worst_nodes"), std::string::npos) << info.output;
+    // With the default's guided probe pass and pass 0 blended in (stage 0 carries what they read).
+    EXPECT_NE(info.output.find("probe_directions"), std::string::npos) << info.output;
+    EXPECT_NE(info.output.find("first_pass_blend"), std::string::npos) << info.output;
     // A stage file of another bake is refused; a stage-1 tile is baked again when the stage-0
     // file it read has changed.
     const std::string tile = dir.file("s1t0.vdb"),
@@ -246,9 +249,12 @@ TEST(CliTiles, PassesThatCannotBeTiledSaySo) {
     test::expectRefusal("bake --stage 1 --stage-input " + volume + uniformTile, "no probe stage file", out, "a volume as input");
     test::expectRefusal("bake --tiles 2 --resolution 4 -o " + out, "--tiles and --tile go together", out, "no --tile");
     test::expectRefusal("bake --quality preview" + uniformTile, "tiled in stages", out, "the preview's probe pass");
-    // What the preview adds to its probe pass needs pass 0 in the same bake: each refused by name.
-    for (const std::string flag : {"guide-probe-directions", "blend-first-pass", "extra-cache-paths", "first-pass-by-error"})
+    // Two of what the preview adds to its probe pass choose nodes by every node's pass 0: each
+    // refused by name (the guide and the blend tile: DefaultBakeTiledInStagesMergesToTheSingleBake).
+    for (const std::string flag : {"extra-cache-paths", "first-pass-by-error"})
         test::expectRefusal("bake --stage 0 --quality preview --" + flag + uniformTile, "--" + flag + " cannot be tiled", out, flag);
+    test::expectRefusal("bake --stage 0 --quality default --probe-passes 2 --guide-probe-directions" + uniformTile,
+                        "tiles with one probe pass only", out, "guide with two probe passes");
     test::expectRefusal("bake --tiles 2 --tile 2 --resolution 4 -o " + out, "--tile must be between 0 and 1", out, "range");
     test::expectRefusal("bake --tiles 9 --tile 0 --layout bilevel --refine 2 --resolution 4 -o " + out + kTileable, "bricks of 8^3 nodes", out, "too many");
 }

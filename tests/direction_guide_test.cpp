@@ -163,12 +163,12 @@ TEST(GuidedProbePass, RaysOneByOneGiveThePacketsBits) {
                           packets.levels[0].data.size() * sizeof(float)), 0);
 }
 
-TEST(GuidedProbePass, RefusedInAStagedBake) {
+TEST(GuidedProbePass, RefusedInAStagedBakeWithTwoProbePasses) {
+    // Stage 1 reads pass 0's map from stage 0 (stage_carry.h); a later pass has no map of its own.
     const ThinWallBake b;
     GatherOptions o;
     o.raysPerNode = 8;
-    o.probePasses = 1;
-    o.surfaceProbeCache = true;
+    o.probePasses = 2;
     o.guideProbeDirections = true;
     o.stage = 0;
     EXPECT_THROW(bakeShGather(b.room.scene, b.tracer, b.grid(), o), ValueError);

@@ -81,9 +81,17 @@ TEST(TileMemory, ATileOfTheDefaultBakeHoldsAFractionOfTheWholeVolume) {
     for (double b : stage1) std::cout << ' ' << b / kMiB;
     std::cout << " MiB\n";
     ASSERT_GT(wholeExtra, 20 * kMiB);  // the volume must dominate for the ratios to mean anything
-    for (double b : stage0) EXPECT_LT(b - base, 0.35 * wholeExtra) << "a stage-0 tile holds most of the whole volume";
-    // A later stage also holds the whole stage input (its probe cache: 124 B per node).
-    for (double b : stage1) EXPECT_LT(b - base, 0.8 * wholeExtra) << "a stage-1 tile holds more than the stage input";
+    // Since the default guides its probe pass and blends pass 0 in (issue 32, session 22), a
+    // stage-0 tile also carries pass 0's direction map, values and errors (bake/stage_carry.h:
+    // 1 452 B per node against the whole bake's ~375 B written), a few copies of it over its
+    // window: measured 0.50-0.52 of the whole bake's (0.16 before; a tile that allocated the
+    // whole volume would be at 1 or more).
+    for (double b : stage0) EXPECT_LT(b - base, 0.6 * wholeExtra) << "a stage-0 tile holds most of the whole volume";
+    // A later stage also holds the whole stage input (its probe cache and pass 0's carry: 27 +
+    // 75 + 3 + 258 floats and the 4 depth-moment floats per node); beyond that, a fraction.
+    const double stageInput = 262144.0 * (27 + 75 + 3 + 258 + 4) * sizeof(float);
+    for (double b : stage1)
+        EXPECT_LT(b - base, stageInput + 0.35 * wholeExtra) << "a stage-1 tile holds more than the stage input";
 }
 
 }  // namespace

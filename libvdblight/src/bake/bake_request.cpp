@@ -26,7 +26,7 @@ namespace {
 /// replace 2048 at 128: twice the rays, within the sub-second budget, the best balance of
 /// nodes and rays measured over seeds (docs/time_to_accuracy.md, "Nodes rather than rays").
 /// Its probe pass's directions are guided by pass 0 (direction_guide.h), pass 0's values are
-/// blended in (pass_blend.h), and the nodes where pass 0 is noisiest trace more paths for the
+/// blended in (volume/first_pass_blend.h), and the nodes where pass 0 is noisiest trace more paths for the
 /// surface cache (extra_cache_paths.h: a room lit through a door, two rooms 7.0 -> 5.5 %),
 /// and pass 0 spends a quarter of its rays everywhere, the rest by its own error
 /// (first_pass_by_error.h; two rooms 5.5 -> 4.8 % over seeds 1, 3, 5, the others equal).
@@ -39,6 +39,10 @@ namespace {
 /// (depth_moments.h), and SH order 4 stored (kDefaultBasis: SH order 2 cannot hold a bright
 /// opening seen from a dark room). The measured choice against the accuracy benchmark's
 /// ground truth (docs/measurements/default_bake.md, "SH order 4 in the point gather").
+/// Since issue 32's session 22 its probe pass is guided by pass 0 and pass 0 is blended in, as
+/// in the preview, tiled bakes included (stage_carry.h): office 2.0 -> 1.6 %, two rooms 3.4 ->
+/// 2.6 % for 2 % more time (docs/time_to_accuracy.md); the preview's other two levers add
+/// nothing at this budget and do not tile.
 /// `high`: the default with twice the rays (kHighRays). Until issue 15's tenth session it was
 /// error-targeted (3 %, 64..2048 rays) with two probe passes in SH order 2; with SH order 4 the
 /// fixed budget measured lower RMS in every scene in less time (docs/methods.md, "The default
@@ -69,13 +73,13 @@ struct QualityPreset {
     int nodeFilter;      ///< passes of the filter across nodes (point gather)
     bool photonGrid;     ///< the photon pass takes the preset's grid and depth moments
     bool guideProbeDirections = false;  ///< the probe pass's directions from pass 0's map (direction_guide.h)
-    bool blendFirstPass = false;        ///< pass 0's values blended into the probe pass's (pass_blend.h)
+    bool blendFirstPass = false;        ///< pass 0's values blended into the probe pass's (volume/first_pass_blend.h)
     bool extraCachePaths = false;       ///< more paths for the surface cache where pass 0 is noisiest (extra_cache_paths.h)
     bool firstPassByError = false;      ///< pass 0's rays per node by its own error (first_pass_by_error.h)
 };
 QualityPreset qualityPreset(const std::string& quality) {
     if (quality == "preview") return {1, kPreviewNodes, kPreviewRays, true, 1'000'000, kDefaultBasis, 1, false, true, true, true, true};
-    if (quality == "default") return {1, kDefaultNodes, kDefaultRays, true, 4'000'000, kDefaultBasis, 0, true};
+    if (quality == "default") return {1, kDefaultNodes, kDefaultRays, true, 4'000'000, kDefaultBasis, 0, true, true, true};
     if (quality == "high") return {1, kDefaultNodes, kHighRays, true, 4'000'000, kDefaultBasis, 0, true};
     throw ValueError("--quality must be " + bake_detail::joinChoices(qualityNames()) + ", got '" + quality + "'");
 }
@@ -218,13 +222,17 @@ BakeRequest resolveBakeRequest(const BakeRequest& given) {
                                                 : "nodes"));
     if (!p.value("node-filter"))
         p.preset("node-filter", double(presetApplies && selectPassName(r) == "gather" ? preset.nodeFilter : 0));
-    // Not in a tiled bake: its probe pass runs in a stage of its own, without pass 0's map.
-    const bool untiledGather = presetApplies && selectPassName(r) == "gather" && !r.tiles;
+    // The guide and the blend tile in stages (stage 0 carries pass 0's map, values and errors:
+    // stage_carry.h); the extra cache paths and pass 0's two rounds choose nodes by every
+    // node's pass-0 error at once, so a tiled bake goes without them.
+    const bool gather = presetApplies && selectPassName(r) == "gather";
+    const bool untiledGather = gather && !r.tiles;
     const double probePasses = *givenNumber(r, "probe-passes");
     if (!p.value("guide-probe-directions"))
-        p.preset("guide-probe-directions", untiledGather && probePasses > 0 && preset.guideProbeDirections);
+        p.preset("guide-probe-directions",
+                 ((untiledGather && probePasses > 0) || (gather && probePasses == 1)) && preset.guideProbeDirections);
     if (!p.value("blend-first-pass"))
-        p.preset("blend-first-pass", untiledGather && probePasses == 1 && preset.blendFirstPass);
+        p.preset("blend-first-pass", gather && probePasses == 1 && preset.blendFirstPass);
     if (!p.value("extra-cache-paths"))
         p.preset("extra-cache-paths", untiledGather && probePasses == 1 && givenWord(r, "probe-cache") != "nodes" &&
                                           preset.extraCachePaths);

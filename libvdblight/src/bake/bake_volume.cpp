@@ -200,7 +200,11 @@ Volume bakeToFile(const Scene& scene, const BakeRequest& request, const std::str
     // The per-node errors of a uniform grid, for the merge's error summary: those the pass
     // estimated (the point gathers; the other passes leave BakeStats::estimatedError empty).
     TileNodeStats nodeStats;
-    if (volume.levels.size() == 1) nodeStats.estimatedError = report.stats.estimatedError;
+    if (volume.levels.size() == 1) {
+        nodeStats.estimatedError = report.stats.estimatedError;
+        nodeStats.firstPassValues = std::move(report.stats.firstPassValues);
+        nodeStats.firstPassError = std::move(report.stats.firstPassError);
+    }
     if (!report.lastStage) {
         report.write.halfFloat = false;  // the next stage reads the reflected light exactly
         bake_detail::PassMetadata(volume.meta).text("probe_stage_params_hash", tile.sameBake);

@@ -26,24 +26,32 @@ float cellPoint(int i, float fraction, int n) {
 }  // namespace
 
 void poolGuideSums(const GridSpec& grid, int radius, std::vector<float>& sums, std::vector<uint32_t>& counts) {
-    constexpr int kCells = DirectionGuide::kCells;
+    constexpr std::size_t kCells = DirectionGuide::kCells;
     if (radius <= 0) return;
-    std::vector<float> pooledSums(sums.size(), 0.0f);
-    std::vector<uint32_t> pooledCounts(counts.size(), 0);
-    for (int k = 0; k < grid.nz; ++k)
-        for (int j = 0; j < grid.ny; ++j)
-            for (int i = 0; i < grid.nx; ++i) {
-                const std::size_t to = grid.index(i, j, k) * kCells;
-                forEachNodeAround(grid, i, j, k, radius, [&](int a, int b, int c, int, int, int) {
-                    const std::size_t from = grid.index(a, b, c) * kCells;
-                    for (int cell = 0; cell < kCells; ++cell) {
-                        pooledSums[to + cell] += sums[from + cell];
-                        pooledCounts[to + cell] += counts[from + cell];
-                    }
-                });
-            }
-    sums.swap(pooledSums);
-    counts.swap(pooledCounts);
+    // In place, one z-slab of nodes at a time (the map is 1 KB per node: a pooled copy of it
+    // would double the bake's peak). Slab k reads the original slabs k - radius .. k + radius:
+    // those above k are still in the arrays, slab k and those below it were copied to a ring of
+    // radius + 1 slabs before being overwritten.
+    const std::size_t slabNodes = std::size_t(grid.nx) * std::size_t(grid.ny), slab = slabNodes * kCells;
+    const std::size_t ring = std::size_t(radius) + 1;
+    std::vector<float> oldSums(ring * slab), outSums(slab);
+    std::vector<uint32_t> oldCounts(ring * slab), outCounts(slab);
+    for (int k = 0; k < grid.nz; ++k) {
+        const std::size_t at = std::size_t(k) * slab, ringAt = std::size_t(k) % ring * slab;
+        std::copy_n(sums.begin() + std::ptrdiff_t(at), slab, oldSums.begin() + std::ptrdiff_t(ringAt));
+        std::copy_n(counts.begin() + std::ptrdiff_t(at), slab, oldCounts.begin() + std::ptrdiff_t(ringAt));
+        const auto source = [&](std::size_t n, int cell, const auto& old, const auto& now) {
+            const std::size_t z = n / slabNodes;
+            return z <= std::size_t(k) ? old[z % ring * slab + (n - z * slabNodes) * kCells + std::size_t(cell)]
+                                       : now[n * kCells + std::size_t(cell)];
+        };
+        poolGuideWindow(
+            grid, radius, std::size_t(k) * slabNodes, slabNodes,
+            [&](std::size_t n, int cell) { return source(n, cell, oldSums, sums); },
+            [&](std::size_t n, int cell) { return source(n, cell, oldCounts, counts); }, outSums.data(), outCounts.data());
+        std::copy(outSums.begin(), outSums.end(), sums.begin() + std::ptrdiff_t(at));
+        std::copy(outCounts.begin(), outCounts.end(), counts.begin() + std::ptrdiff_t(at));
+    }
 }
 
 int DirectionGuide::cellOf(float u, float v) {

@@ -17,8 +17,11 @@
 // stratification within the guide's cells.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
+
+#include "layout/grid_neighbours.h"
 
 #include "vdblight/core/math.h"
 #include "vdblight/layout/layout.h"
@@ -30,6 +33,14 @@ namespace vdblight::bake_detail {
 /// is one sample per cell, too noisy to guide by; its neighbours see the same openings from
 /// nearly the same place. In a fixed order: the same bits for any thread count.
 void poolGuideSums(const GridSpec& grid, int radius, std::vector<float>& sums, std::vector<uint32_t>& counts);
+
+/// The same pooling for the nodes [first, first + count) of `grid` only (a tile's window),
+/// reading every node's sums and counts through sumAt(node, cell) and countAt(node, cell):
+/// out[(n - first) * kCells + cell], the same additions in the same order as poolGuideSums, so
+/// a staged tile's guide equals the single bake's (stage_carry.h).
+template <typename SumAt, typename CountAt>
+void poolGuideWindow(const GridSpec& grid, int radius, std::size_t first, std::size_t count, SumAt&& sumAt,
+                     CountAt&& countAt, float* outSums, uint32_t* outCounts);
 
 class DirectionGuide {
 public:
@@ -68,5 +79,26 @@ private:
     float rowCdf_[kRows + 1];           ///< cumulative row sums
     float colCdf_[kRows][kCols + 1];    ///< cumulative sums within each row
 };
+
+template <typename SumAt, typename CountAt>
+void poolGuideWindow(const GridSpec& grid, int radius, std::size_t first, std::size_t count, SumAt&& sumAt,
+                     CountAt&& countAt, float* outSums, uint32_t* outCounts) {
+    constexpr int kCells = DirectionGuide::kCells;
+    const std::size_t nx = std::size_t(grid.nx), ny = std::size_t(grid.ny);
+    for (std::size_t n = first; n < first + count; ++n) {
+        float* sums = outSums + (n - first) * kCells;
+        uint32_t* counts = outCounts + (n - first) * kCells;
+        std::fill(sums, sums + kCells, 0.0f);
+        std::fill(counts, counts + kCells, 0u);
+        forEachNodeAround(grid, int(n % nx), int(n / nx % ny), int(n / (nx * ny)), std::max(radius, 0),
+                          [&](int a, int b, int c, int, int, int) {
+                              const std::size_t from = grid.index(a, b, c);
+                              for (int cell = 0; cell < kCells; ++cell) {
+                                  sums[cell] += sumAt(from, cell);
+                                  counts[cell] += countAt(from, cell);
+                              }
+                          });
+    }
+}
 
 }  // namespace vdblight::bake_detail

@@ -9,10 +9,11 @@
 #include "direction_guide.h"
 #include "extra_cache_paths.h"
 #include "first_pass_by_error.h"
-#include "pass_blend.h"
+#include "volume/first_pass_blend.h"
 #include "project_incident.h"
 #include "pass_metadata.h"
 #include "probe_passes.h"
+#include "stage_carry.h"
 #include "vdblight/bake/each_pass.h"
 #include "vdblight/basis/basis.h"
 #include "vdblight/volume/volume.h"
@@ -78,15 +79,33 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     // Guided probe directions (direction_guide.h): pass 0's luminance per direction cell.
     using bake_detail::DirectionGuide;
     const bool guided = options.guideProbeDirections && options.probePasses > 0;
-    if (guided && options.stage >= 0) throw ValueError("guided probe directions need every pass in one bake (not staged)");
+    if (guided && options.probePasses > 1 && options.stage >= 0)
+        throw ValueError("guided probe directions in a staged bake need exactly one probe pass");
     std::vector<float> guideSums(guided ? held * DirectionGuide::kCells : 0, 0.0f);
     std::vector<uint32_t> guideCounts(guideSums.size(), 0);
-    const bool blend = options.blendFirstPass && options.probePasses == 1 && range.first == 0 && range.last == 1;
+    const bool blend = options.blendFirstPass && options.probePasses == 1 && range.last == 1;
+    // A staged bake's stage 0 carries pass 0's map, values and errors to stage 1 (stage_carry.h).
+    bake_detail::StageCarry carry;
+    carry.guide = guided;
+    carry.firstPassFloats = options.blendFirstPass && options.probePasses == 1 ? floats : 0;
     if (options.firstPassByError && (options.stage >= 0 || options.only))
         throw ValueError("pass 0's rays by its error need every node's first pass in one bake (not tiled or staged)");
     if (options.extraCachePaths && options.stage >= 0)
         throw ValueError("extra paths for the surface probe cache need every pass in one bake (not staged)");
     std::vector<float> firstValues, firstError;
+    if (range.first > 0 && carry.any()) {  // stage 1: pass 0's, from the stage input
+        const bake_detail::StageCarry in = bake_detail::StageCarry::of(options.stageInput->basis);
+        if (in.guide != carry.guide || in.firstPassFloats != carry.firstPassFloats)
+            throw ValueError("the stage input does not carry what this stage's guide or blend reads: its stage 0 was "
+                             "baked with other options");
+        // A guided probe pass does not classify the nodes (below): pass 0's classification stays.
+        bake_detail::readCarriedFirstPass(*options.stageInput, in, level.windowFirst, held, blend ? &firstValues : nullptr,
+                                          blend ? &firstError : nullptr,
+                                          guided && options.depthMoments ? &insideSolid : nullptr);
+        if (guided)
+            bake_detail::poolCarriedGuide(*options.stageInput, in, grid, DirectionGuide::kPoolRadius, level.windowFirst, held,
+                                          guideSums, guideCounts);
+    }
     std::unique_ptr<bake_detail::SurfaceBins> bins;
     if (options.surfaceProbeCache) {
         if (options.probePasses != 1) throw ValueError("the surface probe cache needs exactly one probe pass");
@@ -102,8 +121,9 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
         estimator, tracer, grid, options.seed, options.probePasses, range,
         range.first > 0 ? options.stageInput->levels[0].data.data() : nullptr, reflected,
         [&](const bake_detail::ProbePass& pass) {
-            if (guided && pass.index == 1) bake_detail::poolGuideSums(grid, DirectionGuide::kPoolRadius, guideSums, guideCounts);
-            if (blend && pass.index == 1) {
+            if (guided && pass.index == 1 && range.first == 0)
+                bake_detail::poolGuideSums(grid, DirectionGuide::kPoolRadius, guideSums, guideCounts);
+            if (blend && pass.index == 1 && range.first == 0) {
                 firstValues = level.data;
                 firstError = error;
             }
@@ -192,17 +212,19 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
                 passRun.seconds += extra.seconds;
             }
             return passRun;
-        }, bins.get());
+        }, bins.get(), range.first > 0 ? std::size_t(options.stageInput->basis.channelCount()) * 3 : 27);
 
-    for (std::size_t h = 0; h < insideSolid.size(); ++h)
-        if (insideSolid[h]) error[h] = kNodeInsideSolid;
     bake_detail::PassMetadata m(volume.meta);
     m.common(scene, options.transport, options.seed, nodes, run);
     if (options.stageInput) addEarlierStageSums(volume.meta, options.stageInput->meta);
     if (options.depthMoments) m.depthMoments(options.raysPerNode);
     if (range.last < options.probePasses) {  // a stage before the last: its reflected light
+        std::vector<float> passValues;  // pass 0's, for the next stage's blend
+        if (carry.firstPassFloats) passValues = level.data;
         volume = bake_detail::stageVolume(level, reflected, std::move(level.depth), std::move(volume.meta), range.last,
                                           options.probePasses);
+        // Unmarked errors and the solid flags apart: the single bake's blend and guide read these.
+        bake_detail::carryIntoStage(volume, carry, passValues, error, insideSolid, guideSums, guideCounts);
         // A tile's bins hold its own nodes' samples; the merge adds every tile's (integers).
         if (bins) volume.surfaceBins = std::make_shared<SurfaceBinSums>(bins->sums());
         if (stats) {
@@ -213,7 +235,10 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
         }
         return volume;
     }
-    if (blend) bake_detail::blendWithFirstPass(grid, floats, firstValues, firstError, level.data, error);
+    for (std::size_t h = 0; h < insideSolid.size(); ++h)
+        if (insideSolid[h]) error[h] = kNodeInsideSolid;
+    // A tile's blend pools variances across its borders: the merge blends (tiles.h).
+    if (blend && !options.only) blendWithFirstPass(grid, floats, firstValues, firstError, level.data, error);
     if (!options.only) {
         filterNodes(volume, options.nodeFilterPasses, options.nodeFilterByNoise ? &error : nullptr);
     } else if (options.nodeFilterPasses > 0) {  // its kernel crosses tile borders: the merge filters (tiles.h)
@@ -222,7 +247,7 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     }
     if (options.nodeFilterPasses > 0) m.count("node_filter_passes", options.nodeFilterPasses);
     if (blend)
-        m.text("first_pass_blend", "pass 0's values blended into the probe pass's by pooled inverse variance (pass_blend.h)");
+        m.text("first_pass_blend", "pass 0's values blended into the probe pass's by pooled inverse variance (first_pass_blend.h)");
     if (options.extraCachePaths && bins)
         m.text("extra_cache_paths", std::to_string(bake_detail::kExtraCachePaths) +
                                         " more paths for the surface cache's bins from each node whose pass-0 error is above " +
@@ -259,6 +284,10 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
         stats->rays = run.rays;
         stats->seconds = run.seconds;
         stats->estimatedError = std::move(error);
+        if (blend && options.only) {
+            stats->firstPassValues = std::move(firstValues);
+            stats->firstPassError = std::move(firstError);
+        }
     }
     return volume;
 }

@@ -44,14 +44,16 @@ PassOption nodeFilterOption() {
     o.zeroIsUnset = true;
     return o;
 }
-/// --guide-probe-directions, --blend-first-pass (issue 32): what the preview adds to its one
-/// probe pass. They need pass 0 and the probe pass in one bake, so a tiled bake (whose probe
-/// pass is a stage of its own) leaves them off, and refuses them when given.
-PassOption previewProbeFlag(const std::string& name, const std::string& help) {
+/// --guide-probe-directions, --blend-first-pass, --extra-cache-paths, --first-pass-by-error
+/// (issue 32): what the preview adds to its one probe pass. The first two tile (a stage carries
+/// pass 0's map and values: stage_carry.h); the last two choose nodes by every node's pass 0
+/// at once, so a tiled bake leaves them off, and refuses them when given (`tiled` false).
+PassOption previewProbeFlag(const std::string& name, const std::string& help, bool tiled = false) {
     PassOption o = flagOption(name,
                               help + ". Default: " + presetValues([name](const BakeRequest& r) {
                                   return std::string(r.params.get<bool>(name) ? "on" : "off");
-                              }) + " (never in a tiled bake); --no-" + name + " turns it off",
+                              }) + (tiled ? std::string(", tiled bakes too") : std::string(" (never in a tiled bake)")) +
+                                  "; --no-" + name + " turns it off",
                               "--" + name + " works with the uniform point gather with probe passes only");
     o.negatable = true;  // the preview's default is on
     o.defaultValue = "the --quality preset's";
@@ -80,10 +82,12 @@ std::vector<PassOption> GatherPass::options() const {
             previewProbeFlag("guide-probe-directions",
                              "draw the probe pass's directions from the first pass's light per direction, pooled "
                              "over neighbouring nodes and weighted back (unbiased; less noise through doors; "
-                             "docs/time_to_accuracy.md)"),
+                             "docs/time_to_accuracy.md)",
+                             true),
             previewProbeFlag("blend-first-pass",
                              "blend the first pass's values into the probe pass's by their noise estimates "
-                             "(one probe pass; docs/time_to_accuracy.md)"),
+                             "(one probe pass; docs/time_to_accuracy.md)",
+                             true),
             previewProbeFlag("extra-cache-paths",
                              "trace more first-pass paths from the nodes whose first-pass noise is far above the "
                              "median, for the surface probe cache only (less noise in a room lit through a door; "
@@ -124,11 +128,15 @@ std::string pointGatherUntileable(const BakeRequest& r) {
     if (p.has("invalidate-backface")) return "--invalidate-backface cannot be tiled (its dilation crosses tile borders)";
     if (p.get<bool>("sh-window"))
         return "--sh-window cannot be tiled yet (the window would have to follow the seams at merge)";
-    for (const char* name : {"guide-probe-directions", "blend-first-pass", "extra-cache-paths", "first-pass-by-error"})
+    // These two choose nodes by every node's pass-0 error at once (the guide and the blend tile:
+    // stage 0 carries what they read, stage_carry.h).
+    for (const char* name : {"extra-cache-paths", "first-pass-by-error"})
         if (p.find<bool>(name).value_or(false))
-            return std::string("--") + name + " cannot be tiled (it needs the first pass and the probe pass in one bake)";
+            return std::string("--") + name + " cannot be tiled (it needs every node's first pass in one bake)";
     // Each probe-to-probe pass reads every node of the pass before: one stage per pass.
     const int passes = p.find<int>("probe-passes").value_or(0);
+    if (passes > 1 && p.find<bool>("guide-probe-directions").value_or(false))
+        return "--guide-probe-directions tiles with one probe pass only (stage 1 reads pass 0's map)";
     if (passes > 0 && !r.stage)
         return "probe-to-probe passes are tiled in stages (each pass reads every node of the pass before): bake "
                "every tile with --stage 0, merge them, then every tile with --stage 1 --stage-input STAGE0.vdb, ... up "

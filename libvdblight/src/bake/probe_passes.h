@@ -28,16 +28,18 @@ struct ProbePass {
 /// coefficients per node of `grid`), which then becomes the estimator's surface cache for the
 /// next pass of the range. A range starting after pass 0 reads `startReflected` (the previous
 /// stage's reflected light: the probe stage volume's data, 27 floats per node) as the cache of its first pass; otherwise it is
-/// ignored. Returns the ray counts and times of the passes run, summed.
+/// ignored; `startStride` floats per node (stage_carry.h may follow the 27). Returns the ray
+/// counts and times of the passes run, summed.
 template <typename RunPass>
 ParallelRun runProbePasses(RadianceEstimator& estimator, const Tracer& tracer, const GridSpec& grid, uint64_t seed,
                            int passes, const PassRange& range, const float* startReflected,
-                           const std::vector<Rgb>& reflected, RunPass&& runPass, SurfaceBins* bins = nullptr) {
+                           const std::vector<Rgb>& reflected, RunPass&& runPass, SurfaceBins* bins = nullptr,
+                           std::size_t startStride = 27) {
     std::unique_ptr<VolumeSurfaceCache> cache;
     if (range.first > 0 && bins) {
         estimator.setSurfaceCache(bins);  // the stage input's bins (surface_bins.h)
     } else if (range.first > 0) {
-        cache = std::make_unique<VolumeSurfaceCache>(tracer, grid, startReflected);  // read in place, not copied
+        cache = std::make_unique<VolumeSurfaceCache>(tracer, grid, startReflected, startStride);  // in place, not copied
         estimator.setSurfaceCache(cache.get());
     }
     ParallelRun run;

@@ -11,8 +11,9 @@
 namespace vdblight {
 namespace bake_detail {
 
-VolumeSurfaceCache::VolumeSurfaceCache(const Tracer& tracer, const GridSpec& grid, const float* reflected)
-    : tracer_(tracer), grid_(grid), coeffs_(reflected) {
+VolumeSurfaceCache::VolumeSurfaceCache(const Tracer& tracer, const GridSpec& grid, const float* reflected,
+                                       std::size_t stride)
+    : tracer_(tracer), grid_(grid), coeffs_(reflected), stride_(stride) {
     for (int j = 0; j < sh::kCoeffs; ++j) lobe_[j] = float(sh::kCosineLobe[sh::bandOf(j)]);
 }
 
@@ -29,7 +30,7 @@ bool VolumeSurfaceCache::irradiance(const Vec3f& p, const Vec3f& n, Rgb& out, Ra
     sh::evalUnrolled(n, y);
     Rgb sum{0, 0, 0};
     const float weight = forEachVisibleNode(tracer_, grid_, p, n, rays, [&](std::size_t node, const Vec3f&, float w) {
-        const float* c27 = coeffs_ + node * sh::kCoeffs * 3;
+        const float* c27 = coeffs_ + node * stride_;
         Rgb e{0, 0, 0};
         // (c A_l) y_l: the same float operations as multiplying by A_l first.
         for (int j = 0; j < sh::kCoeffs; ++j) e += (Rgb(c27[3 * j], c27[3 * j + 1], c27[3 * j + 2]) * lobe_[j]) * y[j];

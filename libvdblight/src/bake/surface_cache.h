@@ -73,17 +73,18 @@ public:
     /// `reflected`: per node of `grid` (node order), nine RGB SH radiance coefficients of the
     /// reflected light and sky (NodeSampler::reflectedCoefficients); copied.
     VolumeSurfaceCache(const Tracer& tracer, const GridSpec& grid, const std::vector<Rgb>& reflected);
-    /// The same coefficients as 27 floats per node, read in place: a probe stage volume's data
-    /// (tiles.h), which must outlive the cache, so that a staged tile holds the whole pass
-    /// before once, not twice.
-    VolumeSurfaceCache(const Tracer& tracer, const GridSpec& grid, const float* reflected);
+    /// The same coefficients as the first 27 of `stride` floats per node, read in place: a probe
+    /// stage volume's data (tiles.h; stage_carry.h may follow them), which must outlive the
+    /// cache, so that a staged tile holds the whole pass before once, not twice.
+    VolumeSurfaceCache(const Tracer& tracer, const GridSpec& grid, const float* reflected, std::size_t stride = 27);
     bool irradiance(const Vec3f& p, const Vec3f& n, Rgb& out, RayCount& rays) const override;
 
 private:
     const Tracer& tracer_;
     GridSpec grid_;
     std::vector<float> own_;  ///< the copy of the first constructor
-    const float* coeffs_;     ///< per node, 27 floats: nine RGB coefficients
+    const float* coeffs_;     ///< per node, `stride_` floats starting with nine RGB coefficients
+    std::size_t stride_ = 27;
     float lobe_[sh::kCoeffs];  ///< A_l of each coefficient's band, applied at lookup
 };
 

@@ -17,6 +17,7 @@
 #include <map>
 #include <set>
 
+#include "first_pass_blend.h"
 #include "node_filter.h"
 #include "tile_io.h"
 #include "vdblight/volume/volume.h"
@@ -197,6 +198,7 @@ MergedTiles mergeTiles(const std::vector<std::string>& paths) {
     for (std::size_t i = 0; i < tiles.size(); ++i) {
         const TileFile& t = tiles[i];
         if (t.photon || t.depth != first.depth || t.visibility != first.visibility || t.edges != first.edges || t.error != first.error ||
+            t.firstPass != first.firstPass ||
             bool(t.part.surfaceBins) != bool(first.part.surfaceBins) ||
             t.part.direct.mode != first.part.direct.mode || t.part.direct.lights.size() != first.part.direct.lights.size())
             throw FormatError(quoted(paths[i]) + " and " + quoted(paths[order[0]]) + " differ in the grids or lights they carry");
@@ -204,6 +206,7 @@ MergedTiles mergeTiles(const std::vector<std::string>& paths) {
     MergedTiles out;
     Volume& v = out.volume;
     std::vector<float> error;  // level 0's per-node errors (TileNodeStats)
+    std::vector<float> firstValues, firstError;  // and pass 0's, for the blend
     v.basis = first.part.basis;
     for (std::size_t l = 0; l < first.part.levels.size(); ++l) {
         const VolumeLevel& shape = first.part.levels[l];
@@ -234,6 +237,10 @@ MergedTiles mergeTiles(const std::vector<std::string>& paths) {
         const std::size_t edgeFloats = first.edges ? lights * shadow_edge::kFloatsPerLight : 0;
         level.lightShadowEdges.resize(nodes.size() * edgeFloats);
         if (first.error && l == 0) error.resize(nodes.size());
+        if (first.firstPass && l == 0) {
+            firstValues.resize(nodes.size() * floats);
+            firstError.resize(nodes.size());
+        }
         for (std::size_t n = 0; n < nodes.size(); ++n) {
             const auto& [linear, t, at] = nodes[n];
             if (!dense) level.activeNodes.push_back(linear);
@@ -252,6 +259,11 @@ MergedTiles mergeTiles(const std::vector<std::string>& paths) {
                           part.lightShadowEdges.begin() + std::ptrdiff_t((at + 1) * edgeFloats),
                           level.lightShadowEdges.begin() + std::ptrdiff_t(n * edgeFloats));
             if (first.error && l == 0) error[n] = tiles[t].estimatedError.at(at);
+            if (first.firstPass && l == 0) {
+                firstError[n] = tiles[t].firstPassError.at(at);
+                const auto from = tiles[t].firstPassValues.begin() + std::ptrdiff_t(at * floats);
+                std::copy(from, from + std::ptrdiff_t(floats), firstValues.begin() + std::ptrdiff_t(n * floats));
+            }
         }
         v.levels.push_back(std::move(level));
     }
@@ -270,6 +282,13 @@ MergedTiles mergeTiles(const std::vector<std::string>& paths) {
         v.surfaceBins = std::move(sums);
     }
     v.meta = mergedMetadata(tiles, order);
+    // Pass 0 blended in (first_pass_blend.h) as the single bake does, before the error summary
+    // and the node filter, which read the blend's errors: its pooled variances cross tile borders.
+    if (first.firstPass) {
+        if (v.levels.size() != 1 || v.levels[0].sparse())
+            throw FormatError("the tiles carry pass-0 values for a blend, which needs one dense level");
+        blendWithFirstPass(v.levels[0].grid, floats, firstValues, firstError, v.levels[0].data, error);
+    }
     // Summaries of per-node statistics, by the code the bakes use (error_summary.h).
     if (first.error) addErrorSummary(v.meta, error, v.levels[0].grid);
     if (v.meta.count("samples_total") && v.meta.count("max_rays") && v.meta.count("rays_per_node_mean"))

@@ -23,6 +23,8 @@ struct TileFile {
     bool edges = false;       ///< and the lights' shadow edges (shadow_edges.h)
     bool error = false;       ///< estimatedError holds level 0's per-node errors
     std::vector<float> estimatedError;  ///< TileNodeStats, in the order of part.levels[0].activeNodes
+    bool firstPass = false;  ///< pass 0's values and errors for the merge's blend (TileNodeStats)
+    std::vector<float> firstPassValues, firstPassError;  ///< in the same order
     /// A photon tile (writePhotonTile): the sums of its batches; part has the grid (level 0)
     /// and metadata, and with `depth` the depth moments of its run of nodes (level 0's
     /// activeNodes and depth; photonTileDepthNodes).

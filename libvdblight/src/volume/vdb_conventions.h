@@ -124,6 +124,10 @@ inline std::string visibilityGridName(std::size_t i) { return "light_visibility_
 inline std::string directLightKey(std::size_t i) { return "direct_light_" + std::to_string(i); }
 /// Tile files (tiles.h): the FloatGrid of the tile's per-node estimated errors (level 0).
 const std::string kTileErrorName = "tile_estimated_error";
+/// A last-stage tile's pass-0 values (one grid per float of a node, "tile_first_pass_<f>") and
+/// errors, for the merge's blend (TileNodeStats::firstPassValues).
+const std::string kTileFirstPassPrefix = "tile_first_pass_";
+const std::string kTileFirstPassErrorName = "tile_first_pass_error";
 using FloatLeafT = openvdb::FloatGrid::TreeType::LeafNodeType;
 /// Photon tiles (tiles.h, writePhotonTile): the Int64Grid of one 64-bit word of value v
 /// (0..53, the volume's float order) of every node's 128-bit photon sums.

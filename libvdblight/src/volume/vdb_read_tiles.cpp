@@ -162,6 +162,19 @@ TileFile readTileFile(const std::string& path) {
             }
     }
     if (t.error && !level0.activeNodes.empty()) t.estimatedError = readSparseScalar(f, kTileErrorName, level0, path);
+    const int64_t firstPassFloats = int64_t(metaNumber(v.meta, "tile_first_pass_floats", 0));
+    if (firstPassFloats != 0 && (!t.error || firstPassFloats != int64_t(v.basis.channelCount()) * 3))
+        formatError(path, "has pass-0 values that do not match its basis or carry no per-node errors");
+    t.firstPass = firstPassFloats != 0;
+    if (t.firstPass && !level0.activeNodes.empty()) {
+        t.firstPassError = readSparseScalar(f, kTileFirstPassErrorName, level0, path);
+        const std::size_t floats = std::size_t(firstPassFloats);
+        t.firstPassValues.assign(level0.activeNodes.size() * floats, 0.0f);
+        for (std::size_t c = 0; c < floats; ++c) {
+            const std::vector<float> values = readSparseScalar(f, kTileFirstPassPrefix + std::to_string(c), level0, path);
+            for (std::size_t n = 0; n < values.size(); ++n) t.firstPassValues[n * floats + c] = values[n];
+        }
+    }
     readSurfaceBins(f, v, path);  // a stage-0 tile of --probe-cache surface: its bins' sums
     return t;
 }

@@ -34,6 +34,10 @@ void writeTile(const Volume& volume, const NodeMask& mask, const TileId& id, con
     const bool error = stats && !stats->estimatedError.empty();
     if (error && (volume.levels.size() != 1 || stats->estimatedError.size() != volume.levels[0].heldNodes()))
         throw ValueError("the tile's per-node errors do not match the volume's nodes");
+    const bool firstPass = stats && !stats->firstPassError.empty();
+    if (firstPass && (!error || stats->firstPassError.size() != volume.levels[0].heldNodes() ||
+                      stats->firstPassValues.size() != volume.levels[0].heldNodes() * floats))
+        throw ValueError("the tile's pass-0 values do not match the volume's nodes");
     Volume part;
     part.basis = volume.basis;
     part.meta = volume.meta;
@@ -41,7 +45,7 @@ void writeTile(const Volume& volume, const NodeMask& mask, const TileId& id, con
     part.surfaceBins = volume.surfaceBins;  // a stage-0 tile's bins: the whole grid's, of its nodes' paths
     std::string dense;
     int64_t nodes = 0;
-    std::vector<float> tileError;
+    std::vector<float> tileError, tileFirstError, tileFirstValues;
     for (std::size_t l = 0; l < volume.levels.size(); ++l) {
         const VolumeLevel& full = volume.levels[l];
         if (!full.validity.empty()) throw ValueError("a volume with validity (the anti-aliased pass) cannot be tiled");
@@ -71,6 +75,11 @@ void writeTile(const Volume& volume, const NodeMask& mask, const TileId& id, con
                                               full.lightShadowEdges.begin() + std::ptrdiff_t(full.held(n) * edgeFloats),
                                               full.lightShadowEdges.begin() + std::ptrdiff_t((full.held(n) + 1) * edgeFloats));
             if (error) tileError.push_back(stats->estimatedError[full.held(n)]);
+            if (firstPass) {
+                tileFirstError.push_back(stats->firstPassError[full.held(n)]);
+                const auto from = stats->firstPassValues.begin() + std::ptrdiff_t(full.held(n) * floats);
+                tileFirstValues.insert(tileFirstValues.end(), from, from + std::ptrdiff_t(floats));
+            }
         }
         nodes += int64_t(level.activeNodes.size());
         dense += std::string(l ? "," : "") + (full.sparse() ? "0" : "1");
@@ -87,17 +96,25 @@ void writeTile(const Volume& volume, const NodeMask& mask, const TileId& id, con
     part.meta["tile_visibility"] = int64_t(volume.levels[0].lightVisibility.empty() ? 0 : 1);
     part.meta["tile_shadow_edges"] = int64_t(volume.levels[0].lightShadowEdges.empty() ? 0 : 1);
     part.meta["tile_estimated_error"] = int64_t(error ? 1 : 0);
+    part.meta["tile_first_pass_floats"] = int64_t(firstPass ? floats : 0);
     openvdb::GridCPtrVec extra;
-    if (error && !tileError.empty()) {
-        // The per-node error the bake summarised over its nodes only: the merge summarises
-        // the whole volume's (error_summary.h). Full floats: the summary prints them.
+    // A per-node scalar of the tile's level-0 nodes, values[position * stride + offset].
+    const auto addScalar = [&](const std::string& name, const std::vector<float>& values, std::size_t stride,
+                               std::size_t offset) {
         const VolumeLevel& level = part.levels[0];
-        openvdb::FloatGrid::Ptr grid = buildSparseScalarGrid(level.grid, level.activeNodes, tileError.data(), 1, 0);
-        grid->setName(kTileErrorName);
+        openvdb::FloatGrid::Ptr grid = buildSparseScalarGrid(level.grid, level.activeNodes, values.data(), stride, offset);
+        grid->setName(name);
         grid->setTransform(levelTransform(level.grid));
         grid->setGridClass(openvdb::GRID_UNKNOWN);
         tagGrid(*grid, part, 0, -1);
         extra.push_back(grid);
+    };
+    // The per-node error the bake summarised over its nodes only: the merge summarises the
+    // whole volume's (error_summary.h). Full floats: the summary prints them.
+    if (error && !tileError.empty()) addScalar(kTileErrorName, tileError, 1, 0);
+    if (firstPass && !tileFirstError.empty()) {
+        addScalar(kTileFirstPassErrorName, tileFirstError, 1, 0);
+        for (std::size_t f = 0; f < floats; ++f) addScalar(kTileFirstPassPrefix + std::to_string(f), tileFirstValues, floats, f);
     }
     // Full floats whatever the merged file will use: the merge interpolates seams from these
     // values, which must be the single bake's, not their half-float roundings.

@@ -66,7 +66,7 @@ struct GatherOptions {
     /// probe passes; not with staged bakes (the map is not kept between stages).
     bool guideProbeDirections = false;
     /// With one probe pass, blend pass 0's values into the probe pass's by pooled inverse
-    /// variance (bake/pass_blend.h): pass 0's full paths are not thrown away. Not staged.
+    /// variance (volume/first_pass_blend.h): pass 0's full paths are not thrown away. Not staged.
     bool blendFirstPass = false;
     /// With the surface probe cache, trace more full paths from the nodes whose pass-0 error is
     /// far above the bake's median (bake/extra_cache_paths.h), for the cache's bins only: less
@@ -103,6 +103,10 @@ struct BakeStats {
     /// kNodeInsideSolid (negative, volume/volume.h) marks a node that lookups in free space
     /// do not read: inside a solid, in a volume with depth weights.
     std::vector<float> estimatedError;
+    /// A tile's point gather with the pass-0 blend (GatherOptions::blendFirstPass): pass 0's
+    /// values and errors over its window, which the merge blends in (its pooled variances cross
+    /// tile borders; volume/tiles.h). Empty otherwise.
+    std::vector<float> firstPassValues, firstPassError;
     /// q-quantile (0..1) of estimatedError over the nodes that free-space lookups read
     /// (nearest rank); 0 if there is none.
     double errorQuantile(double q) const;

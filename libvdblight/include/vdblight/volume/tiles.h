@@ -180,6 +180,10 @@ struct TileNodeStats {
     /// error of the point gathers (BakeStats::estimatedError); the merge recomputes the error
     /// summary (volume/volume.h) from it. Empty: none.
     std::vector<float> estimatedError;
+    /// A last-stage tile of a bake that blends pass 0 in (BakeStats::firstPassValues): pass 0's
+    /// values (the basis's floats per node) and errors over the same window; the merge blends
+    /// them in after putting the nodes together, as the single bake does. Empty: none.
+    std::vector<float> firstPassValues, firstPassError;
 };
 
 /// Writes the nodes of `volume` in `mask` as tile `id` (partial .vdb, atomically as

@@ -1,12 +1,12 @@
-// The probe pass's values blended with pass 0's by pooled inverse variance (pass_blend.h).
+// The probe pass's values blended with pass 0's by pooled inverse variance (first_pass_blend.h).
 
-#include "bake/pass_blend.h"
+#include "volume/first_pass_blend.h"
 
 #include <cmath>
 
 #include "layout/grid_neighbours.h"
 
-namespace vdblight::bake_detail {
+namespace vdblight {
 
 namespace {
 /// Mean of error^2 over the valid nodes of the 3 x 3 x 3 neighbourhood (infinity: none).
@@ -36,4 +36,4 @@ void blendWithFirstPass(const GridSpec& grid, std::size_t floatsPerNode, const s
     error.swap(blended);
 }
 
-}  // namespace vdblight::bake_detail
+}  // namespace vdblight

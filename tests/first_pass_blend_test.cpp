@@ -1,4 +1,4 @@
-// Pass 0's values blended into the probe pass's (bake/pass_blend.h, issue 32, the preview):
+// Pass 0's values blended into the probe pass's (volume/first_pass_blend.h, issue 32, the preview):
 // by inverse variance, pass 0's counted kFirstPassVarianceFactor times, each pass's variance
 // pooled over the node's neighbours. Pure data on a small grid: no bake.
 #include <gtest/gtest.h>
@@ -6,14 +6,14 @@
 #include <cmath>
 #include <vector>
 
-#include "bake/pass_blend.h"
+#include "volume/first_pass_blend.h"
 #include "vdblight/volume/volume.h"
 
 namespace vdblight {
 namespace {
 
-using bake_detail::blendWithFirstPass;
-using bake_detail::kFirstPassVarianceFactor;
+using vdblight::blendWithFirstPass;
+using vdblight::kFirstPassVarianceFactor;
 
 constexpr int kN = 4;
 constexpr std::size_t kFloats = 2;

@@ -2,7 +2,8 @@
 // paths from every node and its values are an unbiased estimate of the same light, which the
 // probe pass then replaces. Where both are about as noisy (a lit room, the office) their mean
 // halves the variance for no rays; where pass 0 is much noisier (a room lit through a door)
-// it weighs little. (Internal to the bake module.)
+// it weighs little. In the volume module: a tiled bake's merge blends too (tiles.h), since the
+// pooled variances cross tile borders. (Internal to the library.)
 //
 // Weights by inverse variance: each pass's relative variance (the square of its nodes'
 // relative standard error, node_sampler.h) averaged over the node's 3 x 3 x 3 neighbours, so
@@ -15,7 +16,7 @@
 
 #include "vdblight/layout/layout.h"
 
-namespace vdblight::bake_detail {
+namespace vdblight {
 
 /// Pass 0's pooled variance counts this many times: its paths' heavy tails (a path that finds
 /// the door) make its sample variance an underestimate where it matters. Measured on the
@@ -31,4 +32,4 @@ constexpr double kFirstPassVarianceFactor = 2.0;
 void blendWithFirstPass(const GridSpec& grid, std::size_t floatsPerNode, const std::vector<float>& firstValues,
                         const std::vector<float>& firstError, std::vector<float>& values, std::vector<float>& error);
 
-}  // namespace vdblight::bake_detail
+}  // namespace vdblight

@@ -1,0 +1,114 @@
+// What a probe stage volume carries forward for the probe pass's levers (stage_carry.h).
+
+#include "bake/stage_carry.h"
+
+#include <algorithm>
+#include <string>
+
+#include "bake/direction_guide.h"
+#include "vdblight/core/errors.h"
+#include "vdblight/volume/tiles.h"
+
+namespace vdblight::bake_detail {
+
+namespace {
+constexpr std::size_t kGuideFloats = 2 * DirectionGuide::kCells;  // sums, then counts
+constexpr std::size_t kGuideChannels = (kGuideFloats + 2) / 3;
+const std::string kFirstPass = "first_pass_", kError = "first_pass_error", kGuide = "guide_";
+
+bool startsWith(const std::string& s, const std::string& prefix) { return s.compare(0, prefix.size(), prefix) == 0; }
+}  // namespace
+
+std::size_t StageCarry::floatsPerNode() const { return guideAt() + (guide ? kGuideChannels * 3 : 0); }
+
+BasisDesc StageCarry::basis() const {
+    BasisDesc b = probeStageBasis();
+    for (std::size_t c = 0; c < firstPassFloats / 3; ++c) b.channelNames.push_back(kFirstPass + std::to_string(c));
+    if (any()) b.channelNames.push_back(kError);
+    for (std::size_t c = 0; guide && c < kGuideChannels; ++c) b.channelNames.push_back(kGuide + std::to_string(c));
+    return b;
+}
+
+StageCarry StageCarry::of(const BasisDesc& b) {
+    StageCarry carry;
+    const std::vector<std::string>& names = b.channelNames;
+    std::size_t c = kReflectedFloats / 3;
+    if (names.size() < c) throw FormatError("a probe stage volume has fewer than nine reflected-light channels");
+    while (c < names.size() && startsWith(names[c], kFirstPass) && names[c] != kError) ++c, carry.firstPassFloats += 3;
+    const bool error = c < names.size() && names[c] == kError;
+    c += error ? 1 : 0;
+    std::size_t guideChannels = 0;
+    while (c < names.size() && startsWith(names[c], kGuide)) ++c, ++guideChannels;
+    carry.guide = guideChannels > 0;
+    if (c != names.size() || (guideChannels != 0 && guideChannels != kGuideChannels) || error != carry.any() ||
+        carry.basis().channelNames != names)
+        throw FormatError("a probe stage volume's channels are not what a stage carries (stage_carry.h)");
+    return carry;
+}
+
+void carryIntoStage(Volume& stage, const StageCarry& carry, const std::vector<float>& firstValues,
+                    const std::vector<float>& firstError, const std::vector<uint8_t>& insideSolid,
+                    const std::vector<float>& guideSums, const std::vector<uint32_t>& guideCounts) {
+    if (!carry.any()) return;
+    constexpr std::size_t kCells = DirectionGuide::kCells;
+    VolumeLevel& level = stage.levels.at(0);
+    const std::size_t held = level.data.size() / StageCarry::kReflectedFloats, stride = carry.floatsPerNode();
+    if (firstError.size() != held || (carry.firstPassFloats && firstValues.size() != held * carry.firstPassFloats) ||
+        (carry.guide && (guideSums.size() != held * kCells || guideCounts.size() != held * kCells)) ||
+        (!insideSolid.empty() && insideSolid.size() != held))
+        throw ValueError("what a stage carries does not match its nodes");
+    std::vector<float> data(held * stride, 0.0f);
+    for (std::size_t h = 0; h < held; ++h) {
+        float* out = data.data() + h * stride;
+        std::copy_n(level.data.data() + h * StageCarry::kReflectedFloats, StageCarry::kReflectedFloats, out);
+        std::copy_n(firstValues.data() + h * carry.firstPassFloats, carry.firstPassFloats, out + carry.firstValuesAt());
+        out[carry.errorAt()] = firstError[h];
+        out[carry.errorAt() + 1] = !insideSolid.empty() && insideSolid[h] ? 1.0f : 0.0f;
+        if (!carry.guide) continue;
+        float* guide = out + carry.guideAt();
+        std::copy_n(guideSums.data() + h * kCells, kCells, guide);
+        for (std::size_t cell = 0; cell < kCells; ++cell) {
+            if (guideCounts[h * kCells + cell] >= (1u << 24)) throw ValueError("a guide cell's count is beyond a float's integers");
+            guide[kCells + cell] = float(guideCounts[h * kCells + cell]);
+        }
+    }
+    level.data.swap(data);
+    stage.basis = carry.basis();
+}
+
+void readCarriedFirstPass(const Volume& stageInput, const StageCarry& carry, std::size_t windowFirst, std::size_t held,
+                          std::vector<float>* firstValues, std::vector<float>* firstError,
+                          std::vector<uint8_t>* insideSolid) {
+    const std::size_t stride = carry.floatsPerNode();
+    const std::vector<float>& in = stageInput.levels.at(0).data;
+    if (!carry.any() || (windowFirst + held) * stride > in.size())
+        throw ValueError("the stage input does not carry pass 0 for these nodes");
+    if (firstValues) firstValues->resize(held * carry.firstPassFloats);
+    if (firstError) firstError->resize(held);
+    if (insideSolid) insideSolid->resize(held);
+    for (std::size_t h = 0; h < held; ++h) {
+        const float* node = in.data() + (windowFirst + h) * stride;
+        if (firstValues)
+            std::copy_n(node + carry.firstValuesAt(), carry.firstPassFloats, firstValues->data() + h * carry.firstPassFloats);
+        if (firstError) (*firstError)[h] = node[carry.errorAt()];
+        if (insideSolid) (*insideSolid)[h] = node[carry.errorAt() + 1] != 0.0f ? 1 : 0;
+    }
+}
+
+void poolCarriedGuide(const Volume& stageInput, const StageCarry& carry, const GridSpec& grid, int radius,
+                      std::size_t windowFirst, std::size_t held, std::vector<float>& sums, std::vector<uint32_t>& counts) {
+    constexpr std::size_t kCells = DirectionGuide::kCells;
+    const std::size_t stride = carry.floatsPerNode();
+    const std::vector<float>& in = stageInput.levels.at(0).data;
+    if (!carry.guide || in.size() != grid.nodeCount() * stride || windowFirst + held > grid.nodeCount())
+        throw ValueError("the stage input carries no guide for this grid");
+    const float* guide = in.data() + carry.guideAt();
+    sums.assign(held * kCells, 0.0f);
+    counts.assign(held * kCells, 0);
+    poolGuideWindow(
+        grid, radius, windowFirst, held, [&](std::size_t n, int cell) { return guide[n * stride + std::size_t(cell)]; },
+        [&](std::size_t n, int cell) { return uint32_t(guide[n * stride + kCells + std::size_t(cell)]); }, sums.data(),
+        counts.data());
+}
+
+}  // namespace vdblight::bake_detail
