@@ -15,7 +15,9 @@
 #include "vdblight/layout/layout.h"
 #include "vdblight/scene/scene.h"
 #include "vdblight/light/light.h"
+#include "bake/direction_guide.h"
 #include "bake/sh_window.h"
+#include "bake/stage_carry.h"
 #include "vdblight/volume/tiles.h"
 #include "vdblight/trace/trace.h"
 #include "core/world_frame.h"
@@ -23,6 +25,25 @@
 namespace vdblight {
 
 namespace {
+
+/// The nodes of the stage input a tile of a staged point gather reads (tiles.h): with the
+/// surface probe cache (the default's), its own window of nodes plus the guide's pooling reach
+/// (stage_carry.h), so that the tile does not hold every node's pass 0 (docs/scaling.md, "Memory
+/// of a tile"); every node otherwise (the node cache reads the reflected light anywhere).
+NodeWindow stageInputWindow(const BakeRequest& r, const GridSpec& grid) {
+    if (!r.tiles || r.pass != "gather" || r.params.get<std::string>("probe-cache") != "surface") return {};
+    std::vector<VolumeLevel> levels(1);
+    levels[0].grid = grid;
+    if (*r.tiles < 1 || uint64_t(*r.tiles) > countBricks(levels)) return {};  // refused later, with its own message
+    const std::vector<uint8_t> mask = tileNodeMask(levels, *r.tiles, *r.tile)[0];
+    const auto firstIt = std::find(mask.begin(), mask.end(), uint8_t(1));
+    const std::size_t first = firstIt == mask.end() ? 0 : std::size_t(firstIt - mask.begin());
+    const std::size_t last =
+        firstIt == mask.end() ? 0 : mask.size() - 1 - std::size_t(std::find(mask.rbegin(), mask.rend(), uint8_t(1)) - mask.rbegin());
+    const std::size_t reach = bake_detail::stageReach(grid, bake_detail::DirectionGuide::kPoolRadius);
+    const std::size_t from = first > reach ? first - reach : 0, to = std::min(grid.nodeCount(), last + 1 + reach);
+    return {from, to - from};
+}
 /// One tile of a bake being baked (bakeToFile).
 struct TileJob {
     TileId id;
@@ -91,7 +112,7 @@ Volume bakeImpl(const Scene& scene, const BakeRequest& given, Interrupter* inter
     // A staged bake (tiles.h): this pass only, from the merged tiles of the stage before.
     Volume stageInput;
     if (r.stage && *r.stage > 0) {
-        stageInput = readProbeStage(r.stageInput, tile ? &tile->stageInput : nullptr);
+        stageInput = readProbeStage(r.stageInput, tile ? &tile->stageInput : nullptr, stageInputWindow(r, grid));
         if (metaString(stageInput.meta, "probe_stage_params_hash") != tile->sameBake)
             throw ValueError("'" + r.stageInput + "' is a stage of a bake with another scene or other options than --stage " +
                              std::to_string(*r.stage) + " here");

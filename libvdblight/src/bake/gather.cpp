@@ -72,8 +72,11 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     const bake_detail::PassRange range =
         bake_detail::stagePasses(options.probePasses, options.stage, options.stageInput, grid, options.depthMoments);
     if (range.first > 0 && options.depthMoments) {  // pass 0's, of the window
-        const std::vector<float>& in = options.stageInput->levels[0].depth;
-        const auto from = in.begin() + std::ptrdiff_t(level.windowFirst * depth::kFloatsPerNode);
+        const VolumeLevel& stage = options.stageInput->levels[0];  // maybe a window of it (tiles.h)
+        if (level.windowFirst < stage.windowFirst || stage.held(level.windowFirst) + held > stage.heldNodes())
+            throw ValueError("the stage input read does not hold this tile's nodes");
+        const std::vector<float>& in = stage.depth;
+        const auto from = in.begin() + std::ptrdiff_t(stage.held(level.windowFirst) * depth::kFloatsPerNode);
         level.depth.assign(from, from + std::ptrdiff_t(held * depth::kFloatsPerNode));
     }
     // Guided probe directions (direction_guide.h): pass 0's luminance per direction cell.

@@ -46,6 +46,10 @@ StageCarry StageCarry::of(const BasisDesc& b) {
     return carry;
 }
 
+std::size_t stageReach(const GridSpec& grid, int radius) {
+    return std::size_t(std::max(radius, 0)) * (1 + std::size_t(grid.nx) + std::size_t(grid.nx) * std::size_t(grid.ny));
+}
+
 void carryIntoStage(Volume& stage, const StageCarry& carry, const std::vector<float>& firstValues,
                     const std::vector<float>& firstError, const std::vector<uint8_t>& insideSolid,
                     const std::vector<float>& guideSums, const std::vector<uint32_t>& guideCounts) {
@@ -80,14 +84,15 @@ void readCarriedFirstPass(const Volume& stageInput, const StageCarry& carry, std
                           std::vector<float>* firstValues, std::vector<float>* firstError,
                           std::vector<uint8_t>* insideSolid) {
     const std::size_t stride = carry.floatsPerNode();
-    const std::vector<float>& in = stageInput.levels.at(0).data;
-    if (!carry.any() || (windowFirst + held) * stride > in.size())
+    const VolumeLevel& stage = stageInput.levels.at(0);  // maybe a window of it (readProbeStage)
+    if (!carry.any() || windowFirst < stage.windowFirst || stage.held(windowFirst) + held > stage.heldNodes() ||
+        stage.data.size() != stage.heldNodes() * stride)
         throw ValueError("the stage input does not carry pass 0 for these nodes");
     if (firstValues) firstValues->resize(held * carry.firstPassFloats);
     if (firstError) firstError->resize(held);
     if (insideSolid) insideSolid->resize(held);
     for (std::size_t h = 0; h < held; ++h) {
-        const float* node = in.data() + (windowFirst + h) * stride;
+        const float* node = stage.data.data() + stage.held(windowFirst + h) * stride;
         if (firstValues)
             std::copy_n(node + carry.firstValuesAt(), carry.firstPassFloats, firstValues->data() + h * carry.firstPassFloats);
         if (firstError) (*firstError)[h] = node[carry.errorAt()];
@@ -99,16 +104,21 @@ void poolCarriedGuide(const Volume& stageInput, const StageCarry& carry, const G
                       std::size_t windowFirst, std::size_t held, std::vector<float>& sums, std::vector<uint32_t>& counts) {
     constexpr std::size_t kCells = DirectionGuide::kCells;
     const std::size_t stride = carry.floatsPerNode();
-    const std::vector<float>& in = stageInput.levels.at(0).data;
-    if (!carry.guide || in.size() != grid.nodeCount() * stride || windowFirst + held > grid.nodeCount())
-        throw ValueError("the stage input carries no guide for this grid");
-    const float* guide = in.data() + carry.guideAt();
+    const VolumeLevel& stage = stageInput.levels.at(0);  // maybe a window of it (readProbeStage)
+    const std::size_t reach = stageReach(grid, radius);
+    const std::size_t from = windowFirst > reach ? windowFirst - reach : 0,
+                      to = std::min(grid.nodeCount(), windowFirst + held + reach);
+    if (!carry.guide || stage.data.size() != stage.heldNodes() * stride || windowFirst + held > grid.nodeCount() ||
+        from < stage.windowFirst || to > stage.windowFirst + stage.heldNodes())
+        throw ValueError("the stage input carries no guide for these nodes and their neighbours");
+    const float* guide = stage.data.data() + carry.guideAt();
     sums.assign(held * kCells, 0.0f);
     counts.assign(held * kCells, 0);
     poolGuideWindow(
-        grid, radius, windowFirst, held, [&](std::size_t n, int cell) { return guide[n * stride + std::size_t(cell)]; },
-        [&](std::size_t n, int cell) { return uint32_t(guide[n * stride + kCells + std::size_t(cell)]); }, sums.data(),
-        counts.data());
+        grid, radius, windowFirst, held,
+        [&](std::size_t n, int cell) { return guide[stage.held(n) * stride + std::size_t(cell)]; },
+        [&](std::size_t n, int cell) { return uint32_t(guide[stage.held(n) * stride + kCells + std::size_t(cell)]); },
+        sums.data(), counts.data());
 }
 
 }  // namespace vdblight::bake_detail

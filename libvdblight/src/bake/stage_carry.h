@@ -57,8 +57,14 @@ void readCarriedFirstPass(const Volume& stageInput, const StageCarry& carry, std
                           std::vector<float>* firstValues, std::vector<float>* firstError,
                           std::vector<uint8_t>* insideSolid);
 
-/// The window's guide sums and counts pooled over `radius` (poolGuideSums) from every node's in
-/// the stage input: the same additions, in the same order, as the single bake's pooling.
+/// How far in node order a node's neighbours within `radius` steps lie (radius x (1 + nx + nx ny)):
+/// a tile of stage 1 reads the stage input from its window's first node minus this to its
+/// last plus this (bake_volume.cpp), not every node.
+std::size_t stageReach(const GridSpec& grid, int radius);
+
+/// The window's guide sums and counts pooled over `radius` (poolGuideSums) from the stage
+/// input's (every node, or a window of it covering stageReach around the tile's): the same
+/// additions, in the same order, as the single bake's pooling.
 void poolCarriedGuide(const Volume& stageInput, const StageCarry& carry, const GridSpec& grid, int radius,
                       std::size_t windowFirst, std::size_t held, std::vector<float>& sums, std::vector<uint32_t>& counts);
 

@@ -39,7 +39,8 @@ GridInfo describeGrid(openvdb::io::File& file, const openvdb::GridBase& grid) {
 }  // namespace
 
 /// readVolume, and readProbeStage with `stage`; `hash` receives the file's content hash.
-static Volume readVolumeFile(const std::string& path, bool stage, const ContentHash* knownHash, ContentHash* hash) {
+static Volume readVolumeFile(const std::string& path, bool stage, const ContentHash* knownHash, ContentHash* hash,
+                             NodeWindow window = {}) {
     OpenedFile f = openVolumeFile(path, OpenFor::Data, knownHash);
     if (hash) *hash = f.hash;
     const openvdb::MetaMap& meta = *f.meta;
@@ -61,7 +62,8 @@ static Volume readVolumeFile(const std::string& path, bool stage, const ContentH
     volume.basis.channelNames = splitNames(requireMeta<std::string>(meta, kPrefix + "channels", path));
     const int64_t levels = requireMeta<int64_t>(meta, kPrefix + "levels", path);
     if (levels < 1 || levels > 64) formatError(path, "has an invalid level count " + std::to_string(levels));
-    for (int l = 0; l < int(levels); ++l) volume.levels.push_back(readLevel(f, volume.basis, l, path, levels > 1));
+    for (int l = 0; l < int(levels); ++l)
+        volume.levels.push_back(readLevel(f, volume.basis, l, path, levels > 1, window.first, window.count));
     if (levels > 1)
         for (int l = 0; l + 1 < int(levels); ++l) readMask(f, volume.levels[std::size_t(l)], l, path);
     volume.meta = userMetadata(meta);
@@ -77,8 +79,8 @@ static Volume readVolumeFile(const std::string& path, bool stage, const ContentH
 
 Volume readVolume(const std::string& path, ContentHash* hash) { return readVolumeFile(path, false, nullptr, hash); }
 
-Volume readProbeStage(const std::string& path, const ContentHash* knownHash) {
-    Volume v = readVolumeFile(path, true, knownHash, nullptr);
+Volume readProbeStage(const std::string& path, const ContentHash* knownHash, NodeWindow window) {
+    Volume v = readVolumeFile(path, true, knownHash, nullptr, window);
     if (!v.basis.sameKind(probeStageBasis()) || v.levels.size() != 1)
         throw FormatError("'" + path + "' is a probe stage file of another kind (basis " + v.basis.kind + ")");
     return v;

@@ -73,10 +73,14 @@ static void copyChannel(const Vec3SGrid& grid, VolumeLevel& level, int channel, 
     leaves.reserve(grid.tree().leafCount());
     for (auto it = grid.tree().cbeginLeaf(); it; ++it) leaves.push_back(it.getLeaf());
     const GridSpec& g = level.grid;
+    // A level with a window (VolumeLevel::windowFirst) keeps only the window's nodes.
+    const std::size_t first = level.windowFirst, end = first + level.heldNodes();
     tbb::parallel_for(std::size_t(0), leaves.size(), [&](std::size_t n) {
         for (auto v = leaves[n]->cbeginValueOn(); v; ++v) {
             const Coord c = v.getCoord();
-            float* out = level.data.data() + (g.index(c.x(), c.y(), c.z()) * channels + channel) * 3;
+            const std::size_t node = g.index(c.x(), c.y(), c.z());
+            if (node < first || node >= end) continue;
+            float* out = level.data.data() + (level.held(node) * channels + channel) * 3;
             out[0] = v->x(), out[1] = v->y(), out[2] = v->z();
         }
     });
@@ -275,7 +279,9 @@ void readDepth(OpenedFile& f, VolumeLevel& out, int level, const std::string& pa
     VolumeLevel tmp;
     tmp.grid = out.grid;
     tmp.activeNodes = out.activeNodes;
-    tmp.data.assign(out.storedNodes() * depth::kFloatsPerNode, 0.0f);
+    tmp.windowFirst = out.windowFirst;
+    tmp.windowNodes = out.windowNodes;
+    tmp.data.assign(out.heldNodes() * depth::kFloatsPerNode, 0.0f);
     for (int c = 0; c < depth::kChannels; ++c) {
         const std::string name = gridNameFor(depth::channelName(c), level);
         if (!f.file->hasGrid(name)) formatError(path, "has depth moments without grid '" + name + "'");
@@ -293,12 +299,19 @@ void readDepth(OpenedFile& f, VolumeLevel& out, int level, const std::string& pa
     out.depth = std::move(tmp.data);
 }
 
-VolumeLevel readLevel(OpenedFile& f, const BasisDesc& basis, int level, const std::string& path, bool multiLevel) {
+VolumeLevel readLevel(OpenedFile& f, const BasisDesc& basis, int level, const std::string& path, bool multiLevel,
+                      std::size_t windowFirst, std::size_t windowNodes) {
     VolumeLevel out;
     out.grid = readLevelSpec(*f.meta, level, path);
     const GridSpec& g = out.grid;
     if (g.nx <= 0 || g.ny <= 0 || g.nz <= 0 || !(g.spacing > 0) || !isFinite(g.origin)) {
         formatError(path, "has invalid dimensions, spacing or origin for level " + std::to_string(level));
+    }
+    if (windowNodes) {  // a dense one-level file's nodes [windowFirst, windowFirst + windowNodes) only
+        if (multiLevel || windowFirst + windowNodes > g.nodeCount())
+            throw ValueError("a window of nodes beyond level " + std::to_string(level) + " of '" + path + "'");
+        out.windowFirst = windowFirst;
+        out.windowNodes = windowNodes;
     }
     const int channels = basis.channelCount();
     Vec3SGrid::Ptr first;
@@ -323,7 +336,7 @@ VolumeLevel readLevel(OpenedFile& f, const BasisDesc& basis, int level, const st
         }
         Vec3SGrid::Ptr grid = checkChannelGrid(base, g, path);
         // Allocated only once a grid has confirmed the node count (metadata could be corrupt).
-        if (out.data.empty()) out.data.assign(g.nodeCount() * std::size_t(channels) * 3, 0.0f);
+        if (out.data.empty()) out.data.assign(out.heldNodes() * std::size_t(channels) * 3, 0.0f);
         copyChannel(*grid, out, c, channels);
     }
     const std::string validityName = gridNameFor(kValidityName, level);

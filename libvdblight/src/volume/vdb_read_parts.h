@@ -107,6 +107,9 @@ void readDirect(OpenedFile& f, Volume& volume, const std::string& path);
 /// Level `level`'s depth moments.
 void readDepth(OpenedFile& f, VolumeLevel& out, int level, const std::string& path);
 /// One level of a complete volume: its grid, channels, validity and depth moments.
-VolumeLevel readLevel(OpenedFile& f, const BasisDesc& basis, int level, const std::string& path, bool multiLevel);
+/// windowNodes > 0 (a dense one-level file): only nodes [windowFirst, windowFirst + windowNodes)
+/// (VolumeLevel::windowFirst), for a stage tile that reads part of a probe stage file.
+VolumeLevel readLevel(OpenedFile& f, const BasisDesc& basis, int level, const std::string& path, bool multiLevel,
+                      std::size_t windowFirst = 0, std::size_t windowNodes = 0);
 
 }  // namespace vdblight::vdb_detail

@@ -263,8 +263,12 @@ void addEarlierStageSums(Metadata& tileMeta, const Metadata& stageInput);
 /// vdblight:probe_stage set). Throws FormatError for any other file. readVolume refuses
 /// stage files: they hold reflected light, not a volume to look up. `knownHash`: the file's
 /// content hash if the caller has computed it (a stage tile hashes its input for its parameter
-/// hash), so the check for damaged files does not hash the file again.
-Volume readProbeStage(const std::string& path, const ContentHash* knownHash = nullptr);
+/// hash), so the check for damaged files does not hash the file again. `window` (count > 0):
+/// only those nodes of the stage (VolumeLevel::windowFirst), for a tile that reads no more.
+struct NodeWindow {
+    std::size_t first = 0, count = 0;
+};
+Volume readProbeStage(const std::string& path, const ContentHash* knownHash = nullptr, NodeWindow window = {});
 
 // ---------------------------------------------------------------------------------------
 // A tiled bake as Slurm jobs (`vdblight slurm`, docs/scaling.md): per stage a job array of
