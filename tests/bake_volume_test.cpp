@@ -171,6 +171,10 @@ TEST(BakeVolume, PresetsResolveAsTheCommandLineDocumentsThem) {
     r.params.unset("target-error");
     r.quality = "high";
     d = resolveBakeRequest(r);
+    EXPECT_TRUE(d.params.get<bool>("guide-probe-directions"));  // as the default (issue 32, session 22)
+    EXPECT_TRUE(d.params.get<bool>("blend-first-pass"));
+    EXPECT_FALSE(d.params.get<bool>("extra-cache-paths"));
+    EXPECT_FALSE(d.params.get<bool>("first-pass-by-error"));
     EXPECT_FALSE(d.params.has("target-error"));
     EXPECT_EQ(d.params.get<uint32_t>("rays"), 2048u);
     EXPECT_EQ(d.params.get<int>("probe-passes"), 1);

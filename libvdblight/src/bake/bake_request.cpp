@@ -42,7 +42,8 @@ namespace {
 /// Since issue 32's session 22 its probe pass is guided by pass 0 and pass 0 is blended in, as
 /// in the preview, tiled bakes included (stage_carry.h): office 2.0 -> 1.6 %, two rooms 3.4 ->
 /// 2.6 % for 2 % more time (docs/time_to_accuracy.md); the preview's other two levers add
-/// nothing at this budget and do not tile.
+/// nothing at this budget and do not tile. `high` takes them too (office 1.7 -> 1.5 %, two rooms
+/// 2.8 -> 2.5 %, the others equal).
 /// `high`: the default with twice the rays (kHighRays). Until issue 15's tenth session it was
 /// error-targeted (3 %, 64..2048 rays) with two probe passes in SH order 2; with SH order 4 the
 /// fixed budget measured lower RMS in every scene in less time (docs/methods.md, "The default
@@ -80,7 +81,7 @@ struct QualityPreset {
 QualityPreset qualityPreset(const std::string& quality) {
     if (quality == "preview") return {1, kPreviewNodes, kPreviewRays, true, 1'000'000, kDefaultBasis, 1, false, true, true, true, true};
     if (quality == "default") return {1, kDefaultNodes, kDefaultRays, true, 4'000'000, kDefaultBasis, 0, true, true, true};
-    if (quality == "high") return {1, kDefaultNodes, kHighRays, true, 4'000'000, kDefaultBasis, 0, true};
+    if (quality == "high") return {1, kDefaultNodes, kHighRays, true, 4'000'000, kDefaultBasis, 0, true, true, true};
     throw ValueError("--quality must be " + bake_detail::joinChoices(qualityNames()) + ", got '" + quality + "'");
 }
 
