@@ -6,6 +6,11 @@
 // interpolates the coarser level, whose nodes may lie in other tiles). Metadata counts that
 // each tile measured for its own nodes (rays) are summed in tile order.
 //
+// So does the blend of pass 0 into the probe pass (first_pass_blend.h, the default's): its
+// variances are pooled over neighbouring nodes, so a last-stage tile carries pass 0's values
+// and errors and the merge blends, before the error summary and the node filter, as the single
+// bake does.
+//
 // Stage-0 tiles of `--probe-cache surface` also hold the bins of their nodes' paths as sparse
 // integer sums (SurfaceBinSums, surface_bin_sums.h), which the merge adds (exact in any order).
 //
