@@ -4,6 +4,7 @@
 // bytes: CliTiles.DefaultBakeTiledInStagesMergesToTheSingleBake).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <vector>
 
 #include "bake/direction_guide.h"
@@ -70,10 +71,28 @@ TEST(StageCarry, AWindowReadsBackWhatTheSingleBakeHolds) {
     EXPECT_EQ(stage.levels[0].data.size(), nodes * carry.floatsPerNode());
     EXPECT_EQ(stage.levels[0].data[carry.floatsPerNode()], 0.5f);  // node 1's reflected light first
 
-    // The reference: the single bake pools every node's map at once.
+    // The single bake pools every node's map at once, in place (poolGuideSums); first against
+    // the plain sum over each node's neighbours within kPoolRadius steps, in the same order.
     std::vector<float> pooledSums = sums;
     std::vector<uint32_t> pooledCounts = counts;
     bake_detail::poolGuideSums(grid, DirectionGuide::kPoolRadius, pooledSums, pooledCounts);
+    const int r = DirectionGuide::kPoolRadius;
+    for (int k = 0; k < grid.nz; ++k)
+        for (int j = 0; j < grid.ny; ++j)
+            for (int i = 0; i < grid.nx; ++i)
+                for (std::size_t c = 0; c < kCells; ++c) {
+                    float sum = 0.0f;
+                    uint32_t count = 0;
+                    for (int c3 = std::max(k - r, 0); c3 <= std::min(k + r, grid.nz - 1); ++c3)
+                        for (int b = std::max(j - r, 0); b <= std::min(j + r, grid.ny - 1); ++b)
+                            for (int a = std::max(i - r, 0); a <= std::min(i + r, grid.nx - 1); ++a) {
+                                sum += sums[grid.index(a, b, c3) * kCells + c];
+                                count += counts[grid.index(a, b, c3) * kCells + c];
+                            }
+                    const std::size_t n = grid.index(i, j, k);
+                    ASSERT_EQ(pooledSums[n * kCells + c], sum) << n << " " << c;  // the same bits
+                    ASSERT_EQ(pooledCounts[n * kCells + c], count) << n << " " << c;
+                }
 
     const std::size_t first = 17, held = 21;  // a tile's window
     std::vector<float> v, e, s;

@@ -35,13 +35,11 @@ NodeWindow stageInputWindow(const BakeRequest& r, const GridSpec& grid) {
     std::vector<VolumeLevel> levels(1);
     levels[0].grid = grid;
     if (*r.tiles < 1 || uint64_t(*r.tiles) > countBricks(levels)) return {};  // refused later, with its own message
-    const std::vector<uint8_t> mask = tileNodeMask(levels, *r.tiles, *r.tile)[0];
-    const auto firstIt = std::find(mask.begin(), mask.end(), uint8_t(1));
-    const std::size_t first = firstIt == mask.end() ? 0 : std::size_t(firstIt - mask.begin());
-    const std::size_t last =
-        firstIt == mask.end() ? 0 : mask.size() - 1 - std::size_t(std::find(mask.rbegin(), mask.rend(), uint8_t(1)) - mask.rbegin());
+    const NodeMask mask = tileNodeMask(levels, *r.tiles, *r.tile);
+    setTileWindows(levels, &mask);  // the window the gather's tile will hold
+    const std::size_t first = levels[0].windowFirst, end = first + levels[0].heldNodes();
     const std::size_t reach = bake_detail::stageReach(grid, bake_detail::DirectionGuide::kPoolRadius);
-    const std::size_t from = first > reach ? first - reach : 0, to = std::min(grid.nodeCount(), last + 1 + reach);
+    const std::size_t from = first > reach ? first - reach : 0, to = std::min(grid.nodeCount(), end + reach);
     return {from, to - from};
 }
 /// One tile of a bake being baked (bakeToFile).

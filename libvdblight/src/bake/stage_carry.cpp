@@ -30,18 +30,13 @@ BasisDesc StageCarry::basis() const {
 }
 
 StageCarry StageCarry::of(const BasisDesc& b) {
+    // Read what the names say is carried, then require exactly the names that carry has.
     StageCarry carry;
-    const std::vector<std::string>& names = b.channelNames;
-    std::size_t c = kReflectedFloats / 3;
-    if (names.size() < c) throw FormatError("a probe stage volume has fewer than nine reflected-light channels");
-    while (c < names.size() && startsWith(names[c], kFirstPass) && names[c] != kError) ++c, carry.firstPassFloats += 3;
-    const bool error = c < names.size() && names[c] == kError;
-    c += error ? 1 : 0;
-    std::size_t guideChannels = 0;
-    while (c < names.size() && startsWith(names[c], kGuide)) ++c, ++guideChannels;
-    carry.guide = guideChannels > 0;
-    if (c != names.size() || (guideChannels != 0 && guideChannels != kGuideChannels) || error != carry.any() ||
-        carry.basis().channelNames != names)
+    for (const std::string& name : b.channelNames) {
+        if (startsWith(name, kFirstPass) && name != kError) carry.firstPassFloats += 3;
+        carry.guide = carry.guide || startsWith(name, kGuide);
+    }
+    if (carry.basis().channelNames != b.channelNames)
         throw FormatError("a probe stage volume's channels are not what a stage carries (stage_carry.h)");
     return carry;
 }
