@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "vdblight/basis/depth_moments.h"
 #include "vdblight/core/errors.h"
@@ -100,6 +101,20 @@ TEST(NodeFilter, WithErrorEstimatesKeepsAStepTheNoiseDoesNotExplain) {
     EXPECT_NEAR(at(v, 2, 3, 3), 0.0, 1e-6);
     EXPECT_NEAR(at(v, 3, 3, 3), 1.0, 1e-6);
     EXPECT_GT(std::fabs(at(plain, 3, 3, 3) - 1.0), 0.2);
+}
+
+// Rows of nodes are filtered in parallel; each node's sum is its own, so one thread and two
+// give the same bits (with depth moments and error estimates, every weight in play).
+TEST(NodeFilter, GivesTheSameBitsOnOneThreadAndOnTwo) {
+    const auto bumpy = [](int i, int j, int k) { return std::sin(1.7 * i) + 0.3 * j * j - std::cos(0.9 * k * i); };
+    Volume one = volumeOf(bumpy, true);
+    std::vector<float> error(one.levels[0].grid.nodeCount());
+    for (std::size_t n = 0; n < error.size(); ++n) error[n] = 0.05f + 0.01f * float(n % 7);
+    Volume two = one;
+    filterNodes(one, 2, &error, 1);
+    filterNodes(two, 2, &error, 2);
+    ASSERT_EQ(one.levels[0].data.size(), two.levels[0].data.size());
+    EXPECT_EQ(std::memcmp(one.levels[0].data.data(), two.levels[0].data.data(), one.levels[0].data.size() * sizeof(float)), 0);
 }
 
 TEST(NodeFilter, RefusesWhatItCannotFilter) {

@@ -72,10 +72,11 @@ TEST(StageCarry, AWindowReadsBackWhatTheSingleBakeHolds) {
     EXPECT_EQ(stage.levels[0].data[carry.floatsPerNode()], 0.5f);  // node 1's reflected light first
 
     // The single bake pools every node's map at once, in place (poolGuideSums); first against
-    // the plain sum over each node's neighbours within kPoolRadius steps, in the same order.
+    // the plain sum over each node's neighbours within kPoolRadius steps, in the same order, on
+    // one thread: on two it must give the same bits.
     std::vector<float> pooledSums = sums;
     std::vector<uint32_t> pooledCounts = counts;
-    bake_detail::poolGuideSums(grid, DirectionGuide::kPoolRadius, pooledSums, pooledCounts);
+    bake_detail::poolGuideSums(grid, DirectionGuide::kPoolRadius, 2, pooledSums, pooledCounts);
     const int r = DirectionGuide::kPoolRadius;
     for (int k = 0; k < grid.nz; ++k)
         for (int j = 0; j < grid.ny; ++j)
@@ -99,7 +100,7 @@ TEST(StageCarry, AWindowReadsBackWhatTheSingleBakeHolds) {
     std::vector<uint8_t> inside;
     std::vector<uint32_t> k;
     bake_detail::readCarriedFirstPass(stage, StageCarry::of(stage.basis), first, held, &v, &e, &inside);
-    bake_detail::poolCarriedGuide(stage, carry, grid, DirectionGuide::kPoolRadius, first, held, s, k);
+    bake_detail::poolCarriedGuide(stage, carry, grid, DirectionGuide::kPoolRadius, 2, first, held, s, k);
     ASSERT_EQ(v.size(), held * floats);
     for (std::size_t h = 0; h < held; ++h) {
         const std::size_t n = first + h;

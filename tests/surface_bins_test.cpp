@@ -9,6 +9,7 @@
 // continuation by the vertex's albedo, gives pi Le / (1 - rho) or pi rho^2 Le / (1 - rho).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <vector>
@@ -204,6 +205,50 @@ TEST(SurfaceBins, HoldOnlyTheCellsWhereSamplesLand) {
     EXPECT_EQ(back.unit, sums.unit);
     EXPECT_EQ(back.cellIndices, sums.cellIndices);
     EXPECT_EQ(back.values, sums.values);
+}
+
+// The bins' inline rounding is std::llround's on what they round (0 <= x < 2^53), halves and
+// the doubles next to them included.
+TEST(SurfaceBins, RoundLikeLlround) {
+    std::vector<double> xs = {0.0, 0.5, 1.5, 2.5, 0.49999999999999994, 0.5000000000000001, 1e12 + 0.5,
+                              4503599627370495.5, 4503599627370496.0, 9007199254740991.0};
+    uint64_t state = 12345;
+    for (int i = 0; i < 100000; ++i) {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        const double unit = double(state >> 11) * 0x1.0p-53;
+        xs.push_back(unit * std::ldexp(1.0, int(state % 53)));
+        xs.push_back(std::floor(xs.back()) + 0.5);
+        xs.push_back(std::nextafter(xs.back(), 0.0));
+    }
+    for (const double x : xs)
+        ASSERT_EQ(bake_detail::roundNonNegative(x), uint64_t(std::llround(x))) << std::hexfloat << x;
+}
+
+// The extra cache paths want the bins only (extra_cache_paths.h): recordSurfaceOnly skips the
+// node's own light samples and sums, and the bins hold the same sums, bit for bit, for fewer
+// shadow rays. The furnace's walls all emit, so every sample has a light sample to skip.
+TEST(SurfaceBins, HoldTheSameSumsWhenOnlyTheyAreWanted) {
+    const Scene box = test::makeFurnaceBox({-1, -1, -1}, {1, 1, 1}, kLe, {0.7f, 0.7f, 0.7f});
+    const Tracer tracer(box);
+    const RadianceEstimator estimator(box, tracer);
+    const GridSpec g = boxGrid();
+    bake_detail::SurfaceBins all(tracer, g, bake_detail::radianceScale(box, g.spacing)),
+        only(tracer, g, bake_detail::radianceScale(box, g.spacing));
+    RayCount allRays, onlyRays;
+    for (std::size_t n = 0; n < g.nodeCount(); ++n) {
+        detail::NodeSampler whole(estimator, Vec3f(g.node(n)), 11, uint64_t(n), 96);
+        whole.recordSurface(&all);
+        whole.addSamples(0, 96, allRays);
+        detail::NodeSampler surface(estimator, Vec3f(g.node(n)), 11, uint64_t(n), 96);
+        surface.recordSurfaceOnly(&only);
+        surface.addSamples(0, 96, onlyRays);
+    }
+    std::printf("  shadow rays: %llu with the node's own light samples, %llu without\n",
+                (unsigned long long)allRays.occluded, (unsigned long long)onlyRays.occluded);
+    EXPECT_EQ(only.sums().cellIndices, all.sums().cellIndices);
+    EXPECT_EQ(only.sums().values, all.sums().values);
+    EXPECT_EQ(onlyRays.intersect, allRays.intersect);
+    EXPECT_EQ(onlyRays.occluded + uint64_t(g.nodeCount()) * 96, allRays.occluded);  // one light sample per sample
 }
 
 namespace {

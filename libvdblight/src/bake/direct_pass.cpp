@@ -12,6 +12,7 @@
 #include "vdblight/sampling/sampling.h"
 #include "vdblight/scene/scene.h"
 #include "basis/shadow_edges.h"
+#include "bake/light_reach.h"
 #include "vdblight/trace/trace.h"
 
 namespace vdblight {
@@ -21,8 +22,6 @@ namespace {
 constexpr uint64_t kRankStream = 0xd1ec7a11ull, kVisibilityStream = 0x7151b1eull;
 constexpr int kMaxLights = 16;
 
-/// True where the light can add nothing at x (behind a one-sided polygon, outside a spot's cone).
-bool unreachable(const DirectLight& l, const Vec3d& x) { return maxComponent(meanIrradiance(l, x)) <= 0.0f; }
 }  // namespace
 
 DirectPlan planDirectLight(const Scene& scene, const Tracer& tracer, const GridSpec& grid, const DirectOptions& o) {
@@ -90,9 +89,12 @@ void bakeLightVisibility(const Scene& scene, const Tracer& tracer, const DirectP
             if ((*only)[0][n]) selected.push_back(n);
     }
     // The visibility channels first: the edges' search reads them (shadow_edge_lattice.h).
+    std::vector<bake_detail::LightReach> reach;  // where a light can add nothing (behind a one-sided polygon, outside a spot's cone)
+    reach.reserve(plan.lights.size());
+    for (const SceneLight& l : plan.lights) reach.emplace_back(l.light);
     const auto visibilityOf = [&](std::size_t n, std::size_t i, RayCount& rays) {
         const Vec3f x(grid.node(n));
-        if (unreachable(plan.lights[i].light, Vec3d(x))) return 1.0f;  // see bake_direct.h
+        if (!reach[i].reaches(Vec3d(x))) return 1.0f;  // see bake_direct.h
         const uint64_t stream = hashCombine(hashCombine(o.seed ^ kVisibilityStream, n), i);
         return float(lightVisibility(scene, tracer, plan.lights[i], x, o.visibilitySamples, stream, rays));
     };

@@ -25,7 +25,8 @@ float cellPoint(int i, float fraction, int n) {
 }
 }  // namespace
 
-void poolGuideSums(const GridSpec& grid, int radius, std::vector<float>& sums, std::vector<uint32_t>& counts) {
+void poolGuideSums(const GridSpec& grid, int radius, int threads, std::vector<float>& sums,
+                   std::vector<uint32_t>& counts) {
     constexpr std::size_t kCells = DirectionGuide::kCells;
     if (radius <= 0) return;
     // In place, one z-slab of nodes at a time (the map is 1 KB per node: a pooled copy of it
@@ -40,15 +41,15 @@ void poolGuideSums(const GridSpec& grid, int radius, std::vector<float>& sums, s
         const std::size_t at = std::size_t(k) * slab, ringAt = std::size_t(k) % ring * slab;
         std::copy_n(sums.begin() + std::ptrdiff_t(at), slab, oldSums.begin() + std::ptrdiff_t(ringAt));
         std::copy_n(counts.begin() + std::ptrdiff_t(at), slab, oldCounts.begin() + std::ptrdiff_t(ringAt));
-        const auto source = [&](std::size_t n, int cell, const auto& old, const auto& now) {
+        const auto rowOf = [&](std::size_t n, const auto& old, const auto& now) {
             const std::size_t z = n / slabNodes;
-            return z <= std::size_t(k) ? old[z % ring * slab + (n - z * slabNodes) * kCells + std::size_t(cell)]
-                                       : now[n * kCells + std::size_t(cell)];
+            return z <= std::size_t(k) ? old.data() + z % ring * slab + (n - z * slabNodes) * kCells
+                                       : now.data() + n * kCells;
         };
         poolGuideWindow(
-            grid, radius, std::size_t(k) * slabNodes, slabNodes,
-            [&](std::size_t n, int cell) { return source(n, cell, oldSums, sums); },
-            [&](std::size_t n, int cell) { return source(n, cell, oldCounts, counts); }, outSums.data(), outCounts.data());
+            grid, radius, std::size_t(k) * slabNodes, slabNodes, threads,
+            [&](std::size_t n) { return rowOf(n, oldSums, sums); },
+            [&](std::size_t n) { return rowOf(n, oldCounts, counts); }, outSums.data(), outCounts.data());
         std::copy(outSums.begin(), outSums.end(), sums.begin() + std::ptrdiff_t(at));
         std::copy(outCounts.begin(), outCounts.end(), counts.begin() + std::ptrdiff_t(at));
     }

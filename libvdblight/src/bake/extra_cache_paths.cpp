@@ -43,10 +43,8 @@ ParallelRun traceExtraCachePaths(const RadianceEstimator& estimator, const GridS
     return forEachItemInParallel(grid.nodeCount(), threads, interrupter, [&](std::size_t n, RayCount& count) {
         if (paths[n] == 0) return;
         detail::NodeSampler sampler(estimator, Vec3f(grid.node(n)), stream, n, paths[n]);
-        sampler.recordSurface(&bins);
+        sampler.recordSurfaceOnly(&bins);  // the node's values are pass 0's: its own light samples are not traced
         sampler.addSamples(0, paths[n], count);
-        Rgbd coeffs[sh::kCoeffs];
-        sampler.coefficients(coeffs, count);  // (the node's values are not kept)
     });
 }
 

@@ -106,7 +106,8 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
                                           blend ? &firstError : nullptr,
                                           guided && options.depthMoments ? &insideSolid : nullptr);
         if (guided)
-            bake_detail::poolCarriedGuide(*options.stageInput, in, grid, DirectionGuide::kPoolRadius, level.windowFirst, held,
+            bake_detail::poolCarriedGuide(*options.stageInput, in, grid, DirectionGuide::kPoolRadius, options.threads,
+                                          level.windowFirst, held,
                                           guideSums, guideCounts);
     }
     std::unique_ptr<bake_detail::SurfaceBins> bins;
@@ -125,7 +126,7 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
         range.first > 0 ? options.stageInput->levels[0].data.data() : nullptr, reflected,
         [&](const bake_detail::ProbePass& pass) {
             if (guided && pass.index == 1 && range.first == 0)
-                bake_detail::poolGuideSums(grid, DirectionGuide::kPoolRadius, guideSums, guideCounts);
+                bake_detail::poolGuideSums(grid, DirectionGuide::kPoolRadius, options.threads, guideSums, guideCounts);
             if (blend && pass.index == 1 && range.first == 0) {
                 firstValues = level.data;
                 firstError = error;
@@ -243,7 +244,7 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     // A tile's blend pools variances across its borders: the merge blends (tiles.h).
     if (blend && !options.only) blendWithFirstPass(grid, floats, firstValues, firstError, level.data, error);
     if (!options.only) {
-        filterNodes(volume, options.nodeFilterPasses, options.nodeFilterByNoise ? &error : nullptr);
+        filterNodes(volume, options.nodeFilterPasses, options.nodeFilterByNoise ? &error : nullptr, options.threads);
     } else if (options.nodeFilterPasses > 0) {  // its kernel crosses tile borders: the merge filters (tiles.h)
         volume.meta["tile_node_filter_passes"] = int64_t(options.nodeFilterPasses);
         volume.meta["tile_node_filter_by_noise"] = int64_t(options.nodeFilterByNoise ? 1 : 0);

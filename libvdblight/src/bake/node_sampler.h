@@ -56,6 +56,14 @@ public:
     /// sampling only). The rays are the ones traced anyway.
     void recordSurface(SurfaceSampleSink* sink) { surface_ = sink; }
 
+    /// Only the surface samples are wanted, not the node's values (extra_cache_paths.h): the
+    /// node's own light samples, their shadow rays and the sums are skipped. The paths, and so
+    /// the surface samples, stay the same (their random numbers are not the light samples').
+    void recordSurfaceOnly(SurfaceSampleSink* sink) {
+        surface_ = sink;
+        surfaceOnly_ = true;
+    }
+
     /// Also add every sample's gathered luminance to its direction cell (DirectionGuide::kCells
     /// sums and counts, direction_guide.h): the map a later pass's guide is built from. The
     /// rays are the ones traced anyway.
@@ -164,7 +172,7 @@ public:
     /// hits as gatherRadiance's own), so back faces can always be counted.
     void addSamplesPacketed(uint32_t first, uint32_t last, RayCount& count, uint32_t* backFaceHits) {
         const uint32_t n = last - first;
-        const bool nee = estimator_.hasEmissiveTriangles();
+        const bool nee = estimator_.hasEmissiveTriangles() && !surfaceOnly_;
         constexpr float kSpherePdf = float(1.0 / (4.0 * kPi));
         const uint64_t dirScramble = mix64(hashCombine(stream_, kDirection));  // sobol02's, once
         const uint64_t lightScramble = mix64(hashCombine(stream_, kLightPoint));
@@ -222,6 +230,7 @@ public:
             for (uint32_t k = 0; k < n; ++k)
                 if (paths_.firstVertexIrradiance(k, p, nrm, e)) surface_->add(p, nrm, e);
         }
+        if (surfaceOnly_) return;
 
         float y[sh::kCoeffs];
         for (uint32_t k = 0; k < n; ++k) {
@@ -408,6 +417,7 @@ private:
     double lightAcc_[sh::kCoeffs][3] = {};
     double reflected_[sh::kCoeffs][3] = {};
     SurfaceSampleSink* surface_ = nullptr;
+    bool surfaceOnly_ = false;  ///< recordSurfaceOnly
     double ebarSum_ = 0, ebarSquares_ = 0;
     Rgbd exact_[sh::kCoeffs] = {};
     double exactEbar_ = 0;

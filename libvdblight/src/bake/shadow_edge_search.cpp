@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "basis/shadow_edges.h"
+#include "bake/light_reach.h"
 #include "vdblight/trace/trace.h"
 
 namespace vdblight::bake_detail {
@@ -50,14 +51,14 @@ class CentreRay {
 public:
     CentreRay(const Tracer& tracer, const SceneLight& light)
         : tracer_(tracer), light_(light.light), directional_(light_.kind == DirectLight::Kind::Directional),
-          centre_(light_.kind == DirectLight::Kind::Polygon ? polygonCentroid(light_) : light_.position) {}
+          centre_(light_.kind == DirectLight::Kind::Polygon ? polygonCentroid(light_) : light_.position), reach_(light_) {}
     Ray ray(const Vec3f& p) const {
         if (directional_) return Ray{p, -Vec3f(light_.direction)};
         return Ray{p, Vec3f(centre_) - p, 0.0f, kShadowEnd};
     }
     /// Blocked towards the centre; a point the light cannot reach counts as free (bake_direct.h).
     bool blocked(const Vec3f& p, RayCount& rays) const {
-        if (maxComponent(meanIrradiance(light_, Vec3d(p))) <= 0.0f) return false;
+        if (!reach_.reaches(Vec3d(p))) return false;
         ++rays.occluded;
         return tracer_.occluded(ray(p));
     }
@@ -76,6 +77,7 @@ private:
     const DirectLight& light_;
     bool directional_;
     Vec3d centre_;
+    LightReach reach_;
 };
 
 /// True if the blocker in front of shadowed point p is at least kMinBlockerCells away along the

@@ -95,7 +95,7 @@ void readCarriedFirstPass(const Volume& stageInput, const StageCarry& carry, std
     }
 }
 
-void poolCarriedGuide(const Volume& stageInput, const StageCarry& carry, const GridSpec& grid, int radius,
+void poolCarriedGuide(const Volume& stageInput, const StageCarry& carry, const GridSpec& grid, int radius, int threads,
                       std::size_t windowFirst, std::size_t held, std::vector<float>& sums, std::vector<uint32_t>& counts) {
     constexpr std::size_t kCells = DirectionGuide::kCells;
     const std::size_t stride = carry.floatsPerNode();
@@ -110,10 +110,8 @@ void poolCarriedGuide(const Volume& stageInput, const StageCarry& carry, const G
     sums.assign(held * kCells, 0.0f);
     counts.assign(held * kCells, 0);
     poolGuideWindow(
-        grid, radius, windowFirst, held,
-        [&](std::size_t n, int cell) { return guide[stage.held(n) * stride + std::size_t(cell)]; },
-        [&](std::size_t n, int cell) { return uint32_t(guide[stage.held(n) * stride + kCells + std::size_t(cell)]); },
-        sums.data(), counts.data());
+        grid, radius, windowFirst, held, threads, [&](std::size_t n) { return guide + stage.held(n) * stride; },
+        [&](std::size_t n) { return guide + stage.held(n) * stride + kCells; }, sums.data(), counts.data());
 }
 
 }  // namespace vdblight::bake_detail

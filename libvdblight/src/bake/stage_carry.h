@@ -65,7 +65,7 @@ std::size_t stageReach(const GridSpec& grid, int radius);
 /// The window's guide sums and counts pooled over `radius` (poolGuideSums) from the stage
 /// input's (every node, or a window of it covering stageReach around the tile's): the same
 /// additions, in the same order, as the single bake's pooling.
-void poolCarriedGuide(const Volume& stageInput, const StageCarry& carry, const GridSpec& grid, int radius,
+void poolCarriedGuide(const Volume& stageInput, const StageCarry& carry, const GridSpec& grid, int radius, int threads,
                       std::size_t windowFirst, std::size_t held, std::vector<float>& sums, std::vector<uint32_t>& counts);
 
 }  // namespace vdblight::bake_detail

@@ -95,21 +95,22 @@ SurfaceBins::Cell& SurfaceBins::cellForAdd(std::size_t index) {
 
 void SurfaceBins::add(const Vec3f& p, const Vec3f& n, const Rgb& irradiance) {
     int c[3];
+    double at[3];  // p in cells of the grid, for the cell and the centroid
     for (int a = 0; a < 3; ++a) {
-        const double u = std::floor((double(p[a]) - grid_.origin[a]) / grid_.spacing);
-        c[a] = int(std::clamp(u, -1.0, 1e9));
+        at[a] = (double(p[a]) - grid_.origin[a]) / grid_.spacing;
+        c[a] = int(std::clamp(std::floor(at[a]), -1.0, 1e9));
     }
     Bin& bin = cellForAdd(cellIndex(c[0], c[1], c[2]))[std::size_t(faceOf(n))];
     for (int ch = 0; ch < 3; ++ch) {
         const double steps = double(irradiance[ch]) / unit_;
         // !(x > 0) also takes NaN: radiance is never negative.
-        const uint64_t q = steps > 0 ? uint64_t(std::llround(std::min(steps, kMaxSteps))) : 0;
+        const uint64_t q = steps > 0 ? roundNonNegative(std::min(steps, kMaxSteps)) : 0;
         bin.sum[ch].fetch_add(q, std::memory_order_relaxed);
     }
     bin.count.fetch_add(1, std::memory_order_relaxed);
     for (int a = 0; a < 3; ++a) {
-        const double u = std::clamp((double(p[a]) - grid_.origin[a]) / grid_.spacing + kPosShift, 0.0, 1e6);
-        bin.pos[a].fetch_add(uint64_t(std::llround(u * kPosSteps)), std::memory_order_relaxed);
+        const double u = std::clamp(at[a] + kPosShift, 0.0, 1e6);
+        bin.pos[a].fetch_add(roundNonNegative(u * kPosSteps), std::memory_order_relaxed);
     }
 }
 

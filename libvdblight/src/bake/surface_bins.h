@@ -33,6 +33,13 @@
 
 namespace vdblight::bake_detail {
 
+/// std::llround(x) for 0 <= x < 2^53, inline (llround is a library call, and SurfaceBins::add
+/// made six per sample): x minus its integer part is exact, so the half is decided exactly.
+inline uint64_t roundNonNegative(double x) {
+    const uint64_t whole = uint64_t(x);
+    return whole + (x - double(whole) >= 0.5 ? 1 : 0);
+}
+
 class SurfaceBins final : public SurfaceSampleSink, public SurfaceIrradianceCache {
 public:
     /// Bins over the cells of `grid`; `tracer`: the scene's, for the reads' visibility tests;

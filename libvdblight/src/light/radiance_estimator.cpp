@@ -184,6 +184,14 @@ bool RadianceEstimator::emissiveCandidate(const Vec3f& x, float u, float v, doub
     const Vec3f toLight = q - x;
     const float dist2 = dot(toLight, toLight);
     if (!(dist2 > 0)) return false;
+    // Behind the emitter's face, or behind the receiver, by far more than rounding: the tests
+    // below on the normalised direction would say so too. Decided before the square root and
+    // the divisions, whose latency was most of this function's time (issue 32: half the
+    // candidates of a room lit by a one-sided panel are behind it).
+    const float kClearly = 1e-6f * dist2;  // (1e-3 of the distance)^2: far above float rounding
+    if (const float back = dot(d.normal, toLight); !d.twoSided && back > 0 && back * back > kClearly) return false;
+    if (facing)
+        if (const float front = dot(*facing, toLight); front < 0 && front * front > kClearly) return false;
     const float dist = std::sqrt(dist2);
     const Vec3f wi = toLight / dist;
     float cosLight = -dot(d.normal, wi);  // > 0 when x sees the front face

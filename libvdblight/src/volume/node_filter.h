@@ -28,7 +28,8 @@ namespace vdblight {
 /// error of its mean irradiance (BakeStats::estimatedError; negative = inside a solid, left
 /// out); with it a neighbour's weight also falls with the two nodes' difference in mean
 /// luminance over their noise (exp(-d^2 / 2 (s_n^2 + s_m^2))): a bilateral filter that smooths
-/// noise and keeps differences the noise does not explain.
-void filterNodes(Volume& volume, int passes, const std::vector<float>* relativeError = nullptr);
+/// noise and keeps differences the noise does not explain. `threads` as core::threadCount reads
+/// it (0: every core); the same bits on any.
+void filterNodes(Volume& volume, int passes, const std::vector<float>* relativeError = nullptr, int threads = 0);
 
 }  // namespace vdblight
