@@ -34,6 +34,12 @@ const Case kCases[] = {
     // moments, --direct occlusion, SH order 4) with fewer rays, so that the test stays short.
     {"default", "--rays 16", [](BakeRequest& r) { r.params.set("rays", 16); }},
     {"preview", "--quality preview", [](BakeRequest& r) { r.quality = "preview"; }},
+    {"fast", "--quality fast --resolution 4 --rays 16",
+     [](BakeRequest& r) {
+         r.quality = "fast";
+         r.resolution = 4;
+         r.params.set("rays", 16);
+     }},
     {"high", "--quality high --resolution 3 --rays 24",
      [](BakeRequest& r) {
          r.quality = "high";
@@ -169,6 +175,25 @@ TEST(BakeVolume, PresetsResolveAsTheCommandLineDocumentsThem) {
     r.params.set("target-error", 0.05);  // the adaptive pass has no node filter
     EXPECT_EQ(resolveBakeRequest(r).params.get<int>("node-filter"), 0);
     r.params.unset("target-error");
+    // Issue 32 item 1: the default's grid and probe pass at 224 rays, filtered across nodes,
+    // pass 0's rays by its error where the bake is not tiled.
+    r.quality = "fast";
+    d = resolveBakeRequest(r);
+    EXPECT_EQ(d.params.get<uint32_t>("rays"), 224u);
+    EXPECT_EQ(d.params.get<int>("probe-passes"), 1);
+    EXPECT_EQ(*d.nodes, 16384u);
+    EXPECT_TRUE(d.params.get<bool>("depth-moments"));
+    EXPECT_EQ(d.basis, "sh:4");
+    EXPECT_EQ(d.params.get<std::string>("probe-cache"), "surface");
+    EXPECT_EQ(d.params.get<int>("node-filter"), 1);
+    EXPECT_TRUE(d.params.get<bool>("guide-probe-directions"));
+    EXPECT_TRUE(d.params.get<bool>("blend-first-pass"));
+    EXPECT_FALSE(d.params.get<bool>("extra-cache-paths"));
+    EXPECT_TRUE(d.params.get<bool>("first-pass-by-error"));
+    r.tiles = 2;  // tiled: the filter is the merge's, pass 0's two rounds are left out
+    EXPECT_EQ(resolveBakeRequest(r).params.get<int>("node-filter"), 1);
+    EXPECT_FALSE(resolveBakeRequest(r).params.get<bool>("first-pass-by-error"));
+    r.tiles.reset();
     r.quality = "high";
     d = resolveBakeRequest(r);
     EXPECT_TRUE(d.params.get<bool>("guide-probe-directions"));  // as the default (issue 32, session 22)

@@ -24,19 +24,19 @@ BakeRequest resolved(const std::string& quality, const std::string& method = "ga
     return resolveBakeRequest(r);
 }
 
-/// "V1 with --quality preview, V2 with default, V3 with high", or "V" if all agree: the form of
-/// the presets' defaults in --help, built here from resolveBakeRequest.
+/// "V1 with --quality preview, V2 with fast, V3 with default, V4 with high", or "V" if all agree:
+/// the form of the presets' defaults in --help, built here from resolveBakeRequest.
 template <typename Field>
 std::string perPreset(Field field, const std::string& method = "gather") {
     std::vector<std::string> v;
     for (const std::string& q : qualityNames()) v.push_back(field(resolved(q, method)));
-    if (v[0] == v[1] && v[1] == v[2]) return v[0];
-    return v[0] + " with --quality preview, " + v[1] + " with default, " + v[2] + " with high";
+    if (v[0] == v[1] && v[1] == v[2] && v[2] == v[3]) return v[0];
+    return v[0] + " with --quality preview, " + v[1] + " with fast, " + v[2] + " with default, " + v[3] + " with high";
 }
 }  // namespace
 
 TEST(CliHelp, EachPresetIsDescribedFromWhatItResolvesTo) {
-    ASSERT_EQ(qualityNames(), (std::vector<std::string>{"preview", "default", "high"}));
+    ASSERT_EQ(qualityNames(), (std::vector<std::string>{"preview", "fast", "default", "high"}));
     for (const std::string& q : qualityNames()) {
         const BakeRequest r = resolved(q);
         const std::string text = describeQuality(q);

@@ -44,6 +44,12 @@ namespace {
 /// 2.6 % for 2 % more time (docs/time_to_accuracy.md); the preview's other two levers add
 /// nothing at this budget and do not tile. `high` takes them too (office 1.7 -> 1.5 %, two rooms
 /// 2.8 -> 2.5 %, the others equal).
+/// `fast` (issue 32 item 1, session 23): the default's grid and probe pass at kFastRays rays,
+/// with one pass of the filter across nodes and pass 0's rays by its error (a tiled bake goes
+/// without the latter, as the preview's): about 23 % of the default's time for office 2.1-2.3 %,
+/// Cornell 1.3 %, two rooms 3.1-3.5 %, outdoor 1.0-1.2 % over seeds 1, 3, 5, the default's RMS
+/// before issue 32 (2.2, 1.3, 3.3, 6.1 %) at seed 1 (docs/time_to_accuracy.md, "A quarter of the
+/// default's time"). At 256 rays the same took 25-26 %; without the filter, office 2.8 %.
 /// `high`: the default with twice the rays (kHighRays). Until issue 15's tenth session it was
 /// error-targeted (3 %, 64..2048 rays) with two probe passes in SH order 2; with SH order 4 the
 /// fixed budget measured lower RMS in every scene in less time (docs/methods.md, "The default
@@ -59,6 +65,7 @@ constexpr uint64_t kDefaultNodes = 16384;
 constexpr uint64_t kPreviewNodes = 8192;
 constexpr uint32_t kPreviewRays = 64;
 constexpr uint32_t kDefaultRays = 1024;
+constexpr uint32_t kFastRays = 224;
 constexpr uint32_t kHighRays = 2048;
 constexpr const char* kDefaultBasis = "sh:4";
 constexpr uint32_t kPlainRays = 256;
@@ -80,6 +87,7 @@ struct QualityPreset {
 };
 QualityPreset qualityPreset(const std::string& quality) {
     if (quality == "preview") return {1, kPreviewNodes, kPreviewRays, true, 1'000'000, kDefaultBasis, 1, false, true, true, true, true};
+    if (quality == "fast") return {1, kDefaultNodes, kFastRays, true, 4'000'000, kDefaultBasis, 1, true, true, true, false, true};
     if (quality == "default") return {1, kDefaultNodes, kDefaultRays, true, 4'000'000, kDefaultBasis, 0, true, true, true};
     if (quality == "high") return {1, kDefaultNodes, kHighRays, true, 4'000'000, kDefaultBasis, 0, true, true, true};
     throw ValueError("--quality must be " + bake_detail::joinChoices(qualityNames()) + ", got '" + quality + "'");
@@ -244,7 +252,7 @@ BakeRequest resolveBakeRequest(const BakeRequest& given) {
 }
 
 const std::vector<std::string>& qualityNames() {
-    static const std::vector<std::string> names = {"preview", "default", "high"};
+    static const std::vector<std::string> names = {"preview", "fast", "default", "high"};
     return names;
 }
 

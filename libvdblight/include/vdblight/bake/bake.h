@@ -371,7 +371,7 @@ int tiledBakeStages(const BakeRequest& request);
 /// the pass uses them, `pass` set to the selected pass). Does not validate.
 BakeRequest resolveBakeRequest(const BakeRequest& request);
 
-/// The --quality presets, in order of cost: preview, default, high.
+/// The --quality presets, in order of cost: preview, fast, default, high.
 const std::vector<std::string>& qualityNames();
 
 /// What a --quality preset bakes with the point gather (and the photon pass), in one line for
