@@ -15,16 +15,22 @@ trap 'rm -rf "$tmp"' EXIT
 curves=(
   "preview before issue 32 (16 nodes/axis, full paths, SH 2)|^try:res=16/passes=0/rays="
   "preview, issue 32 session 1 (~2048 nodes, probe pass, depth, SH 4, node filter)|^try:nodes=2048/.*filter=1/bilateral=1/rays="
-  "preview now (~8192 nodes, + guided probe directions, pass 0 blended, extra cache paths)|^try:nodes=8192/.*extra=1/rays="
-  "the default method (~16384 nodes, probe pass, depth, SH 4)|^try:nodes=16384/passes=1/depth=1/basis=sh:4/cache=surface/rays="
-  "the default method + node filter|^try:nodes=16384/.*filter=1/bilateral=1/rays="
+  "preview, session 3 (~8192 nodes, + guided probe directions, pass 0 blended, extra cache paths)|^try:nodes=8192/.*extra=1/rays="
+  "preview now (+ pass 0 rays by its error)|^try:preset=preview/rays="
+  "the default method before session 22 (~16384 nodes, probe pass, depth, SH 4)|^try:nodes=16384/passes=1/depth=1/basis=sh:4/cache=surface/rays="
+  "the same + node filter|^try:nodes=16384/.*filter=1/bilateral=1/rays="
+  "the default now (+ guided probe directions, pass 0 blended)|^try:preset=default/rays="
+  "the method of --quality fast (the default now at fewer rays + node filter + pass 0 rays by its error)|^try:preset=fast/rays="
 )
 # The presets: --quality preview before and after, default, as single marked points.
 presets=(
   "--quality preview before|^try:res=16/passes=0/rays=256$"
   "--quality preview, issue 32 session 1|^try:nodes=2048/.*filter=1/bilateral=1/rays=128$"
-  "--quality preview|^try:nodes=8192/.*extra=1/rays=64$"
-  "--quality default|^try:nodes=16384/passes=1/depth=1/basis=sh:4/cache=surface/rays=1024$"
+  "--quality preview, session 3|^try:nodes=8192/.*extra=1/rays=64$"
+  "--quality default before session 22|^try:nodes=16384/passes=1/depth=1/basis=sh:4/cache=surface/rays=1024$"
+  "--quality preview|^try:preset=preview/rays=64$"
+  "--quality fast|^try:preset=fast/rays=224$"
+  "--quality default|^try:preset=default/rays=1024$"
 )
 scenes=$(tail -n +2 "$csv" | cut -d, -f1 | grep -v -e : | awk '!seen[$0]++')
 extract() {  # scene, pattern, file: "CPU/2 RMS% rays" per row
@@ -38,11 +44,13 @@ extract() {  # scene, pattern, file: "CPU/2 RMS% rays" per row
   echo "set grid"
   echo "set xlabel 'bake CPU seconds / 2'"
   echo "set ylabel 'RMS relative error (%)'"
-  echo "set key top right font ',8' box opaque"
+  echo "set key top right font ',7' spacing 0.8 box opaque"
   echo "set xrange [0.02:100]"
-  echo "set yrange [0.5:100]"
-  first=1
+  echo "set yrange [0.5:400]"
+  last=$(echo "$scenes" | tail -n 1)
   for s in $scenes; do
+    first=0
+    [ "$s" = "$last" ] && first=1  # the key in the last panel, whose upper part is empty
     plots=()
     i=0
     for c in "${curves[@]}"; do
@@ -67,9 +75,8 @@ extract() {  # scene, pattern, file: "CPU/2 RMS% rays" per row
     if [ "$first" = 1 ]; then target="preview target, 5 %"; fi
     plots+=("5 with lines dt 2 lc rgb 'gray40' title '${target}'")
     echo "set title '$s'"
-    [ "$first" = 1 ] || echo "unset key"
+    if [ "$first" = 1 ]; then echo "set key"; else echo "unset key"; fi
     (IFS=,; echo "plot ${plots[*]}")
-    first=0
   done
   echo "unset multiplot"
 } > "$tmp/plot.gp"

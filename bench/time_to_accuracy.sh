@@ -12,6 +12,12 @@
 #   default          the default's method: ~16384 nodes, + the probe pass, depth moments, SH order 4
 #                    (1024 rays: --quality default; 2048: --quality high)
 #   default_filtered the same with one pass of the node filter
+#   preset=preview   --quality preview at other rays (since issue 32's fourth session: pass 0's
+#                    rays by its error too)
+#   preset=default   --quality default at other rays (since session 22: guided probe directions,
+#                    pass 0 blended in)
+#   preset=fast      --quality fast at other rays (session 23: the default's at 224 rays + one pass
+#                    of the node filter + pass 0's rays by its error)
 set -euo pipefail
 build="${1:-build}"
 out="${2:-$(dirname "$0")/../docs/time_to_accuracy.csv}"
@@ -21,6 +27,9 @@ for r in 32 64 128 256 512; do specs+=("nodes=2048,passes=1,depth=1,basis=sh:4,c
 for r in 32 64 128 256; do specs+=("nodes=8192,passes=1,depth=1,basis=sh:4,cache=surface,filter=1,bilateral=1,guide=1,blend=1,extra=1,rays=$r"); done
 for r in 128 256 512 1024; do specs+=("nodes=16384,passes=1,depth=1,basis=sh:4,cache=surface,rays=$r"); done
 for r in 256 1024; do specs+=("nodes=16384,passes=1,depth=1,basis=sh:4,cache=surface,filter=1,bilateral=1,rays=$r"); done
+for r in 32 64 128; do specs+=("preset=preview,rays=$r"); done
+for r in 128 256 512 1024; do specs+=("preset=default,rays=$r"); done
+for r in 112 224 448; do specs+=("preset=fast,rays=$r"); done
 joined=$(IFS=';'; echo "${specs[*]}")
 "$build/bin/vdblight_bench_accuracy" --config try: --no-decompose --no-noise --try "$joined" --csv "$out.tmp"
 mv "$out.tmp" "$out"

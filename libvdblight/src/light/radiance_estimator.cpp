@@ -186,8 +186,8 @@ bool RadianceEstimator::emissiveCandidate(const Vec3f& x, float u, float v, doub
     if (!(dist2 > 0)) return false;
     // Behind the emitter's face, or behind the receiver, by far more than rounding: the tests
     // below on the normalised direction would say so too. Decided before the square root and
-    // the divisions, whose latency was most of this function's time (issue 32: half the
-    // candidates of a room lit by a one-sided panel are behind it).
+    // the divisions, whose latency was most of this function's time (issue 32: in the two
+    // rooms, every vertex in the bedroom and behind the panel is behind a one-sided emitter).
     const float kClearly = 1e-6f * dist2;  // (1e-3 of the distance)^2: far above float rounding
     if (const float back = dot(d.normal, toLight); !d.twoSided && back > 0 && back * back > kClearly) return false;
     if (facing)
