@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
 #include "default_scene.h"
 #include "prt_fixtures.h"
@@ -457,6 +458,14 @@ TEST(Prt, FileRoundTripAndQuantisation) {
     test::writeTextFile(dir.file("junk.vdb"), "not a vdb");
     EXPECT_THROW(readPrt(dir.file("junk.vdb")), FormatError);
     EXPECT_THROW(readPrt(dir.file("missing.vdb")), IoError);
+    // A folder is named as one (it was "no such file"), as the volume reader names it.
+    std::filesystem::create_directories(dir.file("folder.vdb"));
+    try {
+        readPrt(dir.file("folder.vdb"));
+        ADD_FAILURE() << "a folder was read as a PRT file";
+    } catch (const IoError& e) {
+        EXPECT_EQ(std::string(e.what()), "cannot read '" + dir.file("folder.vdb") + "': is a directory");
+    }
 }
 
 TEST(Prt, RefusesAbsurdOptions) {

@@ -29,9 +29,9 @@ struct Opened {
 
 Opened openPrt(const std::string& path, bool requirePrt) {
     initOpenVdb();
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec)) throw IoError("cannot read '" + path + "': no such file");
-    // The volume reader's checks first: OpenVDB trusts the lengths in the file.
+    // The volume reader's checks first, with its messages ("no such file", "is a directory"):
+    // OpenVDB trusts the lengths in the file.
+    vdb_detail::checkReadable(path);
     vdb_detail::checkNotTruncated(path);
     Opened o;
     o.file = std::make_unique<openvdb::io::File>(path);
