@@ -107,8 +107,7 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
                                           guided && options.depthMoments ? &insideSolid : nullptr);
         if (guided)
             bake_detail::poolCarriedGuide(*options.stageInput, in, grid, DirectionGuide::kPoolRadius, options.threads,
-                                          level.windowFirst, held,
-                                          guideSums, guideCounts);
+                                          level.windowFirst, held, guideSums, guideCounts);
     }
     std::unique_ptr<bake_detail::SurfaceBins> bins;
     if (options.surfaceProbeCache) {

@@ -9,28 +9,26 @@ namespace vdblight::bake_detail {
 
 namespace {
 /// A loop the plane test may answer for: planar within 1e-9 of its size, strictly convex
-/// counter-clockwise around `normal`; its area in `area`.
-bool convexPlanarLoop(const std::vector<Vec3d>& loop, const Vec3d& normal, double& area) {
+/// counter-clockwise around `normal`.
+bool convexPlanarLoop(const std::vector<Vec3d>& loop, const Vec3d& normal) {
     const std::size_t m = loop.size();
     if (m < 3) return false;
     double size = 0;
     for (const Vec3d& v : loop) size = std::max(size, length(v - loop[0]));
     if (!(size > 0) || !std::isfinite(size)) return false;
-    area = 0;
     for (std::size_t i = 0; i < m; ++i) {
         const Vec3d &a = loop[i], &b = loop[(i + 1) % m], &c = loop[(i + 2) % m];
         if (std::abs(dot(normal, a - loop[0])) > 1e-9 * size) return false;   // not planar
         if (!(dot(cross(b - a, c - b), normal) > 1e-9 * size * size)) return false;  // a reflex or straight corner
-        if (i >= 1 && i + 1 < m) area += 0.5 * dot(cross(loop[i] - loop[0], loop[i + 1] - loop[0]), normal);
     }
-    return area > 0;
+    return true;
 }
 }  // namespace
 
-LightReach::LightReach(const DirectLight& light) : light_(light) {
+LightReach::LightReach(const DirectLight& light) : light_(light), area_(light.area()) {
     planeTest_ = light.kind == DirectLight::Kind::Polygon && light.loops.size() == 1 &&
-                 std::abs(length(light.normal) - 1.0) < 1e-9 && maxComponent(light.value) >= 1e-6f &&
-                 convexPlanarLoop(light.loops[0], light.normal, area_);
+                 std::abs(length(light.normal) - 1.0) < 1e-9 && maxComponent(light.value) >= 1e-6f && area_ > 0 &&
+                 convexPlanarLoop(light.loops[0], light.normal);
 }
 
 bool LightReach::reaches(const Vec3d& x) const {

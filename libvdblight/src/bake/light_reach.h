@@ -27,8 +27,8 @@ public:
 
 private:
     const DirectLight& light_;
+    double area_;             ///< DirectLight::area()
     bool planeTest_ = false;  ///< one convex planar loop, positive area and radiance
-    double area_ = 0;         ///< that loop's area
 };
 
 }  // namespace vdblight::bake_detail
