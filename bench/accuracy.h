@@ -105,8 +105,8 @@ Baked directGather(const Ctx& c, int resolution, uint32_t rays, DirectMode mode,
 ///   direct=baked|runtime|occlusion (occlusion); cache=nodes|surface: the probe pass's cache
 ///   filter=N   passes of the filter across nodes (--filter-passes; node_filter.h)
 ///   guide=1, blend=1, extra=1: the preview's --guide-probe-directions, --blend-first-pass, --extra-cache-paths
-///   byerror=1: the preview's --first-pass-by-error
-///   preset=default|preview|high: start from that --quality's spec (presetTry), the other keys
+///   extrapaths=N: --extra-cache-paths-per-node; byerror=1: the preview's --first-pass-by-error
+///   preset=default|preview|fast|high: start from that --quality's spec (presetTry), the other keys
 ///   change it, e.g. `preset=default,byerror=1`
 /// Every bake of the command is reproduced (bake_direct.h plan, gather, visibility, depth).
 struct TrySpec {
@@ -125,6 +125,7 @@ struct TrySpec {
     bool blend = false;         ///< `blend=1`: GatherOptions::blendFirstPass
     bool guide = false;         ///< `guide=1`: guided probe directions (GatherOptions::guideProbeDirections)
     bool extraPaths = false;    ///< `extra=1`: GatherOptions::extraCachePaths
+    uint32_t extraPathsPerNode = 256;  ///< `extrapaths=N`: GatherOptions::extraCachePathsPerNode
     bool byError = false;       ///< `byerror=1`: GatherOptions::firstPassByError
 };
 

@@ -267,6 +267,7 @@ TrySpec parseTry(const std::string& spec) {
         else if (k == "guide") t.guide = v == "1";
         else if (k == "blend") t.blend = v == "1";
         else if (k == "extra") t.extraPaths = v == "1";
+        else if (k == "extrapaths") t.extraPathsPerNode = uint32_t(std::stoul(v));
         else if (k == "byerror") t.byError = v == "1";
         else throw ValueError("--try: unknown key '" + k + "'");
     }
@@ -293,6 +294,7 @@ TrySpec presetTry(const std::string& quality) {
     t.guide = r.params.get<bool>("guide-probe-directions");
     t.blend = r.params.get<bool>("blend-first-pass");
     t.extraPaths = r.params.get<bool>("extra-cache-paths");
+    t.extraPathsPerNode = r.params.get<uint32_t>("extra-cache-paths-per-node");
     t.byError = r.params.get<bool>("first-pass-by-error");
     return t;
 }
@@ -306,7 +308,7 @@ std::string describeTry(const TrySpec& t) {
     if (t.filter) s += ", node filter x" + std::to_string(t.filter) + (t.filterByNoise ? " (bilateral)" : "");
     if (t.guide) s += ", guided probe directions";
     if (t.blend) s += ", pass 0 blended in";
-    if (t.extraPaths) s += ", extra cache paths where pass 0 is noisiest";
+    if (t.extraPaths) s += ", " + std::to_string(t.extraPathsPerNode) + " extra cache paths per node where pass 0 is noisiest";
     if (t.byError) s += ", pass 0's rays by its error";
     return s + ", basis " + t.basis;
 }
@@ -364,6 +366,7 @@ Volume tryVolume(const Ctx& c, const TrySpec& t, std::string& note, std::vector<
         g.guideProbeDirections = t.guide;
         g.blendFirstPass = t.blend;
         g.extraCachePaths = t.extraPaths;
+        g.extraCachePathsPerNode = t.extraPathsPerNode;
         g.firstPassByError = t.byError;
         if (t.basis != "sh2") g.basis = makeBasis(t.basis);
         v = bakeShGather(c.scene, c.tracer, grid, g);

@@ -165,6 +165,7 @@ TEST(BakeVolume, PresetsResolveAsTheCommandLineDocumentsThem) {
     EXPECT_TRUE(d.params.get<bool>("guide-probe-directions"));  // its probe pass's directions from pass 0's map (direction_guide.h)
     EXPECT_TRUE(d.params.get<bool>("blend-first-pass"));        // and pass 0's values blended in (volume/first_pass_blend.h)
     EXPECT_TRUE(d.params.get<bool>("extra-cache-paths"));       // and the cache fed where pass 0 is noisiest
+    EXPECT_EQ(d.params.get<uint32_t>("extra-cache-paths-per-node"), 256u);
     EXPECT_TRUE(d.params.get<bool>("first-pass-by-error"));     // and pass 0's rays by its error (first_pass_by_error.h)
     r.tiles = 2;  // a tile's stage 1 reads pass 0's map and values from stage 0, not every node's errors
     EXPECT_TRUE(resolveBakeRequest(r).params.get<bool>("guide-probe-directions"));
@@ -176,7 +177,8 @@ TEST(BakeVolume, PresetsResolveAsTheCommandLineDocumentsThem) {
     EXPECT_EQ(resolveBakeRequest(r).params.get<int>("node-filter"), 0);
     r.params.unset("target-error");
     // Issue 32 item 1: the default's grid and probe pass at 224 rays, filtered across nodes,
-    // pass 0's rays by its error where the bake is not tiled.
+    // pass 0's rays by its error and 128 extra cache paths per noisy node where the bake is not
+    // tiled (session 24: half the preview's per node, on twice its nodes).
     r.quality = "fast";
     d = resolveBakeRequest(r);
     EXPECT_EQ(d.params.get<uint32_t>("rays"), 224u);
@@ -188,11 +190,16 @@ TEST(BakeVolume, PresetsResolveAsTheCommandLineDocumentsThem) {
     EXPECT_EQ(d.params.get<int>("node-filter"), 1);
     EXPECT_TRUE(d.params.get<bool>("guide-probe-directions"));
     EXPECT_TRUE(d.params.get<bool>("blend-first-pass"));
-    EXPECT_FALSE(d.params.get<bool>("extra-cache-paths"));
+    EXPECT_TRUE(d.params.get<bool>("extra-cache-paths"));
+    EXPECT_EQ(d.params.get<uint32_t>("extra-cache-paths-per-node"), 128u);
     EXPECT_TRUE(d.params.get<bool>("first-pass-by-error"));
-    r.tiles = 2;  // tiled: the filter is the merge's, pass 0's two rounds are left out
+    r.params.set("extra-cache-paths-per-node", 64.0);  // given, it is kept
+    EXPECT_EQ(resolveBakeRequest(r).params.get<uint32_t>("extra-cache-paths-per-node"), 64u);
+    r.params.unset("extra-cache-paths-per-node");
+    r.tiles = 2;  // tiled: the filter is the merge's, pass 0's two rounds and the extra paths are left out
     EXPECT_EQ(resolveBakeRequest(r).params.get<int>("node-filter"), 1);
     EXPECT_FALSE(resolveBakeRequest(r).params.get<bool>("first-pass-by-error"));
+    EXPECT_FALSE(resolveBakeRequest(r).params.get<bool>("extra-cache-paths"));
     r.tiles.reset();
     r.quality = "high";
     d = resolveBakeRequest(r);

@@ -32,6 +32,20 @@ TEST(ExtraCachePaths, GoToTheNodesWhosePooledErrorIsFarAboveTheMedian) {
         }
 }
 
+TEST(ExtraCachePaths, AsManyPerNodeAsTheBakeAsks) {
+    // --quality fast's 128 (kFastExtraCachePaths): the same nodes, that many paths each.
+    const GridSpec g = grid();
+    const std::vector<uint32_t> preset = extraCachePaths(g, twoRoomsErrors(0.4f), {});
+    const std::vector<uint32_t> fast = extraCachePaths(g, twoRoomsErrors(0.4f), {}, bake_detail::kFastExtraCachePaths);
+    ASSERT_EQ(fast.size(), preset.size());
+    std::size_t chosen = 0;
+    for (std::size_t n = 0; n < fast.size(); ++n) {
+        EXPECT_EQ(fast[n], preset[n] ? bake_detail::kFastExtraCachePaths : 0u) << n;
+        chosen += preset[n] != 0;
+    }
+    EXPECT_GT(chosen, 0u);
+}
+
 TEST(ExtraCachePaths, NoneWhereTheErrorIsEven) {
     // Less than twice the rest's error is not "far above" the median (kNoisyFactor 2), and a
     // uniform error chooses nothing: a scene without a dark room traces no extra paths.

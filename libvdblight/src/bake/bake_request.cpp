@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "extra_cache_paths.h"
 #include "pass_options.h"
 #include "vdblight/bake/bake.h"
 #include "vdblight/basis/bins.h"
@@ -45,11 +46,12 @@ namespace {
 /// nothing at this budget and do not tile. `high` takes them too (office 1.7 -> 1.5 %, two rooms
 /// 2.8 -> 2.5 %, the others equal).
 /// `fast` (issue 32 item 1, session 23): the default's grid and probe pass at kFastRays rays,
-/// with one pass of the filter across nodes and pass 0's rays by its error (a tiled bake goes
-/// without the latter, as the preview's): about 23 % of the default's time for office 2.1-2.3 %,
-/// Cornell 1.3 %, two rooms 3.1-3.5 %, outdoor 1.0-1.2 % over seeds 1, 3, 5, the default's RMS
-/// before issue 32 (2.2, 1.3, 3.3, 6.1 %) at seed 1 (docs/time_to_accuracy.md, "A quarter of the
-/// default's time"). At 256 rays the same took 25-26 %; without the filter, office 2.8 %.
+/// with one pass of the filter across nodes, pass 0's rays by its error and, since session 24,
+/// kFastExtraCachePaths extra cache paths per noisy node (a tiled bake goes without these two,
+/// as the preview's): about 23-24 % of the default's time for office 2.1-2.3 %, Cornell 1.3 %,
+/// two rooms 3.1-3.2 %, outdoor 1.0-1.1 % over seeds 1, 3, 5, against the default's RMS before
+/// issue 32 (2.2, 1.3, 3.3, 6.1 %) (docs/time_to_accuracy.md, "A quarter of the default's
+/// time"). At 256 rays the same took 25-26 %; without the filter, office 2.8 %.
 /// `high`: the default with twice the rays (kHighRays). Until issue 15's tenth session it was
 /// error-targeted (3 %, 64..2048 rays) with two probe passes in SH order 2; with SH order 4 the
 /// fixed budget measured lower RMS in every scene in less time (docs/methods.md, "The default
@@ -82,12 +84,14 @@ struct QualityPreset {
     bool photonGrid;     ///< the photon pass takes the preset's grid and depth moments
     bool guideProbeDirections = false;  ///< the probe pass's directions from pass 0's map (direction_guide.h)
     bool blendFirstPass = false;        ///< pass 0's values blended into the probe pass's (volume/first_pass_blend.h)
-    bool extraCachePaths = false;       ///< more paths for the surface cache where pass 0 is noisiest (extra_cache_paths.h)
+    uint32_t extraCachePaths = 0;       ///< more paths per node for the surface cache where pass 0 is noisiest, 0: none (extra_cache_paths.h)
     bool firstPassByError = false;      ///< pass 0's rays per node by its own error (first_pass_by_error.h)
 };
 QualityPreset qualityPreset(const std::string& quality) {
-    if (quality == "preview") return {1, kPreviewNodes, kPreviewRays, true, 1'000'000, kDefaultBasis, 1, false, true, true, true, true};
-    if (quality == "fast") return {1, kDefaultNodes, kFastRays, true, 4'000'000, kDefaultBasis, 1, true, true, true, false, true};
+    if (quality == "preview")
+        return {1, kPreviewNodes, kPreviewRays, true, 1'000'000, kDefaultBasis, 1, false, true, true, bake_detail::kExtraCachePaths, true};
+    if (quality == "fast")
+        return {1, kDefaultNodes, kFastRays, true, 4'000'000, kDefaultBasis, 1, true, true, true, bake_detail::kFastExtraCachePaths, true};
     if (quality == "default") return {1, kDefaultNodes, kDefaultRays, true, 4'000'000, kDefaultBasis, 0, true, true, true};
     if (quality == "high") return {1, kDefaultNodes, kHighRays, true, 4'000'000, kDefaultBasis, 0, true, true, true};
     throw ValueError("--quality must be " + bake_detail::joinChoices(qualityNames()) + ", got '" + quality + "'");
@@ -244,7 +248,10 @@ BakeRequest resolveBakeRequest(const BakeRequest& given) {
         p.preset("blend-first-pass", gather && probePasses == 1 && preset.blendFirstPass);
     if (!p.value("extra-cache-paths"))
         p.preset("extra-cache-paths", untiledGather && probePasses == 1 && givenWord(r, "probe-cache") != "nodes" &&
-                                          preset.extraCachePaths);
+                                          preset.extraCachePaths > 0);
+    if (!p.value("extra-cache-paths-per-node"))
+        p.preset("extra-cache-paths-per-node",
+                 double(preset.extraCachePaths > 0 ? preset.extraCachePaths : bake_detail::kExtraCachePaths));
     if (!p.value("first-pass-by-error"))
         p.preset("first-pass-by-error", untiledGather && probePasses == 1 && preset.firstPassByError);
     r.pass = selectPassName(r);
@@ -298,7 +305,9 @@ std::string describeQuality(const std::string& quality) {
     if (filter > 0) text += ", " + std::to_string(filter) + " pass of the filter across nodes";
     if (o.get<bool>("guide-probe-directions")) text += ", probe directions guided by the first pass";
     if (o.get<bool>("blend-first-pass")) text += ", the first pass's values blended in";
-    if (o.get<bool>("extra-cache-paths")) text += ", more first-pass paths for the surface cache where it is noisiest";
+    if (o.get<bool>("extra-cache-paths"))
+        text += ", " + std::to_string(o.get<uint32_t>("extra-cache-paths-per-node")) +
+                " more first-pass paths per node for the surface cache where it is noisiest";
     if (o.get<bool>("first-pass-by-error")) text += ", the first pass's rays per node by its own noise";
     const bool occlusion = r.direct.empty() && pass.takesDirectLight() && !o.get<bool>("sh-window");
     text += occlusion ? ", direct light of up to " + std::to_string(r.directLights) +

@@ -15,7 +15,7 @@ bool usable(float e) { return e >= 0 && std::isfinite(e); }
 }  // namespace
 
 std::vector<uint32_t> extraCachePaths(const GridSpec& grid, const std::vector<float>& firstError,
-                                      const std::vector<uint8_t>& insideSolid) {
+                                      const std::vector<uint8_t>& insideSolid, uint32_t perNode) {
     const std::size_t nodes = grid.nodeCount();
     std::vector<double> pooled(nodes, -1.0), sorted;
     for (int k = 0; k < grid.nz; ++k)
@@ -32,7 +32,7 @@ std::vector<uint32_t> extraCachePaths(const GridSpec& grid, const std::vector<fl
     std::nth_element(sorted.begin(), middle, sorted.end());
     const double threshold = kNoisyFactor * *middle;
     for (std::size_t n = 0; n < nodes; ++n)
-        if (pooled[n] > threshold) paths[n] = kExtraCachePaths;
+        if (pooled[n] > threshold) paths[n] = perNode;
     return paths;
 }
 

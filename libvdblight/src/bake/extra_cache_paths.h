@@ -23,19 +23,24 @@
 
 namespace vdblight::bake_detail {
 
+/// Paths per noisy node unless a bake asks otherwise (GatherOptions::extraCachePathsPerNode).
 /// Measured on the preview (~8 192 nodes, 64 rays; docs/time_to_accuracy.md), two rooms over
 /// seeds 1, 3, 5: 7.0 % without, 5.6 % with 128 paths, 5.2 % with 256.
 constexpr uint32_t kExtraCachePaths = 256;
+/// `--quality fast`'s (twice the preview's nodes, so about the preview's paths in all): two
+/// rooms 3.09 / 3.50 / 3.32 % without, 3.10 / 3.21 / 3.19 % with them at seeds 1, 3, 5, for 7 %
+/// more of its time (64: 3.40 / 3.16 % at seeds 3, 5; 256: 26 % of the default's time).
+constexpr uint32_t kFastExtraCachePaths = 128;
 /// A node is noisy when its pooled error is above this many times the median: 2 chose 41 % of
 /// the two rooms' nodes (the unlit room's) and 0-1 % of the other scenes'.
 constexpr double kNoisyFactor = 2.0;
 
-/// The extra paths per node of `grid` (node order): kExtraCachePaths where the root mean square
+/// The extra paths per node of `grid` (node order): `perNode` where the root mean square
 /// of `firstError` (pass 0's relative standard errors, node order) over the node's 3 x 3 x 3
 /// neighbours is above kNoisyFactor x the median of that over the nodes, 0 elsewhere and at
 /// nodes in `insideSolid` (empty, or a flag per node) or without a finite estimate.
 std::vector<uint32_t> extraCachePaths(const GridSpec& grid, const std::vector<float>& firstError,
-                                      const std::vector<uint8_t>& insideSolid);
+                                      const std::vector<uint8_t>& insideSolid, uint32_t perNode = kExtraCachePaths);
 
 /// Traces paths[n] full paths from each node n of `grid` (pass 0's sampling, the seed
 /// hashCombine(seed, kExtraCachePathsStream)) into `bins` only; `estimator` must have no surface

@@ -209,7 +209,7 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
             // Pass 0's errors are known here, and the estimator has no cache yet (probe_passes.h).
             if (pass.index == 0 && bins && options.extraCachePaths && !options.only) {
                 const bake_detail::ParallelRun extra = bake_detail::traceExtraCachePaths(
-                    estimator, grid, options.seed, bake_detail::extraCachePaths(grid, error, insideSolid), *bins,
+                    estimator, grid, options.seed, bake_detail::extraCachePaths(grid, error, insideSolid, options.extraCachePathsPerNode), *bins,
                     options.threads, interrupter);
                 passRun.rays += extra.rays;
                 passRun.seconds += extra.seconds;
@@ -252,7 +252,7 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     if (blend)
         m.text("first_pass_blend", "pass 0's values blended into the probe pass's by pooled inverse variance (first_pass_blend.h)");
     if (options.extraCachePaths && bins)
-        m.text("extra_cache_paths", std::to_string(bake_detail::kExtraCachePaths) +
+        m.text("extra_cache_paths", std::to_string(options.extraCachePathsPerNode) +
                                         " more paths for the surface cache's bins from each node whose pass-0 error is above " +
                                         "twice the median (extra_cache_paths.h)");
     if (options.firstPassByError)

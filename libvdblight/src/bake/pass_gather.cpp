@@ -92,6 +92,10 @@ std::vector<PassOption> GatherPass::options() const {
                              "trace more first-pass paths from the nodes whose first-pass noise is far above the "
                              "median, for the surface probe cache only (less noise in a room lit through a door; "
                              "--probe-cache surface; docs/time_to_accuracy.md)"),
+            numberOption<uint32_t>("extra-cache-paths-per-node",
+                                   "the paths that --extra-cache-paths traces from each such node",
+                                   presetNumbers("extra-cache-paths-per-node"), 1, 1 << 20,
+                                   "--extra-cache-paths-per-node works with the uniform point gather with probe passes only"),
             previewProbeFlag("first-pass-by-error",
                              "trace the first pass in two rounds at the same total rays: a quarter at every node, "
                              "then the rest by the nodes' noise estimates (docs/time_to_accuracy.md)"),

@@ -185,6 +185,7 @@ GatherOptions gatherOptions(const BakeContext& c, const BakeRequest& r) {
     o.guideProbeDirections = p.find<bool>("guide-probe-directions").value_or(false);
     o.blendFirstPass = p.find<bool>("blend-first-pass").value_or(false);
     o.extraCachePaths = p.find<bool>("extra-cache-paths").value_or(false);
+    o.extraCachePathsPerNode = p.find<uint32_t>("extra-cache-paths-per-node").value_or(o.extraCachePathsPerNode);
     o.firstPassByError = p.find<bool>("first-pass-by-error").value_or(false);
     // The point gather records depth moments from its own first rays (no extra rays).
     const std::optional<uint32_t> depthRays = p.find<uint32_t>("depth-rays");

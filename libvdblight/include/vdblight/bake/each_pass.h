@@ -72,6 +72,9 @@ struct GatherOptions {
     /// far above the bake's median (bake/extra_cache_paths.h), for the cache's bins only: less
     /// noise where light comes through an opening. Not staged.
     bool extraCachePaths = false;
+    /// The extra paths per such node (bake/extra_cache_paths.h: 256 in the preview, 128 in
+    /// `--quality fast`, whose grid has twice the nodes).
+    uint32_t extraCachePathsPerNode = 256;
     /// Pass 0 in two rounds at the same total rays: a quarter of raysPerNode at every node, then
     /// the rest shared by the nodes' pooled error (bake/first_pass_by_error.h): more rays where
     /// light comes through an opening. Not tiled or staged.
