@@ -468,6 +468,24 @@ TEST(BakeVolume, PassParametersKnowTheDeclarationsNamesKindsAndDefaults) {
             }
 }
 
+TEST(BakeVolume, TheMemoryEstimateCountsTheGuidesMapAndTheBlendsCopy) {
+    // The default's point gather keeps, per node, its sh:4 values (75 floats) twice, the probe
+    // pass's SH order-2 cache (27 floats), the surface bins' share, the guide's map (128 cells
+    // of a float sum and a count: 1 KiB) and the blend's copy of pass 0's values (75 floats).
+    BakeRequest r;
+    const BakeRequest resolved = resolveBakeRequest(r);
+    const Pass& gather = findPass(resolved.pass);
+    ASSERT_EQ(resolved.pass, "gather");
+    const std::size_t all = gather.bytesPerNode(resolved);
+    r.params.set("guide-probe-directions", false);
+    const std::size_t noGuide = gather.bytesPerNode(resolveBakeRequest(r));
+    r.params.set("blend-first-pass", false);
+    const std::size_t neither = gather.bytesPerNode(resolveBakeRequest(r));
+    EXPECT_EQ(all - noGuide, 1024u);
+    EXPECT_EQ(noGuide - neither, 75u * sizeof(float));
+    EXPECT_GE(neither, (2 * 75 + 27) * sizeof(float));
+}
+
 TEST(BakeVolume, RefusesAGridThatWouldNotFitBeforeBaking) {
     const Scene scene = loadScene(defaultScenePath(), SceneLoadOptions{});
     BakeRequest r;

@@ -4,6 +4,7 @@
 // invalidation (bake_antialiased.h).
 #include "passes.h"
 
+#include "direction_guide.h"
 #include "pass_options.h"
 #include "surface_bins.h"
 #include "bake/bake_antialiased.h"
@@ -118,9 +119,15 @@ std::size_t GatherPass::bytesPerNode(const BakeRequest& r) const {
     // cache), and --probe-cache surface's bins (about one cell per node: a pointer each, and at
     // most the bins themselves; they are allocated only where samples land, on surfaces).
     const bool surfaceBins = r.params.get<std::string>("probe-cache") == "surface";
-    const std::size_t bins = surfaceBins ? SurfaceBins::kBytesPerGridCell + SurfaceBins::kBytesPerCell : 0;
-    if (!isSh2(r.basis)) return (2 * makeBasis(r.basis)->floatsPerNode() + sh::kCoeffs * 3) * sizeof(float) + bins;
-    return 2 * sh::kCoeffs * 3 * sizeof(float) + bins;
+    std::size_t extra = surfaceBins ? SurfaceBins::kBytesPerGridCell + SurfaceBins::kBytesPerCell : 0;
+    const std::size_t values = isSh2(r.basis) ? sh::kCoeffs * 3 : makeBasis(r.basis)->floatsPerNode();
+    // The guide's map of pass 0's light per direction (a sum and a count per cell: 1 KiB per
+    // node, more than the values), and the blend's copy of pass 0's values.
+    if (r.params.find<bool>("guide-probe-directions").value_or(false))
+        extra += DirectionGuide::kCells * (sizeof(float) + sizeof(uint32_t));
+    if (r.params.find<bool>("blend-first-pass").value_or(false)) extra += values * sizeof(float);
+    if (!isSh2(r.basis)) return (2 * values + sh::kCoeffs * 3) * sizeof(float) + extra;
+    return 2 * values * sizeof(float) + extra;
 }
 
 std::string GatherPass::untileable(const BakeRequest& r) const {
