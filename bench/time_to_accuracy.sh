@@ -17,7 +17,8 @@
 #   preset=default   --quality default at other rays (since session 22: guided probe directions,
 #                    pass 0 blended in)
 #   preset=fast      --quality fast at other rays (session 23: the default's at 224 rays + one pass
-#                    of the node filter + pass 0's rays by its error)
+#                    of the node filter + pass 0's rays by its error; session 24: + 128 extra cache
+#                    paths per noisy node)
 set -euo pipefail
 build="${1:-build}"
 out="${2:-$(dirname "$0")/../docs/time_to_accuracy.csv}"
