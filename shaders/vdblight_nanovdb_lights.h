@@ -105,6 +105,11 @@ VDBLIGHT_NANO_FN pnanovdb_vec3_t vdblight_nano_light_irradiance(pnanovdb_buf_t b
     pnanovdb_vec3_t position = vdblight_nano_meta3(buf, meta, r + 5);
     pnanovdb_vec3_t direction = vdblight_nano_meta3(buf, meta, r + 8);
     pnanovdb_vec3_t zero = pnanovdb_vec3_uniform(0.0f);
+    // n as given where it is unit within float rounding, else normalised: query's float path
+    // takes the same n (query/fast_exact_lights.h, floatPathNormal), whose last bit moves a
+    // polygon seen as a sliver of the hemisphere by ~1e-4 of its light.
+    float squared = vdblight_nano_dot(n, n);
+    if (VDBLIGHT_NANO_ABS(1.0f - squared) > 1e-6f) n = vdblight_nano_scale(n, 1.0f / VDBLIGHT_NANO_SQRT(squared));
     if (kind == 2) {  // directional: E cos
         float c = -vdblight_nano_dot(n, direction);
         return c > 0.0f ? vdblight_nano_scale(value, c) : zero;

@@ -134,6 +134,9 @@ Volume occlusionVolume() {
     Volume v = uniformSh(4, true);
     v.direct.mode = DirectMode::Occlusion;
     v.direct.lights.push_back(squareLight({0.3, 1.4, 1.9}, {0, -1, 0}, 0.2, Rgb{3, 2, 1}));
+    // Its corners on floats, as a bake's are (a polygon light is the scene's float mesh): the
+    // file stores them as floats, so that query and the shader see the same polygon.
+    for (Vec3d& p : v.direct.lights.back().loops[0]) p = Vec3d(Vec3f(p));
     DirectLight point;
     point.position = {0.1, 0.9, 1.5};
     point.value = Rgb{1, 1, 1};
@@ -228,14 +231,15 @@ TEST(NanoVdbLookup, AddsTheListedLightsTimesTheirVisibility) {
     baked.levels[0].lightVisibility.clear();
     expectLookupEqualsQuery(baked, "uniform sh:4 with depth moments: the SH part of an occlusion volume");
     // The lights' formulas run in float in the shader; in query in double (exact_irradiance.cpp),
-    // but the polygon's in float too (fast_exact_lights.cpp). Where a polygon is clipped to a
-    // sliver of the hemisphere, its edges' terms (~0.2 each) cancel to ~1e-3, so float rounding
-    // leaves ~1e-4 of the light's irradiance, on both sides: measured at these points, each
-    // light alone (the others' visibility 0), against this volume's irradiance: the polygon
-    // 9.9e-5 from query, query's own float path 1.04e-4 and the shader 1.01e-4 from the double
-    // formula times the visibility; point 9.5e-6, mesh 6.7e-6, spot 3.0e-6, directional 2.4e-6
-    // from query. All five: 1.0e-4. Tolerance: twice that.
-    expectLookupEqualsQuery(v, "uniform sh:4 with depth moments and 5 listed lights (--direct occlusion)", 2e-4);
+    // but the polygon's in float (fast_exact_lights.cpp) with the shader's operations, sums
+    // and normal: the same bits for the same polygon (its corners are floats here, as a
+    // bake's). Where a polygon is clipped to a sliver of the hemisphere its edges' terms cancel,
+    // and a last-bit difference grows to ~1e-4 of the light: before the sums were float and the
+    // normal the same on both sides, all five lights measured 1.0e-4 (1.2e-4 with the sums in
+    // float but query's normal renormalised in double; 2.8e-5 with it too, but the corners not
+    // on floats). Now 1.04e-5: the point, spot, directional and mesh lights, double in query.
+    // Tolerance: about twice that.
+    expectLookupEqualsQuery(v, "uniform sh:4 with depth moments and 5 listed lights (--direct occlusion)", 2e-5);
     TempDir dir;
     exportNanoVdb(v, dir.file("o.nvdb"));
     const std::vector<uint64_t> words = loadGrids(dir.file("o.nvdb"));

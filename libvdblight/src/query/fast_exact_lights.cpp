@@ -79,10 +79,11 @@ struct Points {
 };
 
 /// `sum` plus the terms theta_i dot(n, gamma_i) of the edges from a_k to b_k in the first
-/// `edges` lanes (each lane the scalar formula's float operations, its term added in double in
-/// lane order, as one edge at a time would).
-VDBLIGHT_ALWAYS_INLINE double addEdgeTerms(Float4 ax, Float4 ay, Float4 az, Float4 bx, Float4 by, Float4 bz, const Vec3f& n,
-                                           std::size_t edges, double sum) {
+/// `edges` lanes (each lane the scalar formula's float operations, its term added in float in
+/// lane order, as one edge at a time would: the order and precision of the NanoVDB shader's
+/// sum, shaders/vdblight_nanovdb_lights.h, so that the two give the same bits; issue 33).
+VDBLIGHT_ALWAYS_INLINE float addEdgeTerms(Float4 ax, Float4 ay, Float4 az, Float4 bx, Float4 by, Float4 bz, const Vec3f& n,
+                                          std::size_t edges, float sum) {
     const Float4 gx = ay * bz - az * by, gy = az * bx - ax * bz, gz = ax * by - ay * bx;
     const Float4 squared = gx * gx + gy * gy + gz * gz;
     const Float4 len = sqrt4(squared);
@@ -94,17 +95,17 @@ VDBLIGHT_ALWAYS_INLINE double addEdgeTerms(Float4 ax, Float4 ay, Float4 az, Floa
     Float4 term = theta * (n.x * gx + n.y * gy + n.z * gz) / len;
     term = len > zero ? term : zero;
     if (edges < 4) term = Float4{0, 1, 2, 3} < float(edges) ? term : zero;
-    sum += double(term[0]);
-    sum += double(term[1]);
-    sum += double(term[2]);
-    sum += double(term[3]);
+    sum += term[0];
+    sum += term[1];
+    sum += term[2];
+    sum += term[3];
     return sum;
 }
 
 /// Lambert's contour term of one loop (vertices relative to the receiver) clipped to the
 /// hemisphere dot(n, v) >= 0: sum_i theta_i dot(n, gamma_i), as exact_irradiance.cpp's
-/// lambertContour, in float (each edge's term added in double).
-double contour(const Points& v, const Vec3f& n) {
+/// lambertContour, in float.
+float contour(const Points& v, const Vec3f& n) {
     std::size_t m = v.size;
     float d[FastExactLights::kMaxVertices];
     bool allAbove = true;
@@ -134,7 +135,7 @@ double contour(const Points& v, const Vec3f& n) {
         ez[2 * FastExactLights::kMaxVertices + 4];
     for (std::size_t i = 0; i < m; ++i) ex[i] = c->x[i], ey[i] = c->y[i], ez[i] = c->z[i];
     for (std::size_t i = m; i < m + 4; ++i) ex[i] = c->x[0], ey[i] = c->y[0], ez[i] = c->z[0];
-    double sum = 0;
+    float sum = 0;
     for (std::size_t i = 0; i < m; i += 4)
         sum = addEdgeTerms(load4(ex + i), load4(ey + i), load4(ez + i), load4(ex + i + 1), load4(ey + i + 1), load4(ez + i + 1), n,
                            std::min<std::size_t>(4, m - i), sum);
@@ -146,14 +147,14 @@ double contour(const Points& v, const Vec3f& n) {
 /// the lanes against their next lane, without going through memory (the general path stores
 /// the vertices one float at a time and reads them back as vectors, which waits for the
 /// stores); where all are below, 0 (what clipping leaves); else the general path.
-VDBLIGHT_ALWAYS_INLINE double quadContour(Float4 rx, Float4 ry, Float4 rz, const Vec3f& n) {
+VDBLIGHT_ALWAYS_INLINE float quadContour(Float4 rx, Float4 ry, Float4 rz, const Vec3f& n) {
     const Float4 d = n.x * rx + n.y * ry + n.z * rz;  // contour()'s d[i], the same operations
     const bool above[4] = {d[0] >= 0, d[1] >= 0, d[2] >= 0, d[3] >= 0};
     if (above[0] && above[1] && above[2] && above[3]) {
         const Float4 nx = {rx[1], rx[2], rx[3], rx[0]}, ny = {ry[1], ry[2], ry[3], ry[0]}, nz = {rz[1], rz[2], rz[3], rz[0]};
-        return addEdgeTerms(rx, ry, rz, nx, ny, nz, n, 4, 0.0);
+        return addEdgeTerms(rx, ry, rz, nx, ny, nz, n, 4, 0.0f);
     }
-    if (!above[0] && !above[1] && !above[2] && !above[3]) return 0.0;
+    if (!above[0] && !above[1] && !above[2] && !above[3]) return 0.0f;
     Points v;
     for (int k = 0; k < 4; ++k) v.push(rx[k], ry[k], rz[k]);
     return contour(v, n);
@@ -161,32 +162,38 @@ VDBLIGHT_ALWAYS_INLINE double quadContour(Float4 rx, Float4 ry, Float4 rz, const
 
 }  // namespace
 
-Rgb FastExactLights::irradiance(std::size_t i, const Vec3d& x, const Vec3d& n) const {
+Vec3f floatPathNormal(const Vec3f& n) {
+    const float squared = n.x * n.x + n.y * n.y + n.z * n.z;
+    return std::fabs(1.0f - squared) <= kUnitSquaredLength ? n : Vec3f(normalize(Vec3d(n)));
+}
+
+Rgb FastExactLights::irradiance(std::size_t i, const Vec3d& x, const Vec3d& n, const Vec3f& nf) const {
     const DirectLight& l = lights_[i];
     if (!float_[i]) return exactIrradiance(l, x, n);
     // The side of the plane x sees, in double as exactIrradiance decides it.
     const double s = dot(l.normal, x - l.loops[0][0]);
     const double side = s > 0 ? 1.0 : (s < 0 && l.twoSided ? -1.0 : 0.0);
     if (side == 0) return Rgb(0, 0, 0);
-    const Vec3f nf(n);
-    double sum = 0;
+    // The sums in float, as the shader's (above); value * e is the float product either way
+    // (a double product of two floats is exact, rounded once).
+    float sum = 0;
     if (quad_[i]) {  // one loop of four vertices: the quads' path, the same bits
         const auto& q = l.loops[0];
         const Float4 rx = {float(q[0].x - x.x), float(q[1].x - x.x), float(q[2].x - x.x), float(q[3].x - x.x)},
                      ry = {float(q[0].y - x.y), float(q[1].y - x.y), float(q[2].y - x.y), float(q[3].y - x.y)},
                      rz = {float(q[0].z - x.z), float(q[1].z - x.z), float(q[2].z - x.z), float(q[3].z - x.z)};
-        sum += side * quadContour(rx, ry, rz, nf);
-        const double e = -0.5 * sum;
-        return e > 0 ? Rgb(Rgbd(l.value) * e) : Rgb(0, 0, 0);
+        sum += float(side) * quadContour(rx, ry, rz, nf);
+        const float e = -0.5f * sum;
+        return e > 0 ? Rgb(Rgbd(l.value) * double(e)) : Rgb(0, 0, 0);
     }
     for (const auto& loop : l.loops) {
         Points rel;
         for (const Vec3d& p : loop) rel.push(float(p.x - x.x), float(p.y - x.y), float(p.z - x.z));
-        sum += side * contour(rel, nf);
+        sum += float(side) * contour(rel, nf);
     }
     // Loops run counter-clockwise around the front normal: the contour sum is negative in front.
-    const double e = -0.5 * sum;
-    return e > 0 ? Rgb(Rgbd(l.value) * e) : Rgb(0, 0, 0);
+    const float e = -0.5f * sum;
+    return e > 0 ? Rgb(Rgbd(l.value) * double(e)) : Rgb(0, 0, 0);
 }
 
 }  // namespace vdblight::query_detail

@@ -5,7 +5,9 @@
 //
 // Only the polygon term changes: its vertices are taken relative to the receiver in double
 // (no cancellation however far the volume is from the origin), then clipped and summed in
-// float with float atan2, each edge's term added in double. exactIrradiance stays the
+// float with float atan2 (since issue 33's tenth session the edges' terms are added in float
+// too, in the NanoVDB shader's order: where a clipped polygon's terms cancel, the double sum
+// was what kept the shader ~1e-4 from query). exactIrradiance stays the
 // reference (export, OcclusionLookup::direct, the tests compare against it). Other kinds, and
 // polygons with a loop of more than kMaxVertices vertices, are evaluated by exactIrradiance.
 // (Internal to the query module.)
@@ -27,6 +29,15 @@ float atan2NonNegative(float y, float x);
 /// four at a time: the scalar one's data-dependent branches were mispredicted at random normals).
 Float4 atan2NonNegative4(Float4 y, Float4 x);
 
+/// The normal the float path takes for a lookup's normal n: n itself where its squared length
+/// is within kUnitSquaredLength of 1 (any float normalisation leaves it there), else n
+/// normalised in double and rounded. Why not always normalised: at a receiver that sees a
+/// polygon as a sliver of its hemisphere the answer moves by ~1e-4 of itself for a change of n
+/// in its last bit, and the NanoVDB shader (shaders/vdblight_nanovdb_lights.h, the same rule)
+/// has no double to normalise with: the same n gives the two the same bits (issue 33).
+constexpr float kUnitSquaredLength = 1e-6f;
+Vec3f floatPathNormal(const Vec3f& n);
+
 class FastExactLights {
 public:
     /// Loops of at most this many vertices take the float path (every quad and triangle light).
@@ -35,7 +46,9 @@ public:
     explicit FastExactLights(const std::vector<DirectLight>& lights);
     std::size_t size() const { return lights_.size(); }
     /// exactIrradiance(lights[i], x, n) within float rounding; n of unit length.
-    Rgb irradiance(std::size_t i, const Vec3d& x, const Vec3d& n) const;
+    Rgb irradiance(std::size_t i, const Vec3d& x, const Vec3d& n) const { return irradiance(i, x, n, Vec3f(n)); }
+    /// The same with the float path's normal given: nf, n rounded to float or floatPathNormal's.
+    Rgb irradiance(std::size_t i, const Vec3d& x, const Vec3d& n, const Vec3f& nf) const;
     /// True if light i takes the float path.
     bool floatPath(std::size_t i) const { return float_[i]; }
 

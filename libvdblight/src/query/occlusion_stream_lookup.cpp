@@ -111,8 +111,9 @@ private:
         SharedCell cell;
         const Rgb indirect = sharing_->irradianceSharingCell(xf, n, cell);
         const std::size_t m = lights_.size();
+        const Vec3f nf = floatPathNormal(n);
         return indirect + directLight(
-                              m, x, n, [&](std::size_t i, const Vec3d& at, const Vec3d& nd) { return fastLights_->irradiance(i, at, nd); },
+                              m, x, n, [&](std::size_t i, const Vec3d& at, const Vec3d& nd) { return fastLights_->irradiance(i, at, nd, nf); },
                               [&](float* v) {
                                   std::vector<float> node(8 * m);
                                   const auto values = [&](int c) {
