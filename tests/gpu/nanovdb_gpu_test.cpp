@@ -180,8 +180,9 @@ TEST(NanoVdbGpu, DocGlslOnLlvmpipeMatchesQuery) {
     test::randomDepth(adaptive, 9);
     expectGpuLookupEqualsQuery(*gl, program, adaptive, "adaptive, 3 levels, sh:4, depth moments");
     // --direct occlusion with the shadow edges and strips of a bake: the lights' formulas run in
-    // float (C build: 9.7e-6 without the edges, 8.0e-6 with them; nanovdb_export_test). Measured
-    // on llvmpipe: 5.8e-6 at worst, at the same point with and without the edges. With GLSL's
+    // float, in query too (C build: 4.7e-6 without the edges, 3.3e-6 with them; nanovdb_export_test).
+    // Measured on llvmpipe: 4.5e-6 and 2.5e-6 (5.8e-6 while query's point light was in double,
+    // its polygon's sum in double). With GLSL's
     // atan for the polygon's edge angles instead of the shader's own + - * / polynomial it was
     // 1.4e-4 (llvmpipe's atan is less precise than libm's). Tolerance: the C build's 2e-5.
     const Volume edges = test::bakedEdgesVolume();

@@ -54,9 +54,18 @@ inline __attribute__((always_inline)) Float4 atan2Lanes(Float4 y, Float4 x) {
 Float4 atan2NonNegative4(Float4 y, Float4 x) { return atan2Lanes(y, x); }
 
 FastExactLights::FastExactLights(const std::vector<DirectLight>& lights)
-    : lights_(lights), float_(lights.size(), 0), quad_(lights.size(), 0) {
+    : lights_(lights), punctual_(lights.size()), float_(lights.size(), 0), quad_(lights.size(), 0) {
     for (std::size_t i = 0; i < lights_.size(); ++i) {
         const DirectLight& l = lights_[i];
+        if (l.kind == DirectLight::Kind::Point || l.kind == DirectLight::Kind::Spot || l.kind == DirectLight::Kind::Directional) {
+            Punctual& p = punctual_[i];
+            p.kind = int(l.kind);
+            p.value = Vec3f(l.value.x, l.value.y, l.value.z);
+            p.position = Vec3f(l.position);
+            p.direction = Vec3f(l.direction);
+            p.cosInner = float(std::cos(l.innerCone));  // as nanovdb_writer.cpp stores them
+            p.cosOuter = float(std::cos(l.outerCone));
+        }
         bool small = l.kind == DirectLight::Kind::Polygon && !l.loops.empty() && !l.loops[0].empty();
         for (const auto& loop : l.loops) small = small && loop.size() <= kMaxVertices;
         float_[i] = small;
@@ -167,8 +176,37 @@ Vec3f floatPathNormal(const Vec3f& n) {
     return std::fabs(1.0f - squared) <= kUnitSquaredLength ? n : Vec3f(normalize(Vec3d(n)));
 }
 
+Rgb FastExactLights::punctual(const Punctual& p, const Vec3d& x, const Vec3f& n) const {
+    // vdblight_nano_light_irradiance's operations in their order (exactIrradiance's formulas).
+    const auto dotf = [](const Vec3f& a, const Vec3f& b) { return a.x * b.x + a.y * b.y + a.z * b.z; };
+    const auto scaled = [&](float s) { return Rgb(p.value.x * s, p.value.y * s, p.value.z * s); };
+    if (p.kind == int(DirectLight::Kind::Directional)) {
+        const float c = -dotf(n, p.direction);
+        return c > 0.0f ? scaled(c) : Rgb(0, 0, 0);
+    }
+    // The position minus x rounded once: the shader's float difference where x is a float.
+    const Vec3f d(Vec3d(p.position) - x);
+    const float dist2 = dotf(d, d);
+    if (!(dist2 > 0.0f)) return Rgb(0, 0, 0);
+    const float inverse = 1.0f / std::sqrt(dist2);
+    const Vec3f w(d.x * inverse, d.y * inverse, d.z * inverse);
+    const float c = dotf(n, w);
+    if (!(c > 0.0f)) return Rgb(0, 0, 0);
+    float falloff = 1.0f;
+    if (p.kind == int(DirectLight::Kind::Spot)) {
+        const float ca = -dotf(p.direction, w);
+        if (ca <= p.cosOuter) return Rgb(0, 0, 0);
+        if (p.cosInner - p.cosOuter > 1e-6f) {
+            const float t = std::min(1.0f, (ca - p.cosOuter) / (p.cosInner - p.cosOuter));
+            falloff = t * t;
+        }
+    }
+    return scaled(c * falloff / dist2);
+}
+
 Rgb FastExactLights::irradiance(std::size_t i, const Vec3d& x, const Vec3d& n, const Vec3f& nf) const {
     const DirectLight& l = lights_[i];
+    if (punctual_[i].kind >= 0) return punctual(punctual_[i], x, nf);
     if (!float_[i]) return exactIrradiance(l, x, n);
     // The side of the plane x sees, in double as exactIrradiance decides it.
     const double s = dot(l.normal, x - l.loops[0][0]);

@@ -3,13 +3,16 @@
 // contour sum in float instead of double (issue 33, part 4: the double contour with its four
 // double atan2 calls was 853 of the default lookup's 3 285 instructions).
 //
-// Only the polygon term changes: its vertices are taken relative to the receiver in double
-// (no cancellation however far the volume is from the origin), then clipped and summed in
-// float with float atan2 (since issue 33's tenth session the edges' terms are added in float
-// too, in the NanoVDB shader's order: where a clipped polygon's terms cancel, the double sum
-// was what kept the shader ~1e-4 from query). exactIrradiance stays the
-// reference (export, OcclusionLookup::direct, the tests compare against it). Other kinds, and
-// polygons with a loop of more than kMaxVertices vertices, are evaluated by exactIrradiance.
+// The polygon term: its vertices are taken relative to the receiver in double (no
+// cancellation however far the volume is from the origin), then clipped and summed in float
+// with float atan2. Since issue 33's tenth session (session 24) the lookups take the NanoVDB
+// shader's own float operations (shaders/vdblight_nanovdb_lights.h): the edges' terms added
+// in float in its order, the same normal (floatPathNormal), and point, spot and directional
+// lights in float too, so that query and the shader give the same bits where the lights are
+// the same floats (a bake's are; where a clipped polygon's terms cancel, a last-bit
+// difference had left them ~1e-4 apart). exactIrradiance stays the reference (export,
+// OcclusionLookup::direct, the tests compare against it). Mesh lights, and polygons with a
+// loop of more than kMaxVertices vertices, are evaluated by exactIrradiance.
 // (Internal to the query module.)
 #pragma once
 
@@ -51,9 +54,22 @@ public:
     Rgb irradiance(std::size_t i, const Vec3d& x, const Vec3d& n, const Vec3f& nf) const;
     /// True if light i takes the float path.
     bool floatPath(std::size_t i) const { return float_[i]; }
+    /// True if light i is a point, spot or directional light, evaluated in float as the NanoVDB
+    /// shader does (shaders/vdblight_nanovdb_lights.h), operation for operation: its position,
+    /// direction and cone cosines rounded to float as the file stores them.
+    bool floatPunctual(std::size_t i) const { return punctual_[i].kind >= 0; }
 
 private:
+    /// A point, spot or directional light as the shader reads it (kind -1: another kind).
+    struct Punctual {
+        int kind = -1;
+        Vec3f value, position, direction;
+        float cosInner = 0, cosOuter = 0;
+    };
+    Rgb punctual(const Punctual& p, const Vec3d& x, const Vec3f& n) const;
+
     std::vector<DirectLight> lights_;
+    std::vector<Punctual> punctual_;
     std::vector<char> float_;
     std::vector<char> quad_;  ///< float path, one loop of four vertices (fast_exact_lights.cpp: quadContour)
 };
