@@ -137,13 +137,13 @@ Volume occlusionVolume() {
     // Its corners on floats, as a bake's are (a polygon light is the scene's float mesh): the
     // file stores them as floats, so that query and the shader see the same polygon.
     for (Vec3d& p : v.direct.lights.back().loops[0]) p = Vec3d(Vec3f(p));
-    DirectLight point;
-    point.position = {0.1, 0.9, 1.5};
+    DirectLight point;  // positions on floats too, as a bake's (its scene's Vec3f)
+    point.position = Vec3d(Vec3f(0.1f, 0.9f, 1.5f));
     point.value = Rgb{1, 1, 1};
     v.direct.lights.push_back(point);
     DirectLight spot = point;
     spot.kind = DirectLight::Kind::Spot;
-    spot.position = {0.6, 1.5, 2.0};
+    spot.position = Vec3d(Vec3f(0.6f, 1.5f, 2.0f));
     spot.direction = normalize(Vec3d(-0.3, -1, -0.2));
     spot.innerCone = 0.3, spot.outerCone = 0.7;
     v.direct.lights.push_back(spot);
@@ -174,7 +174,7 @@ std::vector<float> queriedVisibility(const Volume& v, const std::vector<Vec3f>& 
     std::vector<float> out(points.size() * lights);
     DirectLight sun;
     sun.kind = DirectLight::Kind::Directional;
-    sun.direction = normalize(Vec3d(0.3, -1.0, 0.2));
+    sun.direction = Vec3d(0, -1, 0);  // along an axis: its float cosine facing it is exactly 1
     const Vec3f facing(-sun.direction);
     for (std::size_t first = 0; first < lights; first += 3) {
         Volume probe = v;

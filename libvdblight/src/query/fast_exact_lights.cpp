@@ -61,7 +61,7 @@ FastExactLights::FastExactLights(const std::vector<DirectLight>& lights)
             Punctual& p = punctual_[i];
             p.kind = int(l.kind);
             p.value = Vec3f(l.value.x, l.value.y, l.value.z);
-            p.position = Vec3f(l.position);
+            p.position = l.position;
             p.direction = Vec3f(l.direction);
             p.cosInner = float(std::cos(l.innerCone));  // as nanovdb_writer.cpp stores them
             p.cosOuter = float(std::cos(l.outerCone));
@@ -184,8 +184,8 @@ Rgb FastExactLights::punctual(const Punctual& p, const Vec3d& x, const Vec3f& n)
         const float c = -dotf(n, p.direction);
         return c > 0.0f ? scaled(c) : Rgb(0, 0, 0);
     }
-    // The position minus x rounded once: the shader's float difference where x is a float.
-    const Vec3f d(Vec3d(p.position) - x);
+    // The position minus x rounded once: the shader's float difference where both are floats.
+    const Vec3f d(p.position - x);
     const float dist2 = dotf(d, d);
     if (!(dist2 > 0.0f)) return Rgb(0, 0, 0);
     const float inverse = 1.0f / std::sqrt(dist2);

@@ -55,15 +55,18 @@ public:
     /// True if light i takes the float path.
     bool floatPath(std::size_t i) const { return float_[i]; }
     /// True if light i is a point, spot or directional light, evaluated in float as the NanoVDB
-    /// shader does (shaders/vdblight_nanovdb_lights.h), operation for operation: its position,
-    /// direction and cone cosines rounded to float as the file stores them.
+    /// shader does (shaders/vdblight_nanovdb_lights.h), operation for operation: its direction
+    /// and cone cosines rounded to float as the file stores them, its position minus x taken in
+    /// double and rounded once (the shader's float difference where both are floats, and no
+    /// cancellation far from the origin).
     bool floatPunctual(std::size_t i) const { return punctual_[i].kind >= 0; }
 
 private:
     /// A point, spot or directional light as the shader reads it (kind -1: another kind).
     struct Punctual {
         int kind = -1;
-        Vec3f value, position, direction;
+        Vec3f value, direction;
+        Vec3d position;
         float cosInner = 0, cosOuter = 0;
     };
     Rgb punctual(const Punctual& p, const Vec3d& x, const Vec3f& n) const;
