@@ -300,8 +300,9 @@ Volume defaultKindUnderBlocker() {
 }
 
 /// With shadow edges the shared cell's visibility is shadow_edge::visibility of the same
-/// corners and weights: base + the float path's lights times direct()'s visibility, bit for bit (point and directional lights), in memory and
-/// streamed; and the edges matter (without them the answers differ near the shadow's outline).
+/// corners and weights: base + the float path's lights (point and directional) times
+/// direct()'s visibility, bit for bit, in memory and streamed; and the edges matter (without
+/// them the answers differ near the shadow's outline).
 TEST(QueryFastPaths, OcclusionSharingTheBaseCellKeepsTheShadowEdges) {
     const Volume v = defaultKindUnderBlocker();
     ASSERT_FALSE(v.levels[0].lightShadowEdges.empty());
