@@ -116,7 +116,7 @@ TEST(CliSlurm, RefusesOptionsItSetsItself) {
     test::expectRefusal("slurm " + kScene + " -o " + world + " --tiles 2 --sampling antialiased", "cannot be tiled", world,
                         "antialiased");
     // The preview's guided probe pass and blend need both passes in one bake: a tiled preview
-    // leaves them off (BakeVolume.PresetsResolve...), and refuses them when asked for.
+    // leaves them off (BakeRequest.PresetsResolve...), and refuses them when asked for.
     for (const char* flag : {"--guide-probe-directions", "--blend-first-pass"})
         test::expectRefusal("slurm " + kScene + " -o " + world + " --tiles 2 --quality preview " + flag, "cannot be tiled",
                             world, flag);

@@ -60,7 +60,7 @@ FastExactLights::FastExactLights(const std::vector<DirectLight>& lights)
         if (l.kind == DirectLight::Kind::Point || l.kind == DirectLight::Kind::Spot || l.kind == DirectLight::Kind::Directional) {
             Punctual& p = punctual_[i];
             p.kind = int(l.kind);
-            p.value = Vec3f(l.value.x, l.value.y, l.value.z);
+            p.value = l.value;
             p.position = l.position;
             p.direction = Vec3f(l.direction);
             p.cosInner = float(std::cos(l.innerCone));  // as nanovdb_writer.cpp stores them
@@ -172,36 +172,34 @@ VDBLIGHT_ALWAYS_INLINE float quadContour(Float4 rx, Float4 ry, Float4 rz, const 
 }  // namespace
 
 Vec3f floatPathNormal(const Vec3f& n) {
-    const float squared = n.x * n.x + n.y * n.y + n.z * n.z;
+    const float squared = dot(n, n);
     return std::fabs(1.0f - squared) <= kUnitSquaredLength ? n : Vec3f(normalize(Vec3d(n)));
 }
 
 Rgb FastExactLights::punctual(const Punctual& p, const Vec3d& x, const Vec3f& n) const {
-    // vdblight_nano_light_irradiance's operations in their order (exactIrradiance's formulas).
-    const auto dotf = [](const Vec3f& a, const Vec3f& b) { return a.x * b.x + a.y * b.y + a.z * b.z; };
-    const auto scaled = [&](float s) { return Rgb(p.value.x * s, p.value.y * s, p.value.z * s); };
+    // vdblight_nano_light_irradiance's operations in their order (exactIrradiance's formulas;
+    // dot and the vector products of core/math.h are the shader's vdblight_nano_dot and _scale).
     if (p.kind == int(DirectLight::Kind::Directional)) {
-        const float c = -dotf(n, p.direction);
-        return c > 0.0f ? scaled(c) : Rgb(0, 0, 0);
+        const float c = -dot(n, p.direction);
+        return c > 0.0f ? p.value * c : Rgb(0, 0, 0);
     }
     // The position minus x rounded once: the shader's float difference where both are floats.
     const Vec3f d(p.position - x);
-    const float dist2 = dotf(d, d);
+    const float dist2 = dot(d, d);
     if (!(dist2 > 0.0f)) return Rgb(0, 0, 0);
-    const float inverse = 1.0f / std::sqrt(dist2);
-    const Vec3f w(d.x * inverse, d.y * inverse, d.z * inverse);
-    const float c = dotf(n, w);
+    const Vec3f w = d * (1.0f / std::sqrt(dist2));
+    const float c = dot(n, w);
     if (!(c > 0.0f)) return Rgb(0, 0, 0);
     float falloff = 1.0f;
     if (p.kind == int(DirectLight::Kind::Spot)) {
-        const float ca = -dotf(p.direction, w);
+        const float ca = -dot(p.direction, w);
         if (ca <= p.cosOuter) return Rgb(0, 0, 0);
         if (p.cosInner - p.cosOuter > 1e-6f) {
             const float t = std::min(1.0f, (ca - p.cosOuter) / (p.cosInner - p.cosOuter));
             falloff = t * t;
         }
     }
-    return scaled(c * falloff / dist2);
+    return p.value * (c * falloff / dist2);
 }
 
 Rgb FastExactLights::irradiance(std::size_t i, const Vec3d& x, const Vec3d& n, const Vec3f& nf) const {
@@ -212,8 +210,7 @@ Rgb FastExactLights::irradiance(std::size_t i, const Vec3d& x, const Vec3d& n, c
     const double s = dot(l.normal, x - l.loops[0][0]);
     const double side = s > 0 ? 1.0 : (s < 0 && l.twoSided ? -1.0 : 0.0);
     if (side == 0) return Rgb(0, 0, 0);
-    // The sums in float, as the shader's (above); value * e is the float product either way
-    // (a double product of two floats is exact, rounded once).
+    // The sums in float, as the shader's (above).
     float sum = 0;
     if (quad_[i]) {  // one loop of four vertices: the quads' path, the same bits
         const auto& q = l.loops[0];
@@ -222,7 +219,7 @@ Rgb FastExactLights::irradiance(std::size_t i, const Vec3d& x, const Vec3d& n, c
                      rz = {float(q[0].z - x.z), float(q[1].z - x.z), float(q[2].z - x.z), float(q[3].z - x.z)};
         sum += float(side) * quadContour(rx, ry, rz, nf);
         const float e = -0.5f * sum;
-        return e > 0 ? Rgb(Rgbd(l.value) * double(e)) : Rgb(0, 0, 0);
+        return e > 0 ? l.value * e : Rgb(0, 0, 0);
     }
     for (const auto& loop : l.loops) {
         Points rel;
@@ -231,7 +228,7 @@ Rgb FastExactLights::irradiance(std::size_t i, const Vec3d& x, const Vec3d& n, c
     }
     // Loops run counter-clockwise around the front normal: the contour sum is negative in front.
     const float e = -0.5f * sum;
-    return e > 0 ? Rgb(Rgbd(l.value) * double(e)) : Rgb(0, 0, 0);
+    return e > 0 ? l.value * e : Rgb(0, 0, 0);
 }
 
 }  // namespace vdblight::query_detail

@@ -65,7 +65,8 @@ private:
     /// A point, spot or directional light as the shader reads it (kind -1: another kind).
     struct Punctual {
         int kind = -1;
-        Vec3f value, direction;
+        Rgb value;
+        Vec3f direction;
         Vec3d position;
         float cosInner = 0, cosOuter = 0;
     };

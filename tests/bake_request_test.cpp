@@ -1,0 +1,227 @@
+// How a bake request resolves (bake/bake.h: resolveBakeRequest, checkBakeRequest): the pass its
+// options select, the --quality presets' values as the command line documents them, and the
+// point gather's memory estimate per node. (The bakes themselves: bake_volume_test.)
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "vdblight/bake/bake.h"
+#include "vdblight/core/errors.h"
+
+namespace vdblight {
+namespace {
+TEST(BakeRequest, SelectsThePassTheOptionsName) {
+    const auto selected = [](void (*fill)(BakeRequest&)) {
+        BakeRequest r;
+        fill(r);
+        return checkBakeRequest(r).name();
+    };
+    EXPECT_EQ(selected([](BakeRequest&) {}), "gather");
+    EXPECT_EQ(selected([](BakeRequest& r) { r.quality = "high"; }), "gather");
+    EXPECT_EQ(selected([](BakeRequest& r) { r.quality = "high"; r.params.set("target-error", 0.03); }), "adaptive");
+    EXPECT_EQ(selected([](BakeRequest& r) { r.sampling = "antialiased"; }), "antialiased");
+    EXPECT_EQ(selected([](BakeRequest& r) { r.layout = "bilevel"; }), "levels");
+    EXPECT_EQ(selected([](BakeRequest& r) { r.basis = "moment:2"; r.layout = "adaptive"; }), "bins");
+    EXPECT_EQ(selected([](BakeRequest& r) { r.method = "photons"; }), "photons");
+}
+
+TEST(BakeRequest, PresetsResolveAsTheCommandLineDocumentsThem) {
+    BakeRequest r;
+    BakeRequest d = resolveBakeRequest(r);
+    EXPECT_EQ(d.params.get<uint32_t>("rays"), 1024u);
+    EXPECT_EQ(d.params.get<int>("probe-passes"), 1);
+    EXPECT_EQ(*d.nodes, 16384u);
+    EXPECT_TRUE(d.params.get<bool>("depth-moments"));
+    EXPECT_EQ(d.basis, "sh:4");
+    EXPECT_EQ(d.pass, "gather");
+    EXPECT_EQ(d.params.get<int>("node-filter"), 0);
+    // Issue 32, session 22: the preview's guide and blend, which pay on the default's budget and
+    // tile (stage_carry.h), in a tiled bake too; not its other two levers.
+    for (const bool tiled : {false, true}) {
+        if (tiled) r.tiles = 2;
+        d = resolveBakeRequest(r);
+        EXPECT_TRUE(d.params.get<bool>("guide-probe-directions")) << tiled;
+        EXPECT_TRUE(d.params.get<bool>("blend-first-pass")) << tiled;
+        EXPECT_FALSE(d.params.get<bool>("extra-cache-paths")) << tiled;
+        EXPECT_FALSE(d.params.get<bool>("first-pass-by-error")) << tiled;
+    }
+    r.tiles.reset();
+    // Issue 32: the preview is the default's method on fewer nodes and rays, filtered across nodes.
+    r.quality = "preview";
+    d = resolveBakeRequest(r);
+    EXPECT_EQ(d.params.get<uint32_t>("rays"), 64u);
+    EXPECT_EQ(d.params.get<int>("probe-passes"), 1);
+    EXPECT_EQ(*d.nodes, 8192u);
+    EXPECT_TRUE(d.params.get<bool>("depth-moments"));
+    EXPECT_EQ(d.basis, "sh:4");
+    EXPECT_EQ(d.params.get<std::string>("probe-cache"), "surface");
+    EXPECT_EQ(d.params.get<int>("node-filter"), 1);
+    EXPECT_EQ(d.pass, "gather");
+    EXPECT_TRUE(d.params.get<bool>("guide-probe-directions"));  // its probe pass's directions from pass 0's map (direction_guide.h)
+    EXPECT_TRUE(d.params.get<bool>("blend-first-pass"));        // and pass 0's values blended in (volume/first_pass_blend.h)
+    EXPECT_TRUE(d.params.get<bool>("extra-cache-paths"));       // and the cache fed where pass 0 is noisiest
+    EXPECT_EQ(d.params.get<uint32_t>("extra-cache-paths-per-node"), 256u);
+    EXPECT_TRUE(d.params.get<bool>("first-pass-by-error"));     // and pass 0's rays by its error (first_pass_by_error.h)
+    r.tiles = 2;  // a tile's stage 1 reads pass 0's map and values from stage 0, not every node's errors
+    EXPECT_TRUE(resolveBakeRequest(r).params.get<bool>("guide-probe-directions"));
+    EXPECT_TRUE(resolveBakeRequest(r).params.get<bool>("blend-first-pass"));
+    EXPECT_FALSE(resolveBakeRequest(r).params.get<bool>("extra-cache-paths"));
+    EXPECT_FALSE(resolveBakeRequest(r).params.get<bool>("first-pass-by-error"));
+    r.tiles.reset();
+    r.params.set("target-error", 0.05);  // the adaptive pass has no node filter
+    EXPECT_EQ(resolveBakeRequest(r).params.get<int>("node-filter"), 0);
+    r.params.unset("target-error");
+    // Issue 32 item 1: the default's grid and probe pass at 224 rays, filtered across nodes,
+    // pass 0's rays by its error and 128 extra cache paths per noisy node where the bake is not
+    // tiled (session 24: half the preview's per node, on twice its nodes).
+    r.quality = "fast";
+    d = resolveBakeRequest(r);
+    EXPECT_EQ(d.params.get<uint32_t>("rays"), 224u);
+    EXPECT_EQ(d.params.get<int>("probe-passes"), 1);
+    EXPECT_EQ(*d.nodes, 16384u);
+    EXPECT_TRUE(d.params.get<bool>("depth-moments"));
+    EXPECT_EQ(d.basis, "sh:4");
+    EXPECT_EQ(d.params.get<std::string>("probe-cache"), "surface");
+    EXPECT_EQ(d.params.get<int>("node-filter"), 1);
+    EXPECT_TRUE(d.params.get<bool>("guide-probe-directions"));
+    EXPECT_TRUE(d.params.get<bool>("blend-first-pass"));
+    EXPECT_TRUE(d.params.get<bool>("extra-cache-paths"));
+    EXPECT_EQ(d.params.get<uint32_t>("extra-cache-paths-per-node"), 128u);
+    EXPECT_TRUE(d.params.get<bool>("first-pass-by-error"));
+    r.params.set("extra-cache-paths-per-node", 64.0);  // given, it is kept
+    EXPECT_EQ(resolveBakeRequest(r).params.get<uint32_t>("extra-cache-paths-per-node"), 64u);
+    r.params.unset("extra-cache-paths-per-node");
+    r.tiles = 2;  // tiled: the filter is the merge's, pass 0's two rounds and the extra paths are left out
+    EXPECT_EQ(resolveBakeRequest(r).params.get<int>("node-filter"), 1);
+    EXPECT_FALSE(resolveBakeRequest(r).params.get<bool>("first-pass-by-error"));
+    EXPECT_FALSE(resolveBakeRequest(r).params.get<bool>("extra-cache-paths"));
+    r.tiles.reset();
+    r.quality = "high";
+    d = resolveBakeRequest(r);
+    EXPECT_TRUE(d.params.get<bool>("guide-probe-directions"));  // as the default (issue 32, session 22)
+    EXPECT_TRUE(d.params.get<bool>("blend-first-pass"));
+    EXPECT_FALSE(d.params.get<bool>("extra-cache-paths"));
+    EXPECT_FALSE(d.params.get<bool>("first-pass-by-error"));
+    EXPECT_FALSE(d.params.has("target-error"));
+    EXPECT_EQ(d.params.get<uint32_t>("rays"), 2048u);
+    EXPECT_EQ(d.params.get<int>("probe-passes"), 1);
+    EXPECT_EQ(*d.nodes, 16384u);
+    EXPECT_TRUE(d.params.get<bool>("depth-moments"));
+    EXPECT_EQ(d.basis, "sh:4");
+    r.params.set("target-error", 0.03);  // an error target: the adaptive pass, SH order 2, its own ray caps
+    d = resolveBakeRequest(r);
+    EXPECT_EQ(d.pass, "adaptive");
+    EXPECT_EQ(d.basis, "sh2");
+    EXPECT_EQ(d.params.get<uint32_t>("min-rays"), 64u);
+    EXPECT_EQ(d.params.get<uint32_t>("max-rays"), 2048u);
+    EXPECT_EQ(d.params.get<int>("probe-passes"), 1);
+    r.params.unset("target-error");
+    r.quality = "default";
+    r.sampling = "antialiased";  // presets apply to the uniform SH point gather only
+    d = resolveBakeRequest(r);
+    EXPECT_EQ(d.params.get<uint32_t>("rays"), 256u);
+    EXPECT_EQ(d.params.get<int>("probe-passes"), 0);
+    EXPECT_FALSE(d.nodes.has_value());
+    EXPECT_EQ(d.basis, "sh2");
+}
+
+// No --basis: SH order 4 only where the default's point gather runs with a fixed budget; every
+// option that needs SH order 2 (or another pass) keeps it, and an explicit basis wins.
+TEST(BakeRequest, TheDefaultBasisIsShFourOnlyForThePointGather) {
+    const auto basisOf = [](void (*fill)(BakeRequest&)) {
+        BakeRequest r;
+        fill(r);
+        return resolveBakeRequest(r).basis;
+    };
+    EXPECT_EQ(basisOf([](BakeRequest&) {}), "sh:4");
+    EXPECT_EQ(basisOf([](BakeRequest& r) { r.params.set("rays", 64); r.resolution = 8; }), "sh:4");
+    EXPECT_EQ(basisOf([](BakeRequest& r) { r.params.set("target-error", 0.05); }), "sh2");
+    EXPECT_EQ(basisOf([](BakeRequest& r) { r.params.set("sh-window", true); }), "sh2");
+    EXPECT_EQ(basisOf([](BakeRequest& r) { r.layout = "bilevel"; }), "sh2");
+    EXPECT_EQ(basisOf([](BakeRequest& r) { r.sampling = "antialiased"; }), "sh2");
+    EXPECT_EQ(basisOf([](BakeRequest& r) { r.method = "photons"; }), "sh2");
+    EXPECT_EQ(basisOf([](BakeRequest& r) { r.params.set("invalidate-backface", 0.1); }), "sh2");
+    EXPECT_EQ(basisOf([](BakeRequest& r) { r.quality = "preview"; }), "sh:4");
+    EXPECT_EQ(basisOf([](BakeRequest& r) { r.basis = "sh2"; }), "sh2");
+    EXPECT_EQ(basisOf([](BakeRequest& r) { r.basis = "sh:3"; }), "sh:3");
+    // An explicit sh2 keeps the preset's rays: only the basis is the caller's.
+    BakeRequest r;
+    r.basis = "sh2";
+    EXPECT_EQ(resolveBakeRequest(r).params.get<uint32_t>("rays"), 1024u);
+    EXPECT_EQ(&checkBakeRequest(r), &checkBakeRequest(BakeRequest{}));
+}
+
+// The probe pass reads the surface bins by default where the bake runs exactly one probe pass
+// in the point gather (the presets'); elsewhere the nodes, and an explicit choice wins.
+TEST(BakeRequest, TheDefaultProbeCacheIsTheSurfaceBinsWithOneProbePass) {
+    const auto cacheOf = [](void (*fill)(BakeRequest&)) {
+        BakeRequest r;
+        fill(r);
+        return resolveBakeRequest(r).params.get<std::string>("probe-cache");
+    };
+    EXPECT_EQ(cacheOf([](BakeRequest&) {}), "surface");
+    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.quality = "high"; }), "surface");
+    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.basis = "sh2"; r.params.set("rays", 64); }), "surface");
+    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.quality = "preview"; }), "surface");
+    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.quality = "preview"; r.params.set("probe-passes", 0); }), "nodes");
+    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.params.set("probe-passes", 2); }), "nodes");
+    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.params.set("target-error", 0.05); }), "nodes");  // the adaptive pass
+    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.method = "photons"; }), "nodes");
+    EXPECT_EQ(cacheOf([](BakeRequest& r) { r.params.set("probe-cache", "nodes"); }), "nodes");
+    BakeRequest r;
+    EXPECT_NO_THROW(checkBakeRequest(r));
+    r.quality = "preview";
+    EXPECT_NO_THROW(checkBakeRequest(r));
+    r.params.set("probe-passes", 0);
+    r.params.set("probe-cache", "surface");  // asked for, without a probe pass
+    EXPECT_THROW(checkBakeRequest(r), ValueError);
+}
+
+// Photon volumes take the default's grid (on 16 nodes their interpolation dominated the error,
+// issue 15 item 5); preview and an explicit grid keep theirs.
+TEST(BakeRequest, PhotonsTakeTheDefaultGridUnlessTold) {
+    BakeRequest r;
+    r.method = "photons";
+    BakeRequest d = resolveBakeRequest(r);
+    EXPECT_EQ(d.pass, "photons");
+    ASSERT_TRUE(d.nodes.has_value());
+    EXPECT_EQ(*d.nodes, 16384u);
+    EXPECT_EQ(d.params.get<int>("probe-passes"), 0);  // the gather's presets stay the gather's
+    EXPECT_TRUE(d.params.get<bool>("depth-moments"));  // but its depth moments apply (docs/methods.md)
+    EXPECT_EQ(d.params.get<uint64_t>("photons"), 4'000'000u);
+    r.quality = "high";
+    EXPECT_TRUE(resolveBakeRequest(r).params.get<bool>("depth-moments"));
+    r.quality = "preview";
+    EXPECT_FALSE(resolveBakeRequest(r).nodes.has_value());
+    EXPECT_EQ(resolveBakeRequest(r).params.get<uint64_t>("photons"), 1'000'000u);
+    EXPECT_FALSE(resolveBakeRequest(r).params.get<bool>("depth-moments"));
+    r.quality = "default";
+    r.resolution = 6;
+    d = resolveBakeRequest(r);
+    EXPECT_FALSE(d.nodes.has_value());
+    EXPECT_EQ(*d.resolution, 6);
+    EXPECT_TRUE(d.params.get<bool>("depth-moments"));
+    r.params.set("depth-moments", false);  // --no-depth-moments
+    EXPECT_FALSE(resolveBakeRequest(r).params.get<bool>("depth-moments"));
+}
+
+TEST(BakeRequest, TheMemoryEstimateCountsTheGuidesMapAndTheBlendsCopy) {
+    // The default's point gather keeps, per node, its sh:4 values (75 floats) twice, the probe
+    // pass's SH order-2 cache (27 floats), the surface bins' share, the guide's map (128 cells
+    // of a float sum and a count: 1 KiB) and the blend's copy of pass 0's values (75 floats).
+    BakeRequest r;
+    const BakeRequest resolved = resolveBakeRequest(r);
+    const Pass& gather = findPass(resolved.pass);
+    ASSERT_EQ(resolved.pass, "gather");
+    const std::size_t all = gather.bytesPerNode(resolved);
+    r.params.set("guide-probe-directions", false);
+    const std::size_t noGuide = gather.bytesPerNode(resolveBakeRequest(r));
+    r.params.set("blend-first-pass", false);
+    const std::size_t neither = gather.bytesPerNode(resolveBakeRequest(r));
+    EXPECT_EQ(all - noGuide, 1024u);
+    EXPECT_EQ(noGuide - neither, 75u * sizeof(float));
+    EXPECT_GE(neither, (2 * 75 + 27) * sizeof(float));
+}
+
+}  // namespace
+}  // namespace vdblight
