@@ -382,7 +382,9 @@ VDBLIGHT_NANO_FN pnanovdb_vec3_t vdblight_nano_irradiance(pnanovdb_buf_t buf, PN
         e.z += b * bw;
     }
     // --direct occlusion: the listed lights times their visibility, with the same weights (level
-    // 0's arrays: occlusion volumes have one level).
+    // 0's arrays: occlusion volumes have one level), summed apart and then added to the SH part,
+    // as query sums them (query/direct_sum.h): the same bits with several lights.
+    pnanovdb_vec3_t direct = pnanovdb_vec3_uniform(0.0f);
     for (pnanovdb_int32_t c = 0; c < 8 && PNANOVDB_DEREF(v).visibility > 0; ++c)
         corner[c] = pnanovdb_address_offset_product(PNANOVDB_DEREF(v).visibility0, 4u, node[c]);
     for (pnanovdb_int32_t i = 0; i < PNANOVDB_DEREF(v).visibility; ++i) {
@@ -392,9 +394,9 @@ VDBLIGHT_NANO_FN pnanovdb_vec3_t vdblight_nano_irradiance(pnanovdb_buf_t buf, PN
         else
             for (pnanovdb_int32_t c = 0; c < 8; ++c)
                 vis += cell.w[c] * pnanovdb_read_float(buf, pnanovdb_address_offset_product(corner[c], PNANOVDB_DEREF(v).visibility_stride, pnanovdb_int32_as_uint32(i)));
-        if (vis > 0.0f) e = pnanovdb_vec3_add(e, vdblight_nano_scale(vdblight_nano_light_irradiance(buf, v, i, x, n), vis));
+        if (vis > 0.0f) direct = pnanovdb_vec3_add(direct, vdblight_nano_scale(vdblight_nano_light_irradiance(buf, v, i, x, n), vis));
     }
-    return e;
+    return pnanovdb_vec3_add(e, direct);
 }
 
 // The visibility (0..1) of listed light i of a `--direct occlusion` volume at x, interpolated

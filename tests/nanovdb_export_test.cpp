@@ -155,8 +155,11 @@ Volume occlusionVolume() {
     DirectLight bulb;  // a tetrahedron, each face counter-clockwise seen from outside
     bulb.kind = DirectLight::Kind::Mesh;
     bulb.value = Rgb{2, 2, 2};
-    const Vec3d c{0.9, 1.0, 1.6}, a = c + Vec3d(0.05, 0.05, 0.05), b = c + Vec3d(0.05, -0.05, -0.05),
-                d = c + Vec3d(-0.05, 0.05, -0.05), e = c + Vec3d(-0.05, -0.05, 0.05);
+    // Its corners on floats, as a bake's mesh lights are (they come from the scene's float mesh).
+    const Vec3d c{0.9, 1.0, 1.6};
+    const auto corner = [&](double dx, double dy, double dz) { return Vec3d(Vec3f(c + Vec3d(dx, dy, dz))); };
+    const Vec3d a = corner(0.05, 0.05, 0.05), b = corner(0.05, -0.05, -0.05), d = corner(-0.05, 0.05, -0.05),
+                e = corner(-0.05, -0.05, 0.05);
     bulb.loops = {{a, b, d}, {a, e, b}, {a, d, e}, {b, e, d}};
     v.direct.lights.push_back(bulb);
     Rng rng(4);
@@ -231,15 +234,16 @@ TEST(NanoVdbLookup, AddsTheListedLightsTimesTheirVisibility) {
     baked.levels[0].lightVisibility.clear();
     expectLookupEqualsQuery(baked, "uniform sh:4 with depth moments: the SH part of an occlusion volume");
     // The lights' formulas run in float in the shader; in query too, with the shader's
-    // operations, sums and normal (fast_exact_lights.cpp), but for the mesh light (double,
-    // exact_irradiance.cpp): the same bits for the same polygon, point, spot and sun (the
-    // square's corners are floats here, as a bake's). Where a polygon is clipped to a sliver of
+    // operations, sums and normal (fast_exact_lights.cpp), for every kind: the same bits for
+    // the same lights (their corners and positions are floats here, as a bake's), and the
+    // lights' sum added to the SH part once in both. Where a polygon is clipped to a sliver of
     // the hemisphere its edges' terms cancel, and a last-bit difference grows to ~1e-4 of the
-    // light. Measured (GCC, Release): 1.0e-4 before the sums and the normal were shared;
-    // 1.04e-5 with the polygon shared, the other kinds in double; 6.7e-6 now (the mesh). The
-    // ASan build (clang 14, -O1) measured up to 4 x GCC's on the baked volume below: the same
-    // tolerance as there.
-    expectLookupEqualsQuery(v, "uniform sh:4 with depth moments and 5 listed lights (--direct occlusion)", 5.5e-5);
+    // light. Measured: 1.0e-4 before the sums and the normal were shared; 1.04e-5 with the
+    // polygon shared, the other kinds in double; 6.7e-6 with the mesh in double; 3.0e-6 while
+    // the shader added each light to the SH part in turn; 0 now, in GCC's Release build and in
+    // clang's ASan build alike. The tolerance leaves a last bit to a compiler that contracts
+    // differently, not a different order of operations.
+    expectLookupEqualsQuery(v, "uniform sh:4 with depth moments and 5 listed lights (--direct occlusion)", 1e-6);
     TempDir dir;
     exportNanoVdb(v, dir.file("o.nvdb"));
     const std::vector<uint64_t> words = loadGrids(dir.file("o.nvdb"));
@@ -335,15 +339,17 @@ TEST(NanoVdbLookup, KeepsTheShadowEdgesAndStripsOfABake) {
     EXPECT_GT(stripsMatter, 0.1) << "the fixture's strips must change the answer somewhere";
     EXPECT_GT(edgesMatter, 0.1);
     // Irradiance: query's shared cell has the shader's float weights (the SH part is bit for bit)
-    // and its lights' float operations (fast_exact_lights.cpp): measured 4.7e-6 here without the
-    // edges (9.7e-6 while query's point light was in double: at normals that graze it, its
+    // and its lights' float operations and sum (fast_exact_lights.cpp): measured 0 here without
+    // the edges, GCC and clang alike (4.7e-6 while the shader added the lights to the SH part one
+    // by one; 9.7e-6 while query's point light was in double: at normals that graze it, its
     // n . w rounded to 1e-7 against an irradiance down to the 1 % floor). In a strip's cells the
     // corner offsets, which query measures in double, come from the file's exact frame
-    // (nanovdb_meta::kFrame): measured 3.3e-6 (8.0e-6 before), where the grid's float map
-    // (origin -1.65 and spacing 0.3 are not floats) gave 3.8e-5, its rounding times the ramp's
-    // slope of up to 16 per cell. With strips, CI's ASan build (clang 14, -O1) measured 2.7e-5
-    // where GCC's Release build measured 8.0e-6: its tolerance is twice clang's.
-    expectLookupEqualsQuery(noEdges, "the same volume without its shadow edges", 2e-5);
+    // (nanovdb_meta::kFrame): measured 2.3e-6 (8.0e-6 before the frame, 3.3e-6 before the sum),
+    // where the grid's float map (origin -1.65 and spacing 0.3 are not floats) gave 3.8e-5, its
+    // rounding times the ramp's slope of up to 16 per cell. With strips, CI's ASan build (clang
+    // 14, -O1) measured 2.8e-5 where GCC's Release build measured 2.3e-6: its tolerance is
+    // twice clang's.
+    expectLookupEqualsQuery(noEdges, "the same volume without its shadow edges", 1e-6);
     expectLookupEqualsQuery(v, "baked sh:4 volume with depth moments, 3 listed lights, shadow edges and strips", 5.5e-5);
     // A file written before the frame (kFrame 0) still reads, through the grid's float map.
     // (The value's byte offset is found in the file's own, aligned grid: NanoVDB's types are

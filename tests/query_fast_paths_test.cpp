@@ -4,11 +4,9 @@
 // bit; the sh:4 lookup's node records (sh4_uniform_lookup.h) against the generic lookup of the
 // volume's own arrays, the same values; the sh2 and sh:4 lookups' AVX2 versions against their portable ones, bit for bit; the occlusion
 // lookup sharing its base's cell against base + direct() (query/shared_cell.h), bit for bit
-// where both locate a point alike, shadow edges (issue 32) included; the polygon lights' float contour and its atan2 against
-// exactIrradiance and std::atan2 in double, within float rounding, and the atan2 of four edges
-// at once against the scalar one, bit for bit; the quad lights' own path against the general
-// contour, bit for bit; the shared cell's edge visibility against
-// shadow_edge::visibility, bit for bit.
+// where both locate a point alike, shadow edges (issue 32) included; the shared cell's edge
+// visibility against shadow_edge::visibility, bit for bit. The lights' float terms themselves
+// are tested in fast_exact_lights_test.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -262,8 +260,8 @@ TEST(QueryFastPaths, OcclusionSharingTheBaseCellGivesBasePlusDirect) {
                                         std::max(1e-3, double(std::max({std::fabs(plain.x), std::fabs(plain.y), std::fabs(plain.z)}))));
         }
         EXPECT_GT(lit, 5000);  // the direct light was added, not only the SH
-        // The float contour (FloatPolygonContourIsTheDoubleOnesWithinFloatRounding): near the
-        // light's plane, where the points see it edge-on, it keeps fewer digits.
+        // The float contour (fast_exact_lights_test.cpp): near the light's plane, where the
+        // points see it edge-on, it keeps fewer digits.
         EXPECT_LE(worst, 5e-5);
         if (square) std::printf("[ info ] with a square light: largest change %.3g of the answer\n", worst);
     }
@@ -362,137 +360,6 @@ TEST(QueryFastPaths, EdgeVisibilityOfEightCornersIsTheScalarOnes) {
         const float plain = shadow_edge::visibility(weight, vis, distance, width);
         ASSERT_EQ(std::memcmp(&fast, &plain, sizeof fast), 0) << "t " << t << ": " << fast << " vs " << plain;
     }
-}
-
-TEST(QueryFastPaths, Atan2OfANonNegativeYIsTheLibrarys) {
-    Rng rng(77);
-    double worst = 0;
-    auto check = [&](float y, float x) {
-        const double ref = std::atan2(double(y), double(x));
-        const double got = query_detail::atan2NonNegative(y, x);
-        const double err = std::fabs(got - ref) / std::max(ref, 1e-30);
-        worst = std::max(worst, err);
-        ASSERT_LE(err, 3e-7) << "atan2(" << y << ", " << x << ") = " << ref << ", got " << got;
-        // The four-lane version (the polygon's edges side by side) gives the scalar's bits in
-        // every lane, whatever the other lanes hold.
-        const query_detail::Float4 ys = {y, 2 * y, y, 0.5f * y}, xs = {x, x, -x, 4 * x};
-        const query_detail::Float4 lanes = query_detail::atan2NonNegative4(ys, xs);
-        for (int k = 0; k < 4; ++k) {
-            const float one = query_detail::atan2NonNegative(ys[k], xs[k]);
-            const float lane = lanes[k];  // a copy: clang refuses the address of a vector element
-            ASSERT_EQ(std::memcmp(&lane, &one, sizeof one), 0)
-                << "lane " << k << ": atan2(" << ys[k] << ", " << xs[k] << ") " << lanes[k] << " vs " << one;
-        }
-    };
-    for (const float y : {0.0f, 1e-30f, 1e-7f, 0.5f, 1.0f, 3e7f})
-        for (const float x : {-3e7f, -1.0f, -1e-7f, 0.0f, 1e-7f, 1.0f, 3e7f})
-            if (y > 0 || x != 0) check(y, x);
-    EXPECT_EQ(query_detail::atan2NonNegative(0.0f, 2.0f), 0.0f);
-    for (int t = 0; t < 1000000; ++t) {
-        const float y = float(rng.uniform() * std::pow(10.0, 6 * rng.uniform() - 3));
-        const float x = float((rng.uniform() - 0.5) * std::pow(10.0, 6 * rng.uniform() - 3));
-        check(y, x);
-    }
-    std::printf("[ info ] largest relative error %.3g (float epsilon 1.19e-7)\n", worst);
-}
-
-/// The polygon lights' float contour against exactIrradiance in double, at receivers near and
-/// far, in front and behind, normals clipping the polygon or not: within a few float
-/// roundings of the largest edge term (L pi / 2 bounds each edge's L theta / 2).
-TEST(QueryFastPaths, FloatPolygonContourIsTheDoubleOnesWithinFloatRounding) {
-    std::vector<DirectLight> lights;
-    lights.push_back(squareLight({0.0, 2.0, 0.0}, {0, -1, 0}, 0.6, Rgb(30, 20, 10)));
-    DirectLight tri;
-    tri.kind = DirectLight::Kind::Polygon;
-    tri.value = Rgb(5, 6, 7);
-    tri.normal = normalize(Vec3d(1, 1, 1));
-    tri.twoSided = true;
-    tri.loops = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
-    lights.push_back(tri);
-    DirectLight holed = lights[0];  // a square with a square hole (a clockwise inner loop)
-    holed.loops.push_back({{-0.1, 2.0, -0.1}, {-0.1, 2.0, 0.1}, {0.1, 2.0, 0.1}, {0.1, 2.0, -0.1}});
-    lights.push_back(holed);
-    DirectLight nine = lights[0];  // more vertices than the float path takes: exactIrradiance
-    nine.loops[0].insert(nine.loops[0].begin() + 1, 5, nine.loops[0][0]);
-    lights.push_back(nine);
-    lights.push_back(pointLight({0.5, 1.0, 0.2}, Rgb(1, 2, 3)));
-    const query_detail::FastExactLights fast(lights);
-    EXPECT_TRUE(fast.floatPath(0) && fast.floatPath(1) && fast.floatPath(2));
-    EXPECT_FALSE(fast.floatPath(3) || fast.floatPath(4));
-    Rng rng(123);
-    double worst = 0, edgeOn = 0;
-    int clipped = 0, lit = 0;
-    for (int t = 0; t < 200000; ++t) {
-        const std::size_t i = std::size_t(t) % lights.size();
-        const double r = std::pow(10.0, 2.5 * rng.uniform() - 2);  // 0.01 .. 3 from the light
-        const Vec3d centre = i == 1 ? Vec3d(1, 1, 1) / 3.0 : Vec3d(0, 2, 0);
-        const Vec3d x = centre + Vec3d(uniformSphere(float(rng.uniform()), float(rng.uniform()))) * r;
-        const Vec3d n(uniformSphere(float(rng.uniform()), float(rng.uniform())));
-        const Rgb exact = exactIrradiance(lights[i], x, n), got = fast.irradiance(i, x, n);
-        if (fast.floatPunctual(i)) {  // the point light in float: within float rounding of I / d^2
-            const Vec3d d = lights[i].position - x;
-            ASSERT_LE(std::fabs(double(got.x) - double(exact.x)), 1e-6 * double(lights[i].value.x) / dot(d, d)) << "light " << i;
-            continue;
-        }
-        if (!fast.floatPath(i)) {
-            ASSERT_TRUE(sameBits(exact, got)) << "light " << i;
-            continue;
-        }
-        lit += exact.x > 0;
-        for (const auto& loop : lights[i].loops)
-            for (const Vec3d& p : loop) clipped += dot(n, p - x) < 0 && exact.x > 0;
-        const double scale = double(lights[i].value.x) * kPi / 2;
-        const double err = std::fabs(double(got.x) - double(exact.x)) / scale;
-        // A receiver (nearly) in the light's plane sees the polygon edge-on: the contour's terms
-        // cancel to what is left, and float keeps fewer of its digits (measured up to 2e-5 of
-        // L pi / 2 within 1 % of r of the plane). Elsewhere the float rounding of the terms.
-        if (std::fabs(dot(lights[i].normal, x - lights[i].loops[0][0])) < 0.01 * r) {
-            edgeOn = std::max(edgeOn, err);
-            ASSERT_LE(err, 1e-4) << "light " << i << " edge-on";
-            continue;
-        }
-        worst = std::max(worst, err);
-        ASSERT_LE(err, 1.5e-6) << "light " << i << " at " << x.x << " " << x.y << " " << x.z << " n " << n.x << " " << n.y << " "
-                             << n.z << ": " << got.x << " vs " << exact.x;
-    }
-    EXPECT_GT(lit, 30000);
-    EXPECT_GT(clipped, 10000);  // the hemisphere clipping ran
-    std::printf("[ info ] largest error %.3g of L pi / 2 (%.3g for receivers within 1 %% of r of the light's plane)\n", worst,
-                edgeOn);
-}
-
-
-/// A quad light (one loop of four vertices) takes its own path (fast_exact_lights.cpp:
-/// quadContour, the edges in registers); the same quad with its last vertex repeated takes the
-/// general one, whose extra edge has length 0 and adds +0: the two give the same bits, at
-/// receivers that see the quad whole, clipped by their plane, or not at all.
-TEST(QueryFastPaths, QuadLightsPathGivesTheGeneralContoursBits) {
-    std::vector<DirectLight> lights = {squareLight({0.0, 2.0, 0.0}, {0.3, -1, 0.2}, 0.6, Rgb(30, 20, 10))};
-    lights[0].twoSided = true;  // receivers on both sides
-    DirectLight repeated = lights[0];
-    repeated.loops[0].push_back(repeated.loops[0].back());
-    lights.push_back(repeated);
-    const query_detail::FastExactLights fast(lights);
-    ASSERT_TRUE(fast.floatPath(0) && fast.floatPath(1));
-    Rng rng(77);
-    int whole = 0, clipped = 0, unlit = 0;
-    for (int t = 0; t < 100000; ++t) {
-        const double r = std::pow(10.0, 2.5 * rng.uniform() - 2);  // 0.01 .. 3 from the light
-        const Vec3d x = Vec3d(0, 2, 0) + Vec3d(uniformSphere(float(rng.uniform()), float(rng.uniform()))) * r;
-        const Vec3d n(uniformSphere(float(rng.uniform()), float(rng.uniform())));
-        const Rgb quad = fast.irradiance(0, x, n), general = fast.irradiance(1, x, n);
-        ASSERT_TRUE(sameBits(quad, general)) << "at " << x.x << " " << x.y << " " << x.z << " n " << n.x << " " << n.y << " " << n.z
-                                             << ": " << quad.x << " vs " << general.x;
-        int above = 0;
-        for (const Vec3d& p : lights[0].loops[0]) above += dot(n, p - x) >= 0;
-        whole += above == 4 && quad.x > 0;
-        clipped += above > 0 && above < 4 && quad.x > 0;
-        unlit += quad.x == 0;
-    }
-    EXPECT_GT(whole, 10000);
-    EXPECT_GT(clipped, 10000);
-    EXPECT_GT(unlit, 10000);
-    std::printf("[ info ] %d receivers saw the quad whole, %d clipped, %d not at all\n", whole, clipped, unlit);
 }
 
 }  // namespace

@@ -54,7 +54,7 @@ inline __attribute__((always_inline)) Float4 atan2Lanes(Float4 y, Float4 x) {
 Float4 atan2NonNegative4(Float4 y, Float4 x) { return atan2Lanes(y, x); }
 
 FastExactLights::FastExactLights(const std::vector<DirectLight>& lights)
-    : lights_(lights), punctual_(lights.size()), float_(lights.size(), 0), quad_(lights.size(), 0) {
+    : lights_(lights), punctual_(lights.size()), float_(lights.size(), 0), quad_(lights.size(), 0), triangleNormals_(lights.size()) {
     for (std::size_t i = 0; i < lights_.size(); ++i) {
         const DirectLight& l = lights_[i];
         if (l.kind == DirectLight::Kind::Point || l.kind == DirectLight::Kind::Spot || l.kind == DirectLight::Kind::Directional) {
@@ -66,10 +66,20 @@ FastExactLights::FastExactLights(const std::vector<DirectLight>& lights)
             p.cosInner = float(std::cos(l.innerCone));  // as nanovdb_writer.cpp stores them
             p.cosOuter = float(std::cos(l.outerCone));
         }
-        bool small = l.kind == DirectLight::Kind::Polygon && !l.loops.empty() && !l.loops[0].empty();
+        const bool mesh = l.kind == DirectLight::Kind::Mesh;
+        bool small = (l.kind == DirectLight::Kind::Polygon || mesh) && !l.loops.empty() && !l.loops[0].empty();
         for (const auto& loop : l.loops) small = small && loop.size() <= kMaxVertices;
         float_[i] = small;
-        quad_[i] = small && l.loops.size() == 1 && l.loops[0].size() == 4;
+        quad_[i] = small && !mesh && l.loops.size() == 1 && l.loops[0].size() == 4;
+        if (small && mesh) {
+            // Each triangle's front normal, Newell's vector in double as exactIrradiance takes it.
+            triangleNormals_[i].reserve(l.loops.size());
+            for (const auto& loop : l.loops) {
+                Vec3d sum;
+                for (std::size_t k = 0; k < loop.size(); ++k) sum += cross(loop[k], loop[(k + 1) % loop.size()]);
+                triangleNormals_[i].push_back(sum);
+            }
+        }
     }
 }
 
@@ -169,6 +179,13 @@ VDBLIGHT_ALWAYS_INLINE float quadContour(Float4 rx, Float4 ry, Float4 rz, const 
     return contour(v, n);
 }
 
+/// +1 if x sees the front of the plane through p with normal `normal`, -1 its back (of a
+/// two-sided light), else 0: exact_irradiance.cpp's facing, in double.
+float sideSeen(const Vec3d& normal, const Vec3d& p, bool twoSided, const Vec3d& x) {
+    const double s = dot(normal, x - p);
+    return s > 0 ? 1.0f : (s < 0 && twoSided ? -1.0f : 0.0f);
+}
+
 }  // namespace
 
 Vec3f floatPathNormal(const Vec3f& n) {
@@ -206,10 +223,11 @@ Rgb FastExactLights::irradiance(std::size_t i, const Vec3d& x, const Vec3d& n, c
     const DirectLight& l = lights_[i];
     if (punctual_[i].kind >= 0) return punctual(punctual_[i], x, nf);
     if (!float_[i]) return exactIrradiance(l, x, n);
-    // The side of the plane x sees, in double as exactIrradiance decides it.
-    const double s = dot(l.normal, x - l.loops[0][0]);
-    const double side = s > 0 ? 1.0 : (s < 0 && l.twoSided ? -1.0 : 0.0);
-    if (side == 0) return Rgb(0, 0, 0);
+    const bool mesh = l.kind == DirectLight::Kind::Mesh;
+    // The side of the plane x sees, in double as exactIrradiance decides it: the polygon's
+    // plane, or (below) each of a mesh's triangles' own.
+    const float side = mesh ? 0.0f : sideSeen(l.normal, l.loops[0][0], l.twoSided, x);
+    if (!mesh && side == 0) return Rgb(0, 0, 0);
     // The sums in float, as the shader's (above).
     float sum = 0;
     if (quad_[i]) {  // one loop of four vertices: the quads' path, the same bits
@@ -217,14 +235,18 @@ Rgb FastExactLights::irradiance(std::size_t i, const Vec3d& x, const Vec3d& n, c
         const Float4 rx = {float(q[0].x - x.x), float(q[1].x - x.x), float(q[2].x - x.x), float(q[3].x - x.x)},
                      ry = {float(q[0].y - x.y), float(q[1].y - x.y), float(q[2].y - x.y), float(q[3].y - x.y)},
                      rz = {float(q[0].z - x.z), float(q[1].z - x.z), float(q[2].z - x.z), float(q[3].z - x.z)};
-        sum += float(side) * quadContour(rx, ry, rz, nf);
+        sum += side * quadContour(rx, ry, rz, nf);
         const float e = -0.5f * sum;
         return e > 0 ? l.value * e : Rgb(0, 0, 0);
     }
-    for (const auto& loop : l.loops) {
+    for (std::size_t k = 0; k < l.loops.size(); ++k) {
+        const auto& loop = l.loops[k];
+        if (loop.empty()) continue;
+        const float loopSide = mesh ? sideSeen(triangleNormals_[i][k], loop[0], l.twoSided, x) : side;
+        if (loopSide == 0) continue;
         Points rel;
         for (const Vec3d& p : loop) rel.push(float(p.x - x.x), float(p.y - x.y), float(p.z - x.z));
-        sum += float(side) * contour(rel, nf);
+        sum += loopSide * contour(rel, nf);
     }
     // Loops run counter-clockwise around the front normal: the contour sum is negative in front.
     const float e = -0.5f * sum;

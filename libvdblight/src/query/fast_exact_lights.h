@@ -11,8 +11,9 @@
 // lights in float too, so that query and the shader give the same bits where the lights are
 // the same floats (a bake's are; where a clipped polygon's terms cancel, a last-bit
 // difference had left them ~1e-4 apart). exactIrradiance stays the reference (export,
-// OcclusionLookup::direct, the tests compare against it). Mesh lights, and polygons with a
-// loop of more than kMaxVertices vertices, are evaluated by exactIrradiance.
+// OcclusionLookup::direct, the tests compare against it). Mesh lights take the float path
+// too since session 25, each triangle on the side its own plane decides in double; a polygon
+// or mesh with a loop of more than kMaxVertices vertices is evaluated by exactIrradiance.
 // (Internal to the query module.)
 #pragma once
 
@@ -43,7 +44,8 @@ Vec3f floatPathNormal(const Vec3f& n);
 
 class FastExactLights {
 public:
-    /// Loops of at most this many vertices take the float path (every quad and triangle light).
+    /// Loops of at most this many vertices take the float path (every quad and triangle light,
+    /// every mesh light).
     static constexpr std::size_t kMaxVertices = 8;
 
     explicit FastExactLights(const std::vector<DirectLight>& lights);
@@ -76,6 +78,7 @@ private:
     std::vector<Punctual> punctual_;
     std::vector<char> float_;
     std::vector<char> quad_;  ///< float path, one loop of four vertices (fast_exact_lights.cpp: quadContour)
+    std::vector<std::vector<Vec3d>> triangleNormals_;  ///< a mesh light's per-loop Newell vectors (else empty)
 };
 
 }  // namespace vdblight::query_detail
