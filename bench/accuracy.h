@@ -106,6 +106,7 @@ Baked directGather(const Ctx& c, int resolution, uint32_t rays, DirectMode mode,
 ///   filter=N   passes of the filter across nodes (--filter-passes; node_filter.h)
 ///   guide=1, blend=1, extra=1: the preview's --guide-probe-directions, --blend-first-pass, --extra-cache-paths
 ///   extrapaths=N: --extra-cache-paths-per-node; byerror=1: the preview's --first-pass-by-error
+///   lightsamples=N: --probe-light-samples
 ///   preset=default|preview|fast|high: start from that --quality's spec (presetTry), the other keys
 ///   change it, e.g. `preset=default,byerror=1`
 /// Every bake of the command is reproduced (bake_direct.h plan, gather, visibility, depth).
@@ -127,6 +128,7 @@ struct TrySpec {
     bool extraPaths = false;    ///< `extra=1`: GatherOptions::extraCachePaths
     uint32_t extraPathsPerNode = 256;  ///< `extrapaths=N`: GatherOptions::extraCachePathsPerNode
     bool byError = false;       ///< `byerror=1`: GatherOptions::firstPassByError
+    int lightSamples = 1;       ///< `lightsamples=N`: TransportOptions::cacheEndLightSamples (--probe-light-samples)
 };
 
 TrySpec parseTry(const std::string& spec);

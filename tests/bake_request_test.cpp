@@ -3,6 +3,7 @@
 // point gather's memory estimate per node. (The bakes themselves: bake_volume_test.)
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <string>
 
 #include "vdblight/bake/bake.h"
@@ -23,6 +24,32 @@ TEST(BakeRequest, SelectsThePassTheOptionsName) {
     EXPECT_EQ(selected([](BakeRequest& r) { r.layout = "bilevel"; }), "levels");
     EXPECT_EQ(selected([](BakeRequest& r) { r.basis = "moment:2"; r.layout = "adaptive"; }), "bins");
     EXPECT_EQ(selected([](BakeRequest& r) { r.method = "photons"; }), "photons");
+}
+
+/// Issue 32, session 25: three light samples at each probe-pass path's end in `fast`, the default
+/// and `high` (tiled too: a tile's probe pass is the single bake's); one in the preview, where the
+/// probe pass does not run, and where given.
+TEST(BakeRequest, ProbeLightSamplesComeFromThePreset) {
+    const auto samples = [](const std::function<void(BakeRequest&)>& edit) {
+        BakeRequest r;
+        edit(r);
+        return resolveBakeRequest(r).params.get<uint32_t>("probe-light-samples");
+    };
+    EXPECT_EQ(samples([](BakeRequest&) {}), 3u);
+    EXPECT_EQ(samples([](BakeRequest& r) { r.tiles = 2; }), 3u);
+    EXPECT_EQ(samples([](BakeRequest& r) { r.quality = "fast"; }), 3u);
+    EXPECT_EQ(samples([](BakeRequest& r) { r.quality = "high"; }), 3u);
+    EXPECT_EQ(samples([](BakeRequest& r) { r.quality = "preview"; }), 1u);
+    EXPECT_EQ(samples([](BakeRequest& r) { r.params.set("probe-passes", 0.0); }), 1u);
+    EXPECT_EQ(samples([](BakeRequest& r) { r.method = "photons"; }), 1u);
+    EXPECT_EQ(samples([](BakeRequest& r) { r.params.set("probe-light-samples", 5.0); }), 5u);
+    EXPECT_EQ(samples([](BakeRequest& r) {
+                  r.quality = "preview";
+                  r.params.set("probe-light-samples", 2.0);
+              }),
+              2u);
+    EXPECT_NE(describeQuality("default").find("3 light samples at each probe-pass path's end"), std::string::npos);
+    EXPECT_EQ(describeQuality("preview").find("light samples"), std::string::npos);
 }
 
 TEST(BakeRequest, PresetsResolveAsTheCommandLineDocumentsThem) {

@@ -5,7 +5,8 @@
 // branch of the transport: emissive triangles only (the Cornell box: the paper
 // configuration), a sky and punctual lights (evaluated at once, not deferred), many point
 // lights (one sampled per vertex), the office scene (an emitter panel, tens of thousands of
-// triangles), and with sample counts that are not multiples of the batch. Whole bakes
+// triangles), the probe pass's several light samples at its paths' end, and with sample
+// counts that are not multiples of the batch. Whole bakes
 // (multi-level, error-targeted) are compared too, at 1 and 2 threads.
 #include <gtest/gtest.h>
 
@@ -29,13 +30,16 @@ namespace {
 bool sameBits(double a, double b) { return std::memcmp(&a, &b, sizeof(double)) == 0; }
 
 /// Projects at `points` random free points with both paths; every coefficient must match.
+/// With `cache`, both estimators end their paths at the first hit (the probe pass).
 void expectSameProjections(const Scene& scene, TransportOptions transport, uint32_t rays, int points,
-                           bool countBackFaces = false) {
+                           bool countBackFaces = false, const SurfaceIrradianceCache* cache = nullptr) {
     const Tracer tracer(scene);
     TransportOptions one = transport, packets = transport;
     one.packetRays = false;
     packets.packetRays = true;
-    const RadianceEstimator reference(scene, tracer, one), batched(scene, tracer, packets);
+    RadianceEstimator reference(scene, tracer, one), batched(scene, tracer, packets);
+    reference.setSurfaceCache(cache);
+    batched.setSurfaceCache(cache);
     const Bounds b = scene.bounds();
     Rng rng(17, 0x6e6f6465);
     double total = 0;
@@ -71,6 +75,16 @@ uint64_t checksum(const Volume& v) {
         }
     return h;
 }
+
+/// A cache that holds the same irradiance everywhere: the probe pass's path end, whatever
+/// the cache's values.
+class UniformCache : public SurfaceIrradianceCache {
+public:
+    bool irradiance(const Vec3f&, const Vec3f&, Rgb& out, RayCount&) const override {
+        out = Rgb(0.3f, 0.2f, 0.1f);
+        return true;
+    }
+};
 
 }  // namespace
 
@@ -117,6 +131,20 @@ TEST(NodeBatch, ManySampledPointLightsMatchOneByOne) {
     TransportOptions t;
     t.exactLightLimit = 4;  // one light sampled per vertex and per node sample
     expectSameProjections(s, t, 40, 16);
+}
+
+/// The probe pass's path end with several light samples (TransportOptions::cacheEndLightSamples):
+/// emitter samples deferred (the Cornell box), and with punctual lights (evaluated at once,
+/// with the first sample only).
+TEST(NodeBatch, ProbePassLightSamplesMatchOneByOne) {
+    const UniformCache cache;
+    TransportOptions t;
+    t.cacheEndLightSamples = 3;
+    Scene s = loadScene(defaultScenePath());
+    expectSameProjections(s, t, 90, 16, false, &cache);
+    const Bounds b = s.bounds();
+    s.pointLights.push_back({Vec3f(b.lo + b.size() * 0.5) + Vec3f(0.1f, 0.2f, 0.0f), Rgb(0.5f, 0.4f, 0.3f)});
+    expectSameProjections(s, t, 90, 16, false, &cache);
 }
 
 TEST(NodeBatch, OfficeSceneMatchesOneByOne) {

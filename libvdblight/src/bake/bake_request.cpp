@@ -48,10 +48,12 @@ namespace {
 /// `fast` (issue 32 item 1, session 23): the default's grid and probe pass at kFastRays rays,
 /// with one pass of the filter across nodes, pass 0's rays by its error and, since session 24,
 /// kFastExtraCachePaths extra cache paths per noisy node (a tiled bake goes without these two,
-/// as the preview's): about 23-24 % of the default's time for office 2.1-2.3 %, Cornell 1.3 %,
-/// two rooms 3.1-3.2 %, outdoor 1.0-1.1 % over seeds 1, 3, 5, against the default's RMS before
-/// issue 32 (2.2, 1.3, 3.3, 6.1 %) (docs/time_to_accuracy.md, "A quarter of the default's
-/// time"). At 256 rays the same took 25-26 %; without the filter, office 2.8 %.
+/// as the preview's) and, since session 25, kProbeLightSamples light samples at each probe-pass
+/// path's end (as the default): 22-24 % of the default's time for office 1.9-2.0 %, Cornell
+/// 1.3 %, two rooms 3.0-3.2 %, outdoor 1.0-1.2 % over seeds 1, 3, 5 (means over ten seeds 2.05,
+/// 1.27, 3.14, 1.07 %), against the default's RMS before issue 32 (2.2, 1.3, 3.3, 6.1 %)
+/// (docs/time_to_accuracy.md, "A quarter of the default's time" and "Light samples at the
+/// probe pass's path end"). At 256 rays the same took 25-26 %; without the filter, office 2.8 %.
 /// `high`: the default with twice the rays (kHighRays). Until issue 15's tenth session it was
 /// error-targeted (3 %, 64..2048 rays) with two probe passes in SH order 2; with SH order 4 the
 /// fixed budget measured lower RMS in every scene in less time (docs/methods.md, "The default
@@ -71,6 +73,14 @@ constexpr uint32_t kFastRays = 224;
 constexpr uint32_t kHighRays = 2048;
 constexpr const char* kDefaultBasis = "sh:4";
 constexpr uint32_t kPlainRays = 256;
+/// Emitter samples at each probe-pass path's end in `fast`, `default` and `high` (issue 32,
+/// session 25; TransportOptions::cacheEndLightSamples): over ten seeds `fast`'s office 2.32 ->
+/// 2.05 % RMS (2 samples 2.12, 4: 1.99), Cornell 1.31 -> 1.27 %, the two rooms and outdoors
+/// unchanged (their light reaches the probe pass's hits through a door, or from the sun), for
+/// about 6 % more time; the default's office 1.63 -> 1.43 %, Cornell 1.00 -> 0.94 %, for 7 %. The preview keeps one: its office
+/// gained as much (3.99 -> 3.29 %) but its two rooms, its target, did not, and its time is at
+/// the 1 s budget's edge.
+constexpr uint32_t kProbeLightSamples = 3;
 struct QualityPreset {
     int probePasses;
     uint64_t nodes;      ///< 0: 16 nodes on the longest axis
@@ -86,14 +96,18 @@ struct QualityPreset {
     bool blendFirstPass = false;        ///< pass 0's values blended into the probe pass's (volume/first_pass_blend.h)
     uint32_t extraCachePaths = 0;       ///< more paths per node for the surface cache where pass 0 is noisiest, 0: none (extra_cache_paths.h)
     bool firstPassByError = false;      ///< pass 0's rays per node by its own error (first_pass_by_error.h)
+    uint32_t probeLightSamples = 1;     ///< emitter samples at each probe-pass path's end (TransportOptions::cacheEndLightSamples)
 };
 QualityPreset qualityPreset(const std::string& quality) {
     if (quality == "preview")
         return {1, kPreviewNodes, kPreviewRays, true, 1'000'000, kDefaultBasis, 1, false, true, true, bake_detail::kExtraCachePaths, true};
     if (quality == "fast")
-        return {1, kDefaultNodes, kFastRays, true, 4'000'000, kDefaultBasis, 1, true, true, true, bake_detail::kFastExtraCachePaths, true};
-    if (quality == "default") return {1, kDefaultNodes, kDefaultRays, true, 4'000'000, kDefaultBasis, 0, true, true, true};
-    if (quality == "high") return {1, kDefaultNodes, kHighRays, true, 4'000'000, kDefaultBasis, 0, true, true, true};
+        return {1, kDefaultNodes, kFastRays, true, 4'000'000, kDefaultBasis, 1, true, true, true, bake_detail::kFastExtraCachePaths,
+                true, kProbeLightSamples};
+    if (quality == "default")
+        return {1, kDefaultNodes, kDefaultRays, true, 4'000'000, kDefaultBasis, 0, true, true, true, 0, false, kProbeLightSamples};
+    if (quality == "high")
+        return {1, kDefaultNodes, kHighRays, true, 4'000'000, kDefaultBasis, 0, true, true, true, 0, false, kProbeLightSamples};
     throw ValueError("--quality must be " + bake_detail::joinChoices(qualityNames()) + ", got '" + quality + "'");
 }
 
@@ -254,6 +268,8 @@ BakeRequest resolveBakeRequest(const BakeRequest& given) {
                  double(preset.extraCachePaths > 0 ? preset.extraCachePaths : bake_detail::kExtraCachePaths));
     if (!p.value("first-pass-by-error"))
         p.preset("first-pass-by-error", untiledGather && probePasses == 1 && preset.firstPassByError);
+    if (!p.value("probe-light-samples"))
+        p.preset("probe-light-samples", double(gather && probePasses > 0 ? preset.probeLightSamples : 1));
     r.pass = selectPassName(r);
     return r;
 }
@@ -309,6 +325,8 @@ std::string describeQuality(const std::string& quality) {
         text += ", " + std::to_string(o.get<uint32_t>("extra-cache-paths-per-node")) +
                 " more first-pass paths per node for the surface cache where it is noisiest";
     if (o.get<bool>("first-pass-by-error")) text += ", the first pass's rays per node by its own noise";
+    if (const uint32_t samples = o.get<uint32_t>("probe-light-samples"); samples > 1)
+        text += ", " + std::to_string(samples) + " light samples at each probe-pass path's end";
     const bool occlusion = r.direct.empty() && pass.takesDirectLight() && !o.get<bool>("sh-window");
     text += occlusion ? ", direct light of up to " + std::to_string(r.directLights) +
                             " lights exact with baked visibility (--direct occlusion) where the scene has lights"

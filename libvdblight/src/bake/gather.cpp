@@ -249,6 +249,8 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
         volume.meta["tile_node_filter_by_noise"] = int64_t(options.nodeFilterByNoise ? 1 : 0);
     }
     if (options.nodeFilterPasses > 0) m.count("node_filter_passes", options.nodeFilterPasses);
+    if (options.probePasses > 0 && options.transport.cacheEndLightSamples > 1)
+        m.count("probe_light_samples", options.transport.cacheEndLightSamples);
     if (blend)
         m.text("first_pass_blend", "pass 0's values blended into the probe pass's by pooled inverse variance (first_pass_blend.h)");
     if (options.extraCachePaths && bins)

@@ -97,6 +97,12 @@ std::vector<PassOption> GatherPass::options() const {
                                    "the paths that --extra-cache-paths traces from each such node",
                                    presetNumbers("extra-cache-paths-per-node"), 1, 1 << 20,
                                    "--extra-cache-paths-per-node works with the uniform point gather with probe passes only"),
+            numberOption<uint32_t>("probe-light-samples",
+                                   "emitter samples at the end of each probe-pass path, where the cache ends it at its "
+                                   "first hit (each weighted 1 / N; a shadow ray costs far less than the ray and the "
+                                   "cache read; docs/time_to_accuracy.md)",
+                                   presetNumbers("probe-light-samples"), 1, 64,
+                                   "--probe-light-samples works with the uniform point gather with probe passes only"),
             previewProbeFlag("first-pass-by-error",
                              "trace the first pass in two rounds at the same total rays: a quarter at every node, "
                              "then the rest by the nodes' noise estimates (docs/time_to_accuracy.md)"),

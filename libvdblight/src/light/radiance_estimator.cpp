@@ -285,7 +285,8 @@ void RadianceEstimator::drawEmitterSample(Rng& rng, float& u, float& v, double& 
     }
 }
 
-Rgb RadianceEstimator::directAtSurface(const Vec3f& p, const Vec3f& n, Rng& rng, RayCount& rays) const {
+Rgb RadianceEstimator::directAtSurface(const Vec3f& p, const Vec3f& n, Rng& rng, RayCount& rays, float emitterScale,
+                                       bool punctualToo) const {
     // Irradiance from emitters at a surface point (one NEE sample + all punctual lights).
     Rgb e{0, 0, 0};
     LightSample s;
@@ -297,10 +298,10 @@ Rgb RadianceEstimator::directAtSurface(const Vec3f& p, const Vec3f& n, Rng& rng,
         if (sampleEmissiveTriangles(p, u, v, w, s, rays, &n)) {
             const float cosine = std::max(0.0f, dot(n, s.direction));
             // The continuation ray is cosine-distributed: pdf cos / pi.
-            e += s.weight * (cosine * misWeight(s.pdf, cosine * float(kInvPi)));
+            e += s.weight * (cosine * misWeight(s.pdf, cosine * float(kInvPi))) * emitterScale;
         }
     }
-    if (!scene_.pointLights.empty() || !scene_.spotLights.empty() || !scene_.directionalLights.empty()) {
+    if (punctualToo && (!scene_.pointLights.empty() || !scene_.spotLights.empty() || !scene_.directionalLights.empty())) {
         thread_local std::vector<LightSample> punctual;
         punctual.clear();
         punctualLights(p, punctual, rays, true);
@@ -371,30 +372,37 @@ void RadianceEstimator::walkPath(const Vec3f& origin, const Vec3f& dir, float di
         // one direction sample for the emitters' other MIS share, the rest from the cache.
         Rgb cached;
         const bool ends = reflection == 1 && cache_ && cache_->irradiance(p, n, cached, rays);
-        // Lambertian BRDF albedo / pi; albedo is in the throughput already.
-        if constexpr (std::is_same_v<Sink, ImmediateSink>) {
-            sink.add(throughput * directAtSurface(p, n, rng, rays) * float(kInvPi));
-        } else if (!scene_.pointLights.empty() || !scene_.spotLights.empty() ||
-                   !scene_.directionalLights.empty()) {
-            sink.paths.terms_.push_back(
-                {throughput * directAtSurface(p, n, rng, rays) * float(kInvPi), Rgb(), DeferredPaths::kNoShadowRay, false});
-        } else {
-            // directAtSurface's emitter sample, its shadow ray deferred (DeferredPaths::radiance).
-            DeferredPaths::Term term{Rgb(), throughput, DeferredPaths::kNoShadowRay, true};
-            if (!emitters_.empty()) {
-                float u, v;
-                double w;
-                drawEmitterSample(rng, u, v, w);
-                LightSample s;
-                Ray shadow;
-                if (emissiveCandidate(p, u, v, w, s, shadow, &n)) {
-                    const float cosine = std::max(0.0f, dot(n, s.direction));
-                    term.value = s.weight * (cosine * misWeight(s.pdf, cosine * float(kInvPi)));
-                    ++rays.occluded;
-                    term.shadow = sink.paths.addShadowRay(shadow);
+        // Where the cache ends the path, options_.cacheEndLightSamples emitter samples, each a
+        // term of its own weighted 1 / n (the punctual lights with the first): one ray's worth of
+        // path, whose light sample is a large share of its variance (TransportOptions).
+        const int lightSamples = ends && !emitters_.empty() ? std::max(1, options_.cacheEndLightSamples) : 1;
+        const float emitterScale = 1.0f / float(lightSamples);
+        for (int k = 0; k < lightSamples; ++k) {
+            // Lambertian BRDF albedo / pi; albedo is in the throughput already.
+            if constexpr (std::is_same_v<Sink, ImmediateSink>) {
+                sink.add(throughput * directAtSurface(p, n, rng, rays, emitterScale, k == 0) * float(kInvPi));
+            } else if (!scene_.pointLights.empty() || !scene_.spotLights.empty() ||
+                       !scene_.directionalLights.empty()) {
+                sink.paths.terms_.push_back({throughput * directAtSurface(p, n, rng, rays, emitterScale, k == 0) * float(kInvPi),
+                                             Rgb(), DeferredPaths::kNoShadowRay, false});
+            } else {
+                // directAtSurface's emitter sample, its shadow ray deferred (DeferredPaths::radiance).
+                DeferredPaths::Term term{Rgb(), throughput, DeferredPaths::kNoShadowRay, true};
+                if (!emitters_.empty()) {
+                    float u, v;
+                    double w;
+                    drawEmitterSample(rng, u, v, w);
+                    LightSample s;
+                    Ray shadow;
+                    if (emissiveCandidate(p, u, v, w, s, shadow, &n)) {
+                        const float cosine = std::max(0.0f, dot(n, s.direction));
+                        term.value = s.weight * (cosine * misWeight(s.pdf, cosine * float(kInvPi))) * emitterScale;
+                        ++rays.occluded;
+                        term.shadow = sink.paths.addShadowRay(shadow);
+                    }
                 }
+                sink.paths.terms_.push_back(term);
             }
-            sink.paths.terms_.push_back(term);
         }
 
         if (ends) {
