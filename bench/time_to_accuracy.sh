@@ -15,10 +15,10 @@
 #   preset=preview   --quality preview at other rays (since issue 32's fourth session: pass 0's
 #                    rays by its error too)
 #   preset=default   --quality default at other rays (since session 22: guided probe directions,
-#                    pass 0 blended in)
+#                    pass 0 blended in; session 25: + 3 light samples at each probe-pass path's end)
 #   preset=fast      --quality fast at other rays (session 23: the default's at 224 rays + one pass
 #                    of the node filter + pass 0's rays by its error; session 24: + 128 extra cache
-#                    paths per noisy node)
+#                    paths per noisy node; session 25: + 3 light samples at each probe-pass path's end)
 set -euo pipefail
 build="${1:-build}"
 out="${2:-$(dirname "$0")/../docs/time_to_accuracy.csv}"
