@@ -77,9 +77,9 @@ constexpr uint32_t kPlainRays = 256;
 /// session 25; TransportOptions::cacheEndLightSamples): over ten seeds `fast`'s office 2.32 ->
 /// 2.05 % RMS (2 samples 2.12, 4: 1.99), Cornell 1.31 -> 1.27 %, the two rooms and outdoors
 /// unchanged (their light reaches the probe pass's hits through a door, or from the sun), for
-/// about 6 % more time; the default's office 1.63 -> 1.43 %, Cornell 1.00 -> 0.94 %, for 7 %. The preview keeps one: its office
-/// gained as much (3.99 -> 3.29 %) but its two rooms, its target, did not, and its time is at
-/// the 1 s budget's edge.
+/// about 6 % more time; the default's office 1.63 -> 1.43 %, Cornell 1.00 -> 0.94 %, for 7 %.
+/// The preview keeps one: its office gained as much (3.99 -> 3.29 %) but its two rooms, its
+/// target, did not, and its time is at the 1 s budget's edge.
 constexpr uint32_t kProbeLightSamples = 3;
 struct QualityPreset {
     int probePasses;

@@ -98,8 +98,8 @@ struct TransportOptions {
     /// one. The probe pass's path is one ray long, so the light sampled at its hit is a large
     /// share of the ray's variance, and a (deferred, packeted) shadow ray costs far less than
     /// the ray and the cache read: 3 samples took the office's `--quality fast` from 2.32 to
-    /// 2.05 % RMS over ten seeds for about 6 % more time (docs/time_to_accuracy.md). Punctual lights
-    /// are evaluated once, as at every vertex.
+    /// 2.05 % RMS over ten seeds for about 6 % more time (docs/time_to_accuracy.md). Punctual
+    /// lights are evaluated once, as at every vertex.
     int cacheEndLightSamples = 1;
 };
 
