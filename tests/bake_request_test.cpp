@@ -11,6 +11,31 @@
 
 namespace vdblight {
 namespace {
+
+/// What a --quality preset resolves to on the uniform point gather (bake_request.cpp,
+/// qualityPreset): its rays, nodes and passes of the node filter, one probe pass through the
+/// surface cache, depth moments, SH order 4, the guide and the blend (issue 32, session 22),
+/// and whether it takes the extra cache paths and pass 0's two rounds.
+struct PointGatherPreset {
+    uint32_t rays;
+    uint64_t nodes;
+    int nodeFilter;
+    bool extraCachePaths, firstPassByError;
+};
+void expectPointGatherPreset(const BakeRequest& d, const PointGatherPreset& e, const std::string& what) {
+    EXPECT_EQ(d.params.get<uint32_t>("rays"), e.rays) << what;
+    EXPECT_EQ(d.params.get<int>("probe-passes"), 1) << what;
+    EXPECT_EQ(*d.nodes, e.nodes) << what;
+    EXPECT_TRUE(d.params.get<bool>("depth-moments")) << what;
+    EXPECT_EQ(d.basis, "sh:4") << what;
+    EXPECT_EQ(d.pass, "gather") << what;
+    EXPECT_EQ(d.params.get<std::string>("probe-cache"), "surface") << what;
+    EXPECT_EQ(d.params.get<int>("node-filter"), e.nodeFilter) << what;
+    EXPECT_TRUE(d.params.get<bool>("guide-probe-directions")) << what;  // pass 0's map (direction_guide.h)
+    EXPECT_TRUE(d.params.get<bool>("blend-first-pass")) << what;        // pass 0 blended in (first_pass_blend.h)
+    EXPECT_EQ(d.params.get<bool>("extra-cache-paths"), e.extraCachePaths) << what;
+    EXPECT_EQ(d.params.get<bool>("first-pass-by-error"), e.firstPassByError) << what;  // first_pass_by_error.h
+}
 TEST(BakeRequest, SelectsThePassTheOptionsName) {
     const auto selected = [](void (*fill)(BakeRequest&)) {
         BakeRequest r;
@@ -54,46 +79,20 @@ TEST(BakeRequest, ProbeLightSamplesComeFromThePreset) {
 
 TEST(BakeRequest, PresetsResolveAsTheCommandLineDocumentsThem) {
     BakeRequest r;
-    BakeRequest d = resolveBakeRequest(r);
-    EXPECT_EQ(d.params.get<uint32_t>("rays"), 1024u);
-    EXPECT_EQ(d.params.get<int>("probe-passes"), 1);
-    EXPECT_EQ(*d.nodes, 16384u);
-    EXPECT_TRUE(d.params.get<bool>("depth-moments"));
-    EXPECT_EQ(d.basis, "sh:4");
-    EXPECT_EQ(d.pass, "gather");
-    EXPECT_EQ(d.params.get<int>("node-filter"), 0);
     // Issue 32, session 22: the preview's guide and blend, which pay on the default's budget and
     // tile (stage_carry.h), in a tiled bake too; not its other two levers.
-    for (const bool tiled : {false, true}) {
-        if (tiled) r.tiles = 2;
-        d = resolveBakeRequest(r);
-        EXPECT_TRUE(d.params.get<bool>("guide-probe-directions")) << tiled;
-        EXPECT_TRUE(d.params.get<bool>("blend-first-pass")) << tiled;
-        EXPECT_FALSE(d.params.get<bool>("extra-cache-paths")) << tiled;
-        EXPECT_FALSE(d.params.get<bool>("first-pass-by-error")) << tiled;
-    }
+    expectPointGatherPreset(resolveBakeRequest(r), {1024, 16384, 0, false, false}, "default");
+    r.tiles = 2;
+    expectPointGatherPreset(resolveBakeRequest(r), {1024, 16384, 0, false, false}, "default, tiled");
     r.tiles.reset();
-    // Issue 32: the preview is the default's method on fewer nodes and rays, filtered across nodes.
+    // Issue 32: the preview is the default's method on fewer nodes and rays, filtered across
+    // nodes, with the cache fed where pass 0 is noisiest and pass 0's rays by its error.
     r.quality = "preview";
-    d = resolveBakeRequest(r);
-    EXPECT_EQ(d.params.get<uint32_t>("rays"), 64u);
-    EXPECT_EQ(d.params.get<int>("probe-passes"), 1);
-    EXPECT_EQ(*d.nodes, 8192u);
-    EXPECT_TRUE(d.params.get<bool>("depth-moments"));
-    EXPECT_EQ(d.basis, "sh:4");
-    EXPECT_EQ(d.params.get<std::string>("probe-cache"), "surface");
-    EXPECT_EQ(d.params.get<int>("node-filter"), 1);
-    EXPECT_EQ(d.pass, "gather");
-    EXPECT_TRUE(d.params.get<bool>("guide-probe-directions"));  // its probe pass's directions from pass 0's map (direction_guide.h)
-    EXPECT_TRUE(d.params.get<bool>("blend-first-pass"));        // and pass 0's values blended in (volume/first_pass_blend.h)
-    EXPECT_TRUE(d.params.get<bool>("extra-cache-paths"));       // and the cache fed where pass 0 is noisiest
+    BakeRequest d = resolveBakeRequest(r);
+    expectPointGatherPreset(d, {64, 8192, 1, true, true}, "preview");
     EXPECT_EQ(d.params.get<uint32_t>("extra-cache-paths-per-node"), 256u);
-    EXPECT_TRUE(d.params.get<bool>("first-pass-by-error"));     // and pass 0's rays by its error (first_pass_by_error.h)
     r.tiles = 2;  // a tile's stage 1 reads pass 0's map and values from stage 0, not every node's errors
-    EXPECT_TRUE(resolveBakeRequest(r).params.get<bool>("guide-probe-directions"));
-    EXPECT_TRUE(resolveBakeRequest(r).params.get<bool>("blend-first-pass"));
-    EXPECT_FALSE(resolveBakeRequest(r).params.get<bool>("extra-cache-paths"));
-    EXPECT_FALSE(resolveBakeRequest(r).params.get<bool>("first-pass-by-error"));
+    expectPointGatherPreset(resolveBakeRequest(r), {64, 8192, 1, false, false}, "preview, tiled");
     r.tiles.reset();
     r.params.set("target-error", 0.05);  // the adaptive pass has no node filter
     EXPECT_EQ(resolveBakeRequest(r).params.get<int>("node-filter"), 0);
@@ -103,38 +102,18 @@ TEST(BakeRequest, PresetsResolveAsTheCommandLineDocumentsThem) {
     // tiled (session 24: half the preview's per node, on twice its nodes).
     r.quality = "fast";
     d = resolveBakeRequest(r);
-    EXPECT_EQ(d.params.get<uint32_t>("rays"), 224u);
-    EXPECT_EQ(d.params.get<int>("probe-passes"), 1);
-    EXPECT_EQ(*d.nodes, 16384u);
-    EXPECT_TRUE(d.params.get<bool>("depth-moments"));
-    EXPECT_EQ(d.basis, "sh:4");
-    EXPECT_EQ(d.params.get<std::string>("probe-cache"), "surface");
-    EXPECT_EQ(d.params.get<int>("node-filter"), 1);
-    EXPECT_TRUE(d.params.get<bool>("guide-probe-directions"));
-    EXPECT_TRUE(d.params.get<bool>("blend-first-pass"));
-    EXPECT_TRUE(d.params.get<bool>("extra-cache-paths"));
+    expectPointGatherPreset(d, {224, 16384, 1, true, true}, "fast");
     EXPECT_EQ(d.params.get<uint32_t>("extra-cache-paths-per-node"), 128u);
-    EXPECT_TRUE(d.params.get<bool>("first-pass-by-error"));
     r.params.set("extra-cache-paths-per-node", 64.0);  // given, it is kept
     EXPECT_EQ(resolveBakeRequest(r).params.get<uint32_t>("extra-cache-paths-per-node"), 64u);
     r.params.unset("extra-cache-paths-per-node");
     r.tiles = 2;  // tiled: the filter is the merge's, pass 0's two rounds and the extra paths are left out
-    EXPECT_EQ(resolveBakeRequest(r).params.get<int>("node-filter"), 1);
-    EXPECT_FALSE(resolveBakeRequest(r).params.get<bool>("first-pass-by-error"));
-    EXPECT_FALSE(resolveBakeRequest(r).params.get<bool>("extra-cache-paths"));
+    expectPointGatherPreset(resolveBakeRequest(r), {224, 16384, 1, false, false}, "fast, tiled");
     r.tiles.reset();
     r.quality = "high";
     d = resolveBakeRequest(r);
-    EXPECT_TRUE(d.params.get<bool>("guide-probe-directions"));  // as the default (issue 32, session 22)
-    EXPECT_TRUE(d.params.get<bool>("blend-first-pass"));
-    EXPECT_FALSE(d.params.get<bool>("extra-cache-paths"));
-    EXPECT_FALSE(d.params.get<bool>("first-pass-by-error"));
+    expectPointGatherPreset(d, {2048, 16384, 0, false, false}, "high");  // as the default (issue 32, session 22)
     EXPECT_FALSE(d.params.has("target-error"));
-    EXPECT_EQ(d.params.get<uint32_t>("rays"), 2048u);
-    EXPECT_EQ(d.params.get<int>("probe-passes"), 1);
-    EXPECT_EQ(*d.nodes, 16384u);
-    EXPECT_TRUE(d.params.get<bool>("depth-moments"));
-    EXPECT_EQ(d.basis, "sh:4");
     r.params.set("target-error", 0.03);  // an error target: the adaptive pass, SH order 2, its own ray caps
     d = resolveBakeRequest(r);
     EXPECT_EQ(d.pass, "adaptive");

@@ -233,16 +233,13 @@ TEST(NanoVdbLookup, AddsTheListedLightsTimesTheirVisibility) {
     baked.direct = {};
     baked.levels[0].lightVisibility.clear();
     expectLookupEqualsQuery(baked, "uniform sh:4 with depth moments: the SH part of an occlusion volume");
-    // The lights' formulas run in float in the shader; in query too, with the shader's
-    // operations, sums and normal (fast_exact_lights.cpp), for every kind: the same bits for
-    // the same lights (their corners and positions are floats here, as a bake's), and the
-    // lights' sum added to the SH part once in both. Where a polygon is clipped to a sliver of
-    // the hemisphere its edges' terms cancel, and a last-bit difference grows to ~1e-4 of the
-    // light. Measured: 1.0e-4 before the sums and the normal were shared; 1.04e-5 with the
-    // polygon shared, the other kinds in double; 6.7e-6 with the mesh in double; 3.0e-6 while
-    // the shader added each light to the SH part in turn; 0 now, in GCC's Release build and in
-    // clang's ASan build alike. The tolerance leaves a last bit to a compiler that contracts
-    // differently, not a different order of operations.
+    // Every kind of light runs in float in the shader and, with its operations, sums and normal,
+    // in query (fast_exact_lights.cpp), the lights' sum added to the SH part once in both: the
+    // same bits for the same float lights, as a bake's. Where a polygon is clipped to a sliver of
+    // the hemisphere its edge terms cancel and a last-bit difference grows to ~1e-4 of the light.
+    // Measured: 1.0e-4 before the sums and normal were shared; 1.04e-5, 6.7e-6, 3.0e-6 as the
+    // polygon, the mesh and the sum were shared; 0 now, GCC Release and clang ASan alike. The
+    // tolerance leaves a last bit to a compiler that contracts differently.
     expectLookupEqualsQuery(v, "uniform sh:4 with depth moments and 5 listed lights (--direct occlusion)", 1e-6);
     TempDir dir;
     exportNanoVdb(v, dir.file("o.nvdb"));

@@ -32,19 +32,23 @@ void DirectLight::translate(const Vec3d& offset) {
         for (Vec3d& p : loop) p += offset;
 }
 
-namespace {
-/// Newell's vector of a loop: twice its vector area (its normal times twice its area).
-Vec3d newell(const std::vector<Vec3d>& loop) {
+Vec3d newellVector(const std::vector<Vec3d>& loop) {
     Vec3d sum;
     for (std::size_t i = 0; i < loop.size(); ++i) sum += cross(loop[i], loop[(i + 1) % loop.size()]);
     return sum;
 }
-}  // namespace
+
+double facingSide(const Vec3d& normal, const Vec3d& p, bool twoSided, const Vec3d& x) {
+    const double side = dot(normal, x - p);
+    if (side > 0) return 1;
+    if (side < 0 && twoSided) return -1;
+    return 0;
+}
 
 double DirectLight::area() const {
     double a = 0;
     for (const auto& loop : loops) {
-        const Vec3d v = newell(loop);
+        const Vec3d v = newellVector(loop);
         a += kind == Kind::Mesh ? 0.5 * length(v) : 0.5 * dot(v, normal);
     }
     return a;
@@ -134,15 +138,6 @@ double loopSolidAngle(const Vertices& v) {
     return omega;
 }
 
-/// Which face of a plane with front normal `normal` through p x sees: +1 front, -1 back of
-/// a two-sided light, 0 none.
-double facing(const Vec3d& normal, const Vec3d& p, bool twoSided, const Vec3d& x) {
-    const double side = dot(normal, x - p);
-    if (side > 0) return 1;
-    if (side < 0 && twoSided) return -1;
-    return 0;
-}
-
 /// The signed sum over the loops of `f(loop relative to x)` times the side each is seen from:
 /// one side for a polygon (its normal), each triangle's own for a mesh.
 template <typename F>
@@ -150,10 +145,10 @@ double sumOverLoops(const DirectLight& l, const Vec3d& x, F&& f) {
     double sum = 0;
     const double polygonSide =
         l.kind == DirectLight::Kind::Polygon && !l.loops.empty() && !l.loops[0].empty()
-            ? facing(l.normal, l.loops[0][0], l.twoSided, x) : 0.0;
+            ? facingSide(l.normal, l.loops[0][0], l.twoSided, x) : 0.0;
     for (const auto& loop : l.loops) {
         if (loop.empty()) continue;
-        const double side = l.kind == DirectLight::Kind::Mesh ? facing(newell(loop), loop[0], l.twoSided, x) : polygonSide;
+        const double side = l.kind == DirectLight::Kind::Mesh ? facingSide(newellVector(loop), loop[0], l.twoSided, x) : polygonSide;
         if (side == 0) continue;
         Vertices rel(loop.size());
         for (const Vec3d& p : loop) rel.push_back(p - x);

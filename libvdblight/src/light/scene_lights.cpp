@@ -178,8 +178,7 @@ SceneLight freeLight(const DirectLight& light) {
         if (loop.size() < 3) continue;
         Vec3d loopNormal = light.normal;
         if (light.kind == DirectLight::Kind::Mesh) {
-            Vec3d v;
-            for (std::size_t i = 0; i < loop.size(); ++i) v += cross(loop[i], loop[(i + 1) % loop.size()]);
+            const Vec3d v = newellVector(loop);
             if (!(length(v) > 0)) continue;
             loopNormal = normalize(v);
         }

@@ -71,15 +71,8 @@ FastExactLights::FastExactLights(const std::vector<DirectLight>& lights)
         for (const auto& loop : l.loops) small = small && loop.size() <= kMaxVertices;
         float_[i] = small;
         quad_[i] = small && !mesh && l.loops.size() == 1 && l.loops[0].size() == 4;
-        if (small && mesh) {
-            // Each triangle's front normal, Newell's vector in double as exactIrradiance takes it.
-            triangleNormals_[i].reserve(l.loops.size());
-            for (const auto& loop : l.loops) {
-                Vec3d sum;
-                for (std::size_t k = 0; k < loop.size(); ++k) sum += cross(loop[k], loop[(k + 1) % loop.size()]);
-                triangleNormals_[i].push_back(sum);
-            }
-        }
+        if (small && mesh)  // each triangle's front normal, as exactIrradiance takes it (once here)
+            for (const auto& loop : l.loops) triangleNormals_[i].push_back(newellVector(loop));
     }
 }
 
@@ -179,13 +172,6 @@ VDBLIGHT_ALWAYS_INLINE float quadContour(Float4 rx, Float4 ry, Float4 rz, const 
     return contour(v, n);
 }
 
-/// +1 if x sees the front of the plane through p with normal `normal`, -1 its back (of a
-/// two-sided light), else 0: exact_irradiance.cpp's facing, in double.
-float sideSeen(const Vec3d& normal, const Vec3d& p, bool twoSided, const Vec3d& x) {
-    const double s = dot(normal, x - p);
-    return s > 0 ? 1.0f : (s < 0 && twoSided ? -1.0f : 0.0f);
-}
-
 }  // namespace
 
 Vec3f floatPathNormal(const Vec3f& n) {
@@ -226,7 +212,7 @@ Rgb FastExactLights::irradiance(std::size_t i, const Vec3d& x, const Vec3d& n, c
     const bool mesh = l.kind == DirectLight::Kind::Mesh;
     // The side of the plane x sees, in double as exactIrradiance decides it: the polygon's
     // plane, or (below) each of a mesh's triangles' own.
-    const float side = mesh ? 0.0f : sideSeen(l.normal, l.loops[0][0], l.twoSided, x);
+    const float side = mesh ? 0.0f : float(facingSide(l.normal, l.loops[0][0], l.twoSided, x));
     if (!mesh && side == 0) return Rgb(0, 0, 0);
     // The sums in float, as the shader's (above).
     float sum = 0;
@@ -242,7 +228,7 @@ Rgb FastExactLights::irradiance(std::size_t i, const Vec3d& x, const Vec3d& n, c
     for (std::size_t k = 0; k < l.loops.size(); ++k) {
         const auto& loop = l.loops[k];
         if (loop.empty()) continue;
-        const float loopSide = mesh ? sideSeen(triangleNormals_[i][k], loop[0], l.twoSided, x) : side;
+        const float loopSide = mesh ? float(facingSide(triangleNormals_[i][k], loop[0], l.twoSided, x)) : side;
         if (loopSide == 0) continue;
         Points rel;
         for (const Vec3d& p : loop) rel.push(float(p.x - x.x), float(p.y - x.y), float(p.z - x.z));

@@ -70,6 +70,14 @@ DirectLight squareLight(const Vec3d& centre, const Vec3d& normal, double size, c
 /// between the outer and the inner cone; `fromLight` is the unit direction light -> receiver.
 double spotFalloff(const DirectLight& spot, const Vec3d& fromLight);
 
+/// Newell's vector of a loop of vertices: twice its vector area (its normal times twice its
+/// area). A mesh light's triangle faces the side it points to.
+Vec3d newellVector(const std::vector<Vec3d>& loop);
+
+/// Which face of a light's plane (front normal `normal`, through p) x sees: +1 the front, -1 the
+/// back of a two-sided light, 0 none. Decides which loops exactIrradiance counts and with what sign.
+double facingSide(const Vec3d& normal, const Vec3d& p, bool twoSided, const Vec3d& x);
+
 /// Exact irradiance (W/m^2) at x on a surface with unit normal n from `light`, without
 /// shadows: I cos / d^2 for point and spot (times the falloff), E cos for directional,
 /// and for a polygon L/2 * sum over its edges of theta_i (n . gamma_i) after clipping the
