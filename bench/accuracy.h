@@ -105,7 +105,8 @@ Baked directGather(const Ctx& c, int resolution, uint32_t rays, DirectMode mode,
 ///   direct=baked|runtime|occlusion (occlusion); cache=nodes|surface: the probe pass's cache
 ///   filter=N   passes of the filter across nodes (--filter-passes; node_filter.h)
 ///   guide=1, blend=1, extra=1: the preview's --guide-probe-directions, --blend-first-pass, --extra-cache-paths
-///   extrapaths=N: --extra-cache-paths-per-node; byerror=1: the preview's --first-pass-by-error
+///   extrapaths=N: --extra-cache-paths-per-node; byerror=1: the preview's --first-pass-by-error;
+///   probebyerror=1: `fast`'s --probe-pass-by-error
 ///   lightsamples=N: --probe-light-samples
 ///   preset=default|preview|fast|high: start from that --quality's spec (presetTry), the other keys
 ///   change it, e.g. `preset=default,byerror=1`
@@ -128,6 +129,7 @@ struct TrySpec {
     bool extraPaths = false;    ///< `extra=1`: GatherOptions::extraCachePaths
     uint32_t extraPathsPerNode = 256;  ///< `extrapaths=N`: GatherOptions::extraCachePathsPerNode
     bool byError = false;       ///< `byerror=1`: GatherOptions::firstPassByError
+    bool probeByError = false;  ///< `probebyerror=1`: GatherOptions::probePassByError
     int lightSamples = 1;       ///< `lightsamples=N`: TransportOptions::cacheEndLightSamples (--probe-light-samples)
 };
 

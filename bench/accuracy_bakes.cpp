@@ -269,6 +269,7 @@ TrySpec parseTry(const std::string& spec) {
         else if (k == "extra") t.extraPaths = v == "1";
         else if (k == "extrapaths") t.extraPathsPerNode = uint32_t(std::stoul(v));
         else if (k == "byerror") t.byError = v == "1";
+        else if (k == "probebyerror") t.probeByError = v == "1";
         else if (k == "lightsamples") t.lightSamples = std::stoi(v);
         else throw ValueError("--try: unknown key '" + k + "'");
     }
@@ -297,6 +298,7 @@ TrySpec presetTry(const std::string& quality) {
     t.extraPaths = r.params.get<bool>("extra-cache-paths");
     t.extraPathsPerNode = r.params.get<uint32_t>("extra-cache-paths-per-node");
     t.byError = r.params.get<bool>("first-pass-by-error");
+    t.probeByError = r.params.get<bool>("probe-pass-by-error");
     t.lightSamples = int(r.params.get<uint32_t>("probe-light-samples"));
     return t;
 }
@@ -312,6 +314,7 @@ std::string describeTry(const TrySpec& t) {
     if (t.blend) s += ", pass 0 blended in";
     if (t.extraPaths) s += ", " + std::to_string(t.extraPathsPerNode) + " extra cache paths per node where pass 0 is noisiest";
     if (t.byError) s += ", pass 0's rays by its error";
+    if (t.probeByError) s += ", the probe pass's rays by its error";
     if (t.lightSamples > 1) s += ", " + std::to_string(t.lightSamples) + " light samples at each probe-pass path's end";
     return s + ", basis " + t.basis;
 }
@@ -371,6 +374,7 @@ Volume tryVolume(const Ctx& c, const TrySpec& t, std::string& note, std::vector<
         g.extraCachePaths = t.extraPaths;
         g.extraCachePathsPerNode = t.extraPathsPerNode;
         g.firstPassByError = t.byError;
+        g.probePassByError = t.probeByError;
         g.transport.cacheEndLightSamples = t.lightSamples;
         if (t.basis != "sh2") g.basis = makeBasis(t.basis);
         v = bakeShGather(c.scene, c.tracer, grid, g);

@@ -20,7 +20,7 @@ curves=(
   "the default method before session 22 (~16384 nodes, probe pass, depth, SH 4)|^try:nodes=16384/passes=1/depth=1/basis=sh:4/cache=surface/rays="
   "the same + node filter|^try:nodes=16384/.*filter=1/bilateral=1/rays="
   "the default now (+ guided probe directions, pass 0 blended, 3 light samples at probe hits)|^try:preset=default/rays="
-  "the method of --quality fast (the default now at fewer rays + node filter + pass 0 rays by its error + extra cache paths)|^try:preset=fast/rays="
+  "--quality fast (the default now at fewer rays, node filter, rays by error, extra cache paths)|^try:preset=fast/rays="
 )
 # The presets: --quality preview before and after, default, as single marked points.
 presets=(

@@ -18,7 +18,8 @@
 #                    pass 0 blended in; session 25: + 3 light samples at each probe-pass path's end)
 #   preset=fast      --quality fast at other rays (session 23: the default's at 224 rays + one pass
 #                    of the node filter + pass 0's rays by its error; session 24: + 128 extra cache
-#                    paths per noisy node; session 25: + 3 light samples at each probe-pass path's end)
+#                    paths per noisy node; session 25: + 3 light samples at each probe-pass path's end;
+#                    session 26: + the probe pass's rays by its error)
 set -euo pipefail
 build="${1:-build}"
 out="${2:-$(dirname "$0")/../docs/time_to_accuracy.csv}"

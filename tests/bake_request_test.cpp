@@ -15,12 +15,12 @@ namespace {
 /// What a --quality preset resolves to on the uniform point gather (bake_request.cpp,
 /// qualityPreset): its rays, nodes and passes of the node filter, one probe pass through the
 /// surface cache, depth moments, SH order 4, the guide and the blend (issue 32, session 22),
-/// and whether it takes the extra cache paths and pass 0's two rounds.
+/// and whether it takes the extra cache paths, pass 0's two rounds and the probe pass's.
 struct PointGatherPreset {
     uint32_t rays;
     uint64_t nodes;
     int nodeFilter;
-    bool extraCachePaths, firstPassByError;
+    bool extraCachePaths, firstPassByError, probePassByError;
 };
 void expectPointGatherPreset(const BakeRequest& d, const PointGatherPreset& e, const std::string& what) {
     EXPECT_EQ(d.params.get<uint32_t>("rays"), e.rays) << what;
@@ -35,6 +35,7 @@ void expectPointGatherPreset(const BakeRequest& d, const PointGatherPreset& e, c
     EXPECT_TRUE(d.params.get<bool>("blend-first-pass")) << what;        // pass 0 blended in (first_pass_blend.h)
     EXPECT_EQ(d.params.get<bool>("extra-cache-paths"), e.extraCachePaths) << what;
     EXPECT_EQ(d.params.get<bool>("first-pass-by-error"), e.firstPassByError) << what;  // first_pass_by_error.h
+    EXPECT_EQ(d.params.get<bool>("probe-pass-by-error"), e.probePassByError) << what;  // issue 32, session 26
 }
 TEST(BakeRequest, SelectsThePassTheOptionsName) {
     const auto selected = [](void (*fill)(BakeRequest&)) {
@@ -81,38 +82,39 @@ TEST(BakeRequest, PresetsResolveAsTheCommandLineDocumentsThem) {
     BakeRequest r;
     // Issue 32, session 22: the preview's guide and blend, which pay on the default's budget and
     // tile (stage_carry.h), in a tiled bake too; not its other two levers.
-    expectPointGatherPreset(resolveBakeRequest(r), {1024, 16384, 0, false, false}, "default");
+    expectPointGatherPreset(resolveBakeRequest(r), {1024, 16384, 0, false, false, false}, "default");
     r.tiles = 2;
-    expectPointGatherPreset(resolveBakeRequest(r), {1024, 16384, 0, false, false}, "default, tiled");
+    expectPointGatherPreset(resolveBakeRequest(r), {1024, 16384, 0, false, false, false}, "default, tiled");
     r.tiles.reset();
     // Issue 32: the preview is the default's method on fewer nodes and rays, filtered across
     // nodes, with the cache fed where pass 0 is noisiest and pass 0's rays by its error.
     r.quality = "preview";
     BakeRequest d = resolveBakeRequest(r);
-    expectPointGatherPreset(d, {64, 8192, 1, true, true}, "preview");
+    expectPointGatherPreset(d, {64, 8192, 1, true, true, false}, "preview");
     EXPECT_EQ(d.params.get<uint32_t>("extra-cache-paths-per-node"), 256u);
     r.tiles = 2;  // a tile's stage 1 reads pass 0's map and values from stage 0, not every node's errors
-    expectPointGatherPreset(resolveBakeRequest(r), {64, 8192, 1, false, false}, "preview, tiled");
+    expectPointGatherPreset(resolveBakeRequest(r), {64, 8192, 1, false, false, false}, "preview, tiled");
     r.tiles.reset();
     r.params.set("target-error", 0.05);  // the adaptive pass has no node filter
     EXPECT_EQ(resolveBakeRequest(r).params.get<int>("node-filter"), 0);
     r.params.unset("target-error");
     // Issue 32 item 1: the default's grid and probe pass at 224 rays, filtered across nodes,
-    // pass 0's rays by its error and 128 extra cache paths per noisy node where the bake is not
-    // tiled (session 24: half the preview's per node, on twice its nodes).
+    // pass 0's and the probe pass's rays by their error (session 26) and 128 extra cache paths
+    // per noisy node where the bake is not tiled (session 24: half the preview's per node, on
+    // twice its nodes).
     r.quality = "fast";
     d = resolveBakeRequest(r);
-    expectPointGatherPreset(d, {224, 16384, 1, true, true}, "fast");
+    expectPointGatherPreset(d, {224, 16384, 1, true, true, true}, "fast");
     EXPECT_EQ(d.params.get<uint32_t>("extra-cache-paths-per-node"), 128u);
     r.params.set("extra-cache-paths-per-node", 64.0);  // given, it is kept
     EXPECT_EQ(resolveBakeRequest(r).params.get<uint32_t>("extra-cache-paths-per-node"), 64u);
     r.params.unset("extra-cache-paths-per-node");
-    r.tiles = 2;  // tiled: the filter is the merge's, pass 0's two rounds and the extra paths are left out
-    expectPointGatherPreset(resolveBakeRequest(r), {224, 16384, 1, false, false}, "fast, tiled");
+    r.tiles = 2;  // tiled: the filter is the merge's, the two rounds and the extra paths are left out
+    expectPointGatherPreset(resolveBakeRequest(r), {224, 16384, 1, false, false, false}, "fast, tiled");
     r.tiles.reset();
     r.quality = "high";
     d = resolveBakeRequest(r);
-    expectPointGatherPreset(d, {2048, 16384, 0, false, false}, "high");  // as the default (issue 32, session 22)
+    expectPointGatherPreset(d, {2048, 16384, 0, false, false, false}, "high");  // as the default (issue 32, session 22)
     EXPECT_FALSE(d.params.has("target-error"));
     r.params.set("target-error", 0.03);  // an error target: the adaptive pass, SH order 2, its own ray caps
     d = resolveBakeRequest(r);

@@ -249,9 +249,10 @@ TEST(CliTiles, PassesThatCannotBeTiledSaySo) {
     test::expectRefusal("bake --stage 1 --stage-input " + volume + uniformTile, "no probe stage file", out, "a volume as input");
     test::expectRefusal("bake --tiles 2 --resolution 4 -o " + out, "--tiles and --tile go together", out, "no --tile");
     test::expectRefusal("bake --quality preview" + uniformTile, "tiled in stages", out, "the preview's probe pass");
-    // Two of what the preview adds to its probe pass choose nodes by every node's pass 0: each
-    // refused by name (the guide and the blend tile: DefaultBakeTiledInStagesMergesToTheSingleBake).
-    for (const std::string flag : {"extra-cache-paths", "first-pass-by-error"})
+    // Three of what the preview and `fast` add to their probe pass choose rays by every node's
+    // error: each refused by name (the guide and the blend tile:
+    // DefaultBakeTiledInStagesMergesToTheSingleBake).
+    for (const std::string flag : {"extra-cache-paths", "first-pass-by-error", "probe-pass-by-error"})
         test::expectRefusal("bake --stage 0 --quality preview --" + flag + uniformTile, "--" + flag + " cannot be tiled", out, flag);
     test::expectRefusal("bake --stage 0 --quality default --probe-passes 2 --guide-probe-directions" + uniformTile,
                         "tiles with one probe pass only", out, "guide with two probe passes");

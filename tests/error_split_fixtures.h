@@ -40,4 +40,21 @@ inline GridSpec thinWallNodes() {
     return g;
 }
 
+/// Mean over the nodes of `g` on one side of the thin wall (x > 2.2: behind it, lit only through
+/// the door; x < 1.8: the lit room) of `perNode(n)`.
+template <typename PerNode>
+double meanOnSide(const GridSpec& g, bool behind, PerNode perNode) {
+    double sum = 0;
+    int count = 0;
+    for (int k = 0; k < g.nz; ++k)
+        for (int j = 0; j < g.ny; ++j)
+            for (int i = 0; i < g.nx; ++i) {
+                const double x = g.node(i, j, k).x;
+                if (behind ? x < 2.2 : x > 1.8) continue;
+                sum += perNode(g.index(i, j, k));
+                ++count;
+            }
+    return sum / count;
+}
+
 }  // namespace vdblight::test

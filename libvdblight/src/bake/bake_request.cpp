@@ -54,6 +54,11 @@ namespace {
 /// 1.27, 3.14, 1.07 %), against the default's RMS before issue 32 (2.2, 1.3, 3.3, 6.1 %)
 /// (docs/time_to_accuracy.md, "A quarter of the default's time" and "Light samples at the
 /// probe pass's path end"). At 256 rays the same took 25-26 %; without the filter, office 2.8 %.
+/// Since session 26 its probe pass also spends a quarter of its rays everywhere first and the
+/// rest by its own error, as pass 0 (ten seeds: office 2.05 -> 2.02 %, Cornell 1.27 -> 1.26 %,
+/// two rooms 3.14 -> 3.04 %, the seeds over a target 7 -> 4; 1-3 % more time; the preview's
+/// two rooms and the default's did not gain: docs/time_to_accuracy.md, "The probe pass's rays
+/// by its error").
 /// `high`: the default with twice the rays (kHighRays). Until issue 15's tenth session it was
 /// error-targeted (3 %, 64..2048 rays) with two probe passes in SH order 2; with SH order 4 the
 /// fixed budget measured lower RMS in every scene in less time (docs/methods.md, "The default
@@ -97,13 +102,14 @@ struct QualityPreset {
     uint32_t extraCachePaths = 0;       ///< more paths per node for the surface cache where pass 0 is noisiest, 0: none (extra_cache_paths.h)
     bool firstPassByError = false;      ///< pass 0's rays per node by its own error (first_pass_by_error.h)
     uint32_t probeLightSamples = 1;     ///< emitter samples at each probe-pass path's end (TransportOptions::cacheEndLightSamples)
+    bool probePassByError = false;      ///< the probe pass's rays per node by its own error (first_pass_by_error.h)
 };
 QualityPreset qualityPreset(const std::string& quality) {
     if (quality == "preview")
         return {1, kPreviewNodes, kPreviewRays, true, 1'000'000, kDefaultBasis, 1, false, true, true, bake_detail::kExtraCachePaths, true};
     if (quality == "fast")
         return {1, kDefaultNodes, kFastRays, true, 4'000'000, kDefaultBasis, 1, true, true, true, bake_detail::kFastExtraCachePaths,
-                true, kProbeLightSamples};
+                true, kProbeLightSamples, true};
     if (quality == "default")
         return {1, kDefaultNodes, kDefaultRays, true, 4'000'000, kDefaultBasis, 0, true, true, true, 0, false, kProbeLightSamples};
     if (quality == "high")
@@ -268,6 +274,8 @@ BakeRequest resolveBakeRequest(const BakeRequest& given) {
                  double(preset.extraCachePaths > 0 ? preset.extraCachePaths : bake_detail::kExtraCachePaths));
     if (!p.value("first-pass-by-error"))
         p.preset("first-pass-by-error", untiledGather && probePasses == 1 && preset.firstPassByError);
+    if (!p.value("probe-pass-by-error"))
+        p.preset("probe-pass-by-error", untiledGather && probePasses == 1 && preset.probePassByError);
     if (!p.value("probe-light-samples"))
         p.preset("probe-light-samples", double(gather && probePasses > 0 ? preset.probeLightSamples : 1));
     r.pass = selectPassName(r);
@@ -325,6 +333,7 @@ std::string describeQuality(const std::string& quality) {
         text += ", " + std::to_string(o.get<uint32_t>("extra-cache-paths-per-node")) +
                 " more first-pass paths per node for the surface cache where it is noisiest";
     if (o.get<bool>("first-pass-by-error")) text += ", the first pass's rays per node by its own noise";
+    if (o.get<bool>("probe-pass-by-error")) text += ", the probe pass's rays per node by its own noise";
     if (const uint32_t samples = o.get<uint32_t>("probe-light-samples"); samples > 1)
         text += ", " + std::to_string(samples) + " light samples at each probe-pass path's end";
     const bool occlusion = r.direct.empty() && pass.takesDirectLight() && !o.get<bool>("sh-window");

@@ -16,9 +16,9 @@ bool usable(float e) { return e >= 0 && e < 1e29f; }
 
 uint32_t pilotRays(uint32_t raysPerNode) { return std::max<uint32_t>(2, raysPerNode / kPilotShare); }
 
-std::vector<uint32_t> firstPassRaysByError(const GridSpec& grid, const std::vector<float>& pilotError,
-                                           const std::vector<uint8_t>& insideSolid, uint32_t pilotRays,
-                                           uint32_t raysPerNode) {
+std::vector<uint32_t> raysPerNodeByError(const GridSpec& grid, const std::vector<float>& pilotError,
+                                         const std::vector<uint8_t>& insideSolid, uint32_t pilotRays,
+                                         uint32_t raysPerNode) {
     const std::size_t nodes = grid.nodeCount();
     std::vector<uint32_t> rays(nodes, pilotRays);
     if (pilotRays >= raysPerNode) return rays;

@@ -8,7 +8,9 @@
 // dark room, less to the lit rooms, whose error the first round already shows to be low).
 // Each node's samples stay one stratified sequence (node_sampler.h: the second round continues
 // the first's sample numbers), so the node's values, its error estimate, its depth moments and
-// the bins all take every ray. (Internal to the bake module.)
+// the bins all take every ray. The probe pass can run the same way (GatherOptions::
+// probePassByError, `--quality fast`): its own first round's errors share the rest of its rays,
+// its guided directions continued. (Internal to the bake module.)
 //
 // Deterministic: the split is a function of the first round's errors in node order.
 #pragma once
@@ -32,14 +34,14 @@ constexpr uint32_t kMostRaysFactor = 8;
 /// The first round's rays per node for `raysPerNode` (at least 2, for an error estimate).
 uint32_t pilotRays(uint32_t raysPerNode);
 
-/// Pass 0's rays per node of `grid` (node order), `pilotRays` or more each: the rest of
+/// A pass's rays per node of `grid` (node order), `pilotRays` or more each: the rest of
 /// raysPerNode x nodes shared by the root mean square of `pilotError` (the first round's relative
 /// standard errors, node order) over each node's 3 x 3 x 3 neighbours, to the power
 /// kErrorPower, at most kMostRaysFactor x raysPerNode per node (rounded: the total is the budget
 /// within one ray per node). Nodes in `insideSolid` (empty, or a flag per node) or without a
 /// finite estimate keep `pilotRays`. Even errors give every node raysPerNode.
-std::vector<uint32_t> firstPassRaysByError(const GridSpec& grid, const std::vector<float>& pilotError,
-                                           const std::vector<uint8_t>& insideSolid, uint32_t pilotRays,
-                                           uint32_t raysPerNode);
+std::vector<uint32_t> raysPerNodeByError(const GridSpec& grid, const std::vector<float>& pilotError,
+                                         const std::vector<uint8_t>& insideSolid, uint32_t pilotRays,
+                                         uint32_t raysPerNode);
 
 }  // namespace vdblight::bake_detail

@@ -93,6 +93,9 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
     carry.firstPassFloats = options.blendFirstPass && options.probePasses == 1 ? floats : 0;
     if (options.firstPassByError && (options.stage >= 0 || options.only))
         throw ValueError("pass 0's rays by its error need every node's first pass in one bake (not tiled or staged)");
+    if (options.probePassByError && (options.probePasses != 1 || options.stage >= 0 || options.only))
+        throw ValueError("the probe pass's rays by its error need exactly one probe pass, every node in one bake (not tiled "
+                         "or staged)");
     if (options.extraCachePaths && options.stage >= 0)
         throw ValueError("extra paths for the surface probe cache need every pass in one bake (not staged)");
     std::vector<float> firstValues, firstError;
@@ -152,26 +155,40 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
                 if (basis) sampler.basisValues(values, count);
             };
             bake_detail::ParallelRun passRun;
-            if (pass.index == 0 && options.firstPassByError) {
-                // Two rounds (first_pass_by_error.h): the samplers wait between them.
+            const bool byError = pass.index == 0 ? options.firstPassByError : options.probePassByError;
+            if (byError) {
+                // Two rounds (first_pass_by_error.h): the samplers wait between them, a guided
+                // probe pass's with their guide (each node's density, built once).
                 struct Pending {
                     std::unique_ptr<detail::NodeSampler> sampler;
                     depth::Accumulator depth;
                     uint32_t backFaces = 0;
+                    std::optional<DirectionGuide> guide;
                 };
                 std::vector<Pending> pending(nodes);
+                std::vector<float> pilotError(nodes, 0.0f);
                 const uint32_t pilot = bake_detail::pilotRays(options.raysPerNode);
-                const bool classify = options.depthMoments;
+                const bool guidedPass = guided && pass.index > 0;
+                std::vector<float> density(guidedPass ? nodes * DirectionGuide::kCells : 0);
+                // A guided pass's back-face count is not a uniform fraction: pass 0's stays.
+                const bool classify = options.depthMoments && !guidedPass;
                 passRun = bake_detail::forEachItemInParallel(nodes, options.threads, interrupter, [&](std::size_t n, RayCount& count) {
                     Pending& p = pending[n];
                     p.sampler = std::make_unique<detail::NodeSampler>(estimator, Vec3f(grid.node(n)), pass.seed, n, options.raysPerNode);
                     startNode(*p.sampler, p.depth, n);
+                    if (guidedPass) {
+                        float* d = &density[n * DirectionGuide::kCells];
+                        DirectionGuide::build(&guideSums[n * DirectionGuide::kCells], &guideCounts[n * DirectionGuide::kCells],
+                                              DirectionGuide::kUniformShare, d);
+                        p.guide.emplace(d);
+                        p.sampler->guideDirections(&*p.guide);
+                    }
                     p.sampler->addSamples(0, pilot, count, classify ? &tracer : nullptr, classify ? &p.backFaces : nullptr);
-                    error[n] = float(std::min(p.sampler->relativeStandardError(count), 1e30));
+                    pilotError[n] = float(std::min(p.sampler->relativeStandardError(count), 1e30));
                     if (classify) insideSolid[n] = insideSolidByBackFaces(p.backFaces, pilot);
                 });
                 const std::vector<uint32_t> rays =
-                    bake_detail::firstPassRaysByError(grid, error, insideSolid, pilot, options.raysPerNode);
+                    bake_detail::raysPerNodeByError(grid, pilotError, insideSolid, pilot, options.raysPerNode);
                 const bake_detail::ParallelRun second = bake_detail::forEachItemInParallel(
                     nodes, options.threads, interrupter, [&](std::size_t n, RayCount& count) {
                         Pending& p = pending[n];
@@ -261,6 +278,10 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
         m.text("first_pass_rays", std::to_string(bake_detail::pilotRays(options.raysPerNode)) +
                                       " rays at every node, then the rest of rays_per_node x nodes by the pooled error "
                                       "of those (first_pass_by_error.h)");
+    if (options.probePassByError)
+        m.text("probe_pass_rays", std::to_string(bake_detail::pilotRays(options.raysPerNode)) +
+                                      " rays at every node, then the rest of the probe pass's rays x nodes by the "
+                                      "pooled error of those (first_pass_by_error.h)");
     if (guided)
         m.text("probe_directions", "guided: drawn from pass 0's luminance per direction cell, pooled over the nodes within " +
                                        std::to_string(DirectionGuide::kPoolRadius) + " steps, half uniform (direction_guide.h)");

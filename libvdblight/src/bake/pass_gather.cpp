@@ -45,10 +45,11 @@ PassOption nodeFilterOption() {
     o.zeroIsUnset = true;
     return o;
 }
-/// --guide-probe-directions, --blend-first-pass, --extra-cache-paths, --first-pass-by-error
-/// (issue 32): what the preview adds to its one probe pass. The first two tile (a stage carries
-/// pass 0's map and values: stage_carry.h); the last two choose nodes by every node's pass 0
-/// at once, so a tiled bake leaves them off, and refuses them when given (`tiled` false).
+/// --guide-probe-directions, --blend-first-pass, --extra-cache-paths, --first-pass-by-error,
+/// --probe-pass-by-error (issue 32): what the preview and `fast` add to their one probe pass. The
+/// first two tile (a stage carries pass 0's map and values: stage_carry.h); the others choose
+/// rays by every node's pass at once, so a tiled bake leaves them off, and refuses them when
+/// given (`tiled` false).
 PassOption previewProbeFlag(const std::string& name, const std::string& help, bool tiled = false) {
     PassOption o = flagOption(name,
                               help + ". Default: " + presetValues([name](const BakeRequest& r) {
@@ -106,6 +107,9 @@ std::vector<PassOption> GatherPass::options() const {
             previewProbeFlag("first-pass-by-error",
                              "trace the first pass in two rounds at the same total rays: a quarter at every node, "
                              "then the rest by the nodes' noise estimates (docs/time_to_accuracy.md)"),
+            previewProbeFlag("probe-pass-by-error",
+                             "trace the probe pass in two rounds likewise, by its own noise estimates (one probe "
+                             "pass; docs/time_to_accuracy.md)"),
             depthMomentsOption(), depthRaysOption(), shWindowOption()};
 }
 
@@ -129,8 +133,11 @@ std::size_t GatherPass::bytesPerNode(const BakeRequest& r) const {
     const std::size_t values = isSh2(r.basis) ? sh::kCoeffs * 3 : makeBasis(r.basis)->floatsPerNode();
     // The guide's map of pass 0's light per direction (a sum and a count per cell: 1 KiB per
     // node, more than the values), and the blend's copy of pass 0's values.
-    if (r.params.find<bool>("guide-probe-directions").value_or(false))
+    if (r.params.find<bool>("guide-probe-directions").value_or(false)) {
         extra += DirectionGuide::kCells * (sizeof(float) + sizeof(uint32_t));
+        // The probe pass by its error keeps every node's density between its two rounds.
+        if (r.params.find<bool>("probe-pass-by-error").value_or(false)) extra += DirectionGuide::kCells * sizeof(float);
+    }
     if (r.params.find<bool>("blend-first-pass").value_or(false)) extra += values * sizeof(float);
     if (!isSh2(r.basis)) return (2 * values + sh::kCoeffs * 3) * sizeof(float) + extra;
     return 2 * values * sizeof(float) + extra;
@@ -145,11 +152,13 @@ std::string pointGatherUntileable(const BakeRequest& r) {
     if (p.has("invalidate-backface")) return "--invalidate-backface cannot be tiled (its dilation crosses tile borders)";
     if (p.get<bool>("sh-window"))
         return "--sh-window cannot be tiled yet (the window would have to follow the seams at merge)";
-    // These two choose nodes by every node's pass-0 error at once (the guide and the blend tile:
-    // stage 0 carries what they read, stage_carry.h).
+    // These choose rays by every node's error at once (the guide and the blend tile: stage 0
+    // carries what they read, stage_carry.h).
     for (const char* name : {"extra-cache-paths", "first-pass-by-error"})
         if (p.find<bool>(name).value_or(false))
             return std::string("--") + name + " cannot be tiled (it needs every node's first pass in one bake)";
+    if (p.find<bool>("probe-pass-by-error").value_or(false))
+        return "--probe-pass-by-error cannot be tiled (it needs every node's probe pass in one bake)";
     // Each probe-to-probe pass reads every node of the pass before: one stage per pass.
     const int passes = p.find<int>("probe-passes").value_or(0);
     if (passes > 1 && p.find<bool>("guide-probe-directions").value_or(false))

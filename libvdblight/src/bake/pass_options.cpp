@@ -188,6 +188,7 @@ GatherOptions gatherOptions(const BakeContext& c, const BakeRequest& r) {
     o.extraCachePathsPerNode = p.find<uint32_t>("extra-cache-paths-per-node").value_or(o.extraCachePathsPerNode);
     o.transport.cacheEndLightSamples = int(p.find<uint32_t>("probe-light-samples").value_or(1));
     o.firstPassByError = p.find<bool>("first-pass-by-error").value_or(false);
+    o.probePassByError = p.find<bool>("probe-pass-by-error").value_or(false);
     // The point gather records depth moments from its own first rays (no extra rays).
     const std::optional<uint32_t> depthRays = p.find<uint32_t>("depth-rays");
     o.depthMoments = p.get<bool>("depth-moments") && (!depthRays || *depthRays == o.raysPerNode);

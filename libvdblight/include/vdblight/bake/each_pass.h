@@ -79,6 +79,10 @@ struct GatherOptions {
     /// the rest shared by the nodes' pooled error (bake/first_pass_by_error.h): more rays where
     /// light comes through an opening. Not tiled or staged.
     bool firstPassByError = false;
+    /// The probe pass likewise in two rounds (one probe pass): its own pilot errors share the
+    /// rest of its rays (`--quality fast`: less noise at the nodes by furniture and behind a
+    /// door, docs/time_to_accuracy.md). Not tiled or staged.
+    bool probePassByError = false;
     /// Bake only these nodes (one tile of a bake, volume/tiles.h); the others stay 0. Null = all.
     const NodeMask* only = nullptr;
     /// Staged probe passes (volume/tiles.h, "Staged bakes"): -1 = every pass; s in 0..probePasses =
