@@ -110,6 +110,21 @@ inline LeafCell descendLevels(const std::vector<Level>& levels, const GridSpec& 
     }
 }
 
+/// The cell of x among the nodes of `grid`, located in double as the visibility lookups do
+/// (OcclusionLookup and its streamed twin: the same operations, so the same bits): per axis the
+/// lower node base[a] (x clamped into the node box; NaN and below: the first node) and the
+/// fraction f[a] towards the next node (0 along an axis of one node).
+inline void visibilityCell(const GridSpec& grid, const Vec3d& x, int base[3], double f[3]) {
+    const int dims[3] = {grid.nx, grid.ny, grid.nz};
+    for (int a = 0; a < 3; ++a) {
+        double u = (x[a] - grid.origin[a]) / grid.spacing;
+        if (!(u > 0)) u = 0;
+        u = std::min(u, double(dims[a] - 1));
+        base[a] = std::min(int(u), std::max(0, dims[a] - 2));
+        f[a] = dims[a] > 1 ? u - base[a] : 0.0;
+    }
+}
+
 /// Per axis, the lower node index lo[a] of the cell containing x and the fraction frac[a]
 /// towards the next node. Outside the node box: clamped, or ValueError with Throw.
 inline void locateExact(const GridSpec& grid, const Vec3d& x, OutsidePolicy outside, int lo[3], double frac[3]) {

@@ -6,6 +6,7 @@
 #include "basis/shadow_edges.h"
 #include "direct_sum.h"
 #include "fast_exact_lights.h"
+#include "lattice_locate.h"
 #include "shared_cell.h"
 
 #include <algorithm>
@@ -33,15 +34,10 @@ OcclusionLookup::OcclusionLookup(std::unique_ptr<VolumeLookup> base, const Volum
 
 void OcclusionLookup::visibility(const Vec3d& x, float* out) const {
     const std::size_t m = lights_.size();
-    int base[3], dims[3] = {grid_.nx, grid_.ny, grid_.nz};
+    int base[3];
+    const int dims[3] = {grid_.nx, grid_.ny, grid_.nz};
     double f[3];
-    for (int a = 0; a < 3; ++a) {
-        double u = (x[a] - grid_.origin[a]) / grid_.spacing;
-        if (!(u > 0)) u = 0;  // NaN and below: the first node
-        u = std::min(u, double(dims[a] - 1));
-        base[a] = std::min(int(u), std::max(0, dims[a] - 2));
-        f[a] = dims[a] > 1 ? u - base[a] : 0.0;
-    }
+    query_detail::visibilityCell(grid_, x, base, f);
     for (std::size_t i = 0; i < m; ++i) out[i] = 0.0f;
     std::size_t node[8];
     int index[8][3];

@@ -5,7 +5,6 @@
 #include "stream_lookups.h"
 
 #include <cmath>
-#include <sstream>
 
 #include "depth_weights.h"
 #include "lattice_locate.h"
@@ -17,14 +16,6 @@ namespace vdblight {
 
 namespace {
 constexpr int kFloatsPerNode = sh::kCoeffs * 3;
-
-// As in sh_uniform_lookup.cpp.
-inline void split(float g, int n, int& i, float& f) {
-    if (!(g >= 0.0f)) g = 0.0f;
-    if (g > float(n - 1)) g = float(n - 1);
-    i = std::min(int(g), std::max(n - 2, 0));
-    f = g - float(i);
-}
 
 class StreamingShLookup final : public VolumeLookup {
 public:
@@ -98,18 +89,10 @@ private:
 
     void locate(const Vec3f& x, int& i, int& j, int& k, float& fx, float& fy, float& fz) const {
         const Vec3f g = (x - origin_) * invSpacing_;
-        if (outside_ == OutsidePolicy::Throw) {
-            const float tol = 1e-4f;
-            if (!(g.x >= -tol && g.y >= -tol && g.z >= -tol && g.x <= grid_.nx - 1 + tol && g.y <= grid_.ny - 1 + tol &&
-                  g.z <= grid_.nz - 1 + tol)) {
-                std::ostringstream s;
-                s << "point (" << x.x << ", " << x.y << ", " << x.z << ") is outside the volume";
-                throw ValueError(s.str());
-            }
-        }
-        split(g.x, grid_.nx, i, fx);
-        split(g.y, grid_.ny, j, fy);
-        split(g.z, grid_.nz, k, fz);
+        query_detail::checkInside(g, grid_, x, outside_);
+        query_detail::splitCell(g.x, grid_.nx, i, fx);
+        query_detail::splitCell(g.y, grid_.ny, j, fy);
+        query_detail::splitCell(g.z, grid_.nz, k, fz);
     }
 
     std::shared_ptr<const StreamedVolume> volume_;
@@ -145,26 +128,18 @@ public:
         float y[sh::kCoeffs];
         sh::evalUnrolled(n, y);
         const Vec3f g = (x - origin_) * invSpacing_;
-        if (outside_ == OutsidePolicy::Throw) {
-            const float tol = 1e-4f;
-            if (!(g.x >= -tol && g.y >= -tol && g.z >= -tol && g.x <= grid_.nx - 1 + tol && g.y <= grid_.ny - 1 + tol &&
-                  g.z <= grid_.nz - 1 + tol)) {
-                std::ostringstream s;
-                s << "point (" << x.x << ", " << x.y << ", " << x.z << ") is outside the volume";
-                throw ValueError(s.str());
-            }
-        }
+        query_detail::checkInside(g, grid_, x, outside_);
         int cell[3];
         float f[3];
-        splitCell(g.x, grid_.nx, cell[0], f[0]);
-        splitCell(g.y, grid_.ny, cell[1], f[1]);
-        splitCell(g.z, grid_.nz, cell[2], f[2]);
+        query_detail::splitCell(g.x, grid_.nx, cell[0], f[0]);
+        query_detail::splitCell(g.y, grid_.ny, cell[1], f[1]);
+        query_detail::splitCell(g.z, grid_.nz, cell[2], f[2]);
         int level = 0;
         while (volume_->cellRefined(level, cell[0], cell[1], cell[2])) {
             ++level;
             for (int a = 0; a < 3; ++a) {
                 int local;
-                splitLocal(f[a], K_, local);
+                query_detail::splitLocal(f[a], K_, local);
                 cell[a] = cell[a] * K_ + local;
             }
         }
@@ -237,18 +212,6 @@ public:
     }
 
 private:
-    // As ShLevelsLookup's splitCell / splitLocal.
-    static void splitCell(float g, int n, int& i, float& f) {
-        if (!(g >= 0.0f)) g = 0.0f;
-        if (g > float(n - 1)) g = float(n - 1);
-        i = std::min(int(g), n - 2);
-        f = g - float(i);
-    }
-    static void splitLocal(float& f, int K, int& i) {
-        const float g = f * float(K);
-        i = std::min(int(g), K - 1);
-        f = g - float(i);
-    }
     // A leaf cell of a culled volume with a corner that is not stored (ShLevelsLookup's kCulled;
     // its level 0 is sparse only when culled).
     bool leafCulled(int level, const int cell[3]) const {

@@ -38,6 +38,28 @@ RTCRay toRtcRay(const Ray& r) {
     ray.flags = 0;
     return ray;
 }
+
+/// Lanes of a 16-ray packet from rays[0..n) (1 <= n <= 16); lanes past n are inactive copies
+/// of the last ray (`valid` 0), so that no lane holds garbage.
+void fillPacket(const Ray* rays, std::size_t n, int valid[16], RTCRay16& packet) {
+    for (std::size_t i = 0; i < 16; ++i) {
+        const Ray& r = rays[std::min(i, n - 1)];
+        valid[i] = i < n ? -1 : 0;
+        packet.org_x[i] = r.origin.x;
+        packet.org_y[i] = r.origin.y;
+        packet.org_z[i] = r.origin.z;
+        packet.dir_x[i] = r.direction.x;
+        packet.dir_y[i] = r.direction.y;
+        packet.dir_z[i] = r.direction.z;
+        packet.tnear[i] = r.tnear;
+        packet.tfar[i] = r.tfar;
+        packet.time[i] = 0.0f;
+        packet.mask[i] = 0xffffffffu;
+        packet.id[i] = unsigned(i);
+        packet.flags[i] = 0;
+    }
+}
+
 }  // namespace
 
 struct Tracer::Impl {
@@ -124,22 +146,7 @@ void Tracer::occluded(const Ray* rays, std::size_t count, bool* blocked) const {
     alignas(64) RTCRay16 packet;
     for (std::size_t b = 0; b < count; b += 16) {
         const std::size_t n = std::min<std::size_t>(16, count - b);
-        for (std::size_t i = 0; i < 16; ++i) {
-            const Ray& r = rays[b + std::min(i, n - 1)];  // lanes past the end: inactive copies
-            valid[i] = i < n ? -1 : 0;
-            packet.org_x[i] = r.origin.x;
-            packet.org_y[i] = r.origin.y;
-            packet.org_z[i] = r.origin.z;
-            packet.dir_x[i] = r.direction.x;
-            packet.dir_y[i] = r.direction.y;
-            packet.dir_z[i] = r.direction.z;
-            packet.tnear[i] = r.tnear;
-            packet.tfar[i] = r.tfar;
-            packet.time[i] = 0.0f;
-            packet.mask[i] = 0xffffffffu;
-            packet.id[i] = unsigned(i);
-            packet.flags[i] = 0;
-        }
+        fillPacket(rays + b, n, valid, packet);
         rtcOccluded16(valid, impl_->scene, &context, &packet);
         for (std::size_t i = 0; i < n; ++i) blocked[b + i] = packet.tfar[i] < 0.0f;  // -inf on a hit
     }
@@ -156,21 +163,8 @@ void Tracer::intersect(const Ray* rays, std::size_t count, Hit* hits) const {
     alignas(64) RTCRayHit16 packet;
     for (std::size_t b = 0; b < count; b += 16) {
         const std::size_t n = std::min<std::size_t>(16, count - b);
+        fillPacket(rays + b, n, valid, packet.ray);
         for (std::size_t i = 0; i < 16; ++i) {
-            const Ray& r = rays[b + std::min(i, n - 1)];  // lanes past the end: inactive copies
-            valid[i] = i < n ? -1 : 0;
-            packet.ray.org_x[i] = r.origin.x;
-            packet.ray.org_y[i] = r.origin.y;
-            packet.ray.org_z[i] = r.origin.z;
-            packet.ray.dir_x[i] = r.direction.x;
-            packet.ray.dir_y[i] = r.direction.y;
-            packet.ray.dir_z[i] = r.direction.z;
-            packet.ray.tnear[i] = r.tnear;
-            packet.ray.tfar[i] = r.tfar;
-            packet.ray.time[i] = 0.0f;
-            packet.ray.mask[i] = 0xffffffffu;
-            packet.ray.id[i] = unsigned(i);
-            packet.ray.flags[i] = 0;
             packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
             packet.hit.primID[i] = RTC_INVALID_GEOMETRY_ID;
         }
