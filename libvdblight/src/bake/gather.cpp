@@ -154,6 +154,18 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
                                        pass.keepReflected ? &reflected[h * sh::kCoeffs] : nullptr);
                 if (basis) sampler.basisValues(values, count);
             };
+            // A guided probe pass draws each node's directions from its density (direction_guide.h),
+            // which lives as long as the node's sampler.
+            const bool guidedPass = guided && pass.index > 0;
+            const auto guideNode = [&](detail::NodeSampler& sampler, std::size_t h, float* density,
+                                       std::optional<DirectionGuide>& guide) {
+                DirectionGuide::build(&guideSums[h * DirectionGuide::kCells], &guideCounts[h * DirectionGuide::kCells],
+                                      DirectionGuide::kUniformShare, density);
+                guide.emplace(density);
+                sampler.guideDirections(&*guide);
+            };
+            // A guided pass's back-face count is not a uniform fraction: pass 0's stays.
+            const bool classify = options.depthMoments && !guidedPass;
             bake_detail::ParallelRun passRun;
             const bool byError = pass.index == 0 ? options.firstPassByError : options.probePassByError;
             if (byError) {
@@ -168,21 +180,12 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
                 std::vector<Pending> pending(nodes);
                 std::vector<float> pilotError(nodes, 0.0f);
                 const uint32_t pilot = bake_detail::pilotRays(options.raysPerNode);
-                const bool guidedPass = guided && pass.index > 0;
                 std::vector<float> density(guidedPass ? nodes * DirectionGuide::kCells : 0);
-                // A guided pass's back-face count is not a uniform fraction: pass 0's stays.
-                const bool classify = options.depthMoments && !guidedPass;
                 passRun = bake_detail::forEachItemInParallel(nodes, options.threads, interrupter, [&](std::size_t n, RayCount& count) {
                     Pending& p = pending[n];
                     p.sampler = std::make_unique<detail::NodeSampler>(estimator, Vec3f(grid.node(n)), pass.seed, n, options.raysPerNode);
                     startNode(*p.sampler, p.depth, n);
-                    if (guidedPass) {
-                        float* d = &density[n * DirectionGuide::kCells];
-                        DirectionGuide::build(&guideSums[n * DirectionGuide::kCells], &guideCounts[n * DirectionGuide::kCells],
-                                              DirectionGuide::kUniformShare, d);
-                        p.guide.emplace(d);
-                        p.sampler->guideDirections(&*p.guide);
-                    }
+                    if (guidedPass) guideNode(*p.sampler, n, &density[n * DirectionGuide::kCells], p.guide);
                     p.sampler->addSamples(0, pilot, count, classify ? &tracer : nullptr, classify ? &p.backFaces : nullptr);
                     pilotError[n] = float(std::min(p.sampler->relativeStandardError(count), 1e30));
                     if (classify) insideSolid[n] = insideSolidByBackFaces(p.backFaces, pilot);
@@ -206,18 +209,10 @@ Volume bakeShGather(const Scene& scene, const Tracer& tracer, const GridSpec& gr
                     detail::NodeSampler sampler(estimator, Vec3f(grid.node(n)), pass.seed, n, options.raysPerNode);
                     depth::Accumulator depthAcc;
                     startNode(sampler, depthAcc, h);
-                    const bool guidedPass = guided && pass.index > 0;
                     float density[DirectionGuide::kCells];
                     std::optional<DirectionGuide> guide;
-                    if (guidedPass) {
-                        DirectionGuide::build(&guideSums[h * DirectionGuide::kCells], &guideCounts[h * DirectionGuide::kCells],
-                                              DirectionGuide::kUniformShare, density);
-                        guide.emplace(density);
-                        sampler.guideDirections(&*guide);
-                    }
+                    if (guidedPass) guideNode(sampler, h, density, guide);
                     uint32_t backFaces = 0;
-                    // A guided pass's back-face count is not a uniform fraction: pass 0's stays.
-                    const bool classify = options.depthMoments && !guidedPass;
                     sampler.addSamples(0, options.raysPerNode, count, classify ? &tracer : nullptr,
                                        classify ? &backFaces : nullptr);
                     finishNode(sampler, depthAcc, h, classify, backFaces, count);
