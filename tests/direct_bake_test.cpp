@@ -2,6 +2,7 @@
 // lookups against `reference` near a luminaire, determinism, the file round trip.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "test_util.h"
@@ -9,6 +10,7 @@
 #include "vdblight/query/query.h"
 #include "query/query_direct.h"
 #include "vdblight/reference/reference.h"
+#include "vdblight/sampling/sampling.h"
 #include "vdblight/scene/scene.h"
 #include "vdblight/light/light.h"
 #include "vdblight/trace/trace.h"
@@ -126,6 +128,60 @@ TEST(LightVisibility, UnblockedBlockedHalfBlocked) {
     RayCount rays;
     EXPECT_EQ(lightVisibility(point, tracer, lights[1], x, 1, 1, rays), 0.0);
     EXPECT_EQ(lightVisibility(point, tracer, lights[2], x, 1, 1, rays), 1.0);
+}
+
+namespace {
+/// lightVisibility of a polygon light one shadow ray at a time, as it was before its rays went
+/// to the tracer in packets (scene_lights.cpp): the same samples, weights and order of sums.
+double visibilityOneRayAtATime(const Scene& scene, const Tracer& tracer, const SceneLight& light, const Vec3f& x,
+                               uint32_t samples, uint64_t stream) {
+    constexpr float kShadowEnd = 1.0f - 1e-4f;  // scene_lights.cpp's
+    double seen = 0, total = 0;
+    const uint64_t scramble = hashCombine(stream, 0x5eed);
+    for (uint32_t i = 0; i < samples; ++i) {
+        float u, v;
+        sobol02(i, scramble, u, v);
+        const PolygonLightPoint p = samplePolygonLight(light, &scene, u, v);
+        const Vec3f toLight = p.position - x;
+        const float dist2 = dot(toLight, toLight);
+        if (!(dist2 > 0)) continue;
+        const Vec3f wi = toLight / std::sqrt(dist2);
+        float cosLight = -dot(p.normal, wi);
+        if (light.light.twoSided) cosLight = std::abs(cosLight);
+        double weight = std::max(0.0f, cosLight) / dist2;
+        if (!(weight > 0)) continue;
+        weight *= p.sign;
+        total += weight;
+        if (!tracer.occluded(Ray{x, toLight, 0.0f, kShadowEnd})) seen += weight;
+    }
+    return total > 0 ? std::clamp(seen / total, 0.0, 1.0) : 1.0;
+}
+}  // namespace
+
+// The polygon's shadow rays go to the tracer in batches of 16-ray packets: the same answer,
+// bit for bit, as one ray at a time, for sample counts below, at and across a batch (64), at
+// points where the light is free, blocked and partly blocked (a blocker edge through it).
+TEST(LightVisibility, PacketsGiveTheOneRayAtATimeBits) {
+    Scene s;
+    const uint32_t lamp = material(s, {0, 0, 0}, {1, 1, 1});
+    const uint32_t grey = material(s, {0.5f, 0.5f, 0.5f});
+    addCeilingQuad(s, -0.5f, 0.5f, -0.5f, 0.5f, 2.0f, lamp);
+    addFloorQuad(s, -5, 0.13f, -5, 5, 1.0f, grey);  // blocks x < 0.13 at height 1
+    const std::vector<SceneLight> lights = sceneLights(s);
+    ASSERT_EQ(lights.size(), 1u);
+    const Tracer tracer(s);
+    int partial = 0;
+    for (const Vec3f x : {Vec3f(0, 0, 0), Vec3f(0.3f, 0.2f, 0.1f), Vec3f(-1, 0.5f, 0), Vec3f(2, 0, 0.4f), Vec3f(0.1f, 1.5f, 0)})
+        for (const uint32_t samples : {1u, 17u, 64u, 65u, 200u})
+            for (const uint64_t stream : {uint64_t(3), uint64_t(11)}) {
+                RayCount rays;
+                const double packeted = lightVisibility(s, tracer, lights[0], x, samples, stream, rays);
+                EXPECT_EQ(packeted, visibilityOneRayAtATime(s, tracer, lights[0], x, samples, stream))
+                    << "at (" << x.x << ", " << x.y << ", " << x.z << "), " << samples << " samples";
+                EXPECT_LE(rays.occluded, samples);
+                partial += packeted > 0.0 && packeted < 1.0;
+            }
+    EXPECT_GT(partial, 10);  // the blocker's edge runs through the light from most of the points
 }
 
 TEST(DirectBake, OcclusionAndRuntimeMatchReferenceNearTheLuminaire) {

@@ -235,26 +235,40 @@ double lightVisibility(const Scene& scene, const Tracer& tracer, const SceneLigh
     // point per sample: choosing the triangle with another sequence leaves each triangle's
     // subset of points uneven (0.46 for a half-blocked quad at 256 samples). A free light's
     // cancelling triangles (freeLight) weigh negatively, so the sums stay over its region.
+    // The shadow rays of a batch of samples go to the tracer together (16-ray packets: they
+    // share their origin, and the answers are the single rays', Tracer::occluded); the sums
+    // then take the samples in their order, as one ray at a time did: the same bits.
+    constexpr uint32_t kBatch = 64;
+    Ray batch[kBatch];
+    double weights[kBatch];
+    bool blocked[kBatch];
     double seen = 0, total = 0;
     const uint64_t scramble = hashCombine(stream, 0x5eed);
-    for (uint32_t i = 0; i < samples; ++i) {
-        float u, v;
-        sobol02(i, scramble, u, v);
-        const PolygonLightPoint p = samplePolygonLight(sl, &scene, u, v);
-        const Vec3f toLight = p.position - x;
-        const float dist2 = dot(toLight, toLight);
-        if (!(dist2 > 0)) continue;
-        const Vec3f wi = toLight / std::sqrt(dist2);
-        // The sample's share of the light's solid angle from x; 0 from behind a one-sided face.
-        float cosLight = -dot(p.normal, wi);
-        if (l.twoSided) cosLight = std::abs(cosLight);
-        double weight = std::max(0.0f, cosLight) / dist2;
-        if (normal) weight *= std::max(0.0f, dot(*normal, wi));
-        if (!(weight > 0)) continue;
-        weight *= p.sign;
-        ++rays.occluded;
-        total += weight;
-        if (!tracer.occluded(Ray{x, toLight, 0.0f, kShadowEnd})) seen += weight;
+    for (uint32_t first = 0; first < samples; first += kBatch) {
+        std::size_t count = 0;
+        for (uint32_t i = first; i < std::min(samples, first + kBatch); ++i) {
+            float u, v;
+            sobol02(i, scramble, u, v);
+            const PolygonLightPoint p = samplePolygonLight(sl, &scene, u, v);
+            const Vec3f toLight = p.position - x;
+            const float dist2 = dot(toLight, toLight);
+            if (!(dist2 > 0)) continue;
+            const Vec3f wi = toLight / std::sqrt(dist2);
+            // The sample's share of the light's solid angle from x; 0 from behind a one-sided face.
+            float cosLight = -dot(p.normal, wi);
+            if (l.twoSided) cosLight = std::abs(cosLight);
+            double weight = std::max(0.0f, cosLight) / dist2;
+            if (normal) weight *= std::max(0.0f, dot(*normal, wi));
+            if (!(weight > 0)) continue;
+            weights[count] = weight * p.sign;
+            batch[count++] = Ray{x, toLight, 0.0f, kShadowEnd};
+        }
+        rays.occluded += count;
+        tracer.occluded(batch, count, blocked);
+        for (std::size_t k = 0; k < count; ++k) {
+            total += weights[k];
+            if (!blocked[k]) seen += weights[k];
+        }
     }
     return total > 0 ? std::clamp(seen / total, 0.0, 1.0) : 1.0;
 }
