@@ -28,6 +28,7 @@
 
 #include "vdblight/bake/each_pass.h"
 #include "vdblight/basis/basis.h"
+#include "basis/shadow_edges.h"
 #include "query/channel_lookup.h"
 #include "vdblight/basis/depth_moments.h"
 #include "vdblight/core/errors.h"
@@ -235,9 +236,13 @@ void benchQuery(bool quick, const char* basis, bool depth, bool visibility, doub
     const IrradianceQuery query(volume);
 
     // The bound reads the same bytes per corner: the lookup's coefficients and depth moments,
-    // the lights' visibility.
+    // the lights' visibility and, where the volume has them (the default's), their shadow edges
+    // (shadow_edges.h: kFloatsPerLight floats per node and light, of which a lookup reads three
+    // in one run of 24 bytes).
     std::vector<int> floatsPerNode = nodeArraysRead(query.kind(), depth);
     if (visibility) floatsPerNode.push_back(int(volume.direct.lights.size()));
+    if (visibility && !volume.levels[0].lightShadowEdges.empty())
+        floatsPerNode.push_back(int(volume.direct.lights.size()) * shadow_edge::kFloatsPerLight);
     int bytes = 0;
     for (const int f : floatsPerNode) bytes += 4 * f;
     const std::vector<bench::GatheredArray> arrays = bench::gatheredArrays(grid, floatsPerNode);
