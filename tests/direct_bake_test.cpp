@@ -134,7 +134,7 @@ namespace {
 /// lightVisibility of a polygon light one shadow ray at a time, as it was before its rays went
 /// to the tracer in packets (scene_lights.cpp): the same samples, weights and order of sums.
 double visibilityOneRayAtATime(const Scene& scene, const Tracer& tracer, const SceneLight& light, const Vec3f& x,
-                               uint32_t samples, uint64_t stream) {
+                               uint32_t samples, uint64_t stream, const Vec3f* normal) {
     constexpr float kShadowEnd = 1.0f - 1e-4f;  // scene_lights.cpp's
     double seen = 0, total = 0;
     const uint64_t scramble = hashCombine(stream, 0x5eed);
@@ -149,6 +149,7 @@ double visibilityOneRayAtATime(const Scene& scene, const Tracer& tracer, const S
         float cosLight = -dot(p.normal, wi);
         if (light.light.twoSided) cosLight = std::abs(cosLight);
         double weight = std::max(0.0f, cosLight) / dist2;
+        if (normal) weight *= std::max(0.0f, dot(*normal, wi));
         if (!(weight > 0)) continue;
         weight *= p.sign;
         total += weight;
@@ -160,7 +161,8 @@ double visibilityOneRayAtATime(const Scene& scene, const Tracer& tracer, const S
 
 // The polygon's shadow rays go to the tracer in batches of 16-ray packets: the same answer,
 // bit for bit, as one ray at a time, for sample counts below, at and across a batch (64), at
-// points where the light is free, blocked and partly blocked (a blocker edge through it).
+// points where the light is free, blocked and partly blocked (a blocker edge through it), in
+// free space and weighted by a receiver's normal (shadowedIrradiance's).
 TEST(LightVisibility, PacketsGiveTheOneRayAtATimeBits) {
     Scene s;
     const uint32_t lamp = material(s, {0, 0, 0}, {1, 1, 1});
@@ -170,18 +172,21 @@ TEST(LightVisibility, PacketsGiveTheOneRayAtATimeBits) {
     const std::vector<SceneLight> lights = sceneLights(s);
     ASSERT_EQ(lights.size(), 1u);
     const Tracer tracer(s);
+    const Vec3f tilted = normalize(Vec3f(0.6f, 1.0f, 0.2f));  // sees part of the light at a slant
     int partial = 0;
     for (const Vec3f x : {Vec3f(0, 0, 0), Vec3f(0.3f, 0.2f, 0.1f), Vec3f(-1, 0.5f, 0), Vec3f(2, 0, 0.4f), Vec3f(0.1f, 1.5f, 0)})
         for (const uint32_t samples : {1u, 17u, 64u, 65u, 200u})
-            for (const uint64_t stream : {uint64_t(3), uint64_t(11)}) {
-                RayCount rays;
-                const double packeted = lightVisibility(s, tracer, lights[0], x, samples, stream, rays);
-                EXPECT_EQ(packeted, visibilityOneRayAtATime(s, tracer, lights[0], x, samples, stream))
-                    << "at (" << x.x << ", " << x.y << ", " << x.z << "), " << samples << " samples";
-                EXPECT_LE(rays.occluded, samples);
-                partial += packeted > 0.0 && packeted < 1.0;
-            }
-    EXPECT_GT(partial, 10);  // the blocker's edge runs through the light from most of the points
+            for (const uint64_t stream : {uint64_t(3), uint64_t(11)})
+                for (const Vec3f* normal : {static_cast<const Vec3f*>(nullptr), &tilted}) {
+                    RayCount rays;
+                    const double packeted = lightVisibility(s, tracer, lights[0], x, samples, stream, rays, normal);
+                    EXPECT_EQ(packeted, visibilityOneRayAtATime(s, tracer, lights[0], x, samples, stream, normal))
+                        << "at (" << x.x << ", " << x.y << ", " << x.z << "), " << samples << " samples"
+                        << (normal ? ", with a normal" : "");
+                    EXPECT_LE(rays.occluded, samples);
+                    partial += packeted > 0.0 && packeted < 1.0;
+                }
+    EXPECT_GT(partial, 20);  // the blocker's edge runs through the light from most of the points
 }
 
 TEST(DirectBake, OcclusionAndRuntimeMatchReferenceNearTheLuminaire) {
