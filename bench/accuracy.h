@@ -107,7 +107,7 @@ Baked directGather(const Ctx& c, int resolution, uint32_t rays, DirectMode mode,
 ///   guide=1, blend=1, extra=1: the preview's --guide-probe-directions, --blend-first-pass, --extra-cache-paths
 ///   extrapaths=N: --extra-cache-paths-per-node; byerror=1: the preview's --first-pass-by-error;
 ///   probebyerror=1: `fast`'s --probe-pass-by-error
-///   lightsamples=N: --probe-light-samples
+///   lightsamples=N: --probe-light-samples; split=K: --split-lights K
 ///   preset=default|preview|fast|high: start from that --quality's spec (presetTry), the other keys
 ///   change it, e.g. `preset=default,byerror=1`
 /// Every bake of the command is reproduced (bake_direct.h plan, gather, visibility, depth).
@@ -124,6 +124,7 @@ struct TrySpec {
     int filter = 0;             ///< `filter=N`: passes of the node filter (node_filter.h; fixed budgets only)
     bool filterByNoise = false; ///< `bilateral=1`: its weights also from the nodes' error estimates
     bool shadowEdges = true;    ///< `edges=0`: bake --no-shadow-edges
+    int splitLights = 1;        ///< `split=K`: bake --split-lights K
     bool blend = false;         ///< `blend=1`: GatherOptions::blendFirstPass
     bool guide = false;         ///< `guide=1`: guided probe directions (GatherOptions::guideProbeDirections)
     bool extraPaths = false;    ///< `extra=1`: GatherOptions::extraCachePaths

@@ -268,6 +268,7 @@ TrySpec parseTry(const std::string& spec) {
         else if (k == "blend") t.blend = v == "1";
         else if (k == "extra") t.extraPaths = v == "1";
         else if (k == "extrapaths") t.extraPathsPerNode = uint32_t(std::stoul(v));
+        else if (k == "split") t.splitLights = std::stoi(v);
         else if (k == "byerror") t.byError = v == "1";
         else if (k == "probebyerror") t.probeByError = v == "1";
         else if (k == "lightsamples") t.lightSamples = std::stoi(v);
@@ -316,6 +317,7 @@ std::string describeTry(const TrySpec& t) {
     if (t.byError) s += ", pass 0's rays by its error";
     if (t.probeByError) s += ", the probe pass's rays by its error";
     if (t.lightSamples > 1) s += ", " + std::to_string(t.lightSamples) + " light samples at each probe-pass path's end";
+    if (t.splitLights > 1) s += ", quad lights as " + std::to_string(t.splitLights) + " x " + std::to_string(t.splitLights) + " pieces";
     return s + ", basis " + t.basis;
 }
 
@@ -336,6 +338,7 @@ Volume tryVolume(const Ctx& c, const TrySpec& t, std::string& note, std::vector<
     DirectOptions d;
     d.mode = t.direct;
     d.shadowEdges = t.shadowEdges;
+    d.splitLights = t.splitLights;
     d.seed = c.seed;
     d.threads = c.settings.threads;
     const GridSpec grid = tryGrid(c.scene, t, c.settings);

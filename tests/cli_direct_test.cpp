@@ -77,6 +77,8 @@ TEST(CliDirect, BadInputGetsOneLineAndNoFile) {
         {"bake " + obj + " --sky 1,1,1 --direct occlusion --resolution 3 --rays 8", "no lights"},
         {"bake --direct-lights 0 --direct occlusion --resolution 3 --rays 8", "--direct-lights"},
         {"bake --direct-lights 17 --direct occlusion --resolution 3 --rays 8", "--direct-lights"},
+        {"bake --split-lights 0 --direct occlusion --resolution 3 --rays 8", "--split-lights"},
+        {"bake --split-lights 5 --direct occlusion --resolution 3 --rays 8", "--split-lights"},
         {"bake --direct sometimes --resolution 3 --rays 8", "--direct"},
         {"bake --direct runtime --method photons --resolution 3", "--direct runtime"},
         {"bake --direct occlusion --sampling antialiased --resolution 3 --rays 8", "--direct occlusion"},

@@ -343,3 +343,107 @@ TEST(DirectBake, RanksLightsByMeasuredContributionNotPower) {
     EXPECT_EQ(plan.lights[0].light.kind, DirectLight::Kind::Polygon);
     EXPECT_GT(plan.contribution[0], 0.95);
 }
+
+// --split-lights (DirectOptions::splitLights): a quad light as K x K pieces that tile it.
+TEST(SplitLights, PiecesTileTheQuadAndSumToItsIrradiance) {
+    DirectLight quad;
+    quad.kind = DirectLight::Kind::Polygon;
+    quad.value = Rgb(3, 2, 1);
+    quad.normal = {0, -1, 0};
+    // A convex quad that is not a parallelogram, counter-clockwise around -y seen from below.
+    quad.loops = {{{-0.5, 2, -0.4}, {0.6, 2, -0.5}, {0.4, 2, 0.5}, {-0.3, 2, 0.3}}};
+    for (const int pieces : {2, 3, 4}) {
+        const std::vector<DirectLight> split = splitQuadLight(quad, pieces);
+        ASSERT_EQ(split.size(), std::size_t(pieces * pieces));
+        double area = 0;
+        for (const DirectLight& p : split) {
+            ASSERT_EQ(p.loops.size(), 1u);
+            ASSERT_EQ(p.loops[0].size(), 4u);
+            EXPECT_GT(p.area(), 0.0);  // the quad's orientation: a reversed loop would count negative
+            area += p.area();
+        }
+        EXPECT_NEAR(area, quad.area(), 1e-12);
+        // Whole and split agree wherever the receiver is, its horizon cutting the light or not.
+        for (const Vec3d x : {Vec3d(0, 0, 0), Vec3d(0.3, 1.5, 0.2), Vec3d(-2, 1, 1)})
+            for (const Vec3d n : {Vec3d(0, 1, 0), normalize(Vec3d(-1, 0.1, 0)), normalize(Vec3d(0.2, 0.3, -1))}) {
+                const Rgb whole = exactIrradiance(quad, x, n);
+                Rgb sum(0, 0, 0);
+                for (const DirectLight& p : split) sum += exactIrradiance(p, x, n);
+                for (int c = 0; c < 3; ++c) EXPECT_NEAR(sum[c], whole[c], 1e-6 * std::max(1.0f, whole[c]));
+            }
+    }
+    // Anything but a quad, and one piece, come back whole.
+    EXPECT_EQ(splitQuadLight(quad, 1).size(), 1u);
+    DirectLight triangle = quad;
+    triangle.loops[0].pop_back();
+    EXPECT_EQ(splitQuadLight(triangle, 2).size(), 1u);
+    DirectLight point;
+    EXPECT_EQ(splitQuadLight(point, 2).size(), 1u);
+}
+
+// Why: the lookup adds exactIrradiance(light, x, n) x visibility(x), the visibility being the
+// fraction of the light seen from x whatever the normal. Beside a wall that hides half of a
+// ceiling panel, a receiver whose horizon cuts off the other half gets a product several times
+// too high (here 4.2 x; the Cornell box's worst point, docs/time_to_accuracy.md). The pieces'
+// products come within 14 % of the exact shadowed irradiance (shadowedIrradiance: the
+// receiver-weighted visibility, an identity for one light).
+TEST(SplitLights, HoldAPartlyHiddenLightThatTheReceiverSeesAtASlant) {
+    Scene s;
+    const uint32_t lamp = material(s, {0, 0, 0}, {1, 1, 1});
+    const uint32_t grey = material(s, {0.5f, 0.5f, 0.5f});
+    addCeilingQuad(s, -0.5f, 0.5f, -0.5f, 0.5f, 2.0f, lamp);
+    // A wall in the plane x = 0 up to 1.5, on both sides of the receiver's z.
+    addTriangle(s, {0, 0, -5}, {0, 1.5f, -5}, {0, 1.5f, 5}, grey);
+    addTriangle(s, {0, 0, -5}, {0, 1.5f, 5}, {0, 0, 5}, grey);
+    const std::vector<SceneLight> lights = sceneLights(s);
+    ASSERT_EQ(lights.size(), 1u);
+    const Tracer tracer(s);
+    const Vec3f x(0.05f, 0.2f, 0.0f);
+    const Vec3f n = normalize(Vec3f(-1.0f, 0.1f, 0.0f));  // sees the light for x below about 0.23
+    RayCount rays;
+    const Rgb exact = shadowedIrradiance(s, tracer, lights[0], x, n, 4096, 5, rays);
+    const auto product = [&](const SceneLight& l) {
+        return exactIrradiance(l.light, Vec3d(x), Vec3d(n)) * float(lightVisibility(s, tracer, l, x, 4096, 5, rays));
+    };
+    const Rgb whole = product(lights[0]);
+    Rgb split(0, 0, 0);
+    for (const DirectLight& piece : splitQuadLight(lights[0].light, 2)) split += product(freeLight(piece));
+    ASSERT_GT(exact.x, 0.0f);
+    const float wholeError = std::fabs(whole.x - exact.x) / exact.x, splitError = std::fabs(split.x - exact.x) / exact.x;
+    EXPECT_GT(wholeError, 1.0f) << "whole " << whole.x << ", exact " << exact.x;
+    EXPECT_LT(splitError, 0.1f * wholeError) << "split " << split.x << ", exact " << exact.x;
+}
+
+// The bake lists the pieces, each with its visibility, and leaves the whole light out of the SH
+// at the receivers as before: the SH coefficients keep their bits.
+TEST(SplitLights, TheBakeListsThePiecesAndKeepsTheShBits) {
+    const Scene scene = luminaireRoom();
+    const Tracer tracer(scene);
+    const auto bake = [&](int split) {
+        DirectOptions d;
+        d.mode = DirectMode::Occlusion;
+        d.splitLights = split;
+        const DirectPlan plan = planDirectLight(scene, tracer, roomGrid(), d);
+        GatherOptions o;
+        o.raysPerNode = 64;
+        o.transport.skipAtReceiver = plan.filter;
+        Volume v = bakeShGather(scene, tracer, roomGrid(), o);
+        bakeLightVisibility(scene, tracer, plan, d, v);
+        return v;
+    };
+    const Volume whole = bake(1), split = bake(2);
+    EXPECT_EQ(whole.levels[0].data, split.levels[0].data);
+    ASSERT_EQ(whole.direct.lights.size(), 1u);
+    ASSERT_EQ(split.direct.lights.size(), 4u);
+    EXPECT_EQ(split.levels[0].lightVisibility.size(), 4 * whole.levels[0].lightVisibility.size());
+    EXPECT_EQ(std::get<int64_t>(split.meta.at("direct_split_lights")), 2);
+    // Unoccluded, the pieces' direct light is the whole light's (below the fixture, facing up).
+    const IrradianceQuery a(whole), b(split);
+    const Vec3f x(0.1f, 1.6f, 0.2f), up(0, 1, 0);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(b.irradiance(x, up)[c], a.irradiance(x, up)[c], 1e-3f * a.irradiance(x, up)[c]);
+
+    DirectOptions tooMany;
+    tooMany.mode = DirectMode::Occlusion;
+    tooMany.splitLights = 5;
+    EXPECT_THROW(planDirectLight(scene, tracer, roomGrid(), tooMany), ValueError);
+}

@@ -74,6 +74,7 @@ DirectOptions directOptions(const Scene& scene, const BakeRequest& r, const Pass
     DirectOptions d;
     d.maxLights = r.directLights;
     d.shadowEdges = r.shadowEdges;
+    d.splitLights = r.splitLights;
     d.seed = r.seed;
     d.threads = r.threads;
     if (!r.direct.empty()) {

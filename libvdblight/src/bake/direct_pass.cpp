@@ -21,6 +21,32 @@ namespace {
 // Sample streams of the ranking and visibility rays (independent of the gather's).
 constexpr uint64_t kRankStream = 0xd1ec7a11ull, kVisibilityStream = 0x7151b1eull;
 constexpr int kMaxLights = 16;
+constexpr int kMaxSplit = 4;
+
+/// The chosen lights with each quad as its pieces (DirectOptions::splitLights), each piece's
+/// contribution its share of the area; ValueError if they are more than kMaxLights.
+void splitChosenLights(DirectPlan& plan, int pieces) {
+    std::vector<SceneLight> lights;
+    std::vector<double> contribution;
+    for (std::size_t i = 0; i < plan.lights.size(); ++i) {
+        const std::vector<DirectLight> split = splitQuadLight(plan.lights[i].light, pieces);
+        if (split.size() == 1) {
+            lights.push_back(plan.lights[i]);
+            contribution.push_back(plan.contribution[i]);
+            continue;
+        }
+        for (const DirectLight& piece : split) {
+            lights.push_back(freeLight(piece));  // its visibility samples the piece only
+            contribution.push_back(plan.contribution[i] / double(split.size()));
+        }
+    }
+    if (lights.size() > std::size_t(kMaxLights))
+        throw ValueError("--split-lights " + std::to_string(pieces) + ": the " + std::to_string(plan.lights.size()) +
+                         " chosen lights make " + std::to_string(lights.size()) + " listed lights, more than " +
+                         std::to_string(kMaxLights) + " (lower --split-lights or --direct-lights)");
+    plan.lights = std::move(lights);
+    plan.contribution = std::move(contribution);
+}
 
 }  // namespace
 
@@ -31,6 +57,9 @@ DirectPlan planDirectLight(const Scene& scene, const Tracer& tracer, const GridS
     if (o.maxLights < 1 || o.maxLights > kMaxLights)
         throw ValueError("--direct-lights must be between 1 and " + std::to_string(kMaxLights) + ", got " +
                          std::to_string(o.maxLights));
+    if (o.splitLights < 1 || o.splitLights > kMaxSplit)
+        throw ValueError("--split-lights must be between 1 and " + std::to_string(kMaxSplit) + ", got " +
+                         std::to_string(o.splitLights));
     std::vector<SceneLight> all = sceneLights(scene);
     plan.sceneLightCount = all.size();
     if (all.empty() && o.mode == DirectMode::Occlusion)
@@ -64,7 +93,10 @@ DirectPlan planDirectLight(const Scene& scene, const Tracer& tracer, const GridS
         plan.lights.push_back(all[i]);
         plan.contribution.push_back(sum > 0 ? total[i] / sum : 0.0);
     }
+    // The receivers leave the chosen lights out whole: the filter knows their scene triangles,
+    // which their pieces (free lights) do not carry.
     plan.filter = receiverFilter(scene, plan.lights);
+    if (o.mode == DirectMode::Occlusion && o.splitLights > 1) splitChosenLights(plan, o.splitLights);
     return plan;
 }
 
@@ -118,6 +150,7 @@ void bakeLightVisibility(const Scene& scene, const Tracer& tracer, const DirectP
     }
     bake_detail::PassMetadata(volume.meta)
         .count("direct_visibility_samples", int64_t(o.visibilitySamples))
+        .count("direct_split_lights", int64_t(o.splitLights))
         .count("direct_visibility_rays", int64_t(run.rays.total()));
     // The wall time goes into the bake's own (the one metadata entry that may differ between
     // runs with the same seed, besides the thread count).

@@ -218,6 +218,25 @@ PolygonLightPoint samplePolygonLight(const SceneLight& sl, const Scene* scene, f
     return out;
 }
 
+std::vector<DirectLight> splitQuadLight(const DirectLight& light, int pieces) {
+    if (light.kind != DirectLight::Kind::Polygon || light.loops.size() != 1 || light.loops[0].size() != 4 || pieces < 2)
+        return {light};
+    const std::vector<Vec3d>& q = light.loops[0];
+    // (s, t) in the unit square to the quad: q0 at (0, 0), q1 at (1, 0), q2 at (1, 1), q3 at (0, 1).
+    const auto at = [&](int i, int j) {
+        const double s = double(i) / pieces, t = double(j) / pieces;
+        return (q[0] * (1 - s) + q[1] * s) * (1 - t) + (q[3] * (1 - s) + q[2] * s) * t;
+    };
+    std::vector<DirectLight> out;
+    for (int j = 0; j < pieces; ++j)
+        for (int i = 0; i < pieces; ++i) {
+            DirectLight piece = light;
+            piece.loops = {{at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)}};
+            out.push_back(std::move(piece));
+        }
+    return out;
+}
+
 double lightVisibility(const Scene& scene, const Tracer& tracer, const SceneLight& sl, const Vec3f& x, uint32_t samples, uint64_t stream,
                        RayCount& rays, const Vec3f* normal) {
     const DirectLight& l = sl.light;

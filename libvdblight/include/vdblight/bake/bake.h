@@ -300,6 +300,7 @@ struct BakeRequest {
     std::string direct;
     int directLights = 4;                  ///< occlusion: lights with a visibility channel
     bool shadowEdges = true;               ///< occlusion: their shadow edges too (DirectOptions::shadowEdges)
+    int splitLights = 1;                   ///< occlusion: each quad light as K x K pieces (DirectOptions::splitLights)
 
     // The file.
     bool halfFloat = false;

@@ -279,6 +279,13 @@ struct DirectOptions {
     /// Occlusion: also bake each light's shadow edges (shadow_edges.h), which keep its shadow
     /// edges sharp between the nodes. false: the visibility channels alone (as before issue 32).
     bool shadowEdges = true;
+    /// Occlusion: each chosen quad light listed as splitLights x splitLights pieces
+    /// (splitQuadLight), each with its own visibility channel and edges, 1 (whole) .. 4. The
+    /// lookup's direct light is exact irradiance x visibility per listed light: a light whose
+    /// part a blocker hides while the receiver's horizon cuts another part is off by that
+    /// product, and its pieces much less (docs/shadow_visibility.md, "Split lights"). The
+    /// receivers still leave the whole light out of the SH.
+    int splitLights = 1;
     /// Ranking: at most this many nodes (evenly strided) and shadow rays per polygon light there.
     uint32_t rankingNodes = 512;
     uint32_t rankingSamples = 16;

@@ -378,6 +378,14 @@ struct SceneLight {
 /// the light itself. Its shadow rays stop short of the light as for a scene light.
 SceneLight freeLight(const DirectLight& light);
 
+/// A polygon light of one loop of four vertices (a quad) as `pieces` x `pieces` quads that tile
+/// it (bilinear in the quad's corners, each loop in the quad's orientation), each a DirectLight
+/// of the same radiance, normal and sides: their exact irradiance sums to the whole light's.
+/// Any other light, or pieces < 2, comes back whole (one element). `bake --split-lights`
+/// (bake/each_pass.h: DirectOptions::splitLights) lists the pieces instead of the light, so
+/// that each gets its own visibility.
+std::vector<DirectLight> splitQuadLight(const DirectLight& light, int pieces);
+
 /// A point on a polygon or mesh light for the unit-square point (u, v), as lightVisibility
 /// draws them: u picks a triangle by area and is rescaled to [0, 1) inside it (a stratified
 /// set of (u, v) stays stratified over the whole light), then (u, v) is a uniform point of
