@@ -148,10 +148,11 @@ void bakeLightVisibility(const Scene& scene, const Tracer& tracer, const DirectP
         run.rays += edges.rays;
         run.seconds += edges.seconds;
     }
-    bake_detail::PassMetadata(volume.meta)
-        .count("direct_visibility_samples", int64_t(o.visibilitySamples))
-        .count("direct_split_lights", int64_t(o.splitLights))
+    bake_detail::PassMetadata metadata(volume.meta);
+    metadata.count("direct_visibility_samples", int64_t(o.visibilitySamples))
         .count("direct_visibility_rays", int64_t(run.rays.total()));
+    // Only where it changed the list: a whole-light bake's file stays as before.
+    if (o.splitLights > 1) metadata.count("direct_split_lights", int64_t(o.splitLights));
     // The wall time goes into the bake's own (the one metadata entry that may differ between
     // runs with the same seed, besides the thread count).
     if (auto it = volume.meta.find("bake_seconds"); it != volume.meta.end() && std::holds_alternative<double>(it->second))
