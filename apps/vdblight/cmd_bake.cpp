@@ -196,7 +196,7 @@ void addBakeCommandTo(CLI::App& app, const std::shared_ptr<BakeCommand>& c) {
     cmd->add_option("--split-lights", c->splitLights,
                     "--direct occlusion: list each chosen quad light as K x K pieces (1..4), each with its own "
                     "visibility and edges: closer to exact where a blocker hides part of a light that a surface "
-                    "sees at a slant (the Cornell box's default 0.9 -> 0.7 % RMS), for K^2 x the lights' channels "
+                    "sees at a slant (the accuracy benchmark's Cornell box: the default 0.9 -> 0.7 % RMS), for K^2 x the lights' channels "
                     "and lookup work (docs/shadow_visibility.md)")
         ->capture_default_str();
     cmd->add_flag("--shadow-edges,!--no-shadow-edges", c->shadowEdges,
