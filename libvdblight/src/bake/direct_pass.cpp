@@ -24,7 +24,8 @@ constexpr int kMaxLights = 16;
 constexpr int kMaxSplit = 4;
 
 /// The chosen lights with each quad as its pieces (DirectOptions::splitLights), each piece's
-/// contribution its share of the area; ValueError if they are more than kMaxLights.
+/// contribution an equal share of its light's (the ranking's figure, reported, not re-measured);
+/// ValueError if they are more than kMaxLights.
 void splitChosenLights(DirectPlan& plan, int pieces) {
     std::vector<SceneLight> lights;
     std::vector<double> contribution;
