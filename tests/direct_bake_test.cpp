@@ -43,6 +43,16 @@ void addFloorQuad(Scene& s, float x0, float x1, float z0, float z1, float y, uin
     addTriangle(s, a, d, c, m);
 }
 
+/// A 1 x 1 panel of radiance 1 at height 2 over the origin, emitting downwards, and in `grey`
+/// the material of the blockers the light-visibility tests put under it.
+Scene ceilingPanel(uint32_t& grey) {
+    Scene s;
+    const uint32_t lamp = material(s, {0, 0, 0}, {1, 1, 1});
+    grey = material(s, {0.5f, 0.5f, 0.5f});
+    addCeilingQuad(s, -0.5f, 0.5f, -0.5f, 0.5f, 2.0f, lamp);
+    return s;
+}
+
 /// A room 4 x 3 x 4 with a closed fixture box under the ceiling whose bottom face emits.
 Scene luminaireRoom() {
     Scene s;
@@ -96,10 +106,8 @@ double rms(const std::vector<double>& e) {
 }  // namespace
 
 TEST(LightVisibility, UnblockedBlockedHalfBlocked) {
-    Scene s;
-    const uint32_t lamp = material(s, {0, 0, 0}, {1, 1, 1});
-    const uint32_t grey = material(s, {0.5f, 0.5f, 0.5f});
-    addCeilingQuad(s, -0.5f, 0.5f, -0.5f, 0.5f, 2.0f, lamp);
+    uint32_t grey = 0;
+    Scene s = ceilingPanel(grey);
     // A far piece of floor so that the scene has more than the light.
     addFloorQuad(s, 10, 11, 10, 11, -5, grey);
     const Vec3f x(0, 0, 0);
@@ -164,10 +172,8 @@ double visibilityOneRayAtATime(const Scene& scene, const Tracer& tracer, const S
 // points where the light is free, blocked and partly blocked (a blocker edge through it), in
 // free space and weighted by a receiver's normal (shadowedIrradiance's).
 TEST(LightVisibility, PacketsGiveTheOneRayAtATimeBits) {
-    Scene s;
-    const uint32_t lamp = material(s, {0, 0, 0}, {1, 1, 1});
-    const uint32_t grey = material(s, {0.5f, 0.5f, 0.5f});
-    addCeilingQuad(s, -0.5f, 0.5f, -0.5f, 0.5f, 2.0f, lamp);
+    uint32_t grey = 0;
+    Scene s = ceilingPanel(grey);
     addFloorQuad(s, -5, 0.13f, -5, 5, 1.0f, grey);  // blocks x < 0.13 at height 1
     const std::vector<SceneLight> lights = sceneLights(s);
     ASSERT_EQ(lights.size(), 1u);
@@ -388,10 +394,8 @@ TEST(SplitLights, PiecesTileTheQuadAndSumToItsIrradiance) {
 // products come within 14 % of the exact shadowed irradiance (shadowedIrradiance: the
 // receiver-weighted visibility, an identity for one light).
 TEST(SplitLights, HoldAPartlyHiddenLightThatTheReceiverSeesAtASlant) {
-    Scene s;
-    const uint32_t lamp = material(s, {0, 0, 0}, {1, 1, 1});
-    const uint32_t grey = material(s, {0.5f, 0.5f, 0.5f});
-    addCeilingQuad(s, -0.5f, 0.5f, -0.5f, 0.5f, 2.0f, lamp);
+    uint32_t grey = 0;
+    Scene s = ceilingPanel(grey);
     // A wall in the plane x = 0 up to 1.5, on both sides of the receiver's z.
     addTriangle(s, {0, 0, -5}, {0, 1.5f, -5}, {0, 1.5f, 5}, grey);
     addTriangle(s, {0, 0, -5}, {0, 1.5f, 5}, {0, 0, 5}, grey);

@@ -201,10 +201,7 @@ void checkDirect(const BakeRequest& r, const Pass& pass) {
     // Automatic (empty): occlusion where it applies, baked elsewhere; the light count is
     // checked either way.
     if (!r.direct.empty() && parseDirectMode(r.direct) == DirectMode::Baked) return;
-    if (r.directLights < 1 || r.directLights > 16)
-        throw ValueError("--direct-lights must be between 1 and 16, got " + std::to_string(r.directLights));
-    if (r.splitLights < 1 || r.splitLights > 4)
-        throw ValueError("--split-lights must be between 1 and 4, got " + std::to_string(r.splitLights));
+    checkDirectLightCounts(r.directLights, r.splitLights);
     if (r.direct.empty()) return;
     const bool shWindow = r.params.get<bool>("sh-window");
     if (pass.takesDirectLight() && !shWindow) return;

@@ -51,16 +51,20 @@ void splitChosenLights(DirectPlan& plan, int pieces) {
 
 }  // namespace
 
+void checkDirectLightCounts(int maxLights, int splitLights) {
+    if (maxLights < 1 || maxLights > kMaxLights)
+        throw ValueError("--direct-lights must be between 1 and " + std::to_string(kMaxLights) + ", got " +
+                         std::to_string(maxLights));
+    if (splitLights < 1 || splitLights > kMaxSplit)
+        throw ValueError("--split-lights must be between 1 and " + std::to_string(kMaxSplit) + ", got " +
+                         std::to_string(splitLights));
+}
+
 DirectPlan planDirectLight(const Scene& scene, const Tracer& tracer, const GridSpec& grid, const DirectOptions& o) {
     DirectPlan plan;
     plan.mode = o.mode;
     if (o.mode == DirectMode::Baked) return plan;
-    if (o.maxLights < 1 || o.maxLights > kMaxLights)
-        throw ValueError("--direct-lights must be between 1 and " + std::to_string(kMaxLights) + ", got " +
-                         std::to_string(o.maxLights));
-    if (o.splitLights < 1 || o.splitLights > kMaxSplit)
-        throw ValueError("--split-lights must be between 1 and " + std::to_string(kMaxSplit) + ", got " +
-                         std::to_string(o.splitLights));
+    checkDirectLightCounts(o.maxLights, o.splitLights);
     std::vector<SceneLight> all = sceneLights(scene);
     plan.sceneLightCount = all.size();
     if (all.empty() && o.mode == DirectMode::Occlusion)

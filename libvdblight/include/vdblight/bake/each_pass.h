@@ -293,6 +293,10 @@ struct DirectOptions {
     int threads = 0;
 };
 
+/// ValueError naming the option unless 1 <= maxLights <= 16 and 1 <= splitLights <= 4
+/// (DirectOptions): planDirectLight checks them, and a BakeRequest before it bakes anything.
+void checkDirectLightCounts(int maxLights, int splitLights);
+
 /// Which lights a bake leaves out at the receiver, in the scene's local frame.
 struct DirectPlan {
     DirectMode mode = DirectMode::Baked;
